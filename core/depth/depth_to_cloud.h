@@ -1,0 +1,25 @@
+#ifndef HPOSE_CORE_DEPTH_DEPTH_TO_CLOUD_H_
+#define HPOSE_CORE_DEPTH_DEPTH_TO_CLOUD_H_
+
+#include "core/common/status.h"
+#include "core/depth/depth_image.h"
+#include "core/depth/intrinsics.h"
+#include "core/depth/point_cloud.h"
+
+namespace hpose {
+
+struct DepthToCloudOptions {
+  double min_range_m = 0.4;  // readings nearer than this are dropped (Kinect v1: 0.8 m nominal).
+  double max_range_m = 4.5;  // readings farther than this are dropped.
+  int stride = 1;  // take every stride-th pixel in u and v (2 turns 640x480 into 320x240).
+  bool keep_organised = false;  // true: keep invalid pixels as NaN and set width/height.
+};
+
+// Back-projects a depth image through pinhole intrinsics into the sensor frame.
+// Fails (kInvalidArgument) when the intrinsics are invalid or do not match the image size.
+Result<PointCloud> DepthToCloud(const DepthImage& depth, const Intrinsics& intrinsics,
+                                const DepthToCloudOptions& options = {});
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_DEPTH_DEPTH_TO_CLOUD_H_

@@ -1,0 +1,19 @@
+#ifndef HPOSE_CORE_IO_INTRINSICS_JSON_H_
+#define HPOSE_CORE_IO_INTRINSICS_JSON_H_
+
+#include <string>
+
+#include "core/common/status.h"
+#include "core/depth/intrinsics.h"
+
+namespace hpose {
+
+// Parses {"width","height","fx","fy","cx","cy"} (unknown keys are errors) and validates it.
+Result<Intrinsics> ParseIntrinsicsJson(const std::string& text, const std::string& origin);
+Result<Intrinsics> ReadIntrinsicsJson(const std::string& path);
+std::string IntrinsicsToJson(const Intrinsics& intrinsics);
+Status WriteIntrinsicsJson(const Intrinsics& intrinsics, const std::string& path);
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_IO_INTRINSICS_JSON_H_

@@ -1,0 +1,97 @@
+#ifndef HPOSE_CORE_SCORING_POSE_LATTICE_H_
+#define HPOSE_CORE_SCORING_POSE_LATTICE_H_
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/common/pose2d.h"
+#include "core/common/status.h"
+#include "core/templates/voxel_template.h"
+
+namespace hpose {
+
+// The discrete set of poses every search evaluates, and the exact placement semantics that
+// every scorer shares (so a fast scorer can equal the reference one bit for bit):
+//   translation (x, y) = (ix, iy) * step,  step = resolution / subdivisions;
+//   theta = itheta * 2 pi / angle_steps,  itheta in [0, angle_steps).
+// A template voxel centre p, rotated by theta in double precision, is first quantised to the
+// sub-voxel grid, q = floor(R p * subdivisions / resolution) (x and y), and the placed cell is
+// cell = floor_div(q + (ix, iy), subdivisions), z cell = floor(p.z / resolution).
+// Mathematically this is floor((R p + t) / resolution); the quantisation of R p is the only
+// rounding, done once per (template, theta), so integer translations are exact.
+struct PoseLattice {
+  double resolution_m = 0.016;  // scoring voxel edge (SPEC §1: 16 mm).
+  int subdivisions = 4;         // translation step = resolution / subdivisions (4 mm).
+  int angle_steps = 360;        // theta step = 360 deg / angle_steps (1 deg).
+
+  double step_m() const { return resolution_m / subdivisions; }
+  double angle_step_rad() const { return 2.0 * kPi / angle_steps; }
+
+  // Checks resolution in [1 mm, 0.5 m], subdivisions in [1, 64], angle_steps in [4, 36000].
+  Status Validate() const;
+};
+
+struct LatticePose {
+  int ix = 0;
+  int iy = 0;
+  int itheta = 0;  // in [0, angle_steps).
+
+  bool operator==(const LatticePose& o) const {
+    return ix == o.ix && iy == o.iy && itheta == o.itheta;
+  }
+};
+
+// The metric pose of a lattice pose; theta normalised to (-pi, pi].
+Pose2D ToPose(const PoseLattice& lattice, const LatticePose& p);
+// The nearest lattice pose to a metric pose.
+LatticePose NearestLatticePose(const PoseLattice& lattice, const Pose2D& pose);
+// Wraps any integer angle index into [0, angle_steps).
+int WrapAngleIndex(const PoseLattice& lattice, int itheta);
+
+inline int FloorDiv(int a, int b) {
+  const int q = a / b;
+  return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
+}
+
+// Integer voxel cell of a point: floor(p * (1 / resolution)) per axis, computed exactly as
+// OctoMap's coordToKey does (minus its key offset).
+Eigen::Vector3i CellOf(const Eigen::Vector3f& p, double resolution_m);
+
+// A template rotated by one lattice angle: per voxel the sub-voxel x, y (q) and the z cell.
+struct RotatedTemplate {
+  int itheta = 0;
+  std::vector<Eigen::Vector3i> sub_cells;           // (qx, qy, cz) per template voxel.
+  Eigen::Vector2i q_min = Eigen::Vector2i::Zero();  // bounds of qx, qy.
+  Eigen::Vector2i q_max = Eigen::Vector2i::Zero();
+};
+
+RotatedTemplate RotateTemplate(const VoxelTemplate& tpl, const PoseLattice& lattice, int itheta);
+
+// The placed cell of one rotated template voxel at translation (ix, iy).
+inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int iy,
+                                  int subdivisions) {
+  return Eigen::Vector3i(FloorDiv(sub_cell.x() + ix, subdivisions),
+                         FloorDiv(sub_cell.y() + iy, subdivisions), sub_cell.z());
+}
+
+// All rotations of one template under one lattice, computed on first use and kept. Not
+// thread-safe; one per searching thread.
+class TemplateRotations {
+ public:
+  TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice);
+  const RotatedTemplate& Get(int itheta);
+  const VoxelTemplate& tpl() const { return tpl_; }
+  const PoseLattice& lattice() const { return lattice_; }
+
+ private:
+  const VoxelTemplate& tpl_;
+  PoseLattice lattice_;
+  std::vector<RotatedTemplate> cache_;
+  std::vector<bool> ready_;
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SCORING_POSE_LATTICE_H_

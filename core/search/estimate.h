@@ -1,0 +1,69 @@
+#ifndef HPOSE_CORE_SEARCH_ESTIMATE_H_
+#define HPOSE_CORE_SEARCH_ESTIMATE_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/common/pose2d.h"
+#include "core/depth/floor_estimate.h"
+
+namespace hpose {
+
+// One template's best match on one cluster.
+struct Candidate {
+  std::string template_name;
+  int cluster_index = -1;
+  Pose2D pose;         // robot frame in the ground frame.
+  double score = 0.0;  // 0-100.
+  int hits = 0;
+  int cluster_voxels = 0;
+  bool has_runner_up = false;  // best pose with theta more than 30 deg away.
+  Pose2D runner_up_pose;
+  double runner_up_score = 0.0;
+  std::int64_t poses_evaluated = 0;
+};
+
+// A cluster's verdict: its best template, and how far ahead of the next template it is.
+struct Detection {
+  Candidate best;
+  std::string second_template;   // empty with one template.
+  double template_margin = 0.0;  // best.score - second template's score on this cluster.
+  bool is_humanoid = false;      // best.score >= the score threshold.
+};
+
+struct ClusterSummary {
+  int index = 0;
+  int points = 0;
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();  // ground frame, metres.
+  Eigen::Vector3f min = Eigen::Vector3f::Zero();
+  Eigen::Vector3f max = Eigen::Vector3f::Zero();
+  bool searched = false;  // false when its size ruled out every template.
+};
+
+struct StageTimings {
+  double cloud_ms = 0.0;
+  double floor_ms = 0.0;
+  double cluster_ms = 0.0;
+  double search_ms = 0.0;
+  double total_ms = 0.0;
+};
+
+// Everything one frame produced.
+struct Estimate {
+  FloorEstimate floor;
+  int cloud_points = 0;
+  std::vector<ClusterSummary> clusters;
+  std::vector<Candidate> candidates;  // every (cluster, template), best score first.
+  std::vector<Detection> detections;  // one per searched cluster, best score first.
+  StageTimings timings;
+
+  // Detections that pass the score threshold (is_humanoid), best first.
+  std::vector<Detection> Humanoids() const;
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SEARCH_ESTIMATE_H_

@@ -1,0 +1,77 @@
+#ifndef HPOSE_CORE_SEARCH_ESTIMATOR_H_
+#define HPOSE_CORE_SEARCH_ESTIMATOR_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/common/status.h"
+#include "core/depth/cluster_extractor.h"
+#include "core/depth/depth_image.h"
+#include "core/depth/depth_to_cloud.h"
+#include "core/depth/floor_fitter.h"
+#include "core/depth/intrinsics.h"
+#include "core/depth/point_cloud.h"
+#include "core/scoring/pose_lattice.h"
+#include "core/scoring/pose_scorer.h"
+#include "core/search/estimate.h"
+#include "core/search/pose_search.h"
+#include "core/templates/voxel_template.h"
+
+namespace hpose {
+
+enum class SearchKind { kPaper, kExact };
+
+const char* SearchKindName(SearchKind kind);
+// Parses "paper" or "exact".
+Result<SearchKind> ParseSearchKind(const std::string& name);
+
+struct EstimatorOptions {
+  DepthToCloudOptions cloud;
+  FloorFitterOptions floor_fit;
+  bool use_fixed_floor = false;  // true: `fixed_floor` instead of fitting every frame.
+  FloorEstimate fixed_floor;
+  ClusterOptions clusters;
+  PoseLattice lattice;
+  SearchKind search = SearchKind::kPaper;
+  ScorerKind scorer = ScorerKind::kOctomapReference;
+  PaperSearchOptions paper;
+  double score_threshold = 40.0;  // a cluster is the humanoid when its best score passes this.
+  // A cluster is searched with a template only when its height is within this fraction of the
+  // template's height (0.35: 0.65x to 1.35x). Negative disables the check.
+  double max_height_ratio_error = 0.35;
+};
+
+// Default options (the paper's settings, Kinect v1) in one place.
+EstimatorOptions DefaultEstimatorOptions();
+
+// The depth-template estimator: cloud -> floor -> clusters -> search every template on every
+// cluster. Thread-compatible: one Estimate call at a time per instance.
+class Estimator {
+ public:
+  // Fails (kInvalidArgument) without templates, with duplicate names, with a template whose
+  // resolution differs from the lattice's, or with invalid options.
+  static Result<std::unique_ptr<Estimator>> Create(EstimatorOptions options,
+                                                   std::vector<VoxelTemplate> templates);
+
+  // Fails with kInvalidArgument (bad intrinsics, size mismatch, no valid depth) or
+  // kFailedPrecondition (no floor found). "No humanoid" is not a failure: see
+  // Estimate::Humanoids().
+  Result<Estimate> EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics) const;
+  // `cloud_sensor` in the sensor frame (x right, y down, z forward), metres; NaNs are skipped.
+  Result<Estimate> EstimateCloud(const PointCloud& cloud_sensor) const;
+
+  const std::vector<VoxelTemplate>& templates() const { return templates_; }
+  const EstimatorOptions& options() const { return options_; }
+
+ private:
+  Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates);
+  Result<Estimate> Run(const PointCloud& cloud_sensor, double cloud_ms) const;
+
+  EstimatorOptions options_;
+  std::vector<VoxelTemplate> templates_;
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SEARCH_ESTIMATOR_H_

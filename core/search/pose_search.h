@@ -1,0 +1,58 @@
+#ifndef HPOSE_CORE_SEARCH_POSE_SEARCH_H_
+#define HPOSE_CORE_SEARCH_POSE_SEARCH_H_
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/scoring/pose_lattice.h"
+#include "core/scoring/pose_scorer.h"
+#include "core/search/search_result.h"
+
+namespace hpose {
+
+// One coarse-to-fine pass (SPEC §1 Table 1). Ranges are half-widths around the pass centre.
+struct SearchPass {
+  double rotation_range_rad = 0.0;
+  double rotation_step_rad = 0.0;
+  double translation_range_m = 0.0;
+  double translation_step_m = 0.0;
+};
+
+struct PaperSearchOptions {
+  // Table 1: pass 1 +-180 deg / 5 deg, +-128 mm / 16 mm; pass 2 +-4 deg / 2 deg, +-32 mm / 8 mm.
+  std::vector<SearchPass> passes = {
+      {kPi, DegToRad(5.0), 0.128, 0.016},
+      {DegToRad(4.0), DegToRad(2.0), 0.032, 0.008},
+  };
+};
+
+// Minimum theta separation for the runner-up (front/back ambiguity report).
+constexpr double kRunnerUpMinSeparationRad = 30.0 * kPi / 180.0;
+
+// Finds the best pose of one template over one cluster.
+class PoseSearch {
+ public:
+  virtual ~PoseSearch() = default;
+  // `centre_ground` is the cluster centroid (x, y) in the ground frame, metres.
+  virtual SearchResult Search(const PoseScorer& scorer, TemplateRotations& rotations,
+                              const Eigen::Vector2d& centre_ground) const = 0;
+};
+
+// The paper's two-pass search on the lattice: each pass's steps and ranges are rounded to
+// whole lattice steps; pass 1 is centred on the cluster centroid, later passes on the best so
+// far.
+class PaperSearch final : public PoseSearch {
+ public:
+  explicit PaperSearch(PaperSearchOptions options = {}) : options_(std::move(options)) {}
+  SearchResult Search(const PoseScorer& scorer, TemplateRotations& rotations,
+                      const Eigen::Vector2d& centre_ground) const override;
+
+ private:
+  PaperSearchOptions options_;
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SEARCH_POSE_SEARCH_H_

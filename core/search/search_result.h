@@ -1,0 +1,28 @@
+#ifndef HPOSE_CORE_SEARCH_SEARCH_RESULT_H_
+#define HPOSE_CORE_SEARCH_SEARCH_RESULT_H_
+
+#include <cstdint>
+
+#include "core/common/pose2d.h"
+#include "core/scoring/pose_lattice.h"
+
+namespace hpose {
+
+// The outcome of searching one template against one cluster.
+struct SearchResult {
+  LatticePose best;
+  Pose2D pose;         // ground frame.
+  int hits = 0;        // cluster voxels covered at the best pose.
+  double score = 0.0;  // 0-100.
+  // The best pose whose theta differs from the best by more than 30 degrees (front/back
+  // ambiguity). has_runner_up is false when no such pose scored above zero.
+  bool has_runner_up = false;
+  Pose2D runner_up_pose;
+  double runner_up_score = 0.0;
+  std::int64_t poses_evaluated = 0;   // full score evaluations (bounds not counted).
+  std::int64_t bounds_evaluated = 0;  // upper-bound evaluations (branch and bound only).
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SEARCH_SEARCH_RESULT_H_

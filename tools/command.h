@@ -1,0 +1,20 @@
+#ifndef HPOSE_TOOLS_COMMAND_H_
+#define HPOSE_TOOLS_COMMAND_H_
+
+namespace hpose::tools {
+
+// One `hpose <name> ...` subcommand. `run` receives argv with argv[0] = "hpose <name>".
+struct Command {
+  const char* name;
+  const char* summary;
+  int (*run)(int argc, char** argv);
+};
+
+// Subcommand entry points, each in its own cmd_<name>.cc.
+int RunEstimate(int argc, char** argv);
+int RunSimulate(int argc, char** argv);
+int RunTemplate(int argc, char** argv);
+
+}  // namespace hpose::tools
+
+#endif  // HPOSE_TOOLS_COMMAND_H_

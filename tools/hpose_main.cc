@@ -1,0 +1,50 @@
+// `hpose`: the command line of hpose. Dispatches to one subcommand per file.
+#include <cstring>
+#include <iostream>
+#include <string>
+
+#include "tools/command.h"
+#include "tools/exit_codes.h"
+
+namespace {
+
+using hpose::tools::Command;
+
+const Command kCommands[] = {
+    {"estimate", "estimate the humanoid's pose in one depth frame or cloud",
+     hpose::tools::RunEstimate},
+    {"simulate", "render simulated Kinect frames of a humanoid scene", hpose::tools::RunSimulate},
+    {"template", "make, inspect and regenerate humanoid templates", hpose::tools::RunTemplate},
+};
+
+void PrintHelp() {
+  std::cout << "usage: hpose COMMAND [--help] [options]\n\n"
+               "Off-board humanoid pose estimation from a depth camera.\n\ncommands:\n";
+  for (const Command& c : kCommands) {
+    std::string name = c.name;
+    std::cout << "  " << name << std::string(name.size() < 16 ? 16 - name.size() : 1, ' ')
+              << c.summary << "\n";
+  }
+  std::cout << "\nRun `hpose COMMAND --help` for the options of a command.\n\n"
+               "exit status: 0 ok, 1 error (message on stderr), 2 usage, 3 no humanoid found,\n"
+               "             4 no floor found, 5 server or device unavailable\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0 ||
+      std::strcmp(argv[1], "help") == 0) {
+    PrintHelp();
+    return argc < 2 ? hpose::tools::kExitUsage : hpose::tools::kExitOk;
+  }
+  for (const Command& c : kCommands) {
+    if (argv[1] == std::string(c.name)) {
+      std::string prog = std::string("hpose ") + c.name;
+      argv[1] = prog.data();
+      return c.run(argc - 1, argv + 1);
+    }
+  }
+  std::cerr << "hpose: unknown command '" << argv[1] << "' (see hpose --help)\n";
+  return hpose::tools::kExitUsage;
+}
