@@ -2,6 +2,7 @@
 #define HPOSE_CORE_SCORING_POSE_LATTICE_H_
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -76,20 +77,23 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
                          FloorDiv(sub_cell.y() + iy, subdivisions), sub_cell.z());
 }
 
-// All rotations of one template under one lattice, computed on first use and kept. Not
-// thread-safe; one per searching thread.
+// All angle_steps rotations of one template under one lattice, computed once at construction
+// (360 rotations of a few thousand voxels: a few ms, a few MB). Immutable, so shareable
+// between threads.
 class TemplateRotations {
  public:
   TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice);
-  const RotatedTemplate& Get(int itheta);
-  const VoxelTemplate& tpl() const { return tpl_; }
+  // itheta in [0, angle_steps).
+  const RotatedTemplate& Get(int itheta) const { return rotations_[itheta]; }
+  const std::string& name() const { return name_; }
+  double height_m() const { return height_m_; }
   const PoseLattice& lattice() const { return lattice_; }
 
  private:
-  const VoxelTemplate& tpl_;
+  std::string name_;
+  double height_m_ = 0.0;
   PoseLattice lattice_;
-  std::vector<RotatedTemplate> cache_;
-  std::vector<bool> ready_;
+  std::vector<RotatedTemplate> rotations_;
 };
 
 }  // namespace hpose

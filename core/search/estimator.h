@@ -34,7 +34,7 @@ struct EstimatorOptions {
   ClusterOptions clusters;
   PoseLattice lattice;
   SearchKind search = SearchKind::kPaper;
-  ScorerKind scorer = ScorerKind::kOctomapReference;
+  ScorerKind scorer = ScorerKind::kFast;  // equal scores; kOctomapReference is slow.
   PaperSearchOptions paper;
   double score_threshold = 40.0;  // a cluster is the humanoid when its best score passes this.
   // A cluster is searched with a template only when its height is within this fraction of the
@@ -64,12 +64,16 @@ class Estimator {
   const std::vector<VoxelTemplate>& templates() const { return templates_; }
   const EstimatorOptions& options() const { return options_; }
 
+  ~Estimator();
+
  private:
   Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates);
   Result<Estimate> Run(const PointCloud& cloud_sensor, double cloud_ms) const;
 
   EstimatorOptions options_;
   std::vector<VoxelTemplate> templates_;
+  std::vector<std::unique_ptr<TemplateRotations>> rotations_;  // one per template.
+  std::unique_ptr<PoseSearch> search_;
 };
 
 }  // namespace hpose

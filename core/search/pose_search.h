@@ -36,7 +36,7 @@ class PoseSearch {
  public:
   virtual ~PoseSearch() = default;
   // `centre_ground` is the cluster centroid (x, y) in the ground frame, metres.
-  virtual SearchResult Search(const PoseScorer& scorer, TemplateRotations& rotations,
+  virtual SearchResult Search(const PoseScorer& scorer, const TemplateRotations& rotations,
                               const Eigen::Vector2d& centre_ground) const = 0;
 };
 
@@ -46,7 +46,7 @@ class PoseSearch {
 class PaperSearch final : public PoseSearch {
  public:
   explicit PaperSearch(PaperSearchOptions options = {}) : options_(std::move(options)) {}
-  SearchResult Search(const PoseScorer& scorer, TemplateRotations& rotations,
+  SearchResult Search(const PoseScorer& scorer, const TemplateRotations& rotations,
                       const Eigen::Vector2d& centre_ground) const override;
 
  private:

@@ -1,0 +1,204 @@
+#include "core/search/estimator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace hpose {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+std::unique_ptr<PoseSearch> MakeSearch(const EstimatorOptions& options) {
+  switch (options.search) {
+    case SearchKind::kPaper:
+      return std::make_unique<PaperSearch>(options.paper);
+    case SearchKind::kExact:
+      return nullptr;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+const char* SearchKindName(SearchKind kind) {
+  switch (kind) {
+    case SearchKind::kPaper:
+      return "paper";
+    case SearchKind::kExact:
+      return "exact";
+  }
+  return "?";
+}
+
+Result<SearchKind> ParseSearchKind(const std::string& name) {
+  if (name == "paper") return SearchKind::kPaper;
+  if (name == "exact") return SearchKind::kExact;
+  return MakeError(ErrorCode::kInvalidArgument,
+                   "unknown search '" + name + "' (expected 'paper' or 'exact')");
+}
+
+EstimatorOptions DefaultEstimatorOptions() { return EstimatorOptions{}; }
+
+Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates)
+    : options_(std::move(options)), templates_(std::move(templates)) {
+  rotations_.reserve(templates_.size());
+  for (const VoxelTemplate& t : templates_) {
+    rotations_.push_back(std::make_unique<TemplateRotations>(t, options_.lattice));
+  }
+  search_ = MakeSearch(options_);
+}
+
+Estimator::~Estimator() = default;
+
+Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
+                                                     std::vector<VoxelTemplate> templates) {
+  if (templates.empty()) {
+    return MakeError(ErrorCode::kInvalidArgument, "no templates given (at least one is needed)");
+  }
+  Status st = options.lattice.Validate();
+  if (!st.ok()) return st.error();
+  std::set<std::string> names;
+  for (const VoxelTemplate& t : templates) {
+    if (!names.insert(t.name).second) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "two templates are named '" + t.name + "'; names must be unique");
+    }
+    if (t.voxels.empty()) {
+      return MakeError(ErrorCode::kInvalidArgument, "template '" + t.name + "' has no voxels");
+    }
+    if (std::abs(t.resolution_m - options.lattice.resolution_m) > 1e-9) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "template '" + t.name + "' has resolution " +
+                           std::to_string(t.resolution_m) + " m but the search uses " +
+                           std::to_string(options.lattice.resolution_m) + " m");
+    }
+  }
+  if (!(options.score_threshold >= 0.0 && options.score_threshold <= 100.0)) {
+    return MakeError(ErrorCode::kInvalidArgument, "score_threshold must be within [0, 100]");
+  }
+  std::unique_ptr<Estimator> e(new Estimator(std::move(options), std::move(templates)));
+  if (e->search_ == nullptr) {
+    return MakeError(ErrorCode::kInvalidArgument, std::string("search '") +
+                                                      SearchKindName(e->options_.search) +
+                                                      "' is not available in this build");
+  }
+  return e;
+}
+
+Result<Estimate> Estimator::EstimateDepth(const DepthImage& depth,
+                                          const Intrinsics& intrinsics) const {
+  const Clock::time_point t0 = Clock::now();
+  Result<PointCloud> cloud = DepthToCloud(depth, intrinsics, options_.cloud);
+  if (!cloud.ok()) return cloud.error();
+  return Run(*cloud, MsSince(t0));
+}
+
+Result<Estimate> Estimator::EstimateCloud(const PointCloud& cloud_sensor) const {
+  return Run(cloud_sensor, 0.0);
+}
+
+Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const {
+  const Clock::time_point t_start = Clock::now();
+  Estimate est;
+  est.timings.cloud_ms = cloud_ms;
+  if (cloud.empty()) {
+    return MakeError(ErrorCode::kInvalidArgument, "the point cloud is empty (no valid depth)");
+  }
+  int finite = 0;
+  for (const Eigen::Vector3f& p : cloud.points) finite += p.allFinite() ? 1 : 0;
+  if (finite == 0) {
+    return MakeError(ErrorCode::kInvalidArgument, "the point cloud has no finite points (all " +
+                                                      std::to_string(cloud.size()) +
+                                                      " are NaN or infinite)");
+  }
+  est.cloud_points = finite;
+
+  Clock::time_point t = Clock::now();
+  if (options_.use_fixed_floor) {
+    est.floor = options_.fixed_floor;
+  } else {
+    Result<FloorEstimate> floor = FitFloor(cloud, options_.floor_fit);
+    if (!floor.ok()) return floor.error();
+    est.floor = *floor;
+  }
+  est.timings.floor_ms = MsSince(t);
+
+  t = Clock::now();
+  Result<std::vector<Cluster>> clusters = ExtractClusters(cloud, est.floor, options_.clusters);
+  if (!clusters.ok()) return clusters.error();
+  est.timings.cluster_ms = MsSince(t);
+
+  t = Clock::now();
+  for (size_t i = 0; i < clusters->size(); ++i) {
+    const Cluster& c = (*clusters)[i];
+    ClusterSummary summary;
+    summary.index = static_cast<int>(i);
+    summary.points = static_cast<int>(c.points.size());
+    summary.centroid = c.centroid;
+    summary.min = c.min;
+    summary.max = c.max;
+
+    std::unique_ptr<PoseScorer> scorer;
+    for (size_t j = 0; j < templates_.size(); ++j) {
+      const TemplateRotations& rot = *rotations_[j];
+      if (options_.max_height_ratio_error >= 0.0) {
+        const double ratio = c.height() / rot.height_m();
+        if (std::abs(ratio - 1.0) > options_.max_height_ratio_error) continue;
+      }
+      if (scorer == nullptr) {
+        scorer = MakePoseScorer(options_.scorer,
+                                VoxeliseCluster(c.points, options_.lattice.resolution_m),
+                                options_.lattice);
+      }
+      const SearchResult r = search_->Search(*scorer, rot, c.centroid.head<2>().cast<double>());
+      Candidate cand;
+      cand.template_name = rot.name();
+      cand.cluster_index = summary.index;
+      cand.pose = r.pose;
+      cand.score = r.score;
+      cand.hits = r.hits;
+      cand.cluster_voxels = scorer->cluster_voxels();
+      cand.has_runner_up = r.has_runner_up;
+      cand.runner_up_pose = r.runner_up_pose;
+      cand.runner_up_score = r.runner_up_score;
+      cand.poses_evaluated = r.poses_evaluated;
+      est.candidates.push_back(cand);
+      summary.searched = true;
+    }
+    est.clusters.push_back(summary);
+  }
+  est.timings.search_ms = MsSince(t);
+
+  std::stable_sort(est.candidates.begin(), est.candidates.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  // Candidates are sorted, so the first seen per cluster is its best template.
+  std::map<int, size_t> detection_of_cluster;
+  for (const Candidate& cand : est.candidates) {
+    auto it = detection_of_cluster.find(cand.cluster_index);
+    if (it == detection_of_cluster.end()) {
+      Detection d;
+      d.best = cand;
+      d.template_margin = cand.score;
+      d.is_humanoid = cand.score >= options_.score_threshold;
+      detection_of_cluster[cand.cluster_index] = est.detections.size();
+      est.detections.push_back(d);
+    } else {
+      Detection& d = est.detections[it->second];
+      if (d.second_template.empty()) {
+        d.second_template = cand.template_name;
+        d.template_margin = d.best.score - cand.score;
+      }
+    }
+  }
+  est.timings.total_ms = cloud_ms + MsSince(t_start);
+  return est;
+}
+
+}  // namespace hpose

@@ -1,0 +1,200 @@
+#include "core/templates/template_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <tuple>
+
+#include <octomap/OcTree.h>
+#include <nlohmann/json.hpp>
+
+#include "core/io/atomic_file.h"
+
+namespace hpose {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr const char* kFormat = "hpose-template";
+constexpr int kVersion = 1;
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::string SidecarText(const VoxelTemplate& tpl) {
+  json j;
+  j["format"] = kFormat;
+  j["version"] = kVersion;
+  j["name"] = tpl.name;
+  j["variant"] = tpl.variant;
+  j["resolution_m"] = tpl.resolution_m;
+  j["source"] = tpl.source;
+  j["voxels"] = tpl.voxels.size();
+  j["height_m"] = tpl.Height();
+  return j.dump(2) + "\n";
+}
+
+// Parsed sidecar contents; fields absent in the file keep their defaults.
+struct Sidecar {
+  std::string name;
+  std::string variant;
+  std::string source;
+  double resolution_m = 0.0;
+  long long voxels = -1;
+};
+
+Result<Sidecar> ParseSidecar(const std::string& text, const std::string& path) {
+  json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object()) {
+    return MakeError(ErrorCode::kDataLoss, path + ": not a JSON object");
+  }
+  static const char* const kKnown[] = {"format",       "version", "name",   "variant",
+                                       "resolution_m", "source",  "voxels", "height_m"};
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    bool known = false;
+    for (const char* k : kKnown) known = known || it.key() == k;
+    if (!known) {
+      return MakeError(ErrorCode::kDataLoss, path + ": unknown key '" + it.key() + "'");
+    }
+  }
+  if (!j.contains("format") || j["format"] != kFormat) {
+    return MakeError(ErrorCode::kDataLoss,
+                     path + ": 'format' must be \"" + std::string(kFormat) + "\"");
+  }
+  if (!j.contains("version") || !j["version"].is_number_integer() || j["version"] != kVersion) {
+    return MakeError(ErrorCode::kDataLoss,
+                     path + ": unsupported 'version' (this hpose reads version " +
+                         std::to_string(kVersion) + ")");
+  }
+  Sidecar s;
+  auto get_string = [&](const char* key, std::string* out) -> Status {
+    if (!j.contains(key)) return Status::Ok();
+    if (!j[key].is_string()) {
+      return MakeError(ErrorCode::kDataLoss, path + ": '" + key + "' must be a string");
+    }
+    *out = j[key].get<std::string>();
+    return Status::Ok();
+  };
+  for (auto [key, out] : {std::pair<const char*, std::string*>{"name", &s.name},
+                          {"variant", &s.variant},
+                          {"source", &s.source}}) {
+    Status st = get_string(key, out);
+    if (!st.ok()) return st.error();
+  }
+  if (!j.contains("resolution_m") || !j["resolution_m"].is_number()) {
+    return MakeError(ErrorCode::kDataLoss, path + ": 'resolution_m' (a number) is missing");
+  }
+  s.resolution_m = j["resolution_m"].get<double>();
+  if (j.contains("voxels")) {
+    if (!j["voxels"].is_number_integer()) {
+      return MakeError(ErrorCode::kDataLoss, path + ": 'voxels' must be an integer");
+    }
+    s.voxels = j["voxels"].get<long long>();
+  }
+  return s;
+}
+
+}  // namespace
+
+std::string TemplateSidecarPath(const std::string& bt_path) {
+  fs::path p(bt_path);
+  p.replace_extension(".json");
+  return p.string();
+}
+
+Status SaveTemplate(const VoxelTemplate& tpl, const std::string& bt_path) {
+  if (!EndsWith(bt_path, ".bt")) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     bt_path + ": template files must end in .bt (OctoMap binary tree)");
+  }
+  if (tpl.voxels.empty()) {
+    return MakeError(ErrorCode::kInvalidArgument, "template '" + tpl.name + "' has no voxels");
+  }
+  octomap::OcTree tree(tpl.resolution_m);
+  for (const Eigen::Vector3f& v : tpl.voxels) {
+    octomap::OcTreeKey key;
+    if (!tree.coordToKeyChecked(v.x(), v.y(), v.z(), key)) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "template '" + tpl.name + "' has a voxel outside OctoMap's range");
+    }
+    tree.updateNode(key, true);
+  }
+  // The tree first, then the sidecar: each is renamed into place only when complete.
+  Status st = WriteAtomically(bt_path, [&tree](const std::string& temp) -> Status {
+    std::ofstream out(temp, std::ios::binary);
+    if (!out || !tree.writeBinary(out) || !out.flush()) {
+      return MakeError(ErrorCode::kInternal, temp + ": cannot write the OctoMap tree");
+    }
+    return Status::Ok();
+  });
+  if (!st.ok()) return st;
+  return WriteFileAtomically(TemplateSidecarPath(bt_path), SidecarText(tpl));
+}
+
+Result<VoxelTemplate> LoadTemplate(const std::string& bt_path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(bt_path, ec)) {
+    return MakeError(ErrorCode::kNotFound, bt_path + ": no such template file");
+  }
+  std::ifstream in(bt_path, std::ios::binary);
+  if (!in) return MakeError(ErrorCode::kNotFound, bt_path + ": cannot open");
+  // OctoMap's reader wants a tree of the right resolution first; readBinary(istream) replaces
+  // it with the file's.
+  octomap::OcTree tree(0.1);
+  std::string header;
+  std::getline(in, header);
+  if (header.rfind("# Octomap OcTree binary file", 0) != 0) {
+    return MakeError(ErrorCode::kDataLoss,
+                     bt_path + ": not an OctoMap binary tree (.bt) file (bad header)");
+  }
+  in.seekg(0);
+  if (!tree.readBinary(in)) {
+    return MakeError(ErrorCode::kDataLoss, bt_path + ": corrupt or truncated OctoMap tree");
+  }
+  tree.expand();
+  VoxelTemplate tpl;
+  tpl.resolution_m = tree.getResolution();
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    if (!tree.isNodeOccupied(*it)) continue;
+    const octomap::point3d c = it.getCoordinate();
+    tpl.voxels.emplace_back(c.x(), c.y(), c.z());
+  }
+  if (tpl.voxels.empty()) {
+    return MakeError(ErrorCode::kInvalidArgument, bt_path + ": the tree has no occupied voxels");
+  }
+  std::sort(tpl.voxels.begin(), tpl.voxels.end(),
+            [](const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+              return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
+            });
+
+  const std::string sidecar_path = TemplateSidecarPath(bt_path);
+  tpl.name = fs::path(bt_path).stem().string();
+  tpl.variant = tpl.name;
+  if (fs::exists(sidecar_path, ec)) {
+    Result<std::string> text = ReadFile(sidecar_path);
+    if (!text.ok()) return text.error();
+    Result<Sidecar> side = ParseSidecar(*text, sidecar_path);
+    if (!side.ok()) return side.error();
+    if (std::abs(side->resolution_m - tpl.resolution_m) > 1e-9) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       sidecar_path + ": resolution_m " + std::to_string(side->resolution_m) +
+                           " disagrees with the tree's " + std::to_string(tpl.resolution_m));
+    }
+    if (side->voxels >= 0 && side->voxels != static_cast<long long>(tpl.voxels.size())) {
+      return MakeError(ErrorCode::kDataLoss,
+                       sidecar_path + ": says " + std::to_string(side->voxels) +
+                           " voxels but the tree holds " + std::to_string(tpl.voxels.size()));
+    }
+    if (!side->name.empty()) tpl.name = side->name;
+    tpl.variant = side->variant.empty() ? tpl.name : side->variant;
+    tpl.source = side->source;
+  }
+  return tpl;
+}
+
+}  // namespace hpose

@@ -1,0 +1,78 @@
+#include "core/templates/voxel_template.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+namespace hpose {
+namespace {
+
+bool ValidName(const std::string& name) {
+  if (name.empty() || name.size() > 128) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-' || c == '.';
+  });
+}
+
+}  // namespace
+
+double VoxelTemplate::Height() const {
+  double top = 0.0;
+  for (const Eigen::Vector3f& v : voxels) top = std::max(top, v.z() + 0.5 * resolution_m);
+  return top;
+}
+
+Result<VoxelTemplate> MakeTemplateFromPoints(const std::vector<Eigen::Vector3f>& points,
+                                             const std::string& name, double resolution_m,
+                                             const std::string& variant,
+                                             const std::string& source) {
+  if (!ValidName(name)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "template name '" + name +
+                         "' is empty, too long or has characters other than [A-Za-z0-9_.-]");
+  }
+  if (!(resolution_m >= 0.001 && resolution_m <= 0.5)) {
+    return MakeError(
+        ErrorCode::kInvalidArgument,
+        "template resolution " + std::to_string(resolution_m) + " m is outside [0.001, 0.5] m");
+  }
+  const double inv = 1.0 / resolution_m;
+  std::vector<std::tuple<int, int, int>> cells;
+  cells.reserve(points.size());
+  for (const Eigen::Vector3f& p : points) {
+    if (!p.allFinite()) continue;
+    const double x = std::floor(inv * static_cast<double>(p.x()));
+    const double y = std::floor(inv * static_cast<double>(p.y()));
+    const double z = std::floor(inv * static_cast<double>(p.z()));
+    if (std::abs(x) > 30000 || std::abs(y) > 30000 || std::abs(z) > 30000) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "template point (" + std::to_string(p.x()) + ", " + std::to_string(p.y()) +
+                           ", " + std::to_string(p.z()) +
+                           ") m is too far from the template origin; is the cloud in metres and "
+                           "in the template frame?");
+    }
+    cells.emplace_back(static_cast<int>(x), static_cast<int>(y), static_cast<int>(z));
+  }
+  if (cells.empty()) {
+    return MakeError(ErrorCode::kInvalidArgument, "template '" + name + "' has no finite points (" +
+                                                      std::to_string(points.size()) + " given)");
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+
+  VoxelTemplate tpl;
+  tpl.name = name;
+  tpl.variant = variant.empty() ? name : variant;
+  tpl.source = source;
+  tpl.resolution_m = resolution_m;
+  tpl.voxels.reserve(cells.size());
+  for (const auto& [x, y, z] : cells) {
+    tpl.voxels.emplace_back(static_cast<float>((x + 0.5) * resolution_m),
+                            static_cast<float>((y + 0.5) * resolution_m),
+                            static_cast<float>((z + 0.5) * resolution_m));
+  }
+  return tpl;
+}
+
+}  // namespace hpose

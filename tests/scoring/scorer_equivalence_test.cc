@@ -1,0 +1,94 @@
+// The fast scorer must give exactly the reference (OctoMap) scorer's hit count for any cluster,
+// template and pose.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "core/scoring/fast_scorer.h"
+#include "core/scoring/octomap_scorer.h"
+#include "core/scoring/pose_scorer.h"
+
+namespace hpose {
+namespace {
+
+// A random blobby "object": points around a few random centres, so that templates and clusters
+// overlap partially at many poses.
+std::vector<Eigen::Vector3f> RandomBlob(std::mt19937& rng, int n, float spread) {
+  std::uniform_real_distribution<float> u(-spread, spread), h(0.0f, 0.6f);
+  std::normal_distribution<float> g(0.0f, 0.04f);
+  std::vector<Eigen::Vector3f> centres;
+  for (int i = 0; i < 4; ++i) centres.emplace_back(u(rng), u(rng), h(rng));
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3f& c = centres[i % centres.size()];
+    pts.emplace_back(c.x() + g(rng), c.y() + g(rng), std::max(0.0f, c.z() + g(rng)));
+  }
+  return pts;
+}
+
+TEST(ScorerEquivalenceTest, FastEqualsReferenceOnRandomScenes) {
+  std::mt19937 rng(2024);
+  int compared = 0;
+  int nonzero = 0;
+  for (int scene = 0; scene < 40; ++scene) {
+    PoseLattice lattice;
+    lattice.subdivisions = (scene % 3 == 0) ? 3 : 4;  // also a non power of two.
+    lattice.angle_steps = (scene % 5 == 0) ? 72 : 360;
+    const std::vector<Eigen::Vector3f> tpl_pts = RandomBlob(rng, 800, 0.15f);
+    const VoxelTemplate tpl = *MakeTemplateFromPoints(tpl_pts, "t", lattice.resolution_m);
+    // The cluster sits somewhere on the floor, possibly at negative coordinates.
+    std::uniform_real_distribution<float> off(-2.0f, 2.0f);
+    const Eigen::Vector3f shift(off(rng), off(rng), 0.0f);
+    std::vector<Eigen::Vector3f> cluster_pts = RandomBlob(rng, 600, 0.15f);
+    for (auto& p : cluster_pts) p += shift;
+    const ClusterVoxels cluster = VoxeliseCluster(cluster_pts, lattice.resolution_m);
+    const OctomapScorer reference(cluster, lattice);
+    const FastScorer fast(cluster, lattice);
+    ASSERT_EQ(reference.cluster_voxels(), fast.cluster_voxels());
+    std::uniform_int_distribution<int> th(0, lattice.angle_steps - 1);
+    std::uniform_int_distribution<int> d(-60, 60);
+    const int cx = static_cast<int>(std::lround(shift.x() / lattice.step_m()));
+    const int cy = static_cast<int>(std::lround(shift.y() / lattice.step_m()));
+    for (int k = 0; k < 100; ++k) {
+      const RotatedTemplate r = RotateTemplate(tpl, lattice, th(rng));
+      const int ix = cx + d(rng);
+      const int iy = cy + d(rng);
+      const int ref_hits = reference.Hits(r, ix, iy);
+      ASSERT_EQ(fast.Hits(r, ix, iy), ref_hits)
+          << "scene " << scene << " theta " << r.itheta << " ix " << ix << " iy " << iy;
+      EXPECT_DOUBLE_EQ(fast.Score(r, ix, iy), reference.Score(r, ix, iy));
+      ++compared;
+      nonzero += ref_hits > 0;
+    }
+  }
+  EXPECT_EQ(compared, 4000);
+  EXPECT_GT(nonzero, 1000);  // the comparison exercised real overlaps, not only misses.
+}
+
+TEST(ScorerEquivalenceTest, DuplicatePlacementsCountOnce) {
+  // Two template voxels that land in the same cluster cell after rotation count once.
+  PoseLattice lattice;
+  lattice.subdivisions = 1;
+  VoxelTemplate tpl;
+  tpl.name = "t";
+  tpl.voxels = {{0.004f, 0.004f, 0.008f}, {0.012f, 0.004f, 0.008f}};  // same 16 mm cell.
+  const RotatedTemplate r = RotateTemplate(tpl, lattice, 0);
+  const ClusterVoxels cluster = VoxeliseCluster({{0.001f, 0.001f, 0.001f}}, 0.016);
+  EXPECT_EQ(OctomapScorer(cluster, lattice).Hits(r, 0, 0), 1);
+  EXPECT_EQ(FastScorer(cluster, lattice).Hits(r, 0, 0), 1);
+  EXPECT_DOUBLE_EQ(FastScorer(cluster, lattice).Score(r, 0, 0), 100.0);
+}
+
+TEST(ScorerEquivalenceTest, EmptyClusterScoresZero) {
+  PoseLattice lattice;
+  VoxelTemplate tpl;
+  tpl.name = "t";
+  tpl.voxels = {{0.0f, 0.0f, 0.1f}};
+  const RotatedTemplate r = RotateTemplate(tpl, lattice, 0);
+  const ClusterVoxels empty;
+  EXPECT_EQ(MakePoseScorer(ScorerKind::kFast, empty, lattice)->Score(r, 0, 0), 0.0);
+  EXPECT_EQ(MakePoseScorer(ScorerKind::kOctomapReference, empty, lattice)->Score(r, 0, 0), 0.0);
+}
+
+}  // namespace
+}  // namespace hpose

@@ -1,0 +1,133 @@
+#include "core/templates/template_io.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace hpose {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TemplateIoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("hpose_tpl_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+
+  static VoxelTemplate RandomTemplate(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> xy(-0.2f, 0.2f), z(0.0f, 0.6f);
+    std::vector<Eigen::Vector3f> pts;
+    for (int i = 0; i < n; ++i) pts.emplace_back(xy(rng), xy(rng), z(rng));
+    return *MakeTemplateFromPoints(pts, "rand", 0.016, "random", "unit test");
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(TemplateIoTest, RoundTripKeepsEveryVoxelAndTheSidecar) {
+  const VoxelTemplate t = RandomTemplate(3000, 1);
+  ASSERT_TRUE(SaveTemplate(t, Path("t.bt")).ok());
+  EXPECT_TRUE(fs::exists(Path("t.json")));
+  Result<VoxelTemplate> back = LoadTemplate(Path("t.bt"));
+  ASSERT_TRUE(back.ok()) << back.error().ToString();
+  EXPECT_EQ(back->name, "rand");
+  EXPECT_EQ(back->variant, "random");
+  EXPECT_EQ(back->source, "unit test");
+  EXPECT_DOUBLE_EQ(back->resolution_m, 0.016);
+  ASSERT_EQ(back->voxels.size(), t.voxels.size());
+  for (size_t i = 0; i < t.voxels.size(); ++i) {
+    EXPECT_LT((back->voxels[i] - t.voxels[i]).norm(), 1e-5) << i;
+  }
+}
+
+TEST_F(TemplateIoTest, DenseBlocksSurvivePruning) {
+  // A solid block makes OctoMap prune 8 children into one node; loading must expand it again.
+  std::vector<Eigen::Vector3f> pts;
+  for (int x = 0; x < 8; ++x)
+    for (int y = 0; y < 8; ++y)
+      for (int z = 0; z < 8; ++z)
+        pts.emplace_back(0.016f * x + 0.008f, 0.016f * y + 0.008f, 0.016f * z + 0.008f);
+  const VoxelTemplate t = *MakeTemplateFromPoints(pts, "block", 0.016);
+  ASSERT_TRUE(SaveTemplate(t, Path("block.bt")).ok());
+  Result<VoxelTemplate> back = LoadTemplate(Path("block.bt"));
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back->voxels.size(), 512u);
+}
+
+TEST_F(TemplateIoTest, MissingFileIsNotFound) {
+  Result<VoxelTemplate> r = LoadTemplate(Path("nope.bt"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ErrorCode::kNotFound);
+  EXPECT_NE(r.error().message.find("nope.bt"), std::string::npos);
+}
+
+TEST_F(TemplateIoTest, GarbageAndTruncatedTreesAreDataLoss) {
+  { std::ofstream(Path("garbage.bt")) << "this is not an octree\n\x01\x02"; }
+  Result<VoxelTemplate> r = LoadTemplate(Path("garbage.bt"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ErrorCode::kDataLoss);
+
+  const VoxelTemplate t = RandomTemplate(2000, 2);
+  ASSERT_TRUE(SaveTemplate(t, Path("full.bt")).ok());
+  const auto size = fs::file_size(Path("full.bt"));
+  fs::copy_file(Path("full.bt"), Path("cut.bt"));
+  fs::resize_file(Path("cut.bt"), size / 2);
+  r = LoadTemplate(Path("cut.bt"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ErrorCode::kDataLoss) << r.error().ToString();
+}
+
+TEST_F(TemplateIoTest, SidecarIsValidated) {
+  const VoxelTemplate t = RandomTemplate(500, 3);
+  ASSERT_TRUE(SaveTemplate(t, Path("s.bt")).ok());
+  std::ofstream(Path("s.json")) << "{\"format\":\"hpose-template\",\"version\":1,"
+                                   "\"resolution_m\":0.016,\"colour\":\"red\"}";
+  Result<VoxelTemplate> r = LoadTemplate(Path("s.bt"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("colour"), std::string::npos);
+
+  std::ofstream(Path("s.json")) << "{\"format\":\"hpose-template\",\"version\":1,"
+                                   "\"resolution_m\":0.02}";
+  r = LoadTemplate(Path("s.bt"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ErrorCode::kInvalidArgument);
+
+  std::ofstream(Path("s.json")) << "{\"format\":";
+  r = LoadTemplate(Path("s.bt"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ErrorCode::kDataLoss);
+}
+
+TEST_F(TemplateIoTest, WithoutSidecarTheNameIsTheStem) {
+  const VoxelTemplate t = RandomTemplate(500, 4);
+  ASSERT_TRUE(SaveTemplate(t, Path("robot7.bt")).ok());
+  fs::remove(Path("robot7.json"));
+  Result<VoxelTemplate> r = LoadTemplate(Path("robot7.bt"));
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->name, "robot7");
+}
+
+TEST_F(TemplateIoTest, SaveRejectsWrongExtensionAndKeepsOldFileOnFailure) {
+  const VoxelTemplate t = RandomTemplate(500, 5);
+  EXPECT_EQ(SaveTemplate(t, Path("t.octree")).error().code, ErrorCode::kInvalidArgument);
+  ASSERT_TRUE(SaveTemplate(t, Path("keep.bt")).ok());
+  VoxelTemplate empty = t;
+  empty.voxels.clear();
+  EXPECT_FALSE(SaveTemplate(empty, Path("keep.bt")).ok());
+  EXPECT_TRUE(LoadTemplate(Path("keep.bt")).ok());
+  // A directory that does not exist: error, no crash.
+  EXPECT_FALSE(SaveTemplate(t, Path("no/such/dir/t.bt")).ok());
+}
+
+}  // namespace
+}  // namespace hpose
