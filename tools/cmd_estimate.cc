@@ -1,14 +1,160 @@
+// `hpose estimate`: the depth-template estimator on one depth frame or cloud.
 #include <iostream>
+#include <string>
+#include <vector>
 
+#include "core/io/cloud_io.h"
+#include "core/io/depth_png.h"
+#include "core/io/intrinsics_json.h"
+#include "core/search/estimator.h"
 #include "tools/command.h"
+#include "tools/estimate_report.h"
 #include "tools/exit_codes.h"
+#include "tools/flag_parser.h"
+#include "tools/match_picture.h"
+#include "tools/template_paths.h"
 
 namespace hpose::tools {
 
 int RunEstimate(int argc, char** argv) {
-  (void)argc;
-  std::cerr << argv[0] << ": not built yet\n";
-  return kExitError;
+  const std::string cmd = "estimate";
+  std::string depth_path, intrinsics_path, cloud_path, picture;
+  std::vector<std::string> template_paths;
+  bool json = false;
+  EstimatorOptions options = DefaultEstimatorOptions();
+  std::string search = SearchKindName(options.search);
+  double floor_height = -1.0, floor_pitch_deg = 0.0, floor_roll_deg = 0.0;
+  int stride = options.cloud.stride;
+
+  FlagParser flags(
+      "hpose estimate (--depth FRAME.png --intrinsics CAM.json | --cloud FRAME.pcd) "
+      "[--template FILE.bt ...] [--json]",
+      "Finds the humanoid in one depth frame: builds the point cloud, fits the floor, clusters\n"
+      "what stands on it and matches every template against every cluster by a search over\n"
+      "(x, y, theta). Poses are in the ground frame: origin on the floor below the sensor, x the\n"
+      "optical axis projected on the floor, y left, theta counter-clockwise (0 = facing away).");
+  flags.AddString("depth", &depth_path, "16-bit PNG depth frame in millimetres (0 = no reading)",
+                  "FRAME.png");
+  flags.AddString("intrinsics", &intrinsics_path,
+                  "JSON {\"width\",\"height\",\"fx\",\"fy\",\"cx\",\"cy\"} of the depth frame; "
+                  "default: Kinect v1 for the frame's size",
+                  "CAM.json");
+  flags.AddString("cloud", &cloud_path,
+                  "point cloud (.pcd or .ply) in the sensor frame (x right, y down, z forward), "
+                  "metres",
+                  "FRAME.pcd");
+  flags.AddStrings("template", &template_paths,
+                   "humanoid template (.bt with its .json sidecar); default: the shipped "
+                   "standing and right_arm_raised",
+                   "FILE.bt");
+  flags.AddString("search", &search,
+                  "pose search: 'exact' (global optimum on a 1 deg x 4 mm lattice) or 'paper' "
+                  "(the paper's two coarse-to-fine passes)",
+                  "KIND");
+  flags.AddDouble("threshold", &options.score_threshold,
+                  "score (0-100) a cluster needs to count as the humanoid");
+  flags.AddInt("stride", &stride,
+               "use every N-th depth pixel (2: 640x480 -> 320x240 like the paper)");
+  flags.AddDouble("floor-height", &floor_height,
+                  "fixed floor calibration: sensor height above the floor in metres (skips the "
+                  "per-frame floor fit)",
+                  "M");
+  flags.AddDouble("floor-pitch-deg", &floor_pitch_deg,
+                  "with --floor-height: optical axis below the horizon, degrees", "DEG");
+  flags.AddDouble("floor-roll-deg", &floor_roll_deg, "with --floor-height: roll, degrees", "DEG");
+  flags.AddString("picture", &picture, "also draw the match (top and front views) to a PNG",
+                  "OUT.png");
+  flags.AddBool("json", &json, "print one JSON object instead of text");
+  flags.SetEpilog(
+      "exit status: 0 humanoid found, 3 no humanoid passed the threshold, 4 no floor found,\n"
+      "             1 bad input (the message names it), 2 usage\n\n"
+      "examples:\n"
+      "  hpose simulate --out /tmp/frame && \\\n"
+      "  hpose estimate --depth /tmp/frame/depth.png --intrinsics /tmp/frame/intrinsics.json\n"
+      "  hpose estimate --cloud scan.pcd --template my_robot.bt --json");
+  switch (flags.Parse(argc, argv)) {
+    case FlagParser::Outcome::kHelpShown:
+      return kExitOk;
+    case FlagParser::Outcome::kError:
+      return kExitUsage;
+    case FlagParser::Outcome::kOk:
+      break;
+  }
+  const bool have_depth = !depth_path.empty();
+  const bool have_cloud = !cloud_path.empty();
+  if (have_depth == have_cloud) {
+    std::cerr << "hpose estimate: give either --depth (with --intrinsics) or --cloud\n";
+    return kExitUsage;
+  }
+  if (have_cloud && !intrinsics_path.empty()) {
+    std::cerr << "hpose estimate: --intrinsics goes with --depth, not --cloud\n";
+    return kExitUsage;
+  }
+  if (stride < 1 || stride > 16) {
+    std::cerr << "hpose estimate: --stride must be within [1, 16]\n";
+    return kExitUsage;
+  }
+  options.cloud.stride = stride;
+  Result<SearchKind> kind = ParseSearchKind(search);
+  if (!kind.ok()) return ReportError(cmd, kind.error());
+  options.search = *kind;
+  if (flags.Seen("floor-height")) {
+    if (!(floor_height > 0.0 && floor_height < 10.0)) {
+      std::cerr << "hpose estimate: --floor-height must be within (0, 10) m\n";
+      return kExitUsage;
+    }
+    options.use_fixed_floor = true;
+    options.fixed_floor = FloorEstimate::FromHeightPitchRoll(
+        floor_height, DegToRad(floor_pitch_deg), DegToRad(floor_roll_deg));
+  }
+
+  Result<std::vector<VoxelTemplate>> templates = LoadTemplates(template_paths);
+  if (!templates.ok()) return ReportError(cmd, templates.error());
+  Result<std::unique_ptr<Estimator>> estimator = Estimator::Create(options, *templates);
+  if (!estimator.ok()) return ReportError(cmd, estimator.error());
+
+  PointCloud cloud;
+  Result<Estimate> estimate = MakeError(ErrorCode::kInternal, "not run");
+  if (have_depth) {
+    Result<DepthImage> depth = ReadDepthPng(depth_path);
+    if (!depth.ok()) return ReportError(cmd, depth.error());
+    Intrinsics intrinsics = Intrinsics::KinectV1(depth->width, depth->height);
+    if (!intrinsics_path.empty()) {
+      Result<Intrinsics> read = ReadIntrinsicsJson(intrinsics_path);
+      if (!read.ok()) return ReportError(cmd, read.error());
+      intrinsics = *read;
+    }
+    if (intrinsics.width != depth->width || intrinsics.height != depth->height) {
+      return ReportError(
+          cmd, MakeError(ErrorCode::kInvalidArgument,
+                         "the intrinsics are for " + std::to_string(intrinsics.width) + "x" +
+                             std::to_string(intrinsics.height) + " but " + depth_path + " is " +
+                             std::to_string(depth->width) + "x" + std::to_string(depth->height)));
+    }
+    estimate = (*estimator)->EstimateDepth(*depth, intrinsics);
+    if (!picture.empty()) {
+      Result<PointCloud> c = DepthToCloud(*depth, intrinsics, options.cloud);
+      if (c.ok()) cloud = std::move(c).value();
+    }
+  } else {
+    Result<PointCloud> read = ReadCloud(cloud_path);
+    if (!read.ok()) return ReportError(cmd, read.error());
+    cloud = std::move(read).value();
+    estimate = (*estimator)->EstimateCloud(cloud);
+  }
+  if (!estimate.ok()) return ReportError(cmd, estimate.error());
+
+  if (json) {
+    std::cout << EstimateToJson(*estimate, search) << "\n";
+  } else {
+    std::cout << EstimateToText(*estimate);
+  }
+  if (!picture.empty()) {
+    Status st = WriteMatchPicture(*estimate, *templates, cloud, picture);
+    if (!st.ok()) return ReportError(cmd, st.error());
+    if (!json) std::cout << "picture   " << picture << "\n";
+  }
+  return estimate->Humanoids().empty() ? kExitNoHumanoid : kExitOk;
 }
 
 }  // namespace hpose::tools

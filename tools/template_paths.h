@@ -1,0 +1,25 @@
+#ifndef HPOSE_TOOLS_TEMPLATE_PATHS_H_
+#define HPOSE_TOOLS_TEMPLATE_PATHS_H_
+
+#include <string>
+#include <vector>
+
+#include "core/common/status.h"
+#include "core/templates/voxel_template.h"
+
+namespace hpose::tools {
+
+// The directory of the templates shipped with hpose: $HPOSE_TEMPLATE_DIR when set, else the
+// build's configured location.
+std::string DefaultTemplateDir();
+
+// The shipped templates (standing, right_arm_raised) as paths.
+std::vector<std::string> DefaultTemplatePaths();
+
+// Loads each path; an empty list loads the shipped templates. The first failure is returned
+// (its message names the file).
+Result<std::vector<VoxelTemplate>> LoadTemplates(const std::vector<std::string>& paths);
+
+}  // namespace hpose::tools
+
+#endif  // HPOSE_TOOLS_TEMPLATE_PATHS_H_
