@@ -21,7 +21,8 @@ json CandidateJson(const Candidate& c) {
             {"score", c.score},
             {"hits", c.hits},
             {"cluster_voxels", c.cluster_voxels},
-            {"poses_evaluated", c.poses_evaluated}};
+            {"poses_evaluated", c.poses_evaluated},
+            {"bounds_evaluated", c.bounds_evaluated}};
   if (c.has_runner_up) {
     json r = PoseJson(c.runner_up_pose);
     r["score"] = c.runner_up_score;

@@ -76,6 +76,27 @@ RotatedTemplate RotateTemplate(const VoxelTemplate& tpl, const PoseLattice& latt
   if (r.sub_cells.empty()) {
     r.q_min.setZero();
     r.q_max.setZero();
+    return r;
+  }
+  int z_lo = INT_MAX, z_hi = INT_MIN;
+  for (const Eigen::Vector3i& q : r.sub_cells) {
+    z_lo = std::min(z_lo, q.z());
+    z_hi = std::max(z_hi, q.z());
+  }
+  r.z_base = z_lo;
+  r.z_words = (z_hi - z_lo) / 64 + 1;
+  std::vector<Eigen::Vector3i> sorted = r.sub_cells;
+  std::sort(sorted.begin(), sorted.end(), [](const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+    return a.x() != b.x() ? a.x() < b.x() : (a.y() != b.y() ? a.y() < b.y() : a.z() < b.z());
+  });
+  for (const Eigen::Vector3i& q : sorted) {
+    if (r.column_q.empty() || r.column_q.back() != q.head<2>()) {
+      r.column_q.push_back(q.head<2>());
+      r.column_masks.resize(r.column_masks.size() + r.z_words, 0);
+    }
+    const int bit = q.z() - r.z_base;
+    r.column_masks[(r.column_q.size() - 1) * r.z_words + bit / 64] |= std::uint64_t{1}
+                                                                      << (bit % 64);
   }
   return r;
 }

@@ -66,6 +66,14 @@ struct RotatedTemplate {
   std::vector<Eigen::Vector3i> sub_cells;           // (qx, qy, cz) per template voxel.
   Eigen::Vector2i q_min = Eigen::Vector2i::Zero();  // bounds of qx, qy.
   Eigen::Vector2i q_max = Eigen::Vector2i::Zero();
+
+  // Column view: the voxels grouped by equal (qx, qy). Every voxel of a column lands in the
+  // same (x, y) cell for any translation, so a column is scored with one z bit mask. Bit b of
+  // word w of a column's mask is z cell z_base + 64 w + b.
+  int z_base = 0;                           // lowest z cell of the template.
+  int z_words = 0;                          // 64-bit words per column mask.
+  std::vector<Eigen::Vector2i> column_q;    // (qx, qy) per column, sorted.
+  std::vector<std::uint64_t> column_masks;  // z_words per column.
 };
 
 RotatedTemplate RotateTemplate(const VoxelTemplate& tpl, const PoseLattice& lattice, int itheta);

@@ -23,7 +23,8 @@ struct Candidate {
   bool has_runner_up = false;  // best pose with theta more than 30 deg away.
   Pose2D runner_up_pose;
   double runner_up_score = 0.0;
-  std::int64_t poses_evaluated = 0;
+  std::int64_t poses_evaluated = 0;   // exact score evaluations.
+  std::int64_t bounds_evaluated = 0;  // branch-and-bound upper bounds (exact search only).
 };
 
 // A cluster's verdict: its best template, and how far ahead of the next template it is.

@@ -6,6 +6,8 @@
 #include <map>
 #include <set>
 
+#include "core/search/exact_search.h"
+
 namespace hpose {
 namespace {
 
@@ -20,7 +22,7 @@ std::unique_ptr<PoseSearch> MakeSearch(const EstimatorOptions& options) {
     case SearchKind::kPaper:
       return std::make_unique<PaperSearch>(options.paper);
     case SearchKind::kExact:
-      return nullptr;
+      return std::make_unique<ExactSearch>(options.exact);
   }
   return nullptr;
 }
@@ -146,6 +148,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
     summary.max = c.max;
 
     std::unique_ptr<PoseScorer> scorer;
+    ClusterVoxels voxels;
     for (size_t j = 0; j < templates_.size(); ++j) {
       const TemplateRotations& rot = *rotations_[j];
       if (options_.max_height_ratio_error >= 0.0) {
@@ -153,11 +156,11 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
         if (std::abs(ratio - 1.0) > options_.max_height_ratio_error) continue;
       }
       if (scorer == nullptr) {
-        scorer = MakePoseScorer(options_.scorer,
-                                VoxeliseCluster(c.points, options_.lattice.resolution_m),
-                                options_.lattice);
+        voxels = VoxeliseCluster(c.points, options_.lattice.resolution_m);
+        scorer = MakePoseScorer(options_.scorer, voxels, options_.lattice);
       }
-      const SearchResult r = search_->Search(*scorer, rot, c.centroid.head<2>().cast<double>());
+      const SearchResult r =
+          search_->Search(voxels, *scorer, rot, c.centroid.head<2>().cast<double>());
       Candidate cand;
       cand.template_name = rot.name();
       cand.cluster_index = summary.index;
@@ -169,6 +172,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
       cand.runner_up_pose = r.runner_up_pose;
       cand.runner_up_score = r.runner_up_score;
       cand.poses_evaluated = r.poses_evaluated;
+      cand.bounds_evaluated = r.bounds_evaluated;
       est.candidates.push_back(cand);
       summary.searched = true;
     }

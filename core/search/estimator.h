@@ -15,6 +15,7 @@
 #include "core/scoring/pose_lattice.h"
 #include "core/scoring/pose_scorer.h"
 #include "core/search/estimate.h"
+#include "core/search/exact_search.h"
 #include "core/search/pose_search.h"
 #include "core/templates/voxel_template.h"
 
@@ -33,9 +34,10 @@ struct EstimatorOptions {
   FloorEstimate fixed_floor;
   ClusterOptions clusters;
   PoseLattice lattice;
-  SearchKind search = SearchKind::kPaper;
+  SearchKind search = SearchKind::kExact;
   ScorerKind scorer = ScorerKind::kFast;  // equal scores; kOctomapReference is slow.
   PaperSearchOptions paper;
+  ExactSearchOptions exact;
   double score_threshold = 40.0;  // a cluster is the humanoid when its best score passes this.
   // A cluster is searched with a template only when its height is within this fraction of the
   // template's height (0.35: 0.65x to 1.35x). Negative disables the check.

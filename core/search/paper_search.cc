@@ -11,7 +11,8 @@ int RoundSteps(double value, double step) { return static_cast<int>(std::lround(
 
 }  // namespace
 
-SearchResult PaperSearch::Search(const PoseScorer& scorer, const TemplateRotations& rotations,
+SearchResult PaperSearch::Search(const ClusterVoxels& /*cluster*/, const PoseScorer& scorer,
+                                 const TemplateRotations& rotations,
                                  const Eigen::Vector2d& centre_ground) const {
   const PoseLattice& lattice = rotations.lattice();
   SearchResult result;

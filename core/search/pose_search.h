@@ -35,8 +35,10 @@ constexpr double kRunnerUpMinSeparationRad = 30.0 * kPi / 180.0;
 class PoseSearch {
  public:
   virtual ~PoseSearch() = default;
-  // `centre_ground` is the cluster centroid (x, y) in the ground frame, metres.
-  virtual SearchResult Search(const PoseScorer& scorer, const TemplateRotations& rotations,
+  // `cluster` are the cluster's voxels and `scorer` scores them; `centre_ground` is the
+  // cluster centroid (x, y) in the ground frame, metres.
+  virtual SearchResult Search(const ClusterVoxels& cluster, const PoseScorer& scorer,
+                              const TemplateRotations& rotations,
                               const Eigen::Vector2d& centre_ground) const = 0;
 };
 
@@ -46,7 +48,8 @@ class PoseSearch {
 class PaperSearch final : public PoseSearch {
  public:
   explicit PaperSearch(PaperSearchOptions options = {}) : options_(std::move(options)) {}
-  SearchResult Search(const PoseScorer& scorer, const TemplateRotations& rotations,
+  SearchResult Search(const ClusterVoxels& cluster, const PoseScorer& scorer,
+                      const TemplateRotations& rotations,
                       const Eigen::Vector2d& centre_ground) const override;
 
  private:

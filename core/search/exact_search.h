@@ -1,0 +1,45 @@
+#ifndef HPOSE_CORE_SEARCH_EXACT_SEARCH_H_
+#define HPOSE_CORE_SEARCH_EXACT_SEARCH_H_
+
+#include "core/search/pose_search.h"
+
+namespace hpose {
+
+struct ExactSearchOptions {
+  // Translations searched: the template origin anywhere within the cluster's footprint grown by
+  // this margin (metres). Negative: the template's horizontal radius, so every pose at which
+  // the template can touch the cluster is covered.
+  double margin_m = -1.0;
+  // Largest branch-and-bound block: 2^max_level lattice steps per side (6: 64 x 4 mm = 256 mm).
+  int max_level = 6;
+};
+
+// The global optimum of the score over the whole lattice: every theta (angle_steps of them) x
+// every translation in the region above, found by best-first branch and bound. Blocks of
+// 2^k x 2^k translations at one theta are bounded with OR-max-filtered occupancy
+// (ColumnOccupancy: the correlative scan matching idea applied to voxel columns); a block is
+// split only while its bound can still beat the best exact score, and single poses are scored
+// exactly. The result's score equals exhaustive evaluation of the same lattice (ties may pick a
+// different pose of equal score). The runner-up is the exact best with theta more than 30
+// degrees from the best.
+class ExactSearch final : public PoseSearch {
+ public:
+  explicit ExactSearch(ExactSearchOptions options = {}) : options_(options) {}
+  SearchResult Search(const ClusterVoxels& cluster, const PoseScorer& scorer,
+                      const TemplateRotations& rotations,
+                      const Eigen::Vector2d& centre_ground) const override;
+
+  // The translation region (inclusive lattice indices) that Search covers for this cluster and
+  // template; exhaustive checks iterate the same region.
+  struct Region {
+    int ix_min = 0, ix_max = -1, iy_min = 0, iy_max = -1;
+  };
+  Region TranslationRegion(const ClusterVoxels& cluster, const TemplateRotations& rotations) const;
+
+ private:
+  ExactSearchOptions options_;
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SEARCH_EXACT_SEARCH_H_

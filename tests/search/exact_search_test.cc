@@ -1,0 +1,139 @@
+// The exact search must find the maximum score of exhaustive evaluation of the same lattice.
+#include "core/search/exact_search.h"
+
+#include <gtest/gtest.h>
+
+#include "core/scoring/column_occupancy.h"
+#include "core/scoring/fast_scorer.h"
+#include "core/scoring/octomap_scorer.h"
+#include "tests/search/search_test_scenes.h"
+
+namespace hpose {
+namespace {
+
+struct Exhaustive {
+  int best_hits = -1;
+  std::int64_t poses = 0;
+};
+
+Exhaustive Brute(const PoseScorer& scorer, const TemplateRotations& rot,
+                 const ExactSearch::Region& r, const std::vector<int>& thetas) {
+  Exhaustive e;
+  for (int t : thetas) {
+    for (int ix = r.ix_min; ix <= r.ix_max; ++ix) {
+      for (int iy = r.iy_min; iy <= r.iy_max; ++iy) {
+        e.best_hits = std::max(e.best_hits, scorer.Hits(rot.Get(t), ix, iy));
+        ++e.poses;
+      }
+    }
+  }
+  return e;
+}
+
+TEST(ColumnOccupancyTest, HitsEqualReferenceAndBoundsAreUpperBounds) {
+  std::mt19937 rng(5);
+  for (unsigned scene = 0; scene < 12; ++scene) {
+    PoseLattice lattice;
+    lattice.subdivisions = scene % 4 == 3 ? 3 : 4;
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(scene), "t", lattice.resolution_m);
+    const Pose2D truth{0.9 + 0.1 * scene, -0.3 + 0.05 * scene, DegToRad(17.0 * scene)};
+    const ClusterVoxels cluster = VoxeliseCluster(
+        testing::VisibleCluster(testing::RandomRobotPoints(scene), truth, 0.004f, scene),
+        lattice.resolution_m);
+    const TemplateRotations rot(tpl, lattice);
+    const OctomapScorer reference(cluster, lattice);
+    const ColumnOccupancy occ(cluster, lattice, rot.Get(0).z_base, rot.Get(0).z_words, 5);
+    const LatticePose c = NearestLatticePose(lattice, truth);
+    std::uniform_int_distribution<int> d(-40, 40), th(0, 359);
+    for (int k = 0; k < 150; ++k) {
+      const int t = k % 3 == 0 ? c.itheta : th(rng);
+      const int a = c.ix + d(rng), b = c.iy + d(rng);
+      const RotatedTemplate& r = rot.Get(t);
+      const int exact = reference.Hits(r, a, b);
+      ASSERT_EQ(occ.Hits(r, a, b), exact) << "scene " << scene;
+      for (int level = 1; level <= 5; ++level) {
+        // The block starting here contains (a, b) ... and the bound covers every pose in it.
+        const int a0 = a - (k % (1 << level)), b0 = b - ((k / 2) % (1 << level));
+        ASSERT_GE(occ.Bound(r, a0, b0, level), exact) << "level " << level;
+      }
+    }
+  }
+}
+
+TEST(ExactSearchTest, EqualsExhaustiveSearchOnRandomScenes) {
+  for (unsigned scene = 0; scene < 16; ++scene) {
+    PoseLattice lattice;
+    lattice.angle_steps = 24;  // 15 deg: small enough to brute-force the whole lattice.
+    lattice.subdivisions = scene % 2 == 0 ? 4 : 2;
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(100 + scene), "t", lattice.resolution_m);
+    const Pose2D truth{1.0 + 0.13 * scene, 0.4 - 0.07 * scene, DegToRad(-170.0 + 23.0 * scene)};
+    const ClusterVoxels cluster = VoxeliseCluster(
+        testing::VisibleCluster(testing::RandomRobotPoints(100 + scene), truth, 0.005f, scene),
+        lattice.resolution_m);
+    const TemplateRotations rot(tpl, lattice);
+    const FastScorer scorer(cluster, lattice);
+    ExactSearchOptions opts;
+    opts.margin_m = 0.06;  // keeps the brute force small.
+    opts.max_level = 1 + scene % 5;
+    const ExactSearch search(opts);
+    const SearchResult r = search.Search(cluster, scorer, rot, {truth.x, truth.y});
+    const ExactSearch::Region region = search.TranslationRegion(cluster, rot);
+    std::vector<int> all(lattice.angle_steps);
+    for (int t = 0; t < lattice.angle_steps; ++t) all[t] = t;
+    const Exhaustive brute = Brute(scorer, rot, region, all);
+    ASSERT_EQ(r.hits, brute.best_hits) << "scene " << scene;
+    EXPECT_EQ(scorer.Hits(rot.Get(r.best.itheta), r.best.ix, r.best.iy), r.hits);
+    EXPECT_GE(r.best.ix, region.ix_min);
+    EXPECT_LE(r.best.iy, region.iy_max);
+    // Runner-up: exhaustive over thetas more than 30 degrees from the best.
+    std::vector<int> far;
+    for (int t = 0; t < lattice.angle_steps; ++t) {
+      if (std::abs(AngleDiff(t * lattice.angle_step_rad(),
+                             r.best.itheta * lattice.angle_step_rad())) > DegToRad(30)) {
+        far.push_back(t);
+      }
+    }
+    const Exhaustive brute_far = Brute(scorer, rot, region, far);
+    ASSERT_TRUE(r.has_runner_up);
+    EXPECT_NEAR(r.runner_up_score, 100.0 * brute_far.best_hits / scorer.cluster_voxels(), 1e-9);
+    EXPECT_GT(std::abs(AngleDiff(r.runner_up_pose.theta, r.pose.theta)), DegToRad(30));
+    EXPECT_LT(r.poses_evaluated + r.bounds_evaluated, brute.poses);
+  }
+}
+
+TEST(ExactSearchTest, FindsThePlantedPoseOnTheFullLattice) {
+  for (unsigned scene = 0; scene < 4; ++scene) {
+    const PoseLattice lattice;  // 1 deg x 4 mm.
+    const std::vector<Eigen::Vector3f> robot = testing::RandomRobotPoints(200 + scene);
+    const VoxelTemplate tpl = *MakeTemplateFromPoints(robot, "t", lattice.resolution_m);
+    const Pose2D truth{1.2, -0.2 + 0.1 * scene, DegToRad(-135.0 + 80.0 * scene)};
+    const ClusterVoxels cluster =
+        VoxeliseCluster(testing::VisibleCluster(robot, truth, 0.002f, scene), 0.016);
+    const TemplateRotations rot(tpl, lattice);
+    const FastScorer scorer(cluster, lattice);
+    const SearchResult r = ExactSearch().Search(cluster, scorer, rot, {truth.x, truth.y});
+    const LatticePose t = NearestLatticePose(lattice, truth);
+    // Nothing on the lattice scores better than the optimum, in particular not the truth.
+    EXPECT_GE(r.hits, scorer.Hits(rot.Get(t.itheta), t.ix, t.iy));
+    EXPECT_LT(std::hypot(r.pose.x - truth.x, r.pose.y - truth.y), 0.03) << scene;
+    EXPECT_LT(std::abs(AngleDiff(r.pose.theta, truth.theta)), DegToRad(8)) << scene;
+  }
+}
+
+TEST(ExactSearchTest, EmptyClusterFindsNothing) {
+  const PoseLattice lattice;
+  const VoxelTemplate tpl =
+      *MakeTemplateFromPoints(testing::RandomRobotPoints(1), "t", lattice.resolution_m);
+  const TemplateRotations rot(tpl, lattice);
+  const ClusterVoxels empty;
+  const FastScorer scorer(empty, lattice);
+  const SearchResult r = ExactSearch().Search(empty, scorer, rot, {1.0, 0.0});
+  EXPECT_EQ(r.hits, 0);
+  EXPECT_EQ(r.score, 0.0);
+  EXPECT_FALSE(r.has_runner_up);
+}
+
+}  // namespace
+}  // namespace hpose
