@@ -1,0 +1,128 @@
+#ifndef HPOSE_CORE_SIM_HUMANOID_MODEL_H_
+#define HPOSE_CORE_SIM_HUMANOID_MODEL_H_
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/common/status.h"
+#include "core/sim/primitive.h"
+
+namespace hpose {
+
+// Body dimensions of the parametric humanoid, metres. The defaults follow the published link
+// lengths of an Aldebaran Nao (about 0.58 m tall standing).
+struct HumanoidDimensions {
+  // Feet: a box below each ankle.
+  double foot_length_m = 0.160;
+  double foot_width_m = 0.088;
+  double foot_thickness_m = 0.030;
+  double ankle_height_m = 0.045;         // ankle joint above the sole.
+  double foot_forward_offset_m = 0.015;  // foot centre ahead of the ankle.
+  // Legs: capsules hip-knee (thigh) and knee-ankle (shank).
+  double thigh_length_m = 0.100;
+  double tibia_length_m = 0.103;
+  double leg_radius_m = 0.035;
+  double hip_offset_y_m = 0.050;  // each hip joint from the body's mid-plane.
+  double hip_offset_z_m = 0.085;  // hip joints below the torso origin.
+  // Torso: a box around the torso origin (the template origin is on the floor below it).
+  double torso_width_m = 0.140;    // along y.
+  double torso_depth_m = 0.100;    // along x.
+  double torso_bottom_m = -0.065;  // box bottom relative to the torso origin.
+  double torso_top_m = 0.120;      // box top relative to the torso origin.
+  // Arms: capsules shoulder-elbow and elbow-fingertip.
+  double shoulder_offset_y_m = 0.098;
+  double shoulder_offset_z_m = 0.100;
+  double upper_arm_length_m = 0.105;
+  double upper_arm_radius_m = 0.030;
+  double forearm_length_m = 0.114;  // elbow to fingertips (forearm and hand).
+  double forearm_radius_m = 0.025;
+  // Neck and head: a short cylinder, a sphere above the neck joint and a cylinder across it
+  // for the ears (so the head yaw shows).
+  double neck_offset_z_m = 0.1265;  // head yaw joint above the torso origin.
+  double neck_radius_m = 0.025;
+  double head_radius_m = 0.060;
+  double head_centre_above_neck_m = 0.060;
+  double head_width_m = 0.134;  // ear to ear, along the head's y axis.
+  double ear_radius_m = 0.035;  // the ears are a cylinder across the head.
+
+  // Checks every value is finite and positive where it must be; names the offending field.
+  Status Validate() const;
+};
+
+// Joint angles in radians. Zero everywhere is the robot standing straight with the arms
+// hanging. Left and right use mirrored conventions, so equal values give a symmetric pose.
+struct HumanoidJoints {
+  double head_yaw_rad = 0.0;  // + turns the head to the robot's left.
+  // Shoulder pitch: + raises the arm forward (pi/2 horizontal forward, pi straight up).
+  double left_shoulder_pitch_rad = 0.0;
+  double right_shoulder_pitch_rad = 0.0;
+  // Shoulder roll: + moves the arm sideways away from the body.
+  double left_shoulder_roll_rad = 0.0;
+  double right_shoulder_roll_rad = 0.0;
+  // Elbow: + bends the forearm forward/up relative to the upper arm.
+  double left_elbow_rad = 0.0;
+  double right_elbow_rad = 0.0;
+  // Hip pitch: + swings the thigh forward. Hip roll: + spreads the leg sideways.
+  double left_hip_pitch_rad = 0.0;
+  double right_hip_pitch_rad = 0.0;
+  double left_hip_roll_rad = 0.0;
+  double right_hip_roll_rad = 0.0;
+  // Knee: + bends the shank backwards.
+  double left_knee_rad = 0.0;
+  double right_knee_rad = 0.0;
+  // Ankle pitch: + lifts the toes.
+  double left_ankle_pitch_rad = 0.0;
+  double right_ankle_pitch_rad = 0.0;
+
+  // Named presets: "standing" (arms hanging slightly away from the body, symmetric) and
+  // "right_arm_raised" (the right arm raised forward and up, so the robot is not left/right
+  // symmetric). kInvalidArgument for another name, listing the known ones.
+  static Result<HumanoidJoints> Preset(const std::string& name);
+  static std::vector<std::string> PresetNames();
+
+  // Checks every angle is finite and within [-2 pi, 2 pi]; names the offending joint.
+  Status Validate() const;
+};
+
+// A parametric humanoid made of primitives, posed by forward kinematics in the template frame
+// (origin on the floor below the torso centre, +x forward, +y left, +z up, metres). The body is
+// lifted so that its lowest point (normally a sole) touches z = 0.
+class HumanoidModel final {
+ public:
+  // Fails (kInvalidArgument) on invalid dimensions or joint angles.
+  static Result<HumanoidModel> Create(const HumanoidDimensions& dimensions,
+                                      const HumanoidJoints& joints);
+  // Create() with the joints of a named preset (see HumanoidJoints::Preset).
+  static Result<HumanoidModel> FromPreset(const std::string& preset,
+                                          const HumanoidDimensions& dimensions = {});
+
+  const HumanoidDimensions& dimensions() const { return dimensions_; }
+  const HumanoidJoints& joints() const { return joints_; }
+  // The posed primitives in the template frame: torso, neck, head, upper arms, forearms,
+  // thighs, shanks, feet (names "torso", "left_upper_arm", ...).
+  const std::vector<Primitive>& primitives() const { return primitives_; }
+  // Axis-aligned bounds of the posed body in the template frame (min z is 0).
+  const Eigen::AlignedBox3d& bounds() const { return bounds_; }
+  // Top of the body above the floor, metres.
+  double Height() const { return bounds_.max().z(); }
+
+  // Points on the body's outer surface, roughly `spacing_m` apart, in the template frame.
+  // Points hidden inside another primitive (where limbs join the torso) are left out.
+  // Fails (kInvalidArgument) unless 0.5 mm <= spacing_m <= 0.1 m.
+  Result<std::vector<Eigen::Vector3f>> SampleSurface(double spacing_m) const;
+
+ private:
+  HumanoidModel(const HumanoidDimensions& dimensions, const HumanoidJoints& joints);
+
+  HumanoidDimensions dimensions_;
+  HumanoidJoints joints_;
+  std::vector<Primitive> primitives_;
+  Eigen::AlignedBox3d bounds_;
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SIM_HUMANOID_MODEL_H_

@@ -1,0 +1,97 @@
+#include "core/sim/kinect_noise_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace hpose {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+std::uint64_t SplitMix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// Uniform in (0, 1]: never 0, so log() below is finite.
+double UnitOpen(std::uint64_t bits) {
+  return (static_cast<double>(bits >> 11) + 1.0) * (1.0 / 9007199254740992.0);
+}
+
+}  // namespace
+
+Status KinectNoiseOptions::Validate() const {
+  auto bad = [](const std::string& what) {
+    return Status(MakeError(ErrorCode::kInvalidArgument, "Kinect noise option " + what));
+  };
+  if (!std::isfinite(axial_sigma_per_m) || axial_sigma_per_m < 0.0) {
+    return bad("axial_sigma_per_m must be finite and >= 0");
+  }
+  if (!std::isfinite(lateral_sigma_px) || lateral_sigma_px < 0.0 || lateral_sigma_px > 10.0) {
+    return bad("lateral_sigma_px must be in [0, 10]");
+  }
+  if (!std::isfinite(min_range_m) || !std::isfinite(max_range_m) || min_range_m < 0.0 ||
+      max_range_m <= min_range_m || max_range_m > 65.0) {
+    return bad("range must satisfy 0 <= min_range_m < max_range_m <= 65");
+  }
+  if (!std::isfinite(max_incidence_rad) || max_incidence_rad <= 0.0 ||
+      max_incidence_rad > 1.5707963267948966) {
+    return bad("max_incidence_rad must be in (0, pi/2]");
+  }
+  return Status::Ok();
+}
+
+Result<KinectNoiseModel> KinectNoiseModel::Create(const KinectNoiseOptions& options) {
+  if (Status s = options.Validate(); !s.ok()) return s.error();
+  return KinectNoiseModel(options);
+}
+
+KinectNoiseModel::PixelDraw KinectNoiseModel::Draw(std::uint64_t seed,
+                                                   std::uint64_t pixel_index) const {
+  PixelDraw draw;
+  if (!options_.noise_enabled) return draw;
+  const std::uint64_t state = SplitMix64(SplitMix64(seed) ^ (pixel_index * 0xd1b54a32d192ed03ULL));
+  // Two Box-Muller pairs from four independent uniforms.
+  const double u1 = UnitOpen(SplitMix64(state + 1));
+  const double u2 = UnitOpen(SplitMix64(state + 2));
+  const double u3 = UnitOpen(SplitMix64(state + 3));
+  const double u4 = UnitOpen(SplitMix64(state + 4));
+  const double r1 = std::sqrt(-2.0 * std::log(u1));
+  const double r2 = std::sqrt(-2.0 * std::log(u3));
+  draw.du_px = options_.lateral_sigma_px * r1 * std::cos(kTwoPi * u2);
+  draw.dv_px = options_.lateral_sigma_px * r1 * std::sin(kTwoPi * u2);
+  draw.axial_normal = r2 * std::cos(kTwoPi * u4);
+  return draw;
+}
+
+std::uint16_t KinectNoiseModel::Measure(double z_m, double incidence_rad,
+                                        double axial_normal) const {
+  if (!std::isfinite(z_m) || z_m <= 0.0) return 0;
+  if (!(incidence_rad <= options_.max_incidence_rad)) return 0;
+  double z = z_m;
+  if (options_.noise_enabled) {
+    z += axial_normal * AxialSigma(z_m);
+    if (options_.quantise_disparity) {
+      if (z <= 0.0) return 0;
+      z = DepthFromRaw(RawFromDepth(z));
+    }
+  }
+  if (!(z >= options_.min_range_m && z <= options_.max_range_m)) return 0;
+  const double mm = std::round(z * 1000.0);
+  return static_cast<std::uint16_t>(std::clamp(mm, 0.0, 65535.0));
+}
+
+int KinectNoiseModel::RawFromDepth(double z_m) {
+  const double raw = std::round((1.0 / z_m - kRawOffset) / kRawScale);
+  return static_cast<int>(std::clamp(raw, 0.0, static_cast<double>(kMaxValidRaw)));
+}
+
+double KinectNoiseModel::DepthFromRaw(int raw) {
+  if (raw < 0 || raw > kMaxValidRaw) return 0.0;
+  return 1.0 / (raw * kRawScale + kRawOffset);
+}
+
+}  // namespace hpose

@@ -1,0 +1,147 @@
+#include "core/sim/sim_truth.h"
+
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+namespace hpose {
+namespace {
+
+using Json = nlohmann::json;
+
+Json PoseToJson(const Pose2D& p) { return Json{{"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
+
+Pose2D PoseFromJson(const Json& j) {
+  Pose2D p;
+  p.x = j.at("x").get<double>();
+  p.y = j.at("y").get<double>();
+  p.theta = j.at("theta").get<double>();
+  return p;
+}
+
+Json PrimitiveToJson(const Primitive& p) {
+  const Eigen::Vector3d t = p.parent_from_local.translation();
+  const Eigen::Quaterniond q(p.parent_from_local.linear());
+  const Eigen::Matrix3d r = p.parent_from_local.linear();
+  return Json{{"name", p.name},
+              {"shape", PrimitiveShapeName(p.shape)},
+              {"position_m", {t.x(), t.y(), t.z()}},
+              {"orientation_wxyz", {q.w(), q.x(), q.y(), q.z()}},
+              {"yaw_rad", std::atan2(r(1, 0), r(0, 0))},
+              {"half_size_m", {p.half_size.x(), p.half_size.y(), p.half_size.z()}}};
+}
+
+Eigen::Vector3d Vector3FromJson(const Json& j, const char* field) {
+  const Json& a = j.at(field);
+  if (!a.is_array() || a.size() != 3)
+    throw std::runtime_error(std::string(field) + " needs 3 numbers");
+  return Eigen::Vector3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
+}
+
+Primitive PrimitiveFromJson(const Json& j) {
+  Primitive p;
+  p.name = j.at("name").get<std::string>();
+  const std::optional<PrimitiveShape> shape =
+      PrimitiveShapeFromName(j.at("shape").get<std::string>());
+  if (!shape) throw std::runtime_error("unknown clutter shape");
+  p.shape = *shape;
+  const Json& q = j.at("orientation_wxyz");
+  if (!q.is_array() || q.size() != 4) throw std::runtime_error("orientation_wxyz needs 4 numbers");
+  const Eigen::Quaterniond quat(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
+                                q[3].get<double>());
+  if (!(quat.norm() > 0.5)) throw std::runtime_error("orientation_wxyz is not a rotation");
+  p.parent_from_local = Eigen::Isometry3d::Identity();
+  p.parent_from_local.linear() = quat.normalized().toRotationMatrix();
+  p.parent_from_local.translation() = Vector3FromJson(j, "position_m");
+  p.half_size = Vector3FromJson(j, "half_size_m");
+  return p;
+}
+
+}  // namespace
+
+std::string SimTruthToJson(const SimTruth& truth) {
+  Json j;
+  j["format"] = "hpose-sim-truth";
+  j["version"] = 1;
+  Json humanoid = PoseToJson(truth.humanoid_pose);
+  humanoid["preset"] = truth.humanoid_preset;
+  humanoid["height_m"] = truth.humanoid_height_m;
+  j["humanoid"] = humanoid;
+  j["other_humanoids"] = Json::array();
+  for (const SimHumanoidTruth& h : truth.other_humanoids) {
+    Json o = PoseToJson(h.pose);
+    o["preset"] = h.preset;
+    j["other_humanoids"].push_back(o);
+  }
+  j["sensor"] = {{"height_m", truth.sensor_height_m},
+                 {"pitch_rad", truth.sensor_pitch_rad},
+                 {"roll_rad", truth.sensor_roll_rad}};
+  const Intrinsics& k = truth.intrinsics;
+  j["intrinsics"] = {{"width", k.width}, {"height", k.height}, {"fx", k.fx},
+                     {"fy", k.fy},       {"cx", k.cx},         {"cy", k.cy}};
+  j["noise"] = {{"enabled", truth.noise_enabled}, {"seed", truth.seed}};
+  j["clutter_count"] = truth.clutter_count;
+  j["clutter"] = Json::array();
+  for (const Primitive& p : truth.clutter) j["clutter"].push_back(PrimitiveToJson(p));
+  j["frames"] = Json::array();
+  for (const SimFrameTruth& f : truth.frames) {
+    Json o = PoseToJson(f.humanoid_pose);
+    o["index"] = f.index;
+    o["depth"] = f.depth_file;
+    o["cloud"] = f.cloud_file;
+    o["noise_seed"] = f.noise_seed;
+    j["frames"].push_back(o);
+  }
+  j["command"] = truth.command;
+  return j.dump(2) + "\n";
+}
+
+Result<SimTruth> ParseSimTruthJson(const std::string& text, const std::string& origin) {
+  try {
+    const Json j = Json::parse(text);
+    if (j.at("format").get<std::string>() != "hpose-sim-truth") {
+      return MakeError(ErrorCode::kDataLoss, origin + ": not an hpose-sim-truth file");
+    }
+    if (j.at("version").get<int>() != 1) {
+      return MakeError(ErrorCode::kDataLoss, origin + ": unsupported version");
+    }
+    SimTruth t;
+    const Json& h = j.at("humanoid");
+    t.humanoid_pose = PoseFromJson(h);
+    t.humanoid_preset = h.at("preset").get<std::string>();
+    t.humanoid_height_m = h.at("height_m").get<double>();
+    for (const Json& o : j.at("other_humanoids")) {
+      t.other_humanoids.push_back({PoseFromJson(o), o.at("preset").get<std::string>()});
+    }
+    const Json& s = j.at("sensor");
+    t.sensor_height_m = s.at("height_m").get<double>();
+    t.sensor_pitch_rad = s.at("pitch_rad").get<double>();
+    t.sensor_roll_rad = s.at("roll_rad").get<double>();
+    const Json& k = j.at("intrinsics");
+    t.intrinsics.width = k.at("width").get<int>();
+    t.intrinsics.height = k.at("height").get<int>();
+    t.intrinsics.fx = k.at("fx").get<double>();
+    t.intrinsics.fy = k.at("fy").get<double>();
+    t.intrinsics.cx = k.at("cx").get<double>();
+    t.intrinsics.cy = k.at("cy").get<double>();
+    t.noise_enabled = j.at("noise").at("enabled").get<bool>();
+    t.seed = j.at("noise").at("seed").get<std::uint64_t>();
+    t.clutter_count = j.at("clutter_count").get<int>();
+    for (const Json& c : j.at("clutter")) t.clutter.push_back(PrimitiveFromJson(c));
+    for (const Json& f : j.at("frames")) {
+      SimFrameTruth frame;
+      frame.humanoid_pose = PoseFromJson(f);
+      frame.index = f.at("index").get<int>();
+      frame.depth_file = f.at("depth").get<std::string>();
+      frame.cloud_file = f.at("cloud").get<std::string>();
+      frame.noise_seed = f.at("noise_seed").get<std::uint64_t>();
+      t.frames.push_back(frame);
+    }
+    t.command = j.at("command").get<std::string>();
+    return t;
+  } catch (const std::exception& e) {
+    return MakeError(ErrorCode::kDataLoss, origin + ": bad simulation truth: " + e.what());
+  }
+}
+
+}  // namespace hpose
