@@ -12,7 +12,7 @@ PACKAGES := build-essential cmake pkg-config ccache git \
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps configure build run test bench format clean
+.PHONY: all deps configure build run test bench templates format clean
 
 all: build
 
@@ -42,6 +42,13 @@ test: build
 
 bench: build
 	./$(BUILD_DIR)/bench/accuracy_bench
+
+# Regenerates the shipped templates from the parametric humanoid (see templates/README.md).
+templates: configure
+	cmake --build $(BUILD_DIR) --target hpose -j $(JOBS)
+	./$(BUILD_DIR)/tools/hpose template generate --pose standing --out templates/standing.bt
+	./$(BUILD_DIR)/tools/hpose template generate --pose right_arm_raised \
+	  --out templates/right_arm_raised.bt
 
 format:
 	clang-format -i $$(git ls-files '*.cc' '*.h')

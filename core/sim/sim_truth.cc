@@ -7,7 +7,7 @@
 namespace hpose {
 namespace {
 
-using Json = nlohmann::json;
+using Json = nlohmann::ordered_json;
 
 Json PoseToJson(const Pose2D& p) { return Json{{"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
 
