@@ -1,0 +1,111 @@
+// End-to-end tests of `hpose template` and of the shipped templates.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "core/io/cloud_io.h"
+#include "core/sim/humanoid_model.h"
+#include "core/templates/template_io.h"
+#include "core/templates/voxel_template.h"
+#include "tests/tools/cli_test_util.h"
+
+namespace hpose {
+namespace {
+
+using testing::CliRun;
+using testing::RunHpose;
+using testing::TempDir;
+
+TEST(TemplateCliTest, GenerateThenInfo) {
+  TempDir dir("template_cli_generate");
+  const std::string bt = dir / "arm.bt";
+  const CliRun gen =
+      RunHpose("template generate --pose right_arm_raised --name arm --out '" + bt + "'", dir);
+  ASSERT_EQ(gen.exit_code, 0) << gen.err;
+  const Result<VoxelTemplate> tpl = LoadTemplate(bt);
+  ASSERT_TRUE(tpl.ok()) << tpl.error().ToString();
+  EXPECT_EQ(tpl->name, "arm");
+  EXPECT_EQ(tpl->variant, "right_arm_raised");
+  EXPECT_DOUBLE_EQ(tpl->resolution_m, 0.016);
+  const auto model = HumanoidModel::FromPreset("right_arm_raised");
+  ASSERT_TRUE(model.ok());
+  EXPECT_GE(tpl->Height(), model->Height());
+  EXPECT_LE(tpl->Height(), model->Height() + 0.016);
+  EXPECT_GT(tpl->voxels.size(), 1000u);
+  EXPECT_LT(std::filesystem::file_size(bt), 1000000u);
+
+  const CliRun info = RunHpose("template info '" + bt + "'", dir);
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.out.find("arm"), std::string::npos);
+  EXPECT_NE(info.out.find(std::to_string(tpl->voxels.size())), std::string::npos);
+  EXPECT_NE(info.out.find("bbox"), std::string::npos);
+}
+
+TEST(TemplateCliTest, FromCloudVoxelisesTheCloud) {
+  TempDir dir("template_cli_cloud");
+  const auto model = HumanoidModel::FromPreset("standing");
+  ASSERT_TRUE(model.ok());
+  const auto points = model->SampleSurface(0.005);
+  ASSERT_TRUE(points.ok());
+  PointCloud cloud;
+  cloud.points = *points;
+  ASSERT_TRUE(WritePcd(cloud, dir / "robot.pcd").ok());
+  const CliRun run = RunHpose("template from-cloud '" + (dir / "robot.pcd") +
+                                  "' --name robot --resolution 0.02 --out '" + (dir / "r.bt") + "'",
+                              dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Result<VoxelTemplate> tpl = LoadTemplate(dir / "r.bt");
+  const Result<VoxelTemplate> direct = MakeTemplateFromPoints(*points, "robot", 0.02);
+  ASSERT_TRUE(tpl.ok() && direct.ok());
+  EXPECT_EQ(tpl->name, "robot");
+  EXPECT_DOUBLE_EQ(tpl->resolution_m, 0.02);
+  EXPECT_EQ(tpl->voxels.size(), direct->voxels.size());
+}
+
+TEST(TemplateCliTest, BadInputGivesClearErrors) {
+  TempDir dir("template_cli_bad");
+  const CliRun missing = RunHpose(
+      "template from-cloud '" + (dir / "nope.pcd") + "' --name x --out '" + (dir / "x.bt") + "'",
+      dir);
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("nope.pcd"), std::string::npos);
+  EXPECT_EQ(RunHpose("template from-cloud a.pcd --out x.bt", dir).exit_code, 2);  // no --name
+  EXPECT_EQ(RunHpose("template generate --pose dancing --out x.bt", dir).exit_code, 2);
+  EXPECT_EQ(RunHpose("template generate --pose standing", dir).exit_code, 2);  // no --out
+  EXPECT_EQ(RunHpose("template frobnicate", dir).exit_code, 2);
+  EXPECT_EQ(RunHpose("template", dir).exit_code, 2);
+  {
+    std::ofstream corrupt(dir / "bad.bt");
+    corrupt << "not an octree";
+  }
+  const CliRun info = RunHpose("template info '" + (dir / "bad.bt") + "'", dir);
+  EXPECT_EQ(info.exit_code, 1);
+  EXPECT_NE(info.err.find("bad.bt"), std::string::npos);
+  for (const char* sub : {"generate", "from-cloud", "info"}) {
+    const CliRun help = RunHpose(std::string("template ") + sub + " --help", dir);
+    EXPECT_EQ(help.exit_code, 0) << sub;
+    EXPECT_NE(help.out.find("usage"), std::string::npos) << sub;
+  }
+}
+
+// The shipped templates must be what `make templates` produces from the current model.
+TEST(TemplateCliTest, ShippedTemplatesMatchTheModel) {
+  TempDir dir("template_cli_shipped");
+  for (const std::string pose : {"standing", "right_arm_raised"}) {
+    const std::string shipped = std::string(HPOSE_SOURCE_DIR) + "/templates/" + pose + ".bt";
+    const Result<VoxelTemplate> a = LoadTemplate(shipped);
+    ASSERT_TRUE(a.ok()) << a.error().ToString();
+    const CliRun run =
+        RunHpose("template generate --pose " + pose + " --out '" + (dir / pose) + ".bt'", dir);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const Result<VoxelTemplate> b = LoadTemplate(dir / (pose + ".bt"));
+    ASSERT_TRUE(b.ok());
+    EXPECT_EQ(a->name, pose);
+    EXPECT_EQ(a->voxels, b->voxels) << pose << ": run `make templates` after changing the model";
+    EXPECT_LT(std::filesystem::file_size(shipped), 1000000u);
+  }
+}
+
+}  // namespace
+}  // namespace hpose
