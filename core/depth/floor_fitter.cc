@@ -1,0 +1,341 @@
+#include "core/depth/floor_fitter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/sample_consensus/ransac.h>
+#include <pcl/sample_consensus/sac_model_perpendicular_plane.h>
+#include <pcl/search/kdtree.h>
+#include <Eigen/Eigenvalues>
+
+#include "core/depth/voxel_downsample.h"
+
+namespace hpose {
+namespace {
+
+using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
+
+// At most this many near-horizontal planes are extracted one after another (floor, table tops,
+// box tops, seats ...) before the floor is chosen among them.
+constexpr int kMaxCandidatePlanes = 4;
+// Fewer (downsampled) points than this cannot give a trustworthy floor.
+constexpr int kMinPoints = 50;
+// Two candidate planes within this angle are "parallel": the higher one is a table or box top.
+constexpr double kParallelRad = 15.0 * M_PI / 180.0;
+// Larger inputs are thinned to about this many points before the voxel grid.
+constexpr size_t kMaxInputPoints = 80000;
+// RANSAC hypotheses are scored on at most this many points per round.
+constexpr int kMaxRansacPoints = 2000;
+// Radius (m) within which the points of one RANSAC hypothesis are drawn.
+constexpr double kSampleRadiusM = 0.4;
+// Least-squares refinement rounds (re-selecting inliers with the refined plane each time).
+constexpr int kRefineRounds = 3;
+
+// PCL's perpendicular-plane model with a caller-chosen seed (PCL seeds every model with the same
+// constant), so FloorFitterOptions::random_seed has an effect and results stay reproducible.
+// Hypotheses are counted with a vectorisable loop over the whole (small) cloud: the generic PCL
+// loop goes through an index list and dominates the fit otherwise.
+class SeededPerpendicularPlaneModel final
+    : public pcl::SampleConsensusModelPerpendicularPlane<pcl::PointXYZ> {
+ public:
+  SeededPerpendicularPlaneModel(const PclCloud::ConstPtr& cloud, unsigned seed)
+      : pcl::SampleConsensusModelPerpendicularPlane<pcl::PointXYZ>(cloud) {
+    rng_alg_.seed(seed);
+    xs_.reserve(cloud->size());
+    ys_.reserve(cloud->size());
+    zs_.reserve(cloud->size());
+    for (const pcl::PointXYZ& p : *cloud) {
+      xs_.push_back(p.x);
+      ys_.push_back(p.y);
+      zs_.push_back(p.z);
+    }
+  }
+
+  std::size_t countWithinDistance(const Eigen::VectorXf& coefficients,
+                                  const double threshold) const override {
+    if (!isModelValid(coefficients)) return 0;
+    const float a = coefficients[0], b = coefficients[1], c = coefficients[2];
+    const float d = coefficients[3];
+    const float t = static_cast<float>(threshold);
+    std::size_t count = 0;
+    const size_t n = xs_.size();
+    for (size_t i = 0; i < n; ++i) {
+      count += std::abs(a * xs_[i] + b * ys_[i] + c * zs_[i] + d) <= t ? 1 : 0;
+    }
+    return count;
+  }
+
+ protected:
+  // Same test as PCL's (non-degenerate triangle) without printing an error for every
+  // rejected draw: with local sampling, isolated points often yield degenerate samples.
+  bool isSampleGood(const pcl::Indices& samples) const override {
+    if (samples.size() != 3) return false;
+    const Eigen::Vector3f p0 = (*input_)[samples[0]].getVector3fMap();
+    const Eigen::Vector3f p1 = (*input_)[samples[1]].getVector3fMap();
+    const Eigen::Vector3f p2 = (*input_)[samples[2]].getVector3fMap();
+    return (p1 - p0).cross(p2 - p0).stableNorm() >= Eigen::NumTraits<float>::dummy_precision();
+  }
+
+ private:
+  std::vector<float> xs_, ys_, zs_;
+};
+
+struct Candidate {
+  Eigen::Vector4d plane;  // unit normal towards the sensor, d > 0.
+  int inliers = 0;
+};
+
+std::string Percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f%%", 100.0 * fraction);
+  return text;
+}
+
+std::string Degrees(double rad) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.0f deg", rad * 180.0 / M_PI);
+  return text;
+}
+
+// Depth noise of a structured-light sensor grows with the square of the range (SPEC §5,
+// Kinect v1: sigma_z = 1.425e-3 * z^2). Far floor points are noisy and quantised in steps of
+// several centimetres, so the refinement widens their inlier band and weights them down;
+// otherwise a few far points would tilt the plane.
+constexpr double kDepthNoisePerM2 = 1.425e-3;
+
+// Inlier half-width (m) of a point at squared range `range2` for a base threshold (m).
+float InlierBand(float threshold, float range2) {
+  return threshold + static_cast<float>(2.5 * kDepthNoisePerM2) * range2;
+}
+
+// Weighted least-squares plane (weighted centroid + smallest principal axis) through the given
+// points with weights 1 / sigma^2, sigma^2 = (threshold / 2)^2 + (k r^2)^2; oriented so that
+// the sensor (origin) is on its positive side. Returns false when degenerate.
+bool FitPlaneLeastSquares(const std::vector<Eigen::Vector3f>& points,
+                          const std::vector<int>& indices, double threshold,
+                          Eigen::Vector4d* plane) {
+  if (indices.size() < 3) return false;
+  const double base_var = 0.25 * threshold * threshold;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+  double weight_sum = 0.0;
+  for (const int i : indices) {
+    const Eigen::Vector3d p = points[i].cast<double>();
+    const double range_sigma = kDepthNoisePerM2 * p.squaredNorm();
+    const double w = 1.0 / (base_var + range_sigma * range_sigma);
+    mean += w * p;
+    second.noalias() += w * p * p.transpose();
+    weight_sum += w;
+  }
+  mean /= weight_sum;
+  const Eigen::Matrix3d cov = second / weight_sum - mean * mean.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov);
+  if (solver.info() != Eigen::Success) return false;
+  Eigen::Vector3d n = solver.eigenvectors().col(0);  // eigenvalues ascend.
+  if (!n.allFinite() || n.norm() < 1e-9) return false;
+  n.normalize();
+  double d = -n.dot(mean);
+  if (d < 0.0) {
+    n = -n;
+    d = -d;
+  }
+  *plane << n, d;
+  return true;
+}
+
+// Points within the (range-dependent) inlier band of the plane.
+void SelectInliers(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector4d& plane,
+                   double threshold, std::vector<int>* inliers) {
+  inliers->clear();
+  const Eigen::Vector3f n = plane.head<3>().cast<float>();
+  const float d = static_cast<float>(plane[3]);
+  const float t = static_cast<float>(threshold);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3f& p = points[i];
+    if (std::abs(n.dot(p) + d) <= InlierBand(t, p.squaredNorm())) {
+      inliers->push_back(static_cast<int>(i));
+    }
+  }
+}
+
+Status ValidateOptions(const FloorFitterOptions& o) {
+  auto bad = [](const std::string& what) {
+    return Status(MakeError(ErrorCode::kInvalidArgument, "floor fitter options: " + what));
+  };
+  if (!(o.distance_threshold_m > 0.0) || !std::isfinite(o.distance_threshold_m)) {
+    return bad("distance_threshold_m must be finite and > 0");
+  }
+  if (o.max_iterations < 1) return bad("max_iterations must be >= 1");
+  if (!(o.max_tilt_rad > 0.0) || !(o.max_tilt_rad < M_PI / 2.0)) {
+    return bad("max_tilt_rad must be in (0, pi/2)");
+  }
+  if (!(o.min_inlier_fraction >= 0.0) || !(o.min_inlier_fraction <= 1.0)) {
+    return bad("min_inlier_fraction must be in [0, 1]");
+  }
+  if (!(o.downsample_leaf_m >= 0.0) || !std::isfinite(o.downsample_leaf_m)) {
+    return bad("downsample_leaf_m must be finite and >= 0");
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitterOptions& options) {
+  const Status valid = ValidateOptions(options);
+  if (!valid.ok()) return valid.error();
+  if (cloud_sensor.empty()) {
+    return MakeError(ErrorCode::kInvalidArgument, "floor fitter: the cloud is empty");
+  }
+
+  // Finite points only (organised clouds carry NaN for missing readings).
+  // Big clouds are thinned first (every k-th point): the voxel grid that follows keeps a few
+  // points per voxel anyway, and a full 640x480 frame would make the downsampling dominate.
+  // Organised clouds are thinned on a square pixel lattice, others by index.
+  std::vector<Eigen::Vector3f> finite;
+  const size_t ratio = (cloud_sensor.size() + kMaxInputPoints - 1) / kMaxInputPoints;
+  if (cloud_sensor.organised() && ratio > 1) {
+    const int stride = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(ratio))));
+    finite.reserve(cloud_sensor.size() / (stride * stride) + cloud_sensor.width + 1);
+    for (int v = 0; v < cloud_sensor.height; v += stride) {
+      const Eigen::Vector3f* row = cloud_sensor.points.data() + size_t(v) * cloud_sensor.width;
+      for (int u = 0; u < cloud_sensor.width; u += stride) {
+        if (row[u].allFinite()) finite.push_back(row[u]);
+      }
+    }
+  } else {
+    finite.reserve(cloud_sensor.size() / ratio + 1);
+    for (size_t i = 0; i < cloud_sensor.size(); i += ratio) {
+      const Eigen::Vector3f& p = cloud_sensor.points[i];
+      if (p.allFinite()) finite.push_back(p);
+    }
+  }
+  std::vector<Eigen::Vector3f> sampled;
+  if (options.downsample_leaf_m > 0.0) {
+    VoxelDownsample(finite, static_cast<float>(options.downsample_leaf_m), &sampled);
+  } else {
+    sampled.swap(finite);
+  }
+  const int n = static_cast<int>(sampled.size());
+  if (n < kMinPoints) {
+    return MakeError(ErrorCode::kFailedPrecondition,
+                     "no floor: only " + std::to_string(n) + " points" +
+                         (options.downsample_leaf_m > 0.0 ? " after downsampling" : "") +
+                         " (need " + std::to_string(kMinPoints) + ")");
+  }
+
+  const int min_support = std::max(3, static_cast<int>(std::ceil(options.min_inlier_fraction * n)));
+  const Eigen::Vector3d up_guess(0.0, -1.0, 0.0);  // sensor frame: y points down.
+  const double cos_max_tilt = std::cos(options.max_tilt_rad);
+
+  std::vector<Candidate> candidates;
+  std::vector<char> taken(n, 0);
+  int best_support_seen = 0;
+  std::vector<int> inliers;
+  for (int round = 0; round < kMaxCandidatePlanes; ++round) {
+    int remaining_count = 0;
+    for (int i = 0; i < n; ++i) remaining_count += taken[i] ? 0 : 1;
+    if (remaining_count < min_support) break;
+    // RANSAC scores hypotheses on an evenly spread subset (the estimate of a fraction from a
+    // couple of thousand points is good enough); the refinement below uses every point.
+    const int step = (remaining_count + kMaxRansacPoints - 1) / kMaxRansacPoints;
+    auto round_cloud = std::make_shared<PclCloud>();
+    round_cloud->reserve(remaining_count / step + 1);
+    for (int i = 0, k = 0; i < n; ++i) {
+      if (taken[i]) continue;
+      if (k++ % step == 0) {
+        round_cloud->push_back(pcl::PointXYZ(sampled[i].x(), sampled[i].y(), sampled[i].z()));
+      }
+    }
+    if (round_cloud->size() < 3) break;
+
+    // Local sampling: the 2nd and 3rd points of a hypothesis lie within kSampleRadius of the
+    // 1st, so a hypothesis is all-floor with probability ~w (floor fraction) instead of w^3.
+    // That keeps a floor that is a minority of the points (people, walls, furniture) findable
+    // within a few hundred iterations.
+    auto model = std::make_shared<SeededPerpendicularPlaneModel>(
+        round_cloud, static_cast<unsigned>(options.random_seed) + round);
+    model->setAxis(Eigen::Vector3f(0.0f, -1.0f, 0.0f));
+    model->setEpsAngle(options.max_tilt_rad);
+    auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>(/*sorted=*/false);
+    tree->setInputCloud(round_cloud);
+    model->setSamplesMaxDist(kSampleRadiusM, tree);
+    pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model, options.distance_threshold_m);
+    ransac.setMaxIterations(options.max_iterations);
+    if (!ransac.computeModel()) break;
+    pcl::Indices ransac_inliers;
+    ransac.getInliers(ransac_inliers);
+    // Support as a count of all (downsampled) points, extrapolated from the subset.
+    const int support = static_cast<int>(static_cast<double>(ransac_inliers.size()) * step);
+    best_support_seen = std::max(best_support_seen, support);
+    if (support < min_support || ransac_inliers.size() < 3) break;
+    Eigen::VectorXf coefficients;
+    ransac.getModelCoefficients(coefficients);
+    Eigen::Vector4d plane = coefficients.head<4>().cast<double>();
+    const double norm = plane.head<3>().norm();
+    if (!(norm > 0.0)) break;
+    plane /= norm;
+    // Claim the RANSAC plane's points so the next round looks for another plane.
+    SelectInliers(sampled, plane, options.distance_threshold_m, &inliers);
+    for (const int i : inliers) taken[i] = 1;
+
+    // Refine by least squares on the inliers, re-selecting them with the refined plane.
+    bool ok = true;
+    for (int r = 0; r < kRefineRounds && ok; ++r) {
+      ok = FitPlaneLeastSquares(sampled, inliers, options.distance_threshold_m, &plane);
+      if (!ok) break;
+      SelectInliers(sampled, plane, options.distance_threshold_m, &inliers);
+    }
+    if (!ok || inliers.size() < 3 || plane[3] < 1e-3) continue;  // degenerate or through sensor.
+    // The sensor must be above the plane, i.e. its normal towards the sensor points "up":
+    // this rejects ceilings, which PCL's sign-blind axis test lets through.
+    if (plane.head<3>().dot(up_guess) < cos_max_tilt) continue;
+    for (const int i : inliers) taken[i] = 1;
+    candidates.push_back(Candidate{plane, static_cast<int>(inliers.size())});
+  }
+
+  if (candidates.empty()) {
+    if (best_support_seen == 0) {
+      return MakeError(ErrorCode::kFailedPrecondition,
+                       "no floor: no plane within " + Degrees(options.max_tilt_rad) +
+                           " of the sensor's up direction (-y) among " + std::to_string(n) +
+                           " points");
+    }
+    return MakeError(ErrorCode::kFailedPrecondition,
+                     "no floor: best plane has " +
+                         Percent(static_cast<double>(best_support_seen) / n) + " inliers (need " +
+                         Percent(options.min_inlier_fraction) + ")");
+  }
+
+  // A candidate with a parallel candidate clearly below it (larger d) is a table or box top.
+  // Among the remaining (e.g. the floor and a wall seen from a steep pitch) the best supported
+  // one is the floor.
+  const double below_margin = std::max(3.0 * options.distance_threshold_m, 0.05);
+  const double cos_parallel = std::cos(kParallelRad);
+  const Candidate* best = nullptr;
+  for (const Candidate& c : candidates) {
+    bool above_another = false;
+    for (const Candidate& other : candidates) {
+      if (&other == &c) continue;
+      if (other.plane.head<3>().dot(c.plane.head<3>()) >= cos_parallel &&
+          other.plane[3] > c.plane[3] + below_margin) {
+        above_another = true;
+        break;
+      }
+    }
+    if (above_another) continue;
+    if (best == nullptr || c.inliers > best->inliers) best = &c;
+  }
+  // The lowest parallel candidate always survives, so best is set.
+  FloorEstimate floor = FloorEstimate::FromPlane(best->plane);
+  floor.inliers = best->inliers;
+  floor.fitted = true;
+  return floor;
+}
+
+}  // namespace hpose

@@ -1,0 +1,24 @@
+#ifndef HPOSE_CORE_DEPTH_VOXEL_DOWNSAMPLE_H_
+#define HPOSE_CORE_DEPTH_VOXEL_DOWNSAMPLE_H_
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hpose {
+
+// Voxel-grid downsampling shared by the floor fitter and the cluster extractor: every occupied
+// cube of side `leaf_m` (metres, > 0, aligned at the frame origin) becomes the centroid of its
+// points. Centroids come out in the order their voxels are first met, so the result is
+// deterministic. Unlike pcl::VoxelGrid it has no limit on the extent / leaf ratio and needs no
+// copy into a PCL cloud. All points must be finite.
+//
+// `voxel_of_point` (optional) receives, for every input point, the index of its centroid.
+// Runs in O(n) with one hash table sized for n; `centroids` is cleared first.
+void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
+                     std::vector<Eigen::Vector3f>* centroids,
+                     std::vector<int>* voxel_of_point = nullptr);
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_DEPTH_VOXEL_DOWNSAMPLE_H_

@@ -1,0 +1,108 @@
+#include "core/io/atomic_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace hpose {
+namespace {
+
+std::string ErrnoText() { return std::strerror(errno); }
+
+std::string DirectoryOf(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  if (slash == 0) return "/";
+  return path.substr(0, slash);
+}
+
+// A name in the same directory as `path` (so rename() stays on one file system) that no other
+// writer in this or another process picks at the same time.
+std::string TempPathFor(const std::string& path) {
+  static std::atomic<unsigned> counter{0};
+  const size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  return dir + "." + base + ".tmp." + std::to_string(::getpid()) + "." +
+         std::to_string(counter.fetch_add(1));
+}
+
+// Flushes a file (or directory) to disk; best effort, failures are not fatal for correctness
+// of the rename, only for durability across power loss.
+void SyncPath(const std::string& path, int flags) {
+  const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
+}  // namespace
+
+Status WriteAtomically(const std::string& path,
+                       const std::function<Status(const std::string& temp_path)>& write_temp) {
+  if (path.empty()) return MakeError(ErrorCode::kInternal, "cannot write: empty path");
+  if (path.back() == '/') {
+    return MakeError(ErrorCode::kInternal, path + ": is a directory name, not a file");
+  }
+  const std::string temp = TempPathFor(path);
+  Status written = write_temp(temp);
+  if (!written.ok()) {
+    std::remove(temp.c_str());
+    return written;
+  }
+  struct stat st;
+  if (::stat(temp.c_str(), &st) != 0) {
+    return MakeError(ErrorCode::kInternal,
+                     path + ": the writer reported success but produced no temporary file");
+  }
+  SyncPath(temp, O_RDONLY);
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    const std::string reason = ErrnoText();
+    std::remove(temp.c_str());
+    return MakeError(ErrorCode::kInternal, path + ": cannot replace the file: " + reason);
+  }
+  SyncPath(DirectoryOf(path), O_RDONLY | O_DIRECTORY);
+  return Status::Ok();
+}
+
+Status WriteFileAtomically(const std::string& path, const std::string& contents) {
+  return WriteAtomically(path, [&](const std::string& temp) -> Status {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out) {
+      return MakeError(ErrorCode::kInternal,
+                       path + ": cannot create a temporary file (" + temp + "): " + ErrnoText());
+    }
+    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
+    out.close();
+    if (!out) return MakeError(ErrorCode::kInternal, path + ": write failed: " + ErrnoText());
+    return Status::Ok();
+  });
+}
+
+Result<std::string> ReadFile(const std::string& path) {
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0) {
+    if (errno == ENOENT || errno == ENOTDIR) {
+      return MakeError(ErrorCode::kNotFound, path + ": no such file");
+    }
+    return MakeError(ErrorCode::kInternal, path + ": cannot stat: " + ErrnoText());
+  }
+  if (S_ISDIR(st.st_mode)) {
+    return MakeError(ErrorCode::kInternal, path + ": is a directory, not a file");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return MakeError(ErrorCode::kInternal, path + ": cannot open: " + ErrnoText());
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) return MakeError(ErrorCode::kInternal, path + ": read failed: " + ErrnoText());
+  return buffer.str();
+}
+
+}  // namespace hpose
