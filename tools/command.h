@@ -14,6 +14,10 @@ struct Command {
 int RunEstimate(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 int RunTemplate(int argc, char** argv);
+// Daemon tools (cmd_record.cc, cmd_replay.cc, cmd_query.cc).
+int RunRecord(int argc, char** argv);
+int RunReplay(int argc, char** argv);
+int RunQuery(int argc, char** argv);
 
 }  // namespace hpose::tools
 

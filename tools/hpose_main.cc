@@ -15,6 +15,10 @@ const Command kCommands[] = {
      hpose::tools::RunEstimate},
     {"simulate", "render simulated Kinect frames of a humanoid scene", hpose::tools::RunSimulate},
     {"template", "make, inspect and regenerate humanoid templates", hpose::tools::RunTemplate},
+    {"record", "record depth from an OpenNI2 device to .oni or PNG frames",
+     hpose::tools::RunRecord},
+    {"replay", "estimate every frame of a recording (JSON Lines or CSV)", hpose::tools::RunReplay},
+    {"query", "ask a running hposed: latest, stream, estimate, status", hpose::tools::RunQuery},
 };
 
 void PrintHelp() {

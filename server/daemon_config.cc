@@ -1,0 +1,340 @@
+#include "server/daemon_config.h"
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "core/io/atomic_file.h"
+#include "server/openni2_source.h"
+
+namespace hpose::server {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Reads one YAML mapping, remembering which keys were used so unknown ones are reported.
+class MapReader {
+ public:
+  MapReader(const YAML::Node& node, std::string path, std::string origin)
+      : node_(node), path_(std::move(path)), origin_(std::move(origin)) {}
+
+  Status CheckIsMap() const {
+    if (node_.IsMap() || node_.IsNull()) return Status::Ok();
+    return Fail(path_.empty() ? "the document" : path_, "expected a mapping");
+  }
+
+  std::string Key(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+  YAML::Node Get(const std::string& key) {
+    seen_.insert(key);
+    return node_.IsMap() ? node_[key] : YAML::Node();
+  }
+
+  template <typename T>
+  Status Read(const std::string& key, T* out, const char* type_name) {
+    const YAML::Node n = Get(key);
+    if (!n.IsDefined() || n.IsNull()) return Status::Ok();
+    if (!n.IsScalar()) return Fail(Key(key), std::string("expected ") + type_name);
+    try {
+      *out = n.as<T>();
+    } catch (const YAML::Exception&) {
+      return Fail(Key(key), std::string("expected ") + type_name + ", got '" + n.Scalar() + "'");
+    }
+    return Status::Ok();
+  }
+
+  Status ReadDouble(const std::string& key, double* out) {
+    Status s = Read(key, out, "a number");
+    if (s.ok() && !std::isfinite(*out)) return Fail(Key(key), "must be finite");
+    return s;
+  }
+
+  Status CheckUnknown() const {
+    if (!node_.IsMap()) return Status::Ok();
+    for (const auto& kv : node_) {
+      const std::string k = kv.first.as<std::string>();
+      if (seen_.count(k) == 0) return Fail(Key(k), "unknown key");
+    }
+    return Status::Ok();
+  }
+
+  Status Fail(const std::string& key, const std::string& what) const {
+    return MakeError(ErrorCode::kInvalidArgument, origin_ + ": " + key + ": " + what);
+  }
+
+ private:
+  YAML::Node node_;
+  std::string path_;
+  std::string origin_;
+  std::set<std::string> seen_;
+};
+
+#define HPOSE_RETURN_IF_ERROR(expr)  \
+  do {                               \
+    Status _s = (expr);              \
+    if (!_s.ok()) return _s.error(); \
+  } while (false)
+
+std::string Resolve(const std::string& base_dir, const std::string& path) {
+  if (path.empty() || base_dir.empty() || IsOpenni2DeviceSpec(path)) return path;
+  const fs::path p(path);
+  return p.is_absolute() ? path : (fs::path(base_dir) / p).lexically_normal().string();
+}
+
+Status ParseInto(const YAML::Node& root, const std::string& origin, const std::string& base_dir,
+                 DaemonConfig* c) {
+  MapReader top(root, "", origin);
+  HPOSE_RETURN_IF_ERROR(top.CheckIsMap());
+  HPOSE_RETURN_IF_ERROR(top.Read("listen", &c->grpc.listen, "a host:port string"));
+
+  {
+    MapReader r(top.Get("grpc"), "grpc", origin);
+    HPOSE_RETURN_IF_ERROR(r.CheckIsMap());
+    HPOSE_RETURN_IF_ERROR(
+        r.Read("max_receive_message_bytes", &c->grpc.max_receive_message_bytes, "an integer"));
+    HPOSE_RETURN_IF_ERROR(
+        r.Read("max_send_message_bytes", &c->grpc.max_send_message_bytes, "an integer"));
+    HPOSE_RETURN_IF_ERROR(
+        r.Read("max_concurrent_estimates", &c->grpc.max_concurrent_estimates, "an integer"));
+    HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
+  }
+  {
+    MapReader r(top.Get("source"), "source", origin);
+    HPOSE_RETURN_IF_ERROR(r.CheckIsMap());
+    SourceConfig& s = c->source;
+    HPOSE_RETURN_IF_ERROR(r.Read("path", &s.path, "a path"));
+    s.path = Resolve(base_dir, s.path);
+    std::string rate;
+    HPOSE_RETURN_IF_ERROR(r.Read("rate", &rate, "'recorded' or 'fast'"));
+    if (rate == "recorded") {
+      s.realtime = true;
+    } else if (rate == "fast") {
+      s.realtime = false;
+    } else if (!rate.empty()) {
+      return r.Fail("source.rate", "expected 'recorded' or 'fast', got '" + rate + "'");
+    }
+    HPOSE_RETURN_IF_ERROR(r.Read("loop", &s.loop, "true or false"));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("fps", &s.fps));
+    HPOSE_RETURN_IF_ERROR(r.Read("queue_capacity", &s.queue_capacity, "an integer"));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("frame_timeout_s", &s.frame_timeout_s));
+    HPOSE_RETURN_IF_ERROR(
+        r.ReadDouble("reconnect_initial_backoff_s", &s.reconnect_initial_backoff_s));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("reconnect_max_backoff_s", &s.reconnect_max_backoff_s));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("stale_after_s", &s.stale_after_s));
+    HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
+  }
+  {
+    const YAML::Node t = top.Get("templates");
+    if (t.IsDefined() && !t.IsNull()) {
+      if (!t.IsSequence()) return top.Fail("templates", "expected a list of .bt files");
+      c->templates.clear();
+      for (size_t i = 0; i < t.size(); ++i) {
+        if (!t[i].IsScalar()) {
+          return top.Fail("templates[" + std::to_string(i) + "]", "expected a path");
+        }
+        c->templates.push_back(Resolve(base_dir, t[i].Scalar()));
+      }
+    }
+  }
+  {
+    MapReader r(top.Get("search"), "search", origin);
+    HPOSE_RETURN_IF_ERROR(r.CheckIsMap());
+    EstimatorOptions& e = c->estimator;
+    std::string kind, scorer;
+    HPOSE_RETURN_IF_ERROR(r.Read("kind", &kind, "'paper' or 'exact'"));
+    if (!kind.empty()) {
+      Result<SearchKind> k = ParseSearchKind(kind);
+      if (!k.ok()) return r.Fail("search.kind", "expected 'paper' or 'exact', got '" + kind + "'");
+      e.search = *k;
+    }
+    HPOSE_RETURN_IF_ERROR(r.Read("scorer", &scorer, "'reference' or 'fast'"));
+    if (!scorer.empty()) {
+      Result<ScorerKind> k = ParseScorerName(scorer);
+      if (!k.ok()) {
+        return r.Fail("search.scorer", "expected 'reference' or 'fast', got '" + scorer + "'");
+      }
+      e.scorer = *k;
+    }
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("score_threshold", &e.score_threshold));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("max_height_ratio_error", &e.max_height_ratio_error));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("resolution_m", &e.lattice.resolution_m));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_range_m", &e.cloud.min_range_m));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("max_range_m", &e.cloud.max_range_m));
+    HPOSE_RETURN_IF_ERROR(r.Read("stride", &e.cloud.stride, "an integer"));
+    HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
+  }
+  {
+    MapReader r(top.Get("floor"), "floor", origin);
+    HPOSE_RETURN_IF_ERROR(r.CheckIsMap());
+    FloorConfig& f = c->floor;
+    std::string mode;
+    HPOSE_RETURN_IF_ERROR(r.Read("mode", &mode, "'fit' or 'fixed'"));
+    if (mode == "fit") {
+      f.fixed = false;
+    } else if (mode == "fixed") {
+      f.fixed = true;
+    } else if (!mode.empty()) {
+      return r.Fail("floor.mode", "expected 'fit' or 'fixed', got '" + mode + "'");
+    }
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("height_m", &f.height_m));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("pitch_rad", &f.pitch_rad));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("roll_rad", &f.roll_rad));
+    HPOSE_RETURN_IF_ERROR(
+        r.ReadDouble("distance_threshold_m", &c->estimator.floor_fit.distance_threshold_m));
+    HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
+  }
+  HPOSE_RETURN_IF_ERROR(top.CheckUnknown());
+  return Status::Ok();
+}
+
+bool ValidListen(const std::string& listen) {
+  const size_t colon = listen.rfind(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 >= listen.size()) return false;
+  for (size_t i = colon + 1; i < listen.size(); ++i) {
+    if (listen[i] < '0' || listen[i] > '9') return false;
+  }
+  return std::stol(listen.substr(colon + 1)) <= 65535;
+}
+
+}  // namespace
+
+Result<ScorerKind> ParseScorerName(const std::string& name) {
+  if (name == "reference") return ScorerKind::kOctomapReference;
+  if (name == "fast") return ScorerKind::kFast;
+  return MakeError(ErrorCode::kInvalidArgument,
+                   "unknown scorer '" + name + "' (expected 'reference' or 'fast')");
+}
+
+const char* ScorerName(ScorerKind kind) { return kind == ScorerKind::kFast ? "fast" : "reference"; }
+
+Result<DaemonConfig> ParseDaemonConfig(const std::string& yaml_text, const std::string& origin,
+                                       const std::string& base_dir) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    return MakeError(
+        ErrorCode::kInvalidArgument,
+        origin + ": not valid YAML: line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  DaemonConfig config;
+  try {
+    Status s = ParseInto(root, origin, base_dir, &config);
+    if (!s.ok()) return s.error();
+  } catch (const YAML::Exception& e) {
+    return MakeError(ErrorCode::kInvalidArgument, origin + ": " + e.msg);
+  }
+  return config;
+}
+
+Result<DaemonConfig> LoadDaemonConfig(const std::string& path) {
+  Result<std::string> text = ReadFile(path);
+  if (!text.ok()) return text.error();
+  const std::string base = fs::path(path).parent_path().string();
+  return ParseDaemonConfig(*text, path, base.empty() ? "." : base);
+}
+
+Status ValidateDaemonConfig(const DaemonConfig& c) {
+  auto fail = [](const std::string& key, const std::string& what) {
+    return Status(MakeError(ErrorCode::kInvalidArgument, "config: " + key + ": " + what));
+  };
+  if (!ValidListen(c.grpc.listen)) {
+    return fail("listen", "expected HOST:PORT (e.g. 127.0.0.1:50051), got '" + c.grpc.listen + "'");
+  }
+  if (c.grpc.max_receive_message_bytes < 1024 || c.grpc.max_send_message_bytes < 1024) {
+    return fail("grpc.max_receive_message_bytes", "message limits must be at least 1024 bytes");
+  }
+  if (c.grpc.max_concurrent_estimates < 1 || c.grpc.max_concurrent_estimates > 64) {
+    return fail("grpc.max_concurrent_estimates", "must be in [1, 64]");
+  }
+  const SourceConfig& s = c.source;
+  if (!(s.fps > 0.0 && s.fps <= 10000.0)) return fail("source.fps", "must be in (0, 10000]");
+  if (s.queue_capacity < 1 || s.queue_capacity > 1000) {
+    return fail("source.queue_capacity", "must be in [1, 1000]");
+  }
+  if (!(s.frame_timeout_s > 0.0)) return fail("source.frame_timeout_s", "must be positive");
+  if (!(s.reconnect_initial_backoff_s > 0.0)) {
+    return fail("source.reconnect_initial_backoff_s", "must be positive");
+  }
+  if (!(s.reconnect_max_backoff_s >= s.reconnect_initial_backoff_s)) {
+    return fail("source.reconnect_max_backoff_s", "must be >= reconnect_initial_backoff_s");
+  }
+  if (!(s.stale_after_s > 0.0)) return fail("source.stale_after_s", "must be positive");
+  if (c.templates.empty()) {
+    return fail("templates",
+                "no template given (use --template FILE.bt or templates: in the config)");
+  }
+  for (const std::string& t : c.templates) {
+    if (t.size() < 4 || t.compare(t.size() - 3, 3, ".bt") != 0) {
+      return fail("templates", "'" + t + "' is not a .bt file");
+    }
+  }
+  if (!(c.estimator.score_threshold >= 0.0 && c.estimator.score_threshold <= 100.0)) {
+    return fail("search.score_threshold", "must be in [0, 100]");
+  }
+  if (c.floor.fixed) {
+    if (!(c.floor.height_m > 0.0 && c.floor.height_m < 10.0)) {
+      return fail("floor.height_m", "must be in (0, 10) metres");
+    }
+    if (!(std::fabs(c.floor.pitch_rad) < 1.5 && std::fabs(c.floor.roll_rad) < 1.5)) {
+      return fail("floor.pitch_rad", "pitch and roll must be within +-1.5 rad");
+    }
+  }
+  Status lattice = c.estimator.lattice.Validate();
+  if (!lattice.ok()) return fail("search.resolution_m", lattice.error().message);
+  return Status::Ok();
+}
+
+std::string DaemonConfigToYaml(const DaemonConfig& c) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(12);
+  out << YAML::BeginMap;
+  out << YAML::Key << "listen" << YAML::Value << c.grpc.listen;
+  out << YAML::Key << "grpc" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "max_receive_message_bytes" << YAML::Value
+      << c.grpc.max_receive_message_bytes;
+  out << YAML::Key << "max_send_message_bytes" << YAML::Value << c.grpc.max_send_message_bytes;
+  out << YAML::Key << "max_concurrent_estimates" << YAML::Value << c.grpc.max_concurrent_estimates;
+  out << YAML::EndMap;
+  const SourceConfig& s = c.source;
+  out << YAML::Key << "source" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "path" << YAML::Value << s.path;
+  out << YAML::Key << "rate" << YAML::Value << (s.realtime ? "recorded" : "fast");
+  out << YAML::Key << "loop" << YAML::Value << s.loop;
+  out << YAML::Key << "fps" << YAML::Value << s.fps;
+  out << YAML::Key << "queue_capacity" << YAML::Value << s.queue_capacity;
+  out << YAML::Key << "frame_timeout_s" << YAML::Value << s.frame_timeout_s;
+  out << YAML::Key << "reconnect_initial_backoff_s" << YAML::Value << s.reconnect_initial_backoff_s;
+  out << YAML::Key << "reconnect_max_backoff_s" << YAML::Value << s.reconnect_max_backoff_s;
+  out << YAML::Key << "stale_after_s" << YAML::Value << s.stale_after_s;
+  out << YAML::EndMap;
+  out << YAML::Key << "templates" << YAML::Value << YAML::BeginSeq;
+  for (const std::string& t : c.templates) out << t;
+  out << YAML::EndSeq;
+  const EstimatorOptions& e = c.estimator;
+  out << YAML::Key << "search" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "kind" << YAML::Value << SearchKindName(e.search);
+  out << YAML::Key << "scorer" << YAML::Value << ScorerName(e.scorer);
+  out << YAML::Key << "score_threshold" << YAML::Value << e.score_threshold;
+  out << YAML::Key << "max_height_ratio_error" << YAML::Value << e.max_height_ratio_error;
+  out << YAML::Key << "resolution_m" << YAML::Value << e.lattice.resolution_m;
+  out << YAML::Key << "min_range_m" << YAML::Value << e.cloud.min_range_m;
+  out << YAML::Key << "max_range_m" << YAML::Value << e.cloud.max_range_m;
+  out << YAML::Key << "stride" << YAML::Value << e.cloud.stride;
+  out << YAML::EndMap;
+  out << YAML::Key << "floor" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "mode" << YAML::Value << (c.floor.fixed ? "fixed" : "fit");
+  out << YAML::Key << "height_m" << YAML::Value << c.floor.height_m;
+  out << YAML::Key << "pitch_rad" << YAML::Value << c.floor.pitch_rad;
+  out << YAML::Key << "roll_rad" << YAML::Value << c.floor.roll_rad;
+  out << YAML::Key << "distance_threshold_m" << YAML::Value << e.floor_fit.distance_threshold_m;
+  out << YAML::EndMap;
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace hpose::server

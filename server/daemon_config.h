@@ -1,0 +1,74 @@
+#ifndef HPOSE_SERVER_DAEMON_CONFIG_H_
+#define HPOSE_SERVER_DAEMON_CONFIG_H_
+
+#include <string>
+#include <vector>
+
+#include "core/common/status.h"
+#include "core/search/estimator.h"
+
+namespace hpose::server {
+
+// gRPC endpoint settings.
+struct GrpcConfig {
+  std::string listen = "127.0.0.1:50051";    // loopback by default; "0.0.0.0:PORT" to expose.
+  int max_receive_message_bytes = 16 << 20;  // larger requests get RESOURCE_EXHAUSTED.
+  int max_send_message_bytes = 16 << 20;
+  int max_concurrent_estimates = 2;  // Estimate calls running at once; others wait.
+};
+
+// The daemon's own frame source.
+struct SourceConfig {
+  std::string path;        // "" = none (Estimate calls only); see MakeFrameSource for the forms.
+  bool realtime = true;    // recordings: true = recorded rate, false = as fast as possible.
+  bool loop = false;       // recordings: start over at the end.
+  double fps = 30.0;       // PNG / PCD directories (no timestamps), Hz.
+  int queue_capacity = 4;  // frames waiting for the estimator; the oldest is dropped.
+  double frame_timeout_s = 2.0;              // live device: no frame for this long = lost.
+  double reconnect_initial_backoff_s = 0.5;  // first retry delay after a loss, doubled each try.
+  double reconnect_max_backoff_s = 8.0;      // upper bound of the retry delay.
+  double stale_after_s = 1.0;                // the latest estimate is stale when older than this.
+};
+
+// Floor handling: fitted in every frame, or a fixed calibration.
+struct FloorConfig {
+  bool fixed = false;
+  double height_m = 0.34;  // optical centre above the floor (fixed mode).
+  double pitch_rad = 0.0;  // positive = looking down (fixed mode).
+  double roll_rad = 0.0;   // (fixed mode).
+};
+
+// Everything hposed runs with. Defaults in one place: the member initialisers and
+// DefaultEstimatorOptions().
+struct DaemonConfig {
+  GrpcConfig grpc;
+  SourceConfig source;
+  std::vector<std::string> templates;  // .bt files.
+  FloorConfig floor;
+  EstimatorOptions estimator = DefaultEstimatorOptions();
+};
+
+// Parses YAML text (keys documented in server/hposed.example.yaml). Unknown keys, wrong types
+// and out-of-range values fail with kInvalidArgument naming `origin` and the key, e.g.
+// "hposed.yaml: source.rate: expected 'recorded' or 'fast', got 'slow'". Relative template and
+// source paths are resolved against `base_dir` (the config file's directory).
+Result<DaemonConfig> ParseDaemonConfig(const std::string& yaml_text, const std::string& origin,
+                                       const std::string& base_dir);
+
+// Reads and parses a config file (kNotFound when missing).
+Result<DaemonConfig> LoadDaemonConfig(const std::string& path);
+
+// Checks the cross-field rules (ranges, at least one template, valid listen address) of a
+// config built from a file and/or flags. Messages name the key.
+Status ValidateDaemonConfig(const DaemonConfig& config);
+
+// The effective config as YAML that ParseDaemonConfig accepts again.
+std::string DaemonConfigToYaml(const DaemonConfig& config);
+
+// Scorer names used by the config: "reference" (OctoMap) and "fast".
+Result<ScorerKind> ParseScorerName(const std::string& name);
+const char* ScorerName(ScorerKind kind);
+
+}  // namespace hpose::server
+
+#endif  // HPOSE_SERVER_DAEMON_CONFIG_H_

@@ -1,0 +1,59 @@
+#ifndef HPOSE_SERVER_ESTIMATOR_POOL_H_
+#define HPOSE_SERVER_ESTIMATOR_POOL_H_
+
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/common/status.h"
+#include "core/search/estimator.h"
+
+namespace hpose::server {
+
+// Estimators for concurrent Estimate calls: an Estimator handles one frame at a time, so the
+// pool keeps up to `max_instances` of them and lends one per call. Thread-safe.
+class EstimatorPool {
+ public:
+  // Fails like Estimator::Create (no templates, duplicate names, bad options).
+  static Result<std::unique_ptr<EstimatorPool>> Create(EstimatorOptions options,
+                                                       std::vector<VoxelTemplate> templates,
+                                                       int max_instances);
+
+  // Estimates one depth frame (millimetres) or cloud (sensor frame, metres) with all templates,
+  // or only those named in `template_names`. Fails with kNotFound for an unknown template name,
+  // kUnavailable when no estimator became free before `deadline`, or as the estimator does.
+  Result<Estimate> EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics,
+                                 const std::vector<std::string>& template_names,
+                                 std::chrono::steady_clock::time_point deadline);
+  Result<Estimate> EstimateCloud(const PointCloud& cloud,
+                                 const std::vector<std::string>& template_names,
+                                 std::chrono::steady_clock::time_point deadline);
+
+  const std::vector<VoxelTemplate>& templates() const { return templates_; }
+  const EstimatorOptions& options() const { return options_; }
+
+ private:
+  EstimatorPool(EstimatorOptions options, std::vector<VoxelTemplate> templates, int max_instances);
+
+  // Runs `fn` with an estimator (a pooled one, or a fresh one for a template subset).
+  template <typename Fn>
+  Result<Estimate> Run(const std::vector<std::string>& names,
+                       std::chrono::steady_clock::time_point deadline, Fn fn);
+
+  EstimatorOptions options_;
+  std::vector<VoxelTemplate> templates_;
+  const int max_instances_;
+
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::vector<std::unique_ptr<Estimator>> idle_;
+  int in_use_ = 0;   // lent out (pooled and fresh ones), bounded by max_instances_.
+  int created_ = 0;  // pooled instances created.
+};
+
+}  // namespace hpose::server
+
+#endif  // HPOSE_SERVER_ESTIMATOR_POOL_H_

@@ -1,0 +1,58 @@
+#ifndef HPOSE_SERVER_FRAME_SOURCE_H_
+#define HPOSE_SERVER_FRAME_SOURCE_H_
+
+#include <memory>
+#include <string>
+
+#include "core/common/status.h"
+#include "server/frame.h"
+
+namespace hpose::server {
+
+// How a recording is replayed.
+struct ReplayOptions {
+  bool realtime = true;  // true: at the recorded rate; false: as fast as possible.
+  bool loop = false;     // start over at the end instead of finishing.
+  double fps = 30.0;     // rate of PNG and PCD directories (they carry no timestamps), Hz.
+};
+
+// A stream of depth frames or clouds: a live device or a recording.
+//
+// Next() blocks until a frame is available (at the replay rate for recordings). It fails with
+//   kOutOfRange   at the end of a recording that does not loop (not an error of the data);
+//   kUnavailable  when a live device stopped delivering (unplugged, timed out): the caller may
+//                 Close() and Open() again later;
+//   kDataLoss / kInvalidArgument for one bad file in a directory (the next call moves on).
+// Not thread-safe: one reader.
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+
+  // Opens (or reopens) the source. kNotFound / kUnavailable / kDataLoss name the reason.
+  virtual Status Open() = 0;
+  virtual Result<Frame> Next() = 0;
+  virtual void Close() = 0;
+
+  // Short kind name: "openni2-device", "oni", "png-dir", "pcd-dir".
+  virtual std::string kind() const = 0;
+  // What was configured, e.g. "openni2://" or the recording path.
+  virtual std::string description() const = 0;
+  // True for a live device (dropping frames is fine; losses are retried with back-off).
+  virtual bool live() const = 0;
+  // Number of frames in a recording, or -1 when unknown (live devices).
+  virtual long frame_count() const { return -1; }
+};
+
+// Opens the source named by `spec`:
+//   "openni2://"          any OpenNI2 device;  "openni2://URI" that device;
+//   "*.oni"               an OpenNI2 recording, played through OpenNI2's file driver;
+//   a directory with intrinsics.json and *.png: 16-bit PNG depth frames (millimetres);
+//   a directory with *.pcd: a cloud sequence (sensor frame, metres).
+// Frames are ordered by file name. Fails with kNotFound (missing path) or kInvalidArgument
+// (a directory that is neither). The source is created but not opened.
+Result<std::unique_ptr<FrameSource>> MakeFrameSource(const std::string& spec,
+                                                     const ReplayOptions& replay);
+
+}  // namespace hpose::server
+
+#endif  // HPOSE_SERVER_FRAME_SOURCE_H_

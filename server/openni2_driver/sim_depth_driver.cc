@@ -1,0 +1,417 @@
+// libHposeSimDepth: an OpenNI2 device driver that serves simulated depth frames, so the OpenNI2
+// capture and recording paths of hpose run through OpenNI2 itself on machines without a Kinect.
+//
+// The driver exposes one depth-only device, URI "hpose-sim://depth0". Its frames come from
+//   HPOSE_SIM_DEPTH_DIR   a directory of 16-bit PNG depth frames (millimetres) and their
+//                         intrinsics.json, served in name order and looped; when unset, a
+//                         procedural scene (a flat floor seen from 0.34 m, a box 1 m ahead).
+// Further settings, all optional:
+//   HPOSE_SIM_DEPTH_FPS               frame rate (default 30).
+//   HPOSE_SIM_DEPTH_DISCONNECT_AFTER  after this many frames the device disappears (unplugged):
+//                                     frames stop, OpenNI2 is told it disconnected, and opening
+//                                     it fails until it reappears.
+//   HPOSE_SIM_DEPTH_OFFLINE_MS        how long it stays away (default 1500 ms); it then
+//                                     reconnects and serves frames again.
+// OpenNI2 reports the field of view only; the driver derives it from the intrinsics (principal
+// point assumed at the image centre).
+#include <dirent.h>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <mutex>
+#include <new>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+// The driver API's export macro allocates with these (defined by OpenNI's private XnOS headers).
+#define XN_NEW(type, arg) new (std::nothrow) type(arg)
+#define XN_DELETE(p) delete (p)
+#include <Driver/OniDriverAPI.h>
+
+namespace {
+
+constexpr const char* kUri = "hpose-sim://depth0";
+
+struct FrameSet {
+  int width = 320;
+  int height = 240;
+  double fx = 297.1;
+  double fy = 295.5;
+  double cx = 160.0;
+  double cy = 120.0;
+  std::vector<std::vector<std::uint16_t>> frames;  // each width * height, millimetres.
+};
+
+int EnvInt(const char* name, int fallback) {
+  const char* v = std::getenv(name);
+  if (v == nullptr || *v == '\0') return fallback;
+  char* end = nullptr;
+  const long parsed = std::strtol(v, &end, 10);
+  return (end != nullptr && *end == '\0') ? static_cast<int>(parsed) : fallback;
+}
+
+// A floor 0.34 m below a horizontal sensor, with a 0.3 x 0.2 x 0.58 m box whose front face is
+// 1 m ahead; beyond 4 m nothing is seen.
+std::vector<std::uint16_t> ProceduralFrame(const FrameSet& set) {
+  std::vector<std::uint16_t> mm(static_cast<size_t>(set.width) * set.height, 0);
+  const double h = 0.34;
+  for (int v = 0; v < set.height; ++v) {
+    for (int u = 0; u < set.width; ++u) {
+      const double dx = (u - set.cx) / set.fx;  // ray direction with z = 1.
+      const double dy = (v - set.cy) / set.fy;
+      double z = 0.0;
+      // Box front face at z = 1.0, x in [-0.15, 0.15], y (down) in [h - 0.58, h].
+      const double bz = 1.0;
+      const double bx = dx * bz, by = dy * bz;
+      if (bx >= -0.15 && bx <= 0.15 && by >= h - 0.58 && by <= h) {
+        z = bz;
+      } else if (dy > 1e-6) {
+        z = h / dy;  // the floor, y = h.
+      }
+      if (z > 0.0 && z < 4.0) mm[static_cast<size_t>(v) * set.width + u] = std::uint16_t(z * 1000);
+    }
+  }
+  return mm;
+}
+
+bool LoadDirectory(const std::string& dir, FrameSet* set) {
+  std::ifstream in(dir + "/intrinsics.json");
+  if (!in) return false;
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object()) return false;
+  try {
+    set->width = j.at("width").get<int>();
+    set->height = j.at("height").get<int>();
+    set->fx = j.at("fx").get<double>();
+    set->fy = j.at("fy").get<double>();
+    set->cx = j.at("cx").get<double>();
+    set->cy = j.at("cy").get<double>();
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+  std::vector<std::string> names;
+  if (DIR* d = opendir(dir.c_str())) {
+    while (dirent* e = readdir(d)) {
+      const std::string name = e->d_name;
+      if (name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0) names.push_back(name);
+    }
+    closedir(d);
+  }
+  std::sort(names.begin(), names.end());
+  for (const std::string& name : names) {
+    const cv::Mat img = cv::imread(dir + "/" + name, cv::IMREAD_UNCHANGED);
+    if (img.empty() || img.type() != CV_16UC1 || img.cols != set->width ||
+        img.rows != set->height) {
+      continue;
+    }
+    std::vector<std::uint16_t> mm(static_cast<size_t>(img.cols) * img.rows);
+    for (int r = 0; r < img.rows; ++r) {
+      std::memcpy(&mm[static_cast<size_t>(r) * img.cols], img.ptr<std::uint16_t>(r),
+                  sizeof(std::uint16_t) * img.cols);
+    }
+    set->frames.push_back(std::move(mm));
+  }
+  return !set->frames.empty();
+}
+
+// Shared between the driver (connect/disconnect) and its stream (frames).
+struct DeviceState {
+  FrameSet frames;
+  int fps = 30;
+  int disconnect_after = -1;  // frames; -1 = never.
+  int offline_ms = 1500;
+  std::atomic<bool> online{true};
+  std::atomic<int> frames_served{0};
+};
+
+class SimDepthStream final : public oni::driver::StreamBase {
+ public:
+  explicit SimDepthStream(DeviceState* state) : state_(state) {
+    mode_.pixelFormat = ONI_PIXEL_FORMAT_DEPTH_1_MM;
+    mode_.resolutionX = state->frames.width;
+    mode_.resolutionY = state->frames.height;
+    mode_.fps = state->fps;
+  }
+  ~SimDepthStream() override { stop(); }
+
+  OniStatus start() override {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (running_) return ONI_STATUS_OK;
+    running_ = true;
+    thread_ = std::thread([this] { Loop(); });
+    return ONI_STATUS_OK;
+  }
+
+  void stop() override {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      if (!running_) return;
+      running_ = false;
+    }
+    cv_.notify_all();
+    if (thread_.joinable()) thread_.join();
+  }
+
+  int getRequiredFrameSize() override {
+    return mode_.resolutionX * mode_.resolutionY * static_cast<int>(sizeof(OniDepthPixel));
+  }
+
+  OniBool isPropertySupported(int id) override {
+    switch (id) {
+      case ONI_STREAM_PROPERTY_VIDEO_MODE:
+      case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
+      case ONI_STREAM_PROPERTY_VERTICAL_FOV:
+      case ONI_STREAM_PROPERTY_MAX_VALUE:
+      case ONI_STREAM_PROPERTY_MIN_VALUE:
+      case ONI_STREAM_PROPERTY_STRIDE:
+      case ONI_STREAM_PROPERTY_MIRRORING:
+      case ONI_STREAM_PROPERTY_CROPPING:
+        return TRUE;
+      default:
+        return FALSE;
+    }
+  }
+
+  OniStatus getProperty(int id, void* data, int* size) override {
+    const FrameSet& f = state_->frames;
+    switch (id) {
+      case ONI_STREAM_PROPERTY_VIDEO_MODE:
+        return Put(mode_, data, size);
+      case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
+        return Put(static_cast<float>(2.0 * std::atan(f.width / (2.0 * f.fx))), data, size);
+      case ONI_STREAM_PROPERTY_VERTICAL_FOV:
+        return Put(static_cast<float>(2.0 * std::atan(f.height / (2.0 * f.fy))), data, size);
+      case ONI_STREAM_PROPERTY_MAX_VALUE:
+        return Put(10000, data, size);
+      case ONI_STREAM_PROPERTY_MIN_VALUE:
+        return Put(0, data, size);
+      case ONI_STREAM_PROPERTY_STRIDE:
+        return Put(f.width * static_cast<int>(sizeof(OniDepthPixel)), data, size);
+      case ONI_STREAM_PROPERTY_MIRRORING:
+        return Put(static_cast<OniBool>(FALSE), data, size);
+      case ONI_STREAM_PROPERTY_CROPPING: {
+        // OpenNI2's file player drops frames of streams that do not report cropping.
+        OniCropping none{};
+        none.enabled = FALSE;
+        none.width = f.width;
+        none.height = f.height;
+        return Put(none, data, size);
+      }
+      default:
+        return ONI_STATUS_NOT_SUPPORTED;
+    }
+  }
+
+  OniStatus setProperty(int id, const void* data, int size) override {
+    if (id == ONI_STREAM_PROPERTY_VIDEO_MODE && size == static_cast<int>(sizeof(OniVideoMode))) {
+      const auto* m = static_cast<const OniVideoMode*>(data);
+      const bool same = m->pixelFormat == mode_.pixelFormat &&
+                        m->resolutionX == mode_.resolutionX &&
+                        m->resolutionY == mode_.resolutionY && m->fps == mode_.fps;
+      return same ? ONI_STATUS_OK : ONI_STATUS_NOT_SUPPORTED;
+    }
+    if (id == ONI_STREAM_PROPERTY_CROPPING && size == static_cast<int>(sizeof(OniCropping))) {
+      return static_cast<const OniCropping*>(data)->enabled ? ONI_STATUS_NOT_SUPPORTED
+                                                            : ONI_STATUS_OK;
+    }
+    if (id == ONI_STREAM_PROPERTY_MIRRORING && size == static_cast<int>(sizeof(OniBool))) {
+      return *static_cast<const OniBool*>(data) ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
+    }
+    return ONI_STATUS_NOT_SUPPORTED;
+  }
+
+ private:
+  template <typename T>
+  static OniStatus Put(const T& value, void* data, int* size) {
+    if (*size != static_cast<int>(sizeof(T))) return ONI_STATUS_BAD_PARAMETER;
+    std::memcpy(data, &value, sizeof(T));
+    return ONI_STATUS_OK;
+  }
+
+  void Loop() {
+    const auto period = std::chrono::microseconds(1000000 / std::max(1, state_->fps));
+    auto next = std::chrono::steady_clock::now();
+    int index = 0;
+    std::unique_lock<std::mutex> lock(mu_);
+    while (running_) {
+      next += period;
+      cv_.wait_until(lock, next, [this] { return !running_; });
+      if (!running_) break;
+      if (!state_->online.load()) continue;  // unplugged: nothing arrives.
+      lock.unlock();
+      Emit(index++);
+      lock.lock();
+    }
+  }
+
+  void Emit(int index) {
+    OniFrame* frame = getServices().acquireFrame();
+    if (frame == nullptr) return;
+    const FrameSet& f = state_->frames;
+    const std::vector<std::uint16_t>& src = f.frames[index % f.frames.size()];
+    std::memcpy(frame->data, src.data(), src.size() * sizeof(std::uint16_t));
+    frame->dataSize = static_cast<int>(src.size() * sizeof(std::uint16_t));
+    frame->sensorType = ONI_SENSOR_DEPTH;
+    frame->timestamp = static_cast<uint64_t>(index) * 1000000ull / std::max(1, state_->fps);
+    frame->frameIndex = index + 1;
+    frame->width = f.width;
+    frame->height = f.height;
+    frame->videoMode = mode_;
+    frame->croppingEnabled = FALSE;
+    frame->cropOriginX = 0;
+    frame->cropOriginY = 0;
+    frame->stride = f.width * static_cast<int>(sizeof(OniDepthPixel));
+    raiseNewFrame(frame);
+    getServices().releaseFrame(frame);
+    state_->frames_served.fetch_add(1);
+  }
+
+  DeviceState* state_;
+  OniVideoMode mode_{};
+  std::mutex mu_;
+  std::condition_variable cv_;
+  bool running_ = false;
+  std::thread thread_;
+};
+
+class SimDepthDevice final : public oni::driver::DeviceBase {
+ public:
+  explicit SimDepthDevice(DeviceState* state) : state_(state) {
+    mode_.pixelFormat = ONI_PIXEL_FORMAT_DEPTH_1_MM;
+    mode_.resolutionX = state->frames.width;
+    mode_.resolutionY = state->frames.height;
+    mode_.fps = state->fps;
+    sensor_.sensorType = ONI_SENSOR_DEPTH;
+    sensor_.numSupportedVideoModes = 1;
+    sensor_.pSupportedVideoModes = &mode_;
+  }
+
+  OniStatus getSensorInfoList(OniSensorInfo** infos, int* count) override {
+    *infos = &sensor_;
+    *count = 1;
+    return ONI_STATUS_OK;
+  }
+
+  oni::driver::StreamBase* createStream(OniSensorType type) override {
+    if (type != ONI_SENSOR_DEPTH) return nullptr;
+    return new (std::nothrow) SimDepthStream(state_);
+  }
+  void destroyStream(oni::driver::StreamBase* stream) override { delete stream; }
+
+  OniBool isPropertySupported(int id) override {
+    return id == ONI_DEVICE_PROPERTY_SERIAL_NUMBER ? TRUE : FALSE;
+  }
+  OniStatus getProperty(int id, void* data, int* size) override {
+    if (id != ONI_DEVICE_PROPERTY_SERIAL_NUMBER) return ONI_STATUS_NOT_SUPPORTED;
+    const char serial[] = "HPOSE-SIM-0";
+    if (*size < static_cast<int>(sizeof(serial))) return ONI_STATUS_BAD_PARAMETER;
+    std::memcpy(data, serial, sizeof(serial));
+    *size = sizeof(serial);
+    return ONI_STATUS_OK;
+  }
+
+ private:
+  DeviceState* state_;
+  OniVideoMode mode_{};
+  OniSensorInfo sensor_{};
+};
+
+class SimDepthDriver final : public oni::driver::DriverBase {
+ public:
+  explicit SimDepthDriver(OniDriverServices* services) : DriverBase(services) {}
+
+  OniStatus initialize(oni::driver::DeviceConnectedCallback connected,
+                       oni::driver::DeviceDisconnectedCallback disconnected,
+                       oni::driver::DeviceStateChangedCallback state_changed,
+                       void* cookie) override {
+    const OniStatus rc = DriverBase::initialize(connected, disconnected, state_changed, cookie);
+    if (rc != ONI_STATUS_OK) return rc;
+    const char* dir = std::getenv("HPOSE_SIM_DEPTH_DIR");
+    if (dir != nullptr && *dir != '\0') {
+      if (!LoadDirectory(dir, &state_.frames)) {
+        getServices().errorLoggerAppend("hpose-sim: no usable frames in '%s'", dir);
+        return ONI_STATUS_ERROR;
+      }
+    } else {
+      state_.frames.frames.push_back(ProceduralFrame(state_.frames));
+    }
+    state_.fps = std::max(1, EnvInt("HPOSE_SIM_DEPTH_FPS", 30));
+    state_.disconnect_after = EnvInt("HPOSE_SIM_DEPTH_DISCONNECT_AFTER", -1);
+    state_.offline_ms = std::max(0, EnvInt("HPOSE_SIM_DEPTH_OFFLINE_MS", 1500));
+
+    std::memset(&info_, 0, sizeof(info_));
+    std::snprintf(info_.uri, sizeof(info_.uri), "%s", kUri);
+    std::snprintf(info_.vendor, sizeof(info_.vendor), "hpose");
+    std::snprintf(info_.name, sizeof(info_.name), "simulated depth camera");
+    deviceConnected(&info_);
+    if (state_.disconnect_after >= 0) {
+      running_ = true;
+      watcher_ = std::thread([this] { Watch(); });
+    }
+    return ONI_STATUS_OK;
+  }
+
+  oni::driver::DeviceBase* deviceOpen(const char* uri, const char* /*mode*/) override {
+    if (uri == nullptr || std::strcmp(uri, kUri) != 0 || !state_.online.load()) return nullptr;
+    return new (std::nothrow) SimDepthDevice(&state_);
+  }
+  void deviceClose(oni::driver::DeviceBase* device) override { delete device; }
+
+  OniStatus tryDevice(const char* uri) override {
+    return (uri != nullptr && std::strcmp(uri, kUri) == 0) ? ONI_STATUS_OK : ONI_STATUS_ERROR;
+  }
+
+  void shutdown() override {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      running_ = false;
+    }
+    cv_.notify_all();
+    if (watcher_.joinable()) watcher_.join();
+  }
+
+ private:
+  // Unplugs the device after `disconnect_after` frames, plugs it back after `offline_ms`.
+  void Watch() {
+    std::unique_lock<std::mutex> lock(mu_);
+    while (running_) {
+      cv_.wait_for(lock, std::chrono::milliseconds(10), [this] { return !running_; });
+      if (!running_) break;
+      if (state_.online.load() && state_.frames_served.load() >= state_.disconnect_after) {
+        state_.online = false;
+        lock.unlock();
+        deviceDisconnected(&info_);
+        lock.lock();
+        cv_.wait_for(lock, std::chrono::milliseconds(state_.offline_ms),
+                     [this] { return !running_; });
+        if (!running_) break;
+        state_.frames_served = 0;
+        state_.online = true;
+        lock.unlock();
+        deviceConnected(&info_);
+        lock.lock();
+      }
+    }
+  }
+
+  DeviceState state_;
+  OniDeviceInfo info_{};
+  std::mutex mu_;
+  std::condition_variable cv_;
+  bool running_ = false;
+  std::thread watcher_;
+};
+
+}  // namespace
+
+ONI_EXPORT_DRIVER(SimDepthDriver)

@@ -1,0 +1,143 @@
+#include "server/openni2_recorder.h"
+
+#include <OpenNI.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <system_error>
+
+#include "core/io/depth_png.h"
+#include "core/io/intrinsics_json.h"
+#include "server/openni2_source.h"
+
+namespace hpose::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+bool Done(const RecordOptions& o, long frames, Clock::time_point start) {
+  if (o.frames > 0 && frames >= o.frames) return true;
+  return o.duration_s > 0.0 &&
+         std::chrono::duration<double>(Clock::now() - start).count() >= o.duration_s;
+}
+
+// .oni through openni::Recorder: the frames are read (and counted) while the recorder, attached
+// to the same stream, writes them.
+Result<RecordSummary> RecordOni(const std::string& spec, const std::string& output,
+                                const RecordOptions& options,
+                                const std::function<bool(long)>& progress) {
+  const std::string uri = spec.substr(std::string("openni2://").size());
+  if (openni::OpenNI::initialize() != openni::STATUS_OK) {
+    return MakeError(ErrorCode::kUnavailable, std::string("OpenNI2 failed to initialise: ") +
+                                                  openni::OpenNI::getExtendedError());
+  }
+  struct Shutdown {
+    ~Shutdown() { openni::OpenNI::shutdown(); }
+  } shutdown;
+  openni::Device device;
+  if (device.open(uri.empty() ? openni::ANY_DEVICE : uri.c_str()) != openni::STATUS_OK) {
+    return MakeError(ErrorCode::kUnavailable,
+                     (uri.empty() ? std::string("no OpenNI2 device found")
+                                  : "OpenNI2 device '" + uri + "' not found") +
+                         ": " + openni::OpenNI::getExtendedError());
+  }
+  openni::VideoStream depth;
+  if (depth.create(device, openni::SENSOR_DEPTH) != openni::STATUS_OK ||
+      depth.start() != openni::STATUS_OK) {
+    return MakeError(ErrorCode::kUnavailable, spec + ": cannot start the depth stream");
+  }
+  openni::Recorder recorder;
+  if (recorder.create(output.c_str()) != openni::STATUS_OK ||
+      recorder.attach(depth) != openni::STATUS_OK || recorder.start() != openni::STATUS_OK) {
+    return MakeError(ErrorCode::kInternal, output + ": OpenNI2 cannot record here: " +
+                                               openni::OpenNI::getExtendedError());
+  }
+  RecordSummary summary;
+  summary.format = "oni";
+  const Clock::time_point start = Clock::now();
+  const int timeout_ms = static_cast<int>(options.frame_timeout_s * 1000.0);
+  Status failure;
+  while (!Done(options, summary.frames, start)) {
+    openni::VideoStream* streams[] = {&depth};
+    int ready = -1;
+    if (openni::OpenNI::waitForAnyStream(streams, 1, &ready, timeout_ms) != openni::STATUS_OK) {
+      failure = MakeError(ErrorCode::kUnavailable,
+                          spec + ": no frame for " + std::to_string(timeout_ms) + " ms");
+      break;
+    }
+    openni::VideoFrameRef frame;
+    if (depth.readFrame(&frame) != openni::STATUS_OK) continue;
+    ++summary.frames;
+    if (progress && !progress(summary.frames)) break;
+  }
+  recorder.stop();
+  recorder.destroy();  // finalises the file (seek table, header).
+  depth.stop();
+  depth.destroy();
+  device.close();
+  summary.duration_s = std::chrono::duration<double>(Clock::now() - start).count();
+  if (!failure.ok()) return failure.error();
+  return summary;
+}
+
+Result<RecordSummary> RecordPngDirectory(const std::string& spec, const std::string& output,
+                                         const RecordOptions& options,
+                                         const std::function<bool(long)>& progress) {
+  std::error_code ec;
+  std::filesystem::create_directories(output, ec);
+  if (ec) {
+    return MakeError(ErrorCode::kInternal, output + ": cannot create directory: " + ec.message());
+  }
+  Openni2SourceOptions source_options;
+  source_options.frame_timeout_s = options.frame_timeout_s;
+  Openni2Source source(spec, source_options);
+  Status opened = source.Open();
+  if (!opened.ok()) return opened.error();
+  RecordSummary summary;
+  summary.format = "png-dir";
+  const Clock::time_point start = Clock::now();
+  bool wrote_intrinsics = false;
+  while (!Done(options, summary.frames, start)) {
+    Result<Frame> frame = source.Next();
+    if (!frame.ok()) return frame.error();
+    if (!wrote_intrinsics) {
+      Status s = WriteIntrinsicsJson(frame->intrinsics, output + "/intrinsics.json");
+      if (!s.ok()) return s.error();
+      wrote_intrinsics = true;
+    }
+    char name[32];
+    std::snprintf(name, sizeof(name), "/frame_%06ld.png", summary.frames);
+    Status s = WriteDepthPng(frame->depth, output + name);
+    if (!s.ok()) return s.error();
+    ++summary.frames;
+    if (progress && !progress(summary.frames)) break;
+  }
+  source.Close();
+  summary.duration_s = std::chrono::duration<double>(Clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace
+
+Result<RecordSummary> RecordOpenni2(const std::string& device_spec, const std::string& output,
+                                    const RecordOptions& options,
+                                    const std::function<bool(long)>& progress) {
+  if (!IsOpenni2DeviceSpec(device_spec)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "'" + device_spec +
+                         "' is not an OpenNI2 device (expected openni2:// or "
+                         "openni2://URI)");
+  }
+  if (output.empty()) return MakeError(ErrorCode::kInvalidArgument, "no output path");
+  if (EndsWith(output, ".oni")) return RecordOni(device_spec, output, options, progress);
+  return RecordPngDirectory(device_spec, output, options, progress);
+}
+
+}  // namespace hpose::server

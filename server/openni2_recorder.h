@@ -1,0 +1,36 @@
+#ifndef HPOSE_SERVER_OPENNI2_RECORDER_H_
+#define HPOSE_SERVER_OPENNI2_RECORDER_H_
+
+#include <functional>
+#include <string>
+
+#include "core/common/status.h"
+
+namespace hpose::server {
+
+struct RecordOptions {
+  long frames = 100;             // stop after this many frames; 0 = no limit.
+  double duration_s = 0.0;       // stop after this long; 0 = no limit.
+  double frame_timeout_s = 5.0;  // fail when the device delivers nothing for this long.
+};
+
+struct RecordSummary {
+  long frames = 0;
+  double duration_s = 0.0;
+  std::string format;  // "oni" or "png-dir".
+};
+
+// Records depth from an OpenNI2 device ("openni2://" = any, "openni2://URI") to `output`:
+// a path ending in ".oni" is written by OpenNI2's own recorder; anything else is a directory
+// (created if needed) of 16-bit PNG frames (frame_000000.png, ... millimetres) plus
+// intrinsics.json derived from the stream's field of view. `progress(frames_so_far)` is called
+// after each frame; returning false stops early. At least one of frames / duration_s must
+// bound the recording unless progress stops it. Fails with kUnavailable (no device, timeout),
+// kInvalidArgument (not a device spec) or kInternal (cannot write).
+Result<RecordSummary> RecordOpenni2(const std::string& device_spec, const std::string& output,
+                                    const RecordOptions& options,
+                                    const std::function<bool(long)>& progress);
+
+}  // namespace hpose::server
+
+#endif  // HPOSE_SERVER_OPENNI2_RECORDER_H_

@@ -1,0 +1,244 @@
+#include "server/openni2_source.h"
+
+#include <OpenNI.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <utility>
+
+namespace hpose::server {
+
+namespace {
+
+constexpr const char* kDevicePrefix = "openni2://";
+
+std::string OpenniError(const char* what) {
+  std::string msg = what;
+  const char* ext = openni::OpenNI::getExtendedError();
+  if (ext != nullptr && *ext != '\0') {
+    std::string e = ext;
+    while (!e.empty() && (e.back() == '\n' || e.back() == ' ')) e.pop_back();
+    msg += ": " + e;
+  }
+  return msg;
+}
+
+bool IsDepthFormat(openni::PixelFormat f) {
+  return f == openni::PIXEL_FORMAT_DEPTH_1_MM || f == openni::PIXEL_FORMAT_DEPTH_100_UM;
+}
+
+}  // namespace
+
+bool IsOpenni2DeviceSpec(const std::string& spec) { return spec.rfind(kDevicePrefix, 0) == 0; }
+
+// The OpenNI2 objects of one open source.
+class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListener {
+ public:
+  ~Impl() override { Close(); }
+
+  Status Open(const std::string& spec, const Openni2SourceOptions& options) {
+    is_device_ = IsOpenni2DeviceSpec(spec);
+    std::string uri;
+    if (is_device_) {
+      uri = spec.substr(std::strlen(kDevicePrefix));
+    } else {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(spec, ec)) {
+        return MakeError(ErrorCode::kNotFound, spec + ": no such recording");
+      }
+      uri = spec;
+    }
+    if (openni::OpenNI::initialize() != openni::STATUS_OK) {
+      return MakeError(ErrorCode::kUnavailable, OpenniError("OpenNI2 failed to initialise"));
+    }
+    initialised_ = true;
+    if (device_.open(uri.empty() ? openni::ANY_DEVICE : uri.c_str()) != openni::STATUS_OK) {
+      const std::string what = is_device_ ? (uri.empty() ? std::string("no OpenNI2 device found")
+                                                         : "OpenNI2 device '" + uri + "' not found")
+                                          : spec + ": OpenNI2 cannot open the recording";
+      Close();
+      return MakeError(is_device_ ? ErrorCode::kUnavailable : ErrorCode::kDataLoss,
+                       OpenniError(what.c_str()));
+    }
+    uri_ = device_.getDeviceInfo().getUri();
+    if (!device_.hasSensor(openni::SENSOR_DEPTH) ||
+        stream_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
+      Close();
+      return MakeError(is_device_ ? ErrorCode::kUnavailable : ErrorCode::kDataLoss,
+                       OpenniError((spec + ": no depth stream").c_str()));
+    }
+    if (is_device_) {
+      SelectMillimetreMode();
+      disconnected_ = false;
+      openni::OpenNI::addDeviceDisconnectedListener(this);
+      listening_ = true;
+    } else if (openni::PlaybackControl* playback = device_.getPlaybackControl()) {
+      playback->setRepeatEnabled(options.replay.loop);
+      playback->setSpeed(options.replay.realtime ? 1.0f : -1.0f);
+      frame_count_ = playback->getNumberOfFrames(stream_);
+    }
+    if (!IsDepthFormat(stream_.getVideoMode().getPixelFormat())) {
+      Close();
+      return MakeError(ErrorCode::kDataLoss, spec + ": the depth stream is not in mm or 100 um");
+    }
+    if (stream_.start() != openni::STATUS_OK) {
+      Close();
+      return MakeError(ErrorCode::kUnavailable,
+                       OpenniError((spec + ": cannot start the depth stream").c_str()));
+    }
+    frames_read_ = 0;
+    loop_ = options.replay.loop;
+    timeout_ms_ = static_cast<int>(std::lround(options.frame_timeout_s * 1000.0));
+    return Status::Ok();
+  }
+
+  Result<Frame> Next(const std::string& spec) {
+    if (!stream_.isValid()) return MakeError(ErrorCode::kUnavailable, spec + ": not open");
+    if (!is_device_ && !loop_ && frame_count_ > 0 && frames_read_ >= frame_count_) {
+      return MakeError(ErrorCode::kOutOfRange, spec + ": end of recording");
+    }
+    if (disconnected_.load()) {
+      return MakeError(ErrorCode::kUnavailable, "OpenNI2 device '" + uri_ + "' disconnected");
+    }
+    if (is_device_ || frame_count_ <= 0) {
+      openni::VideoStream* streams[] = {&stream_};
+      int ready = -1;
+      const int timeout = is_device_ ? timeout_ms_ : std::max(timeout_ms_, 5000);
+      if (openni::OpenNI::waitForAnyStream(streams, 1, &ready, timeout) != openni::STATUS_OK) {
+        if (disconnected_.load()) {
+          return MakeError(ErrorCode::kUnavailable, "OpenNI2 device '" + uri_ + "' disconnected");
+        }
+        if (!is_device_) return MakeError(ErrorCode::kOutOfRange, spec + ": end of recording");
+        return MakeError(ErrorCode::kUnavailable, "OpenNI2 device '" + uri_ + "': no frame for " +
+                                                      std::to_string(timeout_ms_) + " ms");
+      }
+    }
+    openni::VideoFrameRef ref;
+    if (stream_.readFrame(&ref) != openni::STATUS_OK || !ref.isValid()) {
+      return MakeError(is_device_ ? ErrorCode::kUnavailable : ErrorCode::kDataLoss,
+                       OpenniError((spec + ": cannot read a depth frame").c_str()));
+    }
+    ++frames_read_;
+    Frame frame;
+    frame.received = std::chrono::system_clock::now();
+    frame.received_steady = std::chrono::steady_clock::now();
+    frame.source_time_s = static_cast<double>(ref.getTimestamp()) * 1e-6;
+    frame.origin = is_device_ ? uri_ : spec + "#" + std::to_string(ref.getFrameIndex());
+    const int w = ref.getWidth();
+    const int h = ref.getHeight();
+    const int stride = ref.getStrideInBytes();
+    if (w <= 0 || h <= 0 || stride < w * 2 || ref.getDataSize() < stride * h) {
+      return MakeError(ErrorCode::kDataLoss, spec + ": malformed depth frame");
+    }
+    frame.depth = DepthImage(w, h);
+    const bool tenth_mm = ref.getVideoMode().getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_100_UM;
+    const auto* base = static_cast<const std::uint8_t*>(ref.getData());
+    for (int v = 0; v < h; ++v) {
+      const auto* row = reinterpret_cast<const openni::DepthPixel*>(base + v * stride);
+      for (int u = 0; u < w; ++u) {
+        frame.depth.at(u, v) = tenth_mm ? static_cast<std::uint16_t>(row[u] / 10) : row[u];
+      }
+    }
+    const double hfov = stream_.getHorizontalFieldOfView();
+    const double vfov = stream_.getVerticalFieldOfView();
+    Intrinsics& k = frame.intrinsics;
+    k.width = w;
+    k.height = h;
+    k.fx = w / (2.0 * std::tan(hfov / 2.0));
+    k.fy = h / (2.0 * std::tan(vfov / 2.0));
+    k.cx = w / 2.0;
+    k.cy = h / 2.0;
+    Status valid = k.Validate();
+    if (!valid.ok()) {
+      return MakeError(ErrorCode::kDataLoss,
+                       spec + ": unusable field of view from OpenNI2: " + valid.error().message);
+    }
+    return frame;
+  }
+
+  void Close() {
+    if (listening_) {
+      openni::OpenNI::removeDeviceDisconnectedListener(this);
+      listening_ = false;
+    }
+    if (stream_.isValid()) {
+      stream_.stop();
+      stream_.destroy();
+    }
+    if (device_.isValid()) device_.close();
+    if (initialised_) {
+      openni::OpenNI::shutdown();
+      initialised_ = false;
+    }
+  }
+
+  void onDeviceDisconnected(const openni::DeviceInfo* info) override {
+    if (info != nullptr && uri_ == info->getUri()) disconnected_ = true;
+  }
+
+  bool is_device() const { return is_device_; }
+  long frame_count() const { return frame_count_; }
+
+ private:
+  // Prefers a 1 mm depth mode of the current resolution (Kinect drivers default to it anyway).
+  void SelectMillimetreMode() {
+    const openni::VideoMode current = stream_.getVideoMode();
+    if (current.getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_1_MM) return;
+    const openni::Array<openni::VideoMode>& modes =
+        stream_.getSensorInfo().getSupportedVideoModes();
+    for (int i = 0; i < modes.getSize(); ++i) {
+      if (modes[i].getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_1_MM &&
+          modes[i].getResolutionX() == current.getResolutionX() &&
+          modes[i].getResolutionY() == current.getResolutionY()) {
+        stream_.setVideoMode(modes[i]);
+        return;
+      }
+    }
+  }
+
+  openni::Device device_;
+  openni::VideoStream stream_;
+  std::string uri_;
+  bool initialised_ = false;
+  bool listening_ = false;
+  bool is_device_ = false;
+  bool loop_ = false;
+  int timeout_ms_ = 2000;
+  long frame_count_ = -1;
+  long frames_read_ = 0;
+  std::atomic<bool> disconnected_{false};
+};
+
+Openni2Source::Openni2Source(std::string spec, Openni2SourceOptions options)
+    : spec_(std::move(spec)), options_(options) {}
+
+Openni2Source::~Openni2Source() = default;
+
+Status Openni2Source::Open() {
+  impl_.reset();
+  auto impl = std::make_unique<Impl>();
+  Status status = impl->Open(spec_, options_);
+  if (!status.ok()) return status;
+  impl_ = std::move(impl);
+  return Status::Ok();
+}
+
+Result<Frame> Openni2Source::Next() {
+  if (!impl_) return MakeError(ErrorCode::kUnavailable, spec_ + ": not open");
+  Result<Frame> frame = impl_->Next(spec_);
+  if (frame.ok()) frame->sequence = ++sequence_;
+  return frame;
+}
+
+void Openni2Source::Close() { impl_.reset(); }
+
+std::string Openni2Source::kind() const { return live() ? "openni2-device" : "oni"; }
+
+bool Openni2Source::live() const { return IsOpenni2DeviceSpec(spec_); }
+
+long Openni2Source::frame_count() const { return impl_ ? impl_->frame_count() : -1; }
+
+}  // namespace hpose::server

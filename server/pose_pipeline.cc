@@ -1,0 +1,279 @@
+#include "server/pose_pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace hpose::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr size_t kLatencyWindow = 256;
+constexpr double kRateWindowS = 3.0;
+constexpr int kMaxConsecutiveBadFrames = 100;
+
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+void Trim(std::deque<Clock::time_point>* times, Clock::time_point now) {
+  while (!times->empty() && Seconds(now - times->front()) > kRateWindowS) times->pop_front();
+}
+
+double Rate(const std::deque<Clock::time_point>& times) {
+  if (times.size() < 2) return 0.0;
+  const double span = Seconds(times.back() - times.front());
+  return span > 0.0 ? (times.size() - 1) / span : 0.0;
+}
+
+double Quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t i = std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * v.size())) - (q > 0));
+  return v[i];
+}
+
+}  // namespace
+
+const char* SourceStateName(SourceState state) {
+  switch (state) {
+    case SourceState::kNone:
+      return "none";
+    case SourceState::kStarting:
+      return "starting";
+    case SourceState::kRunning:
+      return "running";
+    case SourceState::kReconnecting:
+      return "reconnecting";
+    case SourceState::kFinished:
+      return "finished";
+    case SourceState::kFailed:
+      return "failed";
+  }
+  return "unknown";
+}
+
+PosePipeline::PosePipeline(std::unique_ptr<FrameSource> source,
+                           std::unique_ptr<Estimator> estimator, SourceConfig config)
+    : source_(std::move(source)),
+      estimator_(std::move(estimator)),
+      config_(std::move(config)),
+      queue_(static_cast<size_t>(std::max(1, config_.queue_capacity))) {
+  state_ = source_ ? SourceState::kStarting : SourceState::kNone;
+  reason_ = source_ ? "opening the source" : "no source configured";
+}
+
+PosePipeline::~PosePipeline() { Stop(); }
+
+void PosePipeline::Start() {
+  if (started_ || !source_) return;
+  started_ = true;
+  capture_thread_ = std::thread([this] { CaptureLoop(); });
+  estimate_thread_ = std::thread([this] { EstimateLoop(); });
+}
+
+void PosePipeline::Stop() {
+  if (stopping_.exchange(true)) return;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    stop_cv_.notify_all();
+    published_cv_.notify_all();
+  }
+  queue_.Close();
+  if (capture_thread_.joinable()) capture_thread_.join();
+  if (estimate_thread_.joinable()) estimate_thread_.join();
+  if (source_) source_->Close();
+}
+
+void PosePipeline::SetState(SourceState state, std::string reason) {
+  std::lock_guard<std::mutex> lock(mu_);
+  state_ = state;
+  reason_ = std::move(reason);
+}
+
+bool PosePipeline::SleepFor(std::chrono::duration<double> d) {
+  std::unique_lock<std::mutex> lock(mu_);
+  stop_cv_.wait_for(lock, d, [this] { return stopping_.load(); });
+  return !stopping_.load();
+}
+
+bool PosePipeline::OpenWithBackoff() {
+  double backoff = config_.reconnect_initial_backoff_s;
+  while (!stopping_.load()) {
+    hpose::Status status = source_->Open();
+    if (status.ok()) return true;
+    if (!source_->live()) {
+      SetState(SourceState::kFailed, status.error().message);
+      return false;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      state_ = SourceState::kReconnecting;
+      char buf[64];
+      std::snprintf(buf, sizeof(buf), "; retrying in %.1f s", backoff);
+      reason_ = status.error().message + buf;
+    }
+    if (!SleepFor(std::chrono::duration<double>(backoff))) return false;
+    backoff = std::min(backoff * 2.0, config_.reconnect_max_backoff_s);
+  }
+  return false;
+}
+
+void PosePipeline::CaptureLoop() {
+  if (!OpenWithBackoff()) return;
+  SetState(SourceState::kRunning, "");
+  const bool drop_oldest = source_->live() || config_.realtime;
+  int consecutive_bad = 0;
+  while (!stopping_.load()) {
+    Result<Frame> frame = source_->Next();
+    if (stopping_.load()) break;
+    if (frame.ok()) {
+      consecutive_bad = 0;
+      {
+        std::lock_guard<std::mutex> lock(mu_);
+        ++frames_in_;
+        input_times_.push_back(Clock::now());
+        Trim(&input_times_, input_times_.back());
+      }
+      const size_t dropped = queue_.Push(std::move(*frame), !drop_oldest);
+      if (dropped > 0) {
+        std::lock_guard<std::mutex> lock(mu_);
+        frames_dropped_ += dropped;
+      }
+      continue;
+    }
+    const Error& error = frame.error();
+    if (error.code == ErrorCode::kOutOfRange) {
+      SetState(SourceState::kFinished, "source finished: " + error.message);
+      return;
+    }
+    if (error.code == ErrorCode::kUnavailable && source_->live()) {
+      SetState(SourceState::kReconnecting, error.message + "; reconnecting");
+      source_->Close();
+      if (!SleepFor(std::chrono::duration<double>(config_.reconnect_initial_backoff_s))) return;
+      if (!OpenWithBackoff()) return;
+      {
+        std::lock_guard<std::mutex> lock(mu_);
+        ++reconnects_;
+      }
+      SetState(SourceState::kRunning, "");
+      continue;
+    }
+    // One unreadable frame of a recording: count it and go on, unless nothing works.
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      ++frames_failed_;
+    }
+    if (++consecutive_bad >= kMaxConsecutiveBadFrames || error.code == ErrorCode::kUnavailable) {
+      SetState(SourceState::kFailed, error.message);
+      return;
+    }
+  }
+}
+
+void PosePipeline::EstimateLoop() {
+  while (!stopping_.load()) {
+    std::optional<Frame> frame = queue_.Pop(std::chrono::milliseconds(100));
+    if (!frame) continue;
+    const Clock::time_point start = Clock::now();
+    Result<Estimate> result = frame->is_cloud
+                                  ? estimator_->EstimateCloud(frame->cloud)
+                                  : estimator_->EstimateDepth(frame->depth, frame->intrinsics);
+    auto published = std::make_shared<PublishedEstimate>();
+    published->sequence = frame->sequence;
+    published->source_time_s = frame->source_time_s;
+    published->received = frame->received;
+    published->origin = frame->origin;
+    published->ok = result.ok();
+    if (result.ok()) {
+      published->estimate = std::move(*result);
+    } else {
+      published->error = result.error();
+    }
+    published->published = Clock::now();
+    published->queue_s = Seconds(start - frame->received_steady);
+    published->latency_s = Seconds(published->published - frame->received_steady);
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      published->publish_id = next_publish_id_++;
+      if (published->ok) {
+        ++frames_estimated_;
+        has_floor_ = true;
+        last_floor_ = published->estimate.floor;
+      } else {
+        ++frames_failed_;
+      }
+      publish_times_.push_back(published->published);
+      Trim(&publish_times_, published->published);
+      latencies_.push_back(published->latency_s);
+      if (latencies_.size() > kLatencyWindow) latencies_.pop_front();
+      latest_ = std::move(published);
+    }
+    published_cv_.notify_all();
+  }
+}
+
+std::shared_ptr<const PublishedEstimate> PosePipeline::Latest() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return latest_;
+}
+
+std::shared_ptr<const PublishedEstimate> PosePipeline::WaitNewer(
+    std::uint64_t after, std::chrono::steady_clock::time_point deadline) const {
+  std::unique_lock<std::mutex> lock(mu_);
+  published_cv_.wait_until(
+      lock, deadline, [&] { return stopping_.load() || (latest_ && latest_->publish_id > after); });
+  return latest_;
+}
+
+bool PosePipeline::IsStale(const PublishedEstimate& e, std::string* reason) const {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (state_ != SourceState::kRunning) {
+    *reason =
+        std::string("source ") + SourceStateName(state_) + (reason_.empty() ? "" : ": " + reason_);
+    return true;
+  }
+  const double age = Seconds(Clock::now() - e.published);
+  if (age > config_.stale_after_s) {
+    char buf[96];
+    std::snprintf(buf, sizeof(buf), "no newer estimate for %.2f s", age);
+    *reason = buf;
+    return true;
+  }
+  reason->clear();
+  return false;
+}
+
+PipelineStatus PosePipeline::Status() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  PipelineStatus s;
+  s.state = state_;
+  s.reason = reason_;
+  if (source_) {
+    s.kind = source_->kind();
+    s.description = source_->description();
+  }
+  s.frames_in = frames_in_;
+  s.frames_dropped = frames_dropped_;
+  s.frames_estimated = frames_estimated_;
+  s.frames_failed = frames_failed_;
+  s.reconnects = reconnects_;
+  // Rates decay to zero when nothing arrives any more.
+  const Clock::time_point now = Clock::now();
+  auto recent = [&](const std::deque<Clock::time_point>& t) {
+    return !t.empty() && Seconds(now - t.back()) < kRateWindowS ? Rate(t) : 0.0;
+  };
+  s.input_rate_hz = recent(input_times_);
+  s.estimate_rate_hz = recent(publish_times_);
+  const std::vector<double> lat(latencies_.begin(), latencies_.end());
+  s.latency_samples = static_cast<std::uint32_t>(lat.size());
+  s.latency_median_s = Quantile(lat, 0.5);
+  s.latency_p99_s = Quantile(lat, 0.99);
+  s.latency_last_s = lat.empty() ? 0.0 : lat.back();
+  s.has_floor = has_floor_;
+  s.last_floor = last_floor_;
+  return s;
+}
+
+}  // namespace hpose::server

@@ -1,0 +1,134 @@
+#ifndef HPOSE_SERVER_POSE_PIPELINE_H_
+#define HPOSE_SERVER_POSE_PIPELINE_H_
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "core/common/status.h"
+#include "core/search/estimator.h"
+#include "server/daemon_config.h"
+#include "server/frame_queue.h"
+#include "server/frame_source.h"
+
+namespace hpose::server {
+
+enum class SourceState { kNone, kStarting, kRunning, kReconnecting, kFinished, kFailed };
+
+const char* SourceStateName(SourceState state);
+
+// The outcome of one source frame, as published to readers.
+struct PublishedEstimate {
+  std::uint64_t publish_id = 0;  // 1, 2, ... in publishing order.
+  std::uint64_t sequence = 0;    // the frame's sequence number from the source.
+  double source_time_s = 0.0;
+  std::chrono::system_clock::time_point received;
+  std::chrono::steady_clock::time_point published;
+  std::string origin;
+  bool ok = false;
+  Estimate estimate;       // when ok.
+  Error error;             // when !ok (e.g. no floor in this frame).
+  double queue_s = 0.0;    // waiting in the frame queue.
+  double latency_s = 0.0;  // arrival to publication.
+};
+
+// Counters and rates of the pipeline, for GetStatus.
+struct PipelineStatus {
+  SourceState state = SourceState::kNone;
+  std::string reason;  // why the state is not kRunning.
+  std::string kind;
+  std::string description;
+  std::uint64_t frames_in = 0;
+  std::uint64_t frames_dropped = 0;
+  std::uint64_t frames_estimated = 0;
+  std::uint64_t frames_failed = 0;
+  std::uint64_t reconnects = 0;
+  double input_rate_hz = 0.0;  // over the last few seconds.
+  double estimate_rate_hz = 0.0;
+  double latency_median_s = 0.0;  // over the last 256 published frames.
+  double latency_p99_s = 0.0;
+  double latency_last_s = 0.0;
+  std::uint32_t latency_samples = 0;
+  bool has_floor = false;
+  FloorEstimate last_floor;
+};
+
+// Reads the daemon's source on a capture thread into a bounded FrameQueue and estimates on an
+// estimation thread; the newest result is published for GetLatest / StreamPoses. A live device
+// that fails is closed and reopened with exponential back-off while readers keep being served;
+// a recording that ends leaves its last estimate in place (then reported stale).
+class PosePipeline {
+ public:
+  // `source` may be null (no source: state kNone). `estimator` is used by the estimation
+  // thread only.
+  PosePipeline(std::unique_ptr<FrameSource> source, std::unique_ptr<Estimator> estimator,
+               SourceConfig config);
+  ~PosePipeline();
+
+  PosePipeline(const PosePipeline&) = delete;
+  PosePipeline& operator=(const PosePipeline&) = delete;
+
+  void Start();
+  // Stops both threads (waits for a blocked source read to return). Idempotent.
+  void Stop();
+
+  // The newest published estimate, or null before the first.
+  std::shared_ptr<const PublishedEstimate> Latest() const;
+  // Waits until an estimate with publish_id > `after` exists, `deadline` passes or the pipeline
+  // stops; returns the newest (possibly not newer, or null).
+  std::shared_ptr<const PublishedEstimate> WaitNewer(
+      std::uint64_t after, std::chrono::steady_clock::time_point deadline) const;
+
+  // True (with the reason) when `e` is not fresh: the source is not running, or `e` is older
+  // than stale_after_s.
+  bool IsStale(const PublishedEstimate& e, std::string* reason) const;
+
+  PipelineStatus Status() const;
+  bool has_source() const { return source_ != nullptr; }
+
+ private:
+  void CaptureLoop();
+  void EstimateLoop();
+  void SetState(SourceState state, std::string reason);
+  // Sleeps up to `d` unless stopping; false when stopping.
+  bool SleepFor(std::chrono::duration<double> d);
+  bool OpenWithBackoff();
+
+  std::unique_ptr<FrameSource> source_;
+  std::unique_ptr<Estimator> estimator_;
+  const SourceConfig config_;
+  FrameQueue queue_;
+
+  std::thread capture_thread_;
+  std::thread estimate_thread_;
+  std::atomic<bool> stopping_{false};
+  bool started_ = false;
+
+  mutable std::mutex mu_;  // guards everything below.
+  mutable std::condition_variable published_cv_;
+  std::condition_variable stop_cv_;
+  SourceState state_ = SourceState::kNone;
+  std::string reason_;
+  std::shared_ptr<const PublishedEstimate> latest_;
+  std::uint64_t next_publish_id_ = 1;
+  std::uint64_t frames_in_ = 0;
+  std::uint64_t frames_dropped_ = 0;
+  std::uint64_t frames_estimated_ = 0;
+  std::uint64_t frames_failed_ = 0;
+  std::uint64_t reconnects_ = 0;
+  std::deque<std::chrono::steady_clock::time_point> input_times_;
+  std::deque<std::chrono::steady_clock::time_point> publish_times_;
+  std::deque<double> latencies_;
+  bool has_floor_ = false;
+  FloorEstimate last_floor_;
+};
+
+}  // namespace hpose::server
+
+#endif  // HPOSE_SERVER_POSE_PIPELINE_H_

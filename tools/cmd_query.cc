@@ -1,0 +1,292 @@
+// `hpose query`: a command-line client of hposed (hpose.v1.PoseService).
+#include <google/protobuf/util/json_util.h>
+#include <grpcpp/grpcpp.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/common/pose2d.h"
+#include "core/io/cloud_io.h"
+#include "core/io/depth_png.h"
+#include "core/io/intrinsics_json.h"
+#include "hpose/v1/pose_service.grpc.pb.h"
+#include "server/proto_convert.h"
+#include "tools/command.h"
+#include "tools/exit_codes.h"
+#include "tools/flag_parser.h"
+
+namespace hpose::tools {
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+void OnSignal(int) { g_interrupted = true; }
+
+std::string ToJson(const google::protobuf::Message& m) {
+  std::string out;
+  google::protobuf::util::JsonPrintOptions options;
+  options.preserve_proto_field_names = true;
+  (void)google::protobuf::util::MessageToJsonString(m, &out, options);
+  return out;
+}
+
+int ExitFor(const grpc::Status& s) {
+  switch (s.error_code()) {
+    case grpc::StatusCode::UNAVAILABLE:
+    case grpc::StatusCode::DEADLINE_EXCEEDED:
+      return kExitUnavailable;
+    case grpc::StatusCode::FAILED_PRECONDITION:
+      return s.error_message().find("floor") != std::string::npos ? kExitNoFloor : kExitError;
+    default:
+      return kExitError;
+  }
+}
+
+int Fail(const std::string& what, const grpc::Status& s) {
+  std::cerr << "hpose query " << what << ": " << s.error_code() << " "
+            << (s.error_code() == grpc::StatusCode::UNAVAILABLE ? "(unavailable) " : "")
+            << s.error_message() << "\n";
+  return ExitFor(s);
+}
+
+// One line per estimate for people: millimetres and degrees, labelled.
+std::string Describe(const v1::PoseEstimate& e) {
+  char buf[512];
+  std::string line;
+  std::snprintf(buf, sizeof(buf), "seq %llu  t %.3f s",
+                static_cast<unsigned long long>(e.sequence()), e.source_time());
+  line = buf;
+  if (e.has_error() && !e.error().code().empty()) {
+    line += "  no estimate: " + e.error().message();
+  } else if (e.has_depth_template()) {
+    const v1::DepthTemplateResult& r = e.depth_template();
+    if (r.detections_size() == 0) {
+      line += "  no cluster matched";
+    } else {
+      const v1::Detection& d = r.best();
+      const v1::Candidate& c = d.best();
+      std::snprintf(buf, sizeof(buf),
+                    "  %s%s  x %.0f mm  y %.0f mm  theta %.1f deg  score %.1f  margin %.1f",
+                    c.template_name().c_str(), d.is_humanoid() ? "" : " (below threshold)",
+                    c.pose().x() * 1000.0, c.pose().y() * 1000.0, RadToDeg(c.pose().theta()),
+                    c.score(), d.template_margin());
+      line += buf;
+      if (c.has_runner_up()) {
+        std::snprintf(buf, sizeof(buf), "  runner-up theta %.1f deg (-%.1f)",
+                      RadToDeg(c.runner_up_pose().theta()), c.runner_up_margin());
+        line += buf;
+      }
+    }
+    std::snprintf(buf, sizeof(buf), "  [%.0f ms]", e.timings().total() * 1000.0);
+    line += buf;
+  }
+  if (e.stale()) line += "  STALE: " + e.stale_reason();
+  return line;
+}
+
+void PrintEstimate(const v1::PoseEstimate& e, bool json) {
+  std::cout << (json ? ToJson(e) : Describe(e)) << std::endl;
+}
+
+void SetDeadline(grpc::ClientContext* ctx, double seconds) {
+  if (seconds > 0) {
+    ctx->set_deadline(std::chrono::system_clock::now() +
+                      std::chrono::milliseconds(static_cast<long>(seconds * 1000)));
+  }
+}
+
+// Reads a depth PNG (with --intrinsics or the intrinsics.json beside it) or a PCD/PLY cloud.
+Result<v1::EstimateRequest> MakeRequest(const std::string& path,
+                                        const std::string& intrinsics_path) {
+  v1::EstimateRequest request;
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".png") {
+    Result<DepthImage> depth = ReadDepthPng(path);
+    if (!depth.ok()) return depth.error();
+    const std::string kpath =
+        !intrinsics_path.empty()
+            ? intrinsics_path
+            : (std::filesystem::path(path).parent_path() / "intrinsics.json").string();
+    Result<Intrinsics> k = ReadIntrinsicsJson(kpath);
+    if (!k.ok()) return k.error();
+    server::DepthToProto(*depth, *k, request.mutable_depth());
+  } else if (ext == ".pcd" || ext == ".ply") {
+    Result<PointCloud> cloud = ReadCloud(path);
+    if (!cloud.ok()) return cloud.error();
+    PointCloud finite;
+    for (const auto& p : cloud->points) {
+      if (p.allFinite()) finite.points.push_back(p);
+    }
+    server::CloudToProto(finite, request.mutable_cloud());
+  } else {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     path + ": expected a 16-bit depth .png or a .pcd/.ply cloud");
+  }
+  return request;
+}
+
+}  // namespace
+
+int RunQuery(int argc, char** argv) {
+  std::string server = "127.0.0.1:50051", intrinsics;
+  std::vector<std::string> templates;
+  bool json = false;
+  int count = 0;
+  double timeout_s = 10.0;
+  FlagParser flags(
+      "hpose query [--server ADDR] (latest | stream | estimate FILE | status | templates)",
+      "Asks a running hposed. latest: the newest estimate of the daemon's source; stream: "
+      "estimates as they are made, until Ctrl-C (or --count); estimate FILE: sends a depth PNG "
+      "(millimetres; intrinsics.json beside it or --intrinsics) or a PCD cloud and prints the "
+      "estimate; status: source state, counters, rates, latency, floor; templates: the loaded "
+      "templates. Poses are printed in mm and degrees; --json prints the API messages (SI units).");
+  flags.AddString("server", &server, "daemon address", "ADDR");
+  flags.AddBool("json", &json, "print JSON (one object per line) instead of text");
+  flags.AddInt("count", &count, "stream: stop after N estimates (0 = until Ctrl-C)", "N");
+  flags.AddDouble("timeout", &timeout_s, "deadline of each call, seconds (stream: none)", "S");
+  flags.AddString("intrinsics", &intrinsics, "estimate: intrinsics.json of a PNG", "FILE");
+  flags.AddStrings("template", &templates, "estimate: only these templates (repeatable)", "NAME");
+  flags.AllowPositional("COMMAND [FILE]");
+  flags.SetEpilog(
+      "examples:\n  hpose query status\n  hpose query stream --count 10\n"
+      "  hpose query --server 127.0.0.1:50051 estimate frames/depth_000.png\n");
+  switch (flags.Parse(argc, argv)) {
+    case FlagParser::Outcome::kHelpShown:
+      return kExitOk;
+    case FlagParser::Outcome::kError:
+      return kExitUsage;
+    case FlagParser::Outcome::kOk:
+      break;
+  }
+  const std::vector<std::string>& args = flags.positional();
+  if (args.empty()) {
+    std::cerr << flags.Help() << "\nerror: missing COMMAND\n";
+    return kExitUsage;
+  }
+  const std::string& cmd = args[0];
+  if ((cmd == "estimate") != (args.size() == 2) || args.size() > 2) {
+    std::cerr << "hpose query: "
+              << (cmd == "estimate" ? "estimate needs one FILE" : "unexpected argument") << "\n";
+    return kExitUsage;
+  }
+
+  grpc::ChannelArguments channel_args;
+  channel_args.SetMaxReceiveMessageSize(64 << 20);
+  channel_args.SetMaxSendMessageSize(64 << 20);
+  auto channel =
+      grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), channel_args);
+  std::unique_ptr<v1::PoseService::Stub> stub = v1::PoseService::NewStub(channel);
+
+  if (cmd == "latest") {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, timeout_s);
+    v1::GetLatestResponse response;
+    grpc::Status s = stub->GetLatest(&ctx, v1::GetLatestRequest(), &response);
+    if (!s.ok()) return Fail("latest", s);
+    PrintEstimate(response.estimate(), json);
+    return kExitOk;
+  }
+  if (cmd == "stream") {
+    grpc::ClientContext ctx;
+    v1::StreamPosesRequest request;
+    request.set_max_estimates(count > 0 ? static_cast<std::uint32_t>(count) : 0);
+    std::signal(SIGINT, OnSignal);
+    std::signal(SIGTERM, OnSignal);
+    std::atomic<bool> done{false};
+    std::thread watcher([&] {
+      while (!done && !g_interrupted) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      if (g_interrupted) ctx.TryCancel();
+    });
+    std::unique_ptr<grpc::ClientReader<v1::PoseEstimate>> reader = stub->StreamPoses(&ctx, request);
+    v1::PoseEstimate e;
+    long received = 0;
+    while (reader->Read(&e)) {
+      PrintEstimate(e, json);
+      ++received;
+    }
+    grpc::Status s = reader->Finish();
+    done = true;
+    watcher.join();
+    if (g_interrupted || s.error_code() == grpc::StatusCode::CANCELLED) {
+      std::cerr << "hpose query stream: stopped after " << received << " estimate(s)\n";
+      return kExitOk;
+    }
+    if (!s.ok()) return Fail("stream", s);
+    return kExitOk;
+  }
+  if (cmd == "estimate") {
+    Result<v1::EstimateRequest> request = MakeRequest(args[1], intrinsics);
+    if (!request.ok()) return ReportError("query", request.error());
+    for (const std::string& t : templates) request->add_templates(t);
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, timeout_s);
+    v1::EstimateResponse response;
+    grpc::Status s = stub->Estimate(&ctx, *request, &response);
+    if (!s.ok()) return Fail("estimate", s);
+    PrintEstimate(response.estimate(), json);
+    const auto& r = response.estimate().depth_template();
+    return r.humanoid_found() ? kExitOk : kExitNoHumanoid;
+  }
+  if (cmd == "status") {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, timeout_s);
+    v1::GetStatusResponse st;
+    grpc::Status s = stub->GetStatus(&ctx, v1::GetStatusRequest(), &st);
+    if (!s.ok()) return Fail("status", s);
+    if (json) {
+      std::cout << ToJson(st) << std::endl;
+      return kExitOk;
+    }
+    const v1::SourceStatus& src = st.source();
+    std::printf("hposed %s, up %.1f s, %u template(s), %llu Estimate call(s)\n",
+                st.version().c_str(), st.uptime(), st.templates(),
+                static_cast<unsigned long long>(st.estimate_calls()));
+    std::printf("source: %s (%s) %s%s%s\n",
+                src.description().empty() ? "(none)" : src.description().c_str(),
+                src.kind().c_str(), v1::SourceState_Name(src.state()).c_str(),
+                src.state_reason().empty() ? "" : ": ", src.state_reason().c_str());
+    std::printf("frames: in %llu, dropped %llu, estimated %llu, failed %llu, reconnects %llu\n",
+                static_cast<unsigned long long>(src.frames_in()),
+                static_cast<unsigned long long>(src.frames_dropped()),
+                static_cast<unsigned long long>(src.frames_estimated()),
+                static_cast<unsigned long long>(src.frames_failed()),
+                static_cast<unsigned long long>(src.reconnects()));
+    std::printf("rate: input %.1f Hz, estimates %.1f Hz\n", src.input_rate(), src.estimate_rate());
+    std::printf("latency: median %.1f ms, p99 %.1f ms, last %.1f ms (%u samples)\n",
+                st.latency().median() * 1e3, st.latency().p99() * 1e3, st.latency().last() * 1e3,
+                st.latency().samples());
+    std::printf("floor (%s): height %.0f mm, pitch %.1f deg, roll %.1f deg\n",
+                st.floor_mode().c_str(), st.floor().height() * 1e3, RadToDeg(st.floor().pitch()),
+                RadToDeg(st.floor().roll()));
+    return kExitOk;
+  }
+  if (cmd == "templates") {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, timeout_s);
+    v1::ListTemplatesResponse list;
+    grpc::Status s = stub->ListTemplates(&ctx, v1::ListTemplatesRequest(), &list);
+    if (!s.ok()) return Fail("templates", s);
+    if (json) {
+      std::cout << ToJson(list) << std::endl;
+      return kExitOk;
+    }
+    for (const v1::TemplateInfo& t : list.templates()) {
+      std::printf("%-20s variant %-18s %6d voxels of %.0f mm, height %.0f mm\n", t.name().c_str(),
+                  t.variant().c_str(), t.voxels(), t.resolution() * 1e3, t.height() * 1e3);
+    }
+    return kExitOk;
+  }
+  std::cerr << "hpose query: unknown command '" << cmd
+            << "' (expected latest, stream, estimate, status or templates)\n";
+  return kExitUsage;
+}
+
+}  // namespace hpose::tools
