@@ -87,6 +87,9 @@ constexpr double kCutMarginM = 0.1;
 constexpr double kTopCellM = 0.05;
 // A top must reach this fraction of the cluster's highest point.
 constexpr double kTopMinRelativeHeight = 0.5;
+// Two tops are distinct objects only if the height map between them dips by this fraction of
+// the lower one (people's shoulders between their heads).
+constexpr double kMinValleyFraction = 0.1;
 // Every part of a split must hold at least this fraction of the cluster's points: a raised arm
 // or a hand is never split off a body.
 constexpr double kSplitMinFraction = 0.2;
@@ -129,7 +132,7 @@ void SplitByTops(Cluster cluster, const ClusterOptions& options, std::vector<Clu
   // Local maxima over a disc of radius `separation`; ties broken by cell index.
   const int reach = static_cast<int>(std::ceil(separation / cell));
   const float min_top = static_cast<float>(kTopMinRelativeHeight) * hi.z();
-  std::vector<Eigen::Vector2f> tops;
+  std::vector<size_t> candidates;
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
       const size_t c = static_cast<size_t>(iy) * nx + ix;
@@ -148,9 +151,36 @@ void SplitByTops(Cluster cluster, const ClusterOptions& options, std::vector<Clu
           }
         }
       }
-      if (is_max) tops.push_back(top_xy[c]);
+      if (is_max) candidates.push_back(c);
     }
   }
+  // Keep a top only if the height map dips between it and every higher kept top (two people)
+  // rather than staying level (the long flat top of a bench or a wall).
+  std::sort(candidates.begin(), candidates.end(),
+            [&](size_t a, size_t b) { return top_z[a] > top_z[b]; });
+  std::vector<size_t> kept;
+  for (const size_t c : candidates) {
+    bool distinct = true;
+    for (const size_t k : kept) {
+      const float lower = std::min(top_z[c], top_z[k]);
+      const int cx = static_cast<int>(c % nx), cy = static_cast<int>(c / nx);
+      const int kx = static_cast<int>(k % nx), ky = static_cast<int>(k / nx);
+      const int steps = std::max(std::abs(cx - kx), std::abs(cy - ky));
+      float valley = lower;
+      for (int i = 1; i < steps; ++i) {
+        const int x = cx + (kx - cx) * i / steps;
+        const int y = cy + (ky - cy) * i / steps;
+        valley = std::min(valley, top_z[static_cast<size_t>(y) * nx + x]);  // empty: -inf.
+      }
+      if (lower - valley < static_cast<float>(kMinValleyFraction) * lower) {
+        distinct = false;
+        break;
+      }
+    }
+    if (distinct) kept.push_back(c);
+  }
+  std::vector<Eigen::Vector2f> tops;
+  for (const size_t c : kept) tops.push_back(top_xy[c]);
   const int min_part =
       std::max(options.min_points, static_cast<int>(kSplitMinFraction * points.size()));
   std::vector<int> owner(points.size());

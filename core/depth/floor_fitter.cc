@@ -23,7 +23,11 @@ using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
 
 // At most this many near-horizontal planes are extracted one after another (floor, table tops,
 // box tops, seats ...) before the floor is chosen among them.
-constexpr int kMaxCandidatePlanes = 4;
+constexpr int kMaxCandidatePlanes = 6;
+// A candidate with more points beneath it than this fraction of its inliers (or of all points)
+// is not the floor.
+constexpr double kMaxBelowFraction = 0.1;
+constexpr double kMaxBelowFractionOfAll = 0.01;
 // Fewer (downsampled) points than this cannot give a trustworthy floor.
 constexpr int kMinPoints = 50;
 // Two candidate planes within this angle are "parallel": the higher one is a table or box top.
@@ -149,6 +153,20 @@ bool FitPlaneLeastSquares(const std::vector<Eigen::Vector3f>& points,
   return true;
 }
 
+// Points farther below the plane (on the side away from the sensor) than twice their inlier band
+// plus 3 cm.
+size_t CountBelow(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector4d& plane,
+                  double threshold) {
+  const Eigen::Vector3f n = plane.head<3>().cast<float>();
+  const float d = static_cast<float>(plane[3]);
+  const float t = static_cast<float>(threshold);
+  size_t below = 0;
+  for (const Eigen::Vector3f& p : points) {
+    if (n.dot(p) + d < -(2.0f * InlierBand(t, p.squaredNorm()) + 0.03f)) ++below;
+  }
+  return below;
+}
+
 // Points within the (range-dependent) inlier band of the plane.
 void SelectInliers(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector4d& plane,
                    double threshold, std::vector<int>* inliers) {
@@ -236,6 +254,7 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
   std::vector<Candidate> candidates;
   std::vector<char> taken(n, 0);
   int best_support_seen = 0;
+  int rejected = 0;  // planes found with support but not acceptable as a floor.
   std::vector<int> inliers;
   for (int round = 0; round < kMaxCandidatePlanes; ++round) {
     int remaining_count = 0;
@@ -294,12 +313,28 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     if (!ok || inliers.size() < 3 || plane[3] < 1e-3) continue;  // degenerate or through sensor.
     // The sensor must be above the plane, i.e. its normal towards the sensor points "up":
     // this rejects ceilings, which PCL's sign-blind axis test lets through.
-    if (plane.head<3>().dot(up_guess) < cos_max_tilt) continue;
+    if (plane.head<3>().dot(up_guess) < cos_max_tilt) {
+      ++rejected;
+      continue;
+    }
     for (const int i : inliers) taken[i] = 1;
+    // Nothing lies below a floor. Points well below a candidate mean it is a table top or a
+    // slanted plane cutting through walls and people.
+    if (CountBelow(sampled, plane, options.distance_threshold_m) >
+        std::max(kMaxBelowFraction * inliers.size(), kMaxBelowFractionOfAll * n)) {
+      ++rejected;
+      continue;
+    }
     candidates.push_back(Candidate{plane, static_cast<int>(inliers.size())});
   }
 
   if (candidates.empty()) {
+    if (rejected > 0) {
+      return MakeError(ErrorCode::kFailedPrecondition,
+                       "no floor: " + std::to_string(rejected) +
+                           " near-horizontal plane(s) found, but each has the sensor below it "
+                           "or many points beneath it");
+    }
     if (best_support_seen == 0) {
       return MakeError(ErrorCode::kFailedPrecondition,
                        "no floor: no plane within " + Degrees(options.max_tilt_rad) +

@@ -29,10 +29,11 @@ struct FloorFitterOptions {
 // guess, preferring the lowest such plane (largest d). Fails with kFailedPrecondition naming why
 // ("no floor: only 37 points", "no floor: best plane has 2% inliers") or kInvalidArgument for an
 // empty cloud or invalid options.
-// Up to four near-horizontal planes are extracted in turn; one with a parallel plane clearly
-// below it (table, box top) is not the floor; among the rest the best supported wins (so a wall
-// seen from a steep pitch does not beat the floor). The winner is refined by weighted least
-// squares. FloorEstimate::inliers counts downsampled points. NaN points are ignored.
+// Up to six near-horizontal planes are extracted in turn. One with many points beneath it or a
+// parallel plane clearly below it (table, box top, a slanted cut through walls) is not the
+// floor; among the rest the best supported wins (so a wall seen from a steep pitch does not beat
+// the floor). The winner is refined by weighted least squares. FloorEstimate::inliers counts
+// downsampled points. NaN points are ignored.
 Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor,
                                const FloorFitterOptions& options = {});
 

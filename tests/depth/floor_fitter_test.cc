@@ -1,0 +1,228 @@
+#include "core/depth/floor_fitter.h"
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "tests/depth/synthetic_scene.h"
+
+namespace hpose {
+namespace {
+
+using testing_scene::Box;
+using testing_scene::Cylinder;
+using testing_scene::GroundFromSensor;
+using testing_scene::Render;
+using testing_scene::RenderOptions;
+using testing_scene::Scene;
+
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kKinectNoise = 1.425e-3;  // sigma_z = k z^2 (SPEC §5).
+
+struct Mount {
+  double height_m;
+  double pitch_deg;
+  double roll_deg;
+};
+
+// Checks the fit against the pose the scene was rendered from.
+void ExpectMatches(const FloorEstimate& floor, const Mount& m, const PointCloud& cloud,
+                   double angle_tol_deg, double height_tol_m) {
+  EXPECT_TRUE(floor.fitted);
+  EXPECT_GT(floor.inliers, 0);
+  EXPECT_NEAR(floor.height_m, m.height_m, height_tol_m);
+  EXPECT_NEAR(floor.pitch_rad / kDeg, m.pitch_deg, angle_tol_deg);
+  EXPECT_NEAR(floor.roll_rad / kDeg, m.roll_deg, angle_tol_deg);
+  // The plane is unit, points up towards the sensor, and d is the height.
+  EXPECT_NEAR(floor.plane_sensor.head<3>().norm(), 1.0, 1e-9);
+  EXPECT_NEAR(floor.plane_sensor[3], floor.height_m, 1e-9);
+  // ground_from_sensor matches the rendering pose (yaw is zero by construction).
+  const Eigen::Isometry3d truth =
+      GroundFromSensor(m.height_m, m.pitch_deg * kDeg, m.roll_deg * kDeg);
+  const Eigen::Matrix3d delta = floor.ground_from_sensor.linear() * truth.linear().transpose();
+  const double angle = std::acos(std::clamp((delta.trace() - 1.0) / 2.0, -1.0, 1.0));
+  EXPECT_LT(angle / kDeg, angle_tol_deg * 1.5);
+  // The optical axis maps to +x of the ground frame (no y component).
+  const Eigen::Vector3d axis = floor.ground_from_sensor.linear() * Eigen::Vector3d::UnitZ();
+  EXPECT_GT(axis.x(), 0.0);
+  EXPECT_NEAR(axis.y(), 0.0, 1e-9);
+  // The optical centre is straight above the ground origin.
+  const Eigen::Vector3d centre = floor.ground_from_sensor * Eigen::Vector3d::Zero();
+  EXPECT_NEAR(centre.x(), 0.0, 1e-9);
+  EXPECT_NEAR(centre.y(), 0.0, 1e-9);
+  EXPECT_NEAR(centre.z(), floor.height_m, 1e-9);
+  // Floor points (z = 0 in the truth frame) map to z ~ 0.
+  int checked = 0;
+  for (const Eigen::Vector3f& p : cloud.points) {
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3d truth_ground = truth * p.cast<double>();
+    if (std::abs(truth_ground.z()) > 1e-3 || p.norm() > 3.0f) continue;
+    const Eigen::Vector3d fitted_ground = floor.ground_from_sensor * p.cast<double>();
+    EXPECT_NEAR(fitted_ground.z(), 0.0, height_tol_m + 0.05 * angle_tol_deg);
+    if (++checked > 200) break;
+  }
+  EXPECT_GT(checked, 0);
+}
+
+class FloorFitterMountTest : public ::testing::TestWithParam<Mount> {};
+
+TEST_P(FloorFitterMountTest, RecoversHeightPitchAndRollOfAnEmptyFloor) {
+  const Mount m = GetParam();
+  Scene scene;
+  RenderOptions render;
+  render.noise_sigma_k = kKinectNoise;
+  const PointCloud cloud =
+      Render(scene, GroundFromSensor(m.height_m, m.pitch_deg * kDeg, m.roll_deg * kDeg),
+             Intrinsics::KinectV1(320, 240), render);
+  ASSERT_GT(cloud.size(), 1000u);
+  const Result<FloorEstimate> floor = FitFloor(cloud);
+  ASSERT_TRUE(floor.ok()) << floor.error().ToString();
+  ExpectMatches(*floor, m, cloud, 1.0, 0.02);
+}
+
+TEST_P(FloorFitterMountTest, FindsTheFloorAmongPeopleTablesAndBoxes) {
+  const Mount m = GetParam();
+  Scene scene;
+  // A table top (0.75 m) and a low box top (0.3 m): horizontal planes above the floor.
+  scene.boxes.push_back(Box{{1.6, -0.9, 0.72}, {2.6, 0.1, 0.75}});
+  scene.boxes.push_back(Box{{1.2, 0.5, 0.0}, {1.7, 1.0, 0.3}});
+  // People and a robot-sized object.
+  scene.cylinders.push_back(Cylinder{2.0, 0.9, 0.2, 1.75});
+  scene.cylinders.push_back(Cylinder{3.0, -1.0, 0.2, 1.6});
+  scene.cylinders.push_back(Cylinder{1.0, -0.3, 0.12, 0.58});
+  RenderOptions render;
+  render.noise_sigma_k = kKinectNoise;
+  render.organised = true;
+  const PointCloud cloud =
+      Render(scene, GroundFromSensor(m.height_m, m.pitch_deg * kDeg, m.roll_deg * kDeg),
+             Intrinsics::KinectV1(320, 240), render);
+  const Result<FloorEstimate> floor = FitFloor(cloud);
+  ASSERT_TRUE(floor.ok()) << floor.error().ToString();
+  ExpectMatches(*floor, m, cloud, 1.0, 0.02);
+}
+
+INSTANTIATE_TEST_SUITE_P(Mounts, FloorFitterMountTest,
+                         ::testing::Values(Mount{0.2, 0.0, 0.0},   // robot's-eye, level.
+                                           Mount{0.34, 0.0, 0.0},  // the paper's mount.
+                                           Mount{0.34, 5.0, -3.0}, Mount{0.6, 15.0, 8.0},
+                                           Mount{1.0, 30.0, 0.0}, Mount{1.3, 20.0, -10.0},
+                                           Mount{2.0, 45.0, 5.0}, Mount{2.5, 60.0, 0.0},
+                                           Mount{1.0, 60.0, -8.0}));
+
+TEST(FloorFitterTest, FloorThatIsAMinorityOfThePoints) {
+  // A wall 2.5 m ahead and a crowd fill most of the view; the floor is a thin strip.
+  const Mount m{1.2, 20.0, 2.0};
+  Scene scene;
+  scene.boxes.push_back(Box{{2.5, -5.0, 0.0}, {2.6, 5.0, 3.0}});
+  for (int i = 0; i < 6; ++i) {
+    scene.cylinders.push_back(Cylinder{1.4 + 0.15 * (i % 2), -1.0 + 0.4 * i, 0.18, 1.8});
+  }
+  RenderOptions render;
+  render.noise_sigma_k = kKinectNoise;
+  const PointCloud cloud =
+      Render(scene, GroundFromSensor(m.height_m, m.pitch_deg * kDeg, m.roll_deg * kDeg),
+             Intrinsics::KinectV1(320, 240), render);
+  const Eigen::Isometry3d truth =
+      GroundFromSensor(m.height_m, m.pitch_deg * kDeg, m.roll_deg * kDeg);
+  size_t floor_points = 0;
+  for (const Eigen::Vector3f& p : cloud.points) {
+    if (std::abs((truth * p.cast<double>()).z()) < 0.03) ++floor_points;
+  }
+  ASSERT_LT(floor_points * 3, cloud.size()) << "the scene should make the floor a minority";
+  const Result<FloorEstimate> floor = FitFloor(cloud);
+  ASSERT_TRUE(floor.ok()) << floor.error().ToString();
+  ExpectMatches(*floor, m, cloud, 1.0, 0.02);
+}
+
+TEST(FloorFitterTest, SameCloudSameFloor) {
+  Scene scene;
+  scene.cylinders.push_back(Cylinder{2.0, 0.0, 0.2, 1.7});
+  RenderOptions render;
+  render.noise_sigma_k = kKinectNoise;
+  const PointCloud cloud =
+      Render(scene, GroundFromSensor(1.0, 20 * kDeg, 0.0), Intrinsics::KinectV1(320, 240), render);
+  const Result<FloorEstimate> a = FitFloor(cloud);
+  const Result<FloorEstimate> b = FitFloor(cloud);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a->plane_sensor, b->plane_sensor);
+  EXPECT_EQ(a->inliers, b->inliers);
+}
+
+TEST(FloorFitterTest, IgnoresNaNPointsOfOrganisedClouds) {
+  RenderOptions render;
+  render.organised = true;
+  const Mount m{0.8, 25.0, 0.0};
+  PointCloud cloud = Render(Scene{}, GroundFromSensor(m.height_m, m.pitch_deg * kDeg, 0.0),
+                            Intrinsics::KinectV1(160, 120), render);
+  ASSERT_TRUE(cloud.organised());
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (size_t i = 0; i < cloud.size(); i += 3) cloud.points[i] = Eigen::Vector3f(nan, nan, nan);
+  const Result<FloorEstimate> floor = FitFloor(cloud);
+  ASSERT_TRUE(floor.ok()) << floor.error().ToString();
+  EXPECT_NEAR(floor->height_m, 0.8, 0.01);
+}
+
+TEST(FloorFitterTest, EmptyCloudIsInvalidArgument) {
+  const Result<FloorEstimate> floor = FitFloor(PointCloud{});
+  ASSERT_FALSE(floor.ok());
+  EXPECT_EQ(floor.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(floor.error().message.find("empty"), std::string::npos);
+}
+
+TEST(FloorFitterTest, TooFewPointsIsFailedPrecondition) {
+  PointCloud cloud;
+  for (int i = 0; i < 10; ++i) cloud.points.emplace_back(0.1f * i, 1.0f, 2.0f);
+  const Result<FloorEstimate> floor = FitFloor(cloud);
+  ASSERT_FALSE(floor.ok());
+  EXPECT_EQ(floor.error().code, ErrorCode::kFailedPrecondition);
+  EXPECT_NE(floor.error().message.find("only 10 points"), std::string::npos)
+      << floor.error().message;
+}
+
+TEST(FloorFitterTest, OnlyWallsAndCeilingGiveNoFloor) {
+  // A level sensor in a corridor without floor returns: two walls and a ceiling.
+  Scene scene;
+  scene.floor = false;
+  scene.boxes.push_back(Box{{0.0, 1.0, -5.0}, {6.0, 1.1, 5.0}});
+  scene.boxes.push_back(Box{{0.0, -1.1, -5.0}, {6.0, -1.0, 5.0}});
+  scene.boxes.push_back(Box{{0.0, -5.0, 2.5}, {6.0, 5.0, 2.6}});
+  const PointCloud cloud =
+      Render(scene, GroundFromSensor(1.0, 0.0, 0.0), Intrinsics::KinectV1(160, 120));
+  ASSERT_GT(cloud.size(), 1000u);
+  const Result<FloorEstimate> floor = FitFloor(cloud);
+  ASSERT_FALSE(floor.ok());
+  EXPECT_EQ(floor.error().code, ErrorCode::kFailedPrecondition);
+  EXPECT_NE(floor.error().message.find("no floor"), std::string::npos) << floor.error().message;
+}
+
+TEST(FloorFitterTest, ScatteredNoiseGivesNoFloor) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> coord(-2.0f, 2.0f);
+  PointCloud cloud;
+  for (int i = 0; i < 20000; ++i) cloud.points.emplace_back(coord(rng), coord(rng), coord(rng) + 3);
+  const Result<FloorEstimate> floor = FitFloor(cloud);
+  ASSERT_FALSE(floor.ok());
+  EXPECT_EQ(floor.error().code, ErrorCode::kFailedPrecondition);
+  EXPECT_NE(floor.error().message.find("inliers"), std::string::npos) << floor.error().message;
+}
+
+TEST(FloorFitterTest, RejectsInvalidOptions) {
+  const PointCloud cloud =
+      Render(Scene{}, GroundFromSensor(1.0, 30 * kDeg, 0.0), Intrinsics::KinectV1(80, 60));
+  FloorFitterOptions options;
+  options.distance_threshold_m = 0.0;
+  EXPECT_EQ(FitFloor(cloud, options).error().code, ErrorCode::kInvalidArgument);
+  options = {};
+  options.max_tilt_rad = 2.0;
+  const Result<FloorEstimate> floor = FitFloor(cloud, options);
+  ASSERT_FALSE(floor.ok());
+  EXPECT_NE(floor.error().message.find("max_tilt_rad"), std::string::npos);
+  options = {};
+  options.min_inlier_fraction = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(FitFloor(cloud, options).error().code, ErrorCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace hpose

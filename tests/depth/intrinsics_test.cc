@@ -1,0 +1,69 @@
+#include "core/depth/intrinsics.h"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+namespace hpose {
+namespace {
+
+TEST(IntrinsicsTest, KinectV1NativeMatchesPublishedValues) {
+  const Intrinsics k = Intrinsics::KinectV1();
+  EXPECT_EQ(k.width, 640);
+  EXPECT_EQ(k.height, 480);
+  EXPECT_DOUBLE_EQ(k.fx, 594.2);
+  EXPECT_DOUBLE_EQ(k.fy, 591.0);
+  EXPECT_DOUBLE_EQ(k.cx, 339.3);
+  EXPECT_DOUBLE_EQ(k.cy, 242.7);
+  EXPECT_TRUE(k.Validate().ok());
+}
+
+TEST(IntrinsicsTest, KinectV1ScalesWithResolution) {
+  const Intrinsics half = Intrinsics::KinectV1(320, 240);
+  EXPECT_EQ(half.width, 320);
+  EXPECT_EQ(half.height, 240);
+  EXPECT_DOUBLE_EQ(half.fx, 594.2 / 2);
+  EXPECT_DOUBLE_EQ(half.fy, 591.0 / 2);
+  EXPECT_DOUBLE_EQ(half.cx, 339.3 / 2);
+  EXPECT_DOUBLE_EQ(half.cy, 242.7 / 2);
+  // Anisotropic scaling scales each axis on its own.
+  const Intrinsics odd = Intrinsics::KinectV1(1280, 240);
+  EXPECT_DOUBLE_EQ(odd.fx, 594.2 * 2);
+  EXPECT_DOUBLE_EQ(odd.fy, 591.0 / 2);
+}
+
+TEST(IntrinsicsTest, ValidateNamesTheOffendingField) {
+  struct Case {
+    const char* field;
+    void (*mutate)(Intrinsics*);
+  };
+  const Case cases[] = {
+      {"width", [](Intrinsics* k) { k->width = 0; }},
+      {"width", [](Intrinsics* k) { k->width = 8193; }},
+      {"height", [](Intrinsics* k) { k->height = -4; }},
+      {"fx", [](Intrinsics* k) { k->fx = 0.0; }},
+      {"fx", [](Intrinsics* k) { k->fx = -500.0; }},
+      {"fy", [](Intrinsics* k) { k->fy = std::numeric_limits<double>::quiet_NaN(); }},
+      {"fy", [](Intrinsics* k) { k->fy = std::numeric_limits<double>::infinity(); }},
+      {"cx", [](Intrinsics* k) { k->cx = std::numeric_limits<double>::quiet_NaN(); }},
+      {"cy", [](Intrinsics* k) { k->cy = -std::numeric_limits<double>::infinity(); }},
+  };
+  for (const Case& c : cases) {
+    Intrinsics k = Intrinsics::KinectV1();
+    c.mutate(&k);
+    const Status status = k.Validate();
+    ASSERT_FALSE(status.ok()) << c.field;
+    EXPECT_EQ(status.error().code, ErrorCode::kInvalidArgument);
+    EXPECT_NE(status.error().message.find(c.field), std::string::npos) << status.error().message;
+  }
+}
+
+TEST(IntrinsicsTest, PrincipalPointOutsideTheImageIsAllowed) {
+  Intrinsics k = Intrinsics::KinectV1();
+  k.cx = -10.0;  // cropped images can have it outside; only finiteness is required.
+  EXPECT_TRUE(k.Validate().ok());
+}
+
+}  // namespace
+}  // namespace hpose
