@@ -83,6 +83,8 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   grpc::ServerBuilder builder;
   int selected_port = 0;
   builder.AddListeningPort(config.grpc.listen, grpc::InsecureServerCredentials(), &selected_port);
+  // A second daemon on the same port must fail, not silently share it.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(config.grpc.max_receive_message_bytes);
   builder.SetMaxSendMessageSize(config.grpc.max_send_message_bytes);
   builder.RegisterService(impl->service.get());

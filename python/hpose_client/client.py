@@ -1,0 +1,131 @@
+"""A small, blocking client of hposed for robot controllers."""
+
+import array
+import math
+import sys
+
+import grpc
+
+from hpose.v1 import pose_service_pb2 as pb
+from hpose.v1 import pose_service_pb2_grpc as pb_grpc
+
+
+class PoseClientError(RuntimeError):
+    """A call failed; `code` is the grpc.StatusCode, `details` the daemon's reason."""
+
+    def __init__(self, code, details):
+        super().__init__("%s: %s" % (code.name, details))
+        self.code = code
+        self.details = details
+
+
+def best_pose(estimate):
+    """(x, y, theta) of the humanoid in the ground frame (metres, radians), or None when the
+    frame failed or no cluster passed the score threshold."""
+    if estimate.error.code:
+        return None
+    result = estimate.depth_template
+    if not result.humanoid_found:
+        return None
+    pose = result.best.best.pose
+    return (pose.x, pose.y, pose.theta)
+
+
+class PoseClient:
+    """Talks to one hposed. Every call takes a timeout in seconds (the gRPC deadline)."""
+
+    def __init__(self, address="127.0.0.1:50051", max_message_bytes=64 << 20):
+        options = [
+            ("grpc.max_receive_message_length", max_message_bytes),
+            ("grpc.max_send_message_length", max_message_bytes),
+        ]
+        self._channel = grpc.insecure_channel(address, options=options)
+        self._stub = pb_grpc.PoseServiceStub(self._channel)
+
+    def close(self):
+        self._channel.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def _call(self, method, request, timeout):
+        try:
+            return method(request, timeout=timeout)
+        except grpc.RpcError as e:  # pylint: disable=no-member
+            raise PoseClientError(e.code(), e.details()) from None
+
+    def wait_ready(self, timeout=10.0):
+        """Blocks until the channel connects (raises PoseClientError on timeout)."""
+        try:
+            grpc.channel_ready_future(self._channel).result(timeout=timeout)
+        except grpc.FutureTimeoutError:
+            raise PoseClientError(grpc.StatusCode.UNAVAILABLE, "daemon not reachable") from None
+
+    def latest(self, after_sequence=0, timeout=5.0):
+        """The newest estimate of the daemon's source (a hpose.v1.PoseEstimate)."""
+        req = pb.GetLatestRequest(after_sequence=after_sequence)
+        return self._call(self._stub.GetLatest, req, timeout).estimate
+
+    def stream(self, max_estimates=0, timeout=None):
+        """Yields estimates as the daemon makes them. Breaking out of the loop cancels."""
+        call = self._stub.StreamPoses(pb.StreamPosesRequest(max_estimates=max_estimates),
+                                      timeout=timeout)
+        try:
+            for estimate in call:
+                yield estimate
+        except grpc.RpcError as e:  # pylint: disable=no-member
+            if e.code() != grpc.StatusCode.CANCELLED:
+                raise PoseClientError(e.code(), e.details()) from None
+        finally:
+            call.cancel()
+
+    def estimate_depth(self, depth_mm, width, height, fx, fy, cx, cy, templates=(),
+                       timeout=10.0):
+        """Estimates one depth frame: `depth_mm` is a sequence (or bytes, little-endian uint16)
+        of width*height millimetre values, row-major; intrinsics in pixels."""
+        if isinstance(depth_mm, (bytes, bytearray)):
+            data = bytes(depth_mm)
+        else:
+            values = array.array("H", depth_mm)
+            if sys.byteorder != "little":
+                values.byteswap()
+            data = values.tobytes()
+        req = pb.EstimateRequest(
+            depth=pb.DepthImage(width=width, height=height, data=data,
+                                intrinsics=pb.Intrinsics(width=width, height=height, fx=fx,
+                                                         fy=fy, cx=cx, cy=cy)),
+            templates=list(templates))
+        return self._call(self._stub.Estimate, req, timeout).estimate
+
+    def estimate_cloud(self, points_xyz, templates=(), timeout=10.0):
+        """Estimates a cloud: an iterable of (x, y, z) in the sensor frame, metres."""
+        flat = [c for p in points_xyz for c in p]
+        req = pb.EstimateRequest(cloud=pb.PointCloud(xyz=flat), templates=list(templates))
+        return self._call(self._stub.Estimate, req, timeout).estimate
+
+    def templates(self, timeout=5.0):
+        return list(self._call(self._stub.ListTemplates, pb.ListTemplatesRequest(),
+                               timeout).templates)
+
+    def status(self, timeout=5.0):
+        return self._call(self._stub.GetStatus, pb.GetStatusRequest(), timeout)
+
+
+def describe(estimate):
+    """One human-readable line (mm, degrees) for an estimate."""
+    pose = best_pose(estimate)
+    head = "seq %d" % estimate.sequence
+    if estimate.error.code:
+        return "%s  no estimate: %s" % (head, estimate.error.message)
+    if pose is None:
+        return "%s  no humanoid" % head
+    best = estimate.depth_template.best
+    text = "%s  %s  x %.0f mm  y %.0f mm  theta %.1f deg  score %.1f" % (
+        head, best.best.template_name, pose[0] * 1000, pose[1] * 1000, math.degrees(pose[2]),
+        best.best.score)
+    if estimate.stale:
+        text += "  STALE: " + estimate.stale_reason
+    return text

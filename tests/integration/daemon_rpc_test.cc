@@ -1,0 +1,365 @@
+// Starts the daemon in-process on a free loopback port and checks every RPC, streaming with
+// cancellation, and that bad requests get the right status while the daemon keeps serving.
+#include <grpcpp/grpcpp.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "core/depth/depth_to_cloud.h"
+#include "core/io/depth_png.h"
+#include "core/io/intrinsics_json.h"
+#include "hpose/v1/pose_service.grpc.pb.h"
+#include "server/daemon.h"
+#include "server/proto_convert.h"
+#include "tests/integration/test_util.h"
+
+namespace hpose::server {
+namespace {
+
+using namespace std::chrono_literals;
+namespace tu = hpose::testing_util;
+
+constexpr int kMaxReceiveBytes = 1 << 20;
+
+std::unique_ptr<v1::PoseService::Stub> Connect(int port) {
+  return v1::PoseService::NewStub(
+      grpc::CreateChannel("127.0.0.1:" + std::to_string(port), grpc::InsecureChannelCredentials()));
+}
+
+void SetDeadline(grpc::ClientContext* ctx, std::chrono::milliseconds d) {
+  ctx->set_deadline(std::chrono::system_clock::now() + d);
+}
+
+class DaemonRpcTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new std::string(tu::MakeTempDir("rpc"));
+    ASSERT_TRUE(tu::SimulateFrames(*dir_ + "/frames", 3));
+    DaemonConfig config;
+    config.grpc.listen = "127.0.0.1:0";
+    config.grpc.max_receive_message_bytes = kMaxReceiveBytes;
+    config.source.path = *dir_ + "/frames";
+    config.source.loop = true;
+    config.source.fps = 10.0;
+    config.templates = {tu::TemplatePath("standing"), tu::TemplatePath("right_arm_raised")};
+    Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
+    ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
+    daemon_ = daemon->release();
+  }
+  static void TearDownTestSuite() {
+    delete daemon_;
+    daemon_ = nullptr;
+    if (dir_ != nullptr) std::filesystem::remove_all(*dir_);
+    delete dir_;
+  }
+
+  void SetUp() override {
+    ASSERT_NE(daemon_, nullptr);
+    stub_ = Connect(daemon_->port());
+  }
+
+  // A request holding the first simulated frame.
+  v1::EstimateRequest FrameRequest() const {
+    v1::EstimateRequest request;
+    Result<DepthImage> depth = ReadDepthPng(*dir_ + "/frames/depth_000.png");
+    Result<Intrinsics> k = ReadIntrinsicsJson(*dir_ + "/frames/intrinsics.json");
+    EXPECT_TRUE(depth.ok() && k.ok());
+    if (depth.ok() && k.ok()) DepthToProto(*depth, *k, request.mutable_depth());
+    return request;
+  }
+
+  grpc::Status Estimate(const v1::EstimateRequest& request, v1::EstimateResponse* response) {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, 120s);
+    return stub_->Estimate(&ctx, request, response);
+  }
+
+  void ExpectStillServing() {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, 10s);
+    v1::GetStatusResponse status;
+    ASSERT_TRUE(stub_->GetStatus(&ctx, v1::GetStatusRequest(), &status).ok());
+    EXPECT_EQ(status.templates(), 2u);
+  }
+
+  static std::string* dir_;
+  static Daemon* daemon_;
+  std::unique_ptr<v1::PoseService::Stub> stub_;
+};
+
+std::string* DaemonRpcTest::dir_ = nullptr;
+Daemon* DaemonRpcTest::daemon_ = nullptr;
+
+TEST_F(DaemonRpcTest, EstimateDepthFindsTheHumanoid) {
+  v1::EstimateResponse response;
+  grpc::Status s = Estimate(FrameRequest(), &response);
+  ASSERT_TRUE(s.ok()) << s.error_message();
+  const v1::PoseEstimate& e = response.estimate();
+  EXPECT_EQ(e.estimator(), v1::ESTIMATOR_KIND_DEPTH_TEMPLATE);
+  EXPECT_EQ(e.source(), "request");
+  EXPECT_FALSE(e.stale());
+  ASSERT_TRUE(e.has_depth_template());
+  const v1::DepthTemplateResult& r = e.depth_template();
+  ASSERT_TRUE(r.humanoid_found());
+  const v1::Candidate& c = r.best().best();
+  EXPECT_NEAR(c.pose().x(), 1.0, 0.1);  // simulated 1 m ahead, theta 0.
+  EXPECT_NEAR(c.pose().y(), 0.0, 0.1);
+  // The 3D form agrees with (x, y, theta): z = 0, rotation about +z by theta.
+  EXPECT_DOUBLE_EQ(c.pose_3d().position().x(), c.pose().x());
+  EXPECT_DOUBLE_EQ(c.pose_3d().position().z(), 0.0);
+  EXPECT_NEAR(c.pose_3d().orientation().z(), std::sin(c.pose().theta() / 2), 1e-9);
+  EXPECT_NEAR(c.pose_3d().orientation().w(), std::cos(c.pose().theta() / 2), 1e-9);
+  EXPECT_GT(c.score(), 0.0);
+  EXPECT_FALSE(r.best().second_template().empty());  // two templates were matched.
+  EXPECT_GE(r.candidates_size(), 2);
+  EXPECT_GT(r.floor().height(), 0.2);
+  EXPECT_GT(e.timings().total(), 0.0);
+}
+
+TEST_F(DaemonRpcTest, EstimateCloudAndTemplateSubset) {
+  v1::EstimateRequest depth_request = FrameRequest();
+  Intrinsics k;
+  Result<DepthImage> depth = DepthFromProto(depth_request.depth(), &k);
+  ASSERT_TRUE(depth.ok());
+  Result<PointCloud> cloud = DepthToCloud(*depth, k);
+  ASSERT_TRUE(cloud.ok());
+  v1::EstimateRequest request;
+  CloudToProto(*cloud, request.mutable_cloud());
+  request.add_templates("standing");
+  v1::EstimateResponse response;
+  grpc::Status s = Estimate(request, &response);
+  ASSERT_TRUE(s.ok()) << s.error_message();
+  const v1::DepthTemplateResult& r = response.estimate().depth_template();
+  ASSERT_GT(r.candidates_size(), 0);
+  for (const v1::Candidate& c : r.candidates()) EXPECT_EQ(c.template_name(), "standing");
+}
+
+TEST_F(DaemonRpcTest, UnknownTemplateIsNotFound) {
+  v1::EstimateRequest request = FrameRequest();
+  request.add_templates("sitting");
+  v1::EstimateResponse response;
+  grpc::Status s = Estimate(request, &response);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_NE(s.error_message().find("sitting"), std::string::npos) << s.error_message();
+  ExpectStillServing();
+}
+
+TEST_F(DaemonRpcTest, WrongSizesAreInvalidArgument) {
+  v1::EstimateRequest request = FrameRequest();
+  request.mutable_depth()->mutable_data()->resize(100);
+  v1::EstimateResponse response;
+  grpc::Status s = Estimate(request, &response);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("bytes"), std::string::npos) << s.error_message();
+
+  request = FrameRequest();
+  request.mutable_depth()->mutable_intrinsics()->set_width(640);
+  s = Estimate(request, &response);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("does not match"), std::string::npos) << s.error_message();
+
+  v1::EstimateRequest cloud;
+  cloud.mutable_cloud()->add_xyz(1.0f);
+  cloud.mutable_cloud()->add_xyz(2.0f);
+  s = Estimate(cloud, &response);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("multiple of 3"), std::string::npos) << s.error_message();
+
+  s = Estimate(v1::EstimateRequest(), &response);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  ExpectStillServing();
+}
+
+TEST_F(DaemonRpcTest, NanIntrinsicsAreInvalidArgument) {
+  v1::EstimateRequest request = FrameRequest();
+  request.mutable_depth()->mutable_intrinsics()->set_fy(std::nan(""));
+  v1::EstimateResponse response;
+  grpc::Status s = Estimate(request, &response);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("fy"), std::string::npos) << s.error_message();
+  request = FrameRequest();
+  request.mutable_depth()->mutable_intrinsics()->set_fx(-3.0);
+  s = Estimate(request, &response);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  ExpectStillServing();
+}
+
+TEST_F(DaemonRpcTest, OversizedMessageIsResourceExhausted) {
+  v1::EstimateRequest request;
+  v1::DepthImage* depth = request.mutable_depth();
+  depth->set_width(1024);
+  depth->set_height(1024);
+  depth->mutable_data()->assign(1024 * 1024 * 2, '\0');  // 2 MiB > the 1 MiB limit.
+  v1::EstimateResponse response;
+  grpc::Status s = Estimate(request, &response);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << s.error_message();
+  ExpectStillServing();
+}
+
+TEST_F(DaemonRpcTest, ExpiredDeadlineIsHonoured) {
+  grpc::ClientContext ctx;
+  ctx.set_deadline(std::chrono::system_clock::now() - 1s);
+  v1::EstimateResponse response;
+  grpc::Status s = stub_->Estimate(&ctx, FrameRequest(), &response);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::DEADLINE_EXCEEDED);
+  ExpectStillServing();
+}
+
+TEST_F(DaemonRpcTest, GetLatestWaitsForANewerEstimate) {
+  v1::GetLatestResponse first, second;
+  {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, 120s);
+    v1::GetLatestRequest request;
+    request.set_after_sequence(1);  // waits until the source's second frame is estimated.
+    grpc::Status s = stub_->GetLatest(&ctx, request, &first);
+    ASSERT_TRUE(s.ok()) << s.error_message();
+  }
+  EXPECT_GT(first.estimate().sequence(), 1u);
+  EXPECT_TRUE(first.estimate().has_depth_template());
+  EXPECT_NE(first.estimate().source().find("depth_"), std::string::npos);
+  {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, 120s);
+    v1::GetLatestRequest request;
+    request.set_after_sequence(first.estimate().sequence());
+    ASSERT_TRUE(stub_->GetLatest(&ctx, request, &second).ok());
+  }
+  EXPECT_GT(second.estimate().sequence(), first.estimate().sequence());
+  {  // A sequence far in the future cannot arrive before a short deadline.
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, 300ms);
+    v1::GetLatestRequest request;
+    request.set_after_sequence(1000000);
+    v1::GetLatestResponse never;
+    EXPECT_EQ(stub_->GetLatest(&ctx, request, &never).error_code(),
+              grpc::StatusCode::DEADLINE_EXCEEDED);
+  }
+}
+
+TEST_F(DaemonRpcTest, StreamDeliversUntilCancelled) {
+  grpc::ClientContext ctx;
+  std::unique_ptr<grpc::ClientReader<v1::PoseEstimate>> reader =
+      stub_->StreamPoses(&ctx, v1::StreamPosesRequest());
+  v1::PoseEstimate e;
+  std::uint64_t last = 0;
+  for (int i = 0; i < 2; ++i) {
+    ASSERT_TRUE(reader->Read(&e));
+    EXPECT_GT(e.sequence(), last);
+    last = e.sequence();
+  }
+  ctx.TryCancel();
+  while (reader->Read(&e)) {
+  }
+  EXPECT_EQ(reader->Finish().error_code(), grpc::StatusCode::CANCELLED);
+  ExpectStillServing();
+
+  grpc::ClientContext bounded;
+  v1::StreamPosesRequest request;
+  request.set_max_estimates(1);
+  auto reader2 = stub_->StreamPoses(&bounded, request);
+  int n = 0;
+  while (reader2->Read(&e)) ++n;
+  EXPECT_TRUE(reader2->Finish().ok());
+  EXPECT_EQ(n, 1);
+}
+
+TEST_F(DaemonRpcTest, ListTemplatesAndStatus) {
+  grpc::ClientContext ctx;
+  v1::ListTemplatesResponse list;
+  ASSERT_TRUE(stub_->ListTemplates(&ctx, v1::ListTemplatesRequest(), &list).ok());
+  ASSERT_EQ(list.templates_size(), 2);
+  EXPECT_EQ(list.templates(0).name(), "standing");
+  EXPECT_EQ(list.templates(1).name(), "right_arm_raised");
+  EXPECT_GT(list.templates(0).voxels(), 100);
+  EXPECT_NEAR(list.templates(0).resolution(), 0.016, 1e-9);
+
+  {  // Make sure at least one frame went through.
+    grpc::ClientContext wait;
+    SetDeadline(&wait, 120s);
+    v1::GetLatestRequest request;
+    request.set_after_sequence(1);
+    v1::GetLatestResponse latest;
+    ASSERT_TRUE(stub_->GetLatest(&wait, request, &latest).ok());
+  }
+  grpc::ClientContext sctx;
+  v1::GetStatusResponse st;
+  ASSERT_TRUE(stub_->GetStatus(&sctx, v1::GetStatusRequest(), &st).ok());
+  EXPECT_EQ(st.source().state(), v1::SOURCE_STATE_RUNNING);
+  EXPECT_EQ(st.source().kind(), "png-dir");
+  EXPECT_GE(st.source().frames_in(), 2u);
+  EXPECT_GE(st.source().frames_estimated(), 1u);
+  EXPECT_GT(st.uptime(), 0.0);
+  EXPECT_EQ(st.floor_mode(), "fit");
+  EXPECT_GT(st.floor().height(), 0.2);
+  EXPECT_GE(st.latency().samples(), 1u);
+  EXPECT_GE(st.latency().p99(), st.latency().median());
+}
+
+TEST(DaemonWithoutSourceTest, GetLatestIsFailedPreconditionAndBadListenFails) {
+  DaemonConfig config;
+  config.grpc.listen = "127.0.0.1:0";
+  config.templates = {tu::TemplatePath("standing")};
+  Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
+  ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
+  auto stub = Connect((*daemon)->port());
+  grpc::ClientContext ctx;
+  v1::GetLatestResponse latest;
+  grpc::Status s = stub->GetLatest(&ctx, v1::GetLatestRequest(), &latest);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+
+  // The same port again cannot be bound: a clear error, not a crash.
+  DaemonConfig clash = config;
+  clash.grpc.listen = "127.0.0.1:" + std::to_string((*daemon)->port());
+  Result<std::unique_ptr<Daemon>> second = Daemon::Start(clash);
+  ASSERT_FALSE(second.ok());
+  EXPECT_EQ(second.error().code, ErrorCode::kUnavailable);
+
+  DaemonConfig missing = config;
+  missing.templates = {"/nonexistent/dir/standing.bt"};
+  Result<std::unique_ptr<Daemon>> third = Daemon::Start(missing);
+  ASSERT_FALSE(third.ok());
+  EXPECT_NE(third.error().message.find("standing.bt"), std::string::npos);
+}
+
+TEST(DaemonFinishedRecordingTest, LastEstimateIsStaleWithTheReason) {
+  const std::string dir = tu::MakeTempDir("finished");
+  ASSERT_TRUE(tu::SimulateFrames(dir, 2));
+  DaemonConfig config;
+  config.grpc.listen = "127.0.0.1:0";
+  config.source.path = dir;
+  config.source.realtime = false;  // as fast as possible, no loop: finishes quickly.
+  config.templates = {tu::TemplatePath("standing")};
+  Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
+  ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
+  auto stub = Connect((*daemon)->port());
+  v1::GetStatusResponse st;
+  for (int i = 0; i < 600; ++i) {  // up to 60 s on a loaded machine.
+    grpc::ClientContext ctx;
+    ASSERT_TRUE(stub->GetStatus(&ctx, v1::GetStatusRequest(), &st).ok());
+    if (st.source().state() == v1::SOURCE_STATE_FINISHED &&
+        st.source().frames_estimated() + st.source().frames_failed() == 2) {
+      break;
+    }
+    std::this_thread::sleep_for(100ms);
+  }
+  EXPECT_EQ(st.source().state(), v1::SOURCE_STATE_FINISHED);
+  EXPECT_EQ(st.source().frames_in(), 2u);
+  EXPECT_EQ(st.source().frames_dropped(), 0u);  // fast replay waits instead of dropping.
+  grpc::ClientContext ctx;
+  v1::GetLatestResponse latest;
+  ASSERT_TRUE(stub->GetLatest(&ctx, v1::GetLatestRequest(), &latest).ok());
+  EXPECT_TRUE(latest.estimate().stale());
+  EXPECT_NE(latest.estimate().stale_reason().find("finished"), std::string::npos)
+      << latest.estimate().stale_reason();
+  (*daemon)->Shutdown();
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace hpose::server

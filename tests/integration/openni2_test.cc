@@ -1,0 +1,175 @@
+// The OpenNI2 path, through OpenNI2 itself: our simulated-depth OpenNI2 driver serves frames
+// of `hpose simulate` as a device; OpenNI2's recorder writes them to .oni; OpenNI2's file driver
+// plays the .oni back. The test runs with LD_LIBRARY_PATH pointing at the staged OpenNI2
+// directory of the build (see server/openni2_driver/CMakeLists.txt).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/io/depth_png.h"
+#include "core/io/intrinsics_json.h"
+#include "server/frame_source.h"
+#include "server/openni2_recorder.h"
+#include "server/openni2_source.h"
+#include "tests/integration/test_util.h"
+
+namespace hpose::server {
+namespace {
+
+namespace tu = hpose::testing_util;
+
+class Openni2Test : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new std::string(tu::MakeTempDir("openni2"));
+    ASSERT_TRUE(tu::SimulateFrames(*dir_ + "/frames", 3));
+    // Read by the driver when OpenNI2 initialises (every Open of a source).
+    setenv("HPOSE_SIM_DEPTH_DIR", (*dir_ + "/frames").c_str(), 1);
+    setenv("HPOSE_SIM_DEPTH_FPS", "30", 1);
+  }
+  static void TearDownTestSuite() {
+    std::filesystem::remove_all(*dir_);
+    delete dir_;
+  }
+  static DepthImage Png(int i) {
+    Result<DepthImage> d = ReadDepthPng(*dir_ + "/frames/depth_00" + std::to_string(i) + ".png");
+    EXPECT_TRUE(d.ok());
+    return d.ok() ? *d : DepthImage();
+  }
+  // Index of the simulated frame equal to `depth`, or -1.
+  static int MatchingFrame(const DepthImage& depth) {
+    for (int i = 0; i < 3; ++i) {
+      if (Png(i).mm == depth.mm) return i;
+    }
+    return -1;
+  }
+  static std::string* dir_;
+};
+
+std::string* Openni2Test::dir_ = nullptr;
+
+TEST_F(Openni2Test, DeviceServesTheSimulatedFramesThroughOpenni2) {
+  Openni2Source source("openni2://", Openni2SourceOptions{});
+  Status opened = source.Open();
+  ASSERT_TRUE(opened.ok()) << opened.error().ToString();
+  EXPECT_TRUE(source.live());
+  EXPECT_EQ(source.kind(), "openni2-device");
+  Result<Intrinsics> k = ReadIntrinsicsJson(*dir_ + "/frames/intrinsics.json");
+  ASSERT_TRUE(k.ok());
+  std::uint64_t last = 0;
+  for (int i = 0; i < 4; ++i) {
+    Result<Frame> f = source.Next();
+    ASSERT_TRUE(f.ok()) << f.error().ToString();
+    EXPECT_GT(f->sequence, last);
+    last = f->sequence;
+    ASSERT_EQ(f->depth.width, 320);
+    ASSERT_EQ(f->depth.height, 240);
+    EXPECT_GE(MatchingFrame(f->depth), 0) << "frame " << i << " is not one of the served PNGs";
+    // OpenNI2 carries the field of view only; focal lengths come back through it.
+    EXPECT_NEAR(f->intrinsics.fx, k->fx, 1e-3 * k->fx);
+    EXPECT_NEAR(f->intrinsics.fy, k->fy, 1e-3 * k->fy);
+  }
+  source.Close();
+}
+
+TEST_F(Openni2Test, MissingDeviceUriIsUnavailable) {
+  Openni2Source source("openni2://no-such-device", Openni2SourceOptions{});
+  Status opened = source.Open();
+  ASSERT_FALSE(opened.ok());
+  EXPECT_EQ(opened.error().code, ErrorCode::kUnavailable);
+  EXPECT_NE(opened.error().message.find("no-such-device"), std::string::npos);
+}
+
+TEST_F(Openni2Test, RecordsOniAndPlaysItBackThroughTheFileDriver) {
+  const std::string oni = *dir_ + "/walk.oni";
+  RecordOptions options;
+  options.frames = 6;
+  Result<RecordSummary> rec = RecordOpenni2("openni2://", oni, options, nullptr);
+  ASSERT_TRUE(rec.ok()) << rec.error().ToString();
+  EXPECT_EQ(rec->frames, 6);
+  EXPECT_EQ(rec->format, "oni");
+  ASSERT_TRUE(std::filesystem::file_size(oni) > 1000);
+
+  ReplayOptions replay;
+  replay.realtime = false;
+  Result<std::unique_ptr<FrameSource>> source = MakeFrameSource(oni, replay);
+  ASSERT_TRUE(source.ok()) << source.error().ToString();
+  EXPECT_EQ((*source)->kind(), "oni");
+  Status opened = (*source)->Open();
+  ASSERT_TRUE(opened.ok()) << opened.error().ToString();
+  EXPECT_EQ((*source)->frame_count(), 6);
+  int frames = 0;
+  double last_time = -1.0;
+  while (true) {
+    Result<Frame> f = (*source)->Next();
+    if (!f.ok()) {
+      EXPECT_EQ(f.error().code, ErrorCode::kOutOfRange) << f.error().ToString();
+      break;
+    }
+    ++frames;
+    EXPECT_GE(MatchingFrame(f->depth), 0) << "played-back frame " << frames << " differs";
+    EXPECT_GT(f->source_time_s, last_time);
+    last_time = f->source_time_s;
+    ASSERT_LE(frames, 6);
+  }
+  EXPECT_EQ(frames, 6);
+  (*source)->Close();
+
+  // hpose replay reads the same recording and writes one JSON line per frame.
+  std::string out;
+  ASSERT_EQ(tu::RunCommand(tu::HposeProgram() + " replay '" + oni + "' --no-progress --template " +
+                               tu::TemplatePath("standing") + " 2>/dev/null",
+                           &out),
+            0);
+  std::istringstream lines(out);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) {
+    ++n;
+    EXPECT_NE(line.find("\"depth_template\""), std::string::npos) << line.substr(0, 200);
+    EXPECT_NE(line.find("\"template_name\":\"standing\""), std::string::npos);
+  }
+  EXPECT_EQ(n, 6);
+}
+
+TEST_F(Openni2Test, RecordsAPngDirectoryThatReplays) {
+  const std::string out_dir = *dir_ + "/recorded";
+  RecordOptions options;
+  options.frames = 3;
+  Result<RecordSummary> rec = RecordOpenni2("openni2://", out_dir, options, nullptr);
+  ASSERT_TRUE(rec.ok()) << rec.error().ToString();
+  EXPECT_EQ(rec->format, "png-dir");
+  ASSERT_TRUE(std::filesystem::exists(out_dir + "/intrinsics.json"));
+  Result<DepthImage> first = ReadDepthPng(out_dir + "/frame_000000.png");
+  ASSERT_TRUE(first.ok());
+  EXPECT_GE(MatchingFrame(*first), 0);
+
+  std::string csv;
+  ASSERT_EQ(tu::RunCommand(tu::HposeProgram() + " replay '" + out_dir +
+                               "' --format csv --no-progress --template " +
+                               tu::TemplatePath("standing") + " 2>/dev/null",
+                           &csv),
+            0);
+  std::istringstream lines(csv);
+  std::string line;
+  std::vector<std::string> rows;
+  while (std::getline(lines, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 4u);  // header + 3 frames.
+  EXPECT_EQ(rows[0].rfind("sequence,source_time_s,", 0), 0u);
+  for (size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_NE(rows[i].find(",standing,"), std::string::npos) << rows[i];
+  }
+}
+
+TEST_F(Openni2Test, RecordingFromANonDeviceIsRejected) {
+  Result<RecordSummary> rec = RecordOpenni2(*dir_ + "/frames", *dir_ + "/x.oni", {}, nullptr);
+  ASSERT_FALSE(rec.ok());
+  EXPECT_EQ(rec.error().code, ErrorCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace hpose::server

@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""Exercises the Python client (python/hpose_client) and example against a running hposed.
+
+usage: python_client_test.py HPOSED HPOSE SOURCE_DIR   (PYTHONPATH: <build>/python and python/)
+"""
+
+import os
+import select
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import grpc
+
+from hpose_client import PoseClient, PoseClientError, best_pose
+
+HPOSED, HPOSE, SOURCE_DIR = sys.argv[1:4]
+
+
+def start_daemon(args, timeout=60.0):
+    """Starts hposed on a free loopback port; returns (process, address)."""
+    proc = subprocess.Popen([HPOSED, "--listen", "127.0.0.1:0"] + args, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        ready, _, _ = select.select([proc.stdout], [], [], 0.5)
+        if ready:
+            line = proc.stdout.readline()
+            if not line:
+                break
+            if "listening on" in line:
+                return proc, line.split("listening on ")[1].split()[0]
+    proc.kill()
+    raise RuntimeError("hposed did not start: %s" % proc.stdout.read())
+
+
+class PythonClientTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.frames = os.path.join(cls.tmp.name, "frames")
+        subprocess.run([HPOSE, "simulate", "--out", cls.frames, "--frames", "3", "--width", "320",
+                        "--height", "240", "--no-cloud", "--turn-deg", "20"], check=True,
+                       stdout=subprocess.DEVNULL)
+        templates = os.path.join(SOURCE_DIR, "templates")
+        cls.proc, cls.address = start_daemon([
+            "--source", cls.frames, "--loop", "--fps", "10",
+            "--template", os.path.join(templates, "standing.bt"),
+            "--template", os.path.join(templates, "right_arm_raised.bt")])
+        cls.client = PoseClient(cls.address)
+        cls.client.wait_ready(timeout=20)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.client.close()
+        if cls.proc.poll() is None:
+            cls.proc.kill()
+            cls.proc.wait()
+        cls.tmp.cleanup()
+
+    def test_templates_and_status(self):
+        names = sorted(t.name for t in self.client.templates())
+        self.assertEqual(names, ["right_arm_raised", "standing"])
+        status = self.client.status()
+        self.assertEqual(status.source.kind, "png-dir")
+        self.assertEqual(status.templates, 2)
+
+    def test_stream_gives_increasing_sequences_and_a_pose(self):
+        estimates = list(self.client.stream(max_estimates=3, timeout=120))
+        self.assertEqual(len(estimates), 3)
+        sequences = [e.sequence for e in estimates]
+        self.assertEqual(sequences, sorted(sequences))
+        self.assertEqual(len(set(sequences)), 3)
+        poses = [best_pose(e) for e in estimates]
+        found = [p for p in poses if p is not None]
+        self.assertTrue(found, "no humanoid in %s" % estimates[0])
+        # The simulated humanoid stands 1 m ahead of the sensor.
+        for x, y, _ in found:
+            self.assertAlmostEqual(x, 1.0, delta=0.1)
+            self.assertAlmostEqual(y, 0.0, delta=0.1)
+
+    def test_latest_after_sequence_waits_for_a_newer_one(self):
+        first = self.client.latest(timeout=60)
+        newer = self.client.latest(after_sequence=first.sequence, timeout=60)
+        self.assertGreater(newer.sequence, first.sequence)
+
+    def test_bad_request_is_invalid_argument_and_daemon_keeps_serving(self):
+        with self.assertRaises(PoseClientError) as ctx:
+            self.client.estimate_depth([0] * 10, 320, 240, 297.0, 295.0, 160.0, 120.0)
+        self.assertEqual(ctx.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+        self.assertIn("bytes", ctx.exception.details)
+        with self.assertRaises(PoseClientError) as ctx:
+            self.client.estimate_depth([0] * (4 * 4), 4, 4, float("nan"), 1.0, 2.0, 2.0)
+        self.assertEqual(ctx.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+        self.assertIn("fx", ctx.exception.details)
+        self.assertEqual(self.client.status().templates, 2)
+
+    def test_health_service_reports_serving(self):
+        # grpc.health.v1.Health/Check with hand-encoded messages (field 1 = service name).
+        check = self.client._channel.unary_unary("/grpc.health.v1.Health/Check")
+        for service in (b"", b"hpose.v1.PoseService"):
+            request = (b"\x0a" + bytes([len(service)]) + service) if service else b""
+            response = check(request, timeout=10)
+            self.assertEqual(response, b"\x08\x01", service)  # status = SERVING.
+        with self.assertRaises(grpc.RpcError) as ctx:
+            check(b"\x0a\x07unknown", timeout=10)
+        self.assertEqual(ctx.exception.code(), grpc.StatusCode.NOT_FOUND)
+
+    def test_reflection_lists_the_services(self):
+        info = self.client._channel.stream_stream(
+            "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo")
+        # list_services (field 7) and file_containing_symbol (field 4).
+        symbol = b"hpose.v1.PoseService"
+        requests = [b"\x3a\x01*", b"\x22" + bytes([len(symbol)]) + symbol]
+        responses = list(info(iter(requests), timeout=10))
+        self.assertEqual(len(responses), 2)
+        self.assertIn(b"hpose.v1.PoseService", responses[0])
+        self.assertIn(b"grpc.health.v1.Health", responses[0])
+        self.assertIn(b"hpose/v1/pose_service.proto", responses[1])
+        self.assertIn(b"StreamPoses", responses[1])
+
+    def test_example_program(self):
+        example = os.path.join(SOURCE_DIR, "python", "example.py")
+        out = subprocess.run([sys.executable, example, "--server", self.address, "--count", "2"],
+                             capture_output=True, text=True, timeout=300, check=False)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        self.assertIn("received 2 estimate(s)", out.stdout)
+        self.assertIn("template standing", out.stdout)
+
+    def test_zz_sigterm_shuts_down_cleanly(self):
+        self.proc.send_signal(signal.SIGTERM)
+        rest, _ = self.proc.communicate(timeout=30)
+        self.assertEqual(self.proc.returncode, 0, rest)
+        self.assertIn("stopped", rest)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=[sys.argv[0]], verbosity=2)

@@ -1,0 +1,108 @@
+#include "server/daemon_config.h"
+
+#include <gtest/gtest.h>
+
+namespace hpose::server {
+namespace {
+
+TEST(DaemonConfigTest, ParsesEveryKeyAndResolvesRelativePaths) {
+  const char* yaml = R"(
+listen: 127.0.0.1:6000
+grpc: {max_receive_message_bytes: 2048, max_concurrent_estimates: 3}
+source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
+         stale_after_s: 0.5}
+templates: [t/standing.bt, /abs/arm.bt]
+search: {score_threshold: 55, scorer: reference}
+floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
+)";
+  Result<DaemonConfig> c = ParseDaemonConfig(yaml, "test.yaml", "/etc/hpose");
+  ASSERT_TRUE(c.ok()) << c.error().ToString();
+  EXPECT_EQ(c->grpc.listen, "127.0.0.1:6000");
+  EXPECT_EQ(c->grpc.max_receive_message_bytes, 2048);
+  EXPECT_EQ(c->grpc.max_concurrent_estimates, 3);
+  EXPECT_EQ(c->source.path, "/etc/hpose/rec/walk.oni");
+  EXPECT_FALSE(c->source.realtime);
+  EXPECT_TRUE(c->source.loop);
+  EXPECT_DOUBLE_EQ(c->source.fps, 15.0);
+  EXPECT_EQ(c->source.queue_capacity, 2);
+  ASSERT_EQ(c->templates.size(), 2u);
+  EXPECT_EQ(c->templates[0], "/etc/hpose/t/standing.bt");
+  EXPECT_EQ(c->templates[1], "/abs/arm.bt");
+  EXPECT_DOUBLE_EQ(c->estimator.score_threshold, 55.0);
+  EXPECT_EQ(c->estimator.scorer, ScorerKind::kOctomapReference);
+  EXPECT_TRUE(c->floor.fixed);
+  EXPECT_DOUBLE_EQ(c->floor.height_m, 0.5);
+  EXPECT_TRUE(ValidateDaemonConfig(*c).ok());
+}
+
+TEST(DaemonConfigTest, DeviceSpecIsNotResolved) {
+  Result<DaemonConfig> c = ParseDaemonConfig("source: {path: 'openni2://'}", "x", "/base");
+  ASSERT_TRUE(c.ok());
+  EXPECT_EQ(c->source.path, "openni2://");
+}
+
+TEST(DaemonConfigTest, ErrorsNameTheKey) {
+  struct Case {
+    const char* yaml;
+    const char* expected;
+  } cases[] = {
+      {"sourc: {}", "sourc: unknown key"},     {"source: {rate: slow}", "source.rate"},
+      {"source: {fps: abc}", "source.fps"},    {"source: {bogus: 1}", "source.bogus: unknown key"},
+      {"floor: {mode: tilted}", "floor.mode"}, {"search: {scorer: magic}", "search.scorer"},
+      {"templates: {a: 1}", "templates"},      {"grpc: [1, 2]", "grpc: expected a mapping"},
+      {"listen: [", "not valid YAML"},
+  };
+  for (const Case& c : cases) {
+    Result<DaemonConfig> r = ParseDaemonConfig(c.yaml, "cfg.yaml", "");
+    ASSERT_FALSE(r.ok()) << c.yaml;
+    EXPECT_EQ(r.error().code, ErrorCode::kInvalidArgument);
+    EXPECT_NE(r.error().message.find(c.expected), std::string::npos)
+        << c.yaml << " -> " << r.error().message;
+    EXPECT_EQ(r.error().message.rfind("cfg.yaml", 0), 0u) << r.error().message;
+  }
+}
+
+TEST(DaemonConfigTest, ValidationNamesTheKey) {
+  DaemonConfig c;
+  c.templates = {"standing.bt"};
+  ASSERT_TRUE(ValidateDaemonConfig(c).ok());
+  DaemonConfig bad = c;
+  bad.grpc.listen = "localhost";
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("listen"), std::string::npos);
+  bad = c;
+  bad.templates.clear();
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("templates"), std::string::npos);
+  bad = c;
+  bad.templates = {"standing.ot"};
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("not a .bt"), std::string::npos);
+  bad = c;
+  bad.source.queue_capacity = 0;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.queue_capacity"),
+            std::string::npos);
+  bad = c;
+  bad.source.reconnect_max_backoff_s = 0.1;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("reconnect_max_backoff_s"),
+            std::string::npos);
+}
+
+TEST(DaemonConfigTest, DefaultsListenOnLoopbackAndPrintedConfigParsesBack) {
+  DaemonConfig c;
+  EXPECT_EQ(c.grpc.listen.rfind("127.0.0.1:", 0), 0u);
+  c.templates = {"/t/standing.bt"};
+  c.source.path = "/rec/frames";
+  c.source.loop = true;
+  c.floor.fixed = true;
+  c.floor.height_m = 0.42;
+  Result<DaemonConfig> back = ParseDaemonConfig(DaemonConfigToYaml(c), "printed", "");
+  ASSERT_TRUE(back.ok()) << back.error().ToString();
+  EXPECT_EQ(back->source.path, c.source.path);
+  EXPECT_TRUE(back->source.loop);
+  EXPECT_EQ(back->templates, c.templates);
+  EXPECT_TRUE(back->floor.fixed);
+  EXPECT_DOUBLE_EQ(back->floor.height_m, 0.42);
+  EXPECT_EQ(back->estimator.search, c.estimator.search);
+  EXPECT_EQ(DaemonConfigToYaml(*back), DaemonConfigToYaml(c));
+}
+
+}  // namespace
+}  // namespace hpose::server
