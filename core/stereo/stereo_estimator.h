@@ -1,0 +1,53 @@
+#ifndef HPOSE_CORE_STEREO_STEREO_ESTIMATOR_H_
+#define HPOSE_CORE_STEREO_STEREO_ESTIMATOR_H_
+
+#include <memory>
+
+#include "core/common/status.h"
+#include "core/stereo/color_segmenter.h"
+#include "core/stereo/rgb_image.h"
+#include "core/stereo/stereo_calibration.h"
+#include "core/stereo/stereo_frame_result.h"
+#include "core/stereo/stereo_marker_options.h"
+#include "core/stereo/stereo_rig.h"
+
+namespace hpose {
+
+// The stereo-marker estimator, one frame pair at a time (no state; see StereoTracker for the
+// temporal part): colour segmentation and labelling of the landmarks and the object in both
+// images, distortion correction of the centroids only, left/right matching of the landmarks by
+// their arrangement, triangulation, the camera -> world transform from the three landmarks
+// (closed form and least squares), the robot's pose on the floor and the object's world
+// position. Thread-compatible: Process is const and may run concurrently.
+class StereoEstimator final {
+ public:
+  // Fails with kInvalidArgument when the calibration or the options are invalid.
+  static Result<std::unique_ptr<StereoEstimator>> Create(const StereoCalibration& calibration,
+                                                         const StereoMarkerOptions& options = {});
+
+  // Processes one pair taken at `timestamp_s` (seconds, any epoch). A frame whose landmarks
+  // cannot be used is not an error: the result says why in `status`/`reason`, and still
+  // carries the object's camera-frame position when it was seen.
+  // Fails with kInvalidArgument when an image is empty or malformed, the two images differ in
+  // size, or their size differs from the calibration's stated image size.
+  Result<StereoFrameResult> Process(const RgbImage& left, const RgbImage& right,
+                                    double timestamp_s) const;
+
+  const StereoMarkerOptions& options() const { return options_; }
+  const StereoRig& rig() const { return *rig_; }
+
+ private:
+  StereoEstimator(std::unique_ptr<StereoRig> rig, ColorSegmenter segmenter,
+                  const StereoMarkerOptions& options);
+
+  void LocateObject(const std::vector<ColorBlob>& left, const std::vector<ColorBlob>& right,
+                    StereoFrameResult* result) const;
+
+  std::unique_ptr<StereoRig> rig_;
+  ColorSegmenter segmenter_;
+  StereoMarkerOptions options_;
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_STEREO_STEREO_ESTIMATOR_H_

@@ -1,0 +1,148 @@
+#include "core/stereo/stereo_marker_options.h"
+
+#include <sys/stat.h>
+
+#include <cmath>
+#include <set>
+
+#include <opencv2/core.hpp>
+
+#include "core/stereo/rigid_fit.h"
+
+namespace hpose {
+
+const char* RigidFitMethodName(RigidFitMethod method) {
+  return method == RigidFitMethod::kSvd ? "svd" : "closed_form";
+}
+
+Status ValidateStereoMarkerOptions(const StereoMarkerOptions& o) {
+  auto bad = [](const std::string& what) {
+    return Status(MakeError(ErrorCode::kInvalidArgument, "stereo options: " + what));
+  };
+  for (const Eigen::Vector3d& p : o.landmarks_world_m) {
+    if (!p.allFinite()) return bad("landmarks_world_m holds a non-finite value");
+  }
+  if (TriangleMinSine(o.landmarks_world_m[0], o.landmarks_world_m[1], o.landmarks_world_m[2]) <
+      o.min_triangle_sine) {
+    return bad("the three landmarks are (nearly) collinear");
+  }
+  Status s = ValidateHsvRange(o.landmark_color, "stereo options: landmark_color");
+  if (!s.ok()) return s;
+  s = ValidateHsvRange(o.object_color, "stereo options: object_color");
+  if (!s.ok()) return s;
+  if (o.segmentation.min_blob_area_px < 1) return bad("min_blob_area_px must be >= 1");
+  if (o.segmentation.connectivity != 4 && o.segmentation.connectivity != 8) {
+    return bad("connectivity must be 4 or 8");
+  }
+  if (!(o.max_epipolar_error_px > 0)) return bad("max_epipolar_error_px must be > 0");
+  if (!(o.max_fit_rms_m > 0)) return bad("max_fit_rms_m must be > 0");
+  if (!(o.ambiguity_ratio >= 1)) return bad("ambiguity_ratio must be >= 1");
+  if (!(o.min_triangle_sine >= 0 && o.min_triangle_sine < 0.87)) {
+    return bad("min_triangle_sine must be in [0, 0.87)");
+  }
+  if (!std::isfinite(o.min_camera_height_m)) return bad("min_camera_height_m is not finite");
+  if (!(o.max_object_area_ratio >= 1)) return bad("max_object_area_ratio must be >= 1");
+  if (!(o.robot_region_x_min_m < o.robot_region_x_max_m) ||
+      !(o.robot_region_y_min_m < o.robot_region_y_max_m)) {
+    return bad("robot region must have min < max");
+  }
+  return Status::Ok();
+}
+
+Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return MakeError(ErrorCode::kNotFound, path + ": no such file");
+  cv::FileStorage fs;
+  try {
+    fs.open(path, cv::FileStorage::READ);
+  } catch (const cv::Exception&) {
+  }
+  if (!fs.isOpened()) {
+    return MakeError(ErrorCode::kDataLoss, path + ": not a YAML/XML (OpenCV FileStorage) file");
+  }
+  StereoMarkerOptions o;
+  auto fail = [&](const std::string& key, const std::string& what) {
+    return MakeError(ErrorCode::kInvalidArgument, path + ": " + key + ": " + what);
+  };
+  auto number = [](const cv::FileNode& n, double* out) {
+    if (!n.isReal() && !n.isInt()) return false;
+    *out = static_cast<double>(n);
+    return std::isfinite(*out);
+  };
+  auto color = [&](const cv::FileNode& n, HsvRange* out) {
+    if (!n.isSeq() || n.size() != 6) return false;
+    double v[6];
+    for (int i = 0; i < 6; ++i) {
+      if (!number(n[i], &v[i])) return false;
+    }
+    *out = HsvRange{v[0], v[1], v[2], v[3], v[4], v[5]};
+    return true;
+  };
+  const cv::FileNode root = fs.root();
+  for (const cv::FileNode& node : root) {
+    const std::string key = node.name();
+    double v = 0;
+    if (key == "landmarks_world_m") {
+      cv::Mat m;
+      try {
+        node >> m;
+      } catch (const cv::Exception&) {
+      }
+      if (m.rows != 3 || m.cols != 3)
+        return fail(key, "must be a 3x3 matrix, one row per landmark");
+      m.convertTo(m, CV_64F);
+      for (int r = 0; r < 3; ++r) {
+        o.landmarks_world_m[r] =
+            Eigen::Vector3d(m.at<double>(r, 0), m.at<double>(r, 1), m.at<double>(r, 2));
+      }
+    } else if (key == "landmark_color") {
+      if (!color(node, &o.landmark_color)) return fail(key, "must be a list of 6 numbers");
+    } else if (key == "object_color") {
+      if (!color(node, &o.object_color)) return fail(key, "must be a list of 6 numbers");
+    } else if (key == "method") {
+      const std::string m = node.isString() ? static_cast<std::string>(node) : "";
+      if (m == "svd") {
+        o.method = RigidFitMethod::kSvd;
+      } else if (m == "closed_form") {
+        o.method = RigidFitMethod::kClosedForm;
+      } else {
+        return fail(key, "must be \"svd\" or \"closed_form\"");
+      }
+    } else if (key == "depth_weighted_fit") {
+      if (!node.isInt()) return fail(key, "must be 0 or 1");
+      o.depth_weighted_fit = static_cast<int>(node) != 0;
+    } else if (key == "robot_region_m") {
+      HsvRange unused;
+      if (!node.isSeq() || node.size() != 4)
+        return fail(key, "must be [x_min, x_max, y_min, y_max]");
+      double v4[4];
+      for (int i = 0; i < 4; ++i) {
+        if (!number(node[i], &v4[i])) return fail(key, "must hold 4 finite numbers");
+      }
+      (void)unused;
+      o.robot_region_x_min_m = v4[0];
+      o.robot_region_x_max_m = v4[1];
+      o.robot_region_y_min_m = v4[2];
+      o.robot_region_y_max_m = v4[3];
+    } else if (key == "min_blob_area_px") {
+      if (!node.isInt()) return fail(key, "must be an integer");
+      o.segmentation.min_blob_area_px = static_cast<int>(node);
+    } else {
+      double* target = key == "max_epipolar_error_px"   ? &o.max_epipolar_error_px
+                       : key == "max_fit_rms_m"         ? &o.max_fit_rms_m
+                       : key == "ambiguity_ratio"       ? &o.ambiguity_ratio
+                       : key == "min_triangle_sine"     ? &o.min_triangle_sine
+                       : key == "min_camera_height_m"   ? &o.min_camera_height_m
+                       : key == "max_object_area_ratio" ? &o.max_object_area_ratio
+                                                        : nullptr;
+      if (target == nullptr) return fail(key, "unknown key");
+      if (!number(node, &v)) return fail(key, "must be a finite number");
+      *target = v;
+    }
+  }
+  Status s = ValidateStereoMarkerOptions(o);
+  if (!s.ok()) return MakeError(s.error().code, path + ": " + s.error().message);
+  return o;
+}
+
+}  // namespace hpose

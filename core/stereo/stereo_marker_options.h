@@ -1,0 +1,76 @@
+#ifndef HPOSE_CORE_STEREO_STEREO_MARKER_OPTIONS_H_
+#define HPOSE_CORE_STEREO_STEREO_MARKER_OPTIONS_H_
+
+#include <array>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "core/common/status.h"
+#include "core/stereo/color_segmenter.h"
+
+namespace hpose {
+
+// How the camera -> world transform is computed from the three landmarks.
+enum class RigidFitMethod {
+  kSvd,         // least-squares rotation (Horn/Umeyama); always a proper rotation.
+  kClosedForm,  // the paper's appendix; exact without noise, not orthonormal with it.
+};
+const char* RigidFitMethodName(RigidFitMethod method);  // "svd" | "closed_form"
+
+// Options of the stereo-marker estimator; every default lives here.
+struct StereoMarkerOptions {
+  // Landmark centres in the world (field) frame, metres, z up; index = landmark id P0, P1, P2.
+  // Defaults: the paper's layout P0 (0, 0, 0), P1 (-250, 400, 0), P2 (250, 400, 0) mm.
+  std::array<Eigen::Vector3d, 3> landmarks_world_m = {Eigen::Vector3d(0.0, 0.0, 0.0),
+                                                      Eigen::Vector3d(-0.25, 0.4, 0.0),
+                                                      Eigen::Vector3d(0.25, 0.4, 0.0)};
+  // Colour of the three landmarks (all the same colour; they are told apart by arrangement).
+  HsvRange landmark_color{205.0, 250.0, 0.45, 1.0, 0.15, 1.0};
+  // Colour of the tracked object (the ball).
+  HsvRange object_color{8.0, 40.0, 0.5, 1.0, 0.15, 1.0};
+  ColorSegmenterOptions segmentation;
+
+  // A left/right pairing is plausible only when every pair is within this distance of its
+  // epipolar line, pixels.
+  double max_epipolar_error_px = 3.0;
+  // Frames whose best fit leaves an RMS landmark residual above this are rejected, metres.
+  double max_fit_rms_m = 0.04;
+  // The pairing/labelling is ambiguous (frame rejected) when the runner-up hypothesis fits
+  // within this factor of the best one.
+  double ambiguity_ratio = 1.5;
+  // Triangles whose smallest vertex sine is below this count as collinear.
+  double min_triangle_sine = 0.2;
+  // The camera must be at least this far above the floor; it selects the mirror-image labelling.
+  double min_camera_height_m = 0.05;
+  // The object's left and right blobs must have areas within this factor of each other.
+  double max_object_area_ratio = 3.0;
+  RigidFitMethod method = RigidFitMethod::kSvd;
+  // Weight each landmark in the least-squares fit by 1 / depth^4 (stereo depth variance grows
+  // with depth^4), so that near landmarks count more.
+  bool depth_weighted_fit = true;
+  // Where the robot may be, world frame, metres. A labelling of the landmarks that puts the
+  // robot elsewhere is discarded. The default keeps the robot on P0's side of the landmarks
+  // (y <= 0), the assumption behind the paper's matching by image arrangement; it is what tells
+  // the nearly equilateral triangle's vertices apart when triangulation is noisy.
+  double robot_region_x_min_m = -1e9;
+  double robot_region_x_max_m = 1e9;
+  double robot_region_y_min_m = -1e9;
+  double robot_region_y_max_m = 0.0;
+};
+
+// Fails with kInvalidArgument naming the first bad option.
+Status ValidateStereoMarkerOptions(const StereoMarkerOptions& options);
+
+// Reads options from an OpenCV FileStorage YAML/XML file; keys absent keep their defaults and
+// unknown keys are errors. Keys: landmarks_world_m (3x3 matrix, one landmark per row),
+// landmark_color and object_color ([hue_min_deg, hue_max_deg, sat_min, sat_max, val_min,
+// val_max]), min_blob_area_px, max_epipolar_error_px, max_fit_rms_m, ambiguity_ratio,
+// min_triangle_sine, min_camera_height_m, max_object_area_ratio, method ("svd" |
+// "closed_form"), depth_weighted_fit (0/1), robot_region_m ([x_min, x_max, y_min, y_max]). Fails
+// with kNotFound, kDataLoss or kInvalidArgument naming the key.
+Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path);
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_STEREO_STEREO_MARKER_OPTIONS_H_

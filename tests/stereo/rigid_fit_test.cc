@@ -1,0 +1,118 @@
+#include "core/stereo/rigid_fit.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+namespace hpose {
+namespace {
+
+const std::array<Eigen::Vector3d, 3> kWorld = {
+    Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(-0.25, 0.4, 0), Eigen::Vector3d(0.25, 0.4, 0)};
+
+double AngleBetween(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+  const double c = std::clamp(((a * b.transpose()).trace() - 1.0) / 2.0, -1.0, 1.0);
+  return std::acos(c);
+}
+
+// camera points such that world = rotation * camera + translation.
+std::array<Eigen::Vector3d, 3> CameraPoints(const Eigen::Matrix3d& r, const Eigen::Vector3d& t) {
+  std::array<Eigen::Vector3d, 3> c;
+  for (int i = 0; i < 3; ++i) c[i] = r.transpose() * (kWorld[i] - t);
+  return c;
+}
+
+TEST(RigidFitTest, ClosedFormAndSvdAreExactWithoutNoise) {
+  const Eigen::Matrix3d r =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.2, -0.5, 0.8).normalized()).toRotationMatrix();
+  const Eigen::Vector3d t(0.1, -1.2, 0.45);
+  const auto cam = CameraPoints(r, t);
+  auto cf = FitRigidClosedForm(cam, kWorld);
+  ASSERT_TRUE(cf.ok());
+  EXPECT_LT((cf->rotation - r).norm(), 1e-9);
+  EXPECT_LT((cf->translation - t).norm(), 1e-9);
+  EXPECT_LT(cf->orthonormality_error, 1e-9);
+  EXPECT_LT(cf->rms_residual_m, 1e-9);
+  auto svd = FitRigidSvd({cam.begin(), cam.end()}, {kWorld.begin(), kWorld.end()});
+  ASSERT_TRUE(svd.ok());
+  EXPECT_LT((svd->rotation - r).norm(), 1e-9);
+  EXPECT_LT((svd->translation - t).norm(), 1e-9);
+}
+
+TEST(RigidFitTest, NoisyPointsClosedFormIsNotARotationButSvdIs) {
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  double cf_angle = 0, svd_angle = 0, cf_ortho = 0;
+  const int trials = 300;
+  for (int k = 0; k < trials; ++k) {
+    const Eigen::Matrix3d r =
+        Eigen::AngleAxisd(0.1 * k, Eigen::Vector3d(0.3, 1.0, -0.2).normalized()).toRotationMatrix();
+    const Eigen::Vector3d t(0.05 * std::sin(k), -1.0, 0.45);
+    auto cam = CameraPoints(r, t);
+    for (auto& p : cam) p += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    auto cf = FitRigidClosedForm(cam, kWorld);
+    auto svd = FitRigidSvd({cam.begin(), cam.end()}, {kWorld.begin(), kWorld.end()});
+    ASSERT_TRUE(cf.ok() && svd.ok());
+    EXPECT_LT(svd->orthonormality_error, 1e-9);
+    EXPECT_NEAR(svd->rotation.determinant(), 1.0, 1e-9);
+    cf_ortho += cf->orthonormality_error;
+    // Compare the closed form's rotation after projecting it onto the nearest rotation.
+    Eigen::JacobiSVD<Eigen::Matrix3d> proj(cf->rotation, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Matrix3d cf_rot = proj.matrixU() * proj.matrixV().transpose();
+    cf_angle += AngleBetween(cf_rot, r);
+    svd_angle += AngleBetween(svd->rotation, r);
+  }
+  EXPECT_GT(cf_ortho / trials, 1e-4);  // noise makes the closed form's basis non-orthonormal.
+  EXPECT_LT(svd_angle / trials, 0.02);
+  EXPECT_LT(cf_angle / trials, 0.03);
+  // Least squares over all three points is at least as accurate on average.
+  EXPECT_LE(svd_angle, cf_angle * 1.05);
+}
+
+TEST(RigidFitTest, EqualWeightsMatchUnweightedAndWeightsPullTowardsHeavyPoints) {
+  std::vector<Eigen::Vector3d> src = {
+      {0, 0, 1}, {0.3, 0.1, 1.4}, {-0.2, 0.2, 1.6}, {0.1, -0.3, 1.2}};
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  std::vector<Eigen::Vector3d> dst;
+  for (const auto& p : src) dst.push_back(r * p + Eigen::Vector3d(1, 2, 3));
+  dst[3] += Eigen::Vector3d(0.02, 0, 0);  // one perturbed point.
+  auto plain = FitRigidSvd(src, dst);
+  auto equal = FitRigidSvd(src, dst, 0.1, {2, 2, 2, 2});
+  ASSERT_TRUE(plain.ok() && equal.ok());
+  EXPECT_LT((plain->rotation - equal->rotation).norm(), 1e-9);
+  EXPECT_LT((plain->translation - equal->translation).norm(), 1e-9);
+  auto light = FitRigidSvd(src, dst, 0.1, {1, 1, 1, 1e-6});
+  ASSERT_TRUE(light.ok());
+  EXPECT_LT((light->rotation - r).norm(), (plain->rotation - r).norm());
+  EXPECT_FALSE(FitRigidSvd(src, dst, 0.1, {1, 1, 1}).ok());
+  EXPECT_FALSE(FitRigidSvd(src, dst, 0.1, {1, 1, 0, 1}).ok());
+}
+
+TEST(RigidFitTest, CollinearAndTooFewPointsAreRejected) {
+  const std::array<Eigen::Vector3d, 3> line = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0.1, 0, 1),
+                                               Eigen::Vector3d(0.2, 0.001, 1)};
+  auto cf = FitRigidClosedForm(line, kWorld);
+  ASSERT_FALSE(cf.ok());
+  EXPECT_EQ(cf.error().code, ErrorCode::kFailedPrecondition);
+  EXPECT_NE(cf.error().message.find("collinear"), std::string::npos);
+  auto svd = FitRigidSvd({line.begin(), line.end()}, {kWorld.begin(), kWorld.end()});
+  ASSERT_FALSE(svd.ok());
+  EXPECT_EQ(svd.error().code, ErrorCode::kFailedPrecondition);
+  auto few = FitRigidSvd({line[0], line[1]}, {kWorld[0], kWorld[1]});
+  ASSERT_FALSE(few.ok());
+  EXPECT_EQ(few.error().code, ErrorCode::kInvalidArgument);
+  std::array<Eigen::Vector3d, 3> nan = line;
+  nan[0].x() = std::nan("");
+  EXPECT_FALSE(FitRigidClosedForm(nan, kWorld).ok());
+}
+
+TEST(RigidFitTest, TriangleMinSine) {
+  EXPECT_NEAR(TriangleMinSine({0, 0, 0}, {1, 0, 0}, {0.5, std::sqrt(3) / 2, 0}), std::sqrt(3) / 2,
+              1e-12);
+  EXPECT_NEAR(TriangleMinSine({0, 0, 0}, {1, 0, 0}, {2, 0, 0}), 0.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace hpose

@@ -1,0 +1,197 @@
+#include "core/stereo/stereo_estimator.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/stereo/local_marker_estimator.h"
+#include "core/stereo/stereo_scene_simulator.h"
+
+namespace hpose {
+namespace {
+
+StereoSimNoiseOptions QuietNoise() {
+  StereoSimNoiseOptions n;
+  n.pixel_noise_sigma = 1.0;
+  n.supersample = 2;
+  n.gain_min = n.gain_max = 1.0;
+  return n;
+}
+
+class StereoEstimatorTest : public testing::Test {
+ protected:
+  StereoEstimatorTest() : sim_(StereoSimCameraOptions{}, QuietNoise()) {}
+
+  std::unique_ptr<StereoEstimator> Make(const StereoMarkerOptions& options = {}) {
+    auto e = StereoEstimator::Create(sim_.calibration(), options);
+    EXPECT_TRUE(e.ok());
+    return e.ok() ? std::move(e).value() : nullptr;
+  }
+  SimScene Scene(bool ball = true) const {
+    SimScene s = MakeFieldScene(StereoMarkerOptions().landmarks_world_m, true, 3);
+    if (ball) s.balls.push_back(SimBall{Eigen::Vector3d(0.3, -0.1, 0.035), 0.035, {225, 105, 25}});
+    return s;
+  }
+
+  StereoSceneSimulator sim_;
+};
+
+TEST_F(StereoEstimatorTest, LocatesRobotLandmarksAndBall) {
+  auto est = Make();
+  for (const Pose2D& robot : {Pose2D{0.05, -1.0, DegToRad(92)}, Pose2D{-0.25, -0.8, DegToRad(75)},
+                              Pose2D{0.35, -1.25, DegToRad(100)}}) {
+    const auto pair = sim_.RenderPair(robot, HeadSway{0.01, 0.0, 0.03, 0.0, 0.02}, Scene(), 1);
+    auto r = est->Process(pair.left, pair.right, 1.5);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_TRUE(r->ok()) << r->reason;
+    EXPECT_EQ(r->timestamp_s, 1.5);
+    EXPECT_NEAR(r->robot.x, pair.truth.head.x, 0.015);
+    EXPECT_NEAR(r->robot.y, pair.truth.head.y, 0.015);
+    EXPECT_NEAR(AngleDiff(r->robot.theta, pair.truth.head.theta), 0.0, DegToRad(1.0));
+    EXPECT_NEAR(r->camera_height_m, pair.truth.head_position_m.z(), 0.015);
+    const Eigen::Isometry3d left_from_world = pair.truth.world_from_left.inverse();
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d truth = left_from_world * est->options().landmarks_world_m[k];
+      EXPECT_LT((r->landmark_camera_m[k] - truth).norm(), 0.012) << "landmark " << k;
+    }
+    EXPECT_TRUE(r->closed_form_ok);
+    EXPECT_LT(r->svd.orthonormality_error, 1e-9);
+    ASSERT_TRUE(r->object_in_world) << r->object_reason;
+    EXPECT_LT((r->object_world_m - pair.truth.object_world_m).head<2>().norm(), 0.01);
+  }
+}
+
+TEST_F(StereoEstimatorTest, ClosedFormMethodGivesTheSamePose) {
+  StereoMarkerOptions options;
+  options.method = RigidFitMethod::kClosedForm;
+  auto est = Make(options);
+  const auto pair = sim_.RenderPair(Pose2D{0.0, -0.9, kPi / 2}, HeadSway{}, Scene(), 2);
+  auto r = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(r.ok() && r->ok());
+  EXPECT_EQ(r->method, RigidFitMethod::kClosedForm);
+  EXPECT_NEAR(r->robot.x, pair.truth.head.x, 0.015);
+  EXPECT_NEAR(r->robot.y, pair.truth.head.y, 0.015);
+}
+
+TEST_F(StereoEstimatorTest, RejectsMissingAndExtraLandmarks) {
+  auto est = Make();
+  SimScene missing = Scene();
+  missing.discs.erase(missing.discs.begin() + 1);
+  auto pair = sim_.RenderPair(Pose2D{0.05, -1.0, kPi / 2}, HeadSway{}, missing, 3);
+  auto r = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->status, StereoFrameStatus::kMissingLandmark);
+  EXPECT_NE(r->reason.find("2 landmark blob"), std::string::npos) << r->reason;
+  // The ball is still seen in the camera frame, but it has no world position.
+  EXPECT_TRUE(r->object_in_camera);
+  EXPECT_FALSE(r->object_in_world);
+
+  SimScene extra = Scene();
+  extra.discs.push_back(SimDisc{Eigen::Vector2d(-0.3, -0.1), 0.05, {35, 70, 190}});
+  pair = sim_.RenderPair(Pose2D{0.05, -1.0, kPi / 2}, HeadSway{}, extra, 4);
+  r = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->status, StereoFrameStatus::kTooManyLandmarks);
+}
+
+TEST_F(StereoEstimatorTest, RejectsCollinearLandmarks) {
+  // Discs laid out on a line, while the estimator expects the triangle.
+  SimScene line = Scene(false);
+  line.discs[0].centre_m = Eigen::Vector2d(-0.3, 0.2);
+  line.discs[1].centre_m = Eigen::Vector2d(0.0, 0.2);
+  line.discs[2].centre_m = Eigen::Vector2d(0.3, 0.2);
+  auto est = Make();
+  auto pair = sim_.RenderPair(Pose2D{0.0, -0.9, kPi / 2}, HeadSway{}, line, 5);
+  auto r = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->status, StereoFrameStatus::kCollinearLandmarks) << r->reason;
+  // Collinear landmark positions in the options are refused up front.
+  StereoMarkerOptions bad;
+  bad.landmarks_world_m[2] = Eigen::Vector3d(-0.5, 0.8, 0.0);
+  auto e = StereoEstimator::Create(sim_.calibration(), bad);
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(e.error().message.find("collinear"), std::string::npos);
+}
+
+TEST_F(StereoEstimatorTest, RejectsAmbiguousArrangement) {
+  // An equilateral triangle with no region prior: three labellings fit equally well.
+  StereoMarkerOptions options;
+  const double s = 0.5;
+  options.landmarks_world_m = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(-s / 2, s * 0.866025, 0),
+                               Eigen::Vector3d(s / 2, s * 0.866025, 0)};
+  options.robot_region_y_max_m = 1e9;
+  SimScene scene = MakeFieldScene(options.landmarks_world_m, false, 1);
+  auto est = Make(options);
+  auto pair = sim_.RenderPair(Pose2D{0.0, -0.9, kPi / 2}, HeadSway{}, scene, 6);
+  auto r = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->status, StereoFrameStatus::kAmbiguousMatch) << r->reason;
+  // With the paper's region prior (robot on P0's side) the same frame is accepted.
+  options.robot_region_y_max_m = 0.0;
+  auto est2 = Make(options);
+  r = est2->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(r.ok());
+  EXPECT_TRUE(r->ok()) << r->reason;
+  EXPECT_NEAR(r->robot.y, pair.truth.head.y, 0.02);
+}
+
+TEST_F(StereoEstimatorTest, BadInputGivesClearErrors) {
+  auto est = Make();
+  const auto pair = sim_.RenderPair(Pose2D{0.0, -0.9, kPi / 2}, HeadSway{}, Scene(), 7);
+  RgbImage small(100, 50);
+  auto r = est->Process(pair.left, small, 0.0);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(r.error().message.find("100x50"), std::string::npos);
+  r = est->Process(small, small, 0.0);  // same sizes, but not the calibration's.
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("calibration"), std::string::npos);
+  RgbImage broken = pair.left;
+  broken.pixels.resize(10);
+  EXPECT_FALSE(est->Process(broken, pair.right, 0.0).ok());
+  EXPECT_FALSE(est->Process(RgbImage(), pair.right, 0.0).ok());
+  EXPECT_FALSE(est->Process(pair.left, pair.right, std::nan("")).ok());
+
+  StereoCalibration bad_cal = sim_.calibration();
+  bad_cal.right_t_left *= 1000.0;  // millimetres read as metres.
+  EXPECT_FALSE(StereoEstimator::Create(bad_cal).ok());
+  StereoMarkerOptions bad_options;
+  bad_options.ambiguity_ratio = 0.5;
+  EXPECT_FALSE(StereoEstimator::Create(sim_.calibration(), bad_options).ok());
+}
+
+TEST(LocalMarkerEstimatorTest, ObjectRelativeToMarkerMidpoint) {
+  const StereoSceneSimulator sim(StereoSimCameraOptions{}, QuietNoise());
+  LocalMarkerOptions options;
+  options.marker_spacing_m = 0.12;
+  options.object_height_above_markers_m = 0.035;
+  auto est = LocalMarkerEstimator::Create(sim.calibration().left, options);
+  ASSERT_TRUE(est.ok());
+  Eigen::Isometry3d down = Eigen::Isometry3d::Identity();
+  down.linear().col(0) = Eigen::Vector3d(0, -1, 0);  // image right = robot right.
+  down.linear().col(1) = Eigen::Vector3d(-1, 0, 0);  // image down = robot back.
+  down.linear().col(2) = Eigen::Vector3d(0, 0, -1);  // looking down.
+  down.translation() = Eigen::Vector3d(0.08, 0.01, 0.45);
+  for (const Eigen::Vector2d& ball : {Eigen::Vector2d(0.15, 0.05), Eigen::Vector2d(0.1, -0.12)}) {
+    SimScene scene;
+    scene.discs.push_back(SimDisc{Eigen::Vector2d(0, -0.06), 0.015, {190, 50, 150}});
+    scene.discs.push_back(SimDisc{Eigen::Vector2d(0, 0.06), 0.015, {190, 50, 150}});
+    scene.balls.push_back(
+        SimBall{Eigen::Vector3d(ball.x(), ball.y(), 0.035), 0.035, {225, 105, 25}});
+    auto r = (*est)->Process(sim.Render(StereoSide::kLeft, down, scene, 1.0, 9));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_NEAR(r->object_in_robot_m.x(), ball.x(), 0.005);
+    EXPECT_NEAR(r->object_in_robot_m.y(), ball.y(), 0.005);
+    EXPECT_NEAR(r->marker_depth_m, 0.45, 0.01);
+    EXPECT_GT(r->marker_px[0].x(), r->marker_px[1].x());  // [0] is the right marker.
+    // One marker hidden: refused with the reason.
+    scene.discs.pop_back();
+    auto missing = (*est)->Process(sim.Render(StereoSide::kLeft, down, scene, 1.0, 9));
+    ASSERT_FALSE(missing.ok());
+    EXPECT_EQ(missing.error().code, ErrorCode::kFailedPrecondition);
+    EXPECT_NE(missing.error().message.find("1 marker blob"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace hpose

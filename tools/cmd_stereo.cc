@@ -1,0 +1,313 @@
+// `hpose estimate-stereo` and `hpose simulate-stereo`: the stereo-marker estimator on frame
+// pairs, and the simulator that renders such pairs with ground truth.
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/common/pose2d.h"
+#include "core/stereo/rgb_image_io.h"
+#include "core/stereo/stereo_calibration.h"
+#include "core/stereo/stereo_estimator.h"
+#include "core/stereo/stereo_marker_options.h"
+#include "core/stereo/stereo_sequence.h"
+#include "core/stereo/stereo_sim_sequence.h"
+#include "core/stereo/stereo_tracker.h"
+#include "tools/command.h"
+#include "tools/exit_codes.h"
+#include "tools/flag_parser.h"
+
+namespace hpose::tools {
+namespace {
+
+nlohmann::json Vec(const Eigen::VectorXd& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (int i = 0; i < v.size(); ++i) a.push_back(v(i));
+  return a;
+}
+
+nlohmann::json FrameJson(const StereoFrameResult& f, const StereoTrackState& t, size_t index) {
+  nlohmann::json j;
+  j["index"] = index;
+  j["timestamp_s"] = f.timestamp_s;
+  j["estimator"] = "stereo_marker";
+  j["frame"] = "world";
+  j["status"] = StereoFrameStatusName(f.status);
+  if (!f.ok()) j["reason"] = f.reason;
+  j["landmark_blobs"] = {f.landmark_blobs_left, f.landmark_blobs_right};
+  if (f.ok()) {
+    j["robot"] = {{"x_m", f.robot.x}, {"y_m", f.robot.y}, {"theta_rad", f.robot.theta}};
+    j["camera_height_m"] = f.camera_height_m;
+    j["method"] = RigidFitMethodName(f.method);
+    j["svd_rms_residual_m"] = f.svd.rms_residual_m;
+    if (f.closed_form_ok) {
+      j["closed_form_rms_residual_m"] = f.closed_form.rms_residual_m;
+      j["closed_form_orthonormality_error"] = f.closed_form.orthonormality_error;
+    }
+    j["max_epipolar_error_px"] = f.max_epipolar_error_px;
+  }
+  if (t.robot_valid) {
+    j["robot_mean"] = {{"x_m", t.robot_mean.x},
+                       {"y_m", t.robot_mean.y},
+                       {"theta_rad", t.robot_mean.theta},
+                       {"frames", t.robot_frames}};
+  }
+  nlohmann::json o;
+  o["in_world"] = f.object_in_world;
+  if (f.object_in_world) o["position_m"] = Vec(f.object_world_m);
+  if (f.object_in_camera) o["camera_position_m"] = Vec(f.object_camera_m);
+  if (!f.object_in_world && !f.object_reason.empty()) o["reason"] = f.object_reason;
+  o["moving"] = t.object_moving;
+  if (t.object_moving) o["motion_start_s"] = t.motion_start_s;
+  if (t.path_valid) {
+    o["path"] = {{"t0_s", t.path.t0_s},
+                 {"origin_m", Vec(t.path.origin_m)},
+                 {"velocity_mps", Vec(t.path.velocity_mps)},
+                 {"rms_residual_m", t.path.rms_residual_m}};
+    if (t.robot_valid) {
+      const auto a = t.path.ClosestApproach(Eigen::Vector2d(t.robot_mean.x, t.robot_mean.y));
+      o["path"]["closest_approach_to_robot"] = {{"time_s", a.t_s},
+                                                {"time_to_reach_s", a.t_s - f.timestamp_s},
+                                                {"distance_m", a.distance_m}};
+    }
+  }
+  j["object"] = o;
+  return j;
+}
+
+void PrintFrameText(const StereoFrameResult& f, const StereoTrackState& t, size_t index) {
+  char buf[512];
+  std::snprintf(buf, sizeof(buf), "frame %4zu  t=%7.3f s  ", index, f.timestamp_s);
+  std::cout << buf;
+  if (f.ok()) {
+    std::snprintf(buf, sizeof(buf),
+                  "robot x=%8.1f mm y=%8.1f mm theta=%7.2f deg (mean of %d: %8.1f %8.1f mm "
+                  "%7.2f deg)  fit rms %.1f mm",
+                  f.robot.x * 1e3, f.robot.y * 1e3, RadToDeg(f.robot.theta), t.robot_frames,
+                  t.robot_mean.x * 1e3, t.robot_mean.y * 1e3, RadToDeg(t.robot_mean.theta),
+                  (f.method == RigidFitMethod::kSvd ? f.svd : f.closed_form).rms_residual_m * 1e3);
+    std::cout << buf;
+  } else {
+    std::cout << "rejected (" << StereoFrameStatusName(f.status) << "): " << f.reason;
+  }
+  std::cout << "\n";
+  if (f.object_in_world) {
+    std::snprintf(buf, sizeof(buf), "            ball x=%8.1f mm y=%8.1f mm z=%6.1f mm  %s",
+                  f.object_world_m.x() * 1e3, f.object_world_m.y() * 1e3,
+                  f.object_world_m.z() * 1e3, t.object_moving ? "MOVING" : "at rest");
+    std::cout << buf;
+    if (t.path_valid) {
+      std::snprintf(buf, sizeof(buf), "  path v=(%.0f, %.0f) mm/s", t.path.velocity_mps.x() * 1e3,
+                    t.path.velocity_mps.y() * 1e3);
+      std::cout << buf;
+      if (t.robot_valid) {
+        const auto a = t.path.ClosestApproach(Eigen::Vector2d(t.robot_mean.x, t.robot_mean.y));
+        std::snprintf(buf, sizeof(buf), ", passes %.0f mm from the robot in %.2f s",
+                      a.distance_m * 1e3, a.t_s - f.timestamp_s);
+        std::cout << buf;
+      }
+    }
+    std::cout << "\n";
+  } else if (!f.object_reason.empty()) {
+    std::cout << "            ball: " << f.object_reason << "\n";
+  }
+}
+
+}  // namespace
+
+int RunEstimateStereo(int argc, char** argv) {
+  std::vector<std::string> calibration_paths;
+  std::string left, right, sequence, options_path, method, calib_unit = "m";
+  double fps = 15.0;
+  bool json = false;
+  FlagParser flags(
+      "hpose estimate-stereo --calibration CAL.yaml (--left L.png --right R.png | --sequence DIR)",
+      "Locates the robot (its stereo head projected on the floor) and the ball in the field "
+      "frame of three same-coloured landmarks, from one stereo pair or a sequence directory "
+      "(layout: DIR/frames.csv or DIR/left/*.png + DIR/right/*.png, optional "
+      "DIR/calibration.yaml). Over a sequence it also averages the robot pose over 8 frames, "
+      "detects when the ball starts moving and predicts its straight path.");
+  flags.AddStrings("calibration", &calibration_paths,
+                   "OpenCV stereo calibration (YAML/XML: M1 D1 M2 D2 R T); give two files for "
+                   "separate intrinsics and extrinsics",
+                   "FILE");
+  flags.AddString("calib-unit", &calib_unit, "unit of T in the calibration: m or mm", "UNIT");
+  flags.AddString("left", &left, "left image of a single pair", "IMAGE");
+  flags.AddString("right", &right, "right image of a single pair", "IMAGE");
+  flags.AddString("sequence", &sequence, "directory of frame pairs", "DIR");
+  flags.AddDouble("fps", &fps, "frame rate when the sequence has no frames.csv", "HZ");
+  flags.AddString("options", &options_path,
+                  "estimator options (YAML: colours, landmark positions, thresholds)", "FILE");
+  flags.AddString("method", &method, "camera->world fit: svd (default) or closed_form", "NAME");
+  flags.AddBool("json", &json, "print one JSON object per frame (SI units) instead of text");
+  flags.SetEpilog(
+      "exit status: 0 ok; 1 bad input; 2 usage; 3 a single pair gave no robot pose.\n"
+      "example:\n  hpose simulate-stereo --out /tmp/seq && hpose estimate-stereo --sequence "
+      "/tmp/seq\n");
+  switch (flags.Parse(argc, argv)) {
+    case FlagParser::Outcome::kHelpShown:
+      return kExitOk;
+    case FlagParser::Outcome::kError:
+      return kExitUsage;
+    case FlagParser::Outcome::kOk:
+      break;
+  }
+  const std::string cmd = "estimate-stereo";
+  const bool single = !left.empty() || !right.empty();
+  if (single == !sequence.empty() || (single && (left.empty() || right.empty()))) {
+    std::cerr << "hpose " << cmd
+              << ": give either --left and --right, or --sequence (see --help)\n";
+    return kExitUsage;
+  }
+  if (calib_unit != "m" && calib_unit != "mm") {
+    std::cerr << "hpose " << cmd << ": --calib-unit must be m or mm\n";
+    return kExitUsage;
+  }
+  Result<StereoSequence> seq = MakeError(ErrorCode::kNotFound, "");
+  if (!single) {
+    seq = StereoSequence::Open(sequence, fps);
+    if (!seq.ok()) return ReportError(cmd, seq.error());
+    if (calibration_paths.empty() && !seq->calibration_path().empty()) {
+      calibration_paths.push_back(seq->calibration_path());
+    }
+  }
+  if (calibration_paths.empty()) {
+    std::cerr << "hpose " << cmd << ": --calibration is required\n";
+    return kExitUsage;
+  }
+  StereoCalibrationReadOptions read_options;
+  read_options.translation_unit_m = calib_unit == "mm" ? 0.001 : 1.0;
+  auto calibration = ReadStereoCalibration(calibration_paths, read_options);
+  if (!calibration.ok()) return ReportError(cmd, calibration.error());
+  StereoMarkerOptions options;
+  if (!options_path.empty()) {
+    auto loaded = LoadStereoMarkerOptions(options_path);
+    if (!loaded.ok()) return ReportError(cmd, loaded.error());
+    options = *loaded;
+  }
+  if (!method.empty()) {
+    if (method == "svd") {
+      options.method = RigidFitMethod::kSvd;
+    } else if (method == "closed_form") {
+      options.method = RigidFitMethod::kClosedForm;
+    } else {
+      std::cerr << "hpose " << cmd << ": --method must be svd or closed_form\n";
+      return kExitUsage;
+    }
+  }
+  auto estimator = StereoEstimator::Create(*calibration, options);
+  if (!estimator.ok()) return ReportError(cmd, estimator.error());
+  StereoTracker tracker;
+
+  const size_t n = single ? 1 : seq->size();
+  size_t ok_frames = 0;
+  for (size_t i = 0; i < n; ++i) {
+    RgbImage l, r;
+    double t = 0.0;
+    if (single) {
+      auto li = ReadRgbImage(left);
+      if (!li.ok()) return ReportError(cmd, li.error());
+      auto ri = ReadRgbImage(right);
+      if (!ri.ok()) return ReportError(cmd, ri.error());
+      l = std::move(li).value();
+      r = std::move(ri).value();
+    } else {
+      auto pair = seq->Load(i);
+      if (!pair.ok()) return ReportError(cmd, pair.error());
+      l = std::move(pair->first);
+      r = std::move(pair->second);
+      t = seq->frame(i).timestamp_s;
+    }
+    auto result = (*estimator)->Process(l, r, t);
+    if (!result.ok()) {
+      Error e = result.error();
+      if (!single) e.message = seq->frame(i).left_path + ": " + e.message;
+      return ReportError(cmd, e);
+    }
+    const StereoTrackState state = tracker.Update(*result);
+    if (result->ok()) ++ok_frames;
+    if (json) {
+      std::cout << FrameJson(*result, state, i).dump() << "\n";
+    } else {
+      PrintFrameText(*result, state, i);
+    }
+  }
+  if (!json && !single) {
+    std::cout << ok_frames << " of " << n << " frame pairs gave a robot pose\n";
+  }
+  return ok_frames == 0 && single ? kExitNoHumanoid : kExitOk;
+}
+
+int RunSimulateStereo(int argc, char** argv) {
+  StereoSimSequenceSpec spec;
+  std::string out, scenario = "rolling";
+  bool no_distractors = false, no_sway = false;
+  int seed = 1;
+  double noise = spec.noise.pixel_noise_sigma;
+  FlagParser flags(
+      "hpose simulate-stereo --out DIR [--scenario rolling|walking|grid]",
+      "Renders stereo pairs (PNG) of the field seen from the robot's head: floor with a grid "
+      "sheet, three blue landmark discs at the paper's positions, an orange ball, optional "
+      "distractor colours, with lens distortion, image noise, lighting variation and head sway "
+      "while walking. Writes DIR/calibration.yaml (OpenCV), DIR/left/, DIR/right/, "
+      "DIR/frames.csv and DIR/ground_truth.csv (SI units).");
+  flags.AddString("out", &out, "output directory (created)", "DIR");
+  flags.AddString("scenario", &scenario,
+                  "rolling: ball kicked towards a standing robot; walking: robot walks, ball at "
+                  "rest; grid: the paper's grid of robot positions",
+                  "NAME");
+  flags.AddInt("frames", &spec.frames, "frames (rolling, walking)");
+  flags.AddDouble("fps", &spec.fps, "frame rate", "HZ");
+  flags.AddInt("width", &spec.camera.width, "image width", "PX");
+  flags.AddInt("height", &spec.camera.height, "image height", "PX");
+  flags.AddDouble("hfov", &spec.camera.hfov_deg, "horizontal field of view", "DEG");
+  flags.AddDouble("baseline", &spec.camera.baseline_m, "stereo baseline", "M");
+  flags.AddDouble("head-height", &spec.camera.head_height_m, "head height above the floor", "M");
+  flags.AddDouble("tilt", &spec.camera.head_tilt_deg, "head tilt below horizontal", "DEG");
+  flags.AddDouble("noise", &noise, "image noise sigma, grey levels", "LEVELS");
+  flags.AddDouble("robot-x", &spec.robot_start.x, "robot start x (world)", "M");
+  flags.AddDouble("robot-y", &spec.robot_start.y, "robot start y (world)", "M");
+  flags.AddDouble("robot-theta", &spec.robot_start.theta, "robot start heading (world)", "RAD");
+  flags.AddDouble("kick-time", &spec.kick_time_s, "when the ball is kicked (rolling)", "S");
+  flags.AddDouble("ball-vx", &spec.ball_velocity_mps.x(), "ball velocity after the kick, x", "M/S");
+  flags.AddDouble("ball-vy", &spec.ball_velocity_mps.y(), "ball velocity after the kick, y", "M/S");
+  flags.AddInt("frames-per-position", &spec.frames_per_position, "frames per grid position");
+  flags.AddBool("no-distractors", &no_distractors, "no distractor colours on the floor");
+  flags.AddBool("no-sway", &no_sway, "no head sway");
+  flags.AddInt("seed", &seed, "random seed");
+  switch (flags.Parse(argc, argv)) {
+    case FlagParser::Outcome::kHelpShown:
+      return kExitOk;
+    case FlagParser::Outcome::kError:
+      return kExitUsage;
+    case FlagParser::Outcome::kOk:
+      break;
+  }
+  const std::string cmd = "simulate-stereo";
+  if (out.empty()) {
+    std::cerr << "hpose " << cmd << ": --out is required\n";
+    return kExitUsage;
+  }
+  auto parsed = ParseStereoSimScenario(scenario);
+  if (!parsed.ok()) {
+    std::cerr << "hpose " << cmd << ": " << parsed.error().message << "\n";
+    return kExitUsage;
+  }
+  spec.scenario = *parsed;
+  spec.distractors = !no_distractors;
+  spec.sway_enabled = !no_sway;
+  spec.noise.pixel_noise_sigma = noise;
+  spec.seed = static_cast<std::uint64_t>(seed);
+  Status s = WriteStereoSimSequence(spec, out);
+  if (!s.ok()) return ReportError(cmd, s.error());
+  std::cout << "wrote " << StereoSimFrameCount(spec) << " stereo pairs (" << spec.camera.width
+            << "x" << spec.camera.height << ", scenario " << StereoSimScenarioName(spec.scenario)
+            << ") to " << out << "\n";
+  return kExitOk;
+}
+
+}  // namespace hpose::tools
