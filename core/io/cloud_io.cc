@@ -149,6 +149,9 @@ Result<PointCloud> ReadCloud(const std::string& path) {
       if (reader.readHeader(path, header, origin, orientation, version, data_type, data_idx) < 0) {
         return MakeError(ErrorCode::kDataLoss, path + ": not a valid PCD file (bad header)");
       }
+      if (header.fields.empty()) {
+        return MakeError(ErrorCode::kDataLoss, path + ": not a valid PCD file (no FIELDS)");
+      }
       if (FindField(header, "x") == nullptr || FindField(header, "y") == nullptr ||
           FindField(header, "z") == nullptr) {
         return MakeError(ErrorCode::kInvalidArgument, path + ": the PCD has no x, y and z fields");
@@ -158,7 +161,7 @@ Result<PointCloud> ReadCloud(const std::string& path) {
       }
     } else {
       pcl::PLYReader reader;
-      if (reader.read(path, blob) < 0) {
+      if (reader.read(path, blob) < 0 || blob.fields.empty()) {
         return MakeError(ErrorCode::kDataLoss, path + ": corrupt or truncated PLY file");
       }
     }

@@ -27,8 +27,9 @@ Result<Intrinsics> ParseIntrinsicsJson(const std::string& text, const std::strin
   Json json;
   try {
     json = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    // e.what() names the byte offset and what was read; NaN and Infinity are not JSON.
+  } catch (const Json::exception& e) {
+    // e.what() names the byte offset and what was read; NaN and Infinity are not JSON, and
+    // numbers beyond double (1e999) are rejected too.
     return Invalid(origin, std::string("not valid JSON: ") + e.what());
   }
   if (!json.is_object()) {
