@@ -23,6 +23,7 @@ int RunEstimate(int argc, char** argv) {
   bool json = false;
   EstimatorOptions options = DefaultEstimatorOptions();
   std::string search = SearchKindName(options.search);
+  std::string score = ScoreKindName(options.score);
   double floor_height = -1.0, floor_pitch_deg = 0.0, floor_roll_deg = 0.0;
   int stride = options.cloud.stride;
 
@@ -50,6 +51,10 @@ int RunEstimate(int argc, char** argv) {
   flags.AddString("search", &search,
                   "pose search: 'exact' (global optimum on a 1 deg x 4 mm lattice) or 'paper' "
                   "(the paper's two coarse-to-fine passes)",
+                  "KIND");
+  flags.AddString("score", &score,
+                  "pose value: 'free-space' (the paper's voxel overlap minus template voxels where "
+                  "the sensor saw through) or 'paper' (the overlap alone)",
                   "KIND");
   flags.AddDouble("threshold", &options.score_threshold,
                   "score (0-100) a cluster needs to count as the humanoid");
@@ -98,6 +103,9 @@ int RunEstimate(int argc, char** argv) {
   Result<SearchKind> kind = ParseSearchKind(search);
   if (!kind.ok()) return ReportError(cmd, kind.error());
   options.search = *kind;
+  Result<ScoreKind> score_kind = ParseScoreKind(score);
+  if (!score_kind.ok()) return ReportError(cmd, score_kind.error());
+  options.score = *score_kind;
   if (flags.Seen("floor-height")) {
     if (!(floor_height > 0.0 && floor_height < 10.0)) {
       std::cerr << "hpose estimate: --floor-height must be within (0, 10) m\n";
@@ -145,7 +153,7 @@ int RunEstimate(int argc, char** argv) {
   if (!estimate.ok()) return ReportError(cmd, estimate.error());
 
   if (json) {
-    std::cout << EstimateToJson(*estimate, search) << "\n";
+    std::cout << EstimateToJson(*estimate, search, score) << "\n";
   } else {
     std::cout << EstimateToText(*estimate);
   }

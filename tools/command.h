@@ -11,16 +11,17 @@ struct Command {
 };
 
 // Subcommand entry points, each in its own cmd_<name>.cc.
+int RunDemo(int argc, char** argv);
 int RunEstimate(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 int RunTemplate(int argc, char** argv);
-// Stereo-marker estimator (cmd_stereo.cc). RunSimulateStereo also serves `hpose simulate stereo`.
-int RunEstimateStereo(int argc, char** argv);
-int RunSimulateStereo(int argc, char** argv);
 // Daemon tools (cmd_record.cc, cmd_replay.cc, cmd_query.cc).
 int RunRecord(int argc, char** argv);
 int RunReplay(int argc, char** argv);
 int RunQuery(int argc, char** argv);
+// Stereo-marker estimator (cmd_stereo.cc). RunSimulateStereo also serves `hpose simulate stereo`.
+int RunEstimateStereo(int argc, char** argv);
+int RunSimulateStereo(int argc, char** argv);
 
 }  // namespace hpose::tools
 

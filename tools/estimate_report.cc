@@ -19,6 +19,8 @@ json CandidateJson(const Candidate& c) {
             {"y", c.pose.y},
             {"theta", c.pose.theta},
             {"score", c.score},
+            {"coverage", c.coverage},
+            {"free_space_voxels", c.free_space_hits},
             {"hits", c.hits},
             {"cluster_voxels", c.cluster_voxels},
             {"poses_evaluated", c.poses_evaluated},
@@ -41,7 +43,8 @@ std::string Fmt(const char* fmt, double a) {
 
 }  // namespace
 
-std::string EstimateToJson(const Estimate& e, const std::string& search_name, int indent) {
+std::string EstimateToJson(const Estimate& e, const std::string& search_name,
+                           const std::string& score_name, int indent) {
   json j;
   json detections = json::array();
   for (const Detection& d : e.detections) {
@@ -57,6 +60,7 @@ std::string EstimateToJson(const Estimate& e, const std::string& search_name, in
   for (const Candidate& c : e.candidates) candidates.push_back(CandidateJson(c));
   j["candidates"] = candidates;
   j["search"] = search_name;
+  j["score_kind"] = score_name;
   const FloorEstimate& f = e.floor;
   j["floor"] = {{"plane_sensor",
                  {f.plane_sensor[0], f.plane_sensor[1], f.plane_sensor[2], f.plane_sensor[3]}},

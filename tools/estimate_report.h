@@ -11,7 +11,7 @@ namespace hpose::tools {
 // each {"template","x","y","theta","score","cluster","runner_up":{...},"template_margin",...}],
 // "candidates": [...], "floor": {...}, "clusters": [...], "timings_ms": {...}}. SI units.
 std::string EstimateToJson(const Estimate& estimate, const std::string& search_name,
-                           int indent = -1);
+                           const std::string& score_name, int indent = -1);
 
 // A few lines for people: the floor, the humanoid(s) with pose in m and degrees, the runner-up,
 // the other candidates and the stage timings.

@@ -11,6 +11,8 @@ namespace {
 using hpose::tools::Command;
 
 const Command kCommands[] = {
+    {"demo", "simulate a frame and estimate the humanoid in it (no input needed)",
+     hpose::tools::RunDemo},
     {"estimate", "estimate the humanoid's pose in one depth frame or cloud",
      hpose::tools::RunEstimate},
     {"simulate", "render simulated Kinect frames of a humanoid scene", hpose::tools::RunSimulate},

@@ -62,32 +62,33 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
     if (g.z() > 0.02f && g.z() < 2.5f) ground.push_back(g);
   }
 
+  cv::Mat left = img(cv::Rect(0, 0, kPanel, kPanel));  // clips the overview to its panel.
   // Overview: from the sensor to the farthest cluster (at least 2 m), centred on y = 0.
   double far = 2.0;
   for (const ClusterSummary& c : estimate.clusters) far = std::max(far, c.max.x() + 0.3);
   far = std::min(far, 6.0);
   const View over{-0.2, -(far + 0.2) / 2, far + 0.2, 0};
   for (double r = 1.0; r < far + 0.2; r += 1.0) {
-    cv::circle(img, over.Px(0, 0), static_cast<int>(r * kPanel / over.span), cv::Scalar(55, 55, 55),
-               1, cv::LINE_AA);
-    cv::putText(img, Num("%.0f m", r), over.Px(r, 0) + cv::Point(3, -3), cv::FONT_HERSHEY_SIMPLEX,
+    cv::circle(left, over.Px(0, 0), static_cast<int>(r * kPanel / over.span),
+               cv::Scalar(55, 55, 55), 1, cv::LINE_AA);
+    cv::putText(left, Num("%.0f m", r), over.Px(r, 0) + cv::Point(3, -3), cv::FONT_HERSHEY_SIMPLEX,
                 0.4, cv::Scalar(110, 110, 110), 1, cv::LINE_AA);
   }
   for (const Eigen::Vector3f& g : ground) {
     const cv::Point p = over.Px(g.x(), g.y());
     if (p.x >= 0 && p.x < kPanel && p.y >= 0 && p.y < kPanel) {
-      img.at<cv::Vec3b>(p) = cv::Vec3b(cv::saturate_cast<uchar>(HeightColour(g.z())[0]),
-                                       cv::saturate_cast<uchar>(HeightColour(g.z())[1]),
-                                       cv::saturate_cast<uchar>(HeightColour(g.z())[2]));
+      left.at<cv::Vec3b>(p) = cv::Vec3b(cv::saturate_cast<uchar>(HeightColour(g.z())[0]),
+                                        cv::saturate_cast<uchar>(HeightColour(g.z())[1]),
+                                        cv::saturate_cast<uchar>(HeightColour(g.z())[2]));
     }
   }
-  cv::drawMarker(img, over.Px(0, 0), cv::Scalar(255, 255, 255), cv::MARKER_TRIANGLE_UP, 14, 2);
-  cv::putText(img, "sensor", over.Px(0, 0) + cv::Point(10, -4), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+  cv::drawMarker(left, over.Px(0, 0), cv::Scalar(255, 255, 255), cv::MARKER_TRIANGLE_UP, 14, 2);
+  cv::putText(left, "sensor", over.Px(0, 0) + cv::Point(10, -4), cv::FONT_HERSHEY_SIMPLEX, 0.45,
               cv::Scalar(230, 230, 230), 1, cv::LINE_AA);
   for (const ClusterSummary& c : estimate.clusters) {
-    cv::rectangle(img, over.Px(c.min.x(), c.min.y()), over.Px(c.max.x(), c.max.y()),
+    cv::rectangle(left, over.Px(c.min.x(), c.min.y()), over.Px(c.max.x(), c.max.y()),
                   c.searched ? cv::Scalar(200, 200, 200) : cv::Scalar(90, 90, 90), 1);
-    cv::putText(img, std::to_string(c.index), over.Px(c.max.x(), c.max.y()) + cv::Point(2, -2),
+    cv::putText(left, std::to_string(c.index), over.Px(c.max.x(), c.max.y()) + cv::Point(2, -2),
                 cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(200, 200, 200), 1, cv::LINE_AA);
   }
   const std::vector<Detection> humans = estimate.Humanoids();
@@ -101,14 +102,14 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
     const VoxelTemplate* t = find_template(d.best.template_name);
     if (t == nullptr) continue;
     for (const Eigen::Vector3f& v : PlacedVoxels(*t, d.best.pose)) {
-      cv::circle(img, over.Px(v.x(), v.y()), 1, cv::Scalar(60, 60, 230), -1);
+      cv::circle(left, over.Px(v.x(), v.y()), 1, cv::Scalar(60, 60, 230), -1);
     }
     const Pose2D& p = d.best.pose;
-    cv::arrowedLine(img, over.Px(p.x, p.y),
+    cv::arrowedLine(left, over.Px(p.x, p.y),
                     over.Px(p.x + 0.35 * std::cos(p.theta), p.y + 0.35 * std::sin(p.theta)),
                     cv::Scalar(80, 80, 255), 2, cv::LINE_AA, 0, 0.25);
   }
-  cv::putText(img, "top view (ground frame, x up, y left)", cv::Point(10, 20),
+  cv::putText(left, "top view (ground frame, x up, y left)", cv::Point(10, 20),
               cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(230, 230, 230), 1, cv::LINE_AA);
 
   // Close-ups of the best humanoid (or a note that there is none).

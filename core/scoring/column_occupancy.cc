@@ -11,7 +11,7 @@ inline int Popcount(std::uint64_t v) { return __builtin_popcountll(v); }
 }  // namespace
 
 ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice& lattice,
-                                 int z_base, int z_words, int max_level)
+                                 int z_base, int z_words, int max_level, Filter filter)
     : lattice_(lattice), words_(z_words) {
   assert(z_words >= 1 && max_level >= 0);
   for (int s = 0; s < 31; ++s) {
@@ -49,25 +49,30 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
   levels_.push_back(std::move(base));
 
   const int s = lattice.subdivisions;
+  const bool max_filter = filter == Filter::kMax;
   for (int k = 1; k <= max_level; ++k) {
     const Grid& g0 = levels_.front();
     const int len = ((1 << k) + s - 2) / s + 1;  // cells a block of 2^k steps can span.
+    // kMax: every window that touches the base; kMin: only windows inside it (others AND to 0).
     Grid g;
-    g.x0 = g0.x0 - (len - 1);
-    g.y0 = g0.y0 - (len - 1);
-    g.nx = g0.nx + len - 1;
-    g.ny = g0.ny + len - 1;
-    // Separable OR: first along x into `tmp` (g.nx by g0.ny), then along y.
+    g.x0 = max_filter ? g0.x0 - (len - 1) : g0.x0;
+    g.y0 = max_filter ? g0.y0 - (len - 1) : g0.y0;
+    g.nx = std::max(0, max_filter ? g0.nx + len - 1 : g0.nx - len + 1);
+    g.ny = std::max(0, max_filter ? g0.ny + len - 1 : g0.ny - len + 1);
+    const std::uint64_t identity = max_filter ? 0 : ~std::uint64_t{0};
+    auto combine = [max_filter](std::uint64_t a, std::uint64_t b) {
+      return max_filter ? (a | b) : (a & b);
+    };
+    // Separable: first along x into `tmp` (g.nx by g0.ny), then along y.
     std::vector<std::uint64_t> tmp(static_cast<size_t>(g.nx) * g0.ny * words_, 0);
     for (int y = 0; y < g0.ny; ++y) {
       for (int x = 0; x < g.nx; ++x) {
-        // tmp[x] = OR of base[x' ] for x' in [x + g.x0, x + g.x0 + len) within the base.
         const int from = std::max(0, x + g.x0 - g0.x0);
         const int to = std::min(g0.nx, x + g.x0 - g0.x0 + len);
         for (int w = 0; w < words_; ++w) {
-          std::uint64_t m = 0;
+          std::uint64_t m = identity;
           for (int xb = from; xb < to; ++xb) {
-            m |= g0.masks[(static_cast<size_t>(y) * g0.nx + xb) * words_ + w];
+            m = combine(m, g0.masks[(static_cast<size_t>(y) * g0.nx + xb) * words_ + w]);
           }
           tmp[(static_cast<size_t>(y) * g.nx + x) * words_ + w] = m;
         }
@@ -79,9 +84,9 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
       const int to = std::min(g0.ny, y + g.y0 - g0.y0 + len);
       for (int x = 0; x < g.nx; ++x) {
         for (int w = 0; w < words_; ++w) {
-          std::uint64_t m = 0;
+          std::uint64_t m = identity;
           for (int yb = from; yb < to; ++yb) {
-            m |= tmp[(static_cast<size_t>(yb) * g.nx + x) * words_ + w];
+            m = combine(m, tmp[(static_cast<size_t>(yb) * g.nx + x) * words_ + w]);
           }
           g.masks[(static_cast<size_t>(y) * g.nx + x) * words_ + w] = m;
         }
@@ -139,7 +144,7 @@ int ColumnOccupancy::Hits(const RotatedTemplate& rotated, int ix, int iy) const 
 }
 
 int ColumnOccupancy::Bound(const RotatedTemplate& rotated, int a, int b, int level) const {
-  assert(level >= 1 && level < static_cast<int>(levels_.size()));
+  assert(level >= 0 && level < static_cast<int>(levels_.size()));
   const Grid& g = levels_[level];
   if (g.masks.empty()) return 0;
   int bound = 0;

@@ -17,17 +17,24 @@ namespace hpose {
 //   L_k = floor((2^k + S - 2) / S) + 1, S = lattice subdivisions.
 // Cluster voxels outside the template's z range can never be covered and are left out of the
 // masks (they still count in the score's denominator).
+//
+// With Filter::kMin the pyramid ANDs instead (cells outside the voxels count as empty), so
+// Bound() is a lower bound of Hits over the block: used for free-space cells, which count
+// against a pose.
 class ColumnOccupancy {
  public:
+  enum class Filter { kMax, kMin };
+
   ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice& lattice, int z_base, int z_words,
-                  int max_level);
+                  int max_level, Filter filter = Filter::kMax);
 
   // Exact number of distinct cluster voxels covered by `rotated` at (ix, iy): equal to
   // PoseScorer::Hits for the same pose. Not thread-safe (scratch space).
   int Hits(const RotatedTemplate& rotated, int ix, int iy) const;
 
-  // An upper bound of Hits over every translation in [a, a + 2^level) x [b, b + 2^level).
-  // level in [1, max_level].
+  // An upper bound (kMax) or lower bound (kMin) of Hits over every translation in
+  // [a, a + 2^level) x [b, b + 2^level). level in [0, max_level]; at level 0 the
+  // bound counts every column separately (no de-duplication), an upper bound for kMax only.
   int Bound(const RotatedTemplate& rotated, int a, int b, int level) const;
 
   int max_level() const { return static_cast<int>(levels_.size()) - 1; }

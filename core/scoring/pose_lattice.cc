@@ -101,12 +101,63 @@ RotatedTemplate RotateTemplate(const VoxelTemplate& tpl, const PoseLattice& latt
   return r;
 }
 
+namespace {
+
+// Union of two column views (both sorted by (qx, qy)): shared columns OR their masks.
+RotatedTemplate MergeColumns(const RotatedTemplate& a, const RotatedTemplate& b) {
+  RotatedTemplate out;
+  out.itheta = a.itheta;
+  out.z_base = a.z_base;
+  out.z_words = a.z_words;
+  const int w = a.z_words;
+  auto less = [](const Eigen::Vector2i& p, const Eigen::Vector2i& q) {
+    return p.x() != q.x() ? p.x() < q.x() : p.y() < q.y();
+  };
+  size_t i = 0, j = 0;
+  while (i < a.column_q.size() || j < b.column_q.size()) {
+    const bool take_a =
+        j == b.column_q.size() || (i < a.column_q.size() && !less(b.column_q[j], a.column_q[i]));
+    const bool take_b =
+        i == a.column_q.size() || (j < b.column_q.size() && !less(a.column_q[i], b.column_q[j]));
+    out.column_q.push_back(take_a ? a.column_q[i] : b.column_q[j]);
+    for (int k = 0; k < w; ++k) {
+      std::uint64_t m = 0;
+      if (take_a) m |= a.column_masks[i * w + k];
+      if (take_b) m |= b.column_masks[j * w + k];
+      out.column_masks.push_back(m);
+    }
+    if (take_a) ++i;
+    if (take_b) ++j;
+  }
+  return out;
+}
+
+}  // namespace
+
 TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice)
     : name_(tpl.name), height_m_(tpl.Height()), lattice_(lattice) {
   rotations_.reserve(lattice.angle_steps);
   for (int i = 0; i < lattice.angle_steps; ++i) {
     rotations_.push_back(RotateTemplate(tpl, lattice, i));
   }
+  for (int level = 1; level < kThetaLevels; ++level) {
+    std::vector<RotatedTemplate> blocks;
+    const int size = 1 << level;
+    for (int start = 0; start < lattice.angle_steps; start += size) {
+      const RotatedTemplate& left = GetBlock(level - 1, start);
+      const int right_start = start + size / 2;
+      blocks.push_back(right_start < lattice.angle_steps
+                           ? MergeColumns(left, GetBlock(level - 1, right_start))
+                           : left);
+      blocks.back().itheta = start;
+    }
+    blocks_.push_back(std::move(blocks));
+  }
+}
+
+const RotatedTemplate& TemplateRotations::GetBlock(int level, int itheta0) const {
+  if (level == 0) return rotations_[itheta0];
+  return blocks_[level - 1][itheta0 >> level];
 }
 
 }  // namespace hpose

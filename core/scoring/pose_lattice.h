@@ -86,13 +86,21 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
 }
 
 // All angle_steps rotations of one template under one lattice, computed once at construction
-// (360 rotations of a few thousand voxels: a few ms, a few MB). Immutable, so shareable
-// between threads.
+// (360 rotations of a few thousand voxels: a few ms, a few MB), plus a pyramid over theta for
+// branch and bound: the block of level t starting at itheta0 (a multiple of 2^t) is the union
+// of the columns of rotations itheta0 .. itheta0 + 2^t - 1 (masks OR-ed), so each of those
+// rotations' columns maps to a block column with the same (qx, qy) and a superset mask.
+// Immutable, so shareable between threads.
 class TemplateRotations {
  public:
+  static constexpr int kThetaLevels = 5;  // blocks of up to 16 angle steps.
+
   TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice);
   // itheta in [0, angle_steps).
   const RotatedTemplate& Get(int itheta) const { return rotations_[itheta]; }
+  // Union columns of the theta block (level, itheta0); level 0 is Get(itheta0). Only the
+  // column view (column_q, column_masks, z_base, z_words) is filled for level > 0.
+  const RotatedTemplate& GetBlock(int level, int itheta0) const;
   const std::string& name() const { return name_; }
   double height_m() const { return height_m_; }
   const PoseLattice& lattice() const { return lattice_; }
@@ -102,6 +110,8 @@ class TemplateRotations {
   double height_m_ = 0.0;
   PoseLattice lattice_;
   std::vector<RotatedTemplate> rotations_;
+  // blocks_[level - 1][itheta0 >> level] for level in [1, kThetaLevels).
+  std::vector<std::vector<RotatedTemplate>> blocks_;
 };
 
 }  // namespace hpose

@@ -16,8 +16,10 @@ namespace hpose {
 struct Candidate {
   std::string template_name;
   int cluster_index = -1;
-  Pose2D pose;         // robot frame in the ground frame.
-  double score = 0.0;  // 0-100.
+  Pose2D pose;              // robot frame in the ground frame.
+  double score = 0.0;       // what the search maximised, 100 * value / cluster voxels (<= 100).
+  double coverage = 0.0;    // the paper's score: 100 * cluster voxels covered / cluster voxels.
+  int free_space_hits = 0;  // template voxels in observed free space at the pose.
   int hits = 0;
   int cluster_voxels = 0;
   bool has_runner_up = false;  // best pose with theta more than 30 deg away.

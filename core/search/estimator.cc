@@ -39,6 +39,23 @@ const char* SearchKindName(SearchKind kind) {
   return "?";
 }
 
+const char* ScoreKindName(ScoreKind kind) {
+  switch (kind) {
+    case ScoreKind::kPaper:
+      return "paper";
+    case ScoreKind::kFreeSpace:
+      return "free-space";
+  }
+  return "?";
+}
+
+Result<ScoreKind> ParseScoreKind(const std::string& name) {
+  if (name == "paper") return ScoreKind::kPaper;
+  if (name == "free-space") return ScoreKind::kFreeSpace;
+  return MakeError(ErrorCode::kInvalidArgument,
+                   "unknown score '" + name + "' (expected 'paper' or 'free-space')");
+}
+
 Result<SearchKind> ParseSearchKind(const std::string& name) {
   if (name == "paper") return SearchKind::kPaper;
   if (name == "exact") return SearchKind::kExact;
@@ -138,6 +155,21 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
   est.timings.cluster_ms = MsSince(t);
 
   t = Clock::now();
+  const bool use_free_space = options_.score == ScoreKind::kFreeSpace;
+  RangeImage range;
+  Eigen::Isometry3d sensor_from_ground = est.floor.ground_from_sensor.inverse();
+  double reach = 0.0;  // how far any template reaches from its origin, plus a voxel.
+  int top_cell = 0;    // highest template voxel cell.
+  if (use_free_space) {
+    range = RangeImage::FromCloud(cloud, options_.range_image_focal_px);
+    for (const VoxelTemplate& tpl : templates_) {
+      for (const Eigen::Vector3f& v : tpl.voxels) {
+        reach = std::max(reach, static_cast<double>(v.head<2>().norm()));
+        top_cell = std::max(top_cell, CellOf(v, options_.lattice.resolution_m).z());
+      }
+    }
+    reach += 2.0 * options_.lattice.resolution_m;
+  }
   for (size_t i = 0; i < clusters->size(); ++i) {
     const Cluster& c = (*clusters)[i];
     ClusterSummary summary;
@@ -149,6 +181,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
 
     std::unique_ptr<PoseScorer> scorer;
     ClusterVoxels voxels;
+    ClusterVoxels free;
     for (size_t j = 0; j < templates_.size(); ++j) {
       const TemplateRotations& rot = *rotations_[j];
       if (options_.max_height_ratio_error >= 0.0) {
@@ -156,16 +189,36 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
         if (std::abs(ratio - 1.0) > options_.max_height_ratio_error) continue;
       }
       if (scorer == nullptr) {
-        voxels = VoxeliseCluster(c.points, options_.lattice.resolution_m);
+        const double res = options_.lattice.resolution_m;
+        voxels = VoxeliseCluster(c.points, res);
         scorer = MakePoseScorer(options_.scorer, voxels, options_.lattice);
+        if (use_free_space) {
+          // Wherever a template placed in the search region can reach (the search region grows
+          // the cluster by one template reach, the template reaches one more).
+          const Eigen::Vector3f lo(c.min.x() - 2 * reach, c.min.y() - 2 * reach, 0.0f);
+          const Eigen::Vector3f hi(c.max.x() + 2 * reach, c.max.y() + 2 * reach, 0.0f);
+          Eigen::Vector3i cell_lo = CellOf(lo, res), cell_hi = CellOf(hi, res);
+          cell_lo.z() = 0;
+          cell_hi.z() = top_cell;
+          free =
+              FreeSpaceCells(range, sensor_from_ground, cell_lo, cell_hi, res, options_.free_space);
+        }
       }
-      const SearchResult r =
-          search_->Search(voxels, *scorer, rot, c.centroid.head<2>().cast<double>());
+      SearchProblem problem;
+      problem.cluster = &voxels;
+      problem.scorer = scorer.get();
+      problem.rotations = &rot;
+      problem.centre_ground = c.centroid.head<2>().cast<double>();
+      problem.free_space = use_free_space ? &free : nullptr;
+      problem.free_space_weight = options_.free_space_weight;
+      const SearchResult r = search_->Search(problem);
       Candidate cand;
       cand.template_name = rot.name();
       cand.cluster_index = summary.index;
       cand.pose = r.pose;
       cand.score = r.score;
+      cand.coverage = r.coverage;
+      cand.free_space_hits = r.free_hits;
       cand.hits = r.hits;
       cand.cluster_voxels = scorer->cluster_voxels();
       cand.has_runner_up = r.has_runner_up;

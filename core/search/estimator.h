@@ -12,6 +12,7 @@
 #include "core/depth/floor_fitter.h"
 #include "core/depth/intrinsics.h"
 #include "core/depth/point_cloud.h"
+#include "core/scoring/free_space.h"
 #include "core/scoring/pose_lattice.h"
 #include "core/scoring/pose_scorer.h"
 #include "core/search/estimate.h"
@@ -27,6 +28,17 @@ const char* SearchKindName(SearchKind kind);
 // Parses "paper" or "exact".
 Result<SearchKind> ParseSearchKind(const std::string& name);
 
+// What a pose's value is. kPaper: the paper's score, cluster voxels covered by the template.
+// kFreeSpace: the same minus the template voxels that lie where the sensor saw through to
+// something farther away (free space), which removes the paper score's blindness to a template
+// that is larger than what was seen (clutter inside a template, side views taken for front
+// views, a sparse far cluster swallowed anywhere inside the template).
+enum class ScoreKind { kPaper, kFreeSpace };
+
+const char* ScoreKindName(ScoreKind kind);
+// Parses "paper" or "free-space".
+Result<ScoreKind> ParseScoreKind(const std::string& name);
+
 struct EstimatorOptions {
   DepthToCloudOptions cloud;
   FloorFitterOptions floor_fit;
@@ -38,10 +50,15 @@ struct EstimatorOptions {
   ScorerKind scorer = ScorerKind::kFast;  // equal scores; kOctomapReference is slow.
   PaperSearchOptions paper;
   ExactSearchOptions exact;
+  ScoreKind score = ScoreKind::kFreeSpace;
+  FreeSpaceOptions free_space;
+  int free_space_weight = 1;            // hits one free-space voxel cancels.
+  double range_image_focal_px = 300.0;  // bin size of the free-space range image.
   double score_threshold = 40.0;  // a cluster is the humanoid when its best score passes this.
   // A cluster is searched with a template only when its height is within this fraction of the
-  // template's height (0.35: 0.65x to 1.35x). Negative disables the check.
-  double max_height_ratio_error = 0.35;
+  // template's height (0.25: 0.75x to 1.25x; occlusion from below keeps a cluster's top, so
+  // only a head cut off by the image border makes it shorter). Negative disables the check.
+  double max_height_ratio_error = 0.25;
 };
 
 // Default options (the paper's settings, Kinect v1) in one place.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <queue>
 #include <vector>
 
@@ -11,19 +12,21 @@ namespace hpose {
 namespace {
 
 struct Node {
-  int value;  // upper bound, or the exact hits when level == 0.
-  int level;  // block of 2^level x 2^level translations; 0 = one pose, value exact.
+  int value;   // upper bound, or the exact value when tlevel == level == 0.
+  int tlevel;  // theta block of 2^tlevel angle steps starting at itheta.
+  int level;   // translation block of 2^level x 2^level lattice steps starting at (a, b).
   int itheta;
   int a;
   int b;
 };
 
-// Highest value first; among equal values exact poses first, then a fixed order so results do
-// not depend on heap internals.
+// Highest value first; among equal values finer nodes first (exact poses before bounds), then
+// a fixed order so results do not depend on heap internals.
 struct NodeLess {
   bool operator()(const Node& x, const Node& y) const {
     if (x.value != y.value) return x.value < y.value;
-    if (x.level != y.level) return x.level > y.level;
+    const int fx = x.tlevel + x.level, fy = y.tlevel + y.level;
+    if (fx != fy) return fx > fy;
     if (x.itheta != y.itheta) return x.itheta > y.itheta;
     if (x.a != y.a) return x.a > y.a;
     return x.b > y.b;
@@ -33,33 +36,62 @@ struct NodeLess {
 struct BranchAndBoundResult {
   bool found = false;
   LatticePose best;
-  int hits = 0;
+  int value = 0;
 };
 
-// Best-first branch and bound over the thetas in `thetas` and the translation region.
-BranchAndBoundResult RunBranchAndBound(const ColumnOccupancy& occ,
-                                       const TemplateRotations& rotations,
-                                       const std::vector<int>& thetas,
+// The value of poses and its bounds: cluster hits (OR pyramid) minus weighted free-space hits
+// (AND pyramid, a lower bound of the free hits; only valid for a single rotation, so theta
+// blocks bound the free hits by 0).
+struct Evaluator {
+  const ColumnOccupancy* cluster;
+  const ColumnOccupancy* free;  // may be null.
+  int weight;
+
+  int Value(const RotatedTemplate& r, int a, int b) const {
+    int v = cluster->Hits(r, a, b);
+    if (free != nullptr) v -= weight * free->Hits(r, a, b);
+    return v;
+  }
+  int Bound(const RotatedTemplate& r, int a, int b, int level, int tlevel) const {
+    int v = cluster->Bound(r, a, b, level);
+    if (free != nullptr && tlevel == 0 && level > 0) v -= weight * free->Bound(r, a, b, level);
+    return v;
+  }
+};
+
+// Best-first branch and bound over the allowed thetas and the translation region.
+BranchAndBoundResult RunBranchAndBound(const Evaluator& eval, const TemplateRotations& rotations,
+                                       const std::vector<bool>& allowed,
                                        const ExactSearch::Region& region, int top_level,
                                        SearchResult* counters) {
+  const int steps = static_cast<int>(allowed.size());
+  int top_tlevel = TemplateRotations::kThetaLevels - 1;
+  while (top_tlevel > 0 && (1 << top_tlevel) > steps) --top_tlevel;
+  // Whether any allowed theta lies in [itheta, itheta + 2^tlevel).
+  auto any_allowed = [&](int itheta, int tlevel) {
+    for (int t = itheta; t < std::min(steps, itheta + (1 << tlevel)); ++t) {
+      if (allowed[t]) return true;
+    }
+    return false;
+  };
   std::priority_queue<Node, std::vector<Node>, NodeLess> queue;
-  const int block = 1 << top_level;
-  auto push_block = [&](int itheta, int a, int b, int level) {
-    if (a > region.ix_max || b > region.iy_max) return;
-    const RotatedTemplate& rot = rotations.Get(itheta);
-    if (level == 0) {
+  auto push = [&](int tlevel, int itheta, int level, int a, int b) {
+    if (a > region.ix_max || b > region.iy_max || itheta >= steps) return;
+    if (!any_allowed(itheta, tlevel)) return;
+    if (tlevel == 0 && level == 0) {
       ++counters->poses_evaluated;
-      queue.push({occ.Hits(rot, a, b), 0, itheta, a, b});
+      queue.push({eval.Value(rotations.Get(itheta), a, b), 0, 0, itheta, a, b});
     } else {
       ++counters->bounds_evaluated;
-      const int bound = occ.Bound(rot, a, b, level);
-      if (bound > 0) queue.push({bound, level, itheta, a, b});
+      const RotatedTemplate& rot = rotations.GetBlock(tlevel, itheta);
+      queue.push({eval.Bound(rot, a, b, level, tlevel), tlevel, level, itheta, a, b});
     }
   };
-  for (int itheta : thetas) {
+  const int block = 1 << top_level;
+  for (int itheta = 0; itheta < steps; itheta += 1 << top_tlevel) {
     for (int a = region.ix_min; a <= region.ix_max; a += block) {
       for (int b = region.iy_min; b <= region.iy_max; b += block) {
-        push_block(itheta, a, b, top_level);
+        push(top_tlevel, itheta, top_level, a, b);
       }
     }
   }
@@ -67,18 +99,25 @@ BranchAndBoundResult RunBranchAndBound(const ColumnOccupancy& occ,
   while (!queue.empty()) {
     const Node n = queue.top();
     queue.pop();
-    if (n.level == 0) {
+    if (n.tlevel == 0 && n.level == 0) {
       out.found = true;
       out.best = LatticePose{n.a, n.b, n.itheta};
-      out.hits = n.value;
+      out.value = n.value;
       return out;
     }
-    const int half = 1 << (n.level - 1);
-    for (int da : {0, half}) {
-      for (int db : {0, half}) push_block(n.itheta, n.a + da, n.b + db, n.level - 1);
+    // Split the rotation while it sweeps further than the translation block spans.
+    if (n.tlevel > 0 && (n.level == 0 || n.tlevel + 2 >= n.level)) {
+      const int half = 1 << (n.tlevel - 1);
+      push(n.tlevel - 1, n.itheta, n.level, n.a, n.b);
+      push(n.tlevel - 1, n.itheta + half, n.level, n.a, n.b);
+    } else {
+      const int half = 1 << (n.level - 1);
+      for (int da : {0, half}) {
+        for (int db : {0, half}) push(n.tlevel, n.itheta, n.level - 1, n.a + da, n.b + db);
+      }
     }
   }
-  return out;  // nothing overlaps the cluster at all.
+  return out;
 }
 
 }  // namespace
@@ -117,13 +156,13 @@ ExactSearch::Region ExactSearch::TranslationRegion(const ClusterVoxels& cluster,
   return r;
 }
 
-SearchResult ExactSearch::Search(const ClusterVoxels& cluster, const PoseScorer& scorer,
-                                 const TemplateRotations& rotations,
-                                 const Eigen::Vector2d& /*centre_ground*/) const {
+SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   SearchResult result;
+  const ClusterVoxels& cluster = *problem.cluster;
+  const TemplateRotations& rotations = *problem.rotations;
   const PoseLattice& lattice = rotations.lattice();
   const Region region = TranslationRegion(cluster, rotations);
-  const int n = scorer.cluster_voxels();
+  const int n = problem.scorer->cluster_voxels();
   if (region.ix_max < region.ix_min || n == 0) return result;
 
   const int span = std::max(region.ix_max - region.ix_min, region.iy_max - region.iy_min) + 1;
@@ -131,28 +170,37 @@ SearchResult ExactSearch::Search(const ClusterVoxels& cluster, const PoseScorer&
   while (top < options_.max_level && (1 << top) < span) ++top;
   const RotatedTemplate& r0 = rotations.Get(0);
   const ColumnOccupancy occ(cluster, lattice, r0.z_base, r0.z_words, top);
+  std::unique_ptr<ColumnOccupancy> free;
+  if (problem.free_space != nullptr) {
+    free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, r0.z_base, r0.z_words,
+                                             top, ColumnOccupancy::Filter::kMin);
+  }
+  const Evaluator eval{&occ, free.get(), problem.free_space_weight};
 
-  std::vector<int> thetas(lattice.angle_steps);
-  for (int t = 0; t < lattice.angle_steps; ++t) thetas[t] = t;
-  const BranchAndBoundResult best = RunBranchAndBound(occ, rotations, thetas, region, top, &result);
+  const std::vector<bool> all(lattice.angle_steps, true);
+  const BranchAndBoundResult best = RunBranchAndBound(eval, rotations, all, region, top, &result);
   if (!best.found) return result;
+  const RotatedTemplate& rb = rotations.Get(best.best.itheta);
   result.best = best.best;
   result.pose = ToPose(lattice, best.best);
-  result.hits = best.hits;
-  result.score = 100.0 * best.hits / n;
+  result.value = best.value;
+  result.hits = occ.Hits(rb, best.best.ix, best.best.iy);
+  result.free_hits = free != nullptr ? free->Hits(rb, best.best.ix, best.best.iy) : 0;
+  result.score = 100.0 * best.value / n;
+  result.coverage = 100.0 * result.hits / n;
 
-  std::vector<int> others;
+  std::vector<bool> others(lattice.angle_steps, false);
   for (int t = 0; t < lattice.angle_steps; ++t) {
     const double sep = std::abs(
         AngleDiff(t * lattice.angle_step_rad(), best.best.itheta * lattice.angle_step_rad()));
-    if (sep > kRunnerUpMinSeparationRad) others.push_back(t);
+    others[t] = sep > kRunnerUpMinSeparationRad;
   }
   const BranchAndBoundResult runner =
-      RunBranchAndBound(occ, rotations, others, region, top, &result);
-  if (runner.found && runner.hits > 0) {
+      RunBranchAndBound(eval, rotations, others, region, top, &result);
+  if (runner.found) {
     result.has_runner_up = true;
     result.runner_up_pose = ToPose(lattice, runner.best);
-    result.runner_up_score = 100.0 * runner.hits / n;
+    result.runner_up_score = 100.0 * runner.value / n;
   }
   return result;
 }

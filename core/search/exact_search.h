@@ -17,17 +17,15 @@ struct ExactSearchOptions {
 // The global optimum of the score over the whole lattice: every theta (angle_steps of them) x
 // every translation in the region above, found by best-first branch and bound. Blocks of
 // 2^k x 2^k translations at one theta are bounded with OR-max-filtered occupancy
-// (ColumnOccupancy: the correlative scan matching idea applied to voxel columns); a block is
-// split only while its bound can still beat the best exact score, and single poses are scored
-// exactly. The result's score equals exhaustive evaluation of the same lattice (ties may pick a
-// different pose of equal score). The runner-up is the exact best with theta more than 30
-// degrees from the best.
+// (ColumnOccupancy: the correlative scan matching idea applied to voxel columns) and, with
+// free-space evidence, AND-min-filtered free space; a block is split only while its bound can
+// still beat the best exact value, and single poses are evaluated exactly. The result's value
+// equals exhaustive evaluation of the same lattice (ties may pick a different pose of equal
+// value). The runner-up is the exact best with theta more than 30 degrees from the best.
 class ExactSearch final : public PoseSearch {
  public:
   explicit ExactSearch(ExactSearchOptions options = {}) : options_(options) {}
-  SearchResult Search(const ClusterVoxels& cluster, const PoseScorer& scorer,
-                      const TemplateRotations& rotations,
-                      const Eigen::Vector2d& centre_ground) const override;
+  SearchResult Search(const SearchProblem& problem) const override;
 
   // The translation region (inclusive lattice indices) that Search covers for this cluster and
   // template; exhaustive checks iterate the same region.

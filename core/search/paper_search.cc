@@ -1,7 +1,9 @@
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
+#include "core/scoring/fast_scorer.h"
 #include "core/search/pose_search.h"
 
 namespace hpose {
@@ -11,17 +13,34 @@ int RoundSteps(double value, double step) { return static_cast<int>(std::lround(
 
 }  // namespace
 
-SearchResult PaperSearch::Search(const ClusterVoxels& /*cluster*/, const PoseScorer& scorer,
-                                 const TemplateRotations& rotations,
-                                 const Eigen::Vector2d& centre_ground) const {
+SearchResult PaperSearch::Search(const SearchProblem& problem) const {
+  const PoseScorer& scorer = *problem.scorer;
+  const TemplateRotations& rotations = *problem.rotations;
   const PoseLattice& lattice = rotations.lattice();
+  std::unique_ptr<FastScorer> free_scorer;
+  if (problem.free_space != nullptr) {
+    free_scorer = std::make_unique<FastScorer>(*problem.free_space, lattice);
+  }
+  struct Value {
+    int value = 0, hits = 0, free = 0;
+  };
+  auto evaluate = [&](const RotatedTemplate& r, int ix, int iy) {
+    Value v;
+    v.hits = scorer.Hits(r, ix, iy);
+    v.free = free_scorer != nullptr ? free_scorer->Hits(r, ix, iy) : 0;
+    v.value = v.hits - problem.free_space_weight * v.free;
+    return v;
+  };
+
   SearchResult result;
-  LatticePose centre{RoundSteps(centre_ground.x(), lattice.step_m()),
-                     RoundSteps(centre_ground.y(), lattice.step_m()), 0};
+  LatticePose centre{RoundSteps(problem.centre_ground.x(), lattice.step_m()),
+                     RoundSteps(problem.centre_ground.y(), lattice.step_m()), 0};
   LatticePose best = centre;
-  int best_hits = -1;
-  // Best hits seen per theta over every pass, for the runner-up report.
-  std::vector<int> theta_hits(lattice.angle_steps, -1);
+  Value best_value;
+  bool have_best = false;
+  // Best value seen per theta over every pass, for the runner-up report.
+  std::vector<bool> theta_seen(lattice.angle_steps, false);
+  std::vector<Value> theta_value(lattice.angle_steps);
   std::vector<LatticePose> theta_pose(lattice.angle_steps);
 
   for (const SearchPass& pass : options_.passes) {
@@ -47,14 +66,16 @@ SearchResult PaperSearch::Search(const ClusterVoxels& /*cluster*/, const PoseSco
         for (int dy = -t_half; dy <= t_half; dy += t_step) {
           const int ix = centre.ix + dx;
           const int iy = centre.iy + dy;
-          const int hits = scorer.Hits(rotated, ix, iy);
+          const Value v = evaluate(rotated, ix, iy);
           ++result.poses_evaluated;
-          if (hits > theta_hits[itheta]) {
-            theta_hits[itheta] = hits;
+          if (!theta_seen[itheta] || v.value > theta_value[itheta].value) {
+            theta_seen[itheta] = true;
+            theta_value[itheta] = v;
             theta_pose[itheta] = LatticePose{ix, iy, itheta};
           }
-          if (hits > best_hits) {
-            best_hits = hits;
+          if (!have_best || v.value > best_value.value) {
+            have_best = true;
+            best_value = v;
             best = LatticePose{ix, iy, itheta};
           }
         }
@@ -64,21 +85,26 @@ SearchResult PaperSearch::Search(const ClusterVoxels& /*cluster*/, const PoseSco
   }
 
   const int n = scorer.cluster_voxels();
+  if (!have_best || n == 0) return result;
   result.best = best;
   result.pose = ToPose(lattice, best);
-  result.hits = std::max(best_hits, 0);
-  result.score = n == 0 ? 0.0 : 100.0 * result.hits / n;
-  int runner_hits = 0;
+  result.hits = best_value.hits;
+  result.free_hits = best_value.free;
+  result.value = best_value.value;
+  result.score = 100.0 * best_value.value / n;
+  result.coverage = 100.0 * best_value.hits / n;
   for (int t = 0; t < lattice.angle_steps; ++t) {
-    if (theta_hits[t] <= runner_hits) continue;
+    if (!theta_seen[t]) continue;
     const double sep =
         std::abs(AngleDiff(t * lattice.angle_step_rad(), best.itheta * lattice.angle_step_rad()));
     if (sep <= kRunnerUpMinSeparationRad) continue;
-    runner_hits = theta_hits[t];
+    if (result.has_runner_up && theta_value[t].value * 100.0 / n <= result.runner_up_score) {
+      continue;
+    }
     result.has_runner_up = true;
     result.runner_up_pose = ToPose(lattice, theta_pose[t]);
+    result.runner_up_score = 100.0 * theta_value[t].value / n;
   }
-  result.runner_up_score = n == 0 ? 0.0 : 100.0 * runner_hits / n;
   return result;
 }
 

@@ -31,15 +31,24 @@ struct PaperSearchOptions {
 // Minimum theta separation for the runner-up (front/back ambiguity report).
 constexpr double kRunnerUpMinSeparationRad = 30.0 * kPi / 180.0;
 
-// Finds the best pose of one template over one cluster.
+// What a search works on: one template against one cluster.
+struct SearchProblem {
+  const ClusterVoxels* cluster = nullptr;                   // required.
+  const PoseScorer* scorer = nullptr;                       // required; scores `cluster`.
+  const TemplateRotations* rotations = nullptr;             // required.
+  Eigen::Vector2d centre_ground = Eigen::Vector2d::Zero();  // cluster centroid (x, y), metres.
+  // Optional free-space evidence: voxels the sensor saw through (FreeSpaceCells). The value of a
+  // pose is then hits - free_space_weight * (free voxels the placed template covers); without
+  // it the value is the paper's hits alone.
+  const ClusterVoxels* free_space = nullptr;
+  int free_space_weight = 1;
+};
+
+// Finds the pose of highest value of one template over one cluster.
 class PoseSearch {
  public:
   virtual ~PoseSearch() = default;
-  // `cluster` are the cluster's voxels and `scorer` scores them; `centre_ground` is the
-  // cluster centroid (x, y) in the ground frame, metres.
-  virtual SearchResult Search(const ClusterVoxels& cluster, const PoseScorer& scorer,
-                              const TemplateRotations& rotations,
-                              const Eigen::Vector2d& centre_ground) const = 0;
+  virtual SearchResult Search(const SearchProblem& problem) const = 0;
 };
 
 // The paper's two-pass search on the lattice: each pass's steps and ranges are rounded to
@@ -48,9 +57,7 @@ class PoseSearch {
 class PaperSearch final : public PoseSearch {
  public:
   explicit PaperSearch(PaperSearchOptions options = {}) : options_(std::move(options)) {}
-  SearchResult Search(const ClusterVoxels& cluster, const PoseScorer& scorer,
-                      const TemplateRotations& rotations,
-                      const Eigen::Vector2d& centre_ground) const override;
+  SearchResult Search(const SearchProblem& problem) const override;
 
  private:
   PaperSearchOptions options_;

@@ -11,9 +11,12 @@ namespace hpose {
 // The outcome of searching one template against one cluster.
 struct SearchResult {
   LatticePose best;
-  Pose2D pose;         // ground frame.
-  int hits = 0;        // cluster voxels covered at the best pose.
-  double score = 0.0;  // 0-100.
+  Pose2D pose;            // ground frame.
+  int hits = 0;           // cluster voxels covered at the best pose.
+  int free_hits = 0;      // free-space voxels covered there (0 without free space).
+  int value = 0;          // hits - weight * free_hits: what the search maximised.
+  double score = 0.0;     // 100 * value / cluster voxels (the paper's score without free space).
+  double coverage = 0.0;  // 100 * hits / cluster voxels: the paper's score.
   // The best pose whose theta differs from the best by more than 30 degrees (front/back
   // ambiguity). has_runner_up is false when no such pose scored above zero.
   bool has_runner_up = false;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <tuple>
 
@@ -20,6 +21,24 @@ using nlohmann::json;
 
 constexpr const char* kFormat = "hpose-template";
 constexpr int kVersion = 1;
+
+// OctoMap's Debian build chatters on std::cout/std::cerr when reading and writing trees
+// ("Reading binary octree type OcTree"); templates are loaded at start-up, so the streams are
+// muted for the duration of the call. Our own errors are returned, not printed.
+class ScopedMuteStreams {
+ public:
+  ScopedMuteStreams() : out_(std::cout.rdbuf(nullptr)), err_(std::cerr.rdbuf(nullptr)) {}
+  ~ScopedMuteStreams() {
+    std::cout.rdbuf(out_);
+    std::cerr.rdbuf(err_);
+  }
+  ScopedMuteStreams(const ScopedMuteStreams&) = delete;
+  ScopedMuteStreams& operator=(const ScopedMuteStreams&) = delete;
+
+ private:
+  std::streambuf* out_;
+  std::streambuf* err_;
+};
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
@@ -127,6 +146,7 @@ Status SaveTemplate(const VoxelTemplate& tpl, const std::string& bt_path) {
   // The tree first, then the sidecar: each is renamed into place only when complete.
   Status st = WriteAtomically(bt_path, [&tree](const std::string& temp) -> Status {
     std::ofstream out(temp, std::ios::binary);
+    ScopedMuteStreams mute;
     if (!out || !tree.writeBinary(out) || !out.flush()) {
       return MakeError(ErrorCode::kInternal, temp + ": cannot write the OctoMap tree");
     }
@@ -153,7 +173,12 @@ Result<VoxelTemplate> LoadTemplate(const std::string& bt_path) {
                      bt_path + ": not an OctoMap binary tree (.bt) file (bad header)");
   }
   in.seekg(0);
-  if (!tree.readBinary(in)) {
+  bool read_ok = false;
+  {
+    ScopedMuteStreams mute;
+    read_ok = tree.readBinary(in);
+  }
+  if (!read_ok) {
     return MakeError(ErrorCode::kDataLoss, bt_path + ": corrupt or truncated OctoMap tree");
   }
   tree.expand();

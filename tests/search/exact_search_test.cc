@@ -1,6 +1,11 @@
 // The exact search must find the maximum score of exhaustive evaluation of the same lattice.
 #include "core/search/exact_search.h"
 
+#include <algorithm>
+#include <climits>
+#include <set>
+#include <tuple>
+
 #include <gtest/gtest.h>
 
 #include "core/scoring/column_occupancy.h"
@@ -78,7 +83,8 @@ TEST(ExactSearchTest, EqualsExhaustiveSearchOnRandomScenes) {
     opts.margin_m = 0.06;  // keeps the brute force small.
     opts.max_level = 1 + scene % 5;
     const ExactSearch search(opts);
-    const SearchResult r = search.Search(cluster, scorer, rot, {truth.x, truth.y});
+    SearchProblem problem{&cluster, &scorer, &rot, {truth.x, truth.y}};
+    const SearchResult r = search.Search(problem);
     const ExactSearch::Region region = search.TranslationRegion(cluster, rot);
     std::vector<int> all(lattice.angle_steps);
     for (int t = 0; t < lattice.angle_steps; ++t) all[t] = t;
@@ -103,6 +109,55 @@ TEST(ExactSearchTest, EqualsExhaustiveSearchOnRandomScenes) {
   }
 }
 
+// With free-space evidence the value is hits - w * free hits; still equal to brute force.
+TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
+  std::mt19937 rng(11);
+  for (unsigned scene = 0; scene < 10; ++scene) {
+    PoseLattice lattice;
+    lattice.angle_steps = 24;
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(400 + scene), "t", lattice.resolution_m);
+    const Pose2D truth{1.0, 0.1, DegToRad(-150.0 + 33.0 * scene)};
+    const ClusterVoxels cluster = VoxeliseCluster(
+        testing::VisibleCluster(testing::RandomRobotPoints(400 + scene), truth, 0.004f, scene),
+        lattice.resolution_m);
+    // Random free cells around the cluster (not on it), as a sensor might see them.
+    ClusterVoxels free;
+    std::uniform_int_distribution<int> dx(-20, 20), dz(0, 40);
+    ASSERT_FALSE(cluster.cells.empty()) << "scene " << scene;
+    const Eigen::Vector3i c0 = cluster.cells[cluster.cells.size() / 2];
+    std::set<std::tuple<int, int, int>> occupied, free_set;
+    for (const Eigen::Vector3i& c : cluster.cells) occupied.insert({c.x(), c.y(), c.z()});
+    for (int k = 0; k < 3000; ++k) {
+      const std::tuple<int, int, int> c{c0.x() + dx(rng), c0.y() + dx(rng), dz(rng)};
+      if (occupied.count(c) == 0) free_set.insert(c);
+    }
+    for (const auto& [x, y, z] : free_set) free.cells.emplace_back(x, y, z);
+    const TemplateRotations rot(tpl, lattice);
+    const FastScorer scorer(cluster, lattice);
+    const FastScorer free_scorer(free, lattice);
+    ExactSearchOptions opts;
+    opts.margin_m = 0.05;
+    opts.max_level = 2 + scene % 4;
+    const ExactSearch search(opts);
+    SearchProblem problem{&cluster, &scorer, &rot, {truth.x, truth.y}};
+    problem.free_space = &free;
+    problem.free_space_weight = 1 + scene % 2;
+    const SearchResult r = search.Search(problem);
+    const ExactSearch::Region region = search.TranslationRegion(cluster, rot);
+    int best = INT_MIN;
+    for (int t = 0; t < lattice.angle_steps; ++t)
+      for (int ix = region.ix_min; ix <= region.ix_max; ++ix)
+        for (int iy = region.iy_min; iy <= region.iy_max; ++iy)
+          best =
+              std::max(best, scorer.Hits(rot.Get(t), ix, iy) -
+                                 problem.free_space_weight * free_scorer.Hits(rot.Get(t), ix, iy));
+    ASSERT_EQ(r.value, best) << "scene " << scene;
+    EXPECT_EQ(r.value, r.hits - problem.free_space_weight * r.free_hits);
+    EXPECT_NEAR(r.score, 100.0 * r.value / scorer.cluster_voxels(), 1e-9);
+  }
+}
+
 TEST(ExactSearchTest, FindsThePlantedPoseOnTheFullLattice) {
   for (unsigned scene = 0; scene < 4; ++scene) {
     const PoseLattice lattice;  // 1 deg x 4 mm.
@@ -113,7 +168,7 @@ TEST(ExactSearchTest, FindsThePlantedPoseOnTheFullLattice) {
         VoxeliseCluster(testing::VisibleCluster(robot, truth, 0.002f, scene), 0.016);
     const TemplateRotations rot(tpl, lattice);
     const FastScorer scorer(cluster, lattice);
-    const SearchResult r = ExactSearch().Search(cluster, scorer, rot, {truth.x, truth.y});
+    const SearchResult r = ExactSearch().Search({&cluster, &scorer, &rot, {truth.x, truth.y}});
     const LatticePose t = NearestLatticePose(lattice, truth);
     // Nothing on the lattice scores better than the optimum, in particular not the truth.
     EXPECT_GE(r.hits, scorer.Hits(rot.Get(t.itheta), t.ix, t.iy));
@@ -129,7 +184,7 @@ TEST(ExactSearchTest, EmptyClusterFindsNothing) {
   const TemplateRotations rot(tpl, lattice);
   const ClusterVoxels empty;
   const FastScorer scorer(empty, lattice);
-  const SearchResult r = ExactSearch().Search(empty, scorer, rot, {1.0, 0.0});
+  const SearchResult r = ExactSearch().Search({&empty, &scorer, &rot, {1.0, 0.0}});
   EXPECT_EQ(r.hits, 0);
   EXPECT_EQ(r.score, 0.0);
   EXPECT_FALSE(r.has_runner_up);

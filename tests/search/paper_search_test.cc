@@ -22,11 +22,12 @@ TEST(PaperSearchTest, EvaluatesTheTable1PoseCountAndNeverBeatsExact) {
     centroid /= pts.size();
     const TemplateRotations rot(tpl, lattice);
     const FastScorer scorer(cluster, lattice);
-    const SearchResult paper = PaperSearch().Search(cluster, scorer, rot, centroid);
+    const SearchProblem problem{&cluster, &scorer, &rot, centroid};
+    const SearchResult paper = PaperSearch().Search(problem);
     // Table 1: 72 angles x 17 x 17 translations, then 5 x 9 x 9.
     EXPECT_EQ(paper.poses_evaluated, 72 * 17 * 17 + 5 * 9 * 9);
     EXPECT_EQ(scorer.Hits(rot.Get(paper.best.itheta), paper.best.ix, paper.best.iy), paper.hits);
-    const SearchResult exact = ExactSearch().Search(cluster, scorer, rot, centroid);
+    const SearchResult exact = ExactSearch().Search(problem);
     EXPECT_LE(paper.hits, exact.hits);
     EXPECT_GT(paper.score, 0.0);
   }

@@ -1,0 +1,50 @@
+#include "core/depth/range_image.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hpose {
+
+RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
+  RangeImage r;
+  r.focal_ = focal_px;
+  constexpr double kMaxTan = 3.0;
+  double tx_lo = kMaxTan, tx_hi = -kMaxTan, ty_lo = kMaxTan, ty_hi = -kMaxTan;
+  for (const Eigen::Vector3f& p : cloud.points) {
+    if (!p.allFinite() || p.z() <= 0.0f) continue;
+    const double tx = p.x() / p.z(), ty = p.y() / p.z();
+    tx_lo = std::min(tx_lo, tx);
+    tx_hi = std::max(tx_hi, tx);
+    ty_lo = std::min(ty_lo, ty);
+    ty_hi = std::max(ty_hi, ty);
+  }
+  if (tx_lo > tx_hi) return r;  // no point in front of the sensor.
+  tx_lo = std::max(tx_lo, -kMaxTan);
+  tx_hi = std::min(tx_hi, kMaxTan);
+  ty_lo = std::max(ty_lo, -kMaxTan);
+  ty_hi = std::min(ty_hi, kMaxTan);
+  r.u0_ = -tx_lo * focal_px;
+  r.v0_ = -ty_lo * focal_px;
+  r.width_ = static_cast<int>((tx_hi - tx_lo) * focal_px) + 1;
+  r.height_ = static_cast<int>((ty_hi - ty_lo) * focal_px) + 1;
+  r.depth_.assign(static_cast<size_t>(r.width_) * r.height_, 0.0f);
+  for (const Eigen::Vector3f& p : cloud.points) {
+    if (!p.allFinite() || p.z() <= 0.0f) continue;
+    const int u = static_cast<int>(std::floor(p.x() / p.z() * focal_px + r.u0_));
+    const int v = static_cast<int>(std::floor(p.y() / p.z() * focal_px + r.v0_));
+    if (u < 0 || v < 0 || u >= r.width_ || v >= r.height_) continue;
+    float& d = r.depth_[static_cast<size_t>(v) * r.width_ + u];
+    if (d == 0.0f || p.z() < d) d = p.z();
+  }
+  return r;
+}
+
+float RangeImage::DepthToward(const Eigen::Vector3d& p) const {
+  if (depth_.empty() || !(p.z() > 1e-3)) return 0.0f;
+  const double uf = p.x() / p.z() * focal_ + u0_;
+  const double vf = p.y() / p.z() * focal_ + v0_;
+  if (!(uf >= 0.0 && vf >= 0.0 && uf < width_ && vf < height_)) return 0.0f;
+  return depth_[static_cast<size_t>(vf) * width_ + static_cast<size_t>(uf)];
+}
+
+}  // namespace hpose

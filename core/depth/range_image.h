@@ -1,0 +1,40 @@
+#ifndef HPOSE_CORE_DEPTH_RANGE_IMAGE_H_
+#define HPOSE_CORE_DEPTH_RANGE_IMAGE_H_
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/depth/point_cloud.h"
+
+namespace hpose {
+
+// What the sensor saw in each direction: the nearest depth (z, metres) per bin of a virtual
+// pinhole camera at the sensor's optical centre. Built from any cloud in the sensor frame
+// (organised or not, from a depth image or a PCD), so free-space reasoning does not need the
+// original intrinsics. Bins without a point are unknown.
+class RangeImage {
+ public:
+  // `focal_px` sets the bin size (300: about 3.3 mm at 1 m, like a 320x240 Kinect). The image
+  // spans the cloud's own field of view (tan up to +-3).
+  static RangeImage FromCloud(const PointCloud& cloud_sensor, double focal_px = 300.0);
+
+  // Nearest observed depth (m) along the ray through `p_sensor`, or 0 when unknown (no point
+  // in that bin, or p_sensor not in front of the sensor).
+  float DepthToward(const Eigen::Vector3d& p_sensor) const;
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  double focal_ = 300.0;
+  double u0_ = 0.0;  // bin of tan = 0.
+  double v0_ = 0.0;
+  int width_ = 0;
+  int height_ = 0;
+  std::vector<float> depth_;
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_DEPTH_RANGE_IMAGE_H_

@@ -1,0 +1,116 @@
+// End to end: simulate a humanoid at a known pose, estimate it, and the pose comes back within
+// the paper's accuracy (SPEC §1: standing, theta -3..+6 deg, x -30..-14 mm, y -7..+19 mm; we ask
+// for |theta| <= 6 deg and position within 30 mm).
+#include <gtest/gtest.h>
+
+#include "core/search/estimator.h"
+#include "core/sim/frame_simulator.h"
+#include "core/sim/humanoid_model.h"
+
+namespace hpose {
+namespace {
+
+VoxelTemplate ModelTemplate(const std::string& preset) {
+  const HumanoidModel model = *HumanoidModel::FromPreset(preset);
+  const std::vector<Eigen::Vector3f> pts = *model.SampleSurface(0.004);
+  return *MakeTemplateFromPoints(pts, preset, 0.016, preset, "test");
+}
+
+class RoundTripTest : public ::testing::TestWithParam<std::tuple<SearchKind, double, double>> {};
+
+TEST_P(RoundTripTest, PoseComesBackWithinThePapersAccuracy) {
+  const auto [kind, distance, theta_deg] = GetParam();
+  EstimatorOptions options = DefaultEstimatorOptions();
+  options.search = kind;
+  auto estimator = std::move(Estimator::Create(options, {ModelTemplate("standing")}).value());
+  FrameSpec spec;
+  spec.humanoid_pose = Pose2D{distance, 0.05, DegToRad(theta_deg)};
+  spec.seed = 42;
+  spec.clutter = 3;
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  Result<Estimate> e = estimator->EstimateDepth(frame.depth, spec.intrinsics);
+  ASSERT_TRUE(e.ok()) << e.error().ToString();
+  EXPECT_NEAR(e->floor.height_m, 0.34, 0.02);
+  const std::vector<Detection> humans = e->Humanoids();
+  ASSERT_FALSE(humans.empty());
+  const Candidate& c = humans.front().best;
+  EXPECT_LT(std::abs(RadToDeg(AngleDiff(c.pose.theta, spec.humanoid_pose.theta))), 6.0);
+  EXPECT_LT(std::hypot(c.pose.x - spec.humanoid_pose.x, c.pose.y - spec.humanoid_pose.y), 0.03);
+  // The clutter is there, and none of it is taken for the humanoid.
+  EXPECT_GE(e->clusters.size(), 2u);
+  EXPECT_EQ(humans.size(), 1u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Poses, RoundTripTest,
+                         ::testing::Values(std::make_tuple(SearchKind::kExact, 1.0, 0.0),
+                                           std::make_tuple(SearchKind::kExact, 1.0, -90.0),
+                                           std::make_tuple(SearchKind::kExact, 1.5, 150.0),
+                                           std::make_tuple(SearchKind::kExact, 2.0, 60.0),
+                                           std::make_tuple(SearchKind::kPaper, 1.0, 0.0),
+                                           std::make_tuple(SearchKind::kPaper, 1.0, -120.0)));
+
+TEST(RoundTripTest, RaisedArmTellsLeftFromRight) {
+  auto estimator =
+      std::move(Estimator::Create(DefaultEstimatorOptions(),
+                                  {ModelTemplate("standing"), ModelTemplate("right_arm_raised")})
+                    .value());
+  for (double theta_deg : {-60.0, 30.0}) {
+    FrameSpec spec;
+    spec.preset = "right_arm_raised";
+    spec.humanoid_pose = Pose2D{1.2, -0.1, DegToRad(theta_deg)};
+    spec.seed = 7;
+    const SimulatedFrame frame = *SimulateFrame(spec);
+    Result<Estimate> e = estimator->EstimateDepth(frame.depth, spec.intrinsics);
+    ASSERT_TRUE(e.ok()) << e.error().ToString();
+    ASSERT_FALSE(e->Humanoids().empty());
+    const Detection d = e->Humanoids().front();
+    EXPECT_EQ(d.best.template_name, "right_arm_raised") << theta_deg;
+    EXPECT_EQ(d.second_template, "standing");
+    EXPECT_GT(d.template_margin, 0.0);
+  }
+}
+
+TEST(RoundTripTest, EmptyFloorHasNoHumanoid) {
+  auto estimator =
+      std::move(Estimator::Create(DefaultEstimatorOptions(), {ModelTemplate("standing")}).value());
+  FrameSpec spec;
+  spec.humanoid_pose = Pose2D{30.0, 0.0, 0.0};  // far out of range: only the floor is seen.
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  Result<Estimate> e = estimator->EstimateDepth(frame.depth, spec.intrinsics);
+  ASSERT_TRUE(e.ok()) << e.error().ToString();
+  EXPECT_TRUE(e->Humanoids().empty());
+}
+
+TEST(EstimatorTest, RejectsBadInput) {
+  auto estimator =
+      std::move(Estimator::Create(DefaultEstimatorOptions(), {ModelTemplate("standing")}).value());
+  // Empty and all-NaN clouds.
+  EXPECT_EQ(estimator->EstimateCloud(PointCloud{}).error().code, ErrorCode::kInvalidArgument);
+  PointCloud nan_cloud;
+  nan_cloud.points.assign(100, Eigen::Vector3f::Constant(std::nanf("")));
+  Result<Estimate> r = estimator->EstimateCloud(nan_cloud);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("NaN"), std::string::npos);
+  // Intrinsics that do not match the image.
+  DepthImage depth(320, 240);
+  Result<Estimate> mismatch = estimator->EstimateDepth(depth, Intrinsics::KinectV1(640, 480));
+  ASSERT_FALSE(mismatch.ok());
+  EXPECT_EQ(mismatch.error().code, ErrorCode::kInvalidArgument);
+  // No floor: a wall of points straight ahead.
+  PointCloud wall;
+  for (int i = 0; i < 2000; ++i)
+    wall.points.emplace_back(0.001f * (i % 50), 0.001f * (i / 50), 1.0f);
+  EXPECT_EQ(estimator->EstimateCloud(wall).error().code, ErrorCode::kFailedPrecondition);
+}
+
+TEST(EstimatorTest, CreateValidates) {
+  EXPECT_FALSE(Estimator::Create(DefaultEstimatorOptions(), {}).ok());
+  VoxelTemplate t = ModelTemplate("standing");
+  EXPECT_FALSE(Estimator::Create(DefaultEstimatorOptions(), {t, t}).ok());
+  VoxelTemplate coarse = t;
+  coarse.resolution_m = 0.02;
+  EXPECT_FALSE(Estimator::Create(DefaultEstimatorOptions(), {coarse}).ok());
+}
+
+}  // namespace
+}  // namespace hpose
