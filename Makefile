@@ -35,7 +35,7 @@ build: configure
 
 # The main job: simulate a frame with the shipped templates and estimate the humanoid in it.
 run: build
-	./$(BUILD_DIR)/tools/hpose demo
+	./$(BUILD_DIR)/tools/hpose demo --picture $(BUILD_DIR)/demo.png
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
