@@ -31,7 +31,10 @@ class MapReader {
 
   YAML::Node Get(const std::string& key) {
     seen_.insert(key);
-    return node_.IsMap() ? node_[key] : YAML::Node();
+    const YAML::Node& map = node_;  // const access: never inserts the key.
+    if (!map.IsMap()) return YAML::Node();
+    const YAML::Node value = map[key];
+    return value.IsDefined() ? value : YAML::Node();  // missing keys read as null.
   }
 
   template <typename T>

@@ -106,3 +106,25 @@ TEST(DaemonConfigTest, DefaultsListenOnLoopbackAndPrintedConfigParsesBack) {
 
 }  // namespace
 }  // namespace hpose::server
+
+namespace hpose::server {
+namespace {
+
+TEST(DaemonConfigTest, ShippedExampleIsValidAndPointsAtTheShippedTemplates) {
+  Result<DaemonConfig> c =
+      LoadDaemonConfig(std::string(HPOSE_SOURCE_DIR) + "/server/hposed.example.yaml");
+  ASSERT_TRUE(c.ok()) << c.error().ToString();
+  EXPECT_TRUE(ValidateDaemonConfig(*c).ok());
+  ASSERT_EQ(c->templates.size(), 2u);
+  EXPECT_EQ(c->templates[0], std::string(HPOSE_SOURCE_DIR) + "/templates/standing.bt");
+  EXPECT_TRUE(c->source.path.empty());
+}
+
+TEST(DaemonConfigTest, MissingFileIsNotFound) {
+  Result<DaemonConfig> c = LoadDaemonConfig("/nonexistent/hposed.yaml");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error().code, ErrorCode::kNotFound);
+}
+
+}  // namespace
+}  // namespace hpose::server
