@@ -123,6 +123,7 @@ int main(int argc, char** argv) {
   config.source.path = dir;
   config.source.loop = true;
   config.source.realtime = false;  // as fast as the estimator goes: measures throughput.
+  config.source.queue_capacity = 4;
   config.templates = {std::string(HPOSE_TEMPLATE_DIR) + "/standing.bt",
                       std::string(HPOSE_TEMPLATE_DIR) + "/right_arm_raised.bt"};
   config.grpc.max_concurrent_estimates = 1;

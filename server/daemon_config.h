@@ -19,11 +19,13 @@ struct GrpcConfig {
 
 // The daemon's own frame source.
 struct SourceConfig {
-  std::string path;        // "" = none (Estimate calls only); see MakeFrameSource for the forms.
-  bool realtime = true;    // recordings: true = recorded rate, false = as fast as possible.
-  bool loop = false;       // recordings: start over at the end.
-  double fps = 30.0;       // PNG / PCD directories (no timestamps), Hz.
-  int queue_capacity = 4;  // frames waiting for the estimator; the oldest is dropped.
+  std::string path;      // "" = none (Estimate calls only); see MakeFrameSource for the forms.
+  bool realtime = true;  // recordings: true = recorded rate, false = as fast as possible.
+  bool loop = false;     // recordings: start over at the end.
+  double fps = 30.0;     // PNG / PCD directories (no timestamps), Hz.
+  // Frames waiting for the estimator; a live source drops the oldest. 1 keeps the latency
+  // lowest: the estimator always takes the newest frame.
+  int queue_capacity = 1;
   double frame_timeout_s = 2.0;              // live device: no frame for this long = lost.
   double reconnect_initial_backoff_s = 0.5;  // first retry delay after a loss, doubled each try.
   double reconnect_max_backoff_s = 8.0;      // upper bound of the retry delay.

@@ -183,6 +183,13 @@ int RunQuery(int argc, char** argv) {
   channel_args.SetMaxSendMessageSize(64 << 20);
   auto channel =
       grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), channel_args);
+  // Wait for the daemon (it may still be starting) up to the timeout.
+  if (!channel->WaitForConnected(std::chrono::system_clock::now() +
+                                 std::chrono::milliseconds(static_cast<long>(
+                                     (timeout_s > 0 ? timeout_s : 10.0) * 1000)))) {
+    std::cerr << "hpose query: cannot reach hposed at " << server << "\n";
+    return kExitUnavailable;
+  }
   std::unique_ptr<v1::PoseService::Stub> stub = v1::PoseService::NewStub(channel);
 
   if (cmd == "latest") {
