@@ -10,15 +10,17 @@
 namespace hpose {
 
 // A cluster's voxels as z bit masks per (x, y) cell, in the z frame of one template's columns
-// (bit b of word w = z cell z_base + 64 w + b), plus a pyramid of max-filtered (OR-ed) copies
-// for branch and bound over translations:
-//   level k covers the translations [a, a + 2^k) x [b, b + 2^k) (lattice steps); its grid ORs
-//   the cluster masks over the L_k x L_k cells such a block can move a column across, with
-//   L_k = floor((2^k + S - 2) / S) + 1, S = lattice subdivisions.
+// (bit b of word w = z cell z_base + 64 w + b), plus a pyramid of filtered copies for branch and
+// bound over translations. Level k covers the translations [a, a + 2^k) x [b, b + 2^k) (lattice
+// steps). Over such a block a template column with sub-voxel coordinate q reaches exactly the
+// cells floor_div(q + a, S) .. floor_div(q + a + 2^k - 1, S) (S = subdivisions): a window of
+// L_min or L_min + 1 cells per axis, depending on q. Each level keeps the cluster masks OR-ed
+// (Filter::kMax: an upper bound of the cells a column can cover) over both window lengths in x
+// and y, and every column looks up the window it really sweeps.
 // Cluster voxels outside the template's z range can never be covered and are left out of the
 // masks (they still count in the score's denominator).
 //
-// With Filter::kMin the pyramid ANDs instead (cells outside the voxels count as empty), so
+// With Filter::kMin the windows AND instead (cells outside the voxels count as empty), so
 // Bound() is a lower bound of Hits over the block: used for free-space cells, which count
 // against a pose.
 class ColumnOccupancy {
@@ -33,8 +35,9 @@ class ColumnOccupancy {
   int Hits(const RotatedTemplate& rotated, int ix, int iy) const;
 
   // An upper bound (kMax) or lower bound (kMin) of Hits over every translation in
-  // [a, a + 2^level) x [b, b + 2^level). level in [0, max_level]; at level 0 the
-  // bound counts every column separately (no de-duplication), an upper bound for kMax only.
+  // [a, a + 2^level) x [b, b + 2^level), level in [0, max_level]. The bound counts every column
+  // separately (two columns landing in one cell count twice), so only kMax bounds are valid
+  // for unions of rotations (TemplateRotations::GetBlock) and at level 0.
   int Bound(const RotatedTemplate& rotated, int a, int b, int level) const;
 
   int max_level() const { return static_cast<int>(levels_.size()) - 1; }
@@ -44,13 +47,18 @@ class ColumnOccupancy {
     int x0 = 0, y0 = 0, nx = 0, ny = 0;
     std::vector<std::uint64_t> masks;  // nx * ny * words.
   };
-  // Column (qx, qy) + translation -> cell index in `g`, or -1 outside.
-  int Index(const Grid& g, int qx, int qy, int a, int b) const;
+  struct Level {
+    int min_len = 1;   // shortest window (cells) a column sweeps at this level.
+    Grid grids[2][2];  // [x window is min_len + 1][y window is min_len + 1].
+  };
+  Grid Filtered(const Grid& base, int len_x, int len_y, bool max_filter) const;
+  int FloorDivS(int v) const;
 
   PoseLattice lattice_;
   int shift_ = -1;  // log2(subdivisions) when a power of two.
   int words_ = 1;
-  std::vector<Grid> levels_;  // levels_[0]: the plain occupancy.
+  Grid base_;
+  std::vector<Level> levels_;
   mutable std::vector<std::uint32_t> stamp_;
   mutable std::vector<std::uint64_t> acc_;
   mutable std::vector<int> touched_;

@@ -211,6 +211,10 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
       problem.centre_ground = c.centroid.head<2>().cast<double>();
       problem.free_space = use_free_space ? &free : nullptr;
       problem.free_space_weight = options_.free_space_weight;
+      if (options_.stop_below_threshold) {
+        problem.min_value = static_cast<int>(
+            std::ceil(options_.score_threshold * scorer->cluster_voxels() / 100.0 - 1e-9));
+      }
       const SearchResult r = search_->Search(problem);
       Candidate cand;
       cand.template_name = rot.name();
@@ -218,6 +222,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
       cand.pose = r.pose;
       cand.score = r.score;
       cand.coverage = r.coverage;
+      cand.score_is_upper_bound = r.below_min_value;
       cand.free_space_hits = r.free_hits;
       cand.hits = r.hits;
       cand.cluster_voxels = scorer->cluster_voxels();

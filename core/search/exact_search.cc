@@ -37,6 +37,8 @@ struct BranchAndBoundResult {
   bool found = false;
   LatticePose best;
   int value = 0;
+  bool below_min = false;  // stopped: no pose reaches min_value.
+  int upper_bound = 0;     // with below_min: no pose's value exceeds this.
 };
 
 // The value of poses and its bounds: cluster hits (OR pyramid) minus weighted free-space hits
@@ -59,66 +61,99 @@ struct Evaluator {
   }
 };
 
-// Best-first branch and bound over the allowed thetas and the translation region.
-BranchAndBoundResult RunBranchAndBound(const Evaluator& eval, const TemplateRotations& rotations,
-                                       const std::vector<bool>& allowed,
-                                       const ExactSearch::Region& region, int top_level,
-                                       SearchResult* counters) {
-  const int steps = static_cast<int>(allowed.size());
-  int top_tlevel = TemplateRotations::kThetaLevels - 1;
-  while (top_tlevel > 0 && (1 << top_tlevel) > steps) --top_tlevel;
+// Best-first branch and bound over thetas and the translation region. Next() returns the
+// best remaining pose among the currently allowed thetas; calling it again with fewer thetas
+// allowed continues from the same queue (the runner-up search reuses every bound computed for
+// the best).
+class BranchAndBound {
+ public:
+  BranchAndBound(const Evaluator& eval, const TemplateRotations& rotations,
+                 const ExactSearch::Region& region, int top_level, int min_value,
+                 SearchResult* counters)
+      : eval_(eval),
+        rotations_(rotations),
+        region_(region),
+        min_value_(min_value),
+        counters_(counters),
+        steps_(rotations.lattice().angle_steps),
+        allowed_(steps_, true) {
+    int top_tlevel = TemplateRotations::kThetaLevels - 1;
+    while (top_tlevel > 0 && (1 << top_tlevel) > steps_) --top_tlevel;
+    const int block = 1 << top_level;
+    for (int itheta = 0; itheta < steps_; itheta += 1 << top_tlevel) {
+      for (int a = region.ix_min; a <= region.ix_max; a += block) {
+        for (int b = region.iy_min; b <= region.iy_max; b += block) {
+          Push(top_tlevel, itheta, top_level, a, b);
+        }
+      }
+    }
+  }
+
+  void set_allowed(std::vector<bool> allowed) { allowed_ = std::move(allowed); }
+
+  BranchAndBoundResult Next() {
+    BranchAndBoundResult out;
+    while (!queue_.empty()) {
+      const Node n = queue_.top();
+      queue_.pop();
+      if (!AnyAllowed(n.itheta, n.tlevel)) continue;
+      if (n.value < min_value_) {  // the best that remains cannot reach min_value.
+        out.below_min = true;
+        out.upper_bound = n.value;
+        return out;
+      }
+      if (n.tlevel == 0 && n.level == 0) {
+        out.found = true;
+        out.best = LatticePose{n.a, n.b, n.itheta};
+        out.value = n.value;
+        return out;
+      }
+      // Split the rotation first while its sweep is comparable to the translation block.
+      if (n.tlevel > 0 && (n.level == 0 || n.tlevel + 4 >= n.level)) {
+        const int half = 1 << (n.tlevel - 1);
+        Push(n.tlevel - 1, n.itheta, n.level, n.a, n.b);
+        Push(n.tlevel - 1, n.itheta + half, n.level, n.a, n.b);
+      } else {
+        const int half = 1 << (n.level - 1);
+        for (int da : {0, half}) {
+          for (int db : {0, half}) Push(n.tlevel, n.itheta, n.level - 1, n.a + da, n.b + db);
+        }
+      }
+    }
+    return out;
+  }
+
+ private:
   // Whether any allowed theta lies in [itheta, itheta + 2^tlevel).
-  auto any_allowed = [&](int itheta, int tlevel) {
-    for (int t = itheta; t < std::min(steps, itheta + (1 << tlevel)); ++t) {
-      if (allowed[t]) return true;
+  bool AnyAllowed(int itheta, int tlevel) const {
+    for (int t = itheta; t < std::min(steps_, itheta + (1 << tlevel)); ++t) {
+      if (allowed_[t]) return true;
     }
     return false;
-  };
-  std::priority_queue<Node, std::vector<Node>, NodeLess> queue;
-  auto push = [&](int tlevel, int itheta, int level, int a, int b) {
-    if (a > region.ix_max || b > region.iy_max || itheta >= steps) return;
-    if (!any_allowed(itheta, tlevel)) return;
+  }
+
+  void Push(int tlevel, int itheta, int level, int a, int b) {
+    if (a > region_.ix_max || b > region_.iy_max || itheta >= steps_) return;
+    if (!AnyAllowed(itheta, tlevel)) return;
     if (tlevel == 0 && level == 0) {
-      ++counters->poses_evaluated;
-      queue.push({eval.Value(rotations.Get(itheta), a, b), 0, 0, itheta, a, b});
+      ++counters_->poses_evaluated;
+      queue_.push({eval_.Value(rotations_.Get(itheta), a, b), 0, 0, itheta, a, b});
     } else {
-      ++counters->bounds_evaluated;
-      const RotatedTemplate& rot = rotations.GetBlock(tlevel, itheta);
-      queue.push({eval.Bound(rot, a, b, level, tlevel), tlevel, level, itheta, a, b});
-    }
-  };
-  const int block = 1 << top_level;
-  for (int itheta = 0; itheta < steps; itheta += 1 << top_tlevel) {
-    for (int a = region.ix_min; a <= region.ix_max; a += block) {
-      for (int b = region.iy_min; b <= region.iy_max; b += block) {
-        push(top_tlevel, itheta, top_level, a, b);
-      }
+      ++counters_->bounds_evaluated;
+      const RotatedTemplate& rot = rotations_.GetBlock(tlevel, itheta);
+      queue_.push({eval_.Bound(rot, a, b, level, tlevel), tlevel, level, itheta, a, b});
     }
   }
-  BranchAndBoundResult out;
-  while (!queue.empty()) {
-    const Node n = queue.top();
-    queue.pop();
-    if (n.tlevel == 0 && n.level == 0) {
-      out.found = true;
-      out.best = LatticePose{n.a, n.b, n.itheta};
-      out.value = n.value;
-      return out;
-    }
-    // Split the rotation while it sweeps further than the translation block spans.
-    if (n.tlevel > 0 && (n.level == 0 || n.tlevel + 2 >= n.level)) {
-      const int half = 1 << (n.tlevel - 1);
-      push(n.tlevel - 1, n.itheta, n.level, n.a, n.b);
-      push(n.tlevel - 1, n.itheta + half, n.level, n.a, n.b);
-    } else {
-      const int half = 1 << (n.level - 1);
-      for (int da : {0, half}) {
-        for (int db : {0, half}) push(n.tlevel, n.itheta, n.level - 1, n.a + da, n.b + db);
-      }
-    }
-  }
-  return out;
-}
+
+  const Evaluator& eval_;
+  const TemplateRotations& rotations_;
+  const ExactSearch::Region region_;
+  const int min_value_;
+  SearchResult* counters_;
+  const int steps_;
+  std::vector<bool> allowed_;
+  std::priority_queue<Node, std::vector<Node>, NodeLess> queue_;
+};
 
 }  // namespace
 
@@ -145,7 +180,7 @@ ExactSearch::Region ExactSearch::TranslationRegion(const ClusterVoxels& cluster,
       radius = std::max(radius, std::hypot((q.x() + 1.0) * q_to_m, (q.y() + 1.0) * q_to_m));
       radius = std::max(radius, std::hypot(q.x() * q_to_m, q.y() * q_to_m));
     }
-    margin = radius + lattice.resolution_m;
+    margin = options_.auto_margin_fraction * radius + lattice.resolution_m;
   }
   const double res = lattice.resolution_m;
   const double step = lattice.step_m();
@@ -177,8 +212,14 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   }
   const Evaluator eval{&occ, free.get(), problem.free_space_weight};
 
-  const std::vector<bool> all(lattice.angle_steps, true);
-  const BranchAndBoundResult best = RunBranchAndBound(eval, rotations, all, region, top, &result);
+  BranchAndBound bnb(eval, rotations, region, top, problem.min_value, &result);
+  const BranchAndBoundResult best = bnb.Next();
+  if (best.below_min) {
+    result.below_min_value = true;
+    result.value_upper_bound = best.upper_bound;
+    result.score = 100.0 * best.upper_bound / n;
+    return result;
+  }
   if (!best.found) return result;
   const RotatedTemplate& rb = rotations.Get(best.best.itheta);
   result.best = best.best;
@@ -195,12 +236,14 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
         AngleDiff(t * lattice.angle_step_rad(), best.best.itheta * lattice.angle_step_rad()));
     others[t] = sep > kRunnerUpMinSeparationRad;
   }
-  const BranchAndBoundResult runner =
-      RunBranchAndBound(eval, rotations, others, region, top, &result);
+  bnb.set_allowed(std::move(others));
+  const BranchAndBoundResult runner = bnb.Next();
   if (runner.found) {
     result.has_runner_up = true;
     result.runner_up_pose = ToPose(lattice, runner.best);
     result.runner_up_score = 100.0 * runner.value / n;
+  } else if (runner.below_min) {
+    result.runner_up_score = 100.0 * runner.upper_bound / n;  // an upper bound only.
   }
   return result;
 }

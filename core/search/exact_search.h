@@ -6,10 +6,12 @@
 namespace hpose {
 
 struct ExactSearchOptions {
-  // Translations searched: the template origin anywhere within the cluster's footprint grown by
-  // this margin (metres). Negative: the template's horizontal radius, so every pose at which
-  // the template can touch the cluster is covered.
+  // Translations searched: the template origin anywhere within the cluster's footprint grown
+  // by this margin (metres). Negative: auto_margin_fraction x the template's horizontal radius
+  // plus one voxel. The origin (below the torso centre) lies behind the seen surface by at most
+  // the body's half depth, so half the radius (which a raised arm stretches) leaves room.
   double margin_m = -1.0;
+  double auto_margin_fraction = 0.5;
   // Largest branch-and-bound block: 2^max_level lattice steps per side (6: 64 x 4 mm = 256 mm).
   int max_level = 6;
 };

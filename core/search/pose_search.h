@@ -1,6 +1,7 @@
 #ifndef HPOSE_CORE_SEARCH_POSE_SEARCH_H_
 #define HPOSE_CORE_SEARCH_POSE_SEARCH_H_
 
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -42,6 +43,10 @@ struct SearchProblem {
   // it the value is the paper's hits alone.
   const ClusterVoxels* free_space = nullptr;
   int free_space_weight = 1;
+  // Values below this do not matter to the caller (e.g. below the humanoid threshold): a search
+  // may stop as soon as it has proved that no pose reaches it, and then reports only that
+  // bound (SearchResult::below_min_value). The default asks for the optimum whatever it is.
+  int min_value = std::numeric_limits<int>::min();
 };
 
 // Finds the pose of highest value of one template over one cluster.

@@ -18,10 +18,15 @@ struct SearchResult {
   double score = 0.0;     // 100 * value / cluster voxels (the paper's score without free space).
   double coverage = 0.0;  // 100 * hits / cluster voxels: the paper's score.
   // The best pose whose theta differs from the best by more than 30 degrees (front/back
-  // ambiguity). has_runner_up is false when no such pose scored above zero.
+  // ambiguity). has_runner_up is false when there is none or, with a min_value, when none
+  // reaches it; runner_up_score then holds an upper bound of their scores.
   bool has_runner_up = false;
   Pose2D runner_up_pose;
   double runner_up_score = 0.0;
+  // True when the search proved that no pose reaches SearchProblem::min_value and stopped:
+  // then `value_upper_bound` bounds every pose's value and best/pose/score are not set.
+  bool below_min_value = false;
+  int value_upper_bound = 0;
   std::int64_t poses_evaluated = 0;   // full score evaluations (bounds not counted).
   std::int64_t bounds_evaluated = 0;  // upper-bound evaluations (branch and bound only).
 };
