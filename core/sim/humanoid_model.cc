@@ -34,6 +34,9 @@ const std::pair<const char*, double HumanoidDimensions::*> kDimensionFields[] = 
     {"torso_width_m", &HumanoidDimensions::torso_width_m},
     {"torso_depth_m", &HumanoidDimensions::torso_depth_m},
     {"torso_top_m", &HumanoidDimensions::torso_top_m},
+    {"pack_depth_m", &HumanoidDimensions::pack_depth_m},
+    {"pack_width_m", &HumanoidDimensions::pack_width_m},
+    {"pack_height_m", &HumanoidDimensions::pack_height_m},
     {"shoulder_offset_y_m", &HumanoidDimensions::shoulder_offset_y_m},
     {"upper_arm_length_m", &HumanoidDimensions::upper_arm_length_m},
     {"upper_arm_radius_m", &HumanoidDimensions::upper_arm_radius_m},
@@ -151,6 +154,12 @@ HumanoidModel::HumanoidModel(const HumanoidDimensions& dimensions, const Humanoi
       "torso", Eigen::Vector3d(d.torso_depth_m, d.torso_width_m, d.torso_top_m - d.torso_bottom_m),
       MakeIsometry(Eigen::Matrix3d::Identity(),
                    Eigen::Vector3d(0.0, 0.0, 0.5 * (d.torso_top_m + d.torso_bottom_m)))));
+  // The battery pack, overlapping the torso's back face by 5 mm so the two are one solid.
+  body.push_back(Primitive::Box(
+      "battery_pack", Eigen::Vector3d(d.pack_depth_m + 0.005, d.pack_width_m, d.pack_height_m),
+      MakeIsometry(Eigen::Matrix3d::Identity(),
+                   Eigen::Vector3d(-0.5 * d.torso_depth_m - 0.5 * d.pack_depth_m + 0.0025, 0.0,
+                                   d.pack_centre_z_m))));
 
   // Neck and head; the head turns with the head yaw.
   const Eigen::Vector3d head_centre(0.0, 0.0, d.neck_offset_z_m + d.head_centre_above_neck_m);

@@ -32,6 +32,12 @@ struct HumanoidDimensions {
   double torso_depth_m = 0.100;    // along x.
   double torso_bottom_m = -0.065;  // box bottom relative to the torso origin.
   double torso_top_m = 0.120;      // box top relative to the torso origin.
+  // Battery pack: a box on the torso's back (a Nao carries its battery there), which gives the
+  // body a back distinct from its front.
+  double pack_depth_m = 0.035;     // how far it stands out behind the torso, along -x.
+  double pack_width_m = 0.100;     // along y.
+  double pack_height_m = 0.110;    // along z.
+  double pack_centre_z_m = 0.020;  // its centre relative to the torso origin.
   // Arms: capsules shoulder-elbow and elbow-fingertip.
   double shoulder_offset_y_m = 0.098;
   double shoulder_offset_z_m = 0.100;
