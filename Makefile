@@ -33,8 +33,18 @@ configure: deps
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
-# The main job: simulate a frame with the shipped templates and estimate the humanoid in it.
+# The main job: simulate a short recording of a humanoid turning among clutter, serve it with
+# hposed on loopback (looped, shipped templates) and show the streamed estimates.
 run: build
+	@./$(BUILD_DIR)/tools/hpose simulate --out $(BUILD_DIR)/demo-recording --frames 12 --turn-deg 30 \
+	  --clutter 3 --no-cloud > /dev/null
+	@echo "== hposed serving $(BUILD_DIR)/demo-recording on 127.0.0.1:50051; streaming 20 estimates"
+	@./$(BUILD_DIR)/server/hposed --source $(BUILD_DIR)/demo-recording --loop --fps 5 & pid=$$!; \
+	  ./$(BUILD_DIR)/tools/hpose query stream --count 20; s=$$?; \
+	  kill -INT $$pid; wait $$pid; exit $$s
+
+# One simulated frame, estimated and drawn (build/demo.png).
+demo: build
 	./$(BUILD_DIR)/tools/hpose demo --picture $(BUILD_DIR)/demo.png
 
 test: build

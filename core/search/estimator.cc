@@ -211,9 +211,11 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
       problem.centre_ground = c.centroid.head<2>().cast<double>();
       problem.free_space = use_free_space ? &free : nullptr;
       problem.free_space_weight = options_.free_space_weight;
+      problem.hit_weight = options_.hit_weight;
       if (options_.stop_below_threshold) {
-        problem.min_value = static_cast<int>(
-            std::ceil(options_.score_threshold * scorer->cluster_voxels() / 100.0 - 1e-9));
+        problem.min_value = static_cast<int>(std::ceil(
+            options_.score_threshold * options_.hit_weight * scorer->cluster_voxels() / 100.0 -
+            1e-9));
       }
       const SearchResult r = search_->Search(problem);
       Candidate cand;

@@ -48,14 +48,15 @@ struct Evaluator {
   const ColumnOccupancy* cluster;
   const ColumnOccupancy* free;  // may be null.
   int weight;
+  int hit_weight;
 
   int Value(const RotatedTemplate& r, int a, int b) const {
-    int v = cluster->Hits(r, a, b);
+    int v = hit_weight * cluster->Hits(r, a, b);
     if (free != nullptr) v -= weight * free->Hits(r, a, b);
     return v;
   }
   int Bound(const RotatedTemplate& r, int a, int b, int level, int tlevel) const {
-    int v = cluster->Bound(r, a, b, level);
+    int v = hit_weight * cluster->Bound(r, a, b, level);
     if (free != nullptr && tlevel == 0 && level > 0) v -= weight * free->Bound(r, a, b, level);
     return v;
   }
@@ -210,14 +211,15 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
     free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, r0.z_base, r0.z_words,
                                              top, ColumnOccupancy::Filter::kMin);
   }
-  const Evaluator eval{&occ, free.get(), problem.free_space_weight};
+  const Evaluator eval{&occ, free.get(), problem.free_space_weight, problem.hit_weight};
+  const int n_weighted = n * problem.hit_weight;  // the score's denominator.
 
   BranchAndBound bnb(eval, rotations, region, top, problem.min_value, &result);
   const BranchAndBoundResult best = bnb.Next();
   if (best.below_min) {
     result.below_min_value = true;
     result.value_upper_bound = best.upper_bound;
-    result.score = 100.0 * best.upper_bound / n;
+    result.score = 100.0 * best.upper_bound / n_weighted;
     return result;
   }
   if (!best.found) return result;
@@ -227,7 +229,7 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   result.value = best.value;
   result.hits = occ.Hits(rb, best.best.ix, best.best.iy);
   result.free_hits = free != nullptr ? free->Hits(rb, best.best.ix, best.best.iy) : 0;
-  result.score = 100.0 * best.value / n;
+  result.score = 100.0 * best.value / n_weighted;
   result.coverage = 100.0 * result.hits / n;
 
   std::vector<bool> others(lattice.angle_steps, false);
@@ -241,9 +243,9 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   if (runner.found) {
     result.has_runner_up = true;
     result.runner_up_pose = ToPose(lattice, runner.best);
-    result.runner_up_score = 100.0 * runner.value / n;
+    result.runner_up_score = 100.0 * runner.value / n_weighted;
   } else if (runner.below_min) {
-    result.runner_up_score = 100.0 * runner.upper_bound / n;  // an upper bound only.
+    result.runner_up_score = 100.0 * runner.upper_bound / n_weighted;  // an upper bound only.
   }
   return result;
 }

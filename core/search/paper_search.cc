@@ -28,7 +28,7 @@ SearchResult PaperSearch::Search(const SearchProblem& problem) const {
     Value v;
     v.hits = scorer.Hits(r, ix, iy);
     v.free = free_scorer != nullptr ? free_scorer->Hits(r, ix, iy) : 0;
-    v.value = v.hits - problem.free_space_weight * v.free;
+    v.value = problem.hit_weight * v.hits - problem.free_space_weight * v.free;
     return v;
   };
 
@@ -85,25 +85,27 @@ SearchResult PaperSearch::Search(const SearchProblem& problem) const {
   }
 
   const int n = scorer.cluster_voxels();
+  const int n_weighted = n * problem.hit_weight;
   if (!have_best || n == 0) return result;
   result.best = best;
   result.pose = ToPose(lattice, best);
   result.hits = best_value.hits;
   result.free_hits = best_value.free;
   result.value = best_value.value;
-  result.score = 100.0 * best_value.value / n;
+  result.score = 100.0 * best_value.value / n_weighted;
   result.coverage = 100.0 * best_value.hits / n;
   for (int t = 0; t < lattice.angle_steps; ++t) {
     if (!theta_seen[t]) continue;
     const double sep =
         std::abs(AngleDiff(t * lattice.angle_step_rad(), best.itheta * lattice.angle_step_rad()));
     if (sep <= kRunnerUpMinSeparationRad) continue;
-    if (result.has_runner_up && theta_value[t].value * 100.0 / n <= result.runner_up_score) {
+    if (result.has_runner_up &&
+        theta_value[t].value * 100.0 / n_weighted <= result.runner_up_score) {
       continue;
     }
     result.has_runner_up = true;
     result.runner_up_pose = ToPose(lattice, theta_pose[t]);
-    result.runner_up_score = 100.0 * theta_value[t].value / n;
+    result.runner_up_score = 100.0 * theta_value[t].value / n_weighted;
   }
   return result;
 }

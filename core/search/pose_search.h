@@ -43,6 +43,9 @@ struct SearchProblem {
   // it the value is the paper's hits alone.
   const ClusterVoxels* free_space = nullptr;
   int free_space_weight = 1;
+  // Weight of a covered cluster voxel: the value is hit_weight * hits - free_space_weight * free
+  // hits, so free_space_weight / hit_weight is what one free voxel costs in covered voxels.
+  int hit_weight = 1;
   // Values below this do not matter to the caller (e.g. below the humanoid threshold): a search
   // may stop as soon as it has proved that no pose reaches it, and then reports only that
   // bound (SearchResult::below_min_value). The default asks for the optimum whatever it is.

@@ -143,6 +143,7 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
     SearchProblem problem{&cluster, &scorer, &rot, {truth.x, truth.y}};
     problem.free_space = &free;
     problem.free_space_weight = 1 + scene % 2;
+    problem.hit_weight = 1 + scene % 3;
     const SearchResult r = search.Search(problem);
     const ExactSearch::Region region = search.TranslationRegion(cluster, rot);
     int best = INT_MIN;
@@ -150,11 +151,11 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
       for (int ix = region.ix_min; ix <= region.ix_max; ++ix)
         for (int iy = region.iy_min; iy <= region.iy_max; ++iy)
           best =
-              std::max(best, scorer.Hits(rot.Get(t), ix, iy) -
+              std::max(best, problem.hit_weight * scorer.Hits(rot.Get(t), ix, iy) -
                                  problem.free_space_weight * free_scorer.Hits(rot.Get(t), ix, iy));
     ASSERT_EQ(r.value, best) << "scene " << scene;
-    EXPECT_EQ(r.value, r.hits - problem.free_space_weight * r.free_hits);
-    EXPECT_NEAR(r.score, 100.0 * r.value / scorer.cluster_voxels(), 1e-9);
+    EXPECT_EQ(r.value, problem.hit_weight * r.hits - problem.free_space_weight * r.free_hits);
+    EXPECT_NEAR(r.score, 100.0 * r.value / (problem.hit_weight * scorer.cluster_voxels()), 1e-9);
   }
 }
 
