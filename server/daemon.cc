@@ -7,18 +7,88 @@
 #include <chrono>
 #include <utility>
 
+#include "core/stereo/stereo_calibration.h"
+#include "core/stereo/stereo_estimator.h"
+#include "core/stereo/stereo_marker_options.h"
+#include "core/stereo/stereo_sequence.h"
 #include "core/templates/template_io.h"
 #include "server/estimator_pool.h"
 #include "server/frame_source.h"
 #include "server/pose_pipeline.h"
 #include "server/pose_service.h"
+#include "server/publish_signal.h"
+#include "server/stereo_pipeline.h"
+#include "server/world_frame.h"
 
 namespace hpose::server {
 
 const char* HposeVersion() { return "0.1.0"; }
 
+namespace {
+
+Error Prefixed(const std::string& prefix, Error e) {
+  e.message = prefix + e.message;
+  return e;
+}
+
+// The stereo estimator (calibration from stereo.calibration or the source's calibration.yaml)
+// and, when a stereo source is configured, its pipeline. The source's first pair is read once
+// here so that a sequence that does not fit the calibration fails at start with the reason.
+Status StartStereo(const StereoConfig& config, PublishSignal* signal,
+                   std::unique_ptr<StereoEstimator>* estimator,
+                   std::unique_ptr<StereoPipeline>* pipeline) {
+  Result<StereoSequence> sequence = MakeError(ErrorCode::kNotFound, "no stereo source");
+  std::string calibration_path = config.calibration;
+  if (!config.source.empty()) {
+    sequence = StereoSequence::Open(config.source, config.fps);
+    if (!sequence.ok()) return Prefixed("stereo source: ", sequence.error());
+    if (sequence->size() == 0) {
+      return MakeError(ErrorCode::kNotFound,
+                       "stereo source: " + config.source + ": no stereo frame pairs");
+    }
+    if (calibration_path.empty()) calibration_path = sequence->calibration_path();
+    if (calibration_path.empty()) {
+      return MakeError(ErrorCode::kNotFound,
+                       "stereo source: " + config.source +
+                           " holds no calibration.yaml; give one with --stereo-calibration FILE "
+                           "(stereo.calibration)");
+    }
+  }
+  StereoCalibrationReadOptions read;
+  read.translation_unit_m = config.calibration_unit == "mm" ? 0.001 : 1.0;
+  Result<StereoCalibration> calibration = ReadStereoCalibration({calibration_path}, read);
+  if (!calibration.ok()) return Prefixed("stereo calibration: ", calibration.error());
+  StereoMarkerOptions options;
+  if (!config.options.empty()) {
+    Result<StereoMarkerOptions> loaded = LoadStereoMarkerOptions(config.options);
+    if (!loaded.ok()) return Prefixed("stereo options: ", loaded.error());
+    options = *loaded;
+  }
+  Result<std::unique_ptr<StereoEstimator>> made = StereoEstimator::Create(*calibration, options);
+  if (!made.ok()) return Prefixed("stereo estimator: ", made.error());
+  *estimator = std::move(*made);
+  if (!sequence.ok()) return Status::Ok();
+  Result<std::pair<RgbImage, RgbImage>> first = sequence->Load(0);
+  if (!first.ok()) return Prefixed("stereo source: ", first.error());
+  Result<StereoFrameResult> check =
+      (*estimator)->Process(first->first, first->second, sequence->frame(0).timestamp_s);
+  if (!check.ok()) {
+    return Prefixed(
+        "stereo source: " + sequence->frame(0).left_path + " with " + calibration_path + ": ",
+        check.error());
+  }
+  *pipeline =
+      std::make_unique<StereoPipeline>(std::move(*sequence), estimator->get(), config, signal);
+  return Status::Ok();
+}
+
+}  // namespace
+
 class Daemon::Impl {
  public:
+  std::unique_ptr<PublishSignal> signal = std::make_unique<PublishSignal>();
+  std::unique_ptr<StereoEstimator> stereo_estimator;  // shared by the pipeline and the calls.
+  std::unique_ptr<StereoPipeline> stereo_pipeline;
   std::unique_ptr<EstimatorPool> pool;
   std::unique_ptr<PosePipeline> pipeline;
   std::unique_ptr<PoseServiceImpl> service;
@@ -73,10 +143,20 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     if (!e.ok()) return e.error();
     estimator = std::move(*e);
   }
-  impl->pipeline =
-      std::make_unique<PosePipeline>(std::move(source), std::move(estimator), config.source);
+  if (config.stereo.enabled()) {
+    Status stereo = StartStereo(config.stereo, impl->signal.get(), &impl->stereo_estimator,
+                                &impl->stereo_pipeline);
+    if (!stereo.ok()) return stereo.error();
+  }
+  impl->pipeline = std::make_unique<PosePipeline>(std::move(source), std::move(estimator),
+                                                  config.source, impl->signal.get());
   impl->service = std::make_unique<PoseServiceImpl>(
       impl->pipeline.get(), impl->pool.get(), config.floor.fixed ? "fixed" : "fit", HposeVersion());
+  impl->service->AttachStereo(impl->stereo_pipeline.get(), impl->stereo_estimator.get());
+  impl->service->SetPublishSignal(impl->signal.get());
+  if (config.world_from_ground.configured) {
+    impl->service->SetWorldFromGround(WorldFromGround(config.world_from_ground));
+  }
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -100,6 +180,7 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     health->SetServingStatus("", true);
   }
   impl->pipeline->Start();
+  if (impl->stereo_pipeline) impl->stereo_pipeline->Start();
   return std::unique_ptr<Daemon>(new Daemon(std::move(impl)));
 }
 
@@ -115,6 +196,7 @@ void Daemon::Shutdown(double grace_s) {
                           std::chrono::milliseconds(static_cast<int>(grace_s * 1000)));
   impl_->server->Wait();
   impl_->pipeline->Stop();
+  if (impl_->stereo_pipeline) impl_->stereo_pipeline->Stop();
 }
 
 }  // namespace hpose::server

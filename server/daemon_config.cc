@@ -190,6 +190,44 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
         r.ReadDouble("distance_threshold_m", &c->estimator.floor_fit.distance_threshold_m));
     HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
   }
+  {
+    MapReader r(top.Get("stereo"), "stereo", origin);
+    HPOSE_RETURN_IF_ERROR(r.CheckIsMap());
+    StereoConfig& s = c->stereo;
+    HPOSE_RETURN_IF_ERROR(r.Read("source", &s.source, "a directory"));
+    s.source = Resolve(base_dir, s.source);
+    HPOSE_RETURN_IF_ERROR(r.Read("calibration", &s.calibration, "a path"));
+    s.calibration = Resolve(base_dir, s.calibration);
+    HPOSE_RETURN_IF_ERROR(r.Read("calibration_unit", &s.calibration_unit, "'m' or 'mm'"));
+    HPOSE_RETURN_IF_ERROR(r.Read("options", &s.options, "a path"));
+    s.options = Resolve(base_dir, s.options);
+    std::string rate;
+    HPOSE_RETURN_IF_ERROR(r.Read("rate", &rate, "'recorded' or 'fast'"));
+    if (rate == "recorded") {
+      s.realtime = true;
+    } else if (rate == "fast") {
+      s.realtime = false;
+    } else if (!rate.empty()) {
+      return r.Fail("stereo.rate", "expected 'recorded' or 'fast', got '" + rate + "'");
+    }
+    HPOSE_RETURN_IF_ERROR(r.Read("loop", &s.loop, "true or false"));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("fps", &s.fps));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("stale_after_s", &s.stale_after_s));
+    HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
+  }
+  {
+    const YAML::Node w = top.Get("world_from_ground");
+    if (w.IsDefined() && !w.IsNull()) {
+      MapReader r(w, "world_from_ground", origin);
+      HPOSE_RETURN_IF_ERROR(r.CheckIsMap());
+      WorldFrameConfig& f = c->world_from_ground;
+      f.configured = true;
+      HPOSE_RETURN_IF_ERROR(r.ReadDouble("x_m", &f.x_m));
+      HPOSE_RETURN_IF_ERROR(r.ReadDouble("y_m", &f.y_m));
+      HPOSE_RETURN_IF_ERROR(r.ReadDouble("yaw_rad", &f.yaw_rad));
+      HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
+    }
+  }
   HPOSE_RETURN_IF_ERROR(top.CheckUnknown());
   return Status::Ok();
 }
@@ -287,6 +325,17 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
       return fail("floor.pitch_rad", "pitch and roll must be within +-1.5 rad");
     }
   }
+  const StereoConfig& st = c.stereo;
+  if (st.calibration_unit != "m" && st.calibration_unit != "mm") {
+    return fail("stereo.calibration_unit",
+                "expected 'm' or 'mm', got '" + st.calibration_unit + "'");
+  }
+  if (!(st.fps > 0.0 && st.fps <= 10000.0)) return fail("stereo.fps", "must be in (0, 10000]");
+  if (!(st.stale_after_s > 0.0)) return fail("stereo.stale_after_s", "must be positive");
+  const WorldFrameConfig& w = c.world_from_ground;
+  if (w.configured && !(std::isfinite(w.x_m) && std::isfinite(w.y_m) && std::isfinite(w.yaw_rad))) {
+    return fail("world_from_ground", "x_m, y_m and yaw_rad must be finite");
+  }
   Status lattice = c.estimator.lattice.Validate();
   if (!lattice.ok()) return fail("search.resolution_m", lattice.error().message);
   return Status::Ok();
@@ -336,6 +385,24 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "roll_rad" << YAML::Value << c.floor.roll_rad;
   out << YAML::Key << "distance_threshold_m" << YAML::Value << e.floor_fit.distance_threshold_m;
   out << YAML::EndMap;
+  const StereoConfig& st = c.stereo;
+  out << YAML::Key << "stereo" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "source" << YAML::Value << st.source;
+  out << YAML::Key << "calibration" << YAML::Value << st.calibration;
+  out << YAML::Key << "calibration_unit" << YAML::Value << st.calibration_unit;
+  out << YAML::Key << "options" << YAML::Value << st.options;
+  out << YAML::Key << "rate" << YAML::Value << (st.realtime ? "recorded" : "fast");
+  out << YAML::Key << "loop" << YAML::Value << st.loop;
+  out << YAML::Key << "fps" << YAML::Value << st.fps;
+  out << YAML::Key << "stale_after_s" << YAML::Value << st.stale_after_s;
+  out << YAML::EndMap;
+  if (c.world_from_ground.configured) {
+    out << YAML::Key << "world_from_ground" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "x_m" << YAML::Value << c.world_from_ground.x_m;
+    out << YAML::Key << "y_m" << YAML::Value << c.world_from_ground.y_m;
+    out << YAML::Key << "yaw_rad" << YAML::Value << c.world_from_ground.yaw_rad;
+    out << YAML::EndMap;
+  }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }

@@ -40,6 +40,36 @@ struct FloorConfig {
   double roll_rad = 0.0;   // (fixed mode).
 };
 
+// The stereo-marker estimator's source: a directory of left/right frame pairs in the
+// StereoSequence layout (DIR/frames.csv or DIR/left + DIR/right, optional DIR/calibration.yaml).
+struct StereoConfig {
+  std::string source;  // "" = no stereo source.
+  // OpenCV stereo calibration (YAML/XML). "" = SOURCE/calibration.{yaml,yml,xml}. Given without
+  // a source, it still enables the EstimateStereo call.
+  std::string calibration;
+  std::string calibration_unit = "m";  // unit of T in the calibration file: "m" or "mm".
+  std::string options;                 // estimator options file; "" = StereoMarkerOptions{}.
+  bool realtime = true;                // true = at the sequence's timestamps; false = fast.
+  bool loop = false;                   // start over at the end.
+  double fps = 15.0;                   // sequences without frames.csv: pairs per second, Hz.
+  double stale_after_s = 1.0;          // the latest stereo estimate is stale when older than this.
+
+  bool enabled() const { return !source.empty() || !calibration.empty(); }
+};
+
+// Where the depth sensor's ground frame lies in the world (field) frame of the stereo
+// landmarks: the ground frame's origin (the floor point below the depth sensor's optical
+// centre) at (x_m, y_m) in the world frame, its +x axis (the optical axis projected on the
+// floor) turned yaw_rad counter-clockwise from world +x. A point p in the ground frame is
+// R(yaw) p + (x, y) in the world frame. When configured, depth-template poses are also
+// reported in the world frame.
+struct WorldFrameConfig {
+  bool configured = false;
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;
+};
+
 // Everything hposed runs with. Defaults in one place: the member initialisers and
 // DefaultEstimatorOptions().
 struct DaemonConfig {
@@ -48,6 +78,8 @@ struct DaemonConfig {
   std::vector<std::string> templates;  // .bt files.
   FloorConfig floor;
   EstimatorOptions estimator = DefaultEstimatorOptions();
+  StereoConfig stereo;
+  WorldFrameConfig world_from_ground;
 };
 
 // Parses YAML text (keys documented in server/hposed.example.yaml). Unknown keys, wrong types

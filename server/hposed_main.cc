@@ -1,7 +1,9 @@
 // hposed: the hpose daemon. Estimates the humanoid's pose in every frame of its source (an
 // OpenNI2 device or a recording) and serves the estimates over gRPC (hpose.v1.PoseService).
+#include <cmath>
 #include <csignal>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -17,19 +19,37 @@ namespace {
 
 using hpose::tools::FlagParser;
 
+// "X,Y,YAW" (metres, metres, radians) -> world_from_ground.
+bool ParseWorldFromGround(const std::string& text, hpose::server::WorldFrameConfig* out) {
+  double x = 0.0, y = 0.0, yaw = 0.0;
+  char c1 = 0, c2 = 0, extra = 0;
+  std::istringstream in(text);
+  if (!(in >> x >> c1 >> y >> c2 >> yaw) || c1 != ',' || c2 != ',' || (in >> extra)) return false;
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(yaw)) return false;
+  out->configured = true;
+  out->x_m = x;
+  out->y_m = y;
+  out->yaw_rad = yaw;
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string config_path, listen, source, rate;
+  std::string stereo_source, stereo_calibration, stereo_options, world_from_ground;
   std::vector<std::string> templates;
   bool loop = false, print_config = false;
-  double fps = 30.0;
+  double fps = 30.0, stereo_fps = 15.0;
   FlagParser flags(
-      "hposed [--config FILE.yaml] [--listen ADDR] [--source PATH] [--template FILE.bt ...]",
+      "hposed [--config FILE.yaml] [--listen ADDR] [--source PATH] [--template FILE.bt ...] "
+      "[--stereo-source DIR] [--world-from-ground X,Y,YAW]",
       "Serves humanoid pose estimates over gRPC (hpose.v1.PoseService, plus grpc.health.v1 and "
       "server reflection). PATH is an .oni recording, a directory of 16-bit PNG depth frames "
       "with intrinsics.json, a directory of PCD clouds, or openni2:// (any OpenNI2 device; "
-      "openni2://URI for one). Flags override the config file.");
+      "openni2://URI for one). A stereo source (a directory of left/right frame pairs) runs the "
+      "stereo-marker estimator beside the depth source, or alone; its estimates go out through "
+      "the same calls, marked with their estimator. Flags override the config file.");
   flags.AddString("config", &config_path, "YAML config file (see server/hposed.example.yaml)",
                   "FILE");
   flags.AddString("listen", &listen, "address to serve on (default 127.0.0.1:50051)", "ADDR");
@@ -39,12 +59,31 @@ int main(int argc, char** argv) {
   flags.AddString("rate", &rate, "replay rate of recordings: recorded or fast", "RATE");
   flags.AddBool("loop", &loop, "replay recordings in a loop");
   flags.AddDouble("fps", &fps, "frame rate of PNG/PCD directories (Hz)", "HZ");
+  flags.AddString("stereo-source", &stereo_source,
+                  "directory of stereo pairs (DIR/frames.csv or DIR/left + DIR/right, as written "
+                  "by `hpose simulate stereo`)",
+                  "DIR");
+  flags.AddString("stereo-calibration", &stereo_calibration,
+                  "OpenCV stereo calibration (default DIR/calibration.yaml); alone, it enables "
+                  "the EstimateStereo call",
+                  "FILE");
+  flags.AddString("stereo-options", &stereo_options,
+                  "stereo estimator options (landmarks, colours, thresholds)", "FILE");
+  flags.AddDouble("stereo-fps", &stereo_fps, "rate of stereo directories without frames.csv", "HZ");
+  flags.AddString("world-from-ground", &world_from_ground,
+                  "the depth sensor's ground frame in the world (landmark) frame: its origin "
+                  "X,Y in metres and its yaw in radians; depth poses are then also reported in "
+                  "the world frame",
+                  "X,Y,YAW");
   flags.AddBool("print-config", &print_config, "print the effective config as YAML and exit");
   flags.SetEpilog(
       "examples:\n"
       "  hposed --source recording.oni --loop --template templates/standing.bt\n"
       "  hposed --source openni2:// --template templates/standing.bt "
       "--template templates/right_arm_raised.bt\n"
+      "  hposed --source openni2:// --stereo-source stereo_run/ "
+      "--world-from-ground 0,-2,1.5708\n"
+      "--loop and --rate apply to both sources.\n"
       "SIGINT or SIGTERM shut the daemon down cleanly.\n");
   switch (flags.Parse(argc, argv)) {
     case FlagParser::Outcome::kHelpShown:
@@ -65,14 +104,24 @@ int main(int argc, char** argv) {
   if (flags.Seen("listen")) config.grpc.listen = listen;
   if (flags.Seen("source")) config.source.path = source;
   if (flags.Seen("template")) config.templates = templates;
-  if (flags.Seen("loop")) config.source.loop = loop;
+  if (flags.Seen("loop")) config.source.loop = config.stereo.loop = loop;
   if (flags.Seen("fps")) config.source.fps = fps;
   if (flags.Seen("rate")) {
     if (rate != "recorded" && rate != "fast") {
       std::cerr << "hposed: --rate: expected 'recorded' or 'fast', got '" << rate << "'\n";
       return hpose::tools::kExitUsage;
     }
-    config.source.realtime = rate == "recorded";
+    config.source.realtime = config.stereo.realtime = rate == "recorded";
+  }
+  if (flags.Seen("stereo-source")) config.stereo.source = stereo_source;
+  if (flags.Seen("stereo-calibration")) config.stereo.calibration = stereo_calibration;
+  if (flags.Seen("stereo-options")) config.stereo.options = stereo_options;
+  if (flags.Seen("stereo-fps")) config.stereo.fps = stereo_fps;
+  if (flags.Seen("world-from-ground") &&
+      !ParseWorldFromGround(world_from_ground, &config.world_from_ground)) {
+    std::cerr << "hposed: --world-from-ground: expected X,Y,YAW (metres, metres, radians), got '"
+              << world_from_ground << "'\n";
+    return hpose::tools::kExitUsage;
   }
   // Without templates in the config or on the command line, the shipped ones are used.
   if (config.templates.empty()) config.templates = hpose::tools::DefaultTemplatePaths();
@@ -96,7 +145,8 @@ int main(int argc, char** argv) {
   if (!daemon.ok()) return hpose::tools::ReportError("hposed", daemon.error());
   std::cout << "hposed: listening on " << (*daemon)->address() << " with "
             << config.templates.size() << " template(s), source "
-            << (config.source.path.empty() ? "(none)" : config.source.path) << std::endl;
+            << (config.source.path.empty() ? "(none)" : config.source.path) << ", stereo source "
+            << (config.stereo.source.empty() ? "(none)" : config.stereo.source) << std::endl;
 
   int sig = 0;
   sigwait(&signals, &sig);

@@ -55,10 +55,12 @@ const char* SourceStateName(SourceState state) {
 }
 
 PosePipeline::PosePipeline(std::unique_ptr<FrameSource> source,
-                           std::unique_ptr<Estimator> estimator, SourceConfig config)
+                           std::unique_ptr<Estimator> estimator, SourceConfig config,
+                           PublishSignal* signal)
     : source_(std::move(source)),
       estimator_(std::move(estimator)),
       config_(std::move(config)),
+      signal_(signal),
       queue_(static_cast<size_t>(std::max(1, config_.queue_capacity))) {
   state_ = source_ ? SourceState::kStarting : SourceState::kNone;
   reason_ = source_ ? "opening the source" : "no source configured";
@@ -80,6 +82,7 @@ void PosePipeline::Stop() {
     stop_cv_.notify_all();
     published_cv_.notify_all();
   }
+  if (signal_ != nullptr) signal_->Notify();
   queue_.Close();
   if (capture_thread_.joinable()) capture_thread_.join();
   if (estimate_thread_.joinable()) estimate_thread_.join();
@@ -211,6 +214,7 @@ void PosePipeline::EstimateLoop() {
       latest_ = std::move(published);
     }
     published_cv_.notify_all();
+    if (signal_ != nullptr) signal_->Notify();
   }
 }
 

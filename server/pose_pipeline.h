@@ -16,6 +16,7 @@
 #include "server/daemon_config.h"
 #include "server/frame_queue.h"
 #include "server/frame_source.h"
+#include "server/publish_signal.h"
 
 namespace hpose::server {
 
@@ -66,9 +67,10 @@ struct PipelineStatus {
 class PosePipeline {
  public:
   // `source` may be null (no source: state kNone). `estimator` is used by the estimation
-  // thread only.
+  // thread only. `signal`, when not null, is notified after every publication and on Stop(); it
+  // must outlive the pipeline.
   PosePipeline(std::unique_ptr<FrameSource> source, std::unique_ptr<Estimator> estimator,
-               SourceConfig config);
+               SourceConfig config, PublishSignal* signal = nullptr);
   ~PosePipeline();
 
   PosePipeline(const PosePipeline&) = delete;
@@ -103,6 +105,7 @@ class PosePipeline {
   std::unique_ptr<FrameSource> source_;
   std::unique_ptr<Estimator> estimator_;
   const SourceConfig config_;
+  PublishSignal* const signal_;
   FrameQueue queue_;
 
   std::thread capture_thread_;

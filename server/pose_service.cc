@@ -4,6 +4,8 @@
 #include <utility>
 
 #include "server/proto_convert.h"
+#include "server/stereo_proto_convert.h"
+#include "server/world_frame.h"
 
 namespace hpose::server {
 
@@ -37,6 +39,60 @@ v1::SourceState ToProtoState(SourceState s) {
       return v1::SOURCE_STATE_FAILED;
   }
   return v1::SOURCE_STATE_UNSPECIFIED;
+}
+
+void FillSourceStatus(const PipelineStatus& s, v1::SourceStatus* src) {
+  src->set_description(s.description);
+  src->set_kind(s.kind);
+  src->set_state(ToProtoState(s.state));
+  src->set_state_reason(s.reason);
+  src->set_frames_in(s.frames_in);
+  src->set_frames_dropped(s.frames_dropped);
+  src->set_frames_estimated(s.frames_estimated);
+  src->set_frames_failed(s.frames_failed);
+  src->set_reconnects(s.reconnects);
+  src->set_input_rate(s.input_rate_hz);
+  src->set_estimate_rate(s.estimate_rate_hz);
+}
+
+void FillLatency(const PipelineStatus& s, v1::LatencyStatus* lat) {
+  lat->set_median(s.latency_median_s);
+  lat->set_p99(s.latency_p99_s);
+  lat->set_last(s.latency_last_s);
+  lat->set_samples(s.latency_samples);
+}
+
+const char* EstimatorName(v1::EstimatorKind kind) {
+  return kind == v1::ESTIMATOR_KIND_STEREO_MARKER ? "stereo-marker" : "depth-template";
+}
+
+// GetLatest on one pipeline (PosePipeline or StereoPipeline): the newest estimate, waiting for
+// one with a sequence above `after` within the deadline when `after` > 0.
+template <typename Pipeline, typename Published>
+grpc::Status LatestFrom(const Pipeline& pipeline, grpc::ServerContext* context, std::uint64_t after,
+                        Clock::time_point deadline, const std::atomic<bool>& shutting_down,
+                        std::shared_ptr<const Published>* out) {
+  std::shared_ptr<const Published> latest = pipeline.Latest();
+  while (after > 0 && (!latest || latest->sequence <= after)) {
+    if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "cancelled");
+    const Clock::time_point now = Clock::now();
+    if (now >= deadline) {
+      return grpc::Status(
+          grpc::StatusCode::DEADLINE_EXCEEDED,
+          "no estimate after sequence " + std::to_string(after) + " before the deadline");
+    }
+    if (shutting_down) return grpc::Status(grpc::StatusCode::UNAVAILABLE, "shutting down");
+    latest = pipeline.WaitNewer(latest ? latest->publish_id : 0,
+                                std::min(deadline, now + std::chrono::milliseconds(100)));
+  }
+  if (!latest) {
+    const PipelineStatus s = pipeline.Status();
+    return grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                        std::string("no estimate yet (source ") + SourceStateName(s.state) +
+                            (s.reason.empty() ? "" : ": " + s.reason) + ")");
+  }
+  *out = std::move(latest);
+  return grpc::Status::OK;
 }
 
 }  // namespace
@@ -77,13 +133,36 @@ PoseServiceImpl::PoseServiceImpl(PosePipeline* pipeline, EstimatorPool* pool,
       version_(std::move(version)),
       start_(Clock::now()) {}
 
+void PoseServiceImpl::AttachStereo(StereoPipeline* pipeline, const StereoEstimator* estimator) {
+  stereo_pipeline_ = pipeline;
+  stereo_estimator_ = estimator;
+}
+
+void PoseServiceImpl::SetWorldFromGround(const Pose2D& world_from_ground) {
+  has_world_from_ground_ = true;
+  world_from_ground_ = world_from_ground;
+}
+
 void PoseServiceImpl::ToProto(const PublishedEstimate& e, v1::PoseEstimate* out) const {
   FillPoseEstimate(e.sequence, e.source_time_s, e.received, e.origin, e.ok ? &e.estimate : nullptr,
                    e.ok ? nullptr : &e.error, out);
+  if (has_world_from_ground_) AddDepthWorldFrame(world_from_ground_, out);
   out->mutable_timings()->set_queue(e.queue_s);
   out->mutable_timings()->set_latency(e.latency_s);
   std::string reason;
   if (pipeline_->IsStale(e, &reason)) {
+    out->set_stale(true);
+    out->set_stale_reason(reason);
+  }
+}
+
+void PoseServiceImpl::ToProto(const PublishedStereoEstimate& e, v1::PoseEstimate* out) const {
+  FillStereoPoseEstimate(e.sequence, e.source_time_s, e.received, e.origin,
+                         e.ok ? &e.frame : nullptr, e.ok ? &e.track : nullptr,
+                         e.ok ? nullptr : &e.error, e.process_s, out);
+  out->mutable_timings()->set_latency(e.latency_s);
+  std::string reason;
+  if (stereo_pipeline_->IsStale(e, &reason)) {
     out->set_stale(true);
     out->set_stale_reason(reason);
   }
@@ -127,6 +206,43 @@ grpc::Status PoseServiceImpl::Estimate(grpc::ServerContext* context,
   const std::uint64_t seq = ++estimate_calls_;
   v1::PoseEstimate* out = response->mutable_estimate();
   FillPoseEstimate(seq, request->source_time(), received, "request", &*result, nullptr, out);
+  if (has_world_from_ground_) AddDepthWorldFrame(world_from_ground_, out);
+  out->mutable_timings()->set_latency(std::chrono::duration<double>(Clock::now() - start).count());
+  return grpc::Status::OK;
+}
+
+grpc::Status PoseServiceImpl::EstimateStereo(grpc::ServerContext* context,
+                                             const v1::EstimateStereoRequest* request,
+                                             v1::EstimateResponse* response) {
+  const Clock::time_point deadline = SteadyDeadline(context);
+  const auto received = std::chrono::system_clock::now();
+  const Clock::time_point start = Clock::now();
+  if (start >= deadline) {
+    return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED, "deadline passed");
+  }
+  if (stereo_estimator_ == nullptr) {
+    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                        "the daemon has no stereo calibration (start it with "
+                        "--stereo-calibration FILE or --stereo-source DIR)");
+  }
+  if (!request->has_left() || !request->has_right()) {
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                        std::string("request is missing the ") +
+                            (request->has_left() ? "right" : "left") + " image");
+  }
+  Result<RgbImage> left = ColorImageFromProto(request->left(), "left");
+  if (!left.ok()) return ToGrpcStatus(left.error());
+  Result<RgbImage> right = ColorImageFromProto(request->right(), "right");
+  if (!right.ok()) return ToGrpcStatus(right.error());
+  const Clock::time_point process_start = Clock::now();
+  Result<StereoFrameResult> result =
+      stereo_estimator_->Process(*left, *right, request->source_time());
+  const double process_s = std::chrono::duration<double>(Clock::now() - process_start).count();
+  if (!result.ok()) return ToGrpcStatus(result.error());
+  const std::uint64_t seq = ++estimate_stereo_calls_;
+  v1::PoseEstimate* out = response->mutable_estimate();
+  FillStereoPoseEstimate(seq, request->source_time(), received, "request", &*result, nullptr,
+                         nullptr, process_s, out);
   out->mutable_timings()->set_latency(std::chrono::duration<double>(Clock::now() - start).count());
   return grpc::Status::OK;
 }
@@ -134,31 +250,37 @@ grpc::Status PoseServiceImpl::Estimate(grpc::ServerContext* context,
 grpc::Status PoseServiceImpl::GetLatest(grpc::ServerContext* context,
                                         const v1::GetLatestRequest* request,
                                         v1::GetLatestResponse* response) {
-  if (!pipeline_->has_source()) {
-    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
-                        "the daemon has no source; send frames with Estimate");
+  v1::EstimatorKind kind = request->estimator();
+  if (kind == v1::ESTIMATOR_KIND_UNSPECIFIED) {
+    kind = pipeline_->has_source() || stereo_pipeline_ == nullptr
+               ? v1::ESTIMATOR_KIND_DEPTH_TEMPLATE
+               : v1::ESTIMATOR_KIND_STEREO_MARKER;
   }
   const Clock::time_point deadline = SteadyDeadline(context);
-  std::shared_ptr<const PublishedEstimate> latest = pipeline_->Latest();
-  const std::uint64_t after = request->after_sequence();
-  while (after > 0 && (!latest || latest->sequence <= after)) {
-    if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "cancelled");
-    const Clock::time_point now = Clock::now();
-    if (now >= deadline) {
-      return grpc::Status(
-          grpc::StatusCode::DEADLINE_EXCEEDED,
-          "no estimate after sequence " + std::to_string(after) + " before the deadline");
+  if (kind == v1::ESTIMATOR_KIND_DEPTH_TEMPLATE) {
+    if (!pipeline_->has_source()) {
+      return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                          "the daemon has no depth source; send frames with Estimate");
     }
-    if (shutting_down_) return grpc::Status(grpc::StatusCode::UNAVAILABLE, "shutting down");
-    latest = pipeline_->WaitNewer(latest ? latest->publish_id : 0,
-                                  std::min(deadline, now + std::chrono::milliseconds(100)));
+    std::shared_ptr<const PublishedEstimate> latest;
+    grpc::Status s = LatestFrom(*pipeline_, context, request->after_sequence(), deadline,
+                                shutting_down_, &latest);
+    if (!s.ok()) return s;
+    ToProto(*latest, response->mutable_estimate());
+    return grpc::Status::OK;
   }
-  if (!latest) {
-    const PipelineStatus s = pipeline_->Status();
-    return grpc::Status(grpc::StatusCode::UNAVAILABLE,
-                        std::string("no estimate yet (source ") + SourceStateName(s.state) +
-                            (s.reason.empty() ? "" : ": " + s.reason) + ")");
+  if (kind != v1::ESTIMATOR_KIND_STEREO_MARKER) {
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                        "estimator: unknown value " + std::to_string(static_cast<int>(kind)));
   }
+  if (stereo_pipeline_ == nullptr) {
+    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                        "the daemon has no stereo source (start it with --stereo-source DIR)");
+  }
+  std::shared_ptr<const PublishedStereoEstimate> latest;
+  grpc::Status s = LatestFrom(*stereo_pipeline_, context, request->after_sequence(), deadline,
+                              shutting_down_, &latest);
+  if (!s.ok()) return s;
   ToProto(*latest, response->mutable_estimate());
   return grpc::Status::OK;
 }
@@ -166,25 +288,75 @@ grpc::Status PoseServiceImpl::GetLatest(grpc::ServerContext* context,
 grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
                                           const v1::StreamPosesRequest* request,
                                           grpc::ServerWriter<v1::PoseEstimate>* writer) {
-  if (!pipeline_->has_source()) {
+  bool want_depth = request->estimators().empty() && pipeline_->has_source();
+  bool want_stereo = request->estimators().empty() && stereo_pipeline_ != nullptr;
+  for (const int k : request->estimators()) {
+    const auto kind = static_cast<v1::EstimatorKind>(k);
+    const bool present = kind == v1::ESTIMATOR_KIND_DEPTH_TEMPLATE  ? pipeline_->has_source()
+                         : kind == v1::ESTIMATOR_KIND_STEREO_MARKER ? stereo_pipeline_ != nullptr
+                                                                    : false;
+    if (kind != v1::ESTIMATOR_KIND_DEPTH_TEMPLATE && kind != v1::ESTIMATOR_KIND_STEREO_MARKER) {
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                          "estimators: unknown value " + std::to_string(k));
+    }
+    if (!present) {
+      return grpc::Status(
+          grpc::StatusCode::FAILED_PRECONDITION,
+          std::string("the daemon has no source for the ") + EstimatorName(kind) + " estimator");
+    }
+    (kind == v1::ESTIMATOR_KIND_DEPTH_TEMPLATE ? want_depth : want_stereo) = true;
+  }
+  if (!want_depth && !want_stereo) {
     return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
                         "the daemon has no source; send frames with Estimate");
   }
   const Clock::time_point deadline = SteadyDeadline(context);
-  std::uint64_t last_id = 0;
-  if (auto latest = pipeline_->Latest()) last_id = latest->publish_id;  // only new ones.
+  std::uint64_t last_depth = 0, last_stereo = 0;  // only estimates published from now on.
+  if (want_depth) {
+    if (auto latest = pipeline_->Latest()) last_depth = latest->publish_id;
+  }
+  if (want_stereo) {
+    if (auto latest = stereo_pipeline_->Latest()) last_stereo = latest->publish_id;
+  }
   std::uint32_t sent = 0;
+  const std::uint32_t max = request->max_estimates();
   while (!context->IsCancelled() && !shutting_down_) {
     const Clock::time_point now = Clock::now();
     if (now >= deadline) break;
-    std::shared_ptr<const PublishedEstimate> e =
-        pipeline_->WaitNewer(last_id, std::min(deadline, now + std::chrono::milliseconds(100)));
-    if (!e || e->publish_id <= last_id) continue;
-    last_id = e->publish_id;
-    v1::PoseEstimate msg;
-    ToProto(*e, &msg);
-    if (!writer->Write(msg)) break;  // the client went away.
-    if (request->max_estimates() > 0 && ++sent >= request->max_estimates()) break;
+    const std::uint64_t seen = signal_ != nullptr ? signal_->count() : 0;
+    bool wrote = false, done = false;
+    if (want_depth) {
+      std::shared_ptr<const PublishedEstimate> e = pipeline_->Latest();
+      if (e && e->publish_id > last_depth) {
+        last_depth = e->publish_id;
+        v1::PoseEstimate msg;
+        ToProto(*e, &msg);
+        if (!writer->Write(msg)) break;  // the client went away.
+        wrote = true;
+        done = max > 0 && ++sent >= max;
+      }
+    }
+    if (want_stereo && !done) {
+      std::shared_ptr<const PublishedStereoEstimate> e = stereo_pipeline_->Latest();
+      if (e && e->publish_id > last_stereo) {
+        last_stereo = e->publish_id;
+        v1::PoseEstimate msg;
+        ToProto(*e, &msg);
+        if (!writer->Write(msg)) break;
+        wrote = true;
+        done = max > 0 && ++sent >= max;
+      }
+    }
+    if (done) break;
+    if (wrote) continue;
+    const Clock::time_point wait_until = std::min(deadline, now + std::chrono::milliseconds(100));
+    if (signal_ != nullptr) {
+      signal_->WaitChange(seen, wait_until);
+    } else if (want_depth) {
+      pipeline_->WaitNewer(last_depth, wait_until);
+    } else {
+      stereo_pipeline_->WaitNewer(last_stereo, wait_until);
+    }
   }
   if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "cancelled");
   if (shutting_down_) return grpc::Status(grpc::StatusCode::UNAVAILABLE, "daemon shutting down");
@@ -212,23 +384,24 @@ grpc::Status PoseServiceImpl::GetStatus(grpc::ServerContext* /*context*/,
   const PipelineStatus s = pipeline_->Status();
   response->set_version(version_);
   response->set_uptime(std::chrono::duration<double>(Clock::now() - start_).count());
-  v1::SourceStatus* src = response->mutable_source();
-  src->set_description(s.description);
-  src->set_kind(s.kind);
-  src->set_state(ToProtoState(s.state));
-  src->set_state_reason(s.reason);
-  src->set_frames_in(s.frames_in);
-  src->set_frames_dropped(s.frames_dropped);
-  src->set_frames_estimated(s.frames_estimated);
-  src->set_frames_failed(s.frames_failed);
-  src->set_reconnects(s.reconnects);
-  src->set_input_rate(s.input_rate_hz);
-  src->set_estimate_rate(s.estimate_rate_hz);
-  v1::LatencyStatus* lat = response->mutable_latency();
-  lat->set_median(s.latency_median_s);
-  lat->set_p99(s.latency_p99_s);
-  lat->set_last(s.latency_last_s);
-  lat->set_samples(s.latency_samples);
+  FillSourceStatus(s, response->mutable_source());
+  FillLatency(s, response->mutable_latency());
+  if (stereo_pipeline_ != nullptr) {
+    const PipelineStatus st = stereo_pipeline_->Status();
+    FillSourceStatus(st, response->mutable_stereo_source());
+    FillLatency(st, response->mutable_stereo_latency());
+  } else {
+    response->mutable_stereo_source()->set_state(v1::SOURCE_STATE_NONE);
+    response->mutable_stereo_source()->set_state_reason("no stereo source configured");
+  }
+  response->set_stereo_calibrated(stereo_estimator_ != nullptr);
+  response->set_estimate_stereo_calls(estimate_stereo_calls_.load());
+  if (has_world_from_ground_) {
+    v1::Pose2D* w = response->mutable_world_from_ground();
+    w->set_x(world_from_ground_.x);
+    w->set_y(world_from_ground_.y);
+    w->set_theta(world_from_ground_.theta);
+  }
   response->set_floor_mode(floor_mode_);
   if (s.has_floor) {
     FloorToProto(s.last_floor, response->mutable_floor());

@@ -8,10 +8,14 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include "core/common/pose2d.h"
 #include "core/common/status.h"
+#include "core/stereo/stereo_estimator.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
 #include "server/estimator_pool.h"
 #include "server/pose_pipeline.h"
+#include "server/publish_signal.h"
+#include "server/stereo_pipeline.h"
 
 namespace hpose::server {
 
@@ -19,14 +23,26 @@ namespace hpose::server {
 grpc::Status ToGrpcStatus(const Error& error);
 
 // hpose.v1.PoseService on top of the daemon's pipeline (its own source) and an estimator pool
-// (Estimate calls). Both must outlive the service.
+// (Estimate calls), optionally a stereo pipeline and stereo estimator (EstimateStereo calls).
+// Everything passed in must outlive the service; the Attach/Set calls come before serving.
 class PoseServiceImpl final : public v1::PoseService::Service {
  public:
   PoseServiceImpl(PosePipeline* pipeline, EstimatorPool* pool, std::string floor_mode,
                   std::string version);
 
+  // The stereo source's pipeline (may be null: no stereo source) and the estimator used for
+  // EstimateStereo calls (may be null: no calibration; the calls then fail).
+  void AttachStereo(StereoPipeline* pipeline, const StereoEstimator* estimator);
+  // Report depth-template poses also in the world frame.
+  void SetWorldFromGround(const Pose2D& world_from_ground);
+  // Notified by both pipelines; lets a stream of both estimators wait for either.
+  void SetPublishSignal(const PublishSignal* signal) { signal_ = signal; }
+
   grpc::Status Estimate(grpc::ServerContext* context, const v1::EstimateRequest* request,
                         v1::EstimateResponse* response) override;
+  grpc::Status EstimateStereo(grpc::ServerContext* context,
+                              const v1::EstimateStereoRequest* request,
+                              v1::EstimateResponse* response) override;
   grpc::Status GetLatest(grpc::ServerContext* context, const v1::GetLatestRequest* request,
                          v1::GetLatestResponse* response) override;
   grpc::Status StreamPoses(grpc::ServerContext* context, const v1::StreamPosesRequest* request,
@@ -41,14 +57,21 @@ class PoseServiceImpl final : public v1::PoseService::Service {
 
  private:
   void ToProto(const PublishedEstimate& e, v1::PoseEstimate* out) const;
+  void ToProto(const PublishedStereoEstimate& e, v1::PoseEstimate* out) const;
 
   PosePipeline* pipeline_;
+  StereoPipeline* stereo_pipeline_ = nullptr;
+  const StereoEstimator* stereo_estimator_ = nullptr;
+  const PublishSignal* signal_ = nullptr;
+  bool has_world_from_ground_ = false;
+  Pose2D world_from_ground_;
   EstimatorPool* pool_;
   const std::string floor_mode_;
   const std::string version_;
   const std::chrono::steady_clock::time_point start_;
   std::atomic<bool> shutting_down_{false};
   std::atomic<std::uint64_t> estimate_calls_{0};
+  std::atomic<std::uint64_t> estimate_stereo_calls_{0};
 };
 
 }  // namespace hpose::server

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -16,8 +17,10 @@
 #include "core/io/cloud_io.h"
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
+#include "core/stereo/rgb_image_io.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
 #include "server/proto_convert.h"
+#include "server/stereo_proto_convert.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
@@ -57,40 +60,137 @@ int Fail(const std::string& what, const grpc::Status& s) {
   return ExitFor(s);
 }
 
-// One line per estimate for people: millimetres and degrees, labelled.
+std::string PoseText(const char* label, const v1::Pose2D& p) {
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), "%sx %.0f mm  y %.0f mm  theta %.1f deg", label, p.x() * 1000.0,
+                p.y() * 1000.0, RadToDeg(p.theta()));
+  return buf;
+}
+
+std::string DescribeDepth(const v1::PoseEstimate& e) {
+  const v1::DepthTemplateResult& r = e.depth_template();
+  std::string line;
+  char buf[512];
+  if (r.detections_size() == 0) {
+    line += "  no cluster matched";
+  } else {
+    const v1::Detection& d = r.best();
+    const v1::Candidate& c = d.best();
+    std::snprintf(buf, sizeof(buf), "  %s%s  %s  score %.1f  margin %.1f",
+                  c.template_name().c_str(), d.is_humanoid() ? "" : " (below threshold)",
+                  PoseText("", c.pose()).c_str(), c.score(), d.template_margin());
+    line += buf;
+    if (c.has_runner_up()) {
+      std::snprintf(buf, sizeof(buf), "  runner-up theta %.1f deg (-%.1f)",
+                    RadToDeg(c.runner_up_pose().theta()), c.runner_up_margin());
+      line += buf;
+    }
+    if (e.has_robot_pose_world()) line += "  | " + PoseText("world ", e.robot_pose_world());
+  }
+  return line;
+}
+
+std::string DescribeStereo(const v1::PoseEstimate& e) {
+  const v1::StereoMarkerResult& r = e.stereo_marker();
+  std::string line;
+  char buf[512];
+  if (r.robot_found()) {
+    line += "  | " + PoseText("world ", r.robot_pose_world());
+    if (r.has_robot_pose_world_mean()) {
+      std::snprintf(buf, sizeof(buf), "  (mean of %d: x %.0f mm  y %.0f mm  theta %.1f deg)",
+                    r.robot_mean_frames(), r.robot_pose_world_mean().x() * 1000.0,
+                    r.robot_pose_world_mean().y() * 1000.0,
+                    RadToDeg(r.robot_pose_world_mean().theta()));
+      line += buf;
+    }
+  } else {
+    line += "  no robot pose (" + r.status() + "): " + r.status_reason();
+  }
+  if (r.object_found()) {
+    const v1::Vector3& o = r.object_position_world();
+    std::snprintf(buf, sizeof(buf), "  ball x %.0f mm  y %.0f mm  %s", o.x() * 1000.0,
+                  o.y() * 1000.0, r.object_moving() ? "MOVING" : "at rest");
+    line += buf;
+    if (r.has_path()) {
+      std::snprintf(buf, sizeof(buf), "  v (%.0f, %.0f) mm/s", r.path().velocity().x() * 1000.0,
+                    r.path().velocity().y() * 1000.0);
+      line += buf;
+      if (r.path().has_closest_approach()) {
+        std::snprintf(buf, sizeof(buf), ", passes %.0f mm from the robot in %.2f s",
+                      r.path().closest_approach_distance() * 1000.0,
+                      r.path().closest_approach_time() - e.source_time());
+        line += buf;
+      }
+    }
+  }
+  return line;
+}
+
+// One line per estimate for people: millimetres and degrees, labelled; world-frame poses after
+// a '|'.
 std::string Describe(const v1::PoseEstimate& e) {
   char buf[512];
   std::string line;
-  std::snprintf(buf, sizeof(buf), "seq %llu  t %.3f s",
+  const bool stereo = e.estimator() == v1::ESTIMATOR_KIND_STEREO_MARKER;
+  std::snprintf(buf, sizeof(buf), "%-6s seq %llu  t %.3f s", stereo ? "stereo" : "depth",
                 static_cast<unsigned long long>(e.sequence()), e.source_time());
   line = buf;
   if (e.has_error() && !e.error().code().empty()) {
     line += "  no estimate: " + e.error().message();
   } else if (e.has_depth_template()) {
-    const v1::DepthTemplateResult& r = e.depth_template();
-    if (r.detections_size() == 0) {
-      line += "  no cluster matched";
-    } else {
-      const v1::Detection& d = r.best();
-      const v1::Candidate& c = d.best();
-      std::snprintf(buf, sizeof(buf),
-                    "  %s%s  x %.0f mm  y %.0f mm  theta %.1f deg  score %.1f  margin %.1f",
-                    c.template_name().c_str(), d.is_humanoid() ? "" : " (below threshold)",
-                    c.pose().x() * 1000.0, c.pose().y() * 1000.0, RadToDeg(c.pose().theta()),
-                    c.score(), d.template_margin());
-      line += buf;
-      if (c.has_runner_up()) {
-        std::snprintf(buf, sizeof(buf), "  runner-up theta %.1f deg (-%.1f)",
-                      RadToDeg(c.runner_up_pose().theta()), c.runner_up_margin());
-        line += buf;
-      }
-    }
-    std::snprintf(buf, sizeof(buf), "  [%.0f ms]", e.timings().total() * 1000.0);
+    line += DescribeDepth(e);
+  } else if (e.has_stereo_marker()) {
+    line += DescribeStereo(e);
+  }
+  if (!e.has_error() || e.error().code().empty()) {
+    std::snprintf(buf, sizeof(buf), "  [%.1f ms]", e.timings().total() * 1000.0);
     line += buf;
   }
   if (e.stale()) line += "  STALE: " + e.stale_reason();
   return line;
 }
+
+// Side by side: the newest world-frame pose of each estimator and their difference.
+class Comparison {
+ public:
+  std::string Update(const v1::PoseEstimate& e) {
+    const bool stereo = e.estimator() == v1::ESTIMATOR_KIND_STEREO_MARKER;
+    Slot& slot = stereo ? stereo_ : depth_;
+    slot.sequence = e.sequence();
+    slot.valid = e.has_robot_pose_world();
+    if (slot.valid) slot.pose = e.robot_pose_world();
+    char buf[512];
+    std::snprintf(buf, sizeof(buf), "%-6s t %8.3f s  depth %s  stereo %s",
+                  stereo ? "stereo" : "depth", e.source_time(), Text(depth_).c_str(),
+                  Text(stereo_).c_str());
+    std::string line = buf;
+    if (depth_.valid && stereo_.valid) {
+      const double dx = depth_.pose.x() - stereo_.pose.x();
+      const double dy = depth_.pose.y() - stereo_.pose.y();
+      std::snprintf(buf, sizeof(buf), "  diff %6.0f mm %6.1f deg", std::hypot(dx, dy) * 1000.0,
+                    RadToDeg(AngleDiff(depth_.pose.theta(), stereo_.pose.theta())));
+      line += buf;
+    }
+    return line;
+  }
+
+ private:
+  struct Slot {
+    bool valid = false;
+    std::uint64_t sequence = 0;
+    v1::Pose2D pose;
+  };
+  static std::string Text(const Slot& s) {
+    if (!s.valid)
+      return s.sequence == 0 ? "(none yet)                     "
+                             : "(not located)                  ";
+    char buf[96];
+    std::snprintf(buf, sizeof(buf), "%6.0f %6.0f mm %6.1f deg", s.pose.x() * 1000.0,
+                  s.pose.y() * 1000.0, RadToDeg(s.pose.theta()));
+    return std::string(buf) + "      ";
+  }
+  Slot depth_, stereo_;
+};
 
 void PrintEstimate(const v1::PoseEstimate& e, bool json) {
   std::cout << (json ? ToJson(e) : Describe(e)) << std::endl;
@@ -136,28 +236,41 @@ Result<v1::EstimateRequest> MakeRequest(const std::string& path,
 }  // namespace
 
 int RunQuery(int argc, char** argv) {
-  std::string server = "127.0.0.1:50051", intrinsics;
+  std::string server = "127.0.0.1:50051", intrinsics, estimator = "all";
   std::vector<std::string> templates;
-  bool json = false;
+  bool json = false, compare = false;
   int count = 0;
   double timeout_s = 10.0;
   FlagParser flags(
-      "hpose query [--server ADDR] (latest | stream | estimate FILE | status | templates)",
-      "Asks a running hposed. latest: the newest estimate of the daemon's source; stream: "
-      "estimates as they are made, until Ctrl-C (or --count); estimate FILE: sends a depth PNG "
-      "(millimetres; intrinsics.json beside it or --intrinsics) or a PCD cloud and prints the "
-      "estimate; status: source state, counters, rates, latency, floor; templates: the loaded "
-      "templates. Poses are printed in mm and degrees; --json prints the API messages (SI units).");
+      "hpose query [--server ADDR] (latest | stream | estimate FILE | estimate-stereo LEFT RIGHT "
+      "| status | templates)",
+      "Asks a running hposed. latest: the newest estimate of the daemon's source (--estimator); "
+      "stream: estimates of both estimators as they are made, each line marked depth or stereo, "
+      "until Ctrl-C (or --count); with --compare each line shows the newest world-frame robot "
+      "pose of both estimators side by side and their difference; estimate FILE: sends a depth "
+      "PNG (millimetres; intrinsics.json beside it or --intrinsics) or a PCD cloud and prints "
+      "the estimate; estimate-stereo LEFT RIGHT: sends a stereo pair of colour images to the "
+      "stereo-marker estimator; status: source states, counters, rates, latency, floor, world "
+      "frame; templates: the loaded templates. Poses are printed in mm and degrees, world-frame "
+      "poses after a '|'; --json prints the API messages (SI units).");
   flags.AddString("server", &server, "daemon address", "ADDR");
   flags.AddBool("json", &json, "print JSON (one object per line) instead of text");
   flags.AddInt("count", &count, "stream: stop after N estimates (0 = until Ctrl-C)", "N");
   flags.AddDouble("timeout", &timeout_s, "deadline of each call, seconds (stream: none)", "S");
   flags.AddString("intrinsics", &intrinsics, "estimate: intrinsics.json of a PNG", "FILE");
+  flags.AddString("estimator", &estimator,
+                  "latest, stream: depth, stereo or all (latest: all = the depth source when "
+                  "there is one)",
+                  "NAME");
+  flags.AddBool("compare", &compare,
+                "stream: both estimators' world-frame poses side by side (text output)");
   flags.AddStrings("template", &templates, "estimate: only these templates (repeatable)", "NAME");
-  flags.AllowPositional("COMMAND [FILE]");
+  flags.AllowPositional("COMMAND [FILE...]");
   flags.SetEpilog(
       "examples:\n  hpose query status\n  hpose query stream --count 10\n"
-      "  hpose query --server 127.0.0.1:50051 estimate frames/depth_000.png\n");
+      "  hpose query stream --compare\n"
+      "  hpose query --server 127.0.0.1:50051 estimate frames/depth_000.png\n"
+      "  hpose query estimate-stereo seq/left/000000.png seq/right/000000.png\n");
   switch (flags.Parse(argc, argv)) {
     case FlagParser::Outcome::kHelpShown:
       return kExitOk;
@@ -172,9 +285,23 @@ int RunQuery(int argc, char** argv) {
     return kExitUsage;
   }
   const std::string& cmd = args[0];
-  if ((cmd == "estimate") != (args.size() == 2) || args.size() > 2) {
+  const size_t files = cmd == "estimate" ? 1 : cmd == "estimate-stereo" ? 2 : 0;
+  if (args.size() != files + 1) {
     std::cerr << "hpose query: "
-              << (cmd == "estimate" ? "estimate needs one FILE" : "unexpected argument") << "\n";
+              << (cmd == "estimate"          ? "estimate needs one FILE"
+                  : cmd == "estimate-stereo" ? "estimate-stereo needs LEFT and RIGHT images"
+                                             : "unexpected argument")
+              << "\n";
+    return kExitUsage;
+  }
+  v1::EstimatorKind kind = v1::ESTIMATOR_KIND_UNSPECIFIED;
+  if (estimator == "depth") {
+    kind = v1::ESTIMATOR_KIND_DEPTH_TEMPLATE;
+  } else if (estimator == "stereo") {
+    kind = v1::ESTIMATOR_KIND_STEREO_MARKER;
+  } else if (estimator != "all") {
+    std::cerr << "hpose query: --estimator must be depth, stereo or all, got '" << estimator
+              << "'\n";
     return kExitUsage;
   }
 
@@ -196,7 +323,9 @@ int RunQuery(int argc, char** argv) {
     grpc::ClientContext ctx;
     SetDeadline(&ctx, timeout_s);
     v1::GetLatestResponse response;
-    grpc::Status s = stub->GetLatest(&ctx, v1::GetLatestRequest(), &response);
+    v1::GetLatestRequest request;
+    request.set_estimator(kind);
+    grpc::Status s = stub->GetLatest(&ctx, request, &response);
     if (!s.ok()) return Fail("latest", s);
     PrintEstimate(response.estimate(), json);
     return kExitOk;
@@ -205,6 +334,8 @@ int RunQuery(int argc, char** argv) {
     grpc::ClientContext ctx;
     v1::StreamPosesRequest request;
     request.set_max_estimates(count > 0 ? static_cast<std::uint32_t>(count) : 0);
+    if (kind != v1::ESTIMATOR_KIND_UNSPECIFIED) request.add_estimators(kind);
+    Comparison comparison;
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
     std::atomic<bool> done{false};
@@ -216,7 +347,11 @@ int RunQuery(int argc, char** argv) {
     v1::PoseEstimate e;
     long received = 0;
     while (reader->Read(&e)) {
-      PrintEstimate(e, json);
+      if (compare && !json) {
+        std::cout << comparison.Update(e) << std::endl;
+      } else {
+        PrintEstimate(e, json);
+      }
       ++received;
     }
     grpc::Status s = reader->Finish();
@@ -241,6 +376,21 @@ int RunQuery(int argc, char** argv) {
     PrintEstimate(response.estimate(), json);
     const auto& r = response.estimate().depth_template();
     return r.humanoid_found() ? kExitOk : kExitNoHumanoid;
+  }
+  if (cmd == "estimate-stereo") {
+    v1::EstimateStereoRequest request;
+    for (int i = 0; i < 2; ++i) {
+      Result<RgbImage> image = ReadRgbImage(args[1 + i]);
+      if (!image.ok()) return ReportError("query", image.error());
+      server::ColorImageToProto(*image, i == 0 ? request.mutable_left() : request.mutable_right());
+    }
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, timeout_s);
+    v1::EstimateResponse response;
+    grpc::Status s = stub->EstimateStereo(&ctx, request, &response);
+    if (!s.ok()) return Fail("estimate-stereo", s);
+    PrintEstimate(response.estimate(), json);
+    return response.estimate().stereo_marker().robot_found() ? kExitOk : kExitNoHumanoid;
   }
   if (cmd == "status") {
     grpc::ClientContext ctx;
@@ -273,6 +423,28 @@ int RunQuery(int argc, char** argv) {
     std::printf("floor (%s): height %.0f mm, pitch %.1f deg, roll %.1f deg\n",
                 st.floor_mode().c_str(), st.floor().height() * 1e3, RadToDeg(st.floor().pitch()),
                 RadToDeg(st.floor().roll()));
+    const v1::SourceStatus& ss = st.stereo_source();
+    std::printf("stereo source: %s (%s) %s%s%s%s\n",
+                ss.description().empty() ? "(none)" : ss.description().c_str(), ss.kind().c_str(),
+                v1::SourceState_Name(ss.state()).c_str(), ss.state_reason().empty() ? "" : ": ",
+                ss.state_reason().c_str(), st.stereo_calibrated() ? ", calibrated" : "");
+    if (ss.state() != v1::SOURCE_STATE_NONE) {
+      std::printf(
+          "stereo pairs: in %llu, dropped %llu, with pose %llu, without %llu; "
+          "rate %.1f Hz; latency median %.1f ms\n",
+          static_cast<unsigned long long>(ss.frames_in()),
+          static_cast<unsigned long long>(ss.frames_dropped()),
+          static_cast<unsigned long long>(ss.frames_estimated()),
+          static_cast<unsigned long long>(ss.frames_failed()), ss.estimate_rate(),
+          st.stereo_latency().median() * 1e3);
+    }
+    if (st.has_world_from_ground()) {
+      std::printf("world_from_ground: x %.0f mm, y %.0f mm, yaw %.1f deg\n",
+                  st.world_from_ground().x() * 1e3, st.world_from_ground().y() * 1e3,
+                  RadToDeg(st.world_from_ground().theta()));
+    } else {
+      std::printf("world_from_ground: not configured (depth poses in the ground frame only)\n");
+    }
     return kExitOk;
   }
   if (cmd == "templates") {

@@ -69,6 +69,12 @@ double FootprintRadius(const HumanoidModel& m) {
 }  // namespace
 
 int RunSimulate(int argc, char** argv) {
+  // `hpose simulate stereo ...` renders stereo pairs: the same as `hpose simulate-stereo ...`.
+  if (argc >= 2 && std::string(argv[1]) == "stereo") {
+    std::string prog = "hpose simulate stereo";
+    argv[1] = prog.data();
+    return RunSimulateStereo(argc - 1, argv + 1);
+  }
   std::string out_dir;
   double x = 1.0, y = 0.0, theta_deg = 0.0;
   std::string pose_name = "standing";

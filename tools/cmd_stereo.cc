@@ -146,8 +146,8 @@ int RunEstimateStereo(int argc, char** argv) {
   flags.AddBool("json", &json, "print one JSON object per frame (SI units) instead of text");
   flags.SetEpilog(
       "exit status: 0 ok; 1 bad input; 2 usage; 3 a single pair gave no robot pose.\n"
-      "example:\n  hpose simulate-stereo --out /tmp/seq && hpose estimate-stereo --sequence "
-      "/tmp/seq\n");
+      "example:\n  hpose simulate stereo --out /tmp/seq && hpose estimate-stereo --sequence "
+      "/tmp/seq --json\n");
   switch (flags.Parse(argc, argv)) {
     case FlagParser::Outcome::kHelpShown:
       return kExitOk;
@@ -205,6 +205,8 @@ int RunEstimateStereo(int argc, char** argv) {
 
   const size_t n = single ? 1 : seq->size();
   size_t ok_frames = 0;
+  StereoFrameStatus last_status = StereoFrameStatus::kOk;
+  std::string last_reason;
   for (size_t i = 0; i < n; ++i) {
     RgbImage l, r;
     double t = 0.0;
@@ -225,11 +227,16 @@ int RunEstimateStereo(int argc, char** argv) {
     auto result = (*estimator)->Process(l, r, t);
     if (!result.ok()) {
       Error e = result.error();
-      if (!single) e.message = seq->frame(i).left_path + ": " + e.message;
+      e.message = (single ? left + ", " + right : seq->frame(i).left_path) + ": " + e.message;
+      if (e.message.find("calibration") != std::string::npos) {
+        e.message += " (" + calibration_paths.front() + ")";
+      }
       return ReportError(cmd, e);
     }
     const StereoTrackState state = tracker.Update(*result);
     if (result->ok()) ++ok_frames;
+    last_status = result->status;
+    last_reason = result->reason;
     if (json) {
       std::cout << FrameJson(*result, state, i).dump() << "\n";
     } else {
@@ -238,6 +245,11 @@ int RunEstimateStereo(int argc, char** argv) {
   }
   if (!json && !single) {
     std::cout << ok_frames << " of " << n << " frame pairs gave a robot pose\n";
+  }
+  if (ok_frames == 0) {
+    std::cerr << "hpose " << cmd << ": no robot pose in " << (single ? "the pair" : "any pair");
+    if (single) std::cerr << " (" << StereoFrameStatusName(last_status) << "): " << last_reason;
+    std::cerr << "\n";
   }
   return ok_frames == 0 && single ? kExitNoHumanoid : kExitOk;
 }
