@@ -5,6 +5,7 @@ build (target hpose_proto_python) into <build>/python; put that directory and th
 PYTHONPATH. Units are SI: metres, radians, seconds.
 """
 
-from hpose_client.client import PoseClient, PoseClientError, best_pose
+from hpose_client.client import (PoseClient, PoseClientError, best_pose, estimator_name,
+                                 world_pose)
 
-__all__ = ["PoseClient", "PoseClientError", "best_pose"]
+__all__ = ["PoseClient", "PoseClientError", "best_pose", "estimator_name", "world_pose"]

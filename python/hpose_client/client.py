@@ -19,15 +19,46 @@ class PoseClientError(RuntimeError):
         self.details = details
 
 
+# Estimator names accepted by PoseClient.latest() and PoseClient.stream().
+ESTIMATORS = {
+    "depth": pb.ESTIMATOR_KIND_DEPTH_TEMPLATE,
+    "stereo": pb.ESTIMATOR_KIND_STEREO_MARKER,
+}
+
+
+def _estimator_kind(name):
+    if name is None:
+        return pb.ESTIMATOR_KIND_UNSPECIFIED
+    if name not in ESTIMATORS:
+        raise ValueError("estimator must be one of %s, got %r" % (sorted(ESTIMATORS), name))
+    return ESTIMATORS[name]
+
+
+def estimator_name(estimate):
+    """"depth" or "stereo": which estimator made `estimate`."""
+    return "stereo" if estimate.estimator == pb.ESTIMATOR_KIND_STEREO_MARKER else "depth"
+
+
 def best_pose(estimate):
     """(x, y, theta) of the humanoid in the ground frame (metres, radians), or None when the
-    frame failed or no cluster passed the score threshold."""
-    if estimate.error.code:
+    frame failed, no cluster passed the score threshold, or the estimate is not a
+    depth-template estimate."""
+    if estimate.error.code or not estimate.HasField("depth_template"):
         return None
     result = estimate.depth_template
     if not result.humanoid_found:
         return None
     pose = result.best.best.pose
+    return (pose.x, pose.y, pose.theta)
+
+
+def world_pose(estimate):
+    """(x, y, theta) of the robot in the world (landmark field) frame, metres and radians, from
+    either estimator, or None when it was not located or the world frame is unknown (a depth
+    estimate from a daemon without world_from_ground)."""
+    if estimate.error.code or not estimate.HasField("robot_pose_world"):
+        return None
+    pose = estimate.robot_pose_world
     return (pose.x, pose.y, pose.theta)
 
 
@@ -64,15 +95,20 @@ class PoseClient:
         except grpc.FutureTimeoutError:
             raise PoseClientError(grpc.StatusCode.UNAVAILABLE, "daemon not reachable") from None
 
-    def latest(self, after_sequence=0, timeout=5.0):
-        """The newest estimate of the daemon's source (a hpose.v1.PoseEstimate)."""
-        req = pb.GetLatestRequest(after_sequence=after_sequence)
+    def latest(self, after_sequence=0, timeout=5.0, estimator=None):
+        """The newest estimate (a hpose.v1.PoseEstimate) of one of the daemon's sources:
+        estimator "depth" or "stereo", or None for the depth source when there is one, else the
+        stereo source. `after_sequence` counts in that source's sequence numbers."""
+        req = pb.GetLatestRequest(after_sequence=after_sequence,
+                                  estimator=_estimator_kind(estimator))
         return self._call(self._stub.GetLatest, req, timeout).estimate
 
-    def stream(self, max_estimates=0, timeout=None):
-        """Yields estimates as the daemon makes them. Breaking out of the loop cancels."""
-        call = self._stub.StreamPoses(pb.StreamPosesRequest(max_estimates=max_estimates),
-                                      timeout=timeout)
+    def stream(self, max_estimates=0, timeout=None, estimators=()):
+        """Yields estimates as the daemon makes them, of every estimator with a source, or only
+        of `estimators` (names: "depth", "stereo"). Breaking out of the loop cancels."""
+        req = pb.StreamPosesRequest(max_estimates=max_estimates,
+                                    estimators=[_estimator_kind(e) for e in estimators])
+        call = self._stub.StreamPoses(req, timeout=timeout)
         try:
             for estimate in call:
                 yield estimate
@@ -106,6 +142,16 @@ class PoseClient:
         req = pb.EstimateRequest(cloud=pb.PointCloud(xyz=flat), templates=list(templates))
         return self._call(self._stub.Estimate, req, timeout).estimate
 
+    def estimate_stereo(self, left_rgb, right_rgb, width, height, source_time=0.0,
+                        timeout=10.0):
+        """Runs the daemon's stereo-marker estimator on one pair: `left_rgb`, `right_rgb` are
+        bytes of width*height*3 (R, G, B, row-major from the top-left)."""
+        req = pb.EstimateStereoRequest(
+            left=pb.ColorImage(width=width, height=height, data=bytes(left_rgb)),
+            right=pb.ColorImage(width=width, height=height, data=bytes(right_rgb)),
+            source_time=source_time)
+        return self._call(self._stub.EstimateStereo, req, timeout).estimate
+
     def templates(self, timeout=5.0):
         return list(self._call(self._stub.ListTemplates, pb.ListTemplatesRequest(),
                                timeout).templates)
@@ -116,16 +162,32 @@ class PoseClient:
 
 def describe(estimate):
     """One human-readable line (mm, degrees) for an estimate."""
-    pose = best_pose(estimate)
-    head = "seq %d" % estimate.sequence
+    head = "%-6s seq %d" % (estimator_name(estimate), estimate.sequence)
     if estimate.error.code:
         return "%s  no estimate: %s" % (head, estimate.error.message)
-    if pose is None:
-        return "%s  no humanoid" % head
-    best = estimate.depth_template.best
-    text = "%s  %s  x %.0f mm  y %.0f mm  theta %.1f deg  score %.1f" % (
-        head, best.best.template_name, pose[0] * 1000, pose[1] * 1000, math.degrees(pose[2]),
-        best.best.score)
+    world = world_pose(estimate)
+    if estimate.HasField("stereo_marker"):
+        result = estimate.stereo_marker
+        if world is None:
+            text = "%s  no robot pose (%s): %s" % (head, result.status, result.status_reason)
+        else:
+            text = "%s  robot world x %.0f mm  y %.0f mm  theta %.1f deg" % (
+                head, world[0] * 1000, world[1] * 1000, math.degrees(world[2]))
+        if result.object_found:
+            ball = result.object_position_world
+            text += "  ball x %.0f mm  y %.0f mm%s" % (ball.x * 1000, ball.y * 1000,
+                                                       "  MOVING" if result.object_moving else "")
+    else:
+        pose = best_pose(estimate)
+        if pose is None:
+            return "%s  no humanoid" % head
+        best = estimate.depth_template.best
+        text = "%s  template %s  x %.0f mm  y %.0f mm  theta %.1f deg  score %.1f" % (
+            head, best.best.template_name, pose[0] * 1000, pose[1] * 1000,
+            math.degrees(pose[2]), best.best.score)
+        if world is not None:
+            text += "  world x %.0f mm  y %.0f mm  theta %.1f deg" % (
+                world[0] * 1000, world[1] * 1000, math.degrees(world[2]))
     if estimate.stale:
         text += "  STALE: " + estimate.stale_reason
     return text
