@@ -1,0 +1,256 @@
+// End-to-end tests of `hpose simulate stereo` (and `simulate-stereo`) and `hpose
+// estimate-stereo`: a good run checked against the simulator's truth, and bad input (missing
+// landmark, wrong calibration file, images of different sizes) giving a clear message and a
+// non-zero exit status.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/common/pose2d.h"
+#include "core/stereo/rgb_image_io.h"
+#include "tests/tools/cli_test_util.h"
+
+namespace hpose {
+namespace {
+
+using testing::CliRun;
+using testing::RunHpose;
+using testing::Slurp;
+using testing::TempDir;
+namespace fs = std::filesystem;
+
+constexpr double kTolM = 0.05;
+constexpr double kTolRad = 5.0 * kPi / 180.0;
+
+std::string Q(const std::string& s) { return "'" + s + "'"; }
+
+// head_x_m, head_y_m, head_theta_rad of every row of ground_truth.csv.
+std::vector<Pose2D> ReadHeadTruth(const std::string& path) {
+  std::vector<Pose2D> heads;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) v.push_back(std::stod(cell));
+    if (v.size() >= 8) heads.push_back(Pose2D{v[5], v[6], v[7]});
+  }
+  return heads;
+}
+
+// Paints every landmark-blue pixel of an image in the floor's green.
+void PaintOutLandmarks(const std::string& path) {
+  Result<RgbImage> image = ReadRgbImage(path);
+  ASSERT_TRUE(image.ok());
+  int painted = 0;
+  for (int y = 0; y < image->height; ++y) {
+    for (int x = 0; x < image->width; ++x) {
+      std::uint8_t* p = image->at(x, y);
+      if (p[2] > p[0] + 40 && p[2] > p[1] + 30) {
+        p[0] = 60;
+        p[1] = 110;
+        p[2] = 65;
+        ++painted;
+      }
+    }
+  }
+  EXPECT_GT(painted, 50) << "no landmark pixels found in " << path;
+  ASSERT_TRUE(WriteRgbPng(*image, path).ok());
+}
+
+class StereoCliTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir("stereo_cli");
+    const CliRun run = RunHpose("simulate stereo --out " + Q(*dir_ / "seq") + " --frames 6", *dir_);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    ASSERT_NE(run.out.find("wrote 6 stereo pairs"), std::string::npos) << run.out;
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  std::string Seq(const std::string& rel = "") const {
+    return rel.empty() ? *dir_ / "seq" : *dir_ / ("seq/" + rel);
+  }
+
+  static TempDir* dir_;
+};
+
+TempDir* StereoCliTest::dir_ = nullptr;
+
+TEST_F(StereoCliTest, SimulateStereoWritesTheSequenceLayout) {
+  for (const char* f : {"calibration.yaml", "frames.csv", "ground_truth.csv", "left/000000.png",
+                        "right/000005.png"}) {
+    EXPECT_TRUE(fs::exists(Seq(f))) << f;
+  }
+  EXPECT_FALSE(fs::exists(Seq("left/000006.png")));
+  // `hpose simulate-stereo` is the same command: the same files for the same arguments.
+  const std::string other = *dir_ / "seq_dash";
+  const CliRun run = RunHpose("simulate-stereo --out " + Q(other) + " --frames 6", *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Slurp(other + "/ground_truth.csv"), Slurp(Seq("ground_truth.csv")));
+  EXPECT_EQ(Slurp(other + "/frames.csv"), Slurp(Seq("frames.csv")));
+  // Its flags and help are reachable through `simulate stereo`.
+  const CliRun help = RunHpose("simulate stereo --help", *dir_);
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("--scenario"), std::string::npos) << help.out;
+  const CliRun bad =
+      RunHpose("simulate stereo --out " + Q(*dir_ / "x") + " --scenario dance", *dir_);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("dance"), std::string::npos) << bad.err;
+}
+
+TEST_F(StereoCliTest, EstimateStereoSequenceJsonMatchesTheTruth) {
+  const CliRun run = RunHpose("estimate-stereo --sequence " + Q(Seq()) + " --json", *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::vector<Pose2D> truth = ReadHeadTruth(Seq("ground_truth.csv"));
+  ASSERT_EQ(truth.size(), 6u);
+  std::stringstream lines(run.out);
+  std::string line;
+  size_t n = 0;
+  while (std::getline(lines, line)) {
+    const nlohmann::json j = nlohmann::json::parse(line);
+    const size_t i = j.at("index").get<size_t>();
+    ASSERT_LT(i, truth.size());
+    EXPECT_EQ(j.at("estimator"), "stereo_marker");
+    EXPECT_EQ(j.at("frame"), "world");
+    ASSERT_EQ(j.at("status"), "ok") << line;
+    const nlohmann::json& r = j.at("robot");
+    EXPECT_NEAR(r.at("x_m").get<double>(), truth[i].x, kTolM) << i;
+    EXPECT_NEAR(r.at("y_m").get<double>(), truth[i].y, kTolM) << i;
+    EXPECT_LT(std::abs(AngleDiff(r.at("theta_rad").get<double>(), truth[i].theta)), kTolRad) << i;
+    EXPECT_EQ(j.at("robot_mean").at("frames").get<int>(), static_cast<int>(std::min(i + 1, 8ul)));
+    ++n;
+  }
+  EXPECT_EQ(n, 6u);
+}
+
+TEST_F(StereoCliTest, EstimateStereoOnePairInText) {
+  const CliRun run =
+      RunHpose("estimate-stereo --left " + Q(Seq("left/000002.png")) + " --right " +
+                   Q(Seq("right/000002.png")) + " --calibration " + Q(Seq("calibration.yaml")),
+               *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::vector<Pose2D> truth = ReadHeadTruth(Seq("ground_truth.csv"));
+  double x_mm = 0.0, y_mm = 0.0;
+  const size_t at = run.out.find("robot x=");
+  ASSERT_NE(at, std::string::npos) << run.out;
+  ASSERT_EQ(std::sscanf(run.out.c_str() + at, "robot x=%lf mm y=%lf mm", &x_mm, &y_mm), 2)
+      << run.out;
+  EXPECT_NEAR(x_mm * 1e-3, truth[2].x, kTolM);
+  EXPECT_NEAR(y_mm * 1e-3, truth[2].y, kTolM);
+}
+
+TEST_F(StereoCliTest, MissingLandmarkIsReportedWithExitThree) {
+  const std::string left = *dir_ / "no_landmarks.png";
+  fs::copy_file(Seq("left/000001.png"), left, fs::copy_options::overwrite_existing);
+  PaintOutLandmarks(left);
+  const std::string args = "estimate-stereo --left " + Q(left) + " --right " +
+                           Q(Seq("right/000001.png")) + " --calibration " +
+                           Q(Seq("calibration.yaml"));
+  CliRun run = RunHpose(args, *dir_);
+  EXPECT_EQ(run.exit_code, 3);
+  EXPECT_NE(run.err.find("no robot pose"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("missing_landmark"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("left image shows 0 landmark"), std::string::npos) << run.err;
+  run = RunHpose(args + " --json", *dir_);
+  EXPECT_EQ(run.exit_code, 3);
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j.at("status"), "missing_landmark");
+  EXPECT_FALSE(j.contains("robot"));
+}
+
+TEST_F(StereoCliTest, WrongCalibrationFileIsAClearError) {
+  const std::string pair =
+      " --left " + Q(Seq("left/000000.png")) + " --right " + Q(Seq("right/000000.png"));
+  // Missing file.
+  CliRun run = RunHpose("estimate-stereo --calibration " + Q(*dir_ / "nope.yaml") + pair, *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("nope.yaml: no such file"), std::string::npos) << run.err;
+  // A file that is not a stereo calibration: names the file and the missing entry.
+  const std::string not_cal = *dir_ / "camera.yaml";
+  std::ofstream(not_cal) << "%YAML:1.0\n---\nfx: 500\nfy: 500\n";
+  run = RunHpose("estimate-stereo --calibration " + Q(not_cal) + pair, *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("camera.yaml: missing entry M1"), std::string::npos) << run.err;
+  // Garbage.
+  const std::string garbage = *dir_ / "garbage.yaml";
+  std::ofstream(garbage) << "\x01\x02 not { yaml [";
+  run = RunHpose("estimate-stereo --calibration " + Q(garbage) + pair, *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("garbage.yaml"), std::string::npos) << run.err;
+  // The calibration of another camera (256x120) for these 512x240 images.
+  const std::string small = *dir_ / "small";
+  ASSERT_EQ(RunHpose("simulate stereo --out " + Q(small) +
+                         " --frames 1 --width 256 --height 120 --no-distractors",
+                     *dir_)
+                .exit_code,
+            0);
+  run = RunHpose("estimate-stereo --calibration " + Q(small + "/calibration.yaml") + pair, *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("calibration is for 256x120"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("small/calibration.yaml"), std::string::npos) << run.err;
+  // A unit mix-up: a file without its own translation unit, read as millimetres, gives an
+  // implausible baseline.
+  const std::string no_unit = *dir_ / "no_unit.yaml";
+  {
+    std::stringstream in(Slurp(Seq("calibration.yaml")));
+    std::ofstream out(no_unit);
+    std::string l;
+    while (std::getline(in, l)) {
+      if (l.find("translation_unit") == std::string::npos) out << l << "\n";
+    }
+  }
+  run = RunHpose("estimate-stereo --calibration " + Q(no_unit) + " --calib-unit m" + pair, *dir_);
+  EXPECT_EQ(run.exit_code, 0) << run.err;  // metres: right.
+  run = RunHpose("estimate-stereo --calibration " + Q(no_unit) + " --calib-unit mm" + pair, *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("baseline"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("no_unit.yaml"), std::string::npos) << run.err;
+}
+
+TEST_F(StereoCliTest, ImagesOfDifferentSizesAreAClearError) {
+  const std::string small = *dir_ / "small_right.png";
+  ASSERT_TRUE(WriteRgbPng(RgbImage(256, 120), small).ok());
+  CliRun run = RunHpose("estimate-stereo --left " + Q(Seq("left/000000.png")) + " --right " +
+                            Q(small) + " --calibration " + Q(Seq("calibration.yaml")),
+                        *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("left image is 512x240 but right image is 256x120"), std::string::npos)
+      << run.err;
+  EXPECT_NE(run.err.find("small_right.png"), std::string::npos) << run.err;
+
+  // In a sequence: the pair is named.
+  const std::string seq = *dir_ / "seq_sizes";
+  fs::copy(Seq(), seq, fs::copy_options::recursive);
+  ASSERT_TRUE(WriteRgbPng(RgbImage(256, 120), seq + "/right/000003.png").ok());
+  run = RunHpose("estimate-stereo --sequence " + Q(seq), *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("000003.png"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("512x240"), std::string::npos) << run.err;
+}
+
+TEST_F(StereoCliTest, UsageErrors) {
+  CliRun run = RunHpose("estimate-stereo --left " + Q(Seq("left/000000.png")), *dir_);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--left and --right"), std::string::npos) << run.err;
+  run = RunHpose("estimate-stereo --left a.png --right b.png", *dir_);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--calibration is required"), std::string::npos) << run.err;
+  run = RunHpose("estimate-stereo --sequence " + Q(*dir_ / "no_such_dir"), *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("no_such_dir"), std::string::npos) << run.err;
+}
+
+}  // namespace
+}  // namespace hpose
