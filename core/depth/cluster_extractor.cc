@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <pcl/point_cloud.h>
@@ -12,6 +13,7 @@
 #include <pcl/search/kdtree.h>
 #include <pcl/segmentation/extract_clusters.h>
 
+#include "core/depth/grid_euclidean_clusters.h"
 #include "core/depth/voxel_downsample.h"
 
 namespace hpose {
@@ -79,6 +81,35 @@ bool IsVeilPoint(const std::vector<Eigen::Vector3f>& points, int width, int heig
     if (along * along > cos2_veil * step.squaredNorm() * p2) return true;
   }
   return false;
+}
+
+// The reference path: pcl::EuclideanClusterExtraction (kd-tree radius searches) on `points`;
+// labels per point, clusters numbered in PCL's order.
+std::vector<int> PclEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& points,
+                                           double tolerance_m, int* cluster_count) {
+  auto pcl_cloud = std::make_shared<PclCloud>();
+  pcl_cloud->resize(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    (*pcl_cloud)[i].x = points[i].x();
+    (*pcl_cloud)[i].y = points[i].y();
+    (*pcl_cloud)[i].z = points[i].z();
+  }
+  auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>(/*sorted=*/false);
+  tree->setInputCloud(pcl_cloud);
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> extraction;
+  extraction.setClusterTolerance(tolerance_m);
+  extraction.setMinClusterSize(1);  // sizes are checked on the fine points.
+  extraction.setMaxClusterSize(std::numeric_limits<int>::max());
+  extraction.setSearchMethod(tree);
+  extraction.setInputCloud(pcl_cloud);
+  std::vector<pcl::PointIndices> found;
+  extraction.extract(found);
+  std::vector<int> labels(points.size(), -1);
+  for (size_t c = 0; c < found.size(); ++c) {
+    for (const int i : found[c].indices) labels[i] = static_cast<int>(c);
+  }
+  *cluster_count = static_cast<int>(found.size());
+  return labels;
 }
 
 // Minimum distance (m) from the range and height limits for a cluster to count as complete.
@@ -258,43 +289,42 @@ Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
   }
   if (static_cast<int>(fine.size()) < options.min_points) return clusters;
 
-  // 3. Euclidean clusters (PCL, kd-tree radius search) on a coarser grid of half the tolerance:
-  // neighbouring cells of one surface stay within the tolerance of each other, and the radius
-  // searches touch a handful of points instead of dozens (a 640x480 frame of people would
-  // otherwise spend ~150 ms here). Every fine point takes the label of its coarse cell.
+  // 3. Euclidean clusters (bucket grid, or PCL's kd-tree radius searches: the same clusters) on
+  // a coarser grid of half the tolerance: neighbouring cells of one surface stay within the
+  // tolerance of each other, and the neighbour tests touch a handful of points instead of dozens (a
+  // 640x480 frame of people would otherwise spend ~150 ms here). Every fine point takes the label
+  // of its coarse cell.
   const double coarse_leaf = std::max(options.downsample_leaf_m, 0.5 * options.tolerance_m);
   std::vector<Eigen::Vector3f> coarse;
   std::vector<int> coarse_of_fine;
   VoxelDownsample(fine, static_cast<float>(coarse_leaf), &coarse, &coarse_of_fine);
-  auto pcl_cloud = std::make_shared<PclCloud>();
-  pcl_cloud->resize(coarse.size());
-  for (size_t i = 0; i < coarse.size(); ++i) {
-    (*pcl_cloud)[i].x = coarse[i].x();
-    (*pcl_cloud)[i].y = coarse[i].y();
-    (*pcl_cloud)[i].z = coarse[i].z();
+  int cluster_count = 0;
+  std::vector<int> label_of_coarse;
+  if (options.method == ClusterOptions::Method::kGrid) {
+    label_of_coarse = GridEuclideanClusterLabels(coarse, options.tolerance_m, &cluster_count);
+    // PCL orders its clusters by size, largest first, with std::sort (not stable): the same
+    // sort over the same sizes in the same initial order (lowest index first) gives the same
+    // permutation, so equal-sized clusters come out in PCL's order too.
+    std::vector<std::pair<int, int>> size_label(cluster_count);  // (coarse points, label).
+    for (int c = 0; c < cluster_count; ++c) size_label[c] = {0, c};
+    for (const int label : label_of_coarse) ++size_label[label].first;
+    std::sort(size_label.rbegin(), size_label.rend(),
+              [](const std::pair<int, int>& a, const std::pair<int, int>& b) {
+                return a.first < b.first;
+              });
+    std::vector<int> rank(cluster_count);
+    for (int r = 0; r < cluster_count; ++r) rank[size_label[r].second] = r;
+    for (int& label : label_of_coarse) label = rank[label];
+  } else {
+    label_of_coarse = PclEuclideanClusterLabels(coarse, options.tolerance_m, &cluster_count);
   }
-  auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>(/*sorted=*/false);
-  tree->setInputCloud(pcl_cloud);
-  pcl::EuclideanClusterExtraction<pcl::PointXYZ> extraction;
-  extraction.setClusterTolerance(options.tolerance_m);
-  extraction.setMinClusterSize(1);  // sizes are checked on the fine points below.
-  extraction.setMaxClusterSize(std::numeric_limits<int>::max());
-  extraction.setSearchMethod(tree);
-  extraction.setInputCloud(pcl_cloud);
-  std::vector<pcl::PointIndices> found;
-  extraction.extract(found);
-
-  std::vector<int> label_of_coarse(coarse.size(), -1);
-  for (size_t c = 0; c < found.size(); ++c) {
-    for (const int i : found[c].indices) label_of_coarse[i] = static_cast<int>(c);
-  }
-  std::vector<Cluster> raw(found.size());
-  std::vector<int> fine_count(found.size(), 0);
+  std::vector<Cluster> raw(cluster_count);
+  std::vector<int> fine_count(cluster_count, 0);
   for (const int coarse_index : coarse_of_fine) {
     const int label = label_of_coarse[coarse_index];
     if (label >= 0) ++fine_count[label];
   }
-  for (size_t c = 0; c < found.size(); ++c) raw[c].points.reserve(fine_count[c]);
+  for (int c = 0; c < cluster_count; ++c) raw[c].points.reserve(fine_count[c]);
   for (size_t i = 0; i < fine.size(); ++i) {
     const int label = label_of_coarse[coarse_of_fine[i]];
     if (label >= 0) raw[label].points.push_back(fine[i]);

@@ -22,6 +22,11 @@ struct ClusterOptions {
   // voxel keeps a point. 0 disables.
   double downsample_leaf_m = 0.008;
   double tolerance_m = 0.04;  // Euclidean cluster tolerance.
+  // How the Euclidean clusters are found; both give the same clusters (same points, same
+  // order). kGrid: connected components over a bucket grid of the tolerance (fast). kPcl: PCL's
+  // kd-tree radius searches (the reference).
+  enum class Method { kGrid, kPcl };
+  Method method = Method::kGrid;
   // After downsampling. 200 drops slivers of far walls (sparse, yet person-tall) while a 58 cm
   // humanoid 4 m from a 320x240 sensor still gives ~900 points.
   int min_points = 200;
