@@ -2,11 +2,102 @@
 
 #include <algorithm>
 #include <cassert>
+#include <numeric>
+
+// The bound loops are popcount-bound. Without -mpopcnt, __builtin_popcountll is a call into
+// libgcc; on x86-64 compile a POPCNT clone too, chosen at load time (ifunc) where the CPU has it.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__POPCNT__) && defined(__has_attribute)
+#if __has_attribute(target_clones) && defined(__gnu_linux__)
+#define HPOSE_POPCNT_CLONES __attribute__((target_clones("popcnt", "default")))
+#endif
+#endif
+#ifndef HPOSE_POPCNT_CLONES
+#define HPOSE_POPCNT_CLONES
+#endif
 
 namespace hpose {
 namespace {
 
 inline int Popcount(std::uint64_t v) { return __builtin_popcountll(v); }
+
+// out[s * out_stride] = combination over t in [0, len) of in[(start + s + t) * in_stride] for
+// s in [0, n_out), where entries outside [0, n_in) are 0. Sparse-table doubling: O(log len)
+// passes over a line instead of len. `scratch` is reused between calls.
+void Window1D(const std::uint64_t* in, int n_in, std::ptrdiff_t in_stride, int start, int len,
+              bool max_filter, std::uint64_t* out, int n_out, std::ptrdiff_t out_stride,
+              std::vector<std::uint64_t>* scratch) {
+  const int m = n_out + len - 1;
+  scratch->resize(static_cast<size_t>(m));
+  std::uint64_t* cur = scratch->data();
+  for (int i = 0; i < m; ++i) {
+    const int j = start + i;
+    cur[i] = (j >= 0 && j < n_in) ? in[j * in_stride] : 0;
+  }
+  int p = 1;
+  for (; 2 * p <= len; p *= 2) {
+    for (int i = 0; i + p < m; ++i)
+      cur[i] = max_filter ? (cur[i] | cur[i + p]) : (cur[i] & cur[i + p]);
+  }
+  for (int s = 0; s < n_out; ++s) {
+    const std::uint64_t v = max_filter ? (cur[s] | cur[s + len - p]) : (cur[s] & cur[s + len - p]);
+    out[s * out_stride] = v;
+  }
+}
+
+// The bound sum for one 64-bit word per column and a power-of-two subdivision (the default
+// lattice): per column two shifts per axis find the window's first cell and its length, one
+// interleaved lookup gets the filtered mask.
+HPOSE_POPCNT_CLONES
+int SumOneWordPow2(const std::uint64_t* data, int x0, int y0, int nx, int ny, int shift, int extra,
+                   const Eigen::Vector2i* q, const std::uint64_t* masks, int n, int a, int b,
+                   int span) {
+  int sum = 0;
+  for (int c = 0; c < n; ++c) {
+    const int qa = q[c].x() + a;
+    const int qb = q[c].y() + b;
+    const int cx = qa >> shift;
+    const int cy = qb >> shift;
+    const int ex = ((qa + span) >> shift) - cx - extra;  // 0 or 1.
+    const int ey = ((qb + span) >> shift) - cy - extra;
+    const unsigned dx = static_cast<unsigned>(cx - x0);
+    const unsigned dy = static_cast<unsigned>(cy - y0);
+    if (dx >= static_cast<unsigned>(nx) || dy >= static_cast<unsigned>(ny)) continue;
+    const size_t idx = (static_cast<size_t>(dy) * nx + dx) * 4 + 2 * ex + ey;
+    sum += Popcount(masks[c] & data[idx]);
+  }
+  return sum;
+}
+
+// Any subdivision and any number of words.
+HPOSE_POPCNT_CLONES
+int SumGeneric(const std::uint64_t* data, int x0, int y0, int nx, int ny, int s, int extra,
+               int words, const Eigen::Vector2i* q, const std::uint64_t* masks, int n, int a, int b,
+               int span) {
+  int sum = 0;
+  for (int c = 0; c < n; ++c) {
+    const int qa = q[c].x() + a;
+    const int qb = q[c].y() + b;
+    const int cx = FloorDiv(qa, s);
+    const int cy = FloorDiv(qb, s);
+    const int ex = FloorDiv(qa + span, s) - cx - extra;
+    const int ey = FloorDiv(qb + span, s) - cy - extra;
+    const unsigned dx = static_cast<unsigned>(cx - x0);
+    const unsigned dy = static_cast<unsigned>(cy - y0);
+    if (dx >= static_cast<unsigned>(nx) || dy >= static_cast<unsigned>(ny)) continue;
+    const std::uint64_t* cell =
+        &data[((static_cast<size_t>(dy) * nx + dx) * 4 + 2 * ex + ey) * words];
+    const std::uint64_t* m = &masks[static_cast<size_t>(c) * words];
+    for (int w = 0; w < words; ++w) sum += Popcount(m[w] & cell[w]);
+  }
+  return sum;
+}
+
+HPOSE_POPCNT_CLONES
+int HitsOneWord(const std::uint64_t* acc, const std::uint64_t* occ, const int* touched, int n) {
+  int hits = 0;
+  for (int i = 0; i < n; ++i) hits += Popcount(acc[touched[i]] & occ[touched[i]]);
+  return hits;
+}
 
 }  // namespace
 
@@ -41,67 +132,52 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
   stamp_.assign(static_cast<size_t>(base_.nx) * base_.ny, 0);
   acc_.assign(base_.masks.size(), 0);
 
-  const int s = lattice.subdivisions;
-  const bool max_filter = filter == Filter::kMax;
-  for (int k = 0; k <= max_level; ++k) {
-    Level level;
-    // A block of 2^k steps starting at sub-voxel offset r in [0, S) sweeps
-    // floor((r + 2^k - 1) / S) + 1 cells: min_len at r = 0, at most one more.
-    level.min_len = ((1 << k) - 1) / s + 1;
-    for (int ex = 0; ex < 2; ++ex) {
-      for (int ey = 0; ey < 2; ++ey) {
-        level.grids[ex][ey] = (k == 0 && (ex || ey)) ? Grid()
-                                                     : Filtered(base_, level.min_len + ex,
-                                                                level.min_len + ey, max_filter);
-      }
-    }
-    levels_.push_back(std::move(level));
-  }
+  for (int k = 0; k <= max_level; ++k) levels_.push_back(Filtered(k, filter == Filter::kMax));
 }
 
-ColumnOccupancy::Grid ColumnOccupancy::Filtered(const Grid& g0, int len_x, int len_y,
-                                                bool max_filter) const {
-  if (len_x == 1 && len_y == 1) return g0;
-  // kMax: every window that touches the base; kMin: only windows inside it (others AND to 0).
-  Grid g;
-  g.x0 = max_filter ? g0.x0 - (len_x - 1) : g0.x0;
-  g.y0 = max_filter ? g0.y0 - (len_y - 1) : g0.y0;
-  g.nx = std::max(0, max_filter ? g0.nx + len_x - 1 : g0.nx - len_x + 1);
-  g.ny = std::max(0, max_filter ? g0.ny + len_y - 1 : g0.ny - len_y + 1);
-  const std::uint64_t identity = max_filter ? 0 : ~std::uint64_t{0};
-  auto combine = [max_filter](std::uint64_t a, std::uint64_t b) {
-    return max_filter ? (a | b) : (a & b);
-  };
-  // Separable: first along x into `tmp` (g.nx by g0.ny), then along y.
-  std::vector<std::uint64_t> tmp(static_cast<size_t>(g.nx) * g0.ny * words_, 0);
-  for (int y = 0; y < g0.ny; ++y) {
-    for (int x = 0; x < g.nx; ++x) {
-      const int from = std::max(0, x + g.x0 - g0.x0);
-      const int to = std::min(g0.nx, x + g.x0 - g0.x0 + len_x);
-      for (int w = 0; w < words_; ++w) {
-        std::uint64_t m = identity;
-        for (int xb = from; xb < to; ++xb) {
-          m = combine(m, g0.masks[(static_cast<size_t>(y) * g0.nx + xb) * words_ + w]);
-        }
-        tmp[(static_cast<size_t>(y) * g.nx + x) * words_ + w] = m;
+ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter) const {
+  const Grid& g0 = base_;
+  Level lv;
+  // A block of 2^k steps starting at sub-voxel offset r in [0, S) sweeps
+  // floor((r + 2^k - 1) / S) + 1 cells: min_len at r = 0, at most one more.
+  lv.min_len = ((1 << k) - 1) / lattice_.subdivisions + 1;
+  // Every window of up to min_len + 1 cells that touches the base starts in this box; windows
+  // starting elsewhere hold nothing (kMax) or reach outside the voxels (kMin: 0) and are never
+  // looked up.
+  lv.x0 = g0.x0 - lv.min_len;
+  lv.y0 = g0.y0 - lv.min_len;
+  lv.nx = g0.nx + lv.min_len;
+  lv.ny = g0.ny + lv.min_len;
+  const int words = words_;
+  lv.data.assign(static_cast<size_t>(lv.nx) * lv.ny * 4 * words, 0);
+  if (g0.nx == 0 || g0.ny == 0) return lv;
+  std::vector<std::uint64_t> scratch;
+  // Along x, per base row: tmp[e][(y * nx + x) * words + w], window min_len + e.
+  std::vector<std::uint64_t> tmp[2];
+  for (int e = 0; e < 2; ++e) {
+    tmp[e].assign(static_cast<size_t>(g0.ny) * lv.nx * words, 0);
+    for (int y = 0; y < g0.ny; ++y) {
+      for (int w = 0; w < words; ++w) {
+        Window1D(&g0.masks[static_cast<size_t>(y) * g0.nx * words + w], g0.nx, words, lv.x0 - g0.x0,
+                 lv.min_len + e, max_filter, &tmp[e][static_cast<size_t>(y) * lv.nx * words + w],
+                 lv.nx, words, &scratch);
       }
     }
   }
-  g.masks.assign(static_cast<size_t>(g.nx) * g.ny * words_, 0);
-  for (int y = 0; y < g.ny; ++y) {
-    const int from = std::max(0, y + g.y0 - g0.y0);
-    const int to = std::min(g0.ny, y + g.y0 - g0.y0 + len_y);
-    for (int x = 0; x < g.nx; ++x) {
-      for (int w = 0; w < words_; ++w) {
-        std::uint64_t m = identity;
-        for (int yb = from; yb < to; ++yb) {
-          m = combine(m, tmp[(static_cast<size_t>(yb) * g.nx + x) * words_ + w]);
+  // Along y into the interleaved level data.
+  for (int ex = 0; ex < 2; ++ex) {
+    for (int ey = 0; ey < 2; ++ey) {
+      for (int x = 0; x < lv.nx; ++x) {
+        for (int w = 0; w < words; ++w) {
+          Window1D(&tmp[ex][static_cast<size_t>(x) * words + w], g0.ny,
+                   static_cast<std::ptrdiff_t>(lv.nx) * words, lv.y0 - g0.y0, lv.min_len + ey,
+                   max_filter, &lv.data[(static_cast<size_t>(x) * 4 + 2 * ex + ey) * words + w],
+                   lv.ny, static_cast<std::ptrdiff_t>(lv.nx) * 4 * words, &scratch);
         }
-        g.masks[(static_cast<size_t>(y) * g.nx + x) * words_ + w] = m;
       }
     }
   }
-  return g;
+  return lv;
 }
 
 inline int ColumnOccupancy::FloorDivS(int v) const {
@@ -133,6 +209,10 @@ int ColumnOccupancy::Hits(const RotatedTemplate& rotated, int ix, int iy) const 
       for (int w = 0; w < words_; ++w) acc[w] |= col[w];
     }
   }
+  if (words_ == 1) {
+    return HitsOneWord(acc_.data(), g.masks.data(), touched_.data(),
+                       static_cast<int>(touched_.size()));
+  }
   int hits = 0;
   for (int idx : touched_) {
     const std::uint64_t* acc = &acc_[static_cast<size_t>(idx) * words_];
@@ -143,31 +223,49 @@ int ColumnOccupancy::Hits(const RotatedTemplate& rotated, int ix, int iy) const 
 }
 
 int ColumnOccupancy::Bound(const RotatedTemplate& rotated, int a, int b, int level) const {
+  return LowerBound(rotated, rotated.column_masks.data(), a, b, level);
+}
+
+int ColumnOccupancy::LowerBound(const RotatedTemplate& rotated, const std::uint64_t* masks, int a,
+                                int b, int level) const {
   assert(level >= 0 && level < static_cast<int>(levels_.size()));
+  assert(rotated.z_words == words_);
   const Level& lv = levels_[level];
   const int span = (1 << level) - 1;
-  int bound = 0;
-  const size_t n = rotated.column_q.size();
-  for (size_t c = 0; c < n; ++c) {
-    const int qa = rotated.column_q[c].x() + a;
-    const int qb = rotated.column_q[c].y() + b;
-    const int x0 = FloorDivS(qa), y0 = FloorDivS(qb);
-    const int ex = FloorDivS(qa + span) - x0 + 1 - lv.min_len;  // 0 or 1.
-    const int ey = FloorDivS(qb + span) - y0 + 1 - lv.min_len;
-    const Grid& g = lv.grids[ex][ey];
-    const unsigned dx = static_cast<unsigned>(x0 - g.x0);
-    const unsigned dy = static_cast<unsigned>(y0 - g.y0);
-    if (dx >= static_cast<unsigned>(g.nx) || dy >= static_cast<unsigned>(g.ny)) continue;
-    const size_t idx = static_cast<size_t>(dy) * g.nx + dx;
-    if (words_ == 1) {
-      bound += Popcount(rotated.column_masks[c] & g.masks[idx]);
-    } else {
-      for (int w = 0; w < words_; ++w) {
-        bound += Popcount(rotated.column_masks[c * words_ + w] & g.masks[idx * words_ + w]);
+  const int n = static_cast<int>(rotated.column_q.size());
+  if (shift_ >= 0 && words_ == 1) {
+    return SumOneWordPow2(lv.data.data(), lv.x0, lv.y0, lv.nx, lv.ny, shift_, lv.min_len - 1,
+                          rotated.column_q.data(), masks, n, a, b, span);
+  }
+  return SumGeneric(lv.data.data(), lv.x0, lv.y0, lv.nx, lv.ny, lattice_.subdivisions,
+                    lv.min_len - 1, words_, rotated.column_q.data(), masks, n, a, b, span);
+}
+
+std::vector<std::uint64_t> CellDisjointMasks(const RotatedTemplate& rotated, int subdivisions) {
+  const int words = rotated.z_words;
+  const int n = static_cast<int>(rotated.column_q.size());
+  std::vector<std::uint64_t> out = rotated.column_masks;
+  // Visit the columns by (qx, qy); the columns that can share a cell with column i and come
+  // before it have qx in (qx_i - S, qx_i] and |qy - qy_i| < S.
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  const std::vector<Eigen::Vector2i>& q = rotated.column_q;
+  std::sort(order.begin(), order.end(), [&](int i, int j) {
+    return q[i].x() != q[j].x() ? q[i].x() < q[j].x() : q[i].y() < q[j].y();
+  });
+  int first = 0;  // first position (in `order`) with qx > qx_i - S.
+  for (int pos = 0; pos < n; ++pos) {
+    const int i = order[pos];
+    while (q[order[first]].x() <= q[i].x() - subdivisions) ++first;
+    for (int other = first; other < pos; ++other) {
+      const int j = order[other];
+      if (std::abs(q[j].y() - q[i].y()) >= subdivisions) continue;
+      for (int w = 0; w < words; ++w) {
+        out[static_cast<size_t>(i) * words + w] &= ~out[static_cast<size_t>(j) * words + w];
       }
     }
   }
-  return bound;
+  return out;
 }
 
 }  // namespace hpose

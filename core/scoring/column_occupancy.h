@@ -20,9 +20,9 @@ namespace hpose {
 // Cluster voxels outside the template's z range can never be covered and are left out of the
 // masks (they still count in the score's denominator).
 //
-// With Filter::kMin the windows AND instead (cells outside the voxels count as empty), so
-// Bound() is a lower bound of Hits over the block: used for free-space cells, which count
-// against a pose.
+// With Filter::kMin the windows AND instead (cells outside the voxels count as empty): used for
+// free-space cells, which count against a pose. LowerBound() with CellDisjointMasks() is then a
+// lower bound of Hits over the block.
 class ColumnOccupancy {
  public:
   enum class Filter { kMax, kMin };
@@ -34,24 +34,35 @@ class ColumnOccupancy {
   // PoseScorer::Hits for the same pose. Not thread-safe (scratch space).
   int Hits(const RotatedTemplate& rotated, int ix, int iy) const;
 
-  // An upper bound (kMax) or lower bound (kMin) of Hits over every translation in
-  // [a, a + 2^level) x [b, b + 2^level), level in [0, max_level]. The bound counts every column
-  // separately (two columns landing in one cell count twice), so only kMax bounds are valid
-  // for unions of rotations (TemplateRotations::GetBlock) and at level 0.
+  // Sum over the columns of the voxels each column meets in its window over every translation
+  // in [a, a + 2^level) x [b, b + 2^level), level in [0, max_level]. With kMax it is an upper
+  // bound of Hits over the block, also for unions of rotations (TemplateRotations::GetBlock):
+  // a cell that two columns reach counts twice. With kMin it is NOT a lower bound in general
+  // (two columns landing in one cell count twice): use LowerBound for that.
   int Bound(const RotatedTemplate& rotated, int a, int b, int level) const;
+
+  // The same sum with `masks` (z_words per column of `rotated`) in place of the column masks.
+  // With kMin and masks = CellDisjointMasks(rotated, subdivisions): a lower bound of Hits of
+  // `rotated` (a single rotation) at every translation of the block.
+  int LowerBound(const RotatedTemplate& rotated, const std::uint64_t* masks, int a, int b,
+                 int level) const;
 
   int max_level() const { return static_cast<int>(levels_.size()) - 1; }
 
  private:
+  // Level k: every cell (x, y) of the level's box holds four masks, the kMax/kMin combination
+  // of the base over the windows [x, x + len_x) x [y, y + len_y) for len_x, len_y in
+  // {min_len, min_len + 1}, interleaved: data[((dy * nx + dx) * 4 + 2 ex + ey) * words + w].
+  struct Level {
+    int min_len = 1;  // shortest window (cells) a column sweeps at this level.
+    int x0 = 0, y0 = 0, nx = 0, ny = 0;
+    std::vector<std::uint64_t> data;
+  };
   struct Grid {
     int x0 = 0, y0 = 0, nx = 0, ny = 0;
     std::vector<std::uint64_t> masks;  // nx * ny * words.
   };
-  struct Level {
-    int min_len = 1;   // shortest window (cells) a column sweeps at this level.
-    Grid grids[2][2];  // [x window is min_len + 1][y window is min_len + 1].
-  };
-  Grid Filtered(const Grid& base, int len_x, int len_y, bool max_filter) const;
+  Level Filtered(int level, bool max_filter) const;
   int FloorDivS(int v) const;
 
   PoseLattice lattice_;
@@ -64,6 +75,14 @@ class ColumnOccupancy {
   mutable std::vector<int> touched_;
   mutable std::uint32_t current_stamp_ = 0;
 };
+
+// Column masks of `rotated` (z_words per column, same order) with the z bits removed that an
+// earlier column able to share a placed cell with it already holds: columns whose sub-voxel
+// coordinates differ by less than `subdivisions` in both x and y can land in one cell, and
+// counting such a voxel once per column would overcount it. Every remaining voxel is a voxel of
+// the template, and no two columns that can share a cell share a z bit, so summing them over
+// any cells they land in never counts a placed voxel twice.
+std::vector<std::uint64_t> CellDisjointMasks(const RotatedTemplate& rotated, int subdivisions);
 
 }  // namespace hpose
 

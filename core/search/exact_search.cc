@@ -18,6 +18,10 @@ struct Node {
   int itheta;
   int a;
   int b;
+  // The free-space part of the bound is still to be subtracted (when the node is popped).
+  // Not part of the order: a loose value is >= the node's bound, so popping loose nodes first
+  // and tightening them expands the same nodes in the same order as tight values would.
+  bool loose;
 };
 
 // Highest value first; among equal values finer nodes first (exact poses before bounds), then
@@ -41,25 +45,47 @@ struct BranchAndBoundResult {
   int upper_bound = 0;     // with below_min: no pose's value exceeds this.
 };
 
-// The value of poses and its bounds: cluster hits (OR pyramid) minus weighted free-space hits
-// (AND pyramid, a lower bound of the free hits; only valid for a single rotation, so theta
-// blocks bound the free hits by 0).
-struct Evaluator {
-  const ColumnOccupancy* cluster;
-  const ColumnOccupancy* free;  // may be null.
-  int weight;
-  int hit_weight;
+// The value of poses and its bounds: weighted cluster hits (OR pyramid: an upper bound) minus
+// weighted free-space hits (AND pyramid over cell-disjoint column masks: a lower bound of the
+// free hits of a single rotation; theta blocks bound the free hits by 0).
+class Evaluator {
+ public:
+  Evaluator(const ColumnOccupancy* cluster, const ColumnOccupancy* free, int free_weight,
+            int hit_weight, const TemplateRotations& rotations)
+      : cluster_(cluster),
+        free_(free),
+        free_weight_(free_weight),
+        hit_weight_(hit_weight),
+        rotations_(rotations),
+        disjoint_(free != nullptr ? rotations.lattice().angle_steps : 0) {}
 
   int Value(const RotatedTemplate& r, int a, int b) const {
-    int v = hit_weight * cluster->Hits(r, a, b);
-    if (free != nullptr) v -= weight * free->Hits(r, a, b);
+    int v = hit_weight_ * cluster_->Hits(r, a, b);
+    if (free_ != nullptr) v -= free_weight_ * free_->Hits(r, a, b);
     return v;
   }
-  int Bound(const RotatedTemplate& r, int a, int b, int level, int tlevel) const {
-    int v = hit_weight * cluster->Bound(r, a, b, level);
-    if (free != nullptr && tlevel == 0 && level > 0) v -= weight * free->Bound(r, a, b, level);
-    return v;
+  // The cluster part of a block's bound: with HasFreePart, FreePart is still to be subtracted.
+  int ClusterBound(const RotatedTemplate& r, int a, int b, int level) const {
+    return hit_weight_ * cluster_->Bound(r, a, b, level);
   }
+  bool HasFreePart(int tlevel, int level) const {
+    return free_ != nullptr && tlevel == 0 && level > 0;
+  }
+  // Weighted lower bound of the free hits of rotation itheta over the block.
+  int FreePart(int itheta, int a, int b, int level) {
+    std::vector<std::uint64_t>& masks = disjoint_[itheta];
+    const RotatedTemplate& r = rotations_.Get(itheta);
+    if (masks.empty()) masks = CellDisjointMasks(r, rotations_.lattice().subdivisions);
+    return free_weight_ * free_->LowerBound(r, masks.data(), a, b, level);
+  }
+
+ private:
+  const ColumnOccupancy* cluster_;
+  const ColumnOccupancy* free_;  // may be null.
+  int free_weight_;
+  int hit_weight_;
+  const TemplateRotations& rotations_;
+  std::vector<std::vector<std::uint64_t>> disjoint_;  // per theta, made on first use.
 };
 
 // Best-first branch and bound over thetas and the translation region. Next() returns the
@@ -68,10 +94,10 @@ struct Evaluator {
 // the best).
 class BranchAndBound {
  public:
-  BranchAndBound(const Evaluator& eval, const TemplateRotations& rotations,
+  BranchAndBound(Evaluator* eval, const TemplateRotations& rotations,
                  const ExactSearch::Region& region, int top_level, int min_value,
                  SearchResult* counters)
-      : eval_(eval),
+      : eval_(*eval),
         rotations_(rotations),
         region_(region),
         min_value_(min_value),
@@ -98,6 +124,13 @@ class BranchAndBound {
       const Node n = queue_.top();
       queue_.pop();
       if (!AnyAllowed(n.itheta, n.tlevel)) continue;
+      if (n.loose) {  // subtract the free-space part now and queue it again.
+        Node tight = n;
+        tight.value -= eval_.FreePart(n.itheta, n.a, n.b, n.level);
+        tight.loose = false;
+        queue_.push(tight);
+        continue;
+      }
       if (n.value < min_value_) {  // the best that remains cannot reach min_value.
         out.below_min = true;
         out.upper_bound = n.value;
@@ -138,15 +171,16 @@ class BranchAndBound {
     if (!AnyAllowed(itheta, tlevel)) return;
     if (tlevel == 0 && level == 0) {
       ++counters_->poses_evaluated;
-      queue_.push({eval_.Value(rotations_.Get(itheta), a, b), 0, 0, itheta, a, b});
+      queue_.push({eval_.Value(rotations_.Get(itheta), a, b), 0, 0, itheta, a, b, false});
     } else {
       ++counters_->bounds_evaluated;
       const RotatedTemplate& rot = rotations_.GetBlock(tlevel, itheta);
-      queue_.push({eval_.Bound(rot, a, b, level, tlevel), tlevel, level, itheta, a, b});
+      queue_.push({eval_.ClusterBound(rot, a, b, level), tlevel, level, itheta, a, b,
+                   eval_.HasFreePart(tlevel, level)});
     }
   }
 
-  const Evaluator& eval_;
+  Evaluator& eval_;
   const TemplateRotations& rotations_;
   const ExactSearch::Region region_;
   const int min_value_;
@@ -211,10 +245,10 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
     free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, r0.z_base, r0.z_words,
                                              top, ColumnOccupancy::Filter::kMin);
   }
-  const Evaluator eval{&occ, free.get(), problem.free_space_weight, problem.hit_weight};
+  Evaluator eval(&occ, free.get(), problem.free_space_weight, problem.hit_weight, rotations);
   const int n_weighted = n * problem.hit_weight;  // the score's denominator.
 
-  BranchAndBound bnb(eval, rotations, region, top, problem.min_value, &result);
+  BranchAndBound bnb(&eval, rotations, region, top, problem.min_value, &result);
   const BranchAndBoundResult best = bnb.Next();
   if (best.below_min) {
     result.below_min_value = true;
