@@ -4,7 +4,7 @@
 // every variant in turn, so drift on a shared machine hits all variants alike.
 // Pin it to one core for the documented numbers:
 //   taskset -c 0 frame_bench [--frames N] [--clutter N] [--repeat N] [--frames-detail]
-//                            [--only VARIANT]
+//                            [--only VARIANT] [--dump]
 // Besides the Markdown table it prints, per variant, how many frames found the humanoid within
 // 5 cm and 10 degrees, and a digest of every candidate (template, cluster, pose, scores): equal
 // digests mean equal results, to check that a speed change did not change any result.
@@ -73,6 +73,7 @@ int Run(int argc, char** argv) {
   int clutter = 4;
   int repeat = 1;
   bool detail = false;
+  bool dump = false;
   std::string only;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -91,12 +92,14 @@ int Run(int argc, char** argv) {
       repeat = next_int();
     } else if (a == "--only" && i + 1 < argc) {
       only = argv[++i];
+    } else if (a == "--dump") {
+      dump = true;
     } else if (a == "--frames-detail") {
       detail = true;
     } else {
       std::fprintf(stderr,
                    "usage: frame_bench [--frames N] [--clutter N] [--repeat N] "
-                   "[--frames-detail] [--only VARIANT]\n");
+                   "[--frames-detail] [--dump] [--only VARIANT]\n");
       return a == "--help" ? 0 : 2;
     }
   }
@@ -113,6 +116,10 @@ int Run(int argc, char** argv) {
   std::vector<Variant> variants;
   variants.push_back({"paper search", [](EstimatorOptions* o) { o->search = SearchKind::kPaper; }});
   variants.push_back({"exact search", [](EstimatorOptions* o) { o->search = SearchKind::kExact; }});
+  variants.push_back({"exact search, PCL clustering", [](EstimatorOptions* o) {
+                        o->search = SearchKind::kExact;
+                        o->clusters.method = ClusterOptions::Method::kPcl;
+                      }});
   if (!only.empty()) {
     std::vector<Variant> kept;
     for (Variant& v : variants) {
@@ -163,6 +170,16 @@ int Run(int argc, char** argv) {
         v.total.push_back(t.total_ms);
         if (r > 0) continue;
         MixEstimate(&v.digest, *e);
+        if (dump) {
+          for (const Candidate& c : e->candidates) {
+            std::printf(
+                "dump %s frame %zu cluster %d %s: x %.4f y %.4f theta %.4f score %.4f "
+                "hits %d free %d bound %d runner %d %.4f\n",
+                v.name.c_str(), f, c.cluster_index, c.template_name.c_str(), c.pose.x, c.pose.y,
+                c.pose.theta, c.score, c.hits, c.free_space_hits, c.score_is_upper_bound ? 1 : 0,
+                c.has_runner_up ? 1 : 0, c.runner_up_score);
+          }
+        }
         const std::vector<Detection> humans = e->Humanoids();
         const Pose2D& truth = specs[f].humanoid_pose;
         bool ok = false;

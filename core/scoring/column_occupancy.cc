@@ -68,6 +68,48 @@ int SumOneWordPow2(const std::uint64_t* data, int x0, int y0, int nx, int ny, in
   return sum;
 }
 
+// SumOneWordPow2 for the blocks at (a, b), (a + d S, b), (a, b + d S), (a + d S, b + d S): the
+// same residues, so the same window lengths, d cells apart.
+HPOSE_POPCNT_CLONES
+void SumOneWordPow2x4(const std::uint64_t* data, int x0, int y0, int nx, int ny, int shift,
+                      int extra, const Eigen::Vector2i* q, const std::uint64_t* masks, int n, int a,
+                      int b, int span, int d, int out[4]) {
+  int s00 = 0, s10 = 0, s01 = 0, s11 = 0;
+  const size_t step_x = static_cast<size_t>(4) * d;
+  const size_t step_y = static_cast<size_t>(4) * d * nx;
+  for (int c = 0; c < n; ++c) {
+    const int qa = q[c].x() + a;
+    const int qb = q[c].y() + b;
+    const int cx = qa >> shift;
+    const int cy = qb >> shift;
+    const int ex = ((qa + span) >> shift) - cx - extra;
+    const int ey = ((qb + span) >> shift) - cy - extra;
+    const unsigned dx = static_cast<unsigned>(cx - x0);
+    const unsigned dy = static_cast<unsigned>(cy - y0);
+    const unsigned dx1 = static_cast<unsigned>(cx + d - x0);
+    const unsigned dy1 = static_cast<unsigned>(cy + d - y0);
+    const bool in_x0 = dx < static_cast<unsigned>(nx), in_x1 = dx1 < static_cast<unsigned>(nx);
+    const bool in_y0 = dy < static_cast<unsigned>(ny), in_y1 = dy1 < static_cast<unsigned>(ny);
+    if (!((in_x0 || in_x1) && (in_y0 || in_y1))) continue;
+    const std::uint64_t m = masks[c];
+    // Index of (cx, cy) even when outside: only in-range cells are read.
+    const std::ptrdiff_t idx =
+        (static_cast<std::ptrdiff_t>(cy - y0) * nx + (cx - x0)) * 4 + 2 * ex + ey;
+    if (in_y0) {
+      if (in_x0) s00 += Popcount(m & data[idx]);
+      if (in_x1) s10 += Popcount(m & data[idx + step_x]);
+    }
+    if (in_y1) {
+      if (in_x0) s01 += Popcount(m & data[idx + step_y]);
+      if (in_x1) s11 += Popcount(m & data[idx + step_y + step_x]);
+    }
+  }
+  out[0] = s00;
+  out[1] = s01;
+  out[2] = s10;
+  out[3] = s11;
+}
+
 // Any subdivision and any number of words.
 HPOSE_POPCNT_CLONES
 int SumGeneric(const std::uint64_t* data, int x0, int y0, int nx, int ny, int s, int extra,
@@ -241,6 +283,24 @@ int ColumnOccupancy::LowerBound(const RotatedTemplate& rotated, const std::uint6
                     lv.min_len - 1, words_, rotated.column_q.data(), masks, n, a, b, span);
 }
 
+void ColumnOccupancy::Bound4(const RotatedTemplate& rotated, int a, int b, int level,
+                             int out[4]) const {
+  assert(level >= 0 && level < static_cast<int>(levels_.size()));
+  const int size = 1 << level;
+  if (shift_ < 0 || words_ != 1 || size < lattice_.subdivisions) {
+    for (int i = 0; i < 2; ++i) {
+      for (int j = 0; j < 2; ++j)
+        out[2 * i + j] = Bound(rotated, a + i * size, b + j * size, level);
+    }
+    return;
+  }
+  assert(rotated.z_words == words_);
+  const Level& lv = levels_[level];
+  SumOneWordPow2x4(lv.data.data(), lv.x0, lv.y0, lv.nx, lv.ny, shift_, lv.min_len - 1,
+                   rotated.column_q.data(), rotated.column_masks.data(),
+                   static_cast<int>(rotated.column_q.size()), a, b, size - 1, size >> shift_, out);
+}
+
 std::vector<std::uint64_t> CellDisjointMasks(const RotatedTemplate& rotated, int subdivisions) {
   const int words = rotated.z_words;
   const int n = static_cast<int>(rotated.column_q.size());
@@ -250,9 +310,12 @@ std::vector<std::uint64_t> CellDisjointMasks(const RotatedTemplate& rotated, int
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   const std::vector<Eigen::Vector2i>& q = rotated.column_q;
-  std::sort(order.begin(), order.end(), [&](int i, int j) {
+  const auto before = [&](int i, int j) {
     return q[i].x() != q[j].x() ? q[i].x() < q[j].x() : q[i].y() < q[j].y();
-  });
+  };
+  if (!std::is_sorted(order.begin(), order.end(), before)) {  // RotateTemplate sorts already.
+    std::sort(order.begin(), order.end(), before);
+  }
   int first = 0;  // first position (in `order`) with qx > qx_i - S.
   for (int pos = 0; pos < n; ++pos) {
     const int i = order[pos];

@@ -96,6 +96,39 @@ TEST(ColumnOccupancyBoundsTest, FreeSpaceLowerBoundHoldsWithCollidingColumns) {
   }
 }
 
+// The four-quarter bound equals four single bounds, for theta blocks too, both filters, every
+// level, on and off the cluster's edges.
+TEST(ColumnOccupancyBoundsTest, Bound4EqualsFourBounds) {
+  std::mt19937 rng(23);
+  for (unsigned seed = 0; seed < 6; ++seed) {
+    const Scene s = MakeScene(700 + seed, 360, seed % 3 == 2 ? 3 : 4);
+    const ClusterVoxels free = DenseFreeSpace(s.cluster, 6, 45);
+    const TemplateRotations rot(s.tpl, s.lattice);
+    const RotatedTemplate& r0 = rot.Get(0);
+    for (const ColumnOccupancy::Filter f :
+         {ColumnOccupancy::Filter::kMax, ColumnOccupancy::Filter::kMin}) {
+      const ClusterVoxels& cells = f == ColumnOccupancy::Filter::kMax ? s.cluster : free;
+      const ColumnOccupancy occ(cells, s.lattice, r0.z_base, r0.z_words, 6, f);
+      const LatticePose c = NearestLatticePose(s.lattice, s.truth);
+      std::uniform_int_distribution<int> d(-90, 90), th(0, 359), tl(0, 4);
+      for (int k = 0; k < 200; ++k) {
+        const int tlevel = tl(rng);
+        const RotatedTemplate& r = rot.GetBlock(tlevel, (th(rng) >> tlevel) << tlevel);
+        const int level = k % 6;
+        const int a = c.ix + d(rng), b = c.iy + d(rng);
+        int four[4];
+        occ.Bound4(r, a, b, level, four);
+        for (int i = 0; i < 2; ++i) {
+          for (int j = 0; j < 2; ++j) {
+            ASSERT_EQ(four[2 * i + j], occ.Bound(r, a + (i << level), b + (j << level), level))
+                << "seed " << seed << " level " << level;
+          }
+        }
+      }
+    }
+  }
+}
+
 // Columns that can share a placed cell keep disjoint z bits, and no voxel is invented.
 TEST(ColumnOccupancyBoundsTest, CellDisjointMasksAreSubsetsAndPairwiseDisjoint) {
   const Scene s = MakeScene(42, 360, 4);
