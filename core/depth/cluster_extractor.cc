@@ -1,5 +1,7 @@
 #include "core/depth/cluster_extractor.h"
 
+#include "core/depth/cluster_merge.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -329,6 +331,10 @@ Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
     const int label = label_of_coarse[coarse_of_fine[i]];
     if (label >= 0) raw[label].points.push_back(fine[i]);
   }
+
+  // 3b. One object split by a depth edge inside it (an arm in front of a torso, its mixed pixels
+  // removed by the veil filter) leaves pieces stacked over one footprint: merge them.
+  MergePiecesAlongSight(options.merge_min_bearing_overlap, options.merge_max_range_gap_m, &raw);
 
   // 4. Objects in contact (people side by side, a robot touching a box) share one Euclidean
   // cluster; split those with several well separated tops.

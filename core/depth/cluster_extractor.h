@@ -42,8 +42,15 @@ struct ClusterOptions {
   double veil_max_angle_rad = 0.3;
   // Objects in contact form one Euclidean cluster; such a cluster is split around its tops
   // (highest points) that are at least this far apart horizontally, when every part keeps a
-  // fifth of the points (so an arm or a hand is never split off). 0 disables.
-  double split_min_top_separation_m = 0.2;
+  // fifth of the points (so an arm or a hand is never split off). 0 disables, the default: a
+  // humanoid seen from the side has its head and its arm as two such tops and was split in two
+  // (the veil filter alone already separates the touching people of the five-people frame).
+  double split_min_top_separation_m = 0.0;
+  // Pieces of one object split by a depth edge inside it are merged (MergePiecesAlongSight):
+  // clusters overlapping in bearing by this fraction of the narrower one (0 disables) ...
+  double merge_min_bearing_overlap = 0.5;
+  // ... whose horizontal range intervals are less than this apart.
+  double merge_max_range_gap_m = 0.08;
 };
 
 // Transforms the cloud to the ground frame, keeps points above the floor, downsamples and

@@ -27,6 +27,41 @@ std::unique_ptr<PoseSearch> MakeSearch(const EstimatorOptions& options) {
   return nullptr;
 }
 
+// The template's narrowest and widest extent across a line of sight, over headings every 5
+// degrees, for voxels above `min_z` (what clustering keeps), voxel size included.
+std::pair<double, double> SilhouetteWidths(const VoxelTemplate& tpl, double min_z) {
+  double narrow = 1e9, wide = 0.0;
+  for (int deg = 0; deg < 180; deg += 5) {
+    const double c = std::cos(DegToRad(deg)), s = std::sin(DegToRad(deg));
+    double lo = 1e9, hi = -1e9;
+    for (const Eigen::Vector3f& v : tpl.voxels) {
+      if (v.z() + 0.5 * tpl.resolution_m < min_z) continue;
+      const double w = -s * v.x() + c * v.y();
+      lo = std::min(lo, w);
+      hi = std::max(hi, w);
+    }
+    if (hi < lo) continue;
+    narrow = std::min(narrow, hi - lo + tpl.resolution_m);
+    wide = std::max(wide, hi - lo + tpl.resolution_m);
+  }
+  return {narrow > wide ? 0.0 : narrow, wide};
+}
+
+// A cluster's extent across the line of sight from the sensor (ground origin) to its centroid.
+double ApparentWidth(const Cluster& c) {
+  Eigen::Vector2f u = c.centroid.head<2>();
+  if (u.norm() < 1e-6) return 0.0;
+  u.normalize();
+  const Eigen::Vector2f across(-u.y(), u.x());
+  float lo = 1e9f, hi = -1e9f;
+  for (const Eigen::Vector3f& p : c.points) {
+    const float w = across.dot(p.head<2>());
+    lo = std::min(lo, w);
+    hi = std::max(hi, w);
+  }
+  return hi >= lo ? hi - lo : 0.0;
+}
+
 }  // namespace
 
 const char* SearchKindName(SearchKind kind) {
@@ -70,6 +105,7 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
   rotations_.reserve(templates_.size());
   for (const VoxelTemplate& t : templates_) {
     rotations_.push_back(std::make_unique<TemplateRotations>(t, options_.lattice));
+    silhouette_widths_.push_back(SilhouetteWidths(t, options_.clusters.min_height_above_floor_m));
   }
   search_ = MakeSearch(options_);
 }
@@ -182,12 +218,16 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
     std::unique_ptr<PoseScorer> scorer;
     ClusterVoxels voxels;
     ClusterVoxels free;
+    const double width = ApparentWidth(c);
     for (size_t j = 0; j < templates_.size(); ++j) {
       const TemplateRotations& rot = *rotations_[j];
       if (options_.max_height_ratio_error >= 0.0) {
         const double ratio = c.height() / rot.height_m();
         if (std::abs(ratio - 1.0) > options_.max_height_ratio_error) continue;
       }
+      const auto [narrow, wide] = silhouette_widths_[j];
+      if (options_.min_width_ratio >= 0.0 && width < options_.min_width_ratio * narrow) continue;
+      if (options_.max_width_ratio >= 0.0 && width > options_.max_width_ratio * wide) continue;
       if (scorer == nullptr) {
         const double res = options_.lattice.resolution_m;
         voxels = VoxeliseCluster(c.points, res);

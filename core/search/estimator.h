@@ -71,6 +71,12 @@ struct EstimatorOptions {
   // template's height (0.25: 0.75x to 1.25x; occlusion from below keeps a cluster's top, so
   // only a head cut off by the image border makes it shorter). Negative disables the check.
   double max_height_ratio_error = 0.25;
+  // A cluster is searched with a template only when its apparent width (its extent across the
+  // line of sight, above the floor band) is within [min_width_ratio x the template's narrowest
+  // silhouette, max_width_ratio x its widest] over all headings: a pole or a wall cannot be the
+  // humanoid however well the template swallows it. Negative disables each check.
+  double min_width_ratio = 0.6;
+  double max_width_ratio = 1.6;
 };
 
 // Default options (the paper's settings, Kinect v1) in one place.
@@ -104,6 +110,9 @@ class Estimator {
   EstimatorOptions options_;
   std::vector<VoxelTemplate> templates_;
   std::vector<std::unique_ptr<TemplateRotations>> rotations_;  // one per template.
+  // Narrowest and widest horizontal silhouette of each template over all headings (metres),
+  // counting voxels above the clusters' floor band only.
+  std::vector<std::pair<double, double>> silhouette_widths_;
   std::unique_ptr<PoseSearch> search_;
 };
 

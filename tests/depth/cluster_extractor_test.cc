@@ -163,8 +163,10 @@ TEST(ClusterExtractorTest, SplitsTwoTouchingPeopleButNotAnArm) {
   AddBoxSurface({1.0f, -1.2f, 0.0f}, {1.12f, -1.0f, 0.5f}, &ground);
   AddBoxSurface({1.02f, -1.14f, 0.5f}, {1.1f, -1.06f, 0.58f}, &ground);
   AddBoxSurface({1.03f, -0.98f, 0.3f}, {1.07f, -0.94f, 0.75f}, &ground);
+  ClusterOptions split;  // the split is off by default; this tests it when asked for.
+  split.split_min_top_separation_m = 0.2;
   const Result<std::vector<Cluster>> clusters =
-      ExtractClusters(ToSensor(ground, floor), floor, ClusterOptions{});
+      ExtractClusters(ToSensor(ground, floor), floor, split);
   ASSERT_TRUE(clusters.ok());
   ASSERT_EQ(clusters->size(), 3u);
   int people = 0;
