@@ -40,14 +40,7 @@ int RunDemo(int argc, char** argv) {
   int seed = static_cast<int>(spec.seed);
   flags.AddInt("seed", &seed, "clutter and noise seed");
   flags.AddString("picture", &picture, "where to draw the match", "OUT.png");
-  switch (flags.Parse(argc, argv)) {
-    case FlagParser::Outcome::kHelpShown:
-      return kExitOk;
-    case FlagParser::Outcome::kError:
-      return kExitUsage;
-    case FlagParser::Outcome::kOk:
-      break;
-  }
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   spec.humanoid_pose.theta = NormalizeAngle(DegToRad(theta_deg));
   if (seed < 0 || spec.clutter < 0 || spec.clutter > 50) {
     std::cerr << "hpose demo: --seed must be >= 0 and --clutter within [0, 50]\n";

@@ -77,14 +77,7 @@ int RunEstimate(int argc, char** argv) {
       "  hpose simulate --out /tmp/frame && \\\n"
       "  hpose estimate --depth /tmp/frame/depth.png --intrinsics /tmp/frame/intrinsics.json\n"
       "  hpose estimate --cloud scan.pcd --template my_robot.bt --json");
-  switch (flags.Parse(argc, argv)) {
-    case FlagParser::Outcome::kHelpShown:
-      return kExitOk;
-    case FlagParser::Outcome::kError:
-      return kExitUsage;
-    case FlagParser::Outcome::kOk:
-      break;
-  }
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const bool have_depth = !depth_path.empty();
   const bool have_cloud = !cloud_path.empty();
   if (have_depth == have_cloud) {

@@ -40,14 +40,7 @@ int RunRecord(int argc, char** argv) {
   flags.SetEpilog(
       "examples:\n  hpose record --out walk.oni --duration 10\n"
       "  hpose record --out frames/ --frames 300\n");
-  switch (flags.Parse(argc, argv)) {
-    case FlagParser::Outcome::kHelpShown:
-      return kExitOk;
-    case FlagParser::Outcome::kError:
-      return kExitUsage;
-    case FlagParser::Outcome::kOk:
-      break;
-  }
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   if (out.empty()) {
     std::cerr << flags.Help() << "\nerror: --out is required\n";
     return kExitUsage;

@@ -102,14 +102,7 @@ int RunReplay(int argc, char** argv) {
   flags.SetEpilog(
       "examples:\n  hpose replay walk.oni --template templates/standing.bt --out walk.jsonl\n"
       "  hpose replay frames/ --template templates/standing.bt --format csv > poses.csv\n");
-  switch (flags.Parse(argc, argv)) {
-    case FlagParser::Outcome::kHelpShown:
-      return kExitOk;
-    case FlagParser::Outcome::kError:
-      return kExitUsage;
-    case FlagParser::Outcome::kOk:
-      break;
-  }
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   if (flags.positional().size() != 1) {
     std::cerr << flags.Help() << "\nerror: expected exactly one RECORDING\n";
     return kExitUsage;

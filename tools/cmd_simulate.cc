@@ -126,9 +126,7 @@ int RunSimulate(int argc, char** argv) {
       "  hpose simulate --out sim2 --x 2 --theta-deg 90 --pose right_arm_raised --clutter 6\n"
       "  hpose simulate --out turn --frames 12 --turn-deg 30   # a full turn in 30 deg steps\n"
       "\nexit status: 0 ok, 1 error writing the files, 2 bad flags or values");
-  const FlagParser::Outcome outcome = flags.Parse(argc, argv);
-  if (outcome == FlagParser::Outcome::kHelpShown) return kExitOk;
-  if (outcome == FlagParser::Outcome::kError) return kExitUsage;
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
 
   // Values.
   if (out_dir.empty()) return UsageError("--out DIR is required");

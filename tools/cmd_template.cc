@@ -55,9 +55,7 @@ int Generate(int argc, char** argv) {
                   "surface sample spacing, metres (a quarter of the resolution)", "M");
   flags.SetEpilog(
       "example:\n  hpose template generate --pose standing --out templates/standing.bt");
-  const FlagParser::Outcome outcome = flags.Parse(argc, argv, 2);
-  if (outcome == FlagParser::Outcome::kHelpShown) return kExitOk;
-  if (outcome == FlagParser::Outcome::kError) return kExitUsage;
+  if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
   if (out.empty()) return UsageError("generate", "--out FILE.bt is required");
   if (!(resolution >= 0.001 && resolution <= 0.5)) {
     return UsageError("generate", "--resolution must be in [0.001, 0.5] m");
@@ -92,9 +90,7 @@ int FromCloud(int argc, char** argv) {
   flags.AddString("out", &out, "template file to write (.bt)", "FILE.bt");
   flags.AddDouble("resolution", &resolution, "voxel edge, metres", "M");
   flags.AddString("variant", &variant, "shape label, e.g. standing [default: the name]", "V");
-  const FlagParser::Outcome outcome = flags.Parse(argc, argv, 2);
-  if (outcome == FlagParser::Outcome::kHelpShown) return kExitOk;
-  if (outcome == FlagParser::Outcome::kError) return kExitUsage;
+  if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
   if (flags.positional().size() != 1) {
     return UsageError("from-cloud", "give exactly one cloud file (.pcd or .ply)");
   }
@@ -121,9 +117,7 @@ int Info(int argc, char** argv) {
                    "Prints a template's name, variant, source, resolution, voxel count, height\n"
                    "and bounding box (template frame).");
   flags.AllowPositional("FILE.bt");
-  const FlagParser::Outcome outcome = flags.Parse(argc, argv, 2);
-  if (outcome == FlagParser::Outcome::kHelpShown) return kExitOk;
-  if (outcome == FlagParser::Outcome::kError) return kExitUsage;
+  if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
   if (flags.positional().size() != 1) return UsageError("info", "give exactly one FILE.bt");
   Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
   if (!tpl.ok()) return ReportError(kCmd, tpl.error());

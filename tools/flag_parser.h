@@ -36,6 +36,10 @@ class FlagParser {
   // absent.
   Outcome Parse(int argc, char** argv, int first = 1);
 
+  // Parse() for a command's entry point: -1 to go on, else the status to exit with (0 after
+  // --help, 2 after a usage error, already reported).
+  int ParseOrExitCode(int argc, char** argv, int first = 1);
+
   const std::vector<std::string>& positional() const { return positional_; }
   // True when the named flag appeared on the command line.
   bool Seen(const std::string& name) const;
