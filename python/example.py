@@ -2,6 +2,9 @@
 """Example robot-controller loop: follow the humanoid's pose served by hposed.
 
     PYTHONPATH=<build>/python:python python3 python/example.py --server 127.0.0.1:50051 --count 10
+
+With a stereo source (and world_from_ground) in the daemon, both estimators' estimates arrive,
+each marked with its estimator; --estimator picks one.
 """
 
 import argparse
@@ -16,6 +19,8 @@ def main():
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--server", default="127.0.0.1:50051")
     parser.add_argument("--count", type=int, default=10, help="estimates to read (0 = forever)")
+    parser.add_argument("--estimator", choices=["depth", "stereo"], default=None,
+                        help="only this estimator's estimates (default: all)")
     args = parser.parse_args()
 
     with PoseClient(args.server) as client:
@@ -27,7 +32,8 @@ def main():
             for t in client.templates():
                 print("template %s: %d voxels, %.0f mm tall" % (t.name, t.voxels, t.height * 1000))
             seen = 0
-            for estimate in client.stream(max_estimates=args.count):
+            estimators = [args.estimator] if args.estimator else []
+            for estimate in client.stream(max_estimates=args.count, estimators=estimators):
                 print(describe(estimate))
                 pose = best_pose(estimate)
                 if pose is not None and not estimate.stale:
