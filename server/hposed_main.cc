@@ -85,14 +85,7 @@ int main(int argc, char** argv) {
       "--world-from-ground 0,-2,1.5708\n"
       "--loop and --rate apply to both sources.\n"
       "SIGINT or SIGTERM shut the daemon down cleanly.\n");
-  switch (flags.Parse(argc, argv)) {
-    case FlagParser::Outcome::kHelpShown:
-      return hpose::tools::kExitOk;
-    case FlagParser::Outcome::kError:
-      return hpose::tools::kExitUsage;
-    case FlagParser::Outcome::kOk:
-      break;
-  }
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
 
   hpose::server::DaemonConfig config;
   if (!config_path.empty()) {

@@ -271,14 +271,7 @@ int RunQuery(int argc, char** argv) {
       "  hpose query stream --compare\n"
       "  hpose query --server 127.0.0.1:50051 estimate frames/depth_000.png\n"
       "  hpose query estimate-stereo seq/left/000000.png seq/right/000000.png\n");
-  switch (flags.Parse(argc, argv)) {
-    case FlagParser::Outcome::kHelpShown:
-      return kExitOk;
-    case FlagParser::Outcome::kError:
-      return kExitUsage;
-    case FlagParser::Outcome::kOk:
-      break;
-  }
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::vector<std::string>& args = flags.positional();
   if (args.empty()) {
     std::cerr << flags.Help() << "\nerror: missing COMMAND\n";

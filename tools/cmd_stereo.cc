@@ -148,14 +148,7 @@ int RunEstimateStereo(int argc, char** argv) {
       "exit status: 0 ok; 1 bad input; 2 usage; 3 a single pair gave no robot pose.\n"
       "example:\n  hpose simulate stereo --out /tmp/seq && hpose estimate-stereo --sequence "
       "/tmp/seq --json\n");
-  switch (flags.Parse(argc, argv)) {
-    case FlagParser::Outcome::kHelpShown:
-      return kExitOk;
-    case FlagParser::Outcome::kError:
-      return kExitUsage;
-    case FlagParser::Outcome::kOk:
-      break;
-  }
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::string cmd = "estimate-stereo";
   const bool single = !left.empty() || !right.empty();
   if (single == !sequence.empty() || (single && (left.empty() || right.empty()))) {
@@ -291,14 +284,7 @@ int RunSimulateStereo(int argc, char** argv) {
   flags.AddBool("no-distractors", &no_distractors, "no distractor colours on the floor");
   flags.AddBool("no-sway", &no_sway, "no head sway");
   flags.AddInt("seed", &seed, "random seed");
-  switch (flags.Parse(argc, argv)) {
-    case FlagParser::Outcome::kHelpShown:
-      return kExitOk;
-    case FlagParser::Outcome::kError:
-      return kExitUsage;
-    case FlagParser::Outcome::kOk:
-      break;
-  }
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::string cmd = "simulate-stereo";
   if (out.empty()) {
     std::cerr << "hpose " << cmd << ": --out is required\n";
