@@ -152,6 +152,10 @@ Result<PointCloud> ReadCloud(const std::string& path) {
       if (header.fields.empty()) {
         return MakeError(ErrorCode::kDataLoss, path + ": not a valid PCD file (no FIELDS)");
       }
+      if (data_idx == 0) {  // every PCD header ends with a DATA line; PCL tolerates its absence.
+        return MakeError(ErrorCode::kDataLoss,
+                         path + ": not a valid PCD file (the header has no DATA line)");
+      }
       if (FindField(header, "x") == nullptr || FindField(header, "y") == nullptr ||
           FindField(header, "z") == nullptr) {
         return MakeError(ErrorCode::kInvalidArgument, path + ": the PCD has no x, y and z fields");

@@ -1,0 +1,152 @@
+// `hpose estimate` and `hpose demo` end to end: a simulated frame gives the humanoid back in the
+// JSON, and every kind of bad input gives a message naming the problem and a non-zero exit.
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/common/pose2d.h"
+#include "core/io/cloud_io.h"
+#include "tests/tools/cli_test_util.h"
+
+namespace hpose {
+namespace {
+
+using testing::CliRun;
+using testing::RunHpose;
+using testing::TempDir;
+
+class EstimateCliTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir("estimate_cli");
+    const CliRun sim = RunHpose("simulate --out '" + (*dir_ / "frame") +
+                                    "' --x 1.2 --y -0.1 --theta-deg 40 --clutter 2 --seed 5",
+                                *dir_);
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static std::string Frame(const std::string& name) { return *dir_ / ("frame/" + name); }
+  static TempDir* dir_;
+};
+TempDir* EstimateCliTest::dir_ = nullptr;
+
+TEST_F(EstimateCliTest, FindsTheSimulatedHumanoidInJson) {
+  const CliRun run = RunHpose("estimate --depth '" + Frame("depth.png") + "' --intrinsics '" +
+                                  Frame("intrinsics.json") + "' --json",
+                              *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  ASSERT_TRUE(j["humanoid_found"].get<bool>());
+  const nlohmann::json& d = j["detections"][0];
+  EXPECT_EQ(d["template"], "standing");
+  EXPECT_NEAR(d["x"].get<double>(), 1.2, 0.03);
+  EXPECT_NEAR(d["y"].get<double>(), -0.1, 0.03);
+  EXPECT_LT(std::abs(AngleDiff(d["theta"].get<double>(), DegToRad(40))), DegToRad(6));
+  EXPECT_GT(d["score"].get<double>(), 50.0);
+  EXPECT_LE(d["score"].get<double>(), 100.0);
+  for (const char* stage : {"cloud", "floor", "clustering", "search", "total"}) {
+    EXPECT_GE(j["timings_ms"][stage].get<double>(), 0.0) << stage;
+  }
+  EXPECT_NEAR(j["floor"]["height"].get<double>(), 0.34, 0.02);
+}
+
+TEST_F(EstimateCliTest, CloudInputAndPaperSearchAgree) {
+  const CliRun run =
+      RunHpose("estimate --cloud '" + Frame("cloud.pcd") + "' --search paper --json", *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["search"], "paper");
+  EXPECT_NEAR(j["detections"][0]["x"].get<double>(), 1.2, 0.04);
+}
+
+TEST_F(EstimateCliTest, HumanReadableOutputAndPicture) {
+  const std::string picture = *dir_ / "match.png";
+  const CliRun run =
+      RunHpose("estimate --depth '" + Frame("depth.png") + "' --picture '" + picture + "'", *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("humanoid  standing at x 1.2"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("deg"), std::string::npos);
+  EXPECT_GT(std::filesystem::file_size(picture), 1000u);
+}
+
+TEST_F(EstimateCliTest, BadInputNamesTheProblem) {
+  struct Case {
+    std::string args;
+    int exit_code;
+    std::string says;
+  };
+  std::ofstream(*dir_ / "garbage.png") << "not a png at all";
+  std::ofstream(*dir_ / "nan.json")
+      << R"({"width":640,"height":480,"fx":NaN,"fy":525,"cx":320,"cy":240})";
+  std::ofstream(*dir_ / "small.json")
+      << R"({"width":320,"height":240,"fx":285,"fy":285,"cx":160,"cy":120})";
+  std::ofstream(*dir_ / "extra.json")
+      << R"({"width":640,"height":480,"fx":525,"fy":525,"cx":320,"cy":240,"k1":0.1})";
+  std::ofstream(*dir_ / "garbage.pcd") << "VERSION .7\nFIELDS x y z\nnonsense\n";
+  PointCloud nan_cloud;
+  nan_cloud.points.assign(50, Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
+  ASSERT_TRUE(WritePcd(nan_cloud, *dir_ / "nan.pcd").ok());
+  ASSERT_TRUE(WritePcd(PointCloud{}, *dir_ / "empty.pcd").ok());
+  const std::vector<Case> cases = {
+      {"estimate --depth '" + (*dir_ / "missing.png") + "'", 1, "missing.png"},
+      {"estimate --depth '" + (*dir_ / "garbage.png") + "'", 1, "garbage.png"},
+      {"estimate --depth '" + Frame("depth.png") + "' --intrinsics '" + (*dir_ / "nan.json") + "'",
+       1, "nan.json"},
+      {"estimate --depth '" + Frame("depth.png") + "' --intrinsics '" + (*dir_ / "small.json") +
+           "'",
+       1, "320x240"},
+      {"estimate --depth '" + Frame("depth.png") + "' --intrinsics '" + (*dir_ / "extra.json") +
+           "'",
+       1, "k1"},
+      {"estimate --cloud '" + (*dir_ / "garbage.pcd") + "'", 1, "garbage.pcd"},
+      {"estimate --cloud '" + (*dir_ / "nan.pcd") + "'", 1, "NaN"},
+      {"estimate --cloud '" + (*dir_ / "empty.pcd") + "'", 1, "empty"},
+      {"estimate --depth '" + Frame("depth.png") + "' --template '" + (*dir_ / "nope.bt") + "'", 1,
+       "nope.bt"},
+      {"estimate --depth '" + Frame("depth.png") + "' --search fastest", 1, "fastest"},
+      {"estimate --depth '" + Frame("depth.png") + "' --cloud '" + Frame("cloud.pcd") + "'", 2,
+       "either"},
+      {"estimate --frobnicate", 2, "frobnicate"},
+  };
+  for (const Case& c : cases) {
+    const CliRun run = RunHpose(c.args, *dir_);
+    EXPECT_EQ(run.exit_code, c.exit_code) << c.args << "\n" << run.err;
+    EXPECT_NE(run.err.find(c.says), std::string::npos) << c.args << "\n" << run.err;
+  }
+}
+
+TEST_F(EstimateCliTest, NoFloorAndNoHumanoidHaveTheirOwnExitStatus) {
+  // Only the floor: exit 3 (no humanoid).
+  const CliRun sim = RunHpose("simulate --out '" + (*dir_ / "empty") + "' --x 15", *dir_);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  CliRun run = RunHpose("estimate --depth '" + (*dir_ / "empty/depth.png") + "'", *dir_);
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_NE(run.out.find("none found"), std::string::npos) << run.out;
+  // A wall straight ahead and no floor: exit 4.
+  PointCloud wall;
+  for (int i = 0; i < 4000; ++i) {
+    wall.points.emplace_back(-0.5f + 0.001f * (i % 100), -0.5f + 0.025f * (i / 100), 1.5f);
+  }
+  ASSERT_TRUE(WritePcd(wall, *dir_ / "wall.pcd").ok());
+  run = RunHpose("estimate --cloud '" + (*dir_ / "wall.pcd") + "'", *dir_);
+  EXPECT_EQ(run.exit_code, 4) << run.out << run.err;
+  EXPECT_NE(run.err.find("floor"), std::string::npos) << run.err;
+}
+
+TEST(DemoCliTest, RunsWithoutInput) {
+  TempDir dir("demo_cli");
+  const CliRun run = RunHpose("demo --picture '" + (dir / "demo.png") + "'", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("truth"), std::string::npos);
+  EXPECT_NE(run.out.find("error     x"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir / "demo.png"));
+}
+
+}  // namespace
+}  // namespace hpose
