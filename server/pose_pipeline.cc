@@ -11,28 +11,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr size_t kLatencyWindow = 256;
-constexpr double kRateWindowS = 3.0;
 constexpr int kMaxConsecutiveBadFrames = 100;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
-void Trim(std::deque<Clock::time_point>* times, Clock::time_point now) {
-  while (!times->empty() && Seconds(now - times->front()) > kRateWindowS) times->pop_front();
-}
-
-double Rate(const std::deque<Clock::time_point>& times) {
-  if (times.size() < 2) return 0.0;
-  const double span = Seconds(times.back() - times.front());
-  return span > 0.0 ? (times.size() - 1) / span : 0.0;
-}
-
-double Quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t i = std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * v.size())) - (q > 0));
-  return v[i];
-}
 
 }  // namespace
 
@@ -136,8 +117,7 @@ void PosePipeline::CaptureLoop() {
       {
         std::lock_guard<std::mutex> lock(mu_);
         ++frames_in_;
-        input_times_.push_back(Clock::now());
-        Trim(&input_times_, input_times_.back());
+        stats_.RecordInput(Clock::now());
       }
       const size_t dropped = queue_.Push(std::move(*frame), !drop_oldest);
       if (dropped > 0) {
@@ -207,10 +187,7 @@ void PosePipeline::EstimateLoop() {
       } else {
         ++frames_failed_;
       }
-      publish_times_.push_back(published->published);
-      Trim(&publish_times_, published->published);
-      latencies_.push_back(published->latency_s);
-      if (latencies_.size() > kLatencyWindow) latencies_.pop_front();
+      stats_.RecordPublish(published->published, published->latency_s);
       latest_ = std::move(published);
     }
     published_cv_.notify_all();
@@ -263,18 +240,13 @@ PipelineStatus PosePipeline::Status() const {
   s.frames_estimated = frames_estimated_;
   s.frames_failed = frames_failed_;
   s.reconnects = reconnects_;
-  // Rates decay to zero when nothing arrives any more.
-  const Clock::time_point now = Clock::now();
-  auto recent = [&](const std::deque<Clock::time_point>& t) {
-    return !t.empty() && Seconds(now - t.back()) < kRateWindowS ? Rate(t) : 0.0;
-  };
-  s.input_rate_hz = recent(input_times_);
-  s.estimate_rate_hz = recent(publish_times_);
-  const std::vector<double> lat(latencies_.begin(), latencies_.end());
-  s.latency_samples = static_cast<std::uint32_t>(lat.size());
-  s.latency_median_s = Quantile(lat, 0.5);
-  s.latency_p99_s = Quantile(lat, 0.99);
-  s.latency_last_s = lat.empty() ? 0.0 : lat.back();
+  const StatsSnapshot stats = stats_.Snapshot(Clock::now());
+  s.input_rate_hz = stats.input_rate_hz;
+  s.estimate_rate_hz = stats.estimate_rate_hz;
+  s.latency_samples = stats.latency_samples;
+  s.latency_median_s = stats.latency_median_s;
+  s.latency_p99_s = stats.latency_p99_s;
+  s.latency_last_s = stats.latency_last_s;
   s.has_floor = has_floor_;
   s.last_floor = last_floor_;
   return s;

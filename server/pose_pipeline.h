@@ -16,6 +16,7 @@
 #include "server/daemon_config.h"
 #include "server/frame_queue.h"
 #include "server/frame_source.h"
+#include "server/pipeline_stats.h"
 #include "server/publish_signal.h"
 
 namespace hpose::server {
@@ -125,9 +126,7 @@ class PosePipeline {
   std::uint64_t frames_estimated_ = 0;
   std::uint64_t frames_failed_ = 0;
   std::uint64_t reconnects_ = 0;
-  std::deque<std::chrono::steady_clock::time_point> input_times_;
-  std::deque<std::chrono::steady_clock::time_point> publish_times_;
-  std::deque<double> latencies_;
+  PipelineStats stats_;
   bool has_floor_ = false;
   FloorEstimate last_floor_;
 };

@@ -13,28 +13,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr size_t kLatencyWindow = 256;
-constexpr double kRateWindowS = 3.0;
 constexpr int kMaxConsecutiveBadPairs = 100;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
-void Trim(std::deque<Clock::time_point>* times, Clock::time_point now) {
-  while (!times->empty() && Seconds(now - times->front()) > kRateWindowS) times->pop_front();
-}
-
-double RecentRate(const std::deque<Clock::time_point>& times, Clock::time_point now) {
-  if (times.size() < 2 || Seconds(now - times.back()) >= kRateWindowS) return 0.0;
-  const double span = Seconds(times.back() - times.front());
-  return span > 0.0 ? (times.size() - 1) / span : 0.0;
-}
-
-double Quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t i = std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * v.size())) - (q > 0));
-  return v[i];
-}
 
 }  // namespace
 
@@ -85,10 +66,7 @@ void StereoPipeline::Publish(std::shared_ptr<PublishedStereoEstimate> e, bool ro
     } else {
       ++frames_failed_;
     }
-    publish_times_.push_back(e->published);
-    Trim(&publish_times_, e->published);
-    latencies_.push_back(e->latency_s);
-    if (latencies_.size() > kLatencyWindow) latencies_.pop_front();
+    stats_.RecordPublish(e->published, e->latency_s);
     latest_ = std::move(e);
   }
   published_cv_.notify_all();
@@ -132,8 +110,7 @@ void StereoPipeline::Run() {
       {
         std::lock_guard<std::mutex> lock(mu_);
         ++frames_in_;
-        input_times_.push_back(read_start);
-        Trim(&input_times_, read_start);
+        stats_.RecordInput(read_start);
       }
       bool robot_found = false;
       Result<std::pair<RgbImage, RgbImage>> pair = sequence_.Load(i);
@@ -216,14 +193,13 @@ PipelineStatus StereoPipeline::Status() const {
   s.frames_dropped = frames_dropped_;
   s.frames_estimated = frames_estimated_;
   s.frames_failed = frames_failed_;
-  const Clock::time_point now = Clock::now();
-  s.input_rate_hz = RecentRate(input_times_, now);
-  s.estimate_rate_hz = RecentRate(publish_times_, now);
-  const std::vector<double> lat(latencies_.begin(), latencies_.end());
-  s.latency_samples = static_cast<std::uint32_t>(lat.size());
-  s.latency_median_s = Quantile(lat, 0.5);
-  s.latency_p99_s = Quantile(lat, 0.99);
-  s.latency_last_s = lat.empty() ? 0.0 : lat.back();
+  const StatsSnapshot stats = stats_.Snapshot(Clock::now());
+  s.input_rate_hz = stats.input_rate_hz;
+  s.estimate_rate_hz = stats.estimate_rate_hz;
+  s.latency_samples = stats.latency_samples;
+  s.latency_median_s = stats.latency_median_s;
+  s.latency_p99_s = stats.latency_p99_s;
+  s.latency_last_s = stats.latency_last_s;
   return s;
 }
 

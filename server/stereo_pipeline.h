@@ -17,6 +17,7 @@
 #include "core/stereo/stereo_sequence.h"
 #include "core/stereo/stereo_tracker.h"
 #include "server/daemon_config.h"
+#include "server/pipeline_stats.h"
 #include "server/pose_pipeline.h"
 #include "server/publish_signal.h"
 
@@ -102,9 +103,7 @@ class StereoPipeline final {
   std::uint64_t frames_dropped_ = 0;
   std::uint64_t frames_estimated_ = 0;
   std::uint64_t frames_failed_ = 0;
-  std::deque<std::chrono::steady_clock::time_point> input_times_;
-  std::deque<std::chrono::steady_clock::time_point> publish_times_;
-  std::deque<double> latencies_;
+  PipelineStats stats_;
 };
 
 }  // namespace hpose::server
