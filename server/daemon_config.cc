@@ -69,6 +69,22 @@ class MapReader {
     return MakeError(ErrorCode::kInvalidArgument, origin_ + ": " + key + ": " + what);
   }
 
+  // Reads the optional key "rate" ('recorded': replay at the recorded rate; 'fast': as fast
+  // as possible); `realtime` is left as it was when the key is absent.
+  Status ReadRate(bool* realtime) {
+    std::string rate;
+    Status st = Read("rate", &rate, "'recorded' or 'fast'");
+    if (!st.ok()) return st;
+    if (rate == "recorded") {
+      *realtime = true;
+    } else if (rate == "fast") {
+      *realtime = false;
+    } else if (!rate.empty()) {
+      return Fail(Key("rate"), "expected 'recorded' or 'fast', got '" + rate + "'");
+    }
+    return Status::Ok();
+  }
+
  private:
   YAML::Node node_;
   std::string path_;
@@ -111,15 +127,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     SourceConfig& s = c->source;
     HPOSE_RETURN_IF_ERROR(r.Read("path", &s.path, "a path"));
     s.path = Resolve(base_dir, s.path);
-    std::string rate;
-    HPOSE_RETURN_IF_ERROR(r.Read("rate", &rate, "'recorded' or 'fast'"));
-    if (rate == "recorded") {
-      s.realtime = true;
-    } else if (rate == "fast") {
-      s.realtime = false;
-    } else if (!rate.empty()) {
-      return r.Fail("source.rate", "expected 'recorded' or 'fast', got '" + rate + "'");
-    }
+    HPOSE_RETURN_IF_ERROR(r.ReadRate(&s.realtime));
     HPOSE_RETURN_IF_ERROR(r.Read("loop", &s.loop, "true or false"));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("fps", &s.fps));
     HPOSE_RETURN_IF_ERROR(r.Read("queue_capacity", &s.queue_capacity, "an integer"));
@@ -201,15 +209,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.Read("calibration_unit", &s.calibration_unit, "'m' or 'mm'"));
     HPOSE_RETURN_IF_ERROR(r.Read("options", &s.options, "a path"));
     s.options = Resolve(base_dir, s.options);
-    std::string rate;
-    HPOSE_RETURN_IF_ERROR(r.Read("rate", &rate, "'recorded' or 'fast'"));
-    if (rate == "recorded") {
-      s.realtime = true;
-    } else if (rate == "fast") {
-      s.realtime = false;
-    } else if (!rate.empty()) {
-      return r.Fail("stereo.rate", "expected 'recorded' or 'fast', got '" + rate + "'");
-    }
+    HPOSE_RETURN_IF_ERROR(r.ReadRate(&s.realtime));
     HPOSE_RETURN_IF_ERROR(r.Read("loop", &s.loop, "true or false"));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("fps", &s.fps));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("stale_after_s", &s.stale_after_s));
