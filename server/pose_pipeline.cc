@@ -35,6 +35,24 @@ const char* SourceStateName(SourceState state) {
   return "unknown";
 }
 
+bool DescribeStaleness(SourceState state, const std::string& state_reason, double age_s,
+                       double stale_after_s, const std::string& source_name,
+                       const std::string& estimate_name, std::string* reason) {
+  if (state != SourceState::kRunning) {
+    *reason = source_name + " " + SourceStateName(state) +
+              (state_reason.empty() ? "" : ": " + state_reason);
+    return true;
+  }
+  if (age_s > stale_after_s) {
+    char age[32];
+    std::snprintf(age, sizeof(age), "%.2f s", age_s);
+    *reason = "no newer " + estimate_name + " for " + age;
+    return true;
+  }
+  reason->clear();
+  return false;
+}
+
 PosePipeline::PosePipeline(std::unique_ptr<FrameSource> source,
                            std::unique_ptr<Estimator> estimator, SourceConfig config,
                            PublishSignal* signal)
@@ -210,20 +228,8 @@ std::shared_ptr<const PublishedEstimate> PosePipeline::WaitNewer(
 
 bool PosePipeline::IsStale(const PublishedEstimate& e, std::string* reason) const {
   std::lock_guard<std::mutex> lock(mu_);
-  if (state_ != SourceState::kRunning) {
-    *reason =
-        std::string("source ") + SourceStateName(state_) + (reason_.empty() ? "" : ": " + reason_);
-    return true;
-  }
-  const double age = Seconds(Clock::now() - e.published);
-  if (age > config_.stale_after_s) {
-    char buf[96];
-    std::snprintf(buf, sizeof(buf), "no newer estimate for %.2f s", age);
-    *reason = buf;
-    return true;
-  }
-  reason->clear();
-  return false;
+  return DescribeStaleness(state_, reason_, Seconds(Clock::now() - e.published),
+                           config_.stale_after_s, "source", "estimate", reason);
 }
 
 PipelineStatus PosePipeline::Status() const {

@@ -25,6 +25,14 @@ enum class SourceState { kNone, kStarting, kRunning, kReconnecting, kFinished, k
 
 const char* SourceStateName(SourceState state);
 
+// Whether an estimate published `age_s` ago by a source in `state` is stale, and why: the
+// source is not running ("<source_name> finished: <state_reason>"), or nothing newer came for
+// longer than `stale_after_s` ("no newer <estimate_name> for 2.31 s"). Clears `reason` when
+// the estimate is fresh.
+bool DescribeStaleness(SourceState state, const std::string& state_reason, double age_s,
+                       double stale_after_s, const std::string& source_name,
+                       const std::string& estimate_name, std::string* reason);
+
 // The outcome of one source frame, as published to readers.
 struct PublishedEstimate {
   std::uint64_t publish_id = 0;  // 1, 2, ... in publishing order.

@@ -166,20 +166,8 @@ std::shared_ptr<const PublishedStereoEstimate> StereoPipeline::WaitNewer(
 
 bool StereoPipeline::IsStale(const PublishedStereoEstimate& e, std::string* reason) const {
   std::lock_guard<std::mutex> lock(mu_);
-  if (state_ != SourceState::kRunning) {
-    *reason = std::string("stereo source ") + SourceStateName(state_) +
-              (reason_.empty() ? "" : ": " + reason_);
-    return true;
-  }
-  const double age = Seconds(Clock::now() - e.published);
-  if (age > config_.stale_after_s) {
-    char buf[96];
-    std::snprintf(buf, sizeof(buf), "no newer stereo estimate for %.2f s", age);
-    *reason = buf;
-    return true;
-  }
-  reason->clear();
-  return false;
+  return DescribeStaleness(state_, reason_, Seconds(Clock::now() - e.published),
+                           config_.stale_after_s, "stereo source", "stereo estimate", reason);
 }
 
 PipelineStatus StereoPipeline::Status() const {

@@ -5,7 +5,6 @@ usage: python_client_test.py HPOSED HPOSE SOURCE_DIR   (PYTHONPATH: <build>/pyth
 """
 
 import os
-import select
 import signal
 import subprocess
 import sys
@@ -15,6 +14,7 @@ import unittest
 
 import grpc
 
+import daemon_process
 from hpose_client import PoseClient, PoseClientError, best_pose
 
 HPOSED, HPOSE, SOURCE_DIR = sys.argv[1:4]
@@ -22,19 +22,7 @@ HPOSED, HPOSE, SOURCE_DIR = sys.argv[1:4]
 
 def start_daemon(args, timeout=60.0):
     """Starts hposed on a free loopback port; returns (process, address)."""
-    proc = subprocess.Popen([HPOSED, "--listen", "127.0.0.1:0"] + args, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        ready, _, _ = select.select([proc.stdout], [], [], 0.5)
-        if ready:
-            line = proc.stdout.readline()
-            if not line:
-                break
-            if "listening on" in line:
-                return proc, line.split("listening on ")[1].split()[0]
-    proc.kill()
-    raise RuntimeError("hposed did not start: %s" % proc.stdout.read())
+    return daemon_process.start_daemon(HPOSED, args, timeout)
 
 
 class PythonClientTest(unittest.TestCase):

@@ -8,7 +8,6 @@ usage: python_stereo_client_test.py HPOSED HPOSE   (PYTHONPATH: <build>/python a
 import csv
 import math
 import os
-import select
 import struct
 import subprocess
 import sys
@@ -19,6 +18,7 @@ import zlib
 
 import grpc
 
+import daemon_process
 from hpose_client import PoseClient, PoseClientError, estimator_name, world_pose
 from hpose_client.client import describe
 
@@ -32,19 +32,7 @@ WORLD_FROM_GROUND = (0.05, -2.0, math.pi / 2)
 
 def start_daemon(args, timeout=60.0):
     """Starts hposed on a free loopback port; returns (process, address)."""
-    proc = subprocess.Popen([HPOSED, "--listen", "127.0.0.1:0"] + args, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        ready, _, _ = select.select([proc.stdout], [], [], 0.5)
-        if ready:
-            line = proc.stdout.readline()
-            if not line:
-                break
-            if "listening on" in line:
-                return proc, line.split("listening on ")[1].split()[0]
-    proc.kill()
-    raise RuntimeError("hposed did not start: %s" % proc.stdout.read())
+    return daemon_process.start_daemon(HPOSED, args, timeout)
 
 
 def read_png_rgb(path):

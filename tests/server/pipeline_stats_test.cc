@@ -35,3 +35,24 @@ TEST(PipelineStatsTest, RatesDecayWhenFramesStop) {
 
 }  // namespace
 }  // namespace hpose::server
+
+#include "server/pose_pipeline.h"
+
+namespace hpose::server {
+namespace {
+
+TEST(DescribeStalenessTest, NamesWhyAnEstimateIsStale) {
+  std::string reason;
+  EXPECT_FALSE(
+      DescribeStaleness(SourceState::kRunning, "", 0.5, 2.0, "source", "estimate", &reason));
+  EXPECT_TRUE(reason.empty());
+  EXPECT_TRUE(DescribeStaleness(SourceState::kRunning, "", 2.5, 2.0, "stereo source",
+                                "stereo estimate", &reason));
+  EXPECT_EQ(reason, "no newer stereo estimate for 2.50 s");
+  EXPECT_TRUE(DescribeStaleness(SourceState::kReconnecting, "device unplugged", 0.1, 2.0, "source",
+                                "estimate", &reason));
+  EXPECT_EQ(reason, "source reconnecting: device unplugged");
+}
+
+}  // namespace
+}  // namespace hpose::server
