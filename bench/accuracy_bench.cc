@@ -1,44 +1,114 @@
-// Accuracy of the depth-template estimator on simulated frames, following the paper's protocol
-// (SPEC §1): sensor 0.34 m high and level, humanoid 1 m away turned every 30 degrees over the
-// full circle with the standing and the right-arm-raised shapes, and the standing humanoid at
-// 1, 2, 3 and 4 m facing away. Several noise seeds per case. Both searches (the paper's
-// two-pass search and the exact search) run on the very same frames. Prints Markdown tables.
+// Accuracy of the depth-template estimator on simulated frames of several humanoid bodies seen
+// from two sensor mounts. For every body, mount, distance (1-3.5 m), heading (every 30 degrees),
+// shape (standing, right arm raised) and seed, one frame with clutter is rendered with the
+// Kinect v1 noise model (SPEC §5) and estimated by each variant on the very same frame, with both
+// of the body's templates loaded (so the template choice is part of the test). Templates are made
+// from each body's own model, as `hpose template generate` / `from-urdf` would.
 //
-// usage: accuracy_bench [--seeds N] [--templates DIR] [--stride N] [--clutter N]
+// Variants: `previous` is the previous round's default (exact search on voxel centres, the
+// height/width gates, no refinement); `paper` is the paper's two-pass search and score;
+// `default` is today's default (surface-centroid rotations, visibility-aware gates, refinement
+// and refined evidence). Prints Markdown tables: summary per body and mount, bias by distance.
+//
+// usage: accuracy_bench [--seeds N] [--clutter N] [--threads N] [--bodies a,b] [--noise off]
+//                       [--distances 1,2,3] [--step-deg D] [--variants a,b]
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <iterator>
 #include <map>
+#include <memory>
+#include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/search/estimator.h"
-#include "core/sim/frame_simulator.h"
-#include "core/templates/template_io.h"
+#include "core/sim/depth_renderer.h"
+#include "core/sim/humanoid_model.h"
+#include "core/sim/kinect_noise_model.h"
+#include "core/sim/scene.h"
 
 namespace {
 
 using namespace hpose;
 
-struct Trial {
-  std::string table;   // "orientation" or "distance"
-  std::string preset;  // humanoid shape in the frame.
-  double truth_theta_deg = 0.0;
-  double distance_m = 1.0;
-  // Per search: errors with the matching template alone, and whether the pair of templates
-  // picked the right one.
-  struct Outcome {
-    bool found = false;
-    double theta_err_deg = 0.0, x_err_mm = 0.0, y_err_mm = 0.0, score = 0.0;
-    bool identity_ok = false;
-    double search_ms = 0.0;
-    double clutter_best = -1.0;  // best score of any cluster that is not the humanoid.
-  };
-  std::map<std::string, Outcome> by_search;
+struct Body {
+  std::string name;
+  HumanoidDimensions dims;
 };
+
+// Our Nao-sized model, and a body of other proportions: longer legs, wider shoulders and
+// torso, a bigger head, no battery pack (front and back then differ only by the face and feet).
+std::vector<Body> AllBodies() {
+  std::vector<Body> bodies;
+  bodies.push_back({"nao", HumanoidDimensions{}});
+  HumanoidDimensions v;
+  v.thigh_length_m = 0.150;
+  v.tibia_length_m = 0.150;
+  v.torso_width_m = 0.190;
+  v.shoulder_offset_y_m = 0.125;
+  v.upper_arm_length_m = 0.130;
+  v.forearm_length_m = 0.140;
+  v.head_radius_m = 0.070;
+  v.head_width_m = 0.150;
+  v.pack_depth_m = 0.001;
+  v.pack_width_m = 0.001;
+  v.pack_height_m = 0.001;
+  bodies.push_back({"long_legs", v});
+  return bodies;
+}
+
+struct Mount {
+  const char* name;
+  double height_m;
+  double pitch_rad;
+};
+const Mount kMounts[] = {{"level 0.34 m", 0.34, 0.0},
+                         {"pitched 0.9 m, 20° down", 0.9, 20.0 * kPi / 180.0}};
+
+const char* const kShapes[] = {"standing", "right_arm_raised"};
+
+struct Outcome {
+  bool found = false;  // the right template has a posed candidate on the humanoid's cluster.
+  double theta_err_deg = 0.0, x_err_mm = 0.0, y_err_mm = 0.0;
+  bool heading_ambiguous = false;
+  bool identity_ok = false;  // the humanoid's cluster's detection chose the right template.
+  bool template_ambiguous = false;
+  double refine_ms = 0.0, total_ms = 0.0;
+};
+
+struct Trial {
+  int body = 0, mount = 0, shape = 0, seed = 0;
+  double distance_m = 1.0, theta_deg = 0.0;
+  std::vector<Outcome> by_variant;
+};
+
+struct Variant {
+  std::string name;
+  EstimatorOptions options;
+  bool surface = true;  // templates keep their surface points.
+};
+
+std::vector<Variant> AllVariants() {
+  std::vector<Variant> out;
+  EstimatorOptions previous = DefaultEstimatorOptions();
+  previous.refine.enabled = false;
+  previous.min_width_ratio = 0.6;
+  previous.max_width_ratio = 1.6;
+  out.push_back({"previous", previous, false});
+  EstimatorOptions paper = DefaultEstimatorOptions();
+  paper.search = SearchKind::kPaper;
+  paper.score = ScoreKind::kPaper;
+  paper.hit_weight = 1;
+  paper.refine.enabled = false;
+  paper.min_width_ratio = 0.6;
+  paper.max_width_ratio = 1.6;
+  out.push_back({"paper", paper, false});
+  out.push_back({"default", DefaultEstimatorOptions(), true});
+  return out;
+}
 
 double Median(std::vector<double> v) {
   if (v.empty()) return NAN;
@@ -47,249 +117,297 @@ double Median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-double MaxAbs(const std::vector<double>& v) {
-  double m = 0.0;
-  for (double x : v) m = std::max(m, std::abs(x));
-  return m;
-}
-
 double Mean(const std::vector<double>& v) {
   double s = 0.0;
   for (double x : v) s += x;
   return v.empty() ? NAN : s / v.size();
 }
 
-// The best candidate of `name` over all clusters (the frame holds one humanoid).
-const Candidate* BestOf(const Estimate& e, const std::string& name) {
-  for (const Candidate& c : e.candidates) {
-    if (c.template_name == name) return &c;  // candidates are sorted best first.
-  }
-  return nullptr;
+std::vector<double> ParseList(const std::string& s) {
+  std::vector<double> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) out.push_back(std::atof(item.c_str()));
+  return out;
 }
 
-// The estimator variants compared side by side on the same frames.
-struct Variant {
-  const char* name;
-  SearchKind search;
-  ScoreKind score;
-  int hit_weight;
-  int free_weight;
-};
-const Variant kVariants[] = {
-    {"paper", SearchKind::kPaper, ScoreKind::kPaper, 1, 1},          // the paper's method.
-    {"exact", SearchKind::kExact, ScoreKind::kPaper, 1, 1},          // optimum of its score.
-    {"exact+fs1", SearchKind::kExact, ScoreKind::kFreeSpace, 1, 1},  // a free voxel costs 1 hit.
-    {"exact+fs½", SearchKind::kExact, ScoreKind::kFreeSpace, 2, 1},  // ... half a hit.
-};
+std::vector<std::string> ParseNames(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) out.push_back(item);
+  return out;
+}
+
+VoxelTemplate MakeBodyTemplate(const Body& body, const std::string& shape) {
+  HumanoidModel model =
+      HumanoidModel::Create(body.dims, HumanoidJoints::Preset(shape).value()).value();
+  return MakeTemplateFromPoints(model.SampleSurface(0.004).value(), shape, 0.016, shape,
+                                "accuracy_bench " + body.name)
+      .value();
+}
+
+DepthImage RenderTrial(const Trial& t, const Body& body, int clutter, bool noise_on,
+                       const Intrinsics& intrinsics) {
+  HumanoidModel model =
+      HumanoidModel::Create(body.dims, HumanoidJoints::Preset(kShapes[t.shape]).value()).value();
+  Scene scene;
+  const Pose2D truth{t.distance_m, 0.0, NormalizeAngle(t.theta_deg * kPi / 180.0)};
+  scene.AddHumanoid(model, truth, kShapes[t.shape]);
+  if (clutter > 0) scene.AddRandomClutter(clutter, 1000 + t.seed);  // best effort.
+  const Mount& m = kMounts[t.mount];
+  const FloorEstimate mount = FloorEstimate::FromHeightPitchRoll(m.height_m, m.pitch_rad, 0.0);
+  DepthRenderer renderer = DepthRenderer::Create(intrinsics, mount).value();
+  if (!noise_on) return renderer.Render(scene);
+  KinectNoiseModel noise = KinectNoiseModel::Create(KinectNoiseOptions{}).value();
+  return renderer.Render(scene, &noise, 7919 * t.seed + 13);
+}
+
+Outcome Evaluate(const Estimate& e, const Trial& t) {
+  Outcome o;
+  o.total_ms = e.timings.total_ms;
+  o.refine_ms = e.timings.refine_ms;
+  const std::string right = kShapes[t.shape];
+  // The humanoid's cluster: the searched cluster nearest the truth (within 0.3 m).
+  int cluster = -1;
+  double best_d = 0.3;
+  for (const ClusterSummary& c : e.clusters) {
+    const double d = std::hypot(c.centroid.x() - t.distance_m, c.centroid.y());
+    if (c.searched && d < best_d) {
+      best_d = d;
+      cluster = c.index;
+    }
+  }
+  if (cluster < 0) return o;
+  for (const Detection& d : e.detections) {
+    if (d.best.cluster_index != cluster) continue;
+    o.identity_ok = d.best.template_name == right;
+    o.template_ambiguous = d.template_ambiguous;
+  }
+  for (const Candidate& c : e.candidates) {
+    if (c.cluster_index != cluster || c.template_name != right || c.score_is_upper_bound) continue;
+    o.found = true;
+    o.theta_err_deg = AngleDiff(c.pose.theta, t.theta_deg * kPi / 180.0) * 180.0 / kPi;
+    o.x_err_mm = 1000.0 * (c.pose.x - t.distance_m);
+    o.y_err_mm = 1000.0 * c.pose.y;
+    o.heading_ambiguous = c.heading_ambiguous;
+  }
+  return o;
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  int seeds = 5;
-  int stride = 1;
-  int clutter = 0;
-  std::string template_dir = HPOSE_TEMPLATE_DIR;
+  int seeds = 5, clutter = 3, threads = 2, step_deg = 30;
+  bool noise_on = true, list_failures = false;
+  std::vector<double> distances = {1.0, 1.5, 2.0, 2.5, 3.0, 3.5};
+  std::vector<std::string> body_filter, variant_filter;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
+    const std::string v = i + 1 < argc ? argv[i + 1] : "";
     if (a == "--seeds") {
-      seeds = std::atoi(next().c_str());
-    } else if (a == "--templates") {
-      template_dir = next();
-    } else if (a == "--stride") {
-      stride = std::atoi(next().c_str());
+      seeds = std::atoi(v.c_str()), ++i;
     } else if (a == "--clutter") {
-      clutter = std::atoi(next().c_str());
+      clutter = std::atoi(v.c_str()), ++i;
+    } else if (a == "--threads") {
+      threads = std::max(1, std::atoi(v.c_str())), ++i;
+    } else if (a == "--step-deg") {
+      step_deg = std::max(1, std::atoi(v.c_str())), ++i;
+    } else if (a == "--failures") {
+      list_failures = true;
+    } else if (a == "--noise") {
+      noise_on = v != "off", ++i;
+    } else if (a == "--distances") {
+      distances = ParseList(v), ++i;
+    } else if (a == "--bodies") {
+      body_filter = ParseNames(v), ++i;
+    } else if (a == "--variants") {
+      variant_filter = ParseNames(v), ++i;
     } else {
       std::fprintf(stderr,
-                   "usage: accuracy_bench [--seeds N] [--templates DIR] [--stride N] "
-                   "[--clutter N]\n");
+                   "usage: accuracy_bench [--seeds N] [--clutter N] [--threads N] [--bodies a,b]\n"
+                   "                      [--variants a,b] [--noise on|off] [--distances 1,2]\n"
+                   "                      [--step-deg D]\n");
       return a == "--help" ? 0 : 2;
     }
   }
-  std::vector<VoxelTemplate> templates;
-  for (const char* name : {"standing", "right_arm_raised"}) {
-    Result<VoxelTemplate> t = LoadTemplate(template_dir + "/" + name + ".bt");
-    if (!t.ok()) {
-      std::fprintf(stderr, "accuracy_bench: %s\n", t.error().message.c_str());
-      return 1;
+  std::vector<Body> bodies;
+  for (const Body& b : AllBodies()) {
+    if (body_filter.empty() ||
+        std::find(body_filter.begin(), body_filter.end(), b.name) != body_filter.end()) {
+      bodies.push_back(b);
     }
-    templates.push_back(*t);
   }
-  std::map<std::string, std::unique_ptr<Estimator>> single, pair;  // key: variant + template.
-  for (const Variant& v : kVariants) {
-    EstimatorOptions o = DefaultEstimatorOptions();
-    o.search = v.search;
-    o.score = v.score;
-    o.hit_weight = v.hit_weight;
-    o.free_space_weight = v.free_weight;
-    o.cloud.stride = stride;
-    o.score_threshold = 0.0;
-    for (const VoxelTemplate& t : templates) {
-      single[std::string(v.name) + "/" + t.name] = std::move(Estimator::Create(o, {t}).value());
+  std::vector<Variant> variants;
+  for (const Variant& v : AllVariants()) {
+    if (variant_filter.empty() ||
+        std::find(variant_filter.begin(), variant_filter.end(), v.name) != variant_filter.end()) {
+      variants.push_back(v);
     }
-    pair[v.name] = std::move(Estimator::Create(o, templates).value());
+  }
+  for (Variant& v : variants) v.options.score_threshold = 0.0;  // every candidate's optimum.
+
+  // Each body's two templates, with and without their surface points.
+  std::vector<std::vector<VoxelTemplate>> with_surface(bodies.size()), centres(bodies.size());
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    for (const char* shape : kShapes) {
+      with_surface[b].push_back(MakeBodyTemplate(bodies[b], shape));
+      centres[b].push_back(with_surface[b].back());
+      centres[b].back().surface.clear();
+    }
   }
 
   std::vector<Trial> trials;
-  for (const char* preset : {"standing", "right_arm_raised"}) {
-    for (int deg = -180; deg < 180; deg += 30) {
-      for (int s = 0; s < seeds; ++s) {
-        Trial t;
-        t.table = "orientation";
-        t.preset = preset;
-        t.truth_theta_deg = deg;
-        t.distance_m = 1.0;
-        trials.push_back(t);
+  for (int b = 0; b < static_cast<int>(bodies.size()); ++b) {
+    for (int m = 0; m < 2; ++m) {
+      for (double d : distances) {
+        for (int deg = -180; deg < 180; deg += step_deg) {
+          for (int shape = 0; shape < 2; ++shape) {
+            for (int s = 0; s < seeds; ++s) {
+              Trial t;
+              t.body = b;
+              t.mount = m;
+              t.shape = shape;
+              t.distance_m = d;
+              t.theta_deg = deg;
+              t.seed = static_cast<int>(trials.size());
+              t.by_variant.resize(variants.size());
+              trials.push_back(t);
+            }
+          }
+        }
       }
     }
   }
-  for (double d : {1.0, 2.0, 3.0, 4.0}) {
-    for (int s = 0; s < seeds; ++s) {
-      Trial t;
-      t.table = "distance";
-      t.preset = "standing";
-      t.truth_theta_deg = 0.0;
-      t.distance_m = d;
-      trials.push_back(t);
-    }
-  }
+  std::fprintf(stderr, "accuracy_bench: %zu frames x %zu variants on %d threads\n", trials.size(),
+               variants.size(), threads);
 
-  std::fprintf(stderr, "accuracy_bench: %zu frames, %d seed(s) each case\n", trials.size(), seeds);
-  for (size_t i = 0; i < trials.size(); ++i) {
-    Trial& t = trials[i];
-    FrameSpec spec;
-    spec.preset = t.preset;
-    spec.humanoid_pose = Pose2D{t.distance_m, 0.0, NormalizeAngle(DegToRad(t.truth_theta_deg))};
-    spec.seed = 1000 + i;
-    spec.clutter = clutter;
-    Result<SimulatedFrame> frame = SimulateFrame(spec);
-    if (!frame.ok()) {
-      std::fprintf(stderr, "simulate: %s\n", frame.error().message.c_str());
-      return 1;
-    }
-    for (const Variant& variant : kVariants) {
-      const char* search = variant.name;
-      Trial::Outcome& o = t.by_search[search];
-      Result<Estimate> e = single[std::string(search) + "/" + t.preset]->EstimateDepth(
-          frame->depth, spec.intrinsics);
-      if (e.ok()) {
-        const Candidate* c = BestOf(*e, t.preset);
-        if (c != nullptr) {
-          o.found = true;
-          o.theta_err_deg = RadToDeg(AngleDiff(c->pose.theta, spec.humanoid_pose.theta));
-          o.x_err_mm = 1000.0 * (c->pose.x - spec.humanoid_pose.x);
-          o.y_err_mm = 1000.0 * (c->pose.y - spec.humanoid_pose.y);
-          o.score = c->score;
-          o.search_ms = e->timings.search_ms;
-        }
-      }
-      Result<Estimate> both = pair[search]->EstimateDepth(frame->depth, spec.intrinsics);
-      o.identity_ok = both.ok() && !both->candidates.empty() &&
-                      both->candidates.front().template_name == t.preset;
-      if (both.ok()) {
-        for (const Candidate& c : both->candidates) {
-          const ClusterSummary& cl = both->clusters[c.cluster_index];
-          const double d = std::hypot(cl.centroid.x() - spec.humanoid_pose.x,
-                                      cl.centroid.y() - spec.humanoid_pose.y);
-          if (d > 0.3) o.clutter_best = std::max(o.clutter_best, c.score);
-        }
+  const Intrinsics intrinsics = Intrinsics::KinectV1(640, 480);
+  std::atomic<size_t> next{0}, done{0};
+  auto worker = [&]() {
+    // Estimators are used by one thread at a time: each worker has its own.
+    std::map<std::pair<int, int>, std::unique_ptr<Estimator>> estimators;  // (variant, body).
+    for (size_t v = 0; v < variants.size(); ++v) {
+      for (size_t b = 0; b < bodies.size(); ++b) {
+        estimators[{static_cast<int>(v), static_cast<int>(b)}] =
+            Estimator::Create(variants[v].options,
+                              variants[v].surface ? with_surface[b] : centres[b])
+                .value();
       }
     }
-    std::fprintf(stderr, "\r  frame %zu/%zu", i + 1, trials.size());
-  }
+    for (size_t i = next++; i < trials.size(); i = next++) {
+      Trial& t = trials[i];
+      const DepthImage depth = RenderTrial(t, bodies[t.body], clutter, noise_on, intrinsics);
+      for (size_t v = 0; v < variants.size(); ++v) {
+        Result<Estimate> e =
+            estimators[{static_cast<int>(v), t.body}]->EstimateDepth(depth, intrinsics);
+        if (e.ok()) t.by_variant[v] = Evaluate(*e, t);
+      }
+      const size_t n = ++done;
+      if (n % 20 == 0 || n == trials.size()) {
+        std::fprintf(stderr, "\r  frame %zu/%zu", n, trials.size());
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int k = 0; k < threads; ++k) pool.emplace_back(worker);
+  for (std::thread& th : pool) th.join();
   std::fprintf(stderr, "\n");
 
-  // Per-case tables, paper and exact side by side (means over seeds).
-  auto print_case_table = [&](const std::string& table, const std::string& preset,
-                              const char* key_name) {
-    std::printf("\n#### %s: %s\n\n", table.c_str(), preset.c_str());
-    std::printf("| %s |", key_name);
-    for (const Variant& v : kVariants) {
-      std::printf(" %s θ err (°) | %s x, y err (mm) | %s score |", v.name, v.name, v.name);
-    }
-    std::printf("\n|---|");
-    for (size_t i = 0; i < std::size(kVariants); ++i) std::printf("---|---|---|");
-    std::printf("\n");
-    std::map<double, std::vector<const Trial*>> groups;
-    for (const Trial& t : trials) {
-      if (t.table != table || t.preset != preset) continue;
-      groups[table == "distance" ? t.distance_m * 1000 : t.truth_theta_deg].push_back(&t);
-    }
-    for (const auto& [key, ts] : groups) {
-      std::printf("| %.0f |", key);
-      for (const Variant& variant : kVariants) {
-        const char* search = variant.name;
-        std::vector<double> th, x, y, sc;
-        for (const Trial* t : ts) {
-          const Trial::Outcome& o = t->by_search.at(search);
-          if (!o.found) continue;
-          th.push_back(o.theta_err_deg);
-          x.push_back(o.x_err_mm);
-          y.push_back(o.y_err_mm);
-          sc.push_back(o.score);
-        }
-        std::printf(" %+.1f (max %.0f) | %+.0f, %+.0f | %.1f |", Mean(th), MaxAbs(th), Mean(x),
-                    Mean(y), Mean(sc));
-      }
-      std::printf("\n");
-    }
-  };
-  print_case_table("orientation", "standing", "truth θ (°)");
-  print_case_table("orientation", "right_arm_raised", "truth θ (°)");
-  print_case_table("distance", "standing", "distance (mm)");
+  std::printf("noise %s, clutter %d, %d seed(s), headings every %d°, distances",
+              noise_on ? "on" : "off", clutter, seeds, step_deg);
+  for (double d : distances) std::printf(" %.1f", d);
+  std::printf(" m\n");
 
-  // Summary against the targets.
-  std::printf("\n#### Summary (all seeds)\n\n");
+  // Summary per body and mount, variants side by side.
   std::printf(
-      "| set | search | frames | median abs θ err (°) | max abs θ err (°) | "
-      "median pos err (mm) | max pos err (mm) | θ within 5° | right template | "
-      "humanoid score min / median | clutter score median / max | median search (ms) |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  struct Set {
-    const char* name;
-    bool (*in)(const Trial&);
-  };
-  const Set sets[] = {
-      {"1-2 m (orientation + distance)", [](const Trial& t) { return t.distance_m <= 2.0; }},
-      {"3 m", [](const Trial& t) { return t.distance_m == 3.0; }},
-      {"4 m", [](const Trial& t) { return t.distance_m == 4.0; }},
-  };
-  for (const Set& set : sets) {
-    for (const Variant& variant : kVariants) {
-      const char* search = variant.name;
-      std::vector<double> th, pos, ms, human_scores, clutter_scores;
-      int n = 0, within5 = 0, identity = 0;
-      for (const Trial& t : trials) {
-        if (!set.in(t)) continue;
-        ++n;
-        const Trial::Outcome& o = t.by_search.at(search);
-        identity += o.identity_ok;
-        if (o.clutter_best >= 0.0) clutter_scores.push_back(o.clutter_best);
-        if (!o.found) continue;
-        human_scores.push_back(o.score);
-        th.push_back(std::abs(o.theta_err_deg));
-        pos.push_back(std::hypot(o.x_err_mm, o.y_err_mm));
-        ms.push_back(o.search_ms);
-        within5 += std::abs(o.theta_err_deg) <= 5.0;
+      "\n| body | mount | variant | frames | θ ≤ 3° | θ ≤ 5° | median abs θ (°) | flips "
+      "(confident) | "
+      "heading ambiguous | right template | no candidate | median pos 1-2 m (mm) | median pos "
+      "3-3.5 m (mm) | worst abs mean x, y by distance (mm) | median refine / total (ms) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    for (int m = 0; m < 2; ++m) {
+      for (size_t v = 0; v < variants.size(); ++v) {
+        int n = 0, within3 = 0, within5 = 0, flips = 0, confident_flips = 0, ambiguous = 0,
+            right = 0, missing = 0;
+        std::vector<double> th, near_pos, far_pos, refine_ms, total_ms;
+        std::map<double, std::pair<std::vector<double>, std::vector<double>>> xy_by_d;
+        for (const Trial& t : trials) {
+          if (t.body != static_cast<int>(b) || t.mount != m) continue;
+          const Outcome& o = t.by_variant[v];
+          ++n;
+          right += o.identity_ok;
+          refine_ms.push_back(o.refine_ms);
+          total_ms.push_back(o.total_ms);
+          if (!o.found) {
+            ++missing;
+            continue;
+          }
+          const double ath = std::abs(o.theta_err_deg);
+          th.push_back(ath);
+          within3 += ath <= 3.0;
+          within5 += ath <= 5.0;
+          ambiguous += o.heading_ambiguous;
+          if (ath > 90.0) {
+            ++flips;
+            confident_flips += !o.heading_ambiguous;
+            continue;  // a flipped pose's position error says nothing about bias.
+          }
+          const double pos = std::hypot(o.x_err_mm, o.y_err_mm);
+          if (t.distance_m <= 2.0) near_pos.push_back(pos);
+          if (t.distance_m >= 3.0) far_pos.push_back(pos);
+          xy_by_d[t.distance_m].first.push_back(o.x_err_mm);
+          xy_by_d[t.distance_m].second.push_back(o.y_err_mm);
+        }
+        double worst_x = 0.0, worst_y = 0.0;
+        for (const auto& [d, xy] : xy_by_d) {
+          worst_x = std::max(worst_x, std::abs(Mean(xy.first)));
+          worst_y = std::max(worst_y, std::abs(Mean(xy.second)));
+        }
+        const double pct = 100.0 / std::max(1, n);
+        std::printf(
+            "| %s | %s | %s | %d | %.1f%% | %.1f%% | %.2f | %d (%d) | %d | %.1f%% | %d | %.1f | "
+            "%.1f | %.1f, %.1f | %.2f / %.1f |\n",
+            bodies[b].name.c_str(), kMounts[m].name, variants[v].name.c_str(), n, within3 * pct,
+            within5 * pct, Median(th), flips, confident_flips, ambiguous, right * pct, missing,
+            Median(near_pos), Median(far_pos), worst_x, worst_y, Median(refine_ms),
+            Median(total_ms));
       }
-      const double human_min =
-          human_scores.empty() ? NAN : *std::min_element(human_scores.begin(), human_scores.end());
-      const double clutter_max =
-          clutter_scores.empty() ? NAN
-                                 : *std::max_element(clutter_scores.begin(), clutter_scores.end());
-      std::printf(
-          "| %s | %s | %d | %.1f | %.1f | %.1f | %.1f | %.0f%% | %.0f%% | %.1f / %.1f | %.1f / "
-          "%.1f | %.1f |\n",
-          set.name, search, n, Median(th), MaxAbs(th), Median(pos), MaxAbs(pos),
-          100.0 * within5 / std::max(1, n), 100.0 * identity / std::max(1, n), human_min,
-          Median(human_scores), Median(clutter_scores), clutter_max, Median(ms));
+    }
+  }
+
+  // Frames the default variant got wrong, for inspection.
+  if (list_failures) {
+    for (const Trial& t : trials) {
+      const Outcome& o = t.by_variant.back();
+      if (o.found && std::abs(o.theta_err_deg) <= 3.0 && o.identity_ok) continue;
+      std::fprintf(stderr,
+                   "failure: %s %s %s d=%.1f θ=%.0f seed=%d: found=%d θerr=%.1f x=%.1f y=%.1f "
+                   "ambiguous=%d identity=%d template_ambiguous=%d\n",
+                   bodies[t.body].name.c_str(), kMounts[t.mount].name, kShapes[t.shape],
+                   t.distance_m, t.theta_deg, t.seed, o.found, o.theta_err_deg, o.x_err_mm,
+                   o.y_err_mm, o.heading_ambiguous, o.identity_ok, o.template_ambiguous);
+    }
+  }
+
+  // Bias by distance, all bodies and mounts together, per variant.
+  std::printf(
+      "\n| variant | distance (m) | frames | mean x err (mm) | mean y err (mm) | "
+      "median pos err (mm) | median abs θ (°) |\n|---|---|---|---|---|---|---|\n");
+  for (size_t v = 0; v < variants.size(); ++v) {
+    for (double d : distances) {
+      std::vector<double> x, y, pos, th;
+      for (const Trial& t : trials) {
+        const Outcome& o = t.by_variant[v];
+        if (t.distance_m != d || !o.found || std::abs(o.theta_err_deg) > 90.0) continue;
+        x.push_back(o.x_err_mm);
+        y.push_back(o.y_err_mm);
+        pos.push_back(std::hypot(o.x_err_mm, o.y_err_mm));
+        th.push_back(std::abs(o.theta_err_deg));
+      }
+      std::printf("| %s | %.1f | %zu | %+.1f | %+.1f | %.1f | %.2f |\n", variants[v].name.c_str(),
+                  d, x.size(), Mean(x), Mean(y), Median(pos), Median(th));
     }
   }
   return 0;

@@ -22,7 +22,15 @@ class RangeImage {
   // Nearest observed depth (m) along the ray through `p_sensor`, or 0 when unknown (no point
   // in that bin, or p_sensor not in front of the sensor).
   float DepthToward(const Eigen::Vector3d& p_sensor) const;
+  // True when the ray through `p_sensor` lies within the cloud's field of view (the image), so
+  // an empty bin there means the sensor got no return, not that it did not look.
+  bool Covers(const Eigen::Vector3d& p_sensor) const;
+  // Nearest observed depth over the bins within `radius` bins of the ray through `p_sensor`
+  // (0 when all are empty or out of view).
+  float NearestAround(const Eigen::Vector3d& p_sensor, int radius) const;
 
+  // Tangent (y / z, sensor frame: negative is up) of the image's top row.
+  double TopTan() const { return -v0_ / focal_; }
   int width() const { return width_; }
   int height() const { return height_; }
 

@@ -53,6 +53,11 @@ Eigen::Vector3i CellOf(const Eigen::Vector3f& p, double resolution_m) {
 }
 
 RotatedTemplate RotateTemplate(const VoxelTemplate& tpl, const PoseLattice& lattice, int itheta) {
+  return RotatePoints(tpl.VoxelSurfaceCentroids(), lattice, itheta);
+}
+
+RotatedTemplate RotatePoints(const std::vector<Eigen::Vector3f>& points, const PoseLattice& lattice,
+                             int itheta) {
   RotatedTemplate r;
   r.itheta = WrapAngleIndex(lattice, itheta);
   const double theta = r.itheta * lattice.angle_step_rad();
@@ -60,10 +65,10 @@ RotatedTemplate RotateTemplate(const VoxelTemplate& tpl, const PoseLattice& latt
   const double s = std::sin(theta);
   const double q_factor = lattice.subdivisions / lattice.resolution_m;
   const double z_factor = 1.0 / lattice.resolution_m;
-  r.sub_cells.reserve(tpl.voxels.size());
+  r.sub_cells.reserve(points.size());
   r.q_min = Eigen::Vector2i(INT_MAX, INT_MAX);
   r.q_max = Eigen::Vector2i(INT_MIN, INT_MIN);
-  for (const Eigen::Vector3f& v : tpl.voxels) {
+  for (const Eigen::Vector3f& v : points) {
     const double px = v.x();
     const double py = v.y();
     const int qx = static_cast<int>(std::floor((c * px - s * py) * q_factor));
@@ -137,8 +142,9 @@ RotatedTemplate MergeColumns(const RotatedTemplate& a, const RotatedTemplate& b)
 TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice)
     : name_(tpl.name), height_m_(tpl.Height()), lattice_(lattice) {
   rotations_.reserve(lattice.angle_steps);
+  const std::vector<Eigen::Vector3f> points = tpl.VoxelSurfaceCentroids();
   for (int i = 0; i < lattice.angle_steps; ++i) {
-    rotations_.push_back(RotateTemplate(tpl, lattice, i));
+    rotations_.push_back(RotatePoints(points, lattice, i));
   }
   for (int level = 1; level < kThetaLevels; ++level) {
     std::vector<RotatedTemplate> blocks;

@@ -17,7 +17,9 @@ namespace hpose {
 // every scorer shares (so a fast scorer can equal the reference one bit for bit):
 //   translation (x, y) = (ix, iy) * step,  step = resolution / subdivisions;
 //   theta = itheta * 2 pi / angle_steps,  itheta in [0, angle_steps).
-// A template voxel centre p, rotated by theta in double precision, is first quantised to the
+// A template point p (one per voxel: VoxelTemplate::VoxelSurfaceCentroids, the mean of the
+// body's surface inside the voxel, so rotated copies do not alias on the grid the way voxel
+// centres do), rotated by theta in double precision, is first quantised to the
 // sub-voxel grid, q = floor(R p * subdivisions / resolution) (x and y), and the placed cell is
 // cell = floor_div(q + (ix, iy), subdivisions), z cell = floor(p.z / resolution).
 // Mathematically this is floor((R p + t) / resolution); the quantisation of R p is the only
@@ -77,6 +79,9 @@ struct RotatedTemplate {
 };
 
 RotatedTemplate RotateTemplate(const VoxelTemplate& tpl, const PoseLattice& lattice, int itheta);
+// The same for the template points `points` (VoxelSurfaceCentroids of a template).
+RotatedTemplate RotatePoints(const std::vector<Eigen::Vector3f>& points, const PoseLattice& lattice,
+                             int itheta);
 
 // The placed cell of one rotated template voxel at translation (ix, iy).
 inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int iy,

@@ -12,11 +12,26 @@
 
 namespace hpose {
 
+// The refined, noise-aware evidence of a pose (PoseEvidence of pose_refiner.h, summarised).
+struct FitSummary {
+  double fit = 0.0;           // 100 * explained * (1 - contradicted).
+  double explained = 0.0;     // fraction of the cluster's points on the template surface.
+  double contradicted = 0.0;  // fraction of the template's visible surface seen through.
+  double fit_sigma = 0.0;     // standard error of `fit` from the counts behind it.
+  double cost = 0.0;  // robust negative log-likelihood (nats); lower is better (PoseEvidence).
+};
+
 // One template's best match on one cluster.
 struct Candidate {
   std::string template_name;
   int cluster_index = -1;
-  Pose2D pose;              // robot frame in the ground frame.
+  // Robot frame in the ground frame: the refined pose when `refined`, else the lattice pose.
+  Pose2D pose;
+  Pose2D lattice_pose;   // the search's optimum on the (x, y, theta) lattice.
+  bool refined = false;  // `pose` comes from the continuous refinement of lattice_pose.
+  // Covariance of the refined (x, y, theta) (m^2, rad^2); zero when not refined.
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  FitSummary fit;           // evidence at `pose`.
   double score = 0.0;       // what the search maximised, 100 * value / cluster voxels (<= 100).
   double coverage = 0.0;    // the paper's score: 100 * cluster voxels covered / cluster voxels.
   int free_space_hits = 0;  // template voxels in observed free space at the pose.
@@ -26,18 +41,28 @@ struct Candidate {
   int hits = 0;
   int cluster_voxels = 0;
   bool has_runner_up = false;  // best pose with theta more than 30 deg away.
-  Pose2D runner_up_pose;
+  Pose2D runner_up_pose;       // refined like `pose`.
   double runner_up_score = 0.0;
+  FitSummary runner_up_fit;
+  // The runner-up's refined evidence is as good as the pose's within noise: the heading is
+  // ambiguous (typically front/back at distance); both poses are reported.
+  bool heading_ambiguous = false;
   std::int64_t poses_evaluated = 0;   // exact score evaluations.
   std::int64_t bounds_evaluated = 0;  // branch-and-bound upper bounds (exact search only).
 };
 
 // A cluster's verdict: its best template, and how far ahead of the next template it is.
+// The template is chosen by the refined evidence (lowest Candidate::fit.cost) of each template's
+// pose.
 struct Detection {
   Candidate best;
-  std::string second_template;   // empty with one template.
-  double template_margin = 0.0;  // best.score - second template's score on this cluster.
-  bool is_humanoid = false;      // best.score >= the score threshold.
+  std::string second_template;  // empty with one template.
+  // The second template's cost minus the best's (nats; a log-likelihood ratio) when refined,
+  // else the difference of their search scores.
+  double template_margin = 0.0;
+  // The margin is within what noise explains (RefineOptions::ambiguity_cost).
+  bool template_ambiguous = false;
+  bool is_humanoid = false;  // best.score >= the score threshold.
 };
 
 struct ClusterSummary {
@@ -53,7 +78,8 @@ struct StageTimings {
   double cloud_ms = 0.0;
   double floor_ms = 0.0;
   double cluster_ms = 0.0;
-  double search_ms = 0.0;
+  double search_ms = 0.0;  // lattice search and refinement together.
+  double refine_ms = 0.0;  // of which the refinement.
   double total_ms = 0.0;
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -45,6 +46,130 @@ std::pair<double, double> SilhouetteWidths(const VoxelTemplate& tpl, double min_
     wide = std::max(wide, hi - lo + tpl.resolution_m);
   }
   return {narrow > wide ? 0.0 : narrow, wide};
+}
+
+// Where the top of the sensor's view is: the ray through the top row of the image (its middle
+// column), as a slope in the ground frame. A cluster whose top would lie above that ray is cut
+// by the image border.
+struct TopOfView {
+  bool known = false;
+  double sensor_height_m = 0.0;
+  double slope = 0.0;  // rise per metre of horizontal distance.
+
+  // The highest point the sensor sees above the cluster (at its nearest horizontal distance);
+  // +inf when unknown.
+  double HeightAbove(const Cluster& c) const {
+    if (!known) return std::numeric_limits<double>::infinity();
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3f& p : c.points) {
+      nearest = std::min(nearest, static_cast<double>(p.head<2>().norm()));
+    }
+    if (!std::isfinite(nearest)) return std::numeric_limits<double>::infinity();
+    return sensor_height_m + nearest * slope;
+  }
+};
+
+TopOfView TopOfViewOf(const RangeImage& range, const FloorEstimate& floor) {
+  TopOfView v;
+  if (range.height() == 0) return v;
+  const Eigen::Vector3d dir =
+      floor.ground_from_sensor.linear() * Eigen::Vector3d(0.0, range.TopTan(), 1.0);
+  const double horizontal = dir.head<2>().norm();
+  if (!(horizontal > 1e-6)) return v;
+  v.known = true;
+  v.sensor_height_m = floor.ground_from_sensor.translation().z();
+  v.slope = dir.z() / horizontal;
+  return v;
+}
+
+FitSummary Summarise(const PoseEvidence& e) {
+  FitSummary s;
+  s.explained = e.Explained();
+  s.contradicted = e.Contradicted();
+  s.fit = e.Fit();
+  const int judged = e.model_seen + e.model_free + e.model_no_return;
+  const double p = s.explained, q = s.contradicted;
+  const double var_p = e.data_points > 0 ? p * (1.0 - p) / e.data_points : 0.25;
+  const double var_q = judged > 0 ? q * (1.0 - q) / judged : 0.25;
+  s.fit_sigma = 100.0 * std::sqrt((1.0 - q) * (1.0 - q) * var_p + p * p * var_q);
+  s.cost = e.cost;
+  return s;
+}
+
+// Refines the candidate's pose and its runner-up's (the best heading more than 30 degrees
+// away); the one with the better refined evidence (lower cost) becomes the pose (`rescore` then
+// recomputes the search's counts at its lattice pose), and the heading is ambiguous when their
+// costs differ by less than RefineOptions::ambiguity_cost.
+template <typename Rescore>
+void RefineCandidate(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
+                     const Rescore& rescore, Candidate* cand) {
+  const RefinedPose best = RefinePose(model, obs, cand->lattice_pose, o);
+  cand->pose = best.pose;
+  cand->refined = true;
+  cand->covariance = best.covariance;
+  cand->fit = Summarise(best.evidence);
+  if (!cand->has_runner_up) return;
+  const Pose2D other_lattice = cand->runner_up_pose;
+  RefinedPose other;
+  if (cand->runner_up_score >= cand->score - o.runner_up_score_window) {
+    other = RefinePose(model, obs, other_lattice, o);
+  } else {
+    other.pose = other_lattice;
+    other.evidence = EvaluatePose(model, obs, other_lattice, o);
+  }
+  FitSummary other_fit = Summarise(other.evidence);
+  if (other_fit.cost < cand->fit.cost) {
+    cand->runner_up_pose = cand->pose;
+    cand->runner_up_fit = cand->fit;
+    std::swap(cand->score, cand->runner_up_score);
+    cand->pose = other.pose;
+    cand->lattice_pose = other_lattice;
+    cand->covariance = other.covariance;
+    cand->fit = other_fit;
+    rescore(cand);
+  } else {
+    cand->runner_up_pose = other.pose;
+    cand->runner_up_fit = other_fit;
+  }
+  cand->heading_ambiguous = cand->runner_up_fit.cost - cand->fit.cost < o.ambiguity_cost;
+}
+
+// One detection per cluster: among its templates with a pose, the one whose pose the refined
+// evidence supports best (lowest cost; the search score when not refined); sorted by search
+// score.
+std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates, double threshold,
+                                       double ambiguity_cost) {
+  std::map<int, std::vector<const Candidate*>> by_cluster;
+  for (const Candidate& c : candidates) by_cluster[c.cluster_index].push_back(&c);
+  std::vector<Detection> out;
+  for (auto& [cluster, cands] : by_cluster) {
+    // Posed candidates first, then by refined fit (or score), then by score.
+    std::stable_sort(cands.begin(), cands.end(), [](const Candidate* a, const Candidate* b) {
+      if (a->score_is_upper_bound != b->score_is_upper_bound) return !a->score_is_upper_bound;
+      if (a->refined && b->refined && a->fit.cost != b->fit.cost) return a->fit.cost < b->fit.cost;
+      return a->score > b->score;
+    });
+    Detection d;
+    d.best = *cands.front();
+    d.is_humanoid = !d.best.score_is_upper_bound && d.best.score >= threshold;
+    if (cands.size() > 1) {
+      const Candidate& second = *cands[1];
+      d.second_template = second.template_name;
+      if (d.best.refined && second.refined) {
+        d.template_margin = second.fit.cost - d.best.fit.cost;
+        d.template_ambiguous = d.template_margin < ambiguity_cost;
+      } else {
+        d.template_margin = d.best.score - second.score;
+      }
+    } else {
+      d.template_margin = d.best.score;
+    }
+    out.push_back(d);
+  }
+  std::stable_sort(out.begin(), out.end(), [](const Detection& a, const Detection& b) {
+    return a.best.score > b.best.score;
+  });
+  return out;
 }
 
 // A cluster's extent across the line of sight from the sensor (ground origin) to its centroid.
@@ -105,6 +230,7 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
   rotations_.reserve(templates_.size());
   for (const VoxelTemplate& t : templates_) {
     rotations_.push_back(std::make_unique<TemplateRotations>(t, options_.lattice));
+    surfaces_.push_back(std::make_unique<SurfaceModel>(t));
     silhouette_widths_.push_back(SilhouetteWidths(t, options_.clusters.min_height_above_floor_m));
   }
   search_ = MakeSearch(options_);
@@ -192,12 +318,16 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
 
   t = Clock::now();
   const bool use_free_space = options_.score == ScoreKind::kFreeSpace;
+  const bool refine = options_.refine.enabled;
+  const Eigen::Isometry3d sensor_from_ground = est.floor.ground_from_sensor.inverse();
   RangeImage range;
-  Eigen::Isometry3d sensor_from_ground = est.floor.ground_from_sensor.inverse();
+  if (use_free_space || refine) {
+    range = RangeImage::FromCloud(cloud, options_.range_image_focal_px);
+  }
+  const TopOfView top_of_view = TopOfViewOf(range, est.floor);
   double reach = 0.0;  // how far any template reaches from its origin, plus a voxel.
   int top_cell = 0;    // highest template voxel cell.
   if (use_free_space) {
-    range = RangeImage::FromCloud(cloud, options_.range_image_focal_px);
     for (const VoxelTemplate& tpl : templates_) {
       for (const Eigen::Vector3f& v : tpl.voxels) {
         reach = std::max(reach, static_cast<double>(v.head<2>().norm()));
@@ -206,6 +336,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
     }
     reach += 2.0 * options_.lattice.resolution_m;
   }
+  double refine_ms = 0.0;
   for (size_t i = 0; i < clusters->size(); ++i) {
     const Cluster& c = (*clusters)[i];
     ClusterSummary summary;
@@ -219,11 +350,15 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
     ClusterVoxels voxels;
     ClusterVoxels free;
     const double width = ApparentWidth(c);
+    const double visible_top = top_of_view.HeightAbove(c);
+    const Observation obs{&c.points, &range, sensor_from_ground};
     for (size_t j = 0; j < templates_.size(); ++j) {
       const TemplateRotations& rot = *rotations_[j];
       if (options_.max_height_ratio_error >= 0.0) {
-        const double ratio = c.height() / rot.height_m();
-        if (std::abs(ratio - 1.0) > options_.max_height_ratio_error) continue;
+        // The template shows up to its top, or up to where the view ends above the cluster.
+        const double e = options_.max_height_ratio_error;
+        const double shown = std::min(rot.height_m(), std::max(visible_top, 0.0));
+        if (c.height() < (1.0 - e) * shown || c.height() > (1.0 + e) * rot.height_m()) continue;
       }
       const auto [narrow, wide] = silhouette_widths_[j];
       if (options_.min_width_ratio >= 0.0 && width < options_.min_width_ratio * narrow) continue;
@@ -244,6 +379,13 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
               FreeSpaceCells(range, sensor_from_ground, cell_lo, cell_hi, res, options_.free_space);
         }
       }
+      // A bound, not a heuristic: a placed template covers at most as many cluster voxels as it
+      // has voxels, so a cluster that large cannot reach the threshold with it.
+      const int n = scorer->cluster_voxels();
+      if (options_.score_threshold > 0.0 && n > 0 &&
+          100.0 * static_cast<double>(templates_[j].voxels.size()) / n < options_.score_threshold) {
+        continue;
+      }
       SearchProblem problem;
       problem.cluster = &voxels;
       problem.scorer = scorer.get();
@@ -253,54 +395,55 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
       problem.free_space_weight = options_.free_space_weight;
       problem.hit_weight = options_.hit_weight;
       if (options_.stop_below_threshold) {
-        problem.min_value = static_cast<int>(std::ceil(
-            options_.score_threshold * options_.hit_weight * scorer->cluster_voxels() / 100.0 -
-            1e-9));
+        problem.min_value = static_cast<int>(
+            std::ceil(options_.score_threshold * options_.hit_weight * n / 100.0 - 1e-9));
       }
       const SearchResult r = search_->Search(problem);
       Candidate cand;
       cand.template_name = rot.name();
       cand.cluster_index = summary.index;
       cand.pose = r.pose;
+      cand.lattice_pose = r.pose;
       cand.score = r.score;
       cand.coverage = r.coverage;
       cand.score_is_upper_bound = r.below_min_value;
       cand.free_space_hits = r.free_hits;
       cand.hits = r.hits;
-      cand.cluster_voxels = scorer->cluster_voxels();
+      cand.cluster_voxels = n;
       cand.has_runner_up = r.has_runner_up;
       cand.runner_up_pose = r.runner_up_pose;
       cand.runner_up_score = r.runner_up_score;
       cand.poses_evaluated = r.poses_evaluated;
       cand.bounds_evaluated = r.bounds_evaluated;
+      if (refine && !r.below_min_value) {
+        const Clock::time_point t_refine = Clock::now();
+        // What the pose's search scores would be at another lattice pose (when the refined
+        // runner-up replaces the search's optimum).
+        const auto rescore = [&](Candidate* cd) {
+          const LatticePose lp = NearestLatticePose(options_.lattice, cd->lattice_pose);
+          const RotatedTemplate& rt = rot.Get(lp.itheta);
+          cd->hits = scorer->Hits(rt, lp.ix, lp.iy);
+          cd->free_space_hits = use_free_space
+                                    ? MakePoseScorer(ScorerKind::kFast, free, options_.lattice)
+                                          ->Hits(rt, lp.ix, lp.iy)
+                                    : 0;
+          cd->coverage = n > 0 ? 100.0 * cd->hits / n : 0.0;
+        };
+        RefineCandidate(*surfaces_[j], obs, options_.refine, rescore, &cand);
+        refine_ms += MsSince(t_refine);
+      }
       est.candidates.push_back(cand);
       summary.searched = true;
     }
     est.clusters.push_back(summary);
   }
   est.timings.search_ms = MsSince(t);
+  est.timings.refine_ms = refine_ms;
 
   std::stable_sort(est.candidates.begin(), est.candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-  // Candidates are sorted, so the first seen per cluster is its best template.
-  std::map<int, size_t> detection_of_cluster;
-  for (const Candidate& cand : est.candidates) {
-    auto it = detection_of_cluster.find(cand.cluster_index);
-    if (it == detection_of_cluster.end()) {
-      Detection d;
-      d.best = cand;
-      d.template_margin = cand.score;
-      d.is_humanoid = cand.score >= options_.score_threshold;
-      detection_of_cluster[cand.cluster_index] = est.detections.size();
-      est.detections.push_back(d);
-    } else {
-      Detection& d = est.detections[it->second];
-      if (d.second_template.empty()) {
-        d.second_template = cand.template_name;
-        d.template_margin = d.best.score - cand.score;
-      }
-    }
-  }
+  est.detections =
+      ChooseTemplates(est.candidates, options_.score_threshold, options_.refine.ambiguity_cost);
   est.timings.total_ms = cloud_ms + MsSince(t_start);
   return est;
 }

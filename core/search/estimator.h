@@ -17,6 +17,7 @@
 #include "core/scoring/pose_scorer.h"
 #include "core/search/estimate.h"
 #include "core/search/exact_search.h"
+#include "core/search/pose_refiner.h"
 #include "core/search/pose_search.h"
 #include "core/templates/voxel_template.h"
 
@@ -68,15 +69,20 @@ struct EstimatorOptions {
   // optimum is computed, however low (slower on clutter).
   bool stop_below_threshold = true;
   // A cluster is searched with a template only when its height is within this fraction of the
-  // template's height (0.25: 0.75x to 1.25x; occlusion from below keeps a cluster's top, so
-  // only a head cut off by the image border makes it shorter). Negative disables the check.
+  // height the template would show there (0.25: 0.75x to 1.25x): the template's height, or,
+  // where the top of the image cuts the view lower (a level sensor near the floor sees a 58 cm
+  // robot only up to ~0.75 m at 1 m), the highest point the sensor sees above the cluster.
+  // Occlusion from below keeps a cluster's top. Negative disables the check.
   double max_height_ratio_error = 0.25;
-  // A cluster is searched with a template only when its apparent width (its extent across the
-  // line of sight, above the floor band) is within [min_width_ratio x the template's narrowest
-  // silhouette, max_width_ratio x its widest] over all headings: a pole or a wall cannot be the
-  // humanoid however well the template swallows it. Negative disables each check.
-  double min_width_ratio = 0.6;
-  double max_width_ratio = 1.6;
+  // Optional checks on the cluster's apparent width (its extent across the line of sight)
+  // against [min_width_ratio x the template's narrowest silhouette, max_width_ratio x its
+  // widest]. Off by default (negative): they are heuristics that skipped side-on robots; the
+  // free-space evidence and the bound below decide instead.
+  double min_width_ratio = -1.0;
+  double max_width_ratio = -1.0;
+  // Continuous refinement of each candidate's lattice pose and the refined evidence that
+  // chooses between the runner-up heading and between templates (pose_refiner.h).
+  RefineOptions refine;
 };
 
 // Default options (the paper's settings, Kinect v1) in one place.
@@ -113,6 +119,7 @@ class Estimator {
   // Narrowest and widest horizontal silhouette of each template over all headings (metres),
   // counting voxels above the clusters' floor band only.
   std::vector<std::pair<double, double>> silhouette_widths_;
+  std::vector<std::unique_ptr<SurfaceModel>> surfaces_;  // one per template, for refinement.
   std::unique_ptr<PoseSearch> search_;
 };
 

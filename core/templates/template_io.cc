@@ -20,7 +20,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr const char* kFormat = "hpose-template";
-constexpr int kVersion = 1;
+// Version 2 adds the surface points; version 1 files (voxels only) are still read.
+constexpr int kVersion = 2;
+constexpr double kSurfaceUnitM = 1e-4;  // surface coordinates are stored in 0.1 mm integers.
 
 // OctoMap's Debian build chatters on std::cout/std::cerr when reading and writing trees
 // ("Reading binary octree type OcTree"); templates are loaded at start-up, so the streams are
@@ -55,7 +57,20 @@ std::string SidecarText(const VoxelTemplate& tpl) {
   j["source"] = tpl.source;
   j["voxels"] = tpl.voxels.size();
   j["height_m"] = tpl.Height();
-  return j.dump(2) + "\n";
+  j["surface_points"] = tpl.surface.size();
+  // The surface as one flat line [x0, y0, z0, x1, ...] of 0.1 mm integers (compact, and exact
+  // far below the sensor's noise) after the readable keys.
+  std::string text = j.dump(2);
+  text.resize(text.size() - 2);  // the closing "\n}".
+  text += ",\n  \"surface_0.1mm\": [";
+  for (size_t i = 0; i < tpl.surface.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      if (i + k > 0) text += ',';
+      text += std::to_string(std::lround(tpl.surface[i][k] / kSurfaceUnitM));
+    }
+  }
+  text += "]\n}\n";
+  return text;
 }
 
 // Parsed sidecar contents; fields absent in the file keep their defaults.
@@ -65,6 +80,7 @@ struct Sidecar {
   std::string source;
   double resolution_m = 0.0;
   long long voxels = -1;
+  std::vector<Eigen::Vector3f> surface;
 };
 
 Result<Sidecar> ParseSidecar(const std::string& text, const std::string& path) {
@@ -72,8 +88,9 @@ Result<Sidecar> ParseSidecar(const std::string& text, const std::string& path) {
   if (j.is_discarded() || !j.is_object()) {
     return MakeError(ErrorCode::kDataLoss, path + ": not a JSON object");
   }
-  static const char* const kKnown[] = {"format",       "version", "name",   "variant",
-                                       "resolution_m", "source",  "voxels", "height_m"};
+  static const char* const kKnown[] = {"format",         "version",      "name",   "variant",
+                                       "resolution_m",   "source",       "voxels", "height_m",
+                                       "surface_points", "surface_0.1mm"};
   for (auto it = j.begin(); it != j.end(); ++it) {
     bool known = false;
     for (const char* k : kKnown) known = known || it.key() == k;
@@ -85,9 +102,10 @@ Result<Sidecar> ParseSidecar(const std::string& text, const std::string& path) {
     return MakeError(ErrorCode::kDataLoss,
                      path + ": 'format' must be \"" + std::string(kFormat) + "\"");
   }
-  if (!j.contains("version") || !j["version"].is_number_integer() || j["version"] != kVersion) {
+  if (!j.contains("version") || !j["version"].is_number_integer() || j["version"] < 1 ||
+      j["version"] > kVersion) {
     return MakeError(ErrorCode::kDataLoss,
-                     path + ": unsupported 'version' (this hpose reads version " +
+                     path + ": unsupported 'version' (this hpose reads versions 1 to " +
                          std::to_string(kVersion) + ")");
   }
   Sidecar s;
@@ -114,6 +132,33 @@ Result<Sidecar> ParseSidecar(const std::string& text, const std::string& path) {
       return MakeError(ErrorCode::kDataLoss, path + ": 'voxels' must be an integer");
     }
     s.voxels = j["voxels"].get<long long>();
+  }
+  if (j.contains("surface_0.1mm")) {
+    const json& a = j["surface_0.1mm"];
+    if (!a.is_array() || a.size() % 3 != 0) {
+      return MakeError(ErrorCode::kDataLoss,
+                       path + ": 'surface_0.1mm' must be an array of x, y, z integer triples");
+    }
+    s.surface.reserve(a.size() / 3);
+    for (size_t i = 0; i < a.size(); i += 3) {
+      Eigen::Vector3f p;
+      for (int k = 0; k < 3; ++k) {
+        const json& v = a[i + k];
+        if (!v.is_number_integer() || std::llabs(v.get<long long>()) > 100000000LL) {
+          return MakeError(ErrorCode::kDataLoss, path + ": 'surface_0.1mm' entry " +
+                                                     std::to_string(i + k) +
+                                                     " is not an integer within 10 km");
+        }
+        p[k] = static_cast<float>(v.get<long long>() * kSurfaceUnitM);
+      }
+      s.surface.push_back(p);
+    }
+    if (j.contains("surface_points") &&
+        (!j["surface_points"].is_number_integer() ||
+         j["surface_points"].get<long long>() != static_cast<long long>(s.surface.size()))) {
+      return MakeError(ErrorCode::kDataLoss,
+                       path + ": 'surface_points' disagrees with the length of 'surface_0.1mm'");
+    }
   }
   return s;
 }
@@ -218,6 +263,7 @@ Result<VoxelTemplate> LoadTemplate(const std::string& bt_path) {
     if (!side->name.empty()) tpl.name = side->name;
     tpl.variant = side->variant.empty() ? tpl.name : side->variant;
     tpl.source = side->source;
+    tpl.surface = std::move(side->surface);
   }
   return tpl;
 }

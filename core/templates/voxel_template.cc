@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <tuple>
 
 namespace hpose {
@@ -15,7 +16,59 @@ bool ValidName(const std::string& name) {
   });
 }
 
+using Cell = std::tuple<int, int, int>;
+
+Cell CellAt(const Eigen::Vector3f& p, double inv_edge) {
+  return Cell(static_cast<int>(std::floor(inv_edge * static_cast<double>(p.x()))),
+              static_cast<int>(std::floor(inv_edge * static_cast<double>(p.y()))),
+              static_cast<int>(std::floor(inv_edge * static_cast<double>(p.z()))));
+}
+
+// The mean of the points in each cell of edge `edge_m`, in cell order.
+std::vector<Eigen::Vector3f> CellCentroids(const std::vector<Eigen::Vector3f>& points,
+                                           double edge_m) {
+  std::map<Cell, std::pair<Eigen::Vector3d, int>> sums;
+  const double inv = 1.0 / edge_m;
+  for (const Eigen::Vector3f& p : points) {
+    if (!p.allFinite()) continue;
+    auto& [sum, n] = sums.try_emplace(CellAt(p, inv), Eigen::Vector3d::Zero(), 0).first->second;
+    sum += p.cast<double>();
+    ++n;
+  }
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(sums.size());
+  for (const auto& [cell, sn] : sums) out.push_back((sn.first / sn.second).cast<float>());
+  return out;
+}
+
 }  // namespace
+
+std::vector<Eigen::Vector3f> VoxelTemplate::VoxelSurfaceCentroids() const {
+  if (surface.empty()) return voxels;
+  // Sums per (x, y) column of voxels.
+  std::map<std::pair<int, int>, std::pair<Eigen::Vector2d, int>> sums;
+  const double inv = 1.0 / resolution_m;
+  for (const Eigen::Vector3f& p : surface) {
+    const Cell c = CellAt(p, inv);
+    auto& [sum, n] = sums.try_emplace({std::get<0>(c), std::get<1>(c)}, Eigen::Vector2d::Zero(), 0)
+                         .first->second;
+    sum += p.head<2>().cast<double>();
+    ++n;
+  }
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(voxels.size());
+  for (const Eigen::Vector3f& v : voxels) {
+    const Cell c = CellAt(v, inv);
+    auto it = sums.find({std::get<0>(c), std::get<1>(c)});
+    if (it == sums.end()) {
+      out.push_back(v);
+      continue;
+    }
+    const Eigen::Vector2d xy = it->second.first / it->second.second;
+    out.emplace_back(static_cast<float>(xy.x()), static_cast<float>(xy.y()), v.z());
+  }
+  return out;
+}
 
 double VoxelTemplate::Height() const {
   double top = 0.0;
@@ -72,6 +125,7 @@ Result<VoxelTemplate> MakeTemplateFromPoints(const std::vector<Eigen::Vector3f>&
                             static_cast<float>((y + 0.5) * resolution_m),
                             static_cast<float>((z + 0.5) * resolution_m));
   }
+  tpl.surface = CellCentroids(points, tpl.SurfaceCellM());
   return tpl;
 }
 

@@ -18,13 +18,32 @@ struct VoxelTemplate {
   std::string source;                   // how it was made (command or description).
   double resolution_m = 0.016;          // voxel edge.
   std::vector<Eigen::Vector3f> voxels;  // centres of occupied voxels, unique, sorted.
+  // Points on the body's surface, template frame, metres: the centroid of the input points in
+  // each cell of half the voxel edge, sorted by cell. They keep the sub-voxel shape that voxel
+  // centres lose (a flat face between two voxel centres), so rotated copies do not alias and
+  // the pose refinement fits the real surface. Empty for templates that hold voxels only (made
+  // before surfaces were kept, or by other OctoMap tools); voxel centres stand in for them.
+  std::vector<Eigen::Vector3f> surface;
 
   // Height of the highest voxel top above the floor, metres.
   double Height() const;
+  // Edge of the cells `surface` was reduced on (half the voxel edge).
+  double SurfaceCellM() const { return 0.5 * resolution_m; }
+  // One point per voxel, sorted like `voxels`: its centre height, and across the floor the mean
+  // of the surface points in its column of voxels (one (x, y) per column, so the search keeps
+  // scoring a column with one bit mask), or the voxel centre when the template has no surface.
+  // What the search rotates: sub-voxel positions do not alias on the grid as centres do.
+  std::vector<Eigen::Vector3f> VoxelSurfaceCentroids() const;
+  // The surface points, or the voxel centres when there are none.
+  const std::vector<Eigen::Vector3f>& SurfaceOrVoxels() const {
+    return surface.empty() ? voxels : surface;
+  }
 };
 
 // Voxelises points given in the template frame at `resolution_m` (cell = floor(p / res)) into a
-// template of unique voxel centres. Non-finite points are skipped. Fails (kInvalidArgument) when
+// template of unique voxel centres, and keeps the surface (VoxelTemplate::surface) from the same
+// points: pass points sampled densely on the body's surface (a few mm apart) for templates that
+// fit to sub-voxel precision. Non-finite points are skipped. Fails (kInvalidArgument) when
 // no finite point remains, the resolution is not in [1 mm, 0.5 m], or the name is empty or holds
 // characters other than [A-Za-z0-9_.-].
 Result<VoxelTemplate> MakeTemplateFromPoints(const std::vector<Eigen::Vector3f>& points,

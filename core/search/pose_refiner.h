@@ -1,0 +1,110 @@
+#ifndef HPOSE_CORE_SEARCH_POSE_REFINER_H_
+#define HPOSE_CORE_SEARCH_POSE_REFINER_H_
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/common/pose2d.h"
+#include "core/depth/range_image.h"
+#include "core/search/surface_model.h"
+
+namespace hpose {
+
+// Continuous refinement of a lattice pose and the evidence that decides between poses and
+// templates. Units: metres, radians; poses are the robot frame in the ground frame.
+struct RefineOptions {
+  bool enabled = true;
+  int max_iterations = 8;
+  // The refined pose stays within this of the lattice pose it starts from, so it never leaves
+  // the basin of the optimum the exact search proved (one voxel, a few lattice angles).
+  double max_shift_m = 0.024;
+  double max_turn_rad = 5.0 * kPi / 180.0;
+  // Kinect v1 noise (SPEC §5): axial sigma = axial_coeff z^2; depth step = step_coeff z^2,
+  // whose rounding adds step / sqrt(12); lateral sigma = lateral_rad z (0.8 px at 585 px focal).
+  double axial_coeff = 1.425e-3;
+  double step_coeff = 3.07e-3;
+  double lateral_rad = 0.8 / 585.0;
+  // Template surface error and the 8 mm grid the cluster points are reduced on.
+  double model_sigma_m = 0.003;
+  // Robust (Cauchy) scale of normalised point-to-surface residuals.
+  double cauchy_scale = 3.0;
+  // A visible template point is seen through when the sensor saw farther than it by more than
+  // this many sigmas, and consistent within it.
+  double free_sigmas = 3.0;
+  // Template points nearer than this along the ray than what was seen are hidden by something
+  // in front (occluded): they neither support nor contradict the pose.
+  double occluded_sigmas = 3.0;
+  // Without a return at all where a template point lies in view within the sensor's working
+  // range (Kinect v1: 0.8-4 m, SPEC §1), that point is contradicted too.
+  double min_return_depth_m = 0.85;
+  double max_return_depth_m = 3.8;
+  // The runner-up heading is refined too (to tell front from back) when its search score is
+  // within this many points of the best's; a poorer one is only evaluated where it lies.
+  double runner_up_score_window = 10.0;
+  // Two poses (or templates) whose costs differ by less than this (nats; e^3 = 20 : 1) are
+  // ambiguous: noise could explain the difference.
+  double ambiguity_cost = 3.0;
+  // A cluster point is matched with the visible template point nearest to it around its ray,
+  // within this or 4 axial sigmas, whichever is larger; farther points are unexplained.
+  double association_gate_m = 0.03;
+  int max_data_points = 800;  // cluster points used (evenly strided).
+};
+
+// What a pose explains of the observation and what contradicts it.
+struct PoseEvidence {
+  int data_points = 0;      // cluster points considered.
+  int data_inliers = 0;     // ... within 3 sigma of the template surface.
+  int model_visible = 0;    // template points facing the sensor, in view.
+  int model_seen = 0;       // ... whose depth the sensor confirmed (within free_sigmas).
+  int model_free = 0;       // ... the sensor saw through.
+  int model_no_return = 0;  // ... where the sensor got no return within its range.
+  int model_occluded = 0;   // ... hidden behind something nearer.
+  // Robust negative log-likelihood of the observation under the pose (nats): Cauchy on the
+  // cluster points' normalised distances (unexplained points cost as at the association gate),
+  // Huber on seen-through template points, a fixed cost per template point without a return.
+  // Differences between poses and templates on the same cluster are log-likelihood ratios.
+  double cost = 0.0;
+
+  // Fraction of the cluster the template explains, and of the template's visible surface that
+  // the observation contradicts.
+  double Explained() const;
+  double Contradicted() const;
+  // 100 * Explained() * (1 - Contradicted()): the refined, noise-aware score.
+  double Fit() const;
+};
+
+struct RefinedPose {
+  Pose2D pose;
+  // Covariance of (x, y, theta) from the Gauss-Newton information matrix (m^2, rad^2).
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  int iterations = 0;
+  bool converged = false;
+  bool at_basin_limit = false;  // it stopped at the max_shift_m / max_turn_rad bound.
+  PoseEvidence evidence;        // at `pose`.
+};
+
+// What the cluster showed: its points (ground frame) and what the sensor saw in every
+// direction (a range image of the whole frame in the sensor frame).
+struct Observation {
+  const std::vector<Eigen::Vector3f>* cluster_points = nullptr;
+  const RangeImage* range = nullptr;
+  Eigen::Isometry3d sensor_from_ground = Eigen::Isometry3d::Identity();
+};
+
+// Refines `start` (x, y, theta; z fixed on the floor) by robust, noise-weighted Gauss-Newton on
+// two terms: cluster points to the template surface (point to plane, each point weighted by the
+// Kinect noise along the surface normal), and template points the sensor should see (from its
+// position, self-occlusion by a z-buffer) that it saw through (a one-sided cost). Never leaves
+// the basin bounds of the options. Returns `start` unchanged with its evidence when disabled.
+RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const Pose2D& start,
+                       const RefineOptions& options = {});
+
+// The evidence for `pose` without moving it.
+PoseEvidence EvaluatePose(const SurfaceModel& model, const Observation& obs, const Pose2D& pose,
+                          const RefineOptions& options = {});
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SEARCH_POSE_REFINER_H_

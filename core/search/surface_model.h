@@ -1,0 +1,36 @@
+#ifndef HPOSE_CORE_SEARCH_SURFACE_MODEL_H_
+#define HPOSE_CORE_SEARCH_SURFACE_MODEL_H_
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/templates/voxel_template.h"
+
+namespace hpose {
+
+// A template's surface prepared for continuous pose refinement (template frame, metres): the
+// surface points (VoxelTemplate::SurfaceOrVoxels) with unsigned normals from local plane fits.
+// Built once per template (a few ms), immutable, shareable between threads.
+class SurfaceModel {
+ public:
+  explicit SurfaceModel(const VoxelTemplate& tpl);
+
+  const std::vector<Eigen::Vector3f>& points() const { return points_; }
+  // Unit normals of `points` (sign arbitrary: the direction of least spread of the neighbours).
+  const std::vector<Eigen::Vector3f>& normals() const { return normals_; }
+  // How far apart neighbouring surface points are (m): the template's surface cell.
+  double spacing_m() const { return spacing_; }
+  // Centre of the points (template frame).
+  const Eigen::Vector3f& centre() const { return centre_; }
+
+ private:
+  std::vector<Eigen::Vector3f> points_;
+  std::vector<Eigen::Vector3f> normals_;
+  double spacing_ = 0.008;
+  Eigen::Vector3f centre_ = Eigen::Vector3f::Zero();
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SEARCH_SURFACE_MODEL_H_
