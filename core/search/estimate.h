@@ -52,15 +52,15 @@ struct Candidate {
 };
 
 // A cluster's verdict: its best template, and how far ahead of the next template it is.
-// The template is chosen by the refined evidence (lowest Candidate::fit.cost) of each template's
-// pose.
+// The template is chosen by the refined evidence (highest Candidate::fit.fit) of each
+// template's pose.
 struct Detection {
   Candidate best;
   std::string second_template;  // empty with one template.
-  // The second template's cost minus the best's (nats; a log-likelihood ratio) when refined,
-  // else the difference of their search scores.
+  // best.fit.fit minus the second template's fit when refined, else the difference of their
+  // search scores.
   double template_margin = 0.0;
-  // The margin is within what noise explains (RefineOptions::ambiguity_cost).
+  // The margin is within what noise explains (two standard errors of the fits).
   bool template_ambiguous = false;
   bool is_humanoid = false;  // best.score >= the score threshold.
 };

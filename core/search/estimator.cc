@@ -96,10 +96,15 @@ FitSummary Summarise(const PoseEvidence& e) {
   return s;
 }
 
+// Two fits differ by no more than noise explains (two standard errors of the difference).
+bool WithinNoise(const FitSummary& a, const FitSummary& b) {
+  return std::abs(a.fit - b.fit) <= 2.0 * std::hypot(a.fit_sigma, b.fit_sigma);
+}
+
 // Refines the candidate's pose and its runner-up's (the best heading more than 30 degrees
-// away); the one with the better refined evidence (lower cost) becomes the pose (`rescore` then
-// recomputes the search's counts at its lattice pose), and the heading is ambiguous when their
-// costs differ by less than RefineOptions::ambiguity_cost.
+// away); the one with the better refined evidence (higher fit) becomes the pose (`rescore` then
+// recomputes the search's counts at its lattice pose), and the heading is ambiguous when the
+// fits are within two standard errors of each other.
 template <typename Rescore>
 void RefineCandidate(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
                      const Rescore& rescore, Candidate* cand) {
@@ -118,7 +123,7 @@ void RefineCandidate(const SurfaceModel& model, const Observation& obs, const Re
     other.evidence = EvaluatePose(model, obs, other_lattice, o);
   }
   FitSummary other_fit = Summarise(other.evidence);
-  if (other_fit.cost < cand->fit.cost) {
+  if (other_fit.fit > cand->fit.fit) {
     cand->runner_up_pose = cand->pose;
     cand->runner_up_fit = cand->fit;
     std::swap(cand->score, cand->runner_up_score);
@@ -131,14 +136,13 @@ void RefineCandidate(const SurfaceModel& model, const Observation& obs, const Re
     cand->runner_up_pose = other.pose;
     cand->runner_up_fit = other_fit;
   }
-  cand->heading_ambiguous = cand->runner_up_fit.cost - cand->fit.cost < o.ambiguity_cost;
+  cand->heading_ambiguous = WithinNoise(cand->fit, cand->runner_up_fit);
 }
 
 // One detection per cluster: among its templates with a pose, the one whose pose the refined
-// evidence supports best (lowest cost; the search score when not refined); sorted by search
+// evidence supports best (highest fit; the search score when not refined); sorted by search
 // score.
-std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates, double threshold,
-                                       double ambiguity_cost) {
+std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates, double threshold) {
   std::map<int, std::vector<const Candidate*>> by_cluster;
   for (const Candidate& c : candidates) by_cluster[c.cluster_index].push_back(&c);
   std::vector<Detection> out;
@@ -146,7 +150,7 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
     // Posed candidates first, then by refined fit (or score), then by score.
     std::stable_sort(cands.begin(), cands.end(), [](const Candidate* a, const Candidate* b) {
       if (a->score_is_upper_bound != b->score_is_upper_bound) return !a->score_is_upper_bound;
-      if (a->refined && b->refined && a->fit.cost != b->fit.cost) return a->fit.cost < b->fit.cost;
+      if (a->refined && b->refined && a->fit.fit != b->fit.fit) return a->fit.fit > b->fit.fit;
       return a->score > b->score;
     });
     Detection d;
@@ -156,8 +160,8 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
       const Candidate& second = *cands[1];
       d.second_template = second.template_name;
       if (d.best.refined && second.refined) {
-        d.template_margin = second.fit.cost - d.best.fit.cost;
-        d.template_ambiguous = d.template_margin < ambiguity_cost;
+        d.template_margin = d.best.fit.fit - second.fit.fit;
+        d.template_ambiguous = WithinNoise(d.best.fit, second.fit);
       } else {
         d.template_margin = d.best.score - second.score;
       }
@@ -442,8 +446,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
 
   std::stable_sort(est.candidates.begin(), est.candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-  est.detections =
-      ChooseTemplates(est.candidates, options_.score_threshold, options_.refine.ambiguity_cost);
+  est.detections = ChooseTemplates(est.candidates, options_.score_threshold);
   est.timings.total_ms = cloud_ms + MsSince(t_start);
   return est;
 }

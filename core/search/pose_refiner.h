@@ -43,9 +43,6 @@ struct RefineOptions {
   // The runner-up heading is refined too (to tell front from back) when its search score is
   // within this many points of the best's; a poorer one is only evaluated where it lies.
   double runner_up_score_window = 10.0;
-  // Two poses (or templates) whose costs differ by less than this (nats; e^3 = 20 : 1) are
-  // ambiguous: noise could explain the difference.
-  double ambiguity_cost = 3.0;
   // A cluster point is matched with the visible template point nearest to it around its ray,
   // within this or 4 axial sigmas, whichever is larger; farther points are unexplained.
   double association_gate_m = 0.03;
