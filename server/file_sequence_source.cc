@@ -60,6 +60,8 @@ Status FileSequenceSource::Open() {
                                                                 : ": no .pcd clouds"));
   }
   files_ = std::move(*files);
+  if (opened_before_) ++epoch_;  // reopened: the clock starts over.
+  opened_before_ = true;
   next_index_ = 0;
   start_ = std::chrono::steady_clock::now();
   paced_ = 0;
@@ -75,6 +77,7 @@ Result<Frame> FileSequenceSource::Next() {
       return MakeError(ErrorCode::kOutOfRange, directory_ + ": end of recording");
     }
     next_index_ = 0;
+    ++epoch_;  // the recording's clock starts over.
   }
   if (replay_.realtime) {
     const auto due = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -87,6 +90,7 @@ Result<Frame> FileSequenceSource::Next() {
 
   Frame frame;
   frame.sequence = ++sequence_;
+  frame.epoch = epoch_;
   frame.source_time_s = static_cast<double>(index) / replay_.fps;
   frame.origin = path;
   if (format_ == Format::kDepthPng) {

@@ -38,6 +38,8 @@ class FileSequenceSource final : public FrameSource {
   std::vector<std::string> files_;
   size_t next_index_ = 0;  // into files_.
   std::uint64_t sequence_ = 0;
+  std::uint64_t epoch_ = 0;  // see Frame::epoch.
+  bool opened_before_ = false;
   std::chrono::steady_clock::time_point start_;  // when frame 0 of this pass was due.
   std::uint64_t paced_ = 0;                      // frames since start_.
 };

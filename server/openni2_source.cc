@@ -223,13 +223,22 @@ Status Openni2Source::Open() {
   Status status = impl->Open(spec_, options_);
   if (!status.ok()) return status;
   impl_ = std::move(impl);
+  if (opened_before_) ++epoch_;  // a reconnection: the device's clock starts over.
+  opened_before_ = true;
+  has_last_time_ = false;
   return Status::Ok();
 }
 
 Result<Frame> Openni2Source::Next() {
   if (!impl_) return MakeError(ErrorCode::kUnavailable, spec_ + ": not open");
   Result<Frame> frame = impl_->Next(spec_);
-  if (frame.ok()) frame->sequence = ++sequence_;
+  if (!frame.ok()) return frame;
+  // A recording played with repeat starts its timestamps over when it wraps around.
+  if (has_last_time_ && frame->source_time_s < last_time_s_) ++epoch_;
+  has_last_time_ = true;
+  last_time_s_ = frame->source_time_s;
+  frame->sequence = ++sequence_;
+  frame->epoch = epoch_;
   return frame;
 }
 

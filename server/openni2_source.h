@@ -42,6 +42,10 @@ class Openni2Source final : public FrameSource {
   Openni2SourceOptions options_;
   std::unique_ptr<Impl> impl_;
   std::uint64_t sequence_ = 0;
+  std::uint64_t epoch_ = 0;  // see Frame::epoch.
+  bool opened_before_ = false;
+  bool has_last_time_ = false;
+  double last_time_s_ = 0.0;
 };
 
 // True when `spec` names an OpenNI2 device ("openni2://...").

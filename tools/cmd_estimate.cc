@@ -1,4 +1,5 @@
 // `hpose estimate`: the depth-template estimator on one depth frame or cloud.
+#include <chrono>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -7,6 +8,8 @@
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
 #include "core/search/estimator.h"
+#include "server/message_json.h"
+#include "server/proto_convert.h"
 #include "tools/command.h"
 #include "tools/estimate_report.h"
 #include "tools/exit_codes.h"
@@ -143,11 +146,15 @@ int RunEstimate(int argc, char** argv) {
     cloud = std::move(read).value();
     estimate = (*estimator)->EstimateCloud(cloud);
   }
+  if (json) {  // the schema of `hpose replay` (docs/API.md), also when the frame failed.
+    v1::PoseEstimate msg;
+    server::FillPoseEstimate(
+        1, 0.0, std::chrono::system_clock::now(), have_depth ? depth_path : cloud_path,
+        estimate.ok() ? &*estimate : nullptr, estimate.ok() ? nullptr : &estimate.error(), &msg);
+    std::cout << server::MessageToJsonLine(msg) << "\n";
+  }
   if (!estimate.ok()) return ReportError(cmd, estimate.error());
-
-  if (json) {
-    std::cout << EstimateToJson(*estimate, search, score) << "\n";
-  } else {
+  if (!json) {
     std::cout << EstimateToText(*estimate);
   }
   if (!picture.empty()) {

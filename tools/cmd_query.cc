@@ -1,5 +1,4 @@
 // `hpose query`: a command-line client of hposed (hpose.v1.PoseService).
-#include <google/protobuf/util/json_util.h>
 #include <grpcpp/grpcpp.h>
 
 #include <atomic>
@@ -19,6 +18,7 @@
 #include "core/io/intrinsics_json.h"
 #include "core/stereo/rgb_image_io.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
+#include "server/message_json.h"
 #include "server/proto_convert.h"
 #include "server/stereo_proto_convert.h"
 #include "tools/command.h"
@@ -33,13 +33,7 @@ std::atomic<bool> g_interrupted{false};
 
 void OnSignal(int) { g_interrupted = true; }
 
-std::string ToJson(const google::protobuf::Message& m) {
-  std::string out;
-  google::protobuf::util::JsonPrintOptions options;
-  options.preserve_proto_field_names = true;
-  (void)google::protobuf::util::MessageToJsonString(m, &out, options);
-  return out;
-}
+std::string ToJson(const google::protobuf::Message& m) { return server::MessageToJsonLine(m); }
 
 int ExitFor(const grpc::Status& s) {
   switch (s.error_code()) {
@@ -301,6 +295,10 @@ int RunQuery(int argc, char** argv) {
   grpc::ChannelArguments channel_args;
   channel_args.SetMaxReceiveMessageSize(64 << 20);
   channel_args.SetMaxSendMessageSize(64 << 20);
+  // No read-ahead: `stream` read more slowly than the daemon publishes gets the newest estimate
+  // rather than older ones held by the transport (docs/API.md, "Streams").
+  channel_args.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
+  channel_args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, 1);
   auto channel =
       grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), channel_args);
   // Wait for the daemon (it may still be starting) up to the timeout.

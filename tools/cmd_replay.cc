@@ -10,13 +10,12 @@
 #include <string>
 #include <vector>
 
-#include <google/protobuf/util/json_util.h>
-
 #include "core/common/pose2d.h"
 #include "core/search/estimator.h"
 #include "core/templates/template_io.h"
 #include "server/daemon_config.h"
 #include "server/frame_source.h"
+#include "server/message_json.h"
 #include "server/proto_convert.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
@@ -174,8 +173,6 @@ int RunReplay(int argc, char** argv) {
   long frames = 0, estimated = 0, failed = 0, unreadable = 0, humanoids = 0;
   std::vector<double> times_ms;
   const auto start = std::chrono::steady_clock::now();
-  google::protobuf::util::JsonPrintOptions json_options;
-  json_options.preserve_proto_field_names = true;
   while (max_frames <= 0 || frames < max_frames) {
     Result<server::Frame> frame = (*source)->Next();
     if (!frame.ok()) {
@@ -207,9 +204,7 @@ int RunReplay(int argc, char** argv) {
     if (format == "csv") {
       out << CsvRow(msg);
     } else {
-      std::string line;
-      (void)google::protobuf::util::MessageToJsonString(msg, &line, json_options);
-      out << line << "\n";
+      out << server::MessageToJsonLine(msg) << "\n";
     }
     if (progress) {
       DrawProgress(frames, std::max(total, frames),

@@ -69,6 +69,10 @@ class PoseClient:
         options = [
             ("grpc.max_receive_message_length", max_message_bytes),
             ("grpc.max_send_message_length", max_message_bytes),
+            # No read-ahead: a stream read more slowly than the daemon publishes gets the newest
+            # estimate instead of tens of older ones held by the transport (docs/API.md).
+            ("grpc.http2.bdp_probe", 0),
+            ("grpc.http2.lookahead_bytes", 1),
         ]
         self._channel = grpc.insecure_channel(address, options=options)
         self._stub = pb_grpc.PoseServiceStub(self._channel)
