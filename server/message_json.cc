@@ -39,12 +39,14 @@ std::string Base64(const std::string& bytes) {
   return out;
 }
 
-nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+nlohmann::ordered_json Number(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr;
+}
 
-nlohmann::json ToJson(const Message& message);
+nlohmann::ordered_json ToJson(const Message& message);
 
 // One value of `field` (element `index` when repeated, else the singular value).
-nlohmann::json FieldValue(const Message& m, const FieldDescriptor* field, int index) {
+nlohmann::ordered_json FieldValue(const Message& m, const FieldDescriptor* field, int index) {
   const Reflection* r = m.GetReflection();
   const bool rep = field->is_repeated();
   switch (field->cpp_type()) {
@@ -74,7 +76,7 @@ nlohmann::json FieldValue(const Message& m, const FieldDescriptor* field, int in
   return nullptr;
 }
 
-nlohmann::json ToJson(const Message& message) {
+nlohmann::ordered_json ToJson(const Message& message) {
   const google::protobuf::Descriptor* d = message.GetDescriptor();
   if (d->full_name() == google::protobuf::Timestamp::descriptor()->full_name()) {
     google::protobuf::Timestamp t;
@@ -82,11 +84,11 @@ nlohmann::json ToJson(const Message& message) {
     return google::protobuf::util::TimeUtil::ToString(t);
   }
   const Reflection* r = message.GetReflection();
-  nlohmann::json out = nlohmann::json::object();
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
   for (int i = 0; i < d->field_count(); ++i) {
     const FieldDescriptor* field = d->field(i);
     if (field->is_repeated()) {
-      nlohmann::json array = nlohmann::json::array();
+      nlohmann::ordered_json array = nlohmann::ordered_json::array();
       for (int k = 0; k < r->FieldSize(message, field); ++k) {
         array.push_back(FieldValue(message, field, k));
       }

@@ -146,7 +146,7 @@ void PosePipeline::CaptureLoop() {
     }
     const Error& error = frame.error();
     if (error.code == ErrorCode::kOutOfRange) {
-      SetState(SourceState::kFinished, "source finished: " + error.message);
+      SetState(SourceState::kFinished, error.message);
       return;
     }
     if (error.code == ErrorCode::kUnavailable && source_->live()) {

@@ -150,7 +150,7 @@ void StereoPipeline::Run() {
   }
   if (!stopping_.load()) {
     SetState(SourceState::kFinished,
-             "source finished: end of " + sequence_.dir() + " (" + std::to_string(n) + " pairs)");
+             "end of " + sequence_.dir() + " (" + std::to_string(n) + " pairs)");
   }
 }
 

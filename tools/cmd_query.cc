@@ -47,10 +47,21 @@ int ExitFor(const grpc::Status& s) {
   }
 }
 
+// Prints the daemon's reason as a sentence (no status numbers) and returns the exit status
+// documented in docs/API.md.
 int Fail(const std::string& what, const grpc::Status& s) {
-  std::cerr << "hpose query " << what << ": " << s.error_code() << " "
-            << (s.error_code() == grpc::StatusCode::UNAVAILABLE ? "(unavailable) " : "")
-            << s.error_message() << "\n";
+  std::string message = s.error_message();
+  if (s.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED &&
+      message.find("deadline") == std::string::npos) {
+    message = "no answer before the deadline (--timeout)";
+  } else if (s.error_code() == grpc::StatusCode::UNAVAILABLE &&
+             (message.find("connect") != std::string::npos ||
+              message.find("Socket closed") != std::string::npos)) {
+    message = "lost the connection to hposed (" + message + ")";
+  } else if (message.empty()) {
+    message = "the call failed without a reason";
+  }
+  std::cerr << "hpose query " << what << ": " << message << "\n";
   return ExitFor(s);
 }
 
@@ -258,7 +269,7 @@ int RunQuery(int argc, char** argv) {
                   "NAME");
   flags.AddBool("compare", &compare,
                 "stream: both estimators' world-frame poses side by side (text output)");
-  flags.AddStrings("template", &templates, "estimate: only these templates (repeatable)", "NAME");
+  flags.AddStrings("template", &templates, "estimate: only these templates", "NAME");
   flags.AllowPositional("COMMAND [FILE...]");
   flags.SetEpilog(
       "examples:\n  hpose query status\n  hpose query stream --count 10\n"

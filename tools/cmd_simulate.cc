@@ -89,7 +89,7 @@ int RunSimulate(int argc, char** argv) {
       "--pitch-deg D --roll-deg D] [--clutter N --seed S] [--frames N --turn-deg D --step-m M]",
       "Renders simulated Kinect v1 depth frames of the parametric humanoid standing on a floor,\n"
       "optionally among clutter (a ball, boxes, cylinders) and a second humanoid, with the\n"
-      "sensor model of SPEC 5: axial noise 1.425e-3 z^2 m, 0.8 px lateral jitter, 11-bit\n"
+      "a Kinect v1 sensor model: axial noise 1.425e-3 z^2 m, 0.8 px lateral jitter, 11-bit\n"
       "disparity quantisation, no reading outside 0.8-4.0 m or beyond 80 degrees incidence.\n"
       "Writes DIR/depth.png (16-bit, mm), DIR/intrinsics.json, DIR/cloud.pcd (sensor frame, m)\n"
       "and DIR/truth.json (poses in the ground frame, metres and radians); with --frames N > 1\n"

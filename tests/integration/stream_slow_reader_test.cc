@@ -95,6 +95,9 @@ TEST(StreamSlowReaderTest, SlowReaderGetsTheNewestEstimateWithSkipsCounted) {
     EXPECT_FALSE(m.stale()) << m.stale_reason();
     if (i == 0) continue;
     const v1::PoseEstimate& prev = got[i - 1].msg;
+    // The 4-frame recording loops: source_time goes back only when a new source epoch starts.
+    EXPECT_GE(m.source_epoch(), prev.source_epoch());
+    if (m.source_time() < prev.source_time()) EXPECT_GT(m.source_epoch(), prev.source_epoch());
     // Estimates the daemon published but did not send are counted, and the frame sequence moved
     // on by at least as many.
     EXPECT_GE(m.sequence(), prev.sequence() + m.skipped() + 1);
@@ -106,6 +109,7 @@ TEST(StreamSlowReaderTest, SlowReaderGetsTheNewestEstimateWithSkipsCounted) {
     }
   }
   EXPECT_GT(skipped_total, 0u);
+  EXPECT_GT(got.back().msg.source_epoch(), 0u);  // ~5 s of a 4-frame loop at 15 fps.
   (*daemon)->Shutdown();
   std::filesystem::remove_all(dir);
 }
