@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "server/daemon.h"
 #include "tests/integration/test_util.h"
 
 namespace hpose {
@@ -124,6 +125,41 @@ TEST(ExampleConfigTest, ACopyWorksAnywhereAndRelativePathsFollowTheFile) {
       0);
   EXPECT_NE(err.find(dir + "/conf/mine/robot.bt"), std::string::npos) << err;
   EXPECT_EQ(err.find("hpose hposed"), std::string::npos) << err;
+  std::filesystem::remove_all(dir);
+}
+
+// The messages a new user meets first read as sentences: no doubled prefixes, no gRPC dumps or
+// status numbers, and the exit statuses of docs/API.md.
+TEST(HposedMessagesTest, FlagsPortInUseAndQueryErrorsReadAsSentences) {
+  const std::string dir = tu::MakeTempDir("hposed_messages");
+  std::string out, err;
+  EXPECT_EQ(RunHposed("--fps 0", dir, &out, &err), 2);
+  EXPECT_NE(err.find("hposed: --fps:"), std::string::npos) << err;
+  EXPECT_EQ(err.find("config:"), std::string::npos) << err;
+
+  server::DaemonConfig config;
+  config.grpc.listen = "127.0.0.1:0";
+  config.templates = {tu::TemplatePath("standing")};
+  Result<std::unique_ptr<server::Daemon>> daemon = server::Daemon::Start(config);
+  ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
+  const std::string address = "127.0.0.1:" + std::to_string((*daemon)->port());
+
+  // A second daemon on the same port: one sentence, exit 5.
+  EXPECT_EQ(RunHposed("--listen " + address, dir, &out, &err), 5);
+  EXPECT_NE(err.find("is already in use"), std::string::npos) << err;
+  EXPECT_EQ(err.find("chttp2"), std::string::npos) << err;
+  EXPECT_EQ(err.find("hpose hposed"), std::string::npos) << err;
+
+  // hpose query against a daemon without a source: the reason, no status number, exit 1.
+  const std::string err_file = dir + "/query.err";
+  const int code = tu::RunCommand(tu::HposeProgram() + " query latest --server " + address +
+                                  " 2>'" + err_file + "'");
+  EXPECT_EQ(code, 1);
+  std::ifstream in(err_file);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "hpose query latest: the daemon has no depth source; send frames with Estimate");
+  (*daemon)->Shutdown();
   std::filesystem::remove_all(dir);
 }
 
