@@ -39,7 +39,7 @@ class FrameSource {
   virtual Result<Frame> Next() = 0;
   virtual void Close() = 0;
 
-  // Short kind name: "openni2-device", "oni", "png-dir", "pcd-dir".
+  // Short kind name: "openni2-device", "oni", "png-dir", "tiff-dir", "pclzf-dir", "pcd-dir".
   virtual std::string kind() const = 0;
   // What was configured, e.g. "openni2://" or the recording path.
   virtual std::string description() const = 0;
