@@ -9,8 +9,9 @@ class PoseServiceStub(object):
     """Serves humanoid pose estimates. Errors use canonical codes: INVALID_ARGUMENT for malformed
     requests (wrong sizes, NaN intrinsics), NOT_FOUND for an unknown template, FAILED_PRECONDITION
     when a frame cannot be processed (no floor) or the daemon has no source, UNAVAILABLE when no
-    estimate exists yet, RESOURCE_EXHAUSTED for an oversized message, DEADLINE_EXCEEDED when the
-    caller's deadline passes first. The status message says what is wrong.
+    estimate exists yet or the daemon is shutting down (retry later), RESOURCE_EXHAUSTED for an
+    oversized message, DEADLINE_EXCEEDED when the caller's deadline passes first. The status
+    message says what is wrong.
     """
 
     def __init__(self, channel):
@@ -55,8 +56,9 @@ class PoseServiceServicer(object):
     """Serves humanoid pose estimates. Errors use canonical codes: INVALID_ARGUMENT for malformed
     requests (wrong sizes, NaN intrinsics), NOT_FOUND for an unknown template, FAILED_PRECONDITION
     when a frame cannot be processed (no floor) or the daemon has no source, UNAVAILABLE when no
-    estimate exists yet, RESOURCE_EXHAUSTED for an oversized message, DEADLINE_EXCEEDED when the
-    caller's deadline passes first. The status message says what is wrong.
+    estimate exists yet or the daemon is shutting down (retry later), RESOURCE_EXHAUSTED for an
+    oversized message, DEADLINE_EXCEEDED when the caller's deadline passes first. The status
+    message says what is wrong.
     """
 
     def Estimate(self, request, context):
@@ -86,7 +88,10 @@ class PoseServiceServicer(object):
         """Estimates from the daemon's sources as frames are processed, until the client cancels;
         with both a depth and a stereo source, both estimators' estimates are interleaved, each
         marked by `estimator`. A slow client skips to the newest estimate of each estimator rather
-        than queueing old ones.
+        than queueing old ones (each message counts the estimates it skipped in `skipped`; `stale`
+        and `age` are judged when it is sent). gRPC's own read-ahead can still hold a few messages
+        for a client that reads slowly: open the channel without it (docs/API.md, "Streams"). A
+        stream has no end of its own: clients should set a deadline.
         """
         context.set_code(grpc.StatusCode.UNIMPLEMENTED)
         context.set_details('Method not implemented!')
@@ -150,8 +155,9 @@ class PoseService(object):
     """Serves humanoid pose estimates. Errors use canonical codes: INVALID_ARGUMENT for malformed
     requests (wrong sizes, NaN intrinsics), NOT_FOUND for an unknown template, FAILED_PRECONDITION
     when a frame cannot be processed (no floor) or the daemon has no source, UNAVAILABLE when no
-    estimate exists yet, RESOURCE_EXHAUSTED for an oversized message, DEADLINE_EXCEEDED when the
-    caller's deadline passes first. The status message says what is wrong.
+    estimate exists yet or the daemon is shutting down (retry later), RESOURCE_EXHAUSTED for an
+    oversized message, DEADLINE_EXCEEDED when the caller's deadline passes first. The status
+    message says what is wrong.
     """
 
     @staticmethod
