@@ -148,9 +148,11 @@ std::string Describe(const v1::PoseEstimate& e) {
     line += DescribeStereo(e);
   }
   if (!e.has_error() || e.error().code().empty()) {
-    std::snprintf(buf, sizeof(buf), "  [%.1f ms]", e.timings().total() * 1000.0);
+    std::snprintf(buf, sizeof(buf), "  [%.1f ms, age %.0f ms]", e.timings().total() * 1000.0,
+                  e.age() * 1000.0);
     line += buf;
   }
+  if (e.skipped() > 0) line += "  (" + std::to_string(e.skipped()) + " skipped before this)";
   if (e.stale()) line += "  STALE: " + e.stale_reason();
   return line;
 }
