@@ -75,6 +75,11 @@ int RunSimulate(int argc, char** argv) {
     argv[1] = prog.data();
     return RunSimulateStereo(argc - 1, argv + 1);
   }
+  if (argc >= 2 && std::string(argv[1]) == "turntable") {
+    std::string prog = "hpose simulate turntable";
+    argv[1] = prog.data();
+    return RunSimulateTurntable(argc - 1, argv + 1);
+  }
   std::string out_dir;
   double x = 1.0, y = 0.0, theta_deg = 0.0;
   std::string pose_name = "standing";
