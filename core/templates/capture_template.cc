@@ -4,6 +4,11 @@
 #include <map>
 #include <tuple>
 
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <Eigen/Eigenvalues>
+
 namespace hpose {
 namespace {
 
@@ -38,6 +43,33 @@ Eigen::Vector2d VoxelCentroidXY(const std::vector<Eigen::Vector3f>& points, doub
     ++n;
   }
   return n > 0 ? Eigen::Vector2d(sum / n) : Eigen::Vector2d::Zero();
+}
+
+std::vector<Eigen::Vector3f> ProjectOntoLocalPlanes(const std::vector<Eigen::Vector3f>& points,
+                                                    double radius_m) {
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  for (const Eigen::Vector3f& p : points) cloud->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(cloud);
+  std::vector<Eigen::Vector3f> out = points;
+  pcl::Indices idx;
+  std::vector<float> d2;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (tree.radiusSearch((*cloud)[i], radius_m, idx, d2) < 6) continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const int k : idx) mean += points[k].cast<double>();
+    mean /= static_cast<double>(idx.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const int k : idx) {
+      const Eigen::Vector3d e = points[k].cast<double>() - mean;
+      cov += e * e.transpose();
+    }
+    const Eigen::Vector3d n =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
+    const Eigen::Vector3d p = points[i].cast<double>();
+    out[i] = (p - n.dot(p - mean) * n).cast<float>();
+  }
+  return out;
 }
 
 std::vector<Eigen::Vector3f> DropSparseVoxels(const std::vector<Eigen::Vector3f>& points,
@@ -77,7 +109,10 @@ Result<CaptureTemplate> MakeCaptureTemplate(const CaptureRegistration& registrat
   }
 
   CaptureTemplate out;
-  const std::vector<Eigen::Vector3f> merged = MergedTablePoints(registration);
+  std::vector<Eigen::Vector3f> merged = MergedTablePoints(registration);
+  if (options.smoothing_radius_m > 0.0) {
+    merged = ProjectOntoLocalPlanes(merged, options.smoothing_radius_m);
+  }
   out.merged_points = static_cast<int>(merged.size());
   const std::vector<Eigen::Vector3f> kept = DropSparseVoxels(
       merged, options.resolution_m, options.min_points_per_voxel, &out.noise_voxels_dropped);

@@ -36,6 +36,10 @@ struct CaptureTemplateOptions {
   double front_yaw_rad = 0.0;
   // Voxels holding fewer merged points than this are dropped as noise.
   int min_points_per_voxel = 2;
+  // Before voxelising, every merged point is moved onto the plane fitted to its neighbours
+  // within this radius (metres; 0 disables): sensor noise would otherwise thicken the shell
+  // of surface voxels, which a template made from a model does not have.
+  double smoothing_radius_m = 0.02;
 };
 
 struct CaptureTemplate {
@@ -51,6 +55,11 @@ struct CaptureTemplate {
 // counted once at its centre; metres. Zero when no cell qualifies.
 Eigen::Vector2d VoxelCentroidXY(const std::vector<Eigen::Vector3f>& points, double resolution_m,
                                 int min_points_per_voxel = 1);
+
+// Each point moved onto the least-squares plane of the points within radius_m of it (at least
+// 6 of them; otherwise it stays).
+std::vector<Eigen::Vector3f> ProjectOntoLocalPlanes(const std::vector<Eigen::Vector3f>& points,
+                                                    double radius_m);
 
 // `points` with the cells holding fewer than min_points_per_voxel points removed; `dropped`
 // (may be null) receives how many cells went.
