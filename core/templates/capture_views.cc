@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <optional>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/common/pose2d.h"
 
 namespace hpose {
@@ -37,6 +39,39 @@ double AngleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
+// Refits a floor plane (sensor frame, unit normal, d > 0) by weighted least squares over the
+// points within a tight band of it: max(min_band, 3 sigma(z)) with the Kinect v1 noise
+// sigma(z) = 1.425e-3 z^2 (SPEC 5), weights 1 / sigma^2. A turntable top a couple of
+// centimetres above the floor, near the sensor where the band is narrow, no longer pulls the
+// plane (FitFloor's wider refinement band lets it tilt the floor by a few tenths of a degree).
+Eigen::Vector4d RefinePlane(const PointCloud& cloud, Eigen::Vector4d plane, double min_band) {
+  for (int round = 0; round < 3; ++round) {
+    Eigen::Matrix4d a = Eigen::Matrix4d::Zero();
+    double weight = 0.0;
+    for (const Eigen::Vector3f& pf : cloud.points) {
+      if (!pf.allFinite()) continue;
+      const Eigen::Vector3d p = pf.cast<double>();
+      const double sigma = 1.425e-3 * p.z() * p.z() + 1e-3;
+      const double dist = plane.head<3>().dot(p) + plane[3];
+      if (std::abs(dist) > std::max(min_band, 3.0 * sigma)) continue;
+      const Eigen::Vector4d h(p.x(), p.y(), p.z(), 1.0);
+      const double w = 1.0 / (sigma * sigma);
+      a += w * h * h.transpose();
+      weight += w;
+    }
+    if (weight <= 0.0) break;
+    // The plane minimising sum w (n.p + d)^2 with |n| = 1: centre, then the smallest
+    // eigenvector of the weighted scatter.
+    const Eigen::Vector3d centre = a.block<3, 1>(0, 3) / a(3, 3);
+    const Eigen::Matrix3d scatter = a.block<3, 3>(0, 0) / a(3, 3) - centre * centre.transpose();
+    Eigen::Vector3d n =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(0);
+    if (n.dot(plane.head<3>()) < 0.0) n = -n;
+    plane << n, -n.dot(centre);
+  }
+  return Normalised(plane);
+}
+
 // A view being processed: its fitted floor, or why it failed.
 struct Pending {
   const CaptureView* capture = nullptr;
@@ -67,7 +102,10 @@ Result<CaptureViews> ExtractRobotViews(const std::vector<CaptureView>& captures,
     pending[i].capture = &captures[i];
     Result<FloorEstimate> floor = FitFloor(captures[i].cloud_sensor, options.floor);
     if (floor.ok()) {
-      pending[i].floor = *floor;
+      pending[i].floor = FloorEstimate::FromPlane(
+          RefinePlane(captures[i].cloud_sensor, floor->plane_sensor, options.floor_band_m));
+      pending[i].floor->inliers = floor->inliers;
+      pending[i].floor->fitted = true;
     } else {
       pending[i].failure = floor.error().message;
     }

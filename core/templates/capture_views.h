@@ -24,6 +24,9 @@ struct CaptureView {
 
 struct CaptureViewOptions {
   FloorFitterOptions floor;
+  // Each fitted floor is refined over the points within this distance of it (more at long
+  // range, by the noise model), metres: a table top above it does not tilt it.
+  double floor_band_m = 0.008;
   // Clustering of what stands on the floor; min_height_above_floor_m is replaced by
   // table_height_m + cut_above_table_m.
   ClusterOptions clusters;
