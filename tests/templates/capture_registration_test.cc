@@ -193,13 +193,14 @@ TEST(CaptureRegistrationTest, HandTurnedHeadingsWithTenDegreeErrorsAreRecovered)
   ASSERT_TRUE(reg.ok()) << reg.error().ToString();
   // The table frame is capture 0's ground frame: the true motion of capture i maps its robot
   // onto capture 0's robot. Compare both on the robot's torso origin. Headings come back within
-  // 2.5 degrees (a nearly symmetric body seen from behind leaves about 2 degrees of play).
+  // 3 degrees (measured: up to 1.7; a nearly symmetric body seen from behind leaves about 2
+  // degrees of play).
   const Pose2D& r0 = captures->robot_poses[0];
   for (int i = 0; i < spec.views; ++i) {
     const double turn = AngleDiff(captures->table_angles_rad[i], captures->table_angles_rad[0]);
     const ViewResidual& res = reg->residuals[i];
     EXPECT_LT(std::abs(AngleDiff(AngleDiff(res.angle_rad, reg->residuals[0].angle_rad), turn)),
-              DegToRad(2.5))
+              DegToRad(3.0))
         << res.name;
     const Pose2D& ri = captures->robot_poses[i];
     const Pose2D& t = reg->table_from_ground[i];
