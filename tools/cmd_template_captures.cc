@@ -11,6 +11,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/common/pose2d.h"
 #include "core/depth/depth_to_cloud.h"
@@ -136,11 +138,75 @@ Result<CaptureView> LoadCapture(const fs::path& file, const std::string& intrins
 
 nlohmann::json Vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
+// The registered captures in the template frame, one colour per capture: from above (x up,
+// y left) and from the robot's right side (x right, z up), with the origin, the +x axis and,
+// for a turntable, the axis. Metres to pixels at 1 px = 1.5 mm.
+Status WriteRegistrationPicture(const CaptureRegistration& reg, const CaptureTemplate& tpl,
+                                const std::string& path) {
+  constexpr int kPanel = 480;
+  constexpr double kScale = 1.0 / 0.0015;
+  cv::Mat img(kPanel, 2 * kPanel, CV_8UC3, cv::Scalar(255, 255, 255));
+  const Pose2D& t = tpl.table_from_template;
+  const double c = std::cos(t.theta), s = std::sin(t.theta);
+  auto to_template = [&](double x, double y) {
+    return Eigen::Vector2d(c * (x - t.x) + s * (y - t.y), -s * (x - t.x) + c * (y - t.y));
+  };
+  auto top = [&](const Eigen::Vector2d& p) {
+    return cv::Point(kPanel / 2 - static_cast<int>(p.y() * kScale),
+                     kPanel / 2 - static_cast<int>(p.x() * kScale));
+  };
+  auto side = [&](double x, double z) {
+    return cv::Point(kPanel + kPanel / 2 + static_cast<int>(x * kScale),
+                     kPanel - 30 - static_cast<int>(z * kScale));
+  };
+  const int n = static_cast<int>(reg.views.size());
+  for (int i = 0; i < n; ++i) {
+    cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(static_cast<int>(170.0 * i / n), 230, 200));
+    cv::Mat bgr;
+    cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
+    const cv::Vec3b colour = bgr.at<cv::Vec3b>(0, 0);
+    const Pose2D& g = reg.table_from_ground[i];
+    const double gc = std::cos(g.theta), gs = std::sin(g.theta);
+    for (const Eigen::Vector3f& p : reg.views[i].points) {
+      const Eigen::Vector2d q =
+          to_template(gc * p.x() - gs * p.y() + g.x, gs * p.x() + gc * p.y() + g.y);
+      for (const cv::Point& px : {top(q), side(q.x(), p.z())}) {
+        if (px.x >= 0 && px.y >= 0 && px.x < img.cols && px.y < img.rows) {
+          img.at<cv::Vec3b>(px) = colour;
+        }
+      }
+    }
+    cv::putText(img, reg.views[i].name, cv::Point(8, 16 + 14 * i), cv::FONT_HERSHEY_SIMPLEX, 0.4,
+                cv::Scalar(colour), 1, cv::LINE_AA);
+  }
+  const cv::Scalar black(0, 0, 0), red(0, 0, 220);
+  cv::line(img, cv::Point(kPanel, 0), cv::Point(kPanel, kPanel), cv::Scalar(180, 180, 180));
+  cv::line(img, side(-0.2, 0.0), side(0.2, 0.0), cv::Scalar(150, 150, 150));
+  for (const auto& [from, to] :
+       {std::pair(top({0, 0}), top({0.1, 0})), std::pair(side(0, 0), side(0.1, 0))}) {
+    cv::arrowedLine(img, from, to, red, 2, cv::LINE_AA, 0, 0.2);
+    cv::circle(img, from, 4, red, 2, cv::LINE_AA);
+  }
+  if (reg.motion == CaptureMotion::kTurntable) {
+    cv::drawMarker(img, top(to_template(0.0, 0.0)), black, cv::MARKER_CROSS, 16, 2);
+    cv::putText(img, "axis", top(to_template(0.0, 0.0)) + cv::Point(8, 14),
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+  }
+  cv::putText(img, "from above (template frame, +x up)", cv::Point(8, kPanel - 10),
+              cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+  cv::putText(img, "from the robot's right (+x right, z up)", cv::Point(kPanel + 8, kPanel - 10),
+              cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+  if (!cv::imwrite(path, img)) {
+    return MakeError(ErrorCode::kInternal, "cannot write picture " + path);
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 int RunTemplateFromCaptures(int argc, char** argv) {
   std::string out, name, variant, intrinsics, headings_text, angles_text, origin_name = "centroid";
-  std::string report_path;
+  std::string report_path, picture_path;
   double step_deg = 30.0, resolution = 0.016, table_height = 0.0, front_yaw_deg = 0.0;
   double max_rms_mm = 6.0, min_inliers = 0.6, axis_search = 0.3, heading_search_deg = 17.0;
   int front_view = 0;
@@ -211,6 +277,10 @@ int RunTemplateFromCaptures(int argc, char** argv) {
   flags.AddString("report", &report_path,
                   "write the calibration, residual table and unobservable directions as JSON",
                   "FILE.json");
+  flags.AddString("picture", &picture_path,
+                  "draw the registered captures (one colour each) from above and the side, "
+                  "with the template origin, +x and the axis",
+                  "FILE.png");
   flags.SetEpilog(
       "examples:\n"
       "  hpose simulate turntable --out tt --views 12 --step-deg 30\n"
@@ -386,6 +456,12 @@ int RunTemplateFromCaptures(int argc, char** argv) {
     if (Status s = WriteFileAtomically(report_path, report.dump(2) + "\n"); !s.ok()) {
       return Fail(s.error());
     }
+  }
+  if (!picture_path.empty()) {
+    if (Status s = WriteRegistrationPicture(*reg, *tpl, picture_path); !s.ok()) {
+      return Fail(s.error());
+    }
+    std::cout << "drew " << picture_path << "\n";
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
