@@ -130,6 +130,7 @@ int RunSimulate(int argc, char** argv) {
       "  hpose simulate --out sim1                      # the paper's setup: 1 m ahead, theta 0\n"
       "  hpose simulate --out sim2 --x 2 --theta-deg 90 --pose right_arm_raised --clutter 6\n"
       "  hpose simulate --out turn --frames 12 --turn-deg 30   # a full turn in 30 deg steps\n"
+      "  hpose simulate turntable --help   # captures on a turntable for template from-captures\n"
       "\nexit status: 0 ok, 1 error writing the files, 2 bad flags or values");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
 
