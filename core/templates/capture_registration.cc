@@ -342,7 +342,6 @@ std::vector<Pose2D> SolveHandTurned(const std::vector<std::unique_ptr<ViewData>>
 
   // Joint refinement.
   std::vector<double> current(n);
-  for (int i = 0; i < n; ++i) current[i] = -poses[i].theta;
   int it = 0;
   const int m = 3 * (n - 1);
   for (; it < o.iterations; ++it) {

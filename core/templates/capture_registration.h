@@ -29,14 +29,16 @@ struct CaptureRegistrationOptions {
   // Only differences matter.
   std::vector<double> angles_rad;
   // Turntable: the axis is searched within this distance of the mean of the robot's centroids,
-  // metres, on a grid of `coarse_step_m`, before the joint least squares refinement.
+  // metres, on a grid of 2 x `coarse_step_m`, then of coarse_step_m / 2 around the best, before
+  // the joint least squares refinement.
   double axis_search_radius_m = 0.3;
   double coarse_step_m = 0.01;
   // Hand-turned: each heading is searched within +- this of the given one first, radians,
   // and the position within +- heading_search_translation_m.
   double heading_search_rad = 0.3;  // 17 degrees.
   double heading_search_translation_m = 0.12;
-  // Views are compared with the views whose angle is within this of theirs (radians).
+  // Each view is compared with up to two views on each side by angle, within this of its own
+  // angle (radians).
   double max_pair_angle_rad = 1.6;  // ~90 degrees.
   // Correspondences: nearest neighbours closer than this (metres) at the end of the
   // refinement; the first iterations use 3x.
