@@ -75,6 +75,11 @@ int RunSimulate(int argc, char** argv) {
     argv[1] = prog.data();
     return RunSimulateStereo(argc - 1, argv + 1);
   }
+  if (argc >= 2 && std::string(argv[1]) == "turntable") {
+    std::string prog = "hpose simulate turntable";
+    argv[1] = prog.data();
+    return RunSimulateTurntable(argc - 1, argv + 1);
+  }
   std::string out_dir;
   double x = 1.0, y = 0.0, theta_deg = 0.0;
   std::string pose_name = "standing";
@@ -125,6 +130,7 @@ int RunSimulate(int argc, char** argv) {
       "  hpose simulate --out sim1                      # the paper's setup: 1 m ahead, theta 0\n"
       "  hpose simulate --out sim2 --x 2 --theta-deg 90 --pose right_arm_raised --clutter 6\n"
       "  hpose simulate --out turn --frames 12 --turn-deg 30   # a full turn in 30 deg steps\n"
+      "  hpose simulate turntable --help   # captures on a turntable for template from-captures\n"
       "\nexit status: 0 ok, 1 error writing the files, 2 bad flags or values");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
 

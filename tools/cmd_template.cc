@@ -150,6 +150,7 @@ void PrintHelp() {
                "subcommands:\n"
                "  generate      template of the parametric humanoid (standing, right_arm_raised)\n"
                "  from-cloud    template from a robot's point cloud in the template frame\n"
+               "  from-captures 360 degree template from turntable / hand-turned captures\n"
                "  info          print what a template file holds\n\n"
                "Run `hpose template SUBCOMMAND --help` for its options.\n";
 }
@@ -168,6 +169,7 @@ int RunTemplate(int argc, char** argv) {
   }
   if (sub == "generate") return Generate(argc, argv);
   if (sub == "from-cloud") return FromCloud(argc, argv);
+  if (sub == "from-captures") return RunTemplateFromCaptures(argc, argv);
   if (sub == "info") return Info(argc, argv);
   std::cerr << "hpose template: unknown subcommand '" << sub << "' (see hpose template --help)\n";
   return kExitUsage;

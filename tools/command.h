@@ -22,6 +22,10 @@ int RunQuery(int argc, char** argv);
 // Stereo-marker estimator (cmd_stereo.cc). RunSimulateStereo also serves `hpose simulate stereo`.
 int RunEstimateStereo(int argc, char** argv);
 int RunSimulateStereo(int argc, char** argv);
+// Template from captures (cmd_template_captures.cc) and their simulation
+// (cmd_simulate_turntable.cc, served as `hpose simulate turntable`).
+int RunTemplateFromCaptures(int argc, char** argv);
+int RunSimulateTurntable(int argc, char** argv);
 
 }  // namespace hpose::tools
 
