@@ -39,7 +39,7 @@ void PrintSaved(const VoxelTemplate& tpl, const std::string& path) {
 }
 
 int Generate(int argc, char** argv) {
-  std::string pose = "standing", out, name;
+  std::string pose = "standing", body = "nao", out, name;
   double resolution = 0.016, spacing = 0.004;
   FlagParser flags(
       "hpose template generate --pose standing|right_arm_raised --out FILE.bt "
@@ -48,6 +48,7 @@ int Generate(int argc, char** argv) {
       "primitives in the template frame (origin on the floor below the torso centre, x forward,\n"
       "y left, z up) and voxelises it. Writes FILE.bt (OctoMap) and its FILE.json sidecar.");
   flags.AddString("pose", &pose, "joint preset: standing or right_arm_raised", "NAME");
+  flags.AddString("body", &body, "proportions: nao or long_legs", "NAME");
   flags.AddString("out", &out, "template file to write (.bt)", "FILE.bt");
   flags.AddDouble("resolution", &resolution, "voxel edge, metres", "M");
   flags.AddString("name", &name, "template name [default: the pose]", "N");
@@ -63,11 +64,14 @@ int Generate(int argc, char** argv) {
   if (!flags.Seen("spacing")) spacing = 0.25 * resolution;
   if (name.empty()) name = pose;
 
-  Result<HumanoidModel> model = HumanoidModel::FromPreset(pose);
+  Result<HumanoidDimensions> dimensions = HumanoidDimensions::Variant(body);
+  if (!dimensions.ok()) return UsageError("generate", "--body: " + dimensions.error().message);
+  Result<HumanoidModel> model = HumanoidModel::FromPreset(pose, *dimensions);
   if (!model.ok()) return UsageError("generate", "--pose: " + model.error().message);
   Result<std::vector<Eigen::Vector3f>> points = model->SampleSurface(spacing);
   if (!points.ok()) return UsageError("generate", "--spacing: " + points.error().message);
-  const std::string source = "hpose template generate --pose " + pose + " --resolution " +
+  const std::string source = "hpose template generate --pose " + pose +
+                             (body == "nao" ? "" : " --body " + body) + " --resolution " +
                              Fixed(resolution, 4) + " (parametric humanoid, " +
                              Fixed(model->Height(), 3) + " m tall)";
   Result<VoxelTemplate> tpl = MakeTemplateFromPoints(*points, name, resolution, pose, source);
@@ -150,6 +154,7 @@ void PrintHelp() {
                "subcommands:\n"
                "  generate      template of the parametric humanoid (standing, right_arm_raised)\n"
                "  from-cloud    template from a robot's point cloud in the template frame\n"
+               "  from-urdf     templates from a robot's URDF and meshes, one per joint set\n"
                "  info          print what a template file holds\n\n"
                "Run `hpose template SUBCOMMAND --help` for its options.\n";
 }
@@ -168,6 +173,7 @@ int RunTemplate(int argc, char** argv) {
   }
   if (sub == "generate") return Generate(argc, argv);
   if (sub == "from-cloud") return FromCloud(argc, argv);
+  if (sub == "from-urdf") return TemplateFromUrdf(argc, argv);
   if (sub == "info") return Info(argc, argv);
   std::cerr << "hpose template: unknown subcommand '" << sub << "' (see hpose template --help)\n";
   return kExitUsage;
