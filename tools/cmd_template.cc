@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -116,38 +115,6 @@ int FromCloud(int argc, char** argv) {
   return kExitOk;
 }
 
-int Info(int argc, char** argv) {
-  FlagParser flags("hpose template info FILE.bt",
-                   "Prints a template's name, variant, source, resolution, voxel count, height\n"
-                   "and bounding box (template frame).");
-  flags.AllowPositional("FILE.bt");
-  if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
-  if (flags.positional().size() != 1) return UsageError("info", "give exactly one FILE.bt");
-  Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
-  if (!tpl.ok()) return ReportError(kCmd, tpl.error());
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity());
-  Eigen::Vector3f hi = -lo;
-  for (const Eigen::Vector3f& v : tpl->voxels) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  const float half = static_cast<float>(0.5 * tpl->resolution_m);
-  lo.array() -= half;
-  hi.array() += half;
-  auto mm = [](float v) { return Fixed(v * 1000.0, 0); };
-  std::cout << "name:        " << tpl->name << "\n"
-            << "variant:     " << tpl->variant << "\n"
-            << "source:      " << tpl->source << "\n"
-            << "resolution:  " << Fixed(tpl->resolution_m * 1000.0, 1) << " mm\n"
-            << "voxels:      " << tpl->voxels.size() << "\n"
-            << "height:      " << Fixed(tpl->Height() * 1000.0, 0) << " mm\n";
-  if (!tpl->voxels.empty()) {
-    std::cout << "bbox (mm):   x " << mm(lo.x()) << " .. " << mm(hi.x()) << ", y " << mm(lo.y())
-              << " .. " << mm(hi.y()) << ", z " << mm(lo.z()) << " .. " << mm(hi.z()) << "\n";
-  }
-  return kExitOk;
-}
-
 void PrintHelp() {
   std::cout << "usage: hpose template SUBCOMMAND [--help] [options]\n\n"
                "Makes and inspects humanoid templates (OctoMap .bt + .json sidecar).\n\n"
@@ -155,7 +122,8 @@ void PrintHelp() {
                "  generate      template of the parametric humanoid (standing, right_arm_raised)\n"
                "  from-cloud    template from a robot's point cloud in the template frame\n"
                "  from-urdf     templates from a robot's URDF and meshes, one per joint set\n"
-               "  info          print what a template file holds\n\n"
+               "  info          print what a template file holds: size, widths, asymmetry\n"
+               "  show          draw a template: front, side, top and Kinect views\n\n"
                "Run `hpose template SUBCOMMAND --help` for its options.\n";
 }
 
@@ -174,7 +142,8 @@ int RunTemplate(int argc, char** argv) {
   if (sub == "generate") return Generate(argc, argv);
   if (sub == "from-cloud") return FromCloud(argc, argv);
   if (sub == "from-urdf") return TemplateFromUrdf(argc, argv);
-  if (sub == "info") return Info(argc, argv);
+  if (sub == "info") return TemplateInfo(argc, argv);
+  if (sub == "show") return TemplateShow(argc, argv);
   std::cerr << "hpose template: unknown subcommand '" << sub << "' (see hpose template --help)\n";
   return kExitUsage;
 }
