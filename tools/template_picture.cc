@@ -219,7 +219,7 @@ Status WriteTemplatePicture(const VoxelTemplate& tpl, const std::string& path,
   cv::putText(img, footer, cv::Point(10, kPanelH + 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, kText, 1,
               cv::LINE_AA);
   try {
-    if (!cv::imwrite(path, img)) {
+    if (!cv::imwrite(path, img, {cv::IMWRITE_PNG_COMPRESSION, 9})) {
       return MakeError(ErrorCode::kInternal, "cannot write picture " + path);
     }
   } catch (const cv::Exception& e) {

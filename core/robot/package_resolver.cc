@@ -71,13 +71,16 @@ Result<std::string> ResolveUrdfResource(const std::string& uri, const std::strin
     searched += (searched.empty() ? "" : ", ") + dir;
     if (Search(fs::path(dir), name, 0, &found)) return (found / inside).lexically_normal().string();
   }
-  // Like a ROS workspace: the URDF usually lives inside its own package.
+  // Like a ROS workspace: the URDF usually lives inside its own package. Walk up the path as
+  // given first (so messages keep relative paths relative), then the absolute one.
   std::error_code ec;
-  fs::path dir = fs::absolute(fs::path(urdf_dir), ec);
-  for (int up = 0; up <= kMaxSearchDepth && !dir.empty(); ++up) {
-    if (PackageXmlName(dir) == name) return (dir / inside).lexically_normal().string();
-    if (dir == dir.parent_path()) break;
-    dir = dir.parent_path();
+  for (fs::path start : {fs::path(urdf_dir).lexically_normal(), fs::absolute(urdf_dir, ec)}) {
+    fs::path dir = start.empty() ? fs::path(".") : start;
+    for (int up = 0; up <= kMaxSearchDepth && !dir.empty(); ++up) {
+      if (PackageXmlName(dir) == name) return (dir / inside).lexically_normal().string();
+      if (dir == dir.parent_path() || dir.filename() == "..") break;
+      dir = dir.parent_path();
+    }
   }
   searched += std::string(searched.empty() ? "" : ", ") + "the URDF's parent directories";
   return MakeError(ErrorCode::kNotFound, "package '" + name + "' of '" + uri +
