@@ -12,22 +12,22 @@ void RobotFlags::Register(FlagParser* flags, bool one_set) {
   flags->AddStrings("package-path", &package_paths,
                     "directory holding ROS packages for package://NAME/... mesh names: a "
                     "package itself (its package.xml names it, or its directory is NAME) or a "
-                    "tree searched 4 levels deep; repeatable; ROS_PACKAGE_PATH and the URDF's "
-                    "parent directories are searched after",
+                    "tree searched 4 levels deep; ROS_PACKAGE_PATH and the URDF's parent "
+                    "directories are searched after",
                     "DIR");
   flags->AddStrings("joint", &joint_assignments,
-                    "a joint position, radians (metres for prismatic joints); repeatable; "
-                    "applied on top of --joints",
+                    "a joint position, radians (metres for prismatic joints), applied on top "
+                    "of --joints",
                     "NAME=VALUE");
   flags->AddString("joints", &joints_file,
                    "YAML file of named joint sets: {SET: {JOINT: position, ...}, ...}",
                    "FILE.yaml");
   if (one_set) {
-    flags->AddStrings("joint-set", &joint_sets,
-                      "the set of --joints to use [default: the file's first]", "NAME");
+    flags->AddString("joint-set", &joint_set,
+                     "the set of --joints to use [default: the file's first]", "NAME");
   } else {
-    flags->AddStrings("joint-set", &joint_sets,
-                      "only this set of --joints (repeatable) [default: every set]", "NAME");
+    flags->AddStrings("joint-set", &joint_sets, "only this set of --joints [default: every set]",
+                      "NAME");
   }
   flags->AddString("reference-link", &reference_link,
                    "link whose origin, projected on the floor, is the template origin and whose "
@@ -70,9 +70,11 @@ Result<std::vector<NamedJointSet>> RobotFlags::JointSets(const std::string& defa
   for (const std::string& a : joint_assignments) {
     if (Status s = ParseJointAssignment(a, &overrides); !s.ok()) return s.error();
   }
+  std::vector<std::string> wanted_sets = joint_sets;
+  if (!joint_set.empty()) wanted_sets.push_back(joint_set);
   std::vector<NamedJointSet> sets;
   if (joints_file.empty()) {
-    if (!joint_sets.empty()) {
+    if (!wanted_sets.empty()) {
       return MakeError(ErrorCode::kInvalidArgument, "--joint-set needs --joints FILE.yaml");
     }
     sets.push_back({default_name, overrides});
@@ -80,7 +82,7 @@ Result<std::vector<NamedJointSet>> RobotFlags::JointSets(const std::string& defa
   }
   Result<std::vector<NamedJointSet>> all = LoadJointSetsFile(joints_file);
   if (!all.ok()) return all.error();
-  for (const std::string& wanted : joint_sets) {
+  for (const std::string& wanted : wanted_sets) {
     bool found = false;
     for (const NamedJointSet& s : *all) found = found || s.name == wanted;
     if (!found) {
@@ -91,8 +93,8 @@ Result<std::vector<NamedJointSet>> RobotFlags::JointSets(const std::string& defa
     }
   }
   for (const NamedJointSet& s : *all) {
-    bool selected = joint_sets.empty();
-    for (const std::string& wanted : joint_sets) selected = selected || s.name == wanted;
+    bool selected = wanted_sets.empty();
+    for (const std::string& wanted : wanted_sets) selected = selected || s.name == wanted;
     if (!selected) continue;
     NamedJointSet set = s;
     for (const auto& [name, value] : overrides) set.joints[name] = value;
@@ -105,9 +107,6 @@ Result<std::shared_ptr<const MeshBvh>> LoadPosedRobotMesh(const RobotFlags& flag
                                                           const std::string& urdf_path,
                                                           const std::string& command,
                                                           std::string* set_name) {
-  if (flags.joint_sets.size() > 1) {
-    return MakeError(ErrorCode::kInvalidArgument, "give at most one --joint-set");
-  }
   Result<UrdfRobot> robot = flags.Load(urdf_path, command);
   if (!robot.ok()) return robot.error();
   Result<std::vector<NamedJointSet>> sets = flags.JointSets("default");

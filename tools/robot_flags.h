@@ -21,6 +21,7 @@ struct RobotFlags {
   std::vector<std::string> joint_assignments;  // NAME=VALUE
   std::string joints_file;
   std::vector<std::string> joint_sets;  // names selected from joints_file
+  std::string joint_set;                // the one selected, for commands that take one
   std::string reference_link;
   bool allow_missing = false;
 

@@ -144,6 +144,28 @@ TEST(RobotCliTest, SimulateRobotFramesAreFoundWithTheRobotsTemplate) {
   EXPECT_EQ(mixed.exit_code, 2);
 }
 
+TEST(RobotCliTest, SimulateRobotWithAJointSet) {
+  SKIP_WITHOUT_DARWIN();
+  TempDir dir("robot_cli_sim_set");
+  {
+    std::ofstream yaml(dir / "poses.yaml");
+    yaml << "standing: {}\nright_arm_raised: {j_shoulder_r: 1.3}\n";
+  }
+  const std::string common =
+      "simulate --robot '" + kDarwinUrdf +
+      "' --geometry collision --no-cloud --width 160 --height 120 --joints '" +
+      (dir / "poses.yaml") + "'";
+  const CliRun run =
+      RunHpose(common + " --joint-set right_arm_raised --out '" + (dir / "s") + "'", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Result<SimTruth> truth = ParseSimTruthJson(*ReadFile(dir / "s/truth.json"), "truth");
+  ASSERT_TRUE(truth.ok());
+  EXPECT_EQ(truth->humanoid_preset, "robotis_op2/right_arm_raised");
+  const CliRun unknown = RunHpose(common + " --joint-set sitting --out '" + (dir / "t") + "'", dir);
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.err.find("sitting"), std::string::npos) << unknown.err;
+}
+
 TEST(RobotCliTest, SimulateBodyVariant) {
   TempDir dir("robot_cli_body");
   const CliRun run = RunHpose(
