@@ -119,7 +119,7 @@ void PrintHelp() {
   std::cout << "usage: hpose template SUBCOMMAND [--help] [options]\n\n"
                "Makes and inspects humanoid templates (OctoMap .bt + .json sidecar).\n\n"
                "subcommands:\n"
-               "  generate      template of the parametric humanoid (standing, right_arm_raised)\n"
+               "  generate      template of the parametric humanoid (poses, --body proportions)\n"
                "  from-cloud    template from a robot's point cloud in the template frame\n"
                "  from-urdf     templates from a robot's URDF and meshes, one per joint set\n"
                "  info          print what a template file holds: size, widths, asymmetry\n"

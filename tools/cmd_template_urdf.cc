@@ -96,7 +96,7 @@ int TemplateFromUrdf(int argc, char** argv) {
       "      --out templates/robot/\n"
       "joint-set file (radians; joints not named stay at 0):\n"
       "  standing: {}\n"
-      "  right_arm_raised: {j_shoulder_r: -2.5}\n"
+      "  right_arm_raised: {j_shoulder_r: 1.3}\n"
       "\nexit status: 0 ok, 1 bad robot, mesh or joints, 2 bad flags");
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
   if (flags.positional().size() != 1) return UsageError("give exactly one ROBOT.urdf");
