@@ -184,6 +184,20 @@ TEST(UrdfRobotTest, MeshScaleAndRelativePaths) {
   EXPECT_NEAR(b.max().z(), 0.3, 1e-6);
 }
 
+TEST(UrdfRobotTest, ObjMeshesLoadToo) {
+  TempDir dir;
+  // A unit square (two triangles given as one quad face, triangulated on load) and a triangle.
+  dir.Write("m.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 2\n"
+            "f 1 2 3 4\nf 1 2 5\n");
+  Result<UrdfRobot> robot = UrdfRobot::Load(dir.Write("o.urdf", MeshRobot("m.obj", "0.1 0.1 0.1")));
+  ASSERT_TRUE(robot.ok()) << robot.error().message;
+  EXPECT_EQ(robot->TriangleCount(), 3u);
+  Result<PosedRobot> posed = robot->Pose({});
+  ASSERT_TRUE(posed.ok());
+  EXPECT_NEAR(posed->Height(), 0.2, 1e-6);
+}
+
 TEST(UrdfRobotTest, PackageUrisAreResolvedThroughPackagePaths) {
   TempDir dir;
   const std::string pkg = dir.File("ws/src/description");
