@@ -15,6 +15,10 @@ int RunDemo(int argc, char** argv);
 int RunEstimate(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 int RunTemplate(int argc, char** argv);
+// `hpose template` subcommands in their own files (argv[1] is the subcommand).
+int TemplateFromUrdf(int argc, char** argv);  // cmd_template_urdf.cc
+int TemplateInfo(int argc, char** argv);      // cmd_template_view.cc
+int TemplateShow(int argc, char** argv);      // cmd_template_view.cc
 // Daemon tools (cmd_record.cc, cmd_replay.cc, cmd_query.cc).
 int RunRecord(int argc, char** argv);
 int RunReplay(int argc, char** argv);
