@@ -7,12 +7,13 @@ JOBS ?= $(shell nproc)
 PACKAGES := build-essential cmake pkg-config ccache git \
   libeigen3-dev libpcl-dev liboctomap-dev libopencv-dev libopenni2-dev \
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc \
-  nlohmann-json3-dev libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  python3 python3-grpcio python3-protobuf
+  nlohmann-json3-dev libyaml-cpp-dev liburdfdom-dev libassimp-dev libgtest-dev libgmock-dev \
+  libbenchmark-dev python3 python3-grpcio python3-protobuf python3-numpy python3-venv \
+  python3-setuptools python3-pip
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps configure build run test bench templates format clean
+.PHONY: all deps configure build run demo test bench templates python-stubs format clean
 
 all: build
 
@@ -52,6 +53,13 @@ test: build
 
 bench: build
 	./$(BUILD_DIR)/bench/accuracy_bench
+
+# Regenerates the Python client's gRPC modules (python/hpose/v1/*_pb2*.py, committed so that
+# `pip install ./python` needs no compiler) from proto/ with Debian's protoc and
+# grpc_python_plugin. A test fails when they differ from what the build generates.
+python-stubs: deps
+	protoc -I proto --python_out=python --grpc_out=python \
+	  --plugin=protoc-gen-grpc=$$(command -v grpc_python_plugin) proto/hpose/v1/pose_service.proto
 
 # Regenerates the shipped templates from the parametric humanoid (see templates/README.md).
 templates: configure

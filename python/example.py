@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Example robot-controller loop: follow the humanoid's pose served by hposed.
 
-    PYTHONPATH=<build>/python:python python3 python/example.py --server 127.0.0.1:50051 --count 10
+    python3 python/example.py --server 127.0.0.1:50051 --count 10   (after pip install ./python)
 
 With a stereo source (and world_from_ground) in the daemon, both estimators' estimates arrive,
 each marked with its estimator; --estimator picks one.

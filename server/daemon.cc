@@ -7,6 +7,7 @@
 #include <chrono>
 #include <utility>
 
+#include "core/io/intrinsics_file.h"
 #include "core/stereo/stereo_calibration.h"
 #include "core/stereo/stereo_estimator.h"
 #include "core/stereo/stereo_marker_options.h"
@@ -14,6 +15,7 @@
 #include "core/templates/template_io.h"
 #include "server/estimator_pool.h"
 #include "server/frame_source.h"
+#include "server/listen_check.h"
 #include "server/pose_pipeline.h"
 #include "server/pose_service.h"
 #include "server/publish_signal.h"
@@ -109,6 +111,8 @@ std::string Daemon::address() const { return impl_->host + ":" + std::to_string(
 Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   Status valid = ValidateDaemonConfig(config);
   if (!valid.ok()) return valid.error();
+  Status can_listen = CheckCanListen(config.grpc.listen);
+  if (!can_listen.ok()) return can_listen.error();
 
   std::vector<VoxelTemplate> templates;
   for (const std::string& path : config.templates) {
@@ -136,6 +140,12 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     replay.realtime = config.source.realtime;
     replay.loop = config.source.loop;
     replay.fps = config.source.fps;
+    if (!config.source.intrinsics.empty()) {
+      Result<Intrinsics> k = ReadIntrinsicsFile(config.source.intrinsics);
+      if (!k.ok()) return k.error();
+      replay.has_intrinsics = true;
+      replay.intrinsics = *k;
+    }
     Result<std::unique_ptr<FrameSource>> made = MakeFrameSource(config.source.path, replay);
     if (!made.ok()) return made.error();
     source = std::move(*made);

@@ -98,10 +98,23 @@ class MapReader {
     if (!_s.ok()) return _s.error(); \
   } while (false)
 
+// A path of the config file made absolute against the file's directory, so that messages name
+// the file actually meant and the config works from any working directory.
 std::string Resolve(const std::string& base_dir, const std::string& path) {
   if (path.empty() || base_dir.empty() || IsOpenni2DeviceSpec(path)) return path;
   const fs::path p(path);
-  return p.is_absolute() ? path : (fs::path(base_dir) / p).lexically_normal().string();
+  if (p.is_absolute()) return path;
+  std::error_code ec;
+  fs::path base = fs::absolute(base_dir, ec);
+  if (ec) base = base_dir;
+  return (base / p).lexically_normal().string();
+}
+
+// A template entry: a shipped template's name ("standing": no directory, no .bt) stays a name
+// for the program to look up among the shipped templates; a path is resolved.
+std::string ResolveTemplate(const std::string& base_dir, const std::string& entry) {
+  if (IsTemplateName(entry)) return entry;
+  return Resolve(base_dir, entry);
 }
 
 Status ParseInto(const YAML::Node& root, const std::string& origin, const std::string& base_dir,
@@ -130,6 +143,8 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.ReadRate(&s.realtime));
     HPOSE_RETURN_IF_ERROR(r.Read("loop", &s.loop, "true or false"));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("fps", &s.fps));
+    HPOSE_RETURN_IF_ERROR(r.Read("intrinsics", &s.intrinsics, "a path"));
+    s.intrinsics = Resolve(base_dir, s.intrinsics);
     HPOSE_RETURN_IF_ERROR(r.Read("queue_capacity", &s.queue_capacity, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("frame_timeout_s", &s.frame_timeout_s));
     HPOSE_RETURN_IF_ERROR(
@@ -147,7 +162,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
         if (!t[i].IsScalar()) {
           return top.Fail("templates[" + std::to_string(i) + "]", "expected a path");
         }
-        c->templates.push_back(Resolve(base_dir, t[i].Scalar()));
+        c->templates.push_back(ResolveTemplate(base_dir, t[i].Scalar()));
       }
     }
   }
@@ -311,7 +326,7 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   }
   for (const std::string& t : c.templates) {
     if (t.size() < 4 || t.compare(t.size() - 3, 3, ".bt") != 0) {
-      return fail("templates", "'" + t + "' is not a .bt file");
+      return fail("templates", "'" + t + "' is neither a .bt file nor a shipped template's name");
     }
   }
   if (!(c.estimator.score_threshold >= 0.0 && c.estimator.score_threshold <= 100.0)) {
@@ -358,6 +373,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "rate" << YAML::Value << (s.realtime ? "recorded" : "fast");
   out << YAML::Key << "loop" << YAML::Value << s.loop;
   out << YAML::Key << "fps" << YAML::Value << s.fps;
+  out << YAML::Key << "intrinsics" << YAML::Value << s.intrinsics;
   out << YAML::Key << "queue_capacity" << YAML::Value << s.queue_capacity;
   out << YAML::Key << "frame_timeout_s" << YAML::Value << s.frame_timeout_s;
   out << YAML::Key << "reconnect_initial_backoff_s" << YAML::Value << s.reconnect_initial_backoff_s;

@@ -22,7 +22,10 @@ struct SourceConfig {
   std::string path;      // "" = none (Estimate calls only); see MakeFrameSource for the forms.
   bool realtime = true;  // recordings: true = recorded rate, false = as fast as possible.
   bool loop = false;     // recordings: start over at the end.
-  double fps = 30.0;     // PNG / PCD directories (no timestamps), Hz.
+  double fps = 30.0;     // frame files whose names record no time, Hz.
+  // The depth camera's intrinsics (intrinsics.json or ROS camera_info YAML) for every depth
+  // frame, e.g. a calibrated Kinect on openni2://; "" = what the source knows.
+  std::string intrinsics;
   // Frames waiting for the estimator; a live source drops the oldest. 1 keeps the latency
   // lowest: the estimator always takes the newest frame.
   int queue_capacity = 1;
@@ -88,6 +91,13 @@ struct DaemonConfig {
 // source paths are resolved against `base_dir` (the config file's directory).
 Result<DaemonConfig> ParseDaemonConfig(const std::string& yaml_text, const std::string& origin,
                                        const std::string& base_dir);
+
+// True when a templates: entry names a shipped template ("standing": no directory, no .bt)
+// rather than giving a path; programs look names up among the shipped templates.
+inline bool IsTemplateName(const std::string& entry) {
+  return !entry.empty() && entry.find('/') == std::string::npos &&
+         !(entry.size() >= 3 && entry.compare(entry.size() - 3, 3, ".bt") == 0);
+}
 
 // Reads and parses a config file (kNotFound when missing).
 Result<DaemonConfig> LoadDaemonConfig(const std::string& path);

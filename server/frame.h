@@ -15,6 +15,9 @@ namespace hpose::server {
 // cloud in the sensor frame (x right, y down, z forward; metres).
 struct Frame {
   std::uint64_t sequence = 0;  // 1, 2, 3, ... per source, counting reopenings and loops.
+  // 0 at the first opening; +1 each time the source restarts its clock (a recording loops
+  // back, a device reopens): source_time_s is comparable only within one epoch.
+  std::uint64_t epoch = 0;
   double source_time_s = 0.0;  // the source's clock: device or recording timestamp, seconds.
   std::chrono::system_clock::time_point received;  // wall clock when read.
   std::chrono::steady_clock::time_point received_steady;

@@ -1,5 +1,6 @@
 #include "server/frame_source.h"
 
+#include <cctype>
 #include <filesystem>
 #include <system_error>
 
@@ -11,6 +12,11 @@ namespace hpose::server {
 namespace fs = std::filesystem;
 
 namespace {
+
+std::string Lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
@@ -31,39 +37,48 @@ Result<std::unique_ptr<FrameSource>> MakeFrameSource(const std::string& spec,
   const fs::file_status st = fs::status(spec, ec);
   if (ec || !fs::exists(st))
     return MakeError(ErrorCode::kNotFound, spec + ": no such file or directory");
+  using Format = FileSequenceSource::Format;
+  auto files = [&](Format format) {
+    return std::unique_ptr<FrameSource>(std::make_unique<FileSequenceSource>(spec, format, replay));
+  };
   if (fs::is_regular_file(st)) {
-    if (EndsWith(spec, ".oni") || EndsWith(spec, ".ONI")) {
+    const std::string lower = Lower(spec);
+    if (EndsWith(lower, ".oni")) {
       return std::unique_ptr<FrameSource>(std::make_unique<Openni2Source>(spec, oni));
     }
+    if (EndsWith(lower, ".pcd")) return files(Format::kPcd);
+    if (EndsWith(lower, ".png")) return files(Format::kDepthPng);
+    if (EndsWith(lower, ".tif") || EndsWith(lower, ".tiff")) return files(Format::kDepthTiff);
+    if (EndsWith(lower, ".pclzf")) return files(Format::kDepthPclzf);
     return MakeError(ErrorCode::kInvalidArgument,
                      spec +
-                         ": not a source (expected an .oni file, a directory of PNG depth "
-                         "frames with intrinsics.json, a directory of PCD clouds, or "
-                         "openni2://)");
+                         ": not a source: expected an .oni recording, one frame file (.png, "
+                         ".tif, .tiff, .pclzf or .pcd), a directory of such frames, or "
+                         "openni2://");
   }
   if (!fs::is_directory(st)) {
     return MakeError(ErrorCode::kInvalidArgument, spec + ": not a file or directory");
   }
-  if (fs::exists(fs::path(spec) / "intrinsics.json", ec)) {
-    return std::unique_ptr<FrameSource>(
-        std::make_unique<FileSequenceSource>(spec, FileSequenceSource::Format::kDepthPng, replay));
-  }
-  Result<std::vector<std::string>> pcds = ListFiles(spec, ".pcd");
-  if (pcds.ok() && !pcds->empty()) {
-    return std::unique_ptr<FrameSource>(
-        std::make_unique<FileSequenceSource>(spec, FileSequenceSource::Format::kPcd, replay));
-  }
-  Result<std::vector<std::string>> pngs = ListFiles(spec, ".png");
-  if (pngs.ok() && !pngs->empty()) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     spec +
-                         ": PNG depth frames need intrinsics.json in the same directory "
-                         "({\"width\",\"height\",\"fx\",\"fy\",\"cx\",\"cy\"})");
+  // The first format the directory holds frames of, in this order.
+  for (Format format : {Format::kDepthPng, Format::kDepthTiff, Format::kDepthPclzf, Format::kPcd}) {
+    Result<std::vector<std::string>> listed = ListFrameFiles(spec, format);
+    if (!listed.ok()) return listed.error();
+    if (listed->empty()) continue;
+    if (format == Format::kDepthPng && !replay.has_intrinsics &&
+        !fs::exists(fs::path(spec) / "intrinsics.json", ec)) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       spec +
+                           ": PNG depth frames need intrinsics.json in the same directory "
+                           "({\"width\",\"height\",\"fx\",\"fy\",\"cx\",\"cy\"}) or "
+                           "given intrinsics");
+    }
+    return files(format);
   }
   return MakeError(ErrorCode::kInvalidArgument,
                    spec +
-                       ": directory holds neither PNG depth frames with intrinsics.json nor "
-                       "PCD clouds");
+                       ": the directory holds no frames: expected 16-bit depth images (*.png "
+                       "with intrinsics.json, *.tif / *.tiff, *_depth.pclzf with their .xml) "
+                       "or point clouds (*.pcd)");
 }
 
 }  // namespace hpose::server

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/common/status.h"
+#include "core/depth/intrinsics.h"
 #include "server/frame.h"
 
 namespace hpose::server {
@@ -13,7 +14,12 @@ namespace hpose::server {
 struct ReplayOptions {
   bool realtime = true;  // true: at the recorded rate; false: as fast as possible.
   bool loop = false;     // start over at the end instead of finishing.
-  double fps = 30.0;     // rate of PNG and PCD directories (they carry no timestamps), Hz.
+  // Rate of frame files whose names record no time (see FileSequenceSource), Hz.
+  double fps = 30.0;
+  // Intrinsics for every depth frame, overriding what the source knows (a calibrated camera);
+  // used when has_intrinsics.
+  bool has_intrinsics = false;
+  Intrinsics intrinsics;
 };
 
 // A stream of depth frames or clouds: a live device or a recording.
@@ -33,7 +39,7 @@ class FrameSource {
   virtual Result<Frame> Next() = 0;
   virtual void Close() = 0;
 
-  // Short kind name: "openni2-device", "oni", "png-dir", "pcd-dir".
+  // Short kind name: "openni2-device", "oni", "png-dir", "tiff-dir", "pclzf-dir", "pcd-dir".
   virtual std::string kind() const = 0;
   // What was configured, e.g. "openni2://" or the recording path.
   virtual std::string description() const = 0;
@@ -46,10 +52,11 @@ class FrameSource {
 // Opens the source named by `spec`:
 //   "openni2://"          any OpenNI2 device;  "openni2://URI" that device;
 //   "*.oni"               an OpenNI2 recording, played through OpenNI2's file driver;
-//   a directory with intrinsics.json and *.png: 16-bit PNG depth frames (millimetres);
-//   a directory with *.pcd: a cloud sequence (sensor frame, metres).
-// Frames are ordered by file name. Fails with kNotFound (missing path) or kInvalidArgument
-// (a directory that is neither). The source is created but not opened.
+//   a directory of *.png (with intrinsics.json), *.tif / *.tiff or *_depth.pclzf depth frames,
+//   or of *.pcd clouds (sensor frame, metres), ordered by file name;
+//   a single file of one of these formats (a one-frame recording).
+// Fails with kNotFound (missing path) or kInvalidArgument (a file or directory of none of these
+// formats). The source is created but not opened.
 Result<std::unique_ptr<FrameSource>> MakeFrameSource(const std::string& spec,
                                                      const ReplayOptions& replay);
 

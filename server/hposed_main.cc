@@ -36,7 +36,7 @@ bool ParseWorldFromGround(const std::string& text, hpose::server::WorldFrameConf
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string config_path, listen, source, rate;
+  std::string config_path, listen, source, rate, intrinsics;
   std::string stereo_source, stereo_calibration, stereo_options, world_from_ground;
   std::vector<std::string> templates;
   bool loop = false, print_config = false;
@@ -45,17 +45,25 @@ int main(int argc, char** argv) {
       "hposed [--config FILE.yaml] [--listen ADDR] [--source PATH] [--template FILE.bt ...] "
       "[--stereo-source DIR] [--world-from-ground X,Y,YAW]",
       "Serves humanoid pose estimates over gRPC (hpose.v1.PoseService, plus grpc.health.v1 and "
-      "server reflection). PATH is an .oni recording, a directory of 16-bit PNG depth frames "
-      "with intrinsics.json, a directory of PCD clouds, or openni2:// (any OpenNI2 device; "
-      "openni2://URI for one). A stereo source (a directory of left/right frame pairs) runs the "
+      "server reflection). PATH is openni2:// (any OpenNI2 device; openni2://URI for one), an "
+      ".oni recording, a directory of 16-bit depth frames (PNG with intrinsics.json, TIFF, or "
+      "PCL's *_depth.pclzf with their .xml), a directory of PCD clouds, or a single frame file. "
+      "A stereo source (a directory of left/right frame pairs) runs the "
       "stereo-marker estimator beside the depth source, or alone; its estimates go out through "
       "the same calls, marked with their estimator. Flags override the config file.");
   flags.AddString("config", &config_path, "YAML config file (see server/hposed.example.yaml)",
                   "FILE");
   flags.AddString("listen", &listen, "address to serve on (default 127.0.0.1:50051)", "ADDR");
   flags.AddString("source", &source, "frame source (see above)", "PATH");
-  flags.AddStrings("template", &templates,
-                   "humanoid template, repeatable (default: the shipped templates)", "FILE.bt");
+  flags.AddString("intrinsics", &intrinsics,
+                  "the depth camera's intrinsics for every frame (hpose intrinsics.json or a ROS "
+                  "camera_info YAML), e.g. a calibrated camera on openni2://; default: what the "
+                  "source knows (OpenNI2: its field of view, principal point at the image centre)",
+                  "FILE");
+  flags.AddStrings(
+      "template", &templates,
+      "humanoid template: a .bt file or a shipped template's name (default: the shipped templates)",
+      "FILE.bt");
   flags.AddString("rate", &rate, "replay rate of recordings: recorded or fast", "RATE");
   flags.AddBool("loop", &loop, "replay recordings in a loop");
   flags.AddDouble("fps", &fps, "frame rate of PNG/PCD directories (Hz)", "HZ");
@@ -91,14 +99,24 @@ int main(int argc, char** argv) {
   if (!config_path.empty()) {
     hpose::Result<hpose::server::DaemonConfig> loaded =
         hpose::server::LoadDaemonConfig(config_path);
-    if (!loaded.ok()) return hpose::tools::ReportError("hposed", loaded.error());
+    if (!loaded.ok()) return hpose::tools::ReportProgramError("hposed", loaded.error());
     config = std::move(*loaded);
   }
   if (flags.Seen("listen")) config.grpc.listen = listen;
   if (flags.Seen("source")) config.source.path = source;
+  if (flags.Seen("intrinsics")) config.source.intrinsics = intrinsics;
   if (flags.Seen("template")) config.templates = templates;
   if (flags.Seen("loop")) config.source.loop = config.stereo.loop = loop;
-  if (flags.Seen("fps")) config.source.fps = fps;
+  if (flags.Seen("fps")) {
+    if (!(fps > 0.0 && fps <= 10000.0)) {
+      std::cerr << "hposed: --fps: the replay rate must be more than 0 and at most 10000 frames "
+                   "per second, "
+                   "got "
+                << fps << "\n";
+      return hpose::tools::kExitUsage;
+    }
+    config.source.fps = fps;
+  }
   if (flags.Seen("rate")) {
     if (rate != "recorded" && rate != "fast") {
       std::cerr << "hposed: --rate: expected 'recorded' or 'fast', got '" << rate << "'\n";
@@ -118,10 +136,11 @@ int main(int argc, char** argv) {
   }
   // Without templates in the config or on the command line, the shipped ones are used.
   if (config.templates.empty()) config.templates = hpose::tools::DefaultTemplatePaths();
+  config.templates = hpose::tools::ResolveTemplateNames(config.templates);
   if (print_config) {
     std::cout << hpose::server::DaemonConfigToYaml(config);
     hpose::Status valid = hpose::server::ValidateDaemonConfig(config);
-    if (!valid.ok()) return hpose::tools::ReportError("hposed", valid.error());
+    if (!valid.ok()) return hpose::tools::ReportProgramError("hposed", valid.error());
     return hpose::tools::kExitOk;
   }
 
@@ -135,7 +154,7 @@ int main(int argc, char** argv) {
 
   hpose::Result<std::unique_ptr<hpose::server::Daemon>> daemon =
       hpose::server::Daemon::Start(config);
-  if (!daemon.ok()) return hpose::tools::ReportError("hposed", daemon.error());
+  if (!daemon.ok()) return hpose::tools::ReportProgramError("hposed", daemon.error());
   std::cout << "hposed: listening on " << (*daemon)->address() << " with "
             << config.templates.size() << " template(s), source "
             << (config.source.path.empty() ? "(none)" : config.source.path) << ", stereo source "

@@ -91,6 +91,8 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     }
     frames_read_ = 0;
     loop_ = options.replay.loop;
+    has_intrinsics_ = options.replay.has_intrinsics;
+    intrinsics_ = options.replay.intrinsics;
     timeout_ms_ = static_cast<int>(std::lround(options.frame_timeout_s * 1000.0));
     return Status::Ok();
   }
@@ -142,6 +144,18 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
         frame.depth.at(u, v) = tenth_mm ? static_cast<std::uint16_t>(row[u] / 10) : row[u];
       }
     }
+    if (has_intrinsics_) {  // a calibrated camera: the given intrinsics, principal point included.
+      if (intrinsics_.width != w || intrinsics_.height != h) {
+        return MakeError(ErrorCode::kInvalidArgument,
+                         spec + ": the given intrinsics are for " +
+                             std::to_string(intrinsics_.width) + "x" +
+                             std::to_string(intrinsics_.height) + " but the depth stream is " +
+                             std::to_string(w) + "x" + std::to_string(h));
+      }
+      frame.intrinsics = intrinsics_;
+      return frame;
+    }
+    // OpenNI2 reports only the field of view: the principal point is taken at the image centre.
     const double hfov = stream_.getHorizontalFieldOfView();
     const double vfov = stream_.getVerticalFieldOfView();
     Intrinsics& k = frame.intrinsics;
@@ -206,6 +220,8 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   bool listening_ = false;
   bool is_device_ = false;
   bool loop_ = false;
+  bool has_intrinsics_ = false;  // intrinsics_ given by the user replace the field-of-view ones.
+  Intrinsics intrinsics_;
   int timeout_ms_ = 2000;
   long frame_count_ = -1;
   long frames_read_ = 0;
@@ -223,13 +239,22 @@ Status Openni2Source::Open() {
   Status status = impl->Open(spec_, options_);
   if (!status.ok()) return status;
   impl_ = std::move(impl);
+  if (opened_before_) ++epoch_;  // a reconnection: the device's clock starts over.
+  opened_before_ = true;
+  has_last_time_ = false;
   return Status::Ok();
 }
 
 Result<Frame> Openni2Source::Next() {
   if (!impl_) return MakeError(ErrorCode::kUnavailable, spec_ + ": not open");
   Result<Frame> frame = impl_->Next(spec_);
-  if (frame.ok()) frame->sequence = ++sequence_;
+  if (!frame.ok()) return frame;
+  // A recording played with repeat starts its timestamps over when it wraps around.
+  if (has_last_time_ && frame->source_time_s < last_time_s_) ++epoch_;
+  has_last_time_ = true;
+  last_time_s_ = frame->source_time_s;
+  frame->sequence = ++sequence_;
+  frame->epoch = epoch_;
   return frame;
 }
 

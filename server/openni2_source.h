@@ -16,7 +16,8 @@ struct Openni2SourceOptions {
 
 // Depth frames through OpenNI2: a live device ("openni2://" = any device, "openni2://URI" one
 // device) or an .oni recording played back by OpenNI2's file driver. Intrinsics come from the
-// stream's field of view (OpenNI2 has no principal point: the image centre is assumed).
+// stream's field of view (OpenNI2 has no principal point: the image centre is assumed) unless
+// options.replay carries the camera's own intrinsics (then used as given).
 // Depth in 100 um units is converted to millimetres. OpenNI2 is initialised on Open() and shut
 // down on Close() (OpenNI2 counts the calls, so several sources may coexist).
 class Openni2Source final : public FrameSource {
@@ -42,6 +43,10 @@ class Openni2Source final : public FrameSource {
   Openni2SourceOptions options_;
   std::unique_ptr<Impl> impl_;
   std::uint64_t sequence_ = 0;
+  std::uint64_t epoch_ = 0;  // see Frame::epoch.
+  bool opened_before_ = false;
+  bool has_last_time_ = false;
+  double last_time_s_ = 0.0;
 };
 
 // True when `spec` names an OpenNI2 device ("openni2://...").

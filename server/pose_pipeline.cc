@@ -146,7 +146,7 @@ void PosePipeline::CaptureLoop() {
     }
     const Error& error = frame.error();
     if (error.code == ErrorCode::kOutOfRange) {
-      SetState(SourceState::kFinished, "source finished: " + error.message);
+      SetState(SourceState::kFinished, error.message);
       return;
     }
     if (error.code == ErrorCode::kUnavailable && source_->live()) {
@@ -193,6 +193,8 @@ void PosePipeline::EstimateLoop() {
       published->error = result.error();
     }
     published->published = Clock::now();
+    published->published_wall = std::chrono::system_clock::now();
+    published->source_epoch = frame->epoch;
     published->queue_s = Seconds(start - frame->received_steady);
     published->latency_s = Seconds(published->published - frame->received_steady);
     {

@@ -40,6 +40,8 @@ struct PublishedEstimate {
   double source_time_s = 0.0;
   std::chrono::system_clock::time_point received;
   std::chrono::steady_clock::time_point published;
+  std::chrono::system_clock::time_point published_wall;
+  std::uint64_t source_epoch = 0;
   std::string origin;
   bool ok = false;
   Estimate estimate;       // when ok.

@@ -62,6 +62,28 @@ void FillLatency(const PipelineStatus& s, v1::LatencyStatus* lat) {
   lat->set_samples(s.latency_samples);
 }
 
+// The delivery fields of a message about to be sent: when the estimate was published, the
+// daemon's clock now, and the age of the frame (arrival to now, steady clock).
+template <typename Published>
+void StampDelivery(const Published& e, std::uint64_t skipped, v1::PoseEstimate* out) {
+  SetTimestamp(e.published_wall, out->mutable_publish_time());
+  SetTimestamp(std::chrono::system_clock::now(), out->mutable_send_time());
+  out->set_age(e.latency_s + std::chrono::duration<double>(Clock::now() - e.published).count());
+  out->set_skipped(skipped);
+  out->set_source_epoch(e.source_epoch);
+}
+
+// An Estimate / EstimateStereo answer: latency and age both run from the request's arrival;
+// published and sent now.
+void StampAnswer(Clock::time_point start, v1::PoseEstimate* out) {
+  const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+  out->mutable_timings()->set_latency(elapsed);
+  const auto now = std::chrono::system_clock::now();
+  SetTimestamp(now, out->mutable_publish_time());
+  SetTimestamp(now, out->mutable_send_time());
+  out->set_age(elapsed);
+}
+
 const char* EstimatorName(v1::EstimatorKind kind) {
   return kind == v1::ESTIMATOR_KIND_STEREO_MARKER ? "stereo-marker" : "depth-template";
 }
@@ -143,7 +165,8 @@ void PoseServiceImpl::SetWorldFromGround(const Pose2D& world_from_ground) {
   world_from_ground_ = world_from_ground;
 }
 
-void PoseServiceImpl::ToProto(const PublishedEstimate& e, v1::PoseEstimate* out) const {
+void PoseServiceImpl::ToProto(const PublishedEstimate& e, std::uint64_t skipped,
+                              v1::PoseEstimate* out) const {
   FillPoseEstimate(e.sequence, e.source_time_s, e.received, e.origin, e.ok ? &e.estimate : nullptr,
                    e.ok ? nullptr : &e.error, out);
   if (has_world_from_ground_) AddDepthWorldFrame(world_from_ground_, out);
@@ -154,9 +177,11 @@ void PoseServiceImpl::ToProto(const PublishedEstimate& e, v1::PoseEstimate* out)
     out->set_stale(true);
     out->set_stale_reason(reason);
   }
+  StampDelivery(e, skipped, out);
 }
 
-void PoseServiceImpl::ToProto(const PublishedStereoEstimate& e, v1::PoseEstimate* out) const {
+void PoseServiceImpl::ToProto(const PublishedStereoEstimate& e, std::uint64_t skipped,
+                              v1::PoseEstimate* out) const {
   FillStereoPoseEstimate(e.sequence, e.source_time_s, e.received, e.origin,
                          e.ok ? &e.frame : nullptr, e.ok ? &e.track : nullptr,
                          e.ok ? nullptr : &e.error, e.process_s, out);
@@ -166,6 +191,7 @@ void PoseServiceImpl::ToProto(const PublishedStereoEstimate& e, v1::PoseEstimate
     out->set_stale(true);
     out->set_stale_reason(reason);
   }
+  StampDelivery(e, skipped, out);
 }
 
 grpc::Status PoseServiceImpl::Estimate(grpc::ServerContext* context,
@@ -207,7 +233,7 @@ grpc::Status PoseServiceImpl::Estimate(grpc::ServerContext* context,
   v1::PoseEstimate* out = response->mutable_estimate();
   FillPoseEstimate(seq, request->source_time(), received, "request", &*result, nullptr, out);
   if (has_world_from_ground_) AddDepthWorldFrame(world_from_ground_, out);
-  out->mutable_timings()->set_latency(std::chrono::duration<double>(Clock::now() - start).count());
+  StampAnswer(start, out);
   return grpc::Status::OK;
 }
 
@@ -243,7 +269,7 @@ grpc::Status PoseServiceImpl::EstimateStereo(grpc::ServerContext* context,
   v1::PoseEstimate* out = response->mutable_estimate();
   FillStereoPoseEstimate(seq, request->source_time(), received, "request", &*result, nullptr,
                          nullptr, process_s, out);
-  out->mutable_timings()->set_latency(std::chrono::duration<double>(Clock::now() - start).count());
+  StampAnswer(start, out);
   return grpc::Status::OK;
 }
 
@@ -266,7 +292,7 @@ grpc::Status PoseServiceImpl::GetLatest(grpc::ServerContext* context,
     grpc::Status s = LatestFrom(*pipeline_, context, request->after_sequence(), deadline,
                                 shutting_down_, &latest);
     if (!s.ok()) return s;
-    ToProto(*latest, response->mutable_estimate());
+    ToProto(*latest, 0, response->mutable_estimate());
     return grpc::Status::OK;
   }
   if (kind != v1::ESTIMATOR_KIND_STEREO_MARKER) {
@@ -281,7 +307,7 @@ grpc::Status PoseServiceImpl::GetLatest(grpc::ServerContext* context,
   grpc::Status s = LatestFrom(*stereo_pipeline_, context, request->after_sequence(), deadline,
                               shutting_down_, &latest);
   if (!s.ok()) return s;
-  ToProto(*latest, response->mutable_estimate());
+  ToProto(*latest, 0, response->mutable_estimate());
   return grpc::Status::OK;
 }
 
@@ -311,7 +337,9 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
                         "the daemon has no source; send frames with Estimate");
   }
   const Clock::time_point deadline = SteadyDeadline(context);
-  std::uint64_t last_depth = 0, last_stereo = 0;  // only estimates published from now on.
+  // Publish ids of the last estimate sent (at first: the newest when the stream began, so only
+  // estimates published from now on are sent; those published but not sent count as skipped).
+  std::uint64_t last_depth = 0, last_stereo = 0;
   if (want_depth) {
     if (auto latest = pipeline_->Latest()) last_depth = latest->publish_id;
   }
@@ -328,10 +356,12 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
     if (want_depth) {
       std::shared_ptr<const PublishedEstimate> e = pipeline_->Latest();
       if (e && e->publish_id > last_depth) {
-        last_depth = e->publish_id;
         v1::PoseEstimate msg;
-        ToProto(*e, &msg);
-        if (!writer->Write(msg)) break;  // the client went away.
+        ToProto(*e, e->publish_id - last_depth - 1, &msg);
+        last_depth = e->publish_id;
+        // Write-through: the call returns once the message is on the wire, so a client slower
+        // than the source holds this loop back and the next message is the newest estimate.
+        if (!writer->Write(msg, grpc::WriteOptions().set_write_through())) break;  // client gone.
         wrote = true;
         done = max > 0 && ++sent >= max;
       }
@@ -339,10 +369,10 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
     if (want_stereo && !done) {
       std::shared_ptr<const PublishedStereoEstimate> e = stereo_pipeline_->Latest();
       if (e && e->publish_id > last_stereo) {
-        last_stereo = e->publish_id;
         v1::PoseEstimate msg;
-        ToProto(*e, &msg);
-        if (!writer->Write(msg)) break;
+        ToProto(*e, e->publish_id - last_stereo - 1, &msg);
+        last_stereo = e->publish_id;
+        if (!writer->Write(msg, grpc::WriteOptions().set_write_through())) break;
         wrote = true;
         done = max > 0 && ++sent >= max;
       }

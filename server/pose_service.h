@@ -56,8 +56,11 @@ class PoseServiceImpl final : public v1::PoseService::Service {
   void BeginShutdown() { shutting_down_ = true; }
 
  private:
-  void ToProto(const PublishedEstimate& e, v1::PoseEstimate* out) const;
-  void ToProto(const PublishedStereoEstimate& e, v1::PoseEstimate* out) const;
+  // The message for `e` as sent now: staleness judged and delivery fields (send_time, age)
+  // stamped at this moment; `skipped` = estimates this stream did not send before `e`.
+  void ToProto(const PublishedEstimate& e, std::uint64_t skipped, v1::PoseEstimate* out) const;
+  void ToProto(const PublishedStereoEstimate& e, std::uint64_t skipped,
+               v1::PoseEstimate* out) const;
 
   PosePipeline* pipeline_;
   StereoPipeline* stereo_pipeline_ = nullptr;

@@ -82,8 +82,9 @@ void StereoPipeline::Run() {
   SetState(SourceState::kRunning, "");
   const double t_first = sequence_.frame(0).timestamp_s;
   std::uint64_t sequence_number = 0;
+  std::uint64_t epoch = 0;
   int consecutive_bad = 0;
-  while (!stopping_.load()) {
+  for (; !stopping_.load(); ++epoch) {
     tracker_.Reset();
     const Clock::time_point loop_start = Clock::now();
     auto due = [&](size_t i) {
@@ -103,6 +104,7 @@ void StereoPipeline::Run() {
       const StereoFrameEntry& entry = sequence_.frame(i);
       auto e = std::make_shared<PublishedStereoEstimate>();
       e->sequence = sequence_number;
+      e->source_epoch = epoch;
       e->source_time_s = entry.timestamp_s;
       e->received = std::chrono::system_clock::now();
       e->origin = std::filesystem::path(entry.left_path).filename().string();
@@ -133,6 +135,7 @@ void StereoPipeline::Run() {
       }
       consecutive_bad = e->ok ? 0 : consecutive_bad + 1;
       e->published = Clock::now();
+      e->published_wall = std::chrono::system_clock::now();
       e->latency_s = Seconds(e->published - read_start);
       const std::string last_error = e->ok ? "" : e->error.message;
       Publish(std::move(e), robot_found);
@@ -147,7 +150,7 @@ void StereoPipeline::Run() {
   }
   if (!stopping_.load()) {
     SetState(SourceState::kFinished,
-             "source finished: end of " + sequence_.dir() + " (" + std::to_string(n) + " pairs)");
+             "end of " + sequence_.dir() + " (" + std::to_string(n) + " pairs)");
   }
 }
 

@@ -30,7 +30,9 @@ struct PublishedStereoEstimate {
   double source_time_s = 0.0;    // the pair's timestamp in the sequence, seconds.
   std::chrono::system_clock::time_point received;
   std::chrono::steady_clock::time_point published;
-  std::string origin;  // the left image's file name.
+  std::chrono::system_clock::time_point published_wall;
+  std::uint64_t source_epoch = 0;  // +1 each time the sequence loops back to its first pair.
+  std::string origin;              // the left image's file name.
   // True when the pair was read and processed; `frame` and `track` are then valid (the frame may
   // still have no robot pose: see frame.status). False: `error` says why (unreadable image,
   // images of different sizes, ...).

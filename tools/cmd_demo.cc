@@ -8,11 +8,14 @@
 
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
+#include "core/sim/triangle_mesh.h"
+#include "core/templates/voxel_template.h"
 #include "tools/command.h"
 #include "tools/estimate_report.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
 #include "tools/match_picture.h"
+#include "tools/robot_flags.h"
 #include "tools/template_paths.h"
 
 namespace hpose::tools {
@@ -26,16 +29,24 @@ int RunDemo(int argc, char** argv) {
   spec.seed = 7;
   double theta_deg = RadToDeg(spec.humanoid_pose.theta);
   std::string picture = "hpose-demo.png";
+  std::string robot_urdf;
+  RobotFlags robot_flags;
   FlagParser flags(
       "hpose demo [--x M --y M --theta-deg D --pose NAME --clutter N --seed S]",
       "Simulates one 640x480 Kinect v1 frame of a humanoid among clutter (sensor 0.34 m\n"
       "above the floor, level), estimates the humanoid's pose with the shipped\n"
-      "templates and prints the estimate beside the truth. No input needed.");
+      "templates and prints the estimate beside the truth. No input needed. With --robot,\n"
+      "the humanoid is that URDF robot and its template is made on the fly from the URDF.");
   flags.AddDouble("x", &spec.humanoid_pose.x, "humanoid x in the ground frame, metres", "M");
   flags.AddDouble("y", &spec.humanoid_pose.y, "humanoid y in the ground frame, metres", "M");
   flags.AddDouble("theta-deg", &theta_deg, "humanoid heading, degrees (0 = facing away)", "DEG");
   flags.AddString("pose", &spec.preset, "humanoid joint preset: standing or right_arm_raised",
                   "NAME");
+  flags.AddString("body", &spec.body, "humanoid proportions: nao or long_legs", "NAME");
+  flags.AddString("robot", &robot_urdf,
+                  "simulate and look for this URDF robot (template made from it, 16 mm voxels)",
+                  "ROBOT.urdf");
+  robot_flags.Register(&flags, /*one_set=*/true);
   flags.AddInt("clutter", &spec.clutter, "random objects on the floor");
   int seed = static_cast<int>(spec.seed);
   flags.AddInt("seed", &seed, "clutter and noise seed");
@@ -48,8 +59,22 @@ int RunDemo(int argc, char** argv) {
   }
   spec.seed = static_cast<std::uint64_t>(seed);
 
-  Result<std::vector<VoxelTemplate>> templates = LoadTemplates({});
-  if (!templates.ok()) return ReportError(cmd, templates.error());
+  Result<std::vector<VoxelTemplate>> templates = std::vector<VoxelTemplate>{};
+  if (robot_urdf.empty()) {
+    templates = LoadTemplates({});
+    if (!templates.ok()) return ReportError(cmd, templates.error());
+  } else {
+    Result<std::shared_ptr<const MeshBvh>> mesh =
+        LoadPosedRobotMesh(robot_flags, robot_urdf, cmd, &spec.preset);
+    if (!mesh.ok()) return ReportError(cmd, mesh.error());
+    spec.robot_mesh = *mesh;
+    const double resolution = 0.016;
+    Result<VoxelTemplate> tpl =
+        MakeTemplateFromPoints(VoxelizeMeshSurface((*mesh)->mesh(), resolution), "robot",
+                               resolution, "robot", "hpose demo --robot " + robot_urdf);
+    if (!tpl.ok()) return ReportError(cmd, tpl.error());
+    templates->push_back(*tpl);
+  }
   Result<SimulatedFrame> frame = SimulateFrame(spec);
   if (!frame.ok()) return ReportError(cmd, frame.error());
   const EstimatorOptions options = DefaultEstimatorOptions();

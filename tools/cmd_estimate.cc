@@ -1,12 +1,16 @@
 // `hpose estimate`: the depth-template estimator on one depth frame or cloud.
+#include <chrono>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "core/io/cloud_io.h"
-#include "core/io/depth_png.h"
-#include "core/io/intrinsics_json.h"
+#include "core/io/depth_frame_io.h"
+#include "core/io/frame_file_time.h"
+#include "core/io/intrinsics_file.h"
 #include "core/search/estimator.h"
+#include "server/message_json.h"
+#include "server/proto_convert.h"
 #include "tools/command.h"
 #include "tools/estimate_report.h"
 #include "tools/exit_codes.h"
@@ -28,18 +32,21 @@ int RunEstimate(int argc, char** argv) {
   int stride = options.cloud.stride;
 
   FlagParser flags(
-      "hpose estimate (--depth FRAME.png --intrinsics CAM.json | --cloud FRAME.pcd) "
+      "hpose estimate (--depth FRAME [--intrinsics CAM.json] | --cloud FRAME.pcd) "
       "[--template FILE.bt ...] [--json]",
       "Finds the humanoid in one depth frame: builds the point cloud, fits the floor, clusters\n"
       "what stands on it and matches every template against every cluster by a search over\n"
       "(x, y, theta). Poses are in the ground frame: origin on the floor below the sensor, x the\n"
       "optical axis projected on the floor, y left, theta counter-clockwise (0 = facing away).");
-  flags.AddString("depth", &depth_path, "16-bit PNG depth frame in millimetres (0 = no reading)",
-                  "FRAME.png");
+  flags.AddString("depth", &depth_path,
+                  "depth frame in millimetres (0 = no reading): 16-bit PNG or TIFF, or PCL's "
+                  ".pclzf (with its .xml camera parameters beside it)",
+                  "FRAME");
   flags.AddString("intrinsics", &intrinsics_path,
-                  "JSON {\"width\",\"height\",\"fx\",\"fy\",\"cx\",\"cy\"} of the depth frame; "
-                  "default: Kinect v1 for the frame's size",
-                  "CAM.json");
+                  "the depth camera's intrinsics: hpose's JSON {\"width\",\"height\",\"fx\","
+                  "\"fy\",\"cx\",\"cy\"} or a ROS camera_info YAML; default: a .pclzf's own, "
+                  "else Kinect v1 for the frame's size (a note says so)",
+                  "CAM.json|CAM.yaml");
   flags.AddString("cloud", &cloud_path,
                   "point cloud (.pcd or .ply) in the sensor frame (x right, y down, z forward), "
                   "metres",
@@ -117,13 +124,20 @@ int RunEstimate(int argc, char** argv) {
   PointCloud cloud;
   Result<Estimate> estimate = MakeError(ErrorCode::kInternal, "not run");
   if (have_depth) {
-    Result<DepthImage> depth = ReadDepthPng(depth_path);
-    if (!depth.ok()) return ReportError(cmd, depth.error());
-    Intrinsics intrinsics = Intrinsics::KinectV1(depth->width, depth->height);
+    Result<DepthFrameFile> frame = ReadDepthFrame(depth_path);
+    if (!frame.ok()) return ReportError(cmd, frame.error());
+    const DepthImage* depth = &frame->depth;
+    Intrinsics intrinsics = frame->intrinsics;  // a pclzf's own .xml, when it has one.
     if (!intrinsics_path.empty()) {
-      Result<Intrinsics> read = ReadIntrinsicsJson(intrinsics_path);
+      Result<Intrinsics> read = ReadIntrinsicsFile(intrinsics_path);
       if (!read.ok()) return ReportError(cmd, read.error());
       intrinsics = *read;
+    } else if (!frame->has_intrinsics) {
+      intrinsics = Intrinsics::KinectV1(depth->width, depth->height);
+      std::cerr << "hpose estimate: note: no --intrinsics given; assuming Kinect v1 intrinsics "
+                << "for " << depth->width << "x" << depth->height << " (fx " << intrinsics.fx
+                << ", fy " << intrinsics.fy << ", cx " << intrinsics.cx << ", cy " << intrinsics.cy
+                << " px)\n";
     }
     if (intrinsics.width != depth->width || intrinsics.height != depth->height) {
       return ReportError(
@@ -143,11 +157,16 @@ int RunEstimate(int argc, char** argv) {
     cloud = std::move(read).value();
     estimate = (*estimator)->EstimateCloud(cloud);
   }
+  if (json) {  // the schema of `hpose replay` (docs/API.md), also when the frame failed.
+    v1::PoseEstimate msg;
+    const std::string& input = have_depth ? depth_path : cloud_path;
+    server::FillPoseEstimate(
+        1, TimeFromFrameFileName(input).value_or(0.0), std::chrono::system_clock::now(), input,
+        estimate.ok() ? &*estimate : nullptr, estimate.ok() ? nullptr : &estimate.error(), &msg);
+    std::cout << server::MessageToJsonLine(msg) << "\n";
+  }
   if (!estimate.ok()) return ReportError(cmd, estimate.error());
-
-  if (json) {
-    std::cout << EstimateToJson(*estimate, search, score) << "\n";
-  } else {
+  if (!json) {
     std::cout << EstimateToText(*estimate);
   }
   if (!picture.empty()) {

@@ -1,5 +1,4 @@
 // `hpose query`: a command-line client of hposed (hpose.v1.PoseService).
-#include <google/protobuf/util/json_util.h>
 #include <grpcpp/grpcpp.h>
 
 #include <atomic>
@@ -19,6 +18,7 @@
 #include "core/io/intrinsics_json.h"
 #include "core/stereo/rgb_image_io.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
+#include "server/message_json.h"
 #include "server/proto_convert.h"
 #include "server/stereo_proto_convert.h"
 #include "tools/command.h"
@@ -33,13 +33,7 @@ std::atomic<bool> g_interrupted{false};
 
 void OnSignal(int) { g_interrupted = true; }
 
-std::string ToJson(const google::protobuf::Message& m) {
-  std::string out;
-  google::protobuf::util::JsonPrintOptions options;
-  options.preserve_proto_field_names = true;
-  (void)google::protobuf::util::MessageToJsonString(m, &out, options);
-  return out;
-}
+std::string ToJson(const google::protobuf::Message& m) { return server::MessageToJsonLine(m); }
 
 int ExitFor(const grpc::Status& s) {
   switch (s.error_code()) {
@@ -53,10 +47,21 @@ int ExitFor(const grpc::Status& s) {
   }
 }
 
+// Prints the daemon's reason as a sentence (no status numbers) and returns the exit status
+// documented in docs/API.md.
 int Fail(const std::string& what, const grpc::Status& s) {
-  std::cerr << "hpose query " << what << ": " << s.error_code() << " "
-            << (s.error_code() == grpc::StatusCode::UNAVAILABLE ? "(unavailable) " : "")
-            << s.error_message() << "\n";
+  std::string message = s.error_message();
+  if (s.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED &&
+      message.find("deadline") == std::string::npos) {
+    message = "no answer before the deadline (--timeout)";
+  } else if (s.error_code() == grpc::StatusCode::UNAVAILABLE &&
+             (message.find("connect") != std::string::npos ||
+              message.find("Socket closed") != std::string::npos)) {
+    message = "lost the connection to hposed (" + message + ")";
+  } else if (message.empty()) {
+    message = "the call failed without a reason";
+  }
+  std::cerr << "hpose query " << what << ": " << message << "\n";
   return ExitFor(s);
 }
 
@@ -143,9 +148,11 @@ std::string Describe(const v1::PoseEstimate& e) {
     line += DescribeStereo(e);
   }
   if (!e.has_error() || e.error().code().empty()) {
-    std::snprintf(buf, sizeof(buf), "  [%.1f ms]", e.timings().total() * 1000.0);
+    std::snprintf(buf, sizeof(buf), "  [%.1f ms, age %.0f ms]", e.timings().total() * 1000.0,
+                  e.age() * 1000.0);
     line += buf;
   }
+  if (e.skipped() > 0) line += "  (" + std::to_string(e.skipped()) + " skipped before this)";
   if (e.stale()) line += "  STALE: " + e.stale_reason();
   return line;
 }
@@ -264,7 +271,7 @@ int RunQuery(int argc, char** argv) {
                   "NAME");
   flags.AddBool("compare", &compare,
                 "stream: both estimators' world-frame poses side by side (text output)");
-  flags.AddStrings("template", &templates, "estimate: only these templates (repeatable)", "NAME");
+  flags.AddStrings("template", &templates, "estimate: only these templates", "NAME");
   flags.AllowPositional("COMMAND [FILE...]");
   flags.SetEpilog(
       "examples:\n  hpose query status\n  hpose query stream --count 10\n"
@@ -301,6 +308,10 @@ int RunQuery(int argc, char** argv) {
   grpc::ChannelArguments channel_args;
   channel_args.SetMaxReceiveMessageSize(64 << 20);
   channel_args.SetMaxSendMessageSize(64 << 20);
+  // No read-ahead: `stream` read more slowly than the daemon publishes gets the newest estimate
+  // rather than older ones held by the transport (docs/API.md, "Streams").
+  channel_args.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
+  channel_args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, 1);
   auto channel =
       grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), channel_args);
   // Wait for the daemon (it may still be starting) up to the timeout.

@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include <google/protobuf/util/json_util.h>
-
 #include "core/common/pose2d.h"
+#include "core/io/intrinsics_file.h"
 #include "core/search/estimator.h"
 #include "core/templates/template_io.h"
 #include "server/daemon_config.h"
 #include "server/frame_source.h"
+#include "server/message_json.h"
 #include "server/proto_convert.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
@@ -76,31 +76,44 @@ void DrawProgress(long done, long total, double elapsed_s) {
 }  // namespace
 
 int RunReplay(int argc, char** argv) {
-  std::string out_path, format, config_path, rate = "fast";
+  std::string out_path, format, config_path, intrinsics_path, rate = "fast";
   std::vector<std::string> templates;
   int max_frames = 0;
   double fps = 30.0;
   bool progress = isatty(STDERR_FILENO) != 0, no_progress = false;
   FlagParser flags(
       "hpose replay RECORDING [--template FILE.bt ...] [--out FILE] [--format jsonl|csv]",
-      "Estimates the humanoid's pose in every frame of a recording (an .oni file, a directory "
-      "of 16-bit PNG depth frames with intrinsics.json, or a directory of PCD clouds) and "
-      "writes one record per frame: JSON Lines (hpose.v1.PoseEstimate, SI units) or CSV. "
-      "Prints a progress bar and a summary on stderr.");
-  flags.AddStrings("template", &templates,
-                   "humanoid template, repeatable (default: the shipped templates)", "FILE.bt");
+      "Estimates the humanoid's pose in every frame of a recording and writes one record per "
+      "frame: JSON Lines (hpose.v1.PoseEstimate in the schema of docs/API.md, every field "
+      "present, SI units) or CSV. A recording is an .oni file; a directory of 16-bit depth "
+      "frames (PNG with intrinsics.json, TIFF, or PCL's *_depth.pclzf with their .xml) or of PCD "
+      "clouds; or a single frame file of one of these formats. Frame times come from the file "
+      "names when they record one (frame_20121214T142255.814212.pcd, 1355495775.81.png), else "
+      "from --fps. Prints a progress bar and a summary on stderr.");
+  flags.AddStrings(
+      "template", &templates,
+      "humanoid template: a .bt file or a shipped template's name (default: the shipped templates)",
+      "FILE.bt");
   flags.AddString("out", &out_path, "output file (default: standard output)", "FILE");
   flags.AddString("format", &format, "jsonl or csv (default: from --out's extension, else jsonl)",
                   "FMT");
   flags.AddString("config", &config_path, "hposed YAML config for search and floor settings",
                   "FILE");
   flags.AddString("rate", &rate, "fast (as fast as possible) or recorded", "RATE");
-  flags.AddDouble("fps", &fps, "frame rate of PNG/PCD directories (source_time_s)", "HZ");
+  flags.AddDouble("fps", &fps, "frame rate of files whose names record no time (source_time)",
+                  "HZ");
+  flags.AddString("intrinsics", &intrinsics_path,
+                  "depth camera intrinsics for every frame: hpose's intrinsics.json or a ROS "
+                  "camera_info YAML (default: intrinsics.json beside the frames, a pclzf's .xml, "
+                  "else Kinect v1 for TIFF)",
+                  "FILE");
   flags.AddInt("max-frames", &max_frames, "stop after N frames (0 = all)", "N");
   flags.AddBool("no-progress", &no_progress, "no progress bar");
   flags.AllowPositional("RECORDING");
   flags.SetEpilog(
       "examples:\n  hpose replay walk.oni --template templates/standing.bt --out walk.jsonl\n"
+      "  hpose replay grabber_sequences/tiff/ --out poses.jsonl\n"
+      "  hpose replay frame_20121214T142255.814212.pcd\n"
       "  hpose replay frames/ --template templates/standing.bt --format csv > poses.csv\n");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   if (flags.positional().size() != 1) {
@@ -120,6 +133,13 @@ int RunReplay(int argc, char** argv) {
     return kExitUsage;
   }
   if (no_progress) progress = false;
+  if (!(fps > 0.0 && fps <= 10000.0)) {
+    std::cerr
+        << "hpose replay: --fps: the frame rate must be more than 0 and at most 10000 frames per "
+           "second, got "
+        << fps << "\n";
+    return kExitUsage;
+  }
 
   server::DaemonConfig config;
   if (!config_path.empty()) {
@@ -129,6 +149,8 @@ int RunReplay(int argc, char** argv) {
   }
   if (!templates.empty()) config.templates = templates;
   if (config.templates.empty()) config.templates = DefaultTemplatePaths();
+  config.templates = ResolveTemplateNames(config.templates);
+  if (intrinsics_path.empty()) intrinsics_path = config.source.intrinsics;
   std::vector<VoxelTemplate> loaded;
   for (const std::string& path : config.templates) {
     Result<VoxelTemplate> t = LoadTemplate(path);
@@ -148,6 +170,12 @@ int RunReplay(int argc, char** argv) {
   replay.realtime = rate == "recorded";
   replay.loop = false;
   replay.fps = fps;
+  if (!intrinsics_path.empty()) {
+    Result<Intrinsics> k = ReadIntrinsicsFile(intrinsics_path);
+    if (!k.ok()) return ReportError("replay", k.error());
+    replay.has_intrinsics = true;
+    replay.intrinsics = *k;
+  }
   Result<std::unique_ptr<server::FrameSource>> source =
       server::MakeFrameSource(flags.positional()[0], replay);
   if (!source.ok()) return ReportError("replay", source.error());
@@ -174,8 +202,6 @@ int RunReplay(int argc, char** argv) {
   long frames = 0, estimated = 0, failed = 0, unreadable = 0, humanoids = 0;
   std::vector<double> times_ms;
   const auto start = std::chrono::steady_clock::now();
-  google::protobuf::util::JsonPrintOptions json_options;
-  json_options.preserve_proto_field_names = true;
   while (max_frames <= 0 || frames < max_frames) {
     Result<server::Frame> frame = (*source)->Next();
     if (!frame.ok()) {
@@ -207,9 +233,7 @@ int RunReplay(int argc, char** argv) {
     if (format == "csv") {
       out << CsvRow(msg);
     } else {
-      std::string line;
-      (void)google::protobuf::util::MessageToJsonString(msg, &line, json_options);
-      out << line << "\n";
+      out << server::MessageToJsonLine(msg) << "\n";
     }
     if (progress) {
       DrawProgress(frames, std::max(total, frames),

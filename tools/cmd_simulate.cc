@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,6 +28,7 @@
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
+#include "tools/robot_flags.h"
 
 namespace hpose::tools {
 namespace {
@@ -61,10 +64,21 @@ std::string FrameName(const std::string& stem, const std::string& ext, int index
   return stem + buf + ext;
 }
 
-double FootprintRadius(const HumanoidModel& m) {
-  const Eigen::AlignedBox3d& b = m.bounds();
+double FootprintRadius(const Eigen::AlignedBox3d& b) {
   return std::max(b.min().head<2>().norm(), b.max().head<2>().norm());
 }
+
+// The main robot of the simulation: the parametric humanoid, or a mesh robot from a URDF.
+struct MainRobot {
+  std::optional<HumanoidModel> model;
+  std::shared_ptr<const MeshBvh> mesh;
+  std::string label;  // preset, or ROBOT/JOINT_SET.
+
+  const Eigen::AlignedBox3d& Bounds() const { return mesh ? mesh->bounds() : model->bounds(); }
+  Status AddTo(Scene* scene, const Pose2D& pose) const {
+    return mesh ? scene->AddMeshRobot(mesh, pose, label) : scene->AddHumanoid(*model, pose, label);
+  }
+};
 
 }  // namespace
 
@@ -75,9 +89,16 @@ int RunSimulate(int argc, char** argv) {
     argv[1] = prog.data();
     return RunSimulateStereo(argc - 1, argv + 1);
   }
+  if (argc >= 2 && std::string(argv[1]) == "turntable") {
+    std::string prog = "hpose simulate turntable";
+    argv[1] = prog.data();
+    return RunSimulateTurntable(argc - 1, argv + 1);
+  }
   std::string out_dir;
   double x = 1.0, y = 0.0, theta_deg = 0.0;
   std::string pose_name = "standing";
+  std::string body = "nao", robot_urdf;
+  RobotFlags robot_flags;
   double sensor_height = 0.34, pitch_deg = 0.0, roll_deg = 0.0;
   int clutter = 0, seed = 1, width = 640, height = 480, frames = 1;
   bool no_noise = false, no_cloud = false;
@@ -85,11 +106,13 @@ int RunSimulate(int argc, char** argv) {
   std::string second_at, second_pose = "standing";
 
   FlagParser flags(
-      "hpose simulate --out DIR [--x M --y M --theta-deg D --pose NAME] [--sensor-height M "
+      "hpose simulate --out DIR [--x M --y M --theta-deg D] [--pose NAME --body NAME | --robot "
+      "ROBOT.urdf [--joints FILE.yaml --joint-set NAME | --joint N=RAD]] [--sensor-height M "
       "--pitch-deg D --roll-deg D] [--clutter N --seed S] [--frames N --turn-deg D --step-m M]",
-      "Renders simulated Kinect v1 depth frames of the parametric humanoid standing on a floor,\n"
+      "Renders simulated Kinect v1 depth frames of the parametric humanoid (or, with --robot, a\n"
+      "robot described by a URDF and its meshes) standing on a floor,\n"
       "optionally among clutter (a ball, boxes, cylinders) and a second humanoid, with the\n"
-      "sensor model of SPEC 5: axial noise 1.425e-3 z^2 m, 0.8 px lateral jitter, 11-bit\n"
+      "a Kinect v1 sensor model: axial noise 1.425e-3 z^2 m, 0.8 px lateral jitter, 11-bit\n"
       "disparity quantisation, no reading outside 0.8-4.0 m or beyond 80 degrees incidence.\n"
       "Writes DIR/depth.png (16-bit, mm), DIR/intrinsics.json, DIR/cloud.pcd (sensor frame, m)\n"
       "and DIR/truth.json (poses in the ground frame, metres and radians); with --frames N > 1\n"
@@ -101,6 +124,12 @@ int RunSimulate(int argc, char** argv) {
   flags.AddDouble("y", &y, "humanoid y in the ground frame, metres (left)", "M");
   flags.AddDouble("theta-deg", &theta_deg, "humanoid heading, degrees (0 = facing away)", "D");
   flags.AddString("pose", &pose_name, "joint preset: standing or right_arm_raised", "NAME");
+  flags.AddString("body", &body, "humanoid proportions: nao or long_legs", "NAME");
+  flags.AddString("robot", &robot_urdf,
+                  "render this URDF robot instead of the parametric humanoid (see the joint "
+                  "and package flags below)",
+                  "ROBOT.urdf");
+  robot_flags.Register(&flags, /*one_set=*/true);
   flags.AddDouble("sensor-height", &sensor_height, "optical centre above the floor, metres", "M");
   flags.AddDouble("pitch-deg", &pitch_deg, "sensor pitch, degrees (+ looks down)", "D");
   flags.AddDouble("roll-deg", &roll_deg, "sensor roll, degrees (+ image right side down)", "D");
@@ -125,6 +154,9 @@ int RunSimulate(int argc, char** argv) {
       "  hpose simulate --out sim1                      # the paper's setup: 1 m ahead, theta 0\n"
       "  hpose simulate --out sim2 --x 2 --theta-deg 90 --pose right_arm_raised --clutter 6\n"
       "  hpose simulate --out turn --frames 12 --turn-deg 30   # a full turn in 30 deg steps\n"
+      "  hpose simulate --out darwin --robot ../shared/data/darwin_op/robots/robotis_op.urdf \\\n"
+      "      --allow-missing --theta-deg 60 --clutter 4\n"
+      "  hpose simulate turntable --help   # captures on a turntable for template from-captures\n"
       "\nexit status: 0 ok, 1 error writing the files, 2 bad flags or values");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
 
@@ -146,8 +178,23 @@ int RunSimulate(int argc, char** argv) {
   if (frames < 1 || frames > 1000) return UsageError("--frames must be in [1, 1000]");
   if (std::abs(turn_deg) > 180.0) return UsageError("--turn-deg must be within +-180 degrees");
   if (std::abs(step_m) > 1.0) return UsageError("--step-m must be within +-1 m");
-  Result<HumanoidModel> model = HumanoidModel::FromPreset(pose_name);
-  if (!model.ok()) return UsageError("--pose: " + model.error().message);
+  MainRobot robot;
+  if (!robot_urdf.empty()) {
+    if (flags.Seen("pose") || flags.Seen("body")) {
+      return UsageError("--pose and --body describe the parametric humanoid: not with --robot");
+    }
+    Result<std::shared_ptr<const MeshBvh>> mesh =
+        LoadPosedRobotMesh(robot_flags, robot_urdf, kCmd, &robot.label);
+    if (!mesh.ok()) return ReportError(kCmd, mesh.error());
+    robot.mesh = *mesh;
+  } else {
+    Result<HumanoidDimensions> dimensions = HumanoidDimensions::Variant(body);
+    if (!dimensions.ok()) return UsageError("--body: " + dimensions.error().message);
+    Result<HumanoidModel> model = HumanoidModel::FromPreset(pose_name, *dimensions);
+    if (!model.ok()) return UsageError("--pose: " + model.error().message);
+    robot.model = *model;
+    robot.label = body == "nao" ? pose_name : pose_name + "/" + body;
+  }
   std::vector<PlacedHumanoid> others;
   if (!second_at.empty() || flags.Seen("second-pose")) {
     Pose2D p;
@@ -171,7 +218,7 @@ int RunSimulate(int argc, char** argv) {
   for (const PlacedHumanoid& o : others) {
     for (const Pose2D& p : poses) {
       const double gap = std::hypot(o.pose.x - p.x, o.pose.y - p.y);
-      if (gap < FootprintRadius(o.model) + FootprintRadius(*model)) {
+      if (gap < FootprintRadius(o.model.bounds()) + FootprintRadius(robot.Bounds())) {
         return UsageError("--second-at: the second humanoid would overlap the first");
       }
     }
@@ -181,7 +228,7 @@ int RunSimulate(int argc, char** argv) {
   std::vector<Primitive> clutter_objects;
   if (clutter > 0) {
     Scene layout;
-    for (const Pose2D& p : poses) layout.AddHumanoid(*model, p);
+    for (const Pose2D& p : poses) robot.AddTo(&layout, p);
     for (const PlacedHumanoid& o : others) layout.AddHumanoid(o.model, o.pose);
     const Status s = layout.AddRandomClutter(clutter, static_cast<std::uint64_t>(seed));
     if (!s.ok()) return UsageError("--clutter: " + s.error().message);
@@ -207,8 +254,8 @@ int RunSimulate(int argc, char** argv) {
   const std::filesystem::path dir(out_dir);
 
   SimTruth truth;
-  truth.humanoid_preset = pose_name;
-  truth.humanoid_height_m = model->Height();
+  truth.humanoid_preset = robot.label;
+  truth.humanoid_height_m = robot.Bounds().max().z();
   truth.humanoid_pose = poses.front();
   for (const PlacedHumanoid& o : others) truth.other_humanoids.push_back({o.pose, o.preset});
   truth.sensor_height_m = sensor_height;
@@ -227,7 +274,7 @@ int RunSimulate(int argc, char** argv) {
   double render_seconds = 0.0;
   for (int i = 0; i < frames; ++i) {
     Scene scene;
-    if (Status s = scene.AddHumanoid(*model, poses[i], pose_name); !s.ok()) {
+    if (Status s = robot.AddTo(&scene, poses[i]); !s.ok()) {
       return ReportError(kCmd, s.error());
     }
     for (const PlacedHumanoid& o : others) scene.AddHumanoid(o.model, o.pose, o.preset);

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -39,7 +38,7 @@ void PrintSaved(const VoxelTemplate& tpl, const std::string& path) {
 }
 
 int Generate(int argc, char** argv) {
-  std::string pose = "standing", out, name;
+  std::string pose = "standing", body = "nao", out, name;
   double resolution = 0.016, spacing = 0.004;
   FlagParser flags(
       "hpose template generate --pose standing|right_arm_raised --out FILE.bt "
@@ -48,6 +47,7 @@ int Generate(int argc, char** argv) {
       "primitives in the template frame (origin on the floor below the torso centre, x forward,\n"
       "y left, z up) and voxelises it. Writes FILE.bt (OctoMap) and its FILE.json sidecar.");
   flags.AddString("pose", &pose, "joint preset: standing or right_arm_raised", "NAME");
+  flags.AddString("body", &body, "proportions: nao or long_legs", "NAME");
   flags.AddString("out", &out, "template file to write (.bt)", "FILE.bt");
   flags.AddDouble("resolution", &resolution, "voxel edge, metres", "M");
   flags.AddString("name", &name, "template name [default: the pose]", "N");
@@ -63,11 +63,14 @@ int Generate(int argc, char** argv) {
   if (!flags.Seen("spacing")) spacing = 0.25 * resolution;
   if (name.empty()) name = pose;
 
-  Result<HumanoidModel> model = HumanoidModel::FromPreset(pose);
+  Result<HumanoidDimensions> dimensions = HumanoidDimensions::Variant(body);
+  if (!dimensions.ok()) return UsageError("generate", "--body: " + dimensions.error().message);
+  Result<HumanoidModel> model = HumanoidModel::FromPreset(pose, *dimensions);
   if (!model.ok()) return UsageError("generate", "--pose: " + model.error().message);
   Result<std::vector<Eigen::Vector3f>> points = model->SampleSurface(spacing);
   if (!points.ok()) return UsageError("generate", "--spacing: " + points.error().message);
-  const std::string source = "hpose template generate --pose " + pose + " --resolution " +
+  const std::string source = "hpose template generate --pose " + pose +
+                             (body == "nao" ? "" : " --body " + body) + " --resolution " +
                              Fixed(resolution, 4) + " (parametric humanoid, " +
                              Fixed(model->Height(), 3) + " m tall)";
   Result<VoxelTemplate> tpl = MakeTemplateFromPoints(*points, name, resolution, pose, source);
@@ -112,45 +115,16 @@ int FromCloud(int argc, char** argv) {
   return kExitOk;
 }
 
-int Info(int argc, char** argv) {
-  FlagParser flags("hpose template info FILE.bt",
-                   "Prints a template's name, variant, source, resolution, voxel count, height\n"
-                   "and bounding box (template frame).");
-  flags.AllowPositional("FILE.bt");
-  if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
-  if (flags.positional().size() != 1) return UsageError("info", "give exactly one FILE.bt");
-  Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
-  if (!tpl.ok()) return ReportError(kCmd, tpl.error());
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity());
-  Eigen::Vector3f hi = -lo;
-  for (const Eigen::Vector3f& v : tpl->voxels) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  const float half = static_cast<float>(0.5 * tpl->resolution_m);
-  lo.array() -= half;
-  hi.array() += half;
-  auto mm = [](float v) { return Fixed(v * 1000.0, 0); };
-  std::cout << "name:        " << tpl->name << "\n"
-            << "variant:     " << tpl->variant << "\n"
-            << "source:      " << tpl->source << "\n"
-            << "resolution:  " << Fixed(tpl->resolution_m * 1000.0, 1) << " mm\n"
-            << "voxels:      " << tpl->voxels.size() << "\n"
-            << "height:      " << Fixed(tpl->Height() * 1000.0, 0) << " mm\n";
-  if (!tpl->voxels.empty()) {
-    std::cout << "bbox (mm):   x " << mm(lo.x()) << " .. " << mm(hi.x()) << ", y " << mm(lo.y())
-              << " .. " << mm(hi.y()) << ", z " << mm(lo.z()) << " .. " << mm(hi.z()) << "\n";
-  }
-  return kExitOk;
-}
-
 void PrintHelp() {
   std::cout << "usage: hpose template SUBCOMMAND [--help] [options]\n\n"
                "Makes and inspects humanoid templates (OctoMap .bt + .json sidecar).\n\n"
                "subcommands:\n"
-               "  generate      template of the parametric humanoid (standing, right_arm_raised)\n"
+               "  generate      template of the parametric humanoid (poses, --body proportions)\n"
                "  from-cloud    template from a robot's point cloud in the template frame\n"
-               "  info          print what a template file holds\n\n"
+               "  from-captures 360 degree template from turntable / hand-turned captures\n"
+               "  from-urdf     templates from a robot's URDF and meshes, one per joint set\n"
+               "  info          print what a template file holds: size, widths, asymmetry\n"
+               "  show          draw a template: front, side, top and Kinect views\n\n"
                "Run `hpose template SUBCOMMAND --help` for its options.\n";
 }
 
@@ -168,7 +142,10 @@ int RunTemplate(int argc, char** argv) {
   }
   if (sub == "generate") return Generate(argc, argv);
   if (sub == "from-cloud") return FromCloud(argc, argv);
-  if (sub == "info") return Info(argc, argv);
+  if (sub == "from-captures") return RunTemplateFromCaptures(argc, argv);
+  if (sub == "from-urdf") return TemplateFromUrdf(argc, argv);
+  if (sub == "info") return TemplateInfo(argc, argv);
+  if (sub == "show") return TemplateShow(argc, argv);
   std::cerr << "hpose template: unknown subcommand '" << sub << "' (see hpose template --help)\n";
   return kExitUsage;
 }

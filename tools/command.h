@@ -15,6 +15,10 @@ int RunDemo(int argc, char** argv);
 int RunEstimate(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 int RunTemplate(int argc, char** argv);
+// `hpose template` subcommands in their own files (argv[1] is the subcommand).
+int TemplateFromUrdf(int argc, char** argv);  // cmd_template_urdf.cc
+int TemplateInfo(int argc, char** argv);      // cmd_template_view.cc
+int TemplateShow(int argc, char** argv);      // cmd_template_view.cc
 // Daemon tools (cmd_record.cc, cmd_replay.cc, cmd_query.cc).
 int RunRecord(int argc, char** argv);
 int RunReplay(int argc, char** argv);
@@ -22,6 +26,10 @@ int RunQuery(int argc, char** argv);
 // Stereo-marker estimator (cmd_stereo.cc). RunSimulateStereo also serves `hpose simulate stereo`.
 int RunEstimateStereo(int argc, char** argv);
 int RunSimulateStereo(int argc, char** argv);
+// Template from captures (cmd_template_captures.cc) and their simulation
+// (cmd_simulate_turntable.cc, served as `hpose simulate turntable`).
+int RunTemplateFromCaptures(int argc, char** argv);
+int RunSimulateTurntable(int argc, char** argv);
 
 }  // namespace hpose::tools
 

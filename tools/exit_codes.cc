@@ -5,7 +5,15 @@
 namespace hpose::tools {
 
 int ReportError(const std::string& command, const Error& error) {
-  std::cerr << "hpose " << command << ": " << error.message << "\n";
+  return ReportProgramError("hpose " + command, error);
+}
+
+int ReportProgramError(const std::string& program, const Error& error) {
+  std::cerr << program << ": " << error.message << "\n";
+  return ExitCodeFor(error);
+}
+
+int ExitCodeFor(const Error& error) {
   switch (error.code) {
     case ErrorCode::kFailedPrecondition:
       return kExitNoFloor;

@@ -20,6 +20,13 @@ enum ExitCode : int {
 // Prints "hpose <command>: <message>" to stderr and returns the exit code that fits the error.
 int ReportError(const std::string& command, const Error& error);
 
+// The same for a program of its own: "<program>: <message>" (e.g. "hposed: ...").
+int ReportProgramError(const std::string& program, const Error& error);
+
+// The exit code that fits an error: kNotFound / kInvalidArgument / kDataLoss / kInternal ->
+// kExitError, kFailedPrecondition -> kExitNoFloor, kUnavailable -> kExitUnavailable.
+int ExitCodeFor(const Error& error);
+
 }  // namespace hpose::tools
 
 #endif  // HPOSE_TOOLS_EXIT_CODES_H_

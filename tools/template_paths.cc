@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "core/templates/template_io.h"
+#include "server/daemon_config.h"
 
 #ifndef HPOSE_TEMPLATE_DIR
 #define HPOSE_TEMPLATE_DIR "templates"
@@ -18,6 +19,14 @@ std::string DefaultTemplateDir() {
 std::vector<std::string> DefaultTemplatePaths() {
   const std::string dir = DefaultTemplateDir();
   return {dir + "/standing.bt", dir + "/right_arm_raised.bt"};
+}
+
+std::vector<std::string> ResolveTemplateNames(const std::vector<std::string>& entries) {
+  std::vector<std::string> out;
+  for (const std::string& e : entries) {
+    out.push_back(server::IsTemplateName(e) ? DefaultTemplateDir() + "/" + e + ".bt" : e);
+  }
+  return out;
 }
 
 Result<std::vector<VoxelTemplate>> LoadTemplates(const std::vector<std::string>& paths) {

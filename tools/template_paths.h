@@ -16,6 +16,10 @@ std::string DefaultTemplateDir();
 // The shipped templates (standing, right_arm_raised) as paths.
 std::vector<std::string> DefaultTemplatePaths();
 
+// `entries` with every shipped template's name ("standing", see server::IsTemplateName)
+// replaced by its path in DefaultTemplateDir(); paths are kept.
+std::vector<std::string> ResolveTemplateNames(const std::vector<std::string>& entries);
+
 // Loads each path; an empty list loads the shipped templates. The first failure is returned
 // (its message names the file).
 Result<std::vector<VoxelTemplate>> LoadTemplates(const std::vector<std::string>& paths);

@@ -1,4 +1,4 @@
-// The one error rule of hpose (GUIDE.md, habit 5): programming errors are assertions; expected
+// The one error rule of hpose: programming errors are assertions; expected
 // failures (bad file, empty cloud, no floor, unknown template, ...) are returned as an Error with
 // a reason. server/ turns an Error into a grpc::Status, tools/ into a message and an exit code.
 #ifndef HPOSE_CORE_COMMON_STATUS_H_

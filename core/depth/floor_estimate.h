@@ -5,9 +5,9 @@
 
 namespace hpose {
 
-// The floor and the ground frame derived from it (GUIDE.md): origin on the floor directly below
-// the sensor's optical centre, +z up (floor normal), +x the optical axis projected onto the
-// floor, +y left.
+// The floor and the ground frame derived from it (README, "Frames and units"): origin on the floor
+// directly below the sensor's optical centre, +z up (floor normal), +x the optical axis projected
+// onto the floor, +y left.
 struct FloorEstimate {
   // Plane a x + b y + c z + d = 0 in the sensor frame, (a, b, c) unit, pointing up (towards the
   // sensor side of the floor), so d = sensor height above the floor in metres.

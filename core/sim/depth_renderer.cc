@@ -23,6 +23,26 @@ struct PreparedObject {
   Sphere bound;
 };
 
+// A mesh robot: rays are cast in its own (template) frame.
+struct PreparedMesh {
+  const MeshBvh* body = nullptr;
+  Eigen::Isometry3d mesh_from_sensor;
+  Sphere bound;  // sensor frame.
+};
+
+std::vector<PreparedMesh> PrepareMeshes(const Scene& scene,
+                                        const Eigen::Isometry3d& sensor_from_ground) {
+  std::vector<PreparedMesh> meshes;
+  for (const PlacedMeshRobot& m : scene.mesh_robots()) {
+    const Eigen::Isometry3d sensor_from_mesh = sensor_from_ground * m.pose.ToIsometry();
+    const Eigen::AlignedBox3d& b = m.body->bounds();
+    meshes.push_back({m.body.get(),
+                      sensor_from_mesh.inverse(),
+                      {sensor_from_mesh * b.center(), 0.5 * b.diagonal().norm() + 1e-6}});
+  }
+  return meshes;
+}
+
 // Nearest t >= 0 where a ray from the origin along unit `dir` enters the sphere (0 when it
 // starts inside), or +inf when it misses.
 double SphereEntry(const Sphere& s, const Eigen::Vector3d& dir) {
@@ -78,6 +98,7 @@ DepthImage DepthRenderer::Render(const Scene& scene, const KinectNoiseModel* noi
                                  std::uint64_t seed) const {
   const Eigen::Isometry3d sensor_from_ground = sensor_mount_.ground_from_sensor.inverse();
   const std::vector<PreparedObject> objects = Prepare(scene, sensor_from_ground);
+  const std::vector<PreparedMesh> meshes = PrepareMeshes(scene, sensor_from_ground);
   // The floor (ground z = 0) in the sensor frame: n . p + d = 0, n pointing up.
   const Eigen::Vector3d floor_n = sensor_from_ground.linear().col(2);
   const double floor_d = sensor_mount_.ground_from_sensor.translation().z();
@@ -112,6 +133,15 @@ DepthImage DepthRenderer::Render(const Scene& scene, const KinectNoiseModel* noi
             best_t = hit->t;
             best_normal = hit->normal;
           }
+        }
+      }
+      for (const PreparedMesh& m : meshes) {
+        if (SphereEntry(m.bound, dir) >= best_t) continue;
+        const std::optional<RayHit> hit = m.body->Intersect(
+            m.mesh_from_sensor.translation(), m.mesh_from_sensor.linear() * dir, 1e-9, best_t);
+        if (hit) {
+          best_t = hit->t;
+          best_normal = m.mesh_from_sensor.linear().transpose() * hit->normal;
         }
       }
       if (!std::isfinite(best_t)) continue;

@@ -14,7 +14,8 @@ namespace hpose {
 
 // Renders depth images of a Scene by casting one ray per pixel through pinhole intrinsics and
 // intersecting it analytically with the floor and every primitive (bounding spheres per object
-// and per primitive skip most tests).
+// and per primitive skip most tests), and with the triangles of mesh robots (through their
+// bounding-volume hierarchies).
 class DepthRenderer final {
  public:
   // `sensor_mount` places the sensor: its ground_from_sensor (e.g. from

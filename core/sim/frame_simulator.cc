@@ -8,14 +8,25 @@
 namespace hpose {
 
 Result<SimulatedFrame> SimulateFrame(const FrameSpec& spec) {
-  Result<HumanoidModel> model = HumanoidModel::FromPreset(spec.preset);
-  if (!model.ok()) return model.error();
   Scene scene;
-  Status st = scene.AddHumanoid(*model, spec.humanoid_pose, spec.preset);
-  if (!st.ok()) return st.error();
+  double height_m = 0.0;
+  if (spec.robot_mesh != nullptr) {
+    if (Status st = scene.AddMeshRobot(spec.robot_mesh, spec.humanoid_pose); !st.ok()) {
+      return st.error();
+    }
+    height_m = spec.robot_mesh->bounds().max().z();
+  } else {
+    Result<HumanoidDimensions> body = HumanoidDimensions::Variant(spec.body);
+    if (!body.ok()) return body.error();
+    Result<HumanoidModel> model = HumanoidModel::FromPreset(spec.preset, *body);
+    if (!model.ok()) return model.error();
+    if (Status st = scene.AddHumanoid(*model, spec.humanoid_pose, spec.preset); !st.ok()) {
+      return st.error();
+    }
+    height_m = model->Height();
+  }
   if (spec.clutter > 0) {
-    st = scene.AddRandomClutter(spec.clutter, spec.seed);
-    if (!st.ok()) return st.error();
+    if (Status st = scene.AddRandomClutter(spec.clutter, spec.seed); !st.ok()) return st.error();
   }
   const FloorEstimate mount = FloorEstimate::FromHeightPitchRoll(
       spec.sensor_height_m, spec.sensor_pitch_rad, spec.sensor_roll_rad);
@@ -23,7 +34,7 @@ Result<SimulatedFrame> SimulateFrame(const FrameSpec& spec) {
   if (!renderer.ok()) return renderer.error();
   SimulatedFrame frame;
   frame.sensor_mount = mount;
-  frame.humanoid_height_m = model->Height();
+  frame.humanoid_height_m = height_m;
   if (spec.noise) {
     Result<KinectNoiseModel> noise = KinectNoiseModel::Create(KinectNoiseOptions{});
     if (!noise.ok()) return noise.error();

@@ -2,6 +2,7 @@
 #define HPOSE_CORE_SIM_FRAME_SIMULATOR_H_
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "core/common/pose2d.h"
@@ -9,6 +10,7 @@
 #include "core/depth/depth_image.h"
 #include "core/depth/floor_estimate.h"
 #include "core/depth/intrinsics.h"
+#include "core/sim/mesh_bvh.h"
 
 namespace hpose {
 
@@ -17,6 +19,11 @@ namespace hpose {
 // 0.34 m above the floor, level; humanoid 1 m in front of it, facing away (theta = 0).
 struct FrameSpec {
   std::string preset = "standing";  // humanoid joint preset (HumanoidJoints::Preset).
+  std::string body = "nao";         // humanoid proportions (HumanoidDimensions::Variant).
+  // When set, this robot (a mesh in its template frame, e.g. UrdfRobot::Pose's) is rendered
+  // instead of the parametric humanoid, and `preset` and `body` are ignored. Build it once
+  // with MeshBvh::Build and share it between frames.
+  std::shared_ptr<const MeshBvh> robot_mesh;
   Pose2D humanoid_pose{1.0, 0.0, 0.0};
   double sensor_height_m = 0.34;
   double sensor_pitch_rad = 0.0;  // + looks down.
@@ -33,8 +40,8 @@ struct SimulatedFrame {
   double humanoid_height_m = 0.0;
 };
 
-// Renders the frame. Fails (kInvalidArgument) on an unknown preset, bad intrinsics or a sensor
-// below the floor, naming the problem; kFailedPrecondition when the clutter does not fit.
+// Renders the frame. Fails (kInvalidArgument) on an unknown preset or body, bad intrinsics or a
+// sensor below the floor, naming the problem; kFailedPrecondition when the clutter does not fit.
 Result<SimulatedFrame> SimulateFrame(const FrameSpec& spec);
 
 }  // namespace hpose

@@ -69,6 +69,26 @@ const std::pair<const char*, double HumanoidJoints::*> kJointFields[] = {
 
 }  // namespace
 
+std::vector<std::string> HumanoidDimensions::VariantNames() { return {"nao", "long_legs"}; }
+
+Result<HumanoidDimensions> HumanoidDimensions::Variant(const std::string& name) {
+  HumanoidDimensions d;
+  if (name == "nao") return d;
+  if (name == "long_legs") {
+    d.thigh_length_m = 0.160;
+    d.tibia_length_m = 0.165;
+    d.hip_offset_y_m = 0.060;
+    d.torso_width_m = 0.190;
+    d.shoulder_offset_y_m = 0.128;
+    d.battery_pack = false;
+    return d;
+  }
+  std::string known;
+  for (const std::string& n : VariantNames()) known += (known.empty() ? "" : ", ") + n;
+  return MakeError(ErrorCode::kInvalidArgument,
+                   "unknown body '" + name + "' (known: " + known + ")");
+}
+
 Status HumanoidDimensions::Validate() const {
   for (const auto& [name, field] : kDimensionFields) {
     const double v = this->*field;
@@ -155,11 +175,13 @@ HumanoidModel::HumanoidModel(const HumanoidDimensions& dimensions, const Humanoi
       MakeIsometry(Eigen::Matrix3d::Identity(),
                    Eigen::Vector3d(0.0, 0.0, 0.5 * (d.torso_top_m + d.torso_bottom_m)))));
   // The battery pack, overlapping the torso's back face by 5 mm so the two are one solid.
-  body.push_back(Primitive::Box(
-      "battery_pack", Eigen::Vector3d(d.pack_depth_m + 0.005, d.pack_width_m, d.pack_height_m),
-      MakeIsometry(Eigen::Matrix3d::Identity(),
-                   Eigen::Vector3d(-0.5 * d.torso_depth_m - 0.5 * d.pack_depth_m + 0.0025, 0.0,
-                                   d.pack_centre_z_m))));
+  if (d.battery_pack) {
+    body.push_back(Primitive::Box(
+        "battery_pack", Eigen::Vector3d(d.pack_depth_m + 0.005, d.pack_width_m, d.pack_height_m),
+        MakeIsometry(Eigen::Matrix3d::Identity(),
+                     Eigen::Vector3d(-0.5 * d.torso_depth_m - 0.5 * d.pack_depth_m + 0.0025, 0.0,
+                                     d.pack_centre_z_m))));
+  }
 
   // Neck and head; the head turns with the head yaw.
   const Eigen::Vector3d head_centre(0.0, 0.0, d.neck_offset_z_m + d.head_centre_above_neck_m);

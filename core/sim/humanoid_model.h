@@ -38,6 +38,7 @@ struct HumanoidDimensions {
   double pack_width_m = 0.100;     // along y.
   double pack_height_m = 0.110;    // along z.
   double pack_centre_z_m = 0.020;  // its centre relative to the torso origin.
+  bool battery_pack = true;        // false: no pack (front and back then differ less).
   // Arms: capsules shoulder-elbow and elbow-fingertip.
   double shoulder_offset_y_m = 0.098;
   double shoulder_offset_z_m = 0.100;
@@ -56,6 +57,13 @@ struct HumanoidDimensions {
 
   // Checks every value is finite and positive where it must be; names the offending field.
   Status Validate() const;
+
+  // Named bodies, so accuracy is not only measured on one set of proportions: "nao" (the
+  // defaults above) and "long_legs" (about 0.73 m tall: thighs and shanks 60% longer, wider
+  // torso and shoulders, no battery pack). kInvalidArgument for another name, listing the
+  // known ones.
+  static Result<HumanoidDimensions> Variant(const std::string& name);
+  static std::vector<std::string> VariantNames();
 };
 
 // Joint angles in radians. Zero everywhere is the robot standing straight with the arms

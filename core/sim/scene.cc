@@ -16,8 +16,8 @@ double FootprintRadius(const Primitive& p) {
   return std::max((b.min().head<2>() - c).norm(), (b.max().head<2>() - c).norm());
 }
 
-double HumanoidFootprintRadius(const HumanoidModel& model) {
-  const Eigen::AlignedBox3d& b = model.bounds();
+// Radius of a vertical cylinder around the template origin that holds the body.
+double FootprintRadius(const Eigen::AlignedBox3d& b) {
   double r = 0.0;
   for (const double x : {b.min().x(), b.max().x()}) {
     for (const double y : {b.min().y(), b.max().y()}) r = std::max(r, std::hypot(x, y));
@@ -59,6 +59,18 @@ Status Scene::AddHumanoid(const HumanoidModel& model, const Pose2D& pose,
   return Status::Ok();
 }
 
+Status Scene::AddMeshRobot(std::shared_ptr<const MeshBvh> body, const Pose2D& pose,
+                           const std::string& name) {
+  if (body == nullptr) return MakeError(ErrorCode::kInvalidArgument, "mesh robot has no body");
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.theta)) {
+    return MakeError(ErrorCode::kInvalidArgument, "mesh robot pose must be finite");
+  }
+  Pose2D p = pose;
+  p.theta = NormalizeAngle(p.theta);
+  mesh_robots_.push_back(PlacedMeshRobot{std::move(body), p, name});
+  return Status::Ok();
+}
+
 Status Scene::AddClutter(const Primitive& primitive_ground) {
   if (!IsFinite(primitive_ground.parent_from_local)) {
     return MakeError(ErrorCode::kInvalidArgument,
@@ -90,7 +102,12 @@ Status Scene::AddRandomClutter(int count, std::uint64_t seed, const ClutterOptio
   std::vector<Disc> humanoid_discs;
   for (const PlacedHumanoid& h : humanoids_) {
     humanoid_discs.push_back(
-        {Eigen::Vector2d(h.pose.x, h.pose.y), HumanoidFootprintRadius(h.model)});
+        {Eigen::Vector2d(h.pose.x, h.pose.y), FootprintRadius(h.model.bounds())});
+    taken.push_back(humanoid_discs.back());
+  }
+  for (const PlacedMeshRobot& m : mesh_robots_) {
+    humanoid_discs.push_back(
+        {Eigen::Vector2d(m.pose.x, m.pose.y), FootprintRadius(m.body->bounds())});
     taken.push_back(humanoid_discs.back());
   }
   for (const Primitive& c : clutter_) {

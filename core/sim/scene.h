@@ -2,12 +2,14 @@
 #define HPOSE_CORE_SIM_SCENE_H_
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/common/pose2d.h"
 #include "core/common/status.h"
 #include "core/sim/humanoid_model.h"
+#include "core/sim/mesh_bvh.h"
 #include "core/sim/primitive.h"
 
 namespace hpose {
@@ -30,6 +32,14 @@ struct PlacedHumanoid {
   std::string preset;  // joint preset name, empty when posed otherwise.
 };
 
+// A robot given as a triangle mesh in its template frame (e.g. posed from a URDF), standing
+// in the scene at `pose`.
+struct PlacedMeshRobot {
+  std::shared_ptr<const MeshBvh> body;  // never null once added.
+  Pose2D pose;                          // robot (template) frame in the ground frame.
+  std::string name;                     // e.g. the robot's or the joint set's name.
+};
+
 // What the simulator renders: the floor (plane z = 0 of the ground frame), humanoids and
 // clutter, all in the ground frame (metres).
 class Scene final {
@@ -43,26 +53,32 @@ class Scene final {
   // (kInvalidArgument) on a non-finite pose.
   Status AddHumanoid(const HumanoidModel& model, const Pose2D& pose,
                      const std::string& preset = "");
+  // Adds a mesh robot (its mesh in the template frame, feet on z = 0). Fails
+  // (kInvalidArgument) on a null body or a non-finite pose.
+  Status AddMeshRobot(std::shared_ptr<const MeshBvh> body, const Pose2D& pose,
+                      const std::string& name = "");
   // Adds one clutter object given in the ground frame. Fails (kInvalidArgument) on a
   // non-finite pose or a size that is not positive and finite (at most 10 m).
   Status AddClutter(const Primitive& primitive_ground);
   // Adds `count` objects standing on the floor: the first is a ball, the others boxes and
   // upright cylinders of random size and yaw, drawn from `seed` (the same seed gives the same
-  // objects). They never overlap a humanoid or each other. Fails with kInvalidArgument (count
-  // outside [0, 100], bad options) or kFailedPrecondition when there is no room left, naming
-  // how many could be placed (the scene then holds those).
+  // objects). They never overlap a humanoid, a mesh robot or each other. Fails with
+  // kInvalidArgument (count outside [0, 100], bad options) or kFailedPrecondition when there is no
+  // room left, naming how many could be placed (the scene then holds those).
   Status AddRandomClutter(int count, std::uint64_t seed, const ClutterOptions& options = {});
 
   const std::vector<PlacedHumanoid>& humanoids() const { return humanoids_; }
+  const std::vector<PlacedMeshRobot>& mesh_robots() const { return mesh_robots_; }
   const std::vector<Primitive>& clutter() const { return clutter_; }
 
-  // Every solid object as a list of primitives in the ground frame: one entry per humanoid
-  // (in order), then one per clutter primitive.
+  // Every solid object made of primitives as a list in the ground frame: one entry per
+  // humanoid (in order), then one per clutter primitive. Mesh robots are not included.
   std::vector<std::vector<Primitive>> ObjectsInGround() const;
 
  private:
   bool has_floor_ = true;
   std::vector<PlacedHumanoid> humanoids_;
+  std::vector<PlacedMeshRobot> mesh_robots_;
   std::vector<Primitive> clutter_;
 };
 

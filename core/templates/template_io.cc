@@ -42,6 +42,20 @@ class ScopedMuteStreams {
   std::streambuf* err_;
 };
 
+// OcTree::writeBinary's file, written without the progress text ("Writing ... done.") that the
+// installed liboctomap prints on stderr: the maximum-likelihood, pruned tree after OctoMap's
+// binary header.
+bool WriteOctreeBinary(octomap::OcTree* tree, std::ostream& out) {
+  tree->toMaxLikelihood();
+  tree->prune();
+  out << "# Octomap OcTree binary file\n"
+      << "# (feel free to add / change comments, but leave the first line as it is!)\n#\n"
+      << "id " << tree->getTreeType() << "\nsize " << tree->size() << "\nres "
+      << tree->getResolution() << "\ndata\n";
+  if (tree->getRoot() != nullptr) tree->writeBinaryNode(out, tree->getRoot());
+  return static_cast<bool>(out);
+}
+
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -191,8 +205,7 @@ Status SaveTemplate(const VoxelTemplate& tpl, const std::string& bt_path) {
   // The tree first, then the sidecar: each is renamed into place only when complete.
   Status st = WriteAtomically(bt_path, [&tree](const std::string& temp) -> Status {
     std::ofstream out(temp, std::ios::binary);
-    ScopedMuteStreams mute;
-    if (!out || !tree.writeBinary(out) || !out.flush()) {
+    if (!out || !WriteOctreeBinary(&tree, out) || !out.flush()) {
       return MakeError(ErrorCode::kInternal, temp + ": cannot write the OctoMap tree");
     }
     return Status::Ok();

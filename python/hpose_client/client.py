@@ -69,6 +69,10 @@ class PoseClient:
         options = [
             ("grpc.max_receive_message_length", max_message_bytes),
             ("grpc.max_send_message_length", max_message_bytes),
+            # No read-ahead: a stream read more slowly than the daemon publishes gets the newest
+            # estimate instead of tens of older ones held by the transport (docs/API.md).
+            ("grpc.http2.bdp_probe", 0),
+            ("grpc.http2.lookahead_bytes", 1),
         ]
         self._channel = grpc.insecure_channel(address, options=options)
         self._stub = pb_grpc.PoseServiceStub(self._channel)
@@ -118,11 +122,30 @@ class PoseClient:
         finally:
             call.cancel()
 
-    def estimate_depth(self, depth_mm, width, height, fx, fy, cx, cy, templates=(),
-                       timeout=10.0):
-        """Estimates one depth frame: `depth_mm` is a sequence (or bytes, little-endian uint16)
-        of width*height millimetre values, row-major; intrinsics in pixels."""
-        if isinstance(depth_mm, (bytes, bytearray)):
+    def estimate_depth(self, depth_mm, width=None, height=None, fx=None, fy=None, cx=None,
+                       cy=None, templates=(), timeout=10.0):
+        """Estimates one depth frame, millimetres (0 = no reading), intrinsics in pixels.
+
+        `depth_mm` is a 2-D array (numpy or anything with .shape and .astype, rows first:
+        shape (height, width)); width and height may then be left out. Or a flat sequence of
+        width*height values, or bytes (little-endian uint16), both row-major with width and
+        height given. fx, fy, cx, cy are required."""
+        if None in (fx, fy, cx, cy):
+            raise ValueError("estimate_depth needs the intrinsics fx, fy, cx, cy (pixels)")
+        shape = getattr(depth_mm, "shape", None)
+        if shape is not None and len(shape) == 2:
+            rows, cols = int(shape[0]), int(shape[1])
+            if (width is not None and width != cols) or (height is not None and height != rows):
+                raise ValueError("depth array is %dx%d (width x height) but width=%s, height=%s"
+                                 % (cols, rows, width, height))
+            width, height = cols, rows
+            data = depth_mm.astype("<u2").tobytes()
+        elif shape is not None and len(shape) != 1:
+            raise ValueError("depth array must be 2-D (height, width) or flat, got shape %s"
+                             % (tuple(shape),))
+        elif width is None or height is None:
+            raise ValueError("width and height are required with a flat depth sequence")
+        elif isinstance(depth_mm, (bytes, bytearray)):
             data = bytes(depth_mm)
         else:
             values = array.array("H", depth_mm)

@@ -357,6 +357,9 @@ TEST(DaemonFinishedRecordingTest, LastEstimateIsStaleWithTheReason) {
   EXPECT_TRUE(latest.estimate().stale());
   EXPECT_NE(latest.estimate().stale_reason().find("finished"), std::string::npos)
       << latest.estimate().stale_reason();
+  // Said once: "source finished: DIR: end of recording", not "source finished: source ...".
+  EXPECT_EQ(latest.estimate().stale_reason().find("finished: source finished"), std::string::npos)
+      << latest.estimate().stale_reason();
   (*daemon)->Shutdown();
   std::filesystem::remove_all(dir);
 }

@@ -30,6 +30,8 @@ TEST(DeviceReconnectTest, LostDeviceIsRetriedWhileTheDaemonServes) {
   DaemonConfig config;
   config.grpc.listen = "127.0.0.1:0";
   config.source.path = "openni2://";
+  // The camera's own intrinsics (OpenNI2 would only give a field of view).
+  config.source.intrinsics = dir + "/intrinsics.json";
   config.source.frame_timeout_s = 1.0;
   config.source.reconnect_initial_backoff_s = 0.2;
   config.source.reconnect_max_backoff_s = 0.8;
@@ -78,6 +80,18 @@ TEST(DeviceReconnectTest, LostDeviceIsRetriedWhileTheDaemonServes) {
     std::this_thread::sleep_for(50ms);
   }
   EXPECT_TRUE(resumed);
+  // 4. Estimates after the reconnection carry a new source epoch: the device's clock restarted.
+  {
+    grpc::ClientContext ctx;
+    ctx.set_deadline(std::chrono::system_clock::now() + 60s);
+    v1::GetLatestRequest request;
+    request.set_after_sequence(8);  // the device was unplugged after 8 frames.
+    v1::GetLatestResponse latest;
+    grpc::Status s = stub->GetLatest(&ctx, request, &latest);
+    ASSERT_TRUE(s.ok()) << s.error_message();
+    EXPECT_GE(latest.estimate().source_epoch(), 1u);
+    EXPECT_FALSE(latest.estimate().has_error()) << latest.estimate().error().message();
+  }
   (*daemon)->Shutdown();
   std::filesystem::remove_all(dir);
 }

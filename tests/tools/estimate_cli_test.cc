@@ -42,18 +42,19 @@ TEST_F(EstimateCliTest, FindsTheSimulatedHumanoidInJson) {
                               *dir_);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json j = nlohmann::json::parse(run.out);
-  ASSERT_TRUE(j["humanoid_found"].get<bool>());
-  const nlohmann::json& d = j["detections"][0];
-  EXPECT_EQ(d["template"], "standing");
-  EXPECT_NEAR(d["x"].get<double>(), 1.2, 0.03);
-  EXPECT_NEAR(d["y"].get<double>(), -0.1, 0.03);
-  EXPECT_LT(std::abs(AngleDiff(d["theta"].get<double>(), DegToRad(40))), DegToRad(6));
-  EXPECT_GT(d["score"].get<double>(), 50.0);
-  EXPECT_LE(d["score"].get<double>(), 100.0);
-  for (const char* stage : {"cloud", "floor", "clustering", "search", "total"}) {
-    EXPECT_GE(j["timings_ms"][stage].get<double>(), 0.0) << stage;
+  const nlohmann::json& r = j.at("depth_template");
+  ASSERT_TRUE(r.at("humanoid_found").get<bool>());
+  const nlohmann::json& c = r.at("detections").at(0).at("best");
+  EXPECT_EQ(c.at("template_name"), "standing");
+  EXPECT_NEAR(c.at("pose").at("x").get<double>(), 1.2, 0.03);
+  EXPECT_NEAR(c.at("pose").at("y").get<double>(), -0.1, 0.03);
+  EXPECT_LT(std::abs(AngleDiff(c.at("pose").at("theta").get<double>(), DegToRad(40))), DegToRad(6));
+  EXPECT_GT(c.at("score").get<double>(), 50.0);
+  EXPECT_LE(c.at("score").get<double>(), 100.0);
+  for (const char* stage : {"cloud", "floor", "cluster", "search", "total"}) {
+    EXPECT_GE(j.at("timings").at(stage).get<double>(), 0.0) << stage;
   }
-  EXPECT_NEAR(j["floor"]["height"].get<double>(), 0.34, 0.02);
+  EXPECT_NEAR(r.at("floor").at("height").get<double>(), 0.34, 0.02);
 }
 
 TEST_F(EstimateCliTest, CloudInputAndPaperSearchAgree) {
@@ -61,8 +62,8 @@ TEST_F(EstimateCliTest, CloudInputAndPaperSearchAgree) {
       RunHpose("estimate --cloud '" + Frame("cloud.pcd") + "' --search paper --json", *dir_);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json j = nlohmann::json::parse(run.out);
-  EXPECT_EQ(j["search"], "paper");
-  EXPECT_NEAR(j["detections"][0]["x"].get<double>(), 1.2, 0.04);
+  EXPECT_NEAR(j.at("depth_template").at("best").at("best").at("pose").at("x").get<double>(), 1.2,
+              0.04);
 }
 
 TEST_F(EstimateCliTest, HumanReadableOutputAndPicture) {

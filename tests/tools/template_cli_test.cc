@@ -23,6 +23,7 @@ TEST(TemplateCliTest, GenerateThenInfo) {
   const CliRun gen =
       RunHpose("template generate --pose right_arm_raised --name arm --out '" + bt + "'", dir);
   ASSERT_EQ(gen.exit_code, 0) << gen.err;
+  EXPECT_EQ(gen.err.find("done."), std::string::npos) << "library chatter on stderr: " << gen.err;
   const Result<VoxelTemplate> tpl = LoadTemplate(bt);
   ASSERT_TRUE(tpl.ok()) << tpl.error().ToString();
   EXPECT_EQ(tpl->name, "arm");

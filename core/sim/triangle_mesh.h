@@ -1,0 +1,50 @@
+#ifndef HPOSE_CORE_SIM_TRIANGLE_MESH_H_
+#define HPOSE_CORE_SIM_TRIANGLE_MESH_H_
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/sim/primitive.h"
+
+namespace hpose {
+
+// A plain triangle soup with shared vertices (metres, in whatever frame its owner states).
+// Triangles index `vertices`; the winding is not relied upon.
+struct TriangleMesh {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+
+  bool empty() const { return triangles.empty(); }
+  // Appends `other` mapped by this_from_other.
+  void Append(const TriangleMesh& other,
+              const Eigen::Isometry3d& this_from_other = Eigen::Isometry3d::Identity());
+  // Maps every vertex by new_from_this.
+  void Transform(const Eigen::Isometry3d& new_from_this);
+  // Axis-aligned bounds of the vertices used by triangles (empty box for an empty mesh).
+  Eigen::AlignedBox3d Bounds() const;
+  // True when every vertex is finite and every index is within range.
+  bool IsValid() const;
+};
+
+// A closed triangle surface approximating a primitive (in the primitive's parent frame): boxes
+// exactly, spheres, cylinders and capsules as inscribed polyhedra whose edges are at most
+// about `max_edge_m` long (at least 12 segments around). max_edge_m must be positive (asserts).
+TriangleMesh TessellatePrimitive(const Primitive& primitive, double max_edge_m);
+
+// Deterministic points on every triangle: a barycentric lattice fine enough that no two
+// neighbouring lattice points are more than `spacing_m` apart, vertices included, so even tiny
+// or thin triangles are sampled. spacing_m must be positive (asserts).
+std::vector<Eigen::Vector3f> SampleMeshSurface(const TriangleMesh& mesh, double spacing_m);
+
+// Exact surface voxelisation: the centres of every cubic cell of edge `resolution_m`
+// (cell = floor(p / resolution), as MakeTemplateFromPoints) whose interior a triangle meets
+// (separating-axis test), so no cell touched by the surface is missed, however small or thin
+// the triangles. Surfaces lying exactly on a cell face count for one side only. Unique and
+// sorted (by z, then y, then x). resolution_m must be positive (asserts).
+std::vector<Eigen::Vector3f> VoxelizeMeshSurface(const TriangleMesh& mesh, double resolution_m);
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SIM_TRIANGLE_MESH_H_

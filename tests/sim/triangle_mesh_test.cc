@@ -1,0 +1,155 @@
+#include "core/sim/triangle_mesh.h"
+
+#include <cmath>
+#include <random>
+#include <set>
+#include <tuple>
+
+#include <gtest/gtest.h>
+
+#include "core/sim/mesh_bvh.h"
+
+namespace hpose {
+namespace {
+
+std::set<std::tuple<int, int, int>> Cells(const std::vector<Eigen::Vector3f>& points, double res) {
+  std::set<std::tuple<int, int, int>> cells;
+  for (const Eigen::Vector3f& p : points) {
+    cells.emplace(static_cast<int>(std::floor(p.x() / res)),
+                  static_cast<int>(std::floor(p.y() / res)),
+                  static_cast<int>(std::floor(p.z() / res)));
+  }
+  return cells;
+}
+
+// Random triangles of all sizes, from slivers far below the voxel size to large ones.
+TriangleMesh RandomTriangles(int count, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> pos(-0.2f, 0.2f);
+  std::uniform_real_distribution<float> size(-1.0f, 1.0f);
+  TriangleMesh mesh;
+  for (int i = 0; i < count; ++i) {
+    const float scale = std::pow(10.0f, -3.0f + 2.5f * (i % 7) / 6.0f);  // 1 mm .. 0.3 m
+    const Eigen::Vector3f a(pos(rng), pos(rng), pos(rng));
+    const Eigen::Vector3f b = a + scale * Eigen::Vector3f(size(rng), size(rng), size(rng));
+    const Eigen::Vector3f c = a + scale * Eigen::Vector3f(size(rng), size(rng), size(rng)) * 0.1f *
+                                      static_cast<float>(1 + i % 10);
+    const int n = static_cast<int>(mesh.vertices.size());
+    mesh.vertices.insert(mesh.vertices.end(), {a, b, c});
+    mesh.triangles.emplace_back(n, n + 1, n + 2);
+  }
+  return mesh;
+}
+
+TEST(TriangleMeshTest, VoxelisationHitsEveryVoxelADenseSamplingHits) {
+  const double res = 0.016;
+  const TriangleMesh mesh = RandomTriangles(150, 3);
+  const auto exact = Cells(VoxelizeMeshSurface(mesh, res), res);
+  const auto dense = Cells(SampleMeshSurface(mesh, res / 50.0), res);
+  for (const auto& c : dense) {
+    EXPECT_TRUE(exact.count(c)) << std::get<0>(c) << "," << std::get<1>(c) << "," << std::get<2>(c);
+  }
+  // The exact set adds only cells the surface merely clips (between dense samples).
+  EXPECT_LE(exact.size(), dense.size() + dense.size() / 20);
+  // Centres are unique and in the cells they name.
+  const std::vector<Eigen::Vector3f> centres = VoxelizeMeshSurface(mesh, res);
+  EXPECT_EQ(centres.size(), exact.size());
+}
+
+TEST(TriangleMeshTest, SamplingCoversTinyTrianglesAndKeepsSpacing) {
+  TriangleMesh tiny;
+  tiny.vertices = {{0.0f, 0.0f, 0.0f}, {1e-4f, 0.0f, 0.0f}, {0.0f, 1e-4f, 0.0f}};
+  tiny.triangles = {{0, 1, 2}};
+  EXPECT_EQ(SampleMeshSurface(tiny, 0.004).size(), 3u);
+  TriangleMesh big;
+  big.vertices = {{0.0f, 0.0f, 0.0f}, {0.1f, 0.0f, 0.0f}, {0.0f, 0.1f, 0.0f}};
+  big.triangles = {{0, 1, 2}};
+  // The longest edge (0.1414 m) in 36 steps of at most 4 mm: 37 * 38 / 2 lattice points.
+  EXPECT_EQ(SampleMeshSurface(big, 0.004).size(), 703u);
+}
+
+TEST(TriangleMeshTest, SurfaceOnACellFaceBelongsToTheCellAbove) {
+  // A square on z = 0 (a sole on the floor) gives voxels with z in [0, res) only.
+  TriangleMesh floor;
+  floor.vertices = {
+      {0.0f, 0.0f, 0.0f}, {0.09f, 0.0f, 0.0f}, {0.09f, 0.09f, 0.0f}, {0.0f, 0.09f, 0.0f}};
+  floor.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const std::vector<Eigen::Vector3f> v = VoxelizeMeshSurface(floor, 0.02);
+  EXPECT_EQ(v.size(), 25u);
+  for (const Eigen::Vector3f& c : v) EXPECT_NEAR(c.z(), 0.01, 1e-6);
+}
+
+TEST(TriangleMeshTest, TessellatedPrimitivesMatchTheirShapes) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(0.3, -0.1, 0.2);
+  const Primitive shapes[] = {
+      Primitive::Box("b", Eigen::Vector3d(0.2, 0.1, 0.3), pose),
+      Primitive::Sphere("s", 0.07, Eigen::Vector3d(0.1, 0.2, 0.3)),
+      Primitive::Cylinder("c", 0.05, 0.3, pose),
+      Primitive::Capsule("k", 0.04, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.1, 0.1, 0.2))};
+  for (const Primitive& p : shapes) {
+    const TriangleMesh mesh = TessellatePrimitive(p, 0.005);
+    ASSERT_TRUE(mesh.IsValid());
+    // Vertices on the surface: inside the shape grown by 1 mm, outside it shrunk by 1 mm
+    // (inscribed polyhedra are within max_edge^2 / (8 r) of the surface).
+    for (const Eigen::Vector3f& v : mesh.vertices) {
+      EXPECT_TRUE(p.Contains(v.cast<double>(), -0.001)) << p.name;
+      EXPECT_FALSE(p.Contains(v.cast<double>(), 0.001)) << p.name;
+    }
+    const Eigen::AlignedBox3d mb = mesh.Bounds();
+    const Eigen::AlignedBox3d pb = p.Bounds();
+    EXPECT_LT((mb.min() - pb.min()).cwiseAbs().maxCoeff(), 0.002) << p.name;
+    EXPECT_LT((mb.max() - pb.max()).cwiseAbs().maxCoeff(), 0.002) << p.name;
+  }
+}
+
+TEST(MeshBvhTest, IntersectEqualsBruteForce) {
+  const TriangleMesh mesh = RandomTriangles(2000, 11);
+  Result<std::shared_ptr<const MeshBvh>> bvh = MeshBvh::Build(mesh);
+  ASSERT_TRUE(bvh.ok()) << bvh.error().message;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int hits = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d origin(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d target(0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng));
+    const Eigen::Vector3d dir = (target - origin).normalized();
+    // Reference: every triangle, Moller-Trumbore-free (plane hit + inside test).
+    double best = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      const Eigen::Vector3d a = mesh.vertices[t[0]].cast<double>();
+      const Eigen::Vector3d b = mesh.vertices[t[1]].cast<double>();
+      const Eigen::Vector3d c = mesh.vertices[t[2]].cast<double>();
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      const double nd = n.dot(dir);
+      if (std::abs(nd) < 1e-15) continue;
+      const double t_hit = n.dot(a - origin) / nd;
+      if (!(t_hit > 1e-9) || t_hit >= best) continue;
+      const Eigen::Vector3d p = origin + t_hit * dir;
+      if (n.dot((b - a).cross(p - a)) >= 0 && n.dot((c - b).cross(p - b)) >= 0 &&
+          n.dot((a - c).cross(p - c)) >= 0) {
+        best = t_hit;
+      }
+    }
+    const std::optional<RayHit> hit =
+        (*bvh)->Intersect(origin, dir, 1e-9, std::numeric_limits<double>::infinity());
+    ASSERT_EQ(hit.has_value(), std::isfinite(best)) << i;
+    if (hit) {
+      ++hits;
+      EXPECT_NEAR(hit->t, best, 1e-7) << i;
+      EXPECT_LE(hit->normal.dot(dir), 0.0);
+    }
+  }
+  EXPECT_GT(hits, 500);
+}
+
+TEST(MeshBvhTest, RejectsEmptyAndInvalidMeshes) {
+  EXPECT_FALSE(MeshBvh::Build(TriangleMesh{}).ok());
+  TriangleMesh bad;
+  bad.vertices = {{0, 0, 0}, {1, 0, 0}};
+  bad.triangles = {{0, 1, 2}};
+  EXPECT_FALSE(MeshBvh::Build(bad).ok());
+}
+
+}  // namespace
+}  // namespace hpose

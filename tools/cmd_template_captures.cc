@@ -1,0 +1,483 @@
+// `hpose template from-captures`: a 360 degree template from depth captures of the robot on a
+// turntable (or turned by hand), taken by the fixed sensor that will watch it.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/pose2d.h"
+#include "core/depth/depth_to_cloud.h"
+#include "core/io/atomic_file.h"
+#include "core/io/cloud_io.h"
+#include "core/io/depth_png.h"
+#include "core/io/intrinsics_json.h"
+#include "core/templates/capture_registration.h"
+#include "core/templates/capture_template.h"
+#include "core/templates/capture_views.h"
+#include "core/templates/template_io.h"
+#include "tools/command.h"
+#include "tools/exit_codes.h"
+#include "tools/flag_parser.h"
+
+namespace hpose::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char kCmd[] = "template from-captures";
+
+int UsageError(const std::string& message) {
+  std::cerr << "hpose " << kCmd << ": error: " << message << " (see --help)\n";
+  return kExitUsage;
+}
+
+int Fail(const Error& error) {
+  std::cerr << "hpose " << kCmd << ": " << error.message << "\n";
+  return kExitError;
+}
+
+std::string Fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+  return buf;
+}
+
+bool ParseList(const std::string& text, std::vector<double>* out) {
+  out->clear();
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || end == item.c_str() || *end != '\0' || !std::isfinite(v)) return false;
+    out->push_back(v);
+  }
+  return !out->empty();
+}
+
+std::string Lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+bool IsDepth(const fs::path& p) { return Lower(p.extension().string()) == ".png"; }
+bool IsCloud(const fs::path& p) {
+  const std::string e = Lower(p.extension().string());
+  return e == ".pcd" || e == ".ply";
+}
+
+// The capture files: directories give their depth PNGs (or, without any, their clouds) sorted
+// by name; files are taken in the order given.
+Result<std::vector<fs::path>> CollectCaptureFiles(const std::vector<std::string>& args) {
+  std::vector<fs::path> files;
+  for (const std::string& arg : args) {
+    const fs::path p(arg);
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {
+      std::vector<fs::path> depth, clouds;
+      for (const fs::directory_entry& e : fs::directory_iterator(p, ec)) {
+        if (!e.is_regular_file()) continue;
+        if (IsDepth(e.path())) depth.push_back(e.path());
+        if (IsCloud(e.path())) clouds.push_back(e.path());
+      }
+      std::vector<fs::path>& chosen = depth.empty() ? clouds : depth;
+      if (chosen.empty()) {
+        return MakeError(ErrorCode::kInvalidArgument,
+                         "directory " + arg + " holds no captures (.png depth images, .pcd or " +
+                             ".ply clouds)");
+      }
+      std::sort(chosen.begin(), chosen.end());
+      files.insert(files.end(), chosen.begin(), chosen.end());
+    } else if (fs::exists(p, ec)) {
+      if (!IsDepth(p) && !IsCloud(p)) {
+        return MakeError(ErrorCode::kInvalidArgument,
+                         arg + ": not a capture (expected .png depth, .pcd or .ply)");
+      }
+      files.push_back(p);
+    } else {
+      return MakeError(ErrorCode::kNotFound, arg + ": no such file or directory");
+    }
+  }
+  return files;
+}
+
+Result<CaptureView> LoadCapture(const fs::path& file, const std::string& intrinsics_flag) {
+  CaptureView view;
+  view.name = file.filename().string();
+  if (IsCloud(file)) {
+    Result<PointCloud> cloud = ReadCloud(file.string());
+    if (!cloud.ok()) return cloud.error();
+    view.cloud_sensor = std::move(*cloud);
+    return view;
+  }
+  const std::string k_path =
+      intrinsics_flag.empty() ? (file.parent_path() / "intrinsics.json").string() : intrinsics_flag;
+  Result<Intrinsics> k = ReadIntrinsicsJson(k_path);
+  if (!k.ok()) {
+    return MakeError(k.error().code, view.name + ": intrinsics: " + k.error().message +
+                                         " (pass --intrinsics FILE.json)");
+  }
+  Result<DepthImage> depth = ReadDepthPng(file.string());
+  if (!depth.ok()) return depth.error();
+  DepthToCloudOptions options;
+  options.keep_organised = true;
+  Result<PointCloud> cloud = DepthToCloud(*depth, *k, options);
+  if (!cloud.ok()) return MakeError(cloud.error().code, view.name + ": " + cloud.error().message);
+  view.cloud_sensor = std::move(*cloud);
+  return view;
+}
+
+nlohmann::json Vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+// The registered captures in the template frame, one colour per capture: from above (x up,
+// y left) and from the robot's right side (x right, z up), with the origin, the +x axis and,
+// for a turntable, the axis. Metres to pixels at 1 px = 1.5 mm.
+Status WriteRegistrationPicture(const CaptureRegistration& reg, const CaptureTemplate& tpl,
+                                const std::string& path) {
+  constexpr int kPanel = 480;
+  constexpr double kScale = 1.0 / 0.0015;
+  cv::Mat img(kPanel, 2 * kPanel, CV_8UC3, cv::Scalar(255, 255, 255));
+  const Pose2D& t = tpl.table_from_template;
+  const double c = std::cos(t.theta), s = std::sin(t.theta);
+  auto to_template = [&](double x, double y) {
+    return Eigen::Vector2d(c * (x - t.x) + s * (y - t.y), -s * (x - t.x) + c * (y - t.y));
+  };
+  auto top = [&](const Eigen::Vector2d& p) {
+    return cv::Point(kPanel / 2 - static_cast<int>(p.y() * kScale),
+                     kPanel / 2 - static_cast<int>(p.x() * kScale));
+  };
+  auto side = [&](double x, double z) {
+    return cv::Point(kPanel + kPanel / 2 + static_cast<int>(x * kScale),
+                     kPanel - 30 - static_cast<int>(z * kScale));
+  };
+  const int n = static_cast<int>(reg.views.size());
+  for (int i = 0; i < n; ++i) {
+    cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(static_cast<int>(170.0 * i / n), 230, 200));
+    cv::Mat bgr;
+    cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
+    const cv::Vec3b colour = bgr.at<cv::Vec3b>(0, 0);
+    const Pose2D& g = reg.table_from_ground[i];
+    const double gc = std::cos(g.theta), gs = std::sin(g.theta);
+    for (const Eigen::Vector3f& p : reg.views[i].points) {
+      const Eigen::Vector2d q =
+          to_template(gc * p.x() - gs * p.y() + g.x, gs * p.x() + gc * p.y() + g.y);
+      for (const cv::Point& px : {top(q), side(q.x(), p.z())}) {
+        if (px.x >= 0 && px.y >= 0 && px.x < img.cols && px.y < img.rows) {
+          img.at<cv::Vec3b>(px) = colour;
+        }
+      }
+    }
+    cv::putText(img, reg.views[i].name, cv::Point(8, 16 + 14 * i), cv::FONT_HERSHEY_SIMPLEX, 0.4,
+                cv::Scalar(colour), 1, cv::LINE_AA);
+  }
+  const cv::Scalar black(0, 0, 0), red(0, 0, 220);
+  cv::line(img, cv::Point(kPanel, 0), cv::Point(kPanel, kPanel), cv::Scalar(180, 180, 180));
+  cv::line(img, side(-0.2, 0.0), side(0.2, 0.0), cv::Scalar(150, 150, 150));
+  for (const auto& [from, to] :
+       {std::pair(top({0, 0}), top({0.1, 0})), std::pair(side(0, 0), side(0.1, 0))}) {
+    cv::arrowedLine(img, from, to, red, 2, cv::LINE_AA, 0, 0.2);
+    cv::circle(img, from, 4, red, 2, cv::LINE_AA);
+  }
+  if (reg.motion == CaptureMotion::kTurntable) {
+    cv::drawMarker(img, top(to_template(0.0, 0.0)), black, cv::MARKER_CROSS, 16, 2);
+    cv::putText(img, "axis", top(to_template(0.0, 0.0)) + cv::Point(8, 14),
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+  }
+  cv::putText(img, "from above (template frame, +x up)", cv::Point(8, kPanel - 10),
+              cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+  cv::putText(img, "from the robot's right (+x right, z up)", cv::Point(kPanel + 8, kPanel - 10),
+              cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+  if (!cv::imwrite(path, img)) {
+    return MakeError(ErrorCode::kInternal, "cannot write picture " + path);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+int RunTemplateFromCaptures(int argc, char** argv) {
+  std::string out, name, variant, intrinsics, headings_text, angles_text, origin_name = "centroid";
+  std::string report_path, picture_path;
+  double step_deg = 30.0, resolution = 0.016, table_height = 0.0, front_yaw_deg = 0.0;
+  double max_rms_mm = 6.0, min_inliers = 0.6, axis_search = 0.3, heading_search_deg = 17.0;
+  int front_view = 0;
+  bool turntable = false, drop_bad = false;
+  FlagParser flags(
+      "hpose template from-captures DIR_OR_FILES... --name N --out FILE.bt "
+      "(--turntable [--step-deg D | --angles-deg A,B,...] | --headings-deg A,B,...) "
+      "[--table-height M] [--origin centroid|axis] [--front-view K] [--report FILE.json]",
+      "Makes a 360 degree template from depth captures of the robot standing on a turntable,\n"
+      "or turned by hand, all taken by one fixed sensor (the one that will watch it).\n"
+      "Captures: 16-bit depth PNGs in mm (with intrinsics.json beside them, or --intrinsics)\n"
+      "or .pcd/.ply clouds in the sensor frame; a directory gives its PNGs sorted by name.\n"
+      "\n"
+      "1. Every capture: the floor is fitted (the captures must agree on it: one fixed sensor),\n"
+      "   the objects standing on it are clustered, and the robot is the object at least\n"
+      "   15 cm tall nearest the middle of the image (where the others see it); clutter\n"
+      "   elsewhere does not matter. Points below --table-height + 25 mm are cut with the table.\n"
+      "2. Registration. --turntable: view i is at table angle i * --step-deg (or --angles-deg).\n"
+      "   The turntable axis is calibrated from the captures themselves: its direction is the\n"
+      "   floor normal and its position on the floor is estimated jointly over all views (grid\n"
+      "   search, then point-to-plane least squares). A rotation about a vertical axis cannot\n"
+      "   reveal a translation along it (nor the table's zero angle): the report says so; z = 0\n"
+      "   is the table top instead. --headings-deg (hand-turned): every view gets its own\n"
+      "   x, y, theta on the floor, searched within +-17 deg of its rough heading and refined\n"
+      "   jointly with the others.\n"
+      "3. Every view's residual against the others (point-to-plane RMS, fraction of its\n"
+      "   points with a neighbour within 15 mm) is printed; a view that does not fit (RMS over\n"
+      "   --max-rms-mm or fewer than --min-inliers) stops the command, naming it, unless\n"
+      "   --drop-bad-views leaves it out.\n"
+      "4. Template frame: z = 0 on the table top (floor); origin below the centroid of the\n"
+      "   merged body's voxels (--origin centroid, reproducible on any template of the robot)\n"
+      "   or on the axis (--origin axis); +x = the direction the robot faced in capture K\n"
+      "   (--front-view K, counted from 0 in the order above: it faced the sensor then),\n"
+      "   turned by --front-yaw-deg. Voxels with a single merged point are dropped as noise.");
+  flags.AllowPositional("DIR_OR_FILES");
+  flags.AddString("name", &name, "template name ([A-Za-z0-9_.-])", "N");
+  flags.AddString("out", &out, "template file to write (.bt, with its .json sidecar)", "FILE.bt");
+  flags.AddString("variant", &variant, "shape label, e.g. standing [default: the name]", "V");
+  flags.AddDouble("resolution", &resolution, "voxel edge, metres", "M");
+  flags.AddString("intrinsics", &intrinsics,
+                  "intrinsics of the depth PNGs [default: intrinsics.json beside each]", "FILE");
+  flags.AddBool("turntable", &turntable, "the robot was turned by a turntable");
+  flags.AddDouble("step-deg", &step_deg,
+                  "turntable: table turn between consecutive captures, degrees (CCW from above)",
+                  "D");
+  flags.AddString("angles-deg", &angles_text, "turntable: every capture's table angle, degrees",
+                  "A,B,...");
+  flags.AddString("headings-deg", &headings_text,
+                  "hand-turned: every capture's rough robot heading, degrees (CCW from above)",
+                  "A,B,...");
+  flags.AddDouble("heading-search-deg", &heading_search_deg,
+                  "hand-turned: how far each heading may be off, degrees", "D");
+  flags.AddDouble("axis-search-m", &axis_search,
+                  "turntable: how far the axis may be from the robot's mean position, metres", "M");
+  flags.AddDouble("table-height", &table_height,
+                  "turntable top above the floor, metres (0: the robot stands on the floor)", "M");
+  flags.AddString("origin", &origin_name, "template origin: centroid or axis", "WHERE");
+  flags.AddInt("front-view", &front_view, "capture (from 0) in which the robot faced the sensor",
+               "K");
+  flags.AddDouble("front-yaw-deg", &front_yaw_deg,
+                  "turn the template x axis by this from that direction, degrees", "D");
+  flags.AddDouble("max-rms-mm", &max_rms_mm, "a view fits when its RMS residual is below", "MM");
+  flags.AddDouble("min-inliers", &min_inliers,
+                  "... and this fraction of its points meets another view", "F");
+  flags.AddBool("drop-bad-views", &drop_bad,
+                "leave out captures that do not fit (no floor, no robot, residual too high) "
+                "instead of stopping");
+  flags.AddString("report", &report_path,
+                  "write the calibration, residual table and unobservable directions as JSON",
+                  "FILE.json");
+  flags.AddString("picture", &picture_path,
+                  "draw the registered captures (one colour each) from above and the side, "
+                  "with the template origin, +x and the axis",
+                  "FILE.png");
+  flags.SetEpilog(
+      "examples:\n"
+      "  hpose simulate turntable --out tt --views 12 --step-deg 30\n"
+      "  hpose template from-captures tt --turntable --step-deg 30 --table-height 0.02 \\\n"
+      "      --name my_robot --out my_robot.bt --report my_robot_report.json\n"
+      "  hpose template from-captures a.png b.png c.png d.png --headings-deg 0,90,180,270 \\\n"
+      "      --name my_robot --out my_robot.bt\n"
+      "\nexit status: 0 written, 1 bad captures (the message names them) or cannot write,\n"
+      "2 bad flags");
+  if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
+
+  if (flags.positional().empty()) return UsageError("give the capture files or a directory");
+  if (name.empty()) return UsageError("--name N is required");
+  if (out.empty()) return UsageError("--out FILE.bt is required");
+  const bool hand = !headings_text.empty();
+  if (turntable == hand) {
+    return UsageError("say how the robot was turned: --turntable or --headings-deg");
+  }
+  if (hand && (flags.Seen("step-deg") || !angles_text.empty())) {
+    return UsageError("--step-deg and --angles-deg are for --turntable");
+  }
+  if (!(resolution >= 0.001 && resolution <= 0.5)) {
+    return UsageError("--resolution must be in [0.001, 0.5] m");
+  }
+  if (!(table_height >= 0.0 && table_height <= 1.5)) {
+    return UsageError("--table-height must be in [0, 1.5] m");
+  }
+  if (origin_name != "centroid" && origin_name != "axis") {
+    return UsageError("--origin must be centroid or axis, got '" + origin_name + "'");
+  }
+  if (origin_name == "axis" && hand) return UsageError("--origin axis needs --turntable");
+  if (!(max_rms_mm > 0.0) || !(min_inliers >= 0.0 && min_inliers <= 1.0)) {
+    return UsageError("--max-rms-mm must be > 0 and --min-inliers in [0, 1]");
+  }
+  if (!(axis_search >= 0.0 && axis_search <= 2.0) ||
+      !(heading_search_deg >= 0.0 && heading_search_deg <= 90.0)) {
+    return UsageError("--axis-search-m must be in [0, 2] and --heading-search-deg in [0, 90]");
+  }
+
+  Result<std::vector<fs::path>> files = CollectCaptureFiles(flags.positional());
+  if (!files.ok()) return Fail(files.error());
+  const int n = static_cast<int>(files->size());
+  std::vector<double> angles_deg;
+  if (hand) {
+    if (!ParseList(headings_text, &angles_deg)) {
+      return UsageError("--headings-deg needs comma-separated degrees, got '" + headings_text +
+                        "'");
+    }
+  } else if (!angles_text.empty()) {
+    if (!ParseList(angles_text, &angles_deg)) {
+      return UsageError("--angles-deg needs comma-separated degrees, got '" + angles_text + "'");
+    }
+  } else {
+    for (int i = 0; i < n; ++i) angles_deg.push_back(i * step_deg);
+  }
+  if (static_cast<int>(angles_deg.size()) != n) {
+    return UsageError(std::to_string(angles_deg.size()) + " angles for " + std::to_string(n) +
+                      " captures");
+  }
+  if (front_view < 0 || front_view >= n) {
+    return UsageError("--front-view must be in [0, " + std::to_string(n - 1) + "]");
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  auto progress = [](const std::string& line) { std::cout << "  " << line << "\n" << std::flush; };
+  std::cout << "reading " << n << " captures\n";
+  std::vector<CaptureView> captures;
+  for (const fs::path& f : *files) {
+    Result<CaptureView> v = LoadCapture(f, intrinsics);
+    if (!v.ok()) return Fail(v.error());
+    captures.push_back(std::move(*v));
+  }
+
+  std::cout << "cutting the robot out of every capture\n";
+  CaptureViewOptions view_options;
+  view_options.table_height_m = table_height;
+  view_options.drop_bad_views = drop_bad;
+  Result<CaptureViews> views = ExtractRobotViews(captures, view_options, progress);
+  if (!views.ok()) return Fail(views.error());
+  std::cout << "  common floor: sensor " << Fixed(views->floor.height_m * 1000.0, 0)
+            << " mm above it, pitch " << Fixed(RadToDeg(views->floor.pitch_rad), 2) << " deg, roll "
+            << Fixed(RadToDeg(views->floor.roll_rad), 2) << " deg\n";
+
+  std::cout << "registering the views\n";
+  CaptureRegistrationOptions reg_options;
+  reg_options.motion = hand ? CaptureMotion::kHandTurned : CaptureMotion::kTurntable;
+  for (const double d : angles_deg) reg_options.angles_rad.push_back(DegToRad(d));
+  reg_options.axis_search_radius_m = axis_search;
+  reg_options.heading_search_rad = DegToRad(heading_search_deg);
+  reg_options.max_rms_m = max_rms_mm / 1000.0;
+  reg_options.min_inlier_fraction = min_inliers;
+  reg_options.drop_bad_views = drop_bad;
+  Result<CaptureRegistration> reg = RegisterCaptureViews(*views, reg_options, progress);
+  if (!reg.ok()) return Fail(reg.error());
+
+  std::cout << "view residuals (point-to-plane against the neighbouring views):\n";
+  for (const ViewResidual& r : reg->residuals) {
+    char line[256];
+    std::snprintf(line, sizeof(line), "  %-24s %s %7.1f deg  RMS %4.1f mm  %5.1f%% inliers  %s\n",
+                  r.name.c_str(), hand ? "heading" : "table", RadToDeg(r.angle_rad),
+                  r.rms_m * 1000.0, r.inlier_fraction * 100.0,
+                  r.dropped ? "DROPPED" : (r.fits ? "ok" : "does not fit"));
+    std::cout << line;
+  }
+  for (const DroppedView& d : views->dropped) {
+    std::cout << "  " << d.name << ": DROPPED (" << d.reason << ")\n";
+  }
+
+  CaptureTemplateOptions tpl_options;
+  tpl_options.name = name;
+  tpl_options.variant = variant;
+  tpl_options.resolution_m = resolution;
+  tpl_options.origin =
+      origin_name == "axis" ? TemplateOrigin::kAxis : TemplateOrigin::kVoxelCentroid;
+  tpl_options.front_view = front_view;
+  tpl_options.front_yaw_rad = DegToRad(front_yaw_deg);
+  tpl_options.source = "hpose template from-captures (" + std::to_string(reg->views.size()) + " " +
+                       (hand ? "hand-turned" : "turntable") + " captures, origin " + origin_name +
+                       ", front view " + std::to_string(front_view) + ")";
+  Result<CaptureTemplate> tpl = MakeCaptureTemplate(*reg, tpl_options);
+  if (!tpl.ok()) return Fail(tpl.error());
+  if (Status s = SaveTemplate(tpl->tpl, out); !s.ok()) return Fail(s.error());
+
+  if (!report_path.empty()) {
+    nlohmann::json report = {{"format", "hpose-capture-report"},
+                             {"version", 1},
+                             {"motion", hand ? "hand_turned" : "turntable"},
+                             {"template", out},
+                             {"captures", n}};
+    report["floor"] = {{"plane_sensor",
+                        {views->floor.plane_sensor[0], views->floor.plane_sensor[1],
+                         views->floor.plane_sensor[2], views->floor.plane_sensor[3]}},
+                       {"height_m", views->floor.height_m},
+                       {"pitch_rad", views->floor.pitch_rad},
+                       {"roll_rad", views->floor.roll_rad}};
+    if (!hand) {
+      const Eigen::Isometry3d sensor_from_ground = views->floor.ground_from_sensor.inverse();
+      report["axis"] = {
+          {"ground", {{"x", reg->axis_ground.x()}, {"y", reg->axis_ground.y()}}},
+          {"sensor",
+           {{"point_on_floor",
+             Vec3(sensor_from_ground *
+                  Eigen::Vector3d(reg->axis_ground.x(), reg->axis_ground.y(), 0.0))},
+            {"direction", Vec3(reg->axis_direction_sensor)}}},
+          {"conditioning", reg->axis_conditioning},
+          {"estimated", "position on the floor (x, y); direction = the floor normal"}};
+    }
+    report["unobservable"] = reg->unobservable;
+    report["views"] = nlohmann::json::array();
+    for (const ViewResidual& r : reg->residuals) {
+      report["views"].push_back({{"file", r.name},
+                                 {"angle_rad", r.angle_rad},
+                                 {"rms_m", r.rms_m},
+                                 {"inlier_fraction", r.inlier_fraction},
+                                 {"points", r.points},
+                                 {"fits", r.fits},
+                                 {"dropped", r.dropped}});
+    }
+    for (const DroppedView& d : views->dropped) {
+      report["views"].push_back({{"file", d.name}, {"dropped", true}, {"reason", d.reason}});
+    }
+    report["template_frame"] = {{"origin", origin_name},
+                                {"front_view", front_view},
+                                {"front_yaw_rad", DegToRad(front_yaw_deg)},
+                                {"table_from_template",
+                                 {{"x", tpl->table_from_template.x},
+                                  {"y", tpl->table_from_template.y},
+                                  {"theta", tpl->table_from_template.theta}}},
+                                {"z", "0 on the table top (the floor when --table-height is 0)"},
+                                {"voxels", tpl->tpl.voxels.size()},
+                                {"noise_voxels_dropped", tpl->noise_voxels_dropped},
+                                {"merged_points", tpl->merged_points}};
+    if (Status s = WriteFileAtomically(report_path, report.dump(2) + "\n"); !s.ok()) {
+      return Fail(s.error());
+    }
+  }
+  if (!picture_path.empty()) {
+    if (Status s = WriteRegistrationPicture(*reg, *tpl, picture_path); !s.ok()) {
+      return Fail(s.error());
+    }
+    std::cout << "drew " << picture_path << "\n";
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!hand) {
+    std::cout << "turntable axis: x " << Fixed(reg->axis_ground.x() * 1000.0, 1) << " mm, y "
+              << Fixed(reg->axis_ground.y() * 1000.0, 1)
+              << " mm on the floor (ground frame), along the floor normal; not observable: "
+                 "translation along the axis and the table's zero angle\n";
+  }
+  std::cout << "wrote " << out << " and " << TemplateSidecarPath(out) << ": '" << name << "', "
+            << tpl->tpl.voxels.size() << " voxels of " << Fixed(resolution * 1000.0, 1)
+            << " mm, height " << Fixed(tpl->tpl.Height() * 1000.0, 0) << " mm from "
+            << reg->views.size() << " captures";
+  if (!report_path.empty()) std::cout << "; report " << report_path;
+  std::cout << " (" << Fixed(seconds, 1) << " s)\n";
+  return kExitOk;
+}
+
+}  // namespace hpose::tools

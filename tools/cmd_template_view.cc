@@ -1,0 +1,131 @@
+// `hpose template show` and `hpose template info`: look at a template before trusting it.
+#include <cstdio>
+#include <iostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/templates/template_io.h"
+#include "core/templates/template_shape.h"
+#include "core/templates/voxel_template.h"
+#include "tools/command.h"
+#include "tools/exit_codes.h"
+#include "tools/flag_parser.h"
+#include "tools/template_picture.h"
+
+namespace hpose::tools {
+namespace {
+
+int UsageError(const std::string& sub, const std::string& message) {
+  std::cerr << "hpose template " << sub << ": error: " << message << " (see --help)\n";
+  return kExitUsage;
+}
+
+std::string Fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+  return buf;
+}
+
+const char kAsymmetryHelp[] =
+    "Asymmetry: orthographic depth images of the voxels are compared cell by cell (a cell\n"
+    "matches when both images have a surface there within one voxel of depth); the number is\n"
+    "the share of occupied cells that do not match. front/back: the robot facing the sensor vs\n"
+    "facing away (small: 180-degree flips are likely); left/right sides: its left side vs its\n"
+    "right side (small: +-90-degree flips); mirror: the front view vs its mirror image (0 for a\n"
+    "left/right symmetric robot, whose left and right arms cannot be told apart).";
+
+}  // namespace
+
+int TemplateInfo(int argc, char** argv) {
+  bool json = false;
+  FlagParser flags(
+      "hpose template info FILE.bt [--json]",
+      std::string("Prints a template's name, variant, source, resolution, voxel count,\n"
+                  "height, widths, bounding box (template frame) and asymmetry.\n\n") +
+          kAsymmetryHelp);
+  flags.AllowPositional("FILE.bt");
+  flags.AddBool("json", &json, "print one JSON object (SI units) instead of text");
+  if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
+  if (flags.positional().size() != 1) return UsageError("info", "give exactly one FILE.bt");
+  Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
+  if (!tpl.ok()) return ReportError("template info", tpl.error());
+  const TemplateShape s = DescribeTemplate(*tpl);
+  if (json) {
+    nlohmann::ordered_json j;
+    j["file"] = flags.positional().front();
+    j["name"] = tpl->name;
+    j["variant"] = tpl->variant;
+    j["source"] = tpl->source;
+    j["resolution_m"] = tpl->resolution_m;
+    j["voxels"] = s.voxels;
+    j["height_m"] = s.height_m;
+    j["width_x_m"] = s.width_x_m;
+    j["width_y_m"] = s.width_y_m;
+    j["min_m"] = {s.min.x(), s.min.y(), s.min.z()};
+    j["max_m"] = {s.max.x(), s.max.y(), s.max.z()};
+    j["front_back_difference"] = s.front_back_difference;
+    j["left_right_difference"] = s.left_right_difference;
+    j["mirror_difference"] = s.mirror_difference;
+    std::cout << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  auto mm = [](double v) { return Fixed(v * 1000.0, 0); };
+  std::cout << "name:        " << tpl->name << "\n"
+            << "variant:     " << tpl->variant << "\n"
+            << "source:      " << tpl->source << "\n"
+            << "resolution:  " << Fixed(tpl->resolution_m * 1000.0, 1) << " mm\n"
+            << "voxels:      " << s.voxels << "\n"
+            << "height:      " << mm(s.height_m) << " mm\n"
+            << "widths:      x (front-back) " << mm(s.width_x_m) << " mm, y (left-right) "
+            << mm(s.width_y_m) << " mm\n";
+  if (s.voxels > 0) {
+    std::cout << "bbox (mm):   x " << mm(s.min.x()) << " .. " << mm(s.max.x()) << ", y "
+              << mm(s.min.y()) << " .. " << mm(s.max.y()) << ", z " << mm(s.min.z()) << " .. "
+              << mm(s.max.z()) << "\n"
+              << "asymmetry:   front/back " << Fixed(100 * s.front_back_difference, 1)
+              << "%, left/right sides " << Fixed(100 * s.left_right_difference, 1) << "%, mirror "
+              << Fixed(100 * s.mirror_difference, 1) << "% of the views' cells differ\n";
+  }
+  return kExitOk;
+}
+
+int TemplateShow(int argc, char** argv) {
+  std::string picture;
+  TemplatePictureOptions options;
+  FlagParser flags(
+      "hpose template show FILE.bt --picture OUT.png [--distance M --sensor-height M "
+      "--heading-deg D]",
+      "Draws a template: its voxels from the front, from the side (its left) and from above,\n"
+      "shaded by depth (nearer is brighter), and as a level Kinect v1 sees them; the template\n"
+      "frame's origin and axes (x red, y green, z blue) drawn in each view, and the figures of\n"
+      "`hpose template info` underneath.");
+  flags.AllowPositional("FILE.bt");
+  flags.AddString("picture", &picture, "PNG file to write", "OUT.png");
+  flags.AddDouble("distance", &options.sensor_distance_m,
+                  "Kinect view: horizontal distance to the template origin, metres", "M");
+  flags.AddDouble("sensor-height", &options.sensor_height_m,
+                  "Kinect view: optical centre above the floor, metres", "M");
+  flags.AddDouble("heading-deg", &options.heading_deg,
+                  "Kinect view: robot heading, degrees (0 = facing away, 180 = facing the "
+                  "sensor)",
+                  "D");
+  if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
+  if (flags.positional().size() != 1) return UsageError("show", "give exactly one FILE.bt");
+  if (picture.empty()) return UsageError("show", "--picture OUT.png is required");
+  if (!(options.sensor_distance_m >= 0.3 && options.sensor_distance_m <= 10.0)) {
+    return UsageError("show", "--distance must be in [0.3, 10] m");
+  }
+  if (!(options.sensor_height_m > 0.0 && options.sensor_height_m <= 3.0)) {
+    return UsageError("show", "--sensor-height must be in (0, 3] m");
+  }
+  Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
+  if (!tpl.ok()) return ReportError("template show", tpl.error());
+  if (Status s = WriteTemplatePicture(*tpl, picture, options); !s.ok()) {
+    return ReportError("template show", s.error());
+  }
+  std::cout << "picture " << picture << "\n";
+  return kExitOk;
+}
+
+}  // namespace hpose::tools
