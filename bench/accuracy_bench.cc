@@ -24,40 +24,73 @@
 #include <thread>
 #include <vector>
 
+#include "core/robot/joint_sets.h"
+#include "core/robot/urdf_robot.h"
 #include "core/search/estimator.h"
-#include "core/sim/depth_renderer.h"
+#include "core/sim/frame_simulator.h"
 #include "core/sim/humanoid_model.h"
-#include "core/sim/kinect_noise_model.h"
-#include "core/sim/scene.h"
+#include "core/sim/mesh_bvh.h"
+#include "core/sim/triangle_mesh.h"
 
 namespace {
 
 using namespace hpose;
 
+const char* const kShapes[] = {"standing", "right_arm_raised"};
+
+// A humanoid body: a parametric one (HumanoidDimensions::Variant) or a mesh robot from a URDF,
+// with its two shapes' templates made from its own model.
 struct Body {
   std::string name;
-  HumanoidDimensions dims;
+  std::string variant;                                 // parametric body; empty for a mesh.
+  std::vector<std::shared_ptr<const MeshBvh>> meshes;  // per shape, mesh robots only.
+  std::vector<VoxelTemplate> templates;                // per shape.
 };
 
-// Our Nao-sized model, and a body of other proportions: longer legs, wider shoulders and
-// torso, a bigger head, no battery pack (front and back then differ only by the face and feet).
-std::vector<Body> AllBodies() {
-  std::vector<Body> bodies;
-  bodies.push_back({"nao", HumanoidDimensions{}});
-  HumanoidDimensions v;
-  v.thigh_length_m = 0.150;
-  v.tibia_length_m = 0.150;
-  v.torso_width_m = 0.190;
-  v.shoulder_offset_y_m = 0.125;
-  v.upper_arm_length_m = 0.130;
-  v.forearm_length_m = 0.140;
-  v.head_radius_m = 0.070;
-  v.head_width_m = 0.150;
-  v.pack_depth_m = 0.001;
-  v.pack_width_m = 0.001;
-  v.pack_height_m = 0.001;
-  bodies.push_back({"long_legs", v});
-  return bodies;
+Body ParametricBody(const std::string& variant) {
+  Body b;
+  b.name = variant;
+  b.variant = variant;
+  const HumanoidDimensions dims = HumanoidDimensions::Variant(variant).value();
+  for (const char* shape : kShapes) {
+    const HumanoidModel model = HumanoidModel::FromPreset(shape, dims).value();
+    b.templates.push_back(MakeTemplateFromPoints(model.SampleSurface(0.004).value(), shape, 0.016,
+                                                 shape, "accuracy_bench " + variant)
+                              .value());
+  }
+  return b;
+}
+
+// The Darwin-OP of the shared data (its missing head mesh skipped, as `template from-urdf
+// --allow-missing` does), posed with the joint sets of docs/examples/darwin_op_joints.yaml.
+Result<Body> DarwinBody() {
+  UrdfLoadOptions load;
+  load.allow_missing = true;
+  Result<UrdfRobot> robot = UrdfRobot::Load(
+      std::string(HPOSE_SHARED_DATA_DIR) + "/darwin_op/robots/robotis_op.urdf", load);
+  if (!robot.ok()) return robot.error();
+  Result<std::vector<NamedJointSet>> sets =
+      LoadJointSetsFile(std::string(HPOSE_SOURCE_DIR) + "/docs/examples/darwin_op_joints.yaml");
+  if (!sets.ok()) return sets.error();
+  Body b;
+  b.name = "darwin_op";
+  for (const char* shape : kShapes) {
+    auto set = std::find_if(sets->begin(), sets->end(),
+                            [&](const NamedJointSet& n) { return n.name == shape; });
+    if (set == sets->end()) {
+      return MakeError(ErrorCode::kNotFound, std::string("no joint set '") + shape + "'");
+    }
+    Result<PosedRobot> posed = robot->Pose(set->joints);
+    if (!posed.ok()) return posed.error();
+    Result<std::shared_ptr<const MeshBvh>> bvh = MeshBvh::Build(posed->mesh);
+    if (!bvh.ok()) return bvh.error();
+    b.meshes.push_back(*bvh);
+    Result<VoxelTemplate> tpl =
+        MakeMeshTemplate(posed->mesh, shape, 0.016, shape, "accuracy_bench darwin_op");
+    if (!tpl.ok()) return tpl.error();
+    b.templates.push_back(*tpl);
+  }
+  return b;
 }
 
 struct Mount {
@@ -67,8 +100,6 @@ struct Mount {
 };
 const Mount kMounts[] = {{"level 0.34 m", 0.34, 0.0},
                          {"pitched 0.9 m, 20° down", 0.9, 20.0 * kPi / 180.0}};
-
-const char* const kShapes[] = {"standing", "right_arm_raised"};
 
 struct Outcome {
   bool found = false;  // the right template has a posed candidate on the humanoid's cluster.
@@ -95,6 +126,7 @@ std::vector<Variant> AllVariants() {
   std::vector<Variant> out;
   EstimatorOptions previous = DefaultEstimatorOptions();
   previous.refine.enabled = false;
+  previous.height_check_uses_view = false;
   previous.min_width_ratio = 0.6;
   previous.max_width_ratio = 1.6;
   out.push_back({"previous", previous, false});
@@ -103,6 +135,7 @@ std::vector<Variant> AllVariants() {
   paper.score = ScoreKind::kPaper;
   paper.hit_weight = 1;
   paper.refine.enabled = false;
+  paper.height_check_uses_view = false;
   paper.min_width_ratio = 0.6;
   paper.max_width_ratio = 1.6;
   out.push_back({"paper", paper, false});
@@ -139,28 +172,23 @@ std::vector<std::string> ParseNames(const std::string& s) {
   return out;
 }
 
-VoxelTemplate MakeBodyTemplate(const Body& body, const std::string& shape) {
-  HumanoidModel model =
-      HumanoidModel::Create(body.dims, HumanoidJoints::Preset(shape).value()).value();
-  return MakeTemplateFromPoints(model.SampleSurface(0.004).value(), shape, 0.016, shape,
-                                "accuracy_bench " + body.name)
-      .value();
-}
-
-DepthImage RenderTrial(const Trial& t, const Body& body, int clutter, bool noise_on,
-                       const Intrinsics& intrinsics) {
-  HumanoidModel model =
-      HumanoidModel::Create(body.dims, HumanoidJoints::Preset(kShapes[t.shape]).value()).value();
-  Scene scene;
-  const Pose2D truth{t.distance_m, 0.0, NormalizeAngle(t.theta_deg * kPi / 180.0)};
-  scene.AddHumanoid(model, truth, kShapes[t.shape]);
-  if (clutter > 0) scene.AddRandomClutter(clutter, 1000 + t.seed);  // best effort.
-  const Mount& m = kMounts[t.mount];
-  const FloorEstimate mount = FloorEstimate::FromHeightPitchRoll(m.height_m, m.pitch_rad, 0.0);
-  DepthRenderer renderer = DepthRenderer::Create(intrinsics, mount).value();
-  if (!noise_on) return renderer.Render(scene);
-  KinectNoiseModel noise = KinectNoiseModel::Create(KinectNoiseOptions{}).value();
-  return renderer.Render(scene, &noise, 7919 * t.seed + 13);
+Result<DepthImage> RenderTrial(const Trial& t, const Body& body, int clutter, bool noise_on) {
+  FrameSpec spec;
+  spec.preset = kShapes[t.shape];
+  if (body.meshes.empty()) {
+    spec.body = body.variant;
+  } else {
+    spec.robot_mesh = body.meshes[t.shape];
+  }
+  spec.humanoid_pose = Pose2D{t.distance_m, 0.0, NormalizeAngle(t.theta_deg * kPi / 180.0)};
+  spec.sensor_height_m = kMounts[t.mount].height_m;
+  spec.sensor_pitch_rad = kMounts[t.mount].pitch_rad;
+  spec.clutter = clutter;
+  spec.seed = 1000 + t.seed;
+  spec.noise = noise_on;
+  Result<SimulatedFrame> frame = SimulateFrame(spec);
+  if (!frame.ok()) return frame.error();
+  return frame->depth;
 }
 
 Outcome Evaluate(const Estimate& e, const Trial& t) {
@@ -231,11 +259,21 @@ int main(int argc, char** argv) {
       return a == "--help" ? 0 : 2;
     }
   }
+  auto wanted = [&](const std::string& name) {
+    return body_filter.empty() ||
+           std::find(body_filter.begin(), body_filter.end(), name) != body_filter.end();
+  };
   std::vector<Body> bodies;
-  for (const Body& b : AllBodies()) {
-    if (body_filter.empty() ||
-        std::find(body_filter.begin(), body_filter.end(), b.name) != body_filter.end()) {
-      bodies.push_back(b);
+  for (const char* variant : {"nao", "long_legs"}) {
+    if (wanted(variant)) bodies.push_back(ParametricBody(variant));
+  }
+  if (wanted("darwin_op")) {
+    Result<Body> darwin = DarwinBody();
+    if (darwin.ok()) {
+      bodies.push_back(*darwin);
+    } else {
+      std::fprintf(stderr, "accuracy_bench: skipping darwin_op (%s)\n",
+                   darwin.error().message.c_str());
     }
   }
   std::vector<Variant> variants;
@@ -250,11 +288,9 @@ int main(int argc, char** argv) {
   // Each body's two templates, with and without their surface points.
   std::vector<std::vector<VoxelTemplate>> with_surface(bodies.size()), centres(bodies.size());
   for (size_t b = 0; b < bodies.size(); ++b) {
-    for (const char* shape : kShapes) {
-      with_surface[b].push_back(MakeBodyTemplate(bodies[b], shape));
-      centres[b].push_back(with_surface[b].back());
-      centres[b].back().surface.clear();
-    }
+    with_surface[b] = bodies[b].templates;
+    centres[b] = bodies[b].templates;
+    for (VoxelTemplate& t : centres[b]) t.surface.clear();
   }
 
   std::vector<Trial> trials;
@@ -283,7 +319,7 @@ int main(int argc, char** argv) {
                variants.size(), threads);
 
   const Intrinsics intrinsics = Intrinsics::KinectV1(640, 480);
-  std::atomic<size_t> next{0}, done{0};
+  std::atomic<size_t> next{0}, done{0}, failed{0};
   auto worker = [&]() {
     // Estimators are used by one thread at a time: each worker has its own.
     std::map<std::pair<int, int>, std::unique_ptr<Estimator>> estimators;  // (variant, body).
@@ -297,10 +333,14 @@ int main(int argc, char** argv) {
     }
     for (size_t i = next++; i < trials.size(); i = next++) {
       Trial& t = trials[i];
-      const DepthImage depth = RenderTrial(t, bodies[t.body], clutter, noise_on, intrinsics);
-      for (size_t v = 0; v < variants.size(); ++v) {
+      const Result<DepthImage> depth = RenderTrial(t, bodies[t.body], clutter, noise_on);
+      if (!depth.ok()) {
+        ++failed;
+        std::fprintf(stderr, "\nsimulate: %s\n", depth.error().message.c_str());
+      }
+      for (size_t v = 0; depth.ok() && v < variants.size(); ++v) {
         Result<Estimate> e =
-            estimators[{static_cast<int>(v), t.body}]->EstimateDepth(depth, intrinsics);
+            estimators[{static_cast<int>(v), t.body}]->EstimateDepth(*depth, intrinsics);
         if (e.ok()) t.by_variant[v] = Evaluate(*e, t);
       }
       const size_t n = ++done;
@@ -317,7 +357,7 @@ int main(int argc, char** argv) {
   std::printf("noise %s, clutter %d, %d seed(s), headings every %d°, distances",
               noise_on ? "on" : "off", clutter, seeds, step_deg);
   for (double d : distances) std::printf(" %.1f", d);
-  std::printf(" m\n");
+  std::printf(" m; %zu frame(s) could not be simulated (counted as misses)\n", failed.load());
 
   // Summary per body and mount, variants side by side.
   std::printf(

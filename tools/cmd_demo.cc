@@ -69,9 +69,8 @@ int RunDemo(int argc, char** argv) {
     if (!mesh.ok()) return ReportError(cmd, mesh.error());
     spec.robot_mesh = *mesh;
     const double resolution = 0.016;
-    Result<VoxelTemplate> tpl =
-        MakeTemplateFromPoints(VoxelizeMeshSurface((*mesh)->mesh(), resolution), "robot",
-                               resolution, "robot", "hpose demo --robot " + robot_urdf);
+    Result<VoxelTemplate> tpl = MakeMeshTemplate((*mesh)->mesh(), "robot", resolution, "robot",
+                                                 "hpose demo --robot " + robot_urdf);
     if (!tpl.ok()) return ReportError(cmd, tpl.error());
     templates->push_back(*tpl);
   }

@@ -139,8 +139,8 @@ int TemplateFromUrdf(int argc, char** argv) {
                                robot_flags.geometry + " geometry, joint set " + set.name +
                                ", reference link " + posed->reference_link + ", " +
                                std::to_string(robot->skipped().size()) + " mesh(es) skipped)";
-    Result<VoxelTemplate> tpl = MakeTemplateFromPoints(VoxelizeMeshSurface(posed->mesh, resolution),
-                                                       tpl_name, resolution, set.name, source);
+    Result<VoxelTemplate> tpl =
+        MakeMeshTemplate(posed->mesh, tpl_name, resolution, set.name, source);
     if (!tpl.ok()) return ReportError(kSub, tpl.error());
     const std::string path =
         to_directory ? (std::filesystem::path(out) / (set.name + ".bt")).string() : out;

@@ -354,7 +354,9 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
     ClusterVoxels voxels;
     ClusterVoxels free;
     const double width = ApparentWidth(c);
-    const double visible_top = top_of_view.HeightAbove(c);
+    const double visible_top = options_.height_check_uses_view
+                                   ? top_of_view.HeightAbove(c)
+                                   : std::numeric_limits<double>::infinity();
     const Observation obs{&c.points, &range, sensor_from_ground};
     for (size_t j = 0; j < templates_.size(); ++j) {
       const TemplateRotations& rot = *rotations_[j];

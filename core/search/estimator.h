@@ -74,6 +74,9 @@ struct EstimatorOptions {
   // robot only up to ~0.75 m at 1 m), the highest point the sensor sees above the cluster.
   // Occlusion from below keeps a cluster's top. Negative disables the check.
   double max_height_ratio_error = 0.25;
+  // false: compare with the template's full height even where the view ends lower (the
+  // previous behaviour, which skipped raised arms cut off by the image top).
+  bool height_check_uses_view = true;
   // Optional checks on the cluster's apparent width (its extent across the line of sight)
   // against [min_width_ratio x the template's narrowest silhouette, max_width_ratio x its
   // widest]. Off by default (negative): they are heuristics that skipped side-on robots; the

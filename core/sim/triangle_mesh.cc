@@ -192,6 +192,17 @@ std::vector<Eigen::Vector3f> SampleMeshSurface(const TriangleMesh& mesh, double 
   return points;
 }
 
+Result<VoxelTemplate> MakeMeshTemplate(const TriangleMesh& mesh, const std::string& name,
+                                       double resolution_m, const std::string& variant,
+                                       const std::string& source) {
+  Result<VoxelTemplate> tpl = MakeTemplateFromPoints(VoxelizeMeshSurface(mesh, resolution_m), name,
+                                                     resolution_m, variant, source);
+  if (!tpl.ok()) return tpl;
+  tpl->surface =
+      ReduceSurfacePoints(SampleMeshSurface(mesh, 0.25 * resolution_m), tpl->SurfaceCellM());
+  return tpl;
+}
+
 std::vector<Eigen::Vector3f> VoxelizeMeshSurface(const TriangleMesh& mesh, double resolution_m) {
   assert(resolution_m > 0.0);
   const double inv = 1.0 / resolution_m;

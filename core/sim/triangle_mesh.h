@@ -1,12 +1,15 @@
 #ifndef HPOSE_CORE_SIM_TRIANGLE_MESH_H_
 #define HPOSE_CORE_SIM_TRIANGLE_MESH_H_
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "core/common/status.h"
 #include "core/sim/primitive.h"
+#include "core/templates/voxel_template.h"
 
 namespace hpose {
 
@@ -44,6 +47,13 @@ std::vector<Eigen::Vector3f> SampleMeshSurface(const TriangleMesh& mesh, double 
 // the triangles. Surfaces lying exactly on a cell face count for one side only. Unique and
 // sorted (by z, then y, then x). resolution_m must be positive (asserts).
 std::vector<Eigen::Vector3f> VoxelizeMeshSurface(const TriangleMesh& mesh, double resolution_m);
+
+// A template of a mesh body (in the template frame): the voxels of VoxelizeMeshSurface and the
+// surface kept from samples a quarter voxel apart (VoxelTemplate::surface), so the search and the
+// refinement see the mesh's sub-voxel shape. Fails as MakeTemplateFromPoints does.
+Result<VoxelTemplate> MakeMeshTemplate(const TriangleMesh& mesh, const std::string& name,
+                                       double resolution_m, const std::string& variant = "",
+                                       const std::string& source = "");
 
 }  // namespace hpose
 

@@ -43,6 +43,11 @@ std::vector<Eigen::Vector3f> CellCentroids(const std::vector<Eigen::Vector3f>& p
 
 }  // namespace
 
+std::vector<Eigen::Vector3f> ReduceSurfacePoints(const std::vector<Eigen::Vector3f>& points,
+                                                 double cell_m) {
+  return CellCentroids(points, cell_m);
+}
+
 std::vector<Eigen::Vector3f> VoxelTemplate::VoxelSurfaceCentroids() const {
   if (surface.empty()) return voxels;
   // Sums per (x, y) column of voxels.

@@ -51,6 +51,11 @@ Result<VoxelTemplate> MakeTemplateFromPoints(const std::vector<Eigen::Vector3f>&
                                              const std::string& variant = "",
                                              const std::string& source = "");
 
+// Surface points reduced to the centroid of the points in each cell of edge `cell_m` (how
+// VoxelTemplate::surface is kept), in cell order. Non-finite points are skipped.
+std::vector<Eigen::Vector3f> ReduceSurfacePoints(const std::vector<Eigen::Vector3f>& points,
+                                                 double cell_m);
+
 }  // namespace hpose
 
 #endif  // HPOSE_CORE_TEMPLATES_VOXEL_TEMPLATE_H_
