@@ -31,6 +31,14 @@ void SetPose2D(const Pose2D& p, v1::Pose2D* out) {
   out->set_theta(p.theta);
 }
 
+void SetFit(const FitSummary& f, v1::Fit* out) {
+  out->set_fit(f.fit);
+  out->set_explained(f.explained);
+  out->set_contradicted(f.contradicted);
+  out->set_fit_sigma(f.fit_sigma);
+  out->set_cost(f.cost);
+}
+
 void CandidateToProto(const Candidate& c, v1::Candidate* out) {
   out->set_template_name(c.template_name);
   out->set_cluster_index(c.cluster_index);
@@ -50,6 +58,16 @@ void CandidateToProto(const Candidate& c, v1::Candidate* out) {
     out->set_runner_up_margin(c.score - c.runner_up_score);
   }
   out->set_poses_evaluated(c.poses_evaluated);
+  SetPose2D(c.lattice_pose, out->mutable_lattice_pose());
+  out->set_refined(c.refined);
+  if (c.refined) {
+    for (int r = 0; r < 3; ++r) {
+      for (int k = 0; k < 3; ++k) out->add_pose_covariance(c.covariance(r, k));
+    }
+  }
+  SetFit(c.fit, out->mutable_fit());
+  if (c.has_runner_up) SetFit(c.runner_up_fit, out->mutable_runner_up_fit());
+  out->set_heading_ambiguous(c.heading_ambiguous);
 }
 
 void DetectionToProto(const Detection& d, v1::Detection* out) {
@@ -57,6 +75,7 @@ void DetectionToProto(const Detection& d, v1::Detection* out) {
   out->set_second_template(d.second_template);
   out->set_template_margin(d.template_margin);
   out->set_is_humanoid(d.is_humanoid);
+  out->set_template_ambiguous(d.template_ambiguous);
 }
 
 Error Invalid(const std::string& message) {
