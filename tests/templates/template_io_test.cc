@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -127,6 +129,77 @@ TEST_F(TemplateIoTest, SaveRejectsWrongExtensionAndKeepsOldFileOnFailure) {
   EXPECT_TRUE(LoadTemplate(Path("keep.bt")).ok());
   // A directory that does not exist: error, no crash.
   EXPECT_FALSE(SaveTemplate(t, Path("no/such/dir/t.bt")).ok());
+}
+
+}  // namespace
+}  // namespace hpose
+
+namespace hpose {
+namespace {
+
+class TemplateSurfaceIoTest : public TemplateIoTest {};
+
+TEST_F(TemplateSurfaceIoTest, SurfacePointsRoundTripToATenthOfAMillimetre) {
+  const VoxelTemplate t = RandomTemplate(3000, 5);
+  ASSERT_FALSE(t.surface.empty());
+  ASSERT_TRUE(SaveTemplate(t, Path("s.bt")).ok());
+  Result<VoxelTemplate> back = LoadTemplate(Path("s.bt"));
+  ASSERT_TRUE(back.ok()) << back.error().ToString();
+  ASSERT_EQ(back->surface.size(), t.surface.size());
+  for (size_t i = 0; i < t.surface.size(); ++i) {
+    EXPECT_LT((back->surface[i] - t.surface[i]).cwiseAbs().maxCoeff(), 0.5e-4 + 1e-7) << i;
+  }
+}
+
+TEST_F(TemplateSurfaceIoTest, VersionOneSidecarsWithoutSurfaceStillLoad) {
+  const VoxelTemplate t = RandomTemplate(500, 6);
+  ASSERT_TRUE(SaveTemplate(t, Path("v1.bt")).ok());
+  std::ofstream(Path("v1.json"))
+      << "{\"format\": \"hpose-template\", \"version\": 1, \"name\": \"old\", \"resolution_m\": "
+         "0.016}\n";
+  Result<VoxelTemplate> back = LoadTemplate(Path("v1.bt"));
+  ASSERT_TRUE(back.ok()) << back.error().ToString();
+  EXPECT_EQ(back->name, "old");
+  EXPECT_TRUE(back->surface.empty());
+  // Without a surface the search and the refinement use the voxel centres.
+  EXPECT_EQ(back->VoxelSurfaceCentroids().size(), back->voxels.size());
+  EXPECT_EQ(&back->SurfaceOrVoxels(), &back->voxels);
+}
+
+TEST_F(TemplateSurfaceIoTest, CorruptSurfaceArraysAreRefusedByName) {
+  const VoxelTemplate t = RandomTemplate(500, 7);
+  for (const std::string& bad :
+       {std::string("[1, 2]"), std::string("[1, 2, \"x\"]"), std::string("{}")}) {
+    ASSERT_TRUE(SaveTemplate(t, Path("c.bt")).ok());
+    std::ofstream(Path("c.json"))
+        << "{\"format\": \"hpose-template\", \"version\": 2, \"resolution_m\": 0.016, "
+           "\"surface_0.1mm\": "
+        << bad << "}\n";
+    Result<VoxelTemplate> back = LoadTemplate(Path("c.bt"));
+    ASSERT_FALSE(back.ok()) << bad;
+    EXPECT_NE(back.error().message.find("surface_0.1mm"), std::string::npos)
+        << back.error().message;
+  }
+}
+
+TEST_F(TemplateSurfaceIoTest, SurfaceCentroidsStayInTheirVoxelColumns) {
+  const VoxelTemplate t = RandomTemplate(4000, 8);
+  const std::vector<Eigen::Vector3f> c = t.VoxelSurfaceCentroids();
+  ASSERT_EQ(c.size(), t.voxels.size());
+  for (size_t i = 0; i < c.size(); ++i) {
+    // Same height as the voxel centre, and across the floor within the voxel's column.
+    EXPECT_FLOAT_EQ(c[i].z(), t.voxels[i].z());
+    EXPECT_LE((c[i].head<2>() - t.voxels[i].head<2>()).cwiseAbs().maxCoeff(),
+              0.5f * t.resolution_m + 1e-6f);
+  }
+  // The surface is the input reduced to half-voxel cells: no two points share a cell.
+  std::set<std::tuple<int, int, int>> cells;
+  for (const Eigen::Vector3f& p : t.surface) {
+    const Eigen::Vector3f q = p / static_cast<float>(t.SurfaceCellM());
+    cells.insert({static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
+                  static_cast<int>(std::floor(q.z()))});
+  }
+  EXPECT_EQ(cells.size(), t.surface.size());
 }
 
 }  // namespace
