@@ -52,7 +52,7 @@ void MixEstimate(std::uint64_t* h, const Estimate& e) {
     Mix(h, values, sizeof values);
     const int ints[] = {c.cluster_index,         c.hits,
                         c.free_space_hits,       c.cluster_voxels,
-                        c.has_runner_up ? 1 : 0, c.score_is_upper_bound ? 1 : 0};
+                        c.has_runner_up ? 1 : 0, c.stopped_below_threshold ? 1 : 0};
     Mix(h, ints, sizeof ints);
   }
   for (const ClusterSummary& s : e.clusters) {
@@ -176,7 +176,7 @@ int Run(int argc, char** argv) {
                 "dump %s frame %zu cluster %d %s: x %.4f y %.4f theta %.4f score %.4f "
                 "hits %d free %d bound %d runner %d %.4f\n",
                 v.name.c_str(), f, c.cluster_index, c.template_name.c_str(), c.pose.x, c.pose.y,
-                c.pose.theta, c.score, c.hits, c.free_space_hits, c.score_is_upper_bound ? 1 : 0,
+                c.pose.theta, c.score, c.hits, c.free_space_hits, c.stopped_below_threshold ? 1 : 0,
                 c.has_runner_up ? 1 : 0, c.runner_up_score);
           }
         }

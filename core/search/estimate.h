@@ -35,9 +35,12 @@ struct Candidate {
   double score = 0.0;       // what the search maximised, 100 * value / cluster voxels (<= 100).
   double coverage = 0.0;    // the paper's score: 100 * cluster voxels covered / cluster voxels.
   int free_space_hits = 0;  // template voxels in observed free space at the pose.
-  // True when the search only proved the score below the threshold: `score` is then an upper
-  // bound of every pose's score and the pose is not set.
-  bool score_is_upper_bound = false;
+  // True when the search stopped once it had proved that no pose reaches the threshold: `pose`
+  // and `score` are then the best pose it evaluated and its exact score (a real pose, not
+  // proven the optimum), `score_upper_bound` bounds every pose's score, and there is no
+  // runner-up.
+  bool stopped_below_threshold = false;
+  double score_upper_bound = 0.0;
   int hits = 0;
   int cluster_voxels = 0;
   bool has_runner_up = false;  // best pose with theta more than 30 deg away.

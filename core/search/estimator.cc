@@ -149,13 +149,14 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
   for (auto& [cluster, cands] : by_cluster) {
     // Posed candidates first, then by refined fit (or score), then by score.
     std::stable_sort(cands.begin(), cands.end(), [](const Candidate* a, const Candidate* b) {
-      if (a->score_is_upper_bound != b->score_is_upper_bound) return !a->score_is_upper_bound;
+      if (a->stopped_below_threshold != b->stopped_below_threshold)
+        return !a->stopped_below_threshold;
       if (a->refined && b->refined && a->fit.fit != b->fit.fit) return a->fit.fit > b->fit.fit;
       return a->score > b->score;
     });
     Detection d;
     d.best = *cands.front();
-    d.is_humanoid = !d.best.score_is_upper_bound && d.best.score >= threshold;
+    d.is_humanoid = !d.best.stopped_below_threshold && d.best.score >= threshold;
     if (cands.size() > 1) {
       const Candidate& second = *cands[1];
       d.second_template = second.template_name;
@@ -412,7 +413,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
       cand.lattice_pose = r.pose;
       cand.score = r.score;
       cand.coverage = r.coverage;
-      cand.score_is_upper_bound = r.below_min_value;
+      cand.stopped_below_threshold = r.below_min_value;
+      cand.score_upper_bound = r.below_min_value ? r.score_upper_bound : r.score;
       cand.free_space_hits = r.free_hits;
       cand.hits = r.hits;
       cand.cluster_voxels = n;

@@ -65,7 +65,8 @@ struct EstimatorOptions {
   // score 60-77 at 1-2 m and clutter of similar height up to about 45 (docs/BENCHMARKS.md).
   double score_threshold = 50.0;
   // true: the exact search stops proving a cluster below the threshold as soon as it has (its
-  // candidate then carries the bound, score_is_upper_bound). false: every candidate's exact
+  // candidate then carries the best pose it evaluated and the bound, stopped_below_threshold).
+  // false: every candidate's exact
   // optimum is computed, however low (slower on clutter).
   bool stop_below_threshold = true;
   // A cluster is searched with a template only when its height is within this fraction of the

@@ -126,6 +126,39 @@ class BranchAndBound {
     }
   }
 
+  // After Next() stopped below min_value: the best pose whose exact value was computed, or
+  // (when none was) the leaf reached by following the highest bound down from the best
+  // remaining node, evaluated exactly. Always a real pose of the lattice with its exact value.
+  BranchAndBoundResult BestEvaluated() {
+    if (!best_exact_.found) {
+      while (!queue_.empty()) {
+        Node n = Unpack(queue_.top());
+        queue_.pop();
+        if (!AnyAllowed(n.itheta, n.tlevel)) continue;
+        // Descend best first until a pose is evaluated.
+        while (!best_exact_.found && (n.tlevel > 0 || n.level > 0)) {
+          const auto size_before = queue_.size();
+          if (n.tlevel > 0 && (n.level == 0 || n.tlevel + 4 >= n.level)) {
+            const int half = 1 << (n.tlevel - 1);
+            Push(n.tlevel - 1, n.itheta, n.level, n.a, n.b);
+            Push(n.tlevel - 1, n.itheta + half, n.level, n.a, n.b);
+          } else {
+            const int half = 1 << (n.level - 1);
+            for (int da : {0, half}) {
+              for (int db : {0, half}) Push(n.tlevel, n.itheta, n.level - 1, n.a + da, n.b + db);
+            }
+          }
+          if (best_exact_.found || queue_.size() == size_before) break;
+          n = Unpack(queue_.top());
+          queue_.pop();
+          if (n.loose) n.value -= eval_.FreePart(n.itheta, n.a, n.b, n.level);
+        }
+        if (best_exact_.found) break;
+      }
+    }
+    return best_exact_;
+  }
+
   void set_allowed(std::vector<bool> allowed) {
     allowed_ = std::move(allowed);
     all_allowed_ = false;
@@ -232,7 +265,13 @@ class BranchAndBound {
     if (!AnyAllowed(itheta, tlevel)) return;
     if (tlevel == 0 && level == 0) {
       ++counters_->poses_evaluated;
-      Enqueue({eval_.Value(rotations_.Get(itheta), a, b), 0, 0, itheta, a, b, false});
+      const int value = eval_.Value(rotations_.Get(itheta), a, b);
+      if (!best_exact_.found || value > best_exact_.value) {
+        best_exact_.found = true;
+        best_exact_.value = value;
+        best_exact_.best = LatticePose{a, b, itheta};
+      }
+      Enqueue({value, 0, 0, itheta, a, b, false});
     } else {
       ++counters_->bounds_evaluated;
       const RotatedTemplate& rot = rotations_.GetBlock(tlevel, itheta);
@@ -250,7 +289,22 @@ class BranchAndBound {
   std::vector<bool> allowed_;
   bool all_allowed_ = true;
   std::priority_queue<PackedNode, std::vector<PackedNode>, PackedLess> queue_;
+  BranchAndBoundResult best_exact_;  // the best exactly evaluated pose so far.
 };
+
+// Fills the result's pose, value, hits and scores from a found lattice pose.
+void SetPose(const BranchAndBoundResult& found, const ColumnOccupancy& occ,
+             const ColumnOccupancy* free, const TemplateRotations& rotations, int n, int n_weighted,
+             SearchResult* result) {
+  const RotatedTemplate& r = rotations.Get(found.best.itheta);
+  result->best = found.best;
+  result->pose = ToPose(rotations.lattice(), found.best);
+  result->value = found.value;
+  result->hits = occ.Hits(r, found.best.ix, found.best.iy);
+  result->free_hits = free != nullptr ? free->Hits(r, found.best.ix, found.best.iy) : 0;
+  result->score = 100.0 * found.value / n_weighted;
+  result->coverage = 100.0 * result->hits / n;
+}
 
 }  // namespace
 
@@ -315,18 +369,12 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   if (best.below_min) {
     result.below_min_value = true;
     result.value_upper_bound = best.upper_bound;
-    result.score = 100.0 * best.upper_bound / n_weighted;
-    return result;
+    result.score_upper_bound = 100.0 * best.upper_bound / n_weighted;
   }
-  if (!best.found) return result;
-  const RotatedTemplate& rb = rotations.Get(best.best.itheta);
-  result.best = best.best;
-  result.pose = ToPose(lattice, best.best);
-  result.value = best.value;
-  result.hits = occ.Hits(rb, best.best.ix, best.best.iy);
-  result.free_hits = free != nullptr ? free->Hits(rb, best.best.ix, best.best.iy) : 0;
-  result.score = 100.0 * best.value / n_weighted;
-  result.coverage = 100.0 * result.hits / n;
+  const BranchAndBoundResult found = best.below_min ? bnb.BestEvaluated() : best;
+  if (!found.found) return result;
+  SetPose(found, occ, free.get(), rotations, n, n_weighted, &result);
+  if (best.below_min) return result;
 
   std::vector<bool> others(lattice.angle_steps, false);
   for (int t = 0; t < lattice.angle_steps; ++t) {

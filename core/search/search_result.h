@@ -24,9 +24,12 @@ struct SearchResult {
   Pose2D runner_up_pose;
   double runner_up_score = 0.0;
   // True when the search proved that no pose reaches SearchProblem::min_value and stopped:
-  // then `value_upper_bound` bounds every pose's value and best/pose/score are not set.
+  // then `value_upper_bound` (and score_upper_bound) bound every pose's value, and best, pose,
+  // value, hits and score are those of the best pose it evaluated exactly (a real pose, not
+  // proven the optimum); the runner-up is not searched.
   bool below_min_value = false;
   int value_upper_bound = 0;
+  double score_upper_bound = 0.0;
   std::int64_t poses_evaluated = 0;   // full score evaluations (bounds not counted).
   std::int64_t bounds_evaluated = 0;  // upper-bound evaluations (branch and bound only).
 };

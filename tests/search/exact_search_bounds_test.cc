@@ -199,6 +199,15 @@ TEST(ExactSearchBoundsTest, DenseFreeSpaceEqualsExhaustiveSearch) {
     EXPECT_TRUE(above.below_min_value) << "seed " << seed;
     EXPECT_GE(above.value_upper_bound, best);
     EXPECT_LT(above.value_upper_bound, problem.min_value);
+    // Stopped below the minimum, it still reports a real pose with its exact value (not a bound,
+    // not an unset pose at the origin).
+    const RotatedTemplate& stopped = rot.Get(above.best.itheta);
+    EXPECT_EQ(above.value, problem.hit_weight * scorer.Hits(stopped, above.best.ix, above.best.iy) -
+                               free_scorer.Hits(stopped, above.best.ix, above.best.iy))
+        << "seed " << seed;
+    EXPECT_LE(above.value, best);
+    EXPECT_GT(above.poses_evaluated, 0);
+    EXPECT_FALSE(above.has_runner_up);
     problem.min_value = best;
     const SearchResult at = search.Search(problem);
     EXPECT_FALSE(at.below_min_value) << "seed " << seed;

@@ -151,3 +151,37 @@ TEST(DemoCliTest, RunsWithoutInput) {
 
 }  // namespace
 }  // namespace hpose
+
+namespace hpose {
+namespace {
+
+// Below the threshold the reported candidates are real poses with their exact scores, never an
+// invented pose at the origin carrying the search's bound (PCL's five-people Kinect frame: no
+// humanoid in it).
+TEST(EstimateBelowThresholdTest, CandidatesAreRealEvaluatedPoses) {
+  const std::string cloud = std::string(HPOSE_SHARED_DATA_DIR) + "/kinect/five_people.pcd";
+  if (!std::filesystem::exists(cloud)) GTEST_SKIP() << "shared data absent: " << cloud;
+  const TempDir dir("below_threshold");
+  const CliRun run = RunHpose("estimate --cloud '" + cloud + "' --json", dir);
+  ASSERT_EQ(run.exit_code, 3) << run.err;  // no humanoid.
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  const nlohmann::json& cands = j["depth_template"]["candidates"];
+  ASSERT_FALSE(cands.empty());
+  for (const nlohmann::json& c : cands) {
+    const double x = c["pose"]["x"], y = c["pose"]["y"], theta = c["pose"]["theta"];
+    EXPECT_FALSE(x == 0.0 && y == 0.0 && theta == 0.0) << c.dump();
+    EXPECT_GT(c["poses_evaluated"].get<long long>(), 0) << c.dump();
+    EXPECT_TRUE(c["stopped_below_threshold"].get<bool>()) << c.dump();
+    EXPECT_LE(c["score"].get<double>(), c["score_upper_bound"].get<double>() + 1e-9);
+    EXPECT_LT(c["score_upper_bound"].get<double>(), 50.0);  // the default threshold.
+    // The pose lies at the cluster it was searched on (within a template's reach).
+    const nlohmann::json& cl = j["depth_template"]["clusters"][c["cluster_index"].get<int>()];
+    EXPECT_LT(
+        std::hypot(x - cl["centroid"]["x"].get<double>(), y - cl["centroid"]["y"].get<double>()),
+        0.6)
+        << c.dump();
+  }
+}
+
+}  // namespace
+}  // namespace hpose
