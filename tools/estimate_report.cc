@@ -1,5 +1,6 @@
 #include "tools/estimate_report.h"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -38,13 +39,26 @@ std::string EstimateToText(const Estimate& e) {
     os << "humanoid  " << c.template_name << " at x " << Fmt("%.3f", c.pose.x) << " m, y "
        << Fmt("%.3f", c.pose.y) << " m, theta " << Fmt("%.1f", RadToDeg(c.pose.theta))
        << " deg, score " << Fmt("%.1f", c.score) << " (cluster " << c.cluster_index << ")\n";
+    if (c.refined) {
+      os << "          refined from the lattice pose (" << Fmt("%.3f", c.lattice_pose.x) << ", "
+         << Fmt("%.3f", c.lattice_pose.y) << ", " << Fmt("%.1f", RadToDeg(c.lattice_pose.theta))
+         << " deg); sigma x " << Fmt("%.1f", 1000.0 * std::sqrt(c.covariance(0, 0))) << " mm, y "
+         << Fmt("%.1f", 1000.0 * std::sqrt(c.covariance(1, 1))) << " mm, theta "
+         << Fmt("%.2f", RadToDeg(std::sqrt(c.covariance(2, 2)))) << " deg; fit "
+         << Fmt("%.1f", c.fit.fit) << "\n";
+    }
     if (c.has_runner_up) {
       os << "          runner-up theta " << Fmt("%.1f", RadToDeg(c.runner_up_pose.theta))
-         << " deg, score " << Fmt("%.1f", c.runner_up_score) << "\n";
+         << " deg, score " << Fmt("%.1f", c.runner_up_score);
+      if (c.refined) os << ", fit " << Fmt("%.1f", c.runner_up_fit.fit);
+      os << (c.heading_ambiguous ? " (AMBIGUOUS: as well supported as the pose; trust neither)"
+                                 : "")
+         << "\n";
     }
     if (!d.second_template.empty()) {
-      os << "          " << d.second_template << " scored " << Fmt("%.1f", d.template_margin)
-         << " lower\n";
+      os << "          " << d.second_template << (c.refined ? " fits " : " scored ")
+         << Fmt("%.1f", d.template_margin) << " lower"
+         << (d.template_ambiguous ? " (AMBIGUOUS: within noise)" : "") << "\n";
     }
   }
   os << "timings   cloud " << Fmt("%.1f", e.timings.cloud_ms) << " ms, floor "
