@@ -249,8 +249,8 @@ int RunEstimateStereo(int argc, char** argv) {
 
 int RunSimulateStereo(int argc, char** argv) {
   StereoSimSequenceSpec spec;
-  std::string out, scenario = "rolling";
-  bool no_distractors = false, no_sway = false;
+  std::string out, scenario = "rolling", rig = "paper";
+  bool no_distractors = false, no_sway = false, hard = false;
   int seed = 1;
   double noise = spec.noise.pixel_noise_sigma;
   FlagParser flags(
@@ -259,8 +259,17 @@ int RunSimulateStereo(int argc, char** argv) {
       "sheet, three blue landmark discs at the paper's positions, an orange ball, optional "
       "distractor colours, with lens distortion, image noise, lighting variation and head sway "
       "while walking. Writes DIR/calibration.yaml (OpenCV), DIR/left/, DIR/right/, "
-      "DIR/frames.csv and DIR/ground_truth.csv (SI units).");
+      "DIR/frames.csv and DIR/ground_truth.csv (SI units). --hard adds what real rigs see: "
+      "carpet texture, vignetting, Bayer sensor noise with demosaicing, JPEG, speckles, "
+      "distractors of the landmark and ball colours (40 % of placements) and occluders over "
+      "part of a landmark (15 %); ground_truth.csv then records the occluded fraction of each "
+      "landmark and the number of same-coloured distractors.");
   flags.AddString("out", &out, "output directory (created)", "DIR");
+  flags.AddString("rig", &rig,
+                  "stereo head: paper (512x240, 70 mm baseline) or vga (640x480, strong "
+                  "k1 k2 p1 p2 k3 distortion, 76 mm baseline); camera flags override it",
+                  "NAME");
+  flags.AddBool("hard", &hard, "realistic sensor and cluttered scenes (see above)");
   flags.AddString("scenario", &scenario,
                   "rolling: ball kicked towards a standing robot; walking: robot walks, ball at "
                   "rest; grid: the paper's grid of robot positions",
@@ -286,6 +295,21 @@ int RunSimulateStereo(int argc, char** argv) {
   flags.AddInt("seed", &seed, "random seed");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::string cmd = "simulate-stereo";
+  if (rig != "paper" && rig != "vga") {
+    std::cerr << "hpose " << cmd << ": --rig must be paper or vga\n";
+    return kExitUsage;
+  }
+  if (rig == "vga") {
+    // The rig's camera, with any camera flag given explicitly kept.
+    const StereoSimCameraOptions given = spec.camera;
+    spec.camera = VgaRigCameraOptions();
+    if (flags.Seen("width")) spec.camera.width = given.width;
+    if (flags.Seen("height")) spec.camera.height = given.height;
+    if (flags.Seen("hfov")) spec.camera.hfov_deg = given.hfov_deg;
+    if (flags.Seen("baseline")) spec.camera.baseline_m = given.baseline_m;
+    if (flags.Seen("head-height")) spec.camera.head_height_m = given.head_height_m;
+    if (flags.Seen("tilt")) spec.camera.head_tilt_deg = given.head_tilt_deg;
+  }
   if (out.empty()) {
     std::cerr << "hpose " << cmd << ": --out is required\n";
     return kExitUsage;
@@ -299,6 +323,10 @@ int RunSimulateStereo(int argc, char** argv) {
   spec.distractors = !no_distractors;
   spec.sway_enabled = !no_sway;
   spec.noise.pixel_noise_sigma = noise;
+  if (hard) {
+    MakeStereoSimHard(&spec);
+    if (flags.Seen("noise")) spec.noise.pixel_noise_sigma = noise;
+  }
   spec.seed = static_cast<std::uint64_t>(seed);
   Status s = WriteStereoSimSequence(spec, out);
   if (!s.ok()) return ReportError(cmd, s.error());
