@@ -89,7 +89,7 @@ void PrintFrameText(const StereoFrameResult& f, const StereoTrackState& t, size_
                   "%7.2f deg)  fit rms %.1f mm",
                   f.robot.x * 1e3, f.robot.y * 1e3, RadToDeg(f.robot.theta), t.robot_frames,
                   t.robot_mean.x * 1e3, t.robot_mean.y * 1e3, RadToDeg(t.robot_mean.theta),
-                  (f.method == RigidFitMethod::kSvd ? f.svd : f.closed_form).rms_residual_m * 1e3);
+                  f.fit().rms_residual_m * 1e3);
     std::cout << buf;
   } else {
     std::cout << "rejected (" << StereoFrameStatusName(f.status) << "): " << f.reason;
@@ -142,7 +142,7 @@ int RunEstimateStereo(int argc, char** argv) {
   flags.AddDouble("fps", &fps, "frame rate when the sequence has no frames.csv", "HZ");
   flags.AddString("options", &options_path,
                   "estimator options (YAML: colours, landmark positions, thresholds)", "FILE");
-  flags.AddString("method", &method, "camera->world fit: svd (default) or closed_form", "NAME");
+  flags.AddString("method", &method, "camera->world fit: svd, closed_form or covariance (default: the options file's)", "NAME");
   flags.AddBool("json", &json, "print one JSON object per frame (SI units) instead of text");
   flags.SetEpilog(
       "exit status: 0 ok; 1 bad input; 2 usage; 3 a single pair gave no robot pose.\n"
@@ -183,14 +183,12 @@ int RunEstimateStereo(int argc, char** argv) {
     options = *loaded;
   }
   if (!method.empty()) {
-    if (method == "svd") {
-      options.method = RigidFitMethod::kSvd;
-    } else if (method == "closed_form") {
-      options.method = RigidFitMethod::kClosedForm;
-    } else {
-      std::cerr << "hpose " << cmd << ": --method must be svd or closed_form\n";
+    auto parsed = ParseRigidFitMethod(method);
+    if (!parsed.ok()) {
+      std::cerr << "hpose " << cmd << ": --method: " << parsed.error().message << "\n";
       return kExitUsage;
     }
+    options.method = *parsed;
   }
   auto estimator = StereoEstimator::Create(*calibration, options);
   if (!estimator.ok()) return ReportError(cmd, estimator.error());

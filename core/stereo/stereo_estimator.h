@@ -5,6 +5,7 @@
 
 #include "core/common/status.h"
 #include "core/stereo/color_segmenter.h"
+#include "core/stereo/landmark_matcher.h"
 #include "core/stereo/rgb_image.h"
 #include "core/stereo/stereo_calibration.h"
 #include "core/stereo/stereo_frame_result.h"
@@ -40,8 +41,27 @@ class StereoEstimator final {
   StereoEstimator(std::unique_ptr<StereoRig> rig, ColorSegmenter segmenter,
                   const StereoMarkerOptions& options);
 
-  void LocateObject(const std::vector<ColorBlob>& left, const std::vector<ColorBlob>& right,
-                    StereoFrameResult* result) const;
+  struct ObjectCandidate {
+    bool found = false;
+    double sigma_m = 0.0;  // triangulation uncertainty of its position.
+  };
+  // Chooses the most ball-like left/right pair of object-coloured blobs and fills the result's
+  // camera-frame object fields (or object_reason).
+  ObjectCandidate LocateObject(const std::vector<ColorBlob>& left,
+                               const std::vector<ColorBlob>& right,
+                               StereoFrameResult* result) const;
+
+  struct LandmarkVisibility {
+    double visible_fraction = 1.0;  // blob area / predicted area, smaller of the two images.
+    std::string note;               // why it is suspect; empty when it looks whole.
+  };
+  // Landmark k of `match` against the disc its fitted pose predicts, and its neighbours.
+  LandmarkVisibility AssessLandmark(const LandmarkMatch& match, int k,
+                                    const std::vector<ColorBlob>& left_landmarks,
+                                    const std::vector<ColorBlob>& right_landmarks,
+                                    const std::vector<ColorBlob>& left_objects,
+                                    const std::vector<ColorBlob>& right_objects, int width,
+                                    int height) const;
 
   std::unique_ptr<StereoRig> rig_;
   ColorSegmenter segmenter_;

@@ -15,8 +15,11 @@ namespace hpose {
 enum class RigidFitMethod {
   kSvd,         // least-squares rotation (Horn/Umeyama); always a proper rotation.
   kClosedForm,  // the paper's appendix; exact without noise, not orthonormal with it.
+  kCovariance,  // maximum likelihood under each landmark's triangulation covariance.
 };
-const char* RigidFitMethodName(RigidFitMethod method);  // "svd" | "closed_form"
+const char* RigidFitMethodName(RigidFitMethod method);  // "svd" | "closed_form" | "covariance"
+// Fails with kInvalidArgument naming the accepted names.
+Result<RigidFitMethod> ParseRigidFitMethod(const std::string& name);
 
 // Options of the stereo-marker estimator; every default lives here.
 struct StereoMarkerOptions {
@@ -45,6 +48,29 @@ struct StereoMarkerOptions {
   double min_camera_height_m = 0.05;
   // The object's left and right blobs must have areas within this factor of each other.
   double max_object_area_ratio = 3.0;
+  // Radius of the landmark discs and of the ball, metres: the blob sizes a distance predicts.
+  double landmark_radius_m = 0.06;
+  double ball_radius_m = 0.035;
+  // Candidate landmarks farther than this from the camera are ignored, metres.
+  double max_landmark_range_m = 6.0;
+  // Noise of a blob centroid, pixels: sets the triangulation covariance and with it the
+  // tolerance of the layout test and the covariance-weighted fit.
+  double centroid_sigma_px = 0.5;
+  // Pairwise landmark distances must match the layout within this plus three sigma, metres.
+  double layout_tolerance_m = 0.03;
+  // A landmark whose blob covers less than this fraction of the area its distance, the fit's
+  // orientation and its size predict (or is touched by another blob or cut by the border) is
+  // taken as partly hidden: its weight in the fit is multiplied by occluded_weight...
+  double occlusion_area_ratio = 0.8;
+  double occluded_weight = 0.05;
+  // ...and below this fraction the frame is rejected (too little of it is visible).
+  double min_visible_fraction = 0.3;
+  // The ball: its blob area within [1/max, max] times the area its distance predicts, its fill
+  // of the bounding box at least min_ball_fill (a disc fills pi/4), and once the pose is known
+  // its centre within max_ball_height_error_m of ball_radius_m above the floor.
+  double max_ball_area_factor = 2.2;
+  double min_ball_fill = 0.55;
+  double max_ball_height_error_m = 0.06;
   RigidFitMethod method = RigidFitMethod::kSvd;
   // Weight each landmark in the least-squares fit by 1 / depth^4 (stereo depth variance grows
   // with depth^4), so that near landmarks count more.
