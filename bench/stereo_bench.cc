@@ -2,7 +2,8 @@
 // position error on a grid of positions grouped by distance to the nearest landmark (the
 // paper's Table 1), object accuracy (robot standing and walking), motion-detection delay and
 // path-prediction error for a kicked ball, the local mode, and frame pairs per second on one
-// core at 512x240 and 640x480. Usage: stereo_bench [--quick]
+// core at 512x240 and 640x480; first the harder frames of both rigs with the three fits side by
+// side. Usage: stereo_bench [--quick] [--hard-only] [--rig=paper|vga]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -190,6 +191,148 @@ void GridAccuracy(bool quick) {
       "closed form mean %.1f / max %.1f mm, %d rejected; object mean %.1f / max %.1f mm\n",
       cal_svd.Mean(), cal_svd.Max(), cal_cf.Mean(), cal_cf.Max(), cal_rejected, cal_object.Mean(),
       cal_object.Max());
+}
+
+// The harder frames (`simulate stereo --hard`) of both rigs: selection among distractors,
+// occlusion handling and the three fits side by side, all from the same Process call (the
+// result carries every fit; the head is recomputed from each).
+void HardFrames(bool quick, const char* only) {
+  struct RigCase {
+    const char* name;
+    StereoSimCameraOptions camera;
+  };
+  const RigCase rigs[] = {{"paper 512x240", StereoSimCameraOptions{}},
+                          {"vga 640x480", VgaRigCameraOptions()}};
+  const double bins[] = {0.0, 1.0, 1.2, 1.5, 1e9};
+  const char* bin_names[] = {"< 1000", "1000-1200", "1200-1500", ">= 1500"};
+  std::printf("\n## Harder frames (carpet, vignetting, Bayer, JPEG, distractors, occluders)\n");
+  for (const RigCase& rig : rigs) {
+    if (only != nullptr && std::strstr(rig.name, only) == nullptr) continue;
+    StereoSimSequenceSpec spec;
+    spec.scenario = StereoSimScenario::kGrid;
+    spec.camera = rig.camera;
+    MakeStereoSimHard(&spec);
+    spec.frames_per_position = quick ? 1 : 3;
+    spec.seed = 21;
+    auto est = MakeEstimator(spec, RigidFitMethod::kSvd);
+    const Eigen::Vector3d head_in_left = 0.5 * est->rig().RightCentreInLeft();
+    Stats err[3][5];  // per method: 4 distance bins + overall.
+    Stats occluded_err[3], object, visible_clear, visible_occluded;
+    int total = 0, posed = 0, with_distractors = 0, occluded_frames = 0, occluded_flagged = 0;
+    int wrong_landmarks = 0, wrong_ball = 0, ball_missing = 0, extra_blob_frames = 0;
+    int cov_better = 0, compared = 0;
+    std::vector<std::string> reasons;
+    Status s = GenerateStereoSimSequence(spec, [&](const StereoSimFrame& f) -> Status {
+      ++total;
+      const StereoSimTruth& t = f.truth;
+      if (t.landmark_color_distractors + t.ball_color_distractors > 0) ++with_distractors;
+      double occluded = 0;
+      for (double o : t.landmark_occluded_fraction) occluded = std::max(occluded, o);
+      if (occluded > 0) ++occluded_frames;
+      auto r = est->Process(f.left, f.right, f.timestamp_s);
+      if (!r.ok()) return r.error();
+      if (r->landmark_blobs_left > 3 || r->landmark_blobs_right > 3) ++extra_blob_frames;
+      if (!r->ok()) {
+        reasons.push_back(std::string(StereoFrameStatusName(r->status)) + ": " + r->reason);
+        return Status::Ok();
+      }
+      ++posed;
+      const Eigen::Isometry3d left_from_world = t.world_from_left.inverse();
+      // The chosen left blob must lie on the true landmark's image (within its radius): a
+      // distractor is at least 0.12 m away on the floor.
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d truth = left_from_world * spec.landmarks_m[k];
+        Eigen::Vector2d px;
+        const double radius_px = 0.06 * spec.camera.width /
+                                 (2 * std::tan(DegToRad(spec.camera.hfov_deg) / 2)) / truth.norm();
+        if (!est->rig().Project(StereoSide::kLeft, truth, &px) ||
+            (px - r->landmark_left_px[k]).norm() > radius_px + 2) {
+          ++wrong_landmarks;
+          std::printf("  frame %d: landmark P%d taken %.1f px from its image\n", f.index, k,
+                      (px - r->landmark_left_px[k]).norm());
+          break;
+        }
+      }
+      bool flagged = false;
+      for (bool d : r->landmark_downweighted) flagged |= d;
+      for (int k = 0; k < 3; ++k) {
+        (t.landmark_occluded_fraction[k] > 0 ? visible_occluded : visible_clear)
+            .Add(r->landmark_visible_fraction[k]);
+      }
+      if (occluded > 0 && flagged) ++occluded_flagged;
+      if (r->object_in_world) {
+        const double e = (r->object_world_m - t.object_world_m).head<2>().norm();
+        if (e > 0.1) {
+          ++wrong_ball;
+          std::printf("  frame %d: ball %.0f mm off, left blob at (%.0f, %.0f)\n", f.index, e * 1e3,
+                      r->object_left_px.x(), r->object_left_px.y());
+        }
+        object.Add(e * 1e3);
+      } else {
+        ++ball_missing;
+      }
+      const int bin = static_cast<int>(
+          std::upper_bound(std::begin(bins), std::end(bins), NearestLandmarkM(spec, t.head)) -
+          std::begin(bins) - 1);
+      const RigidFit* fits[3] = {&r->svd, &r->closed_form, &r->covariance};
+      const bool fit_ok[3] = {true, r->closed_form_ok, r->covariance_ok};
+      double e_method[3] = {0, 0, 0};
+      for (int m = 0; m < 3; ++m) {
+        if (!fit_ok[m]) continue;
+        const Eigen::Vector3d head = fits[m]->rotation * head_in_left + fits[m]->translation;
+        const double e = std::hypot(head.x() - t.head.x, head.y() - t.head.y) * 1e3;
+        err[m][bin].Add(e);
+        err[m][4].Add(e);
+        if (occluded > 0) occluded_err[m].Add(e);
+        e_method[m] = e;
+      }
+      if (fit_ok[1] && fit_ok[2]) {
+        ++compared;
+        cov_better += e_method[2] < e_method[1];
+      }
+      return Status::Ok();
+    });
+    if (!s.ok()) {
+      std::fprintf(stderr, "hard frames: %s\n", s.error().message.c_str());
+      std::exit(1);
+    }
+    std::printf("\n### %s, %d frames (%d positions x %d)\n\n", rig.name, total,
+                total / spec.frames_per_position, spec.frames_per_position);
+    std::printf(
+        "frames with a pose: %d of %d (%.1f %%); frames with same-coloured distractors: %d "
+        "(%.0f %%), with more than 3 landmark-coloured blobs in an image: %d; frames with an "
+        "occluded landmark: %d, of them posed with the landmark down-weighted: %d\n",
+        posed, total, 100.0 * posed / total, with_distractors, 100.0 * with_distractors / total,
+        extra_blob_frames, occluded_frames, occluded_flagged);
+    std::printf(
+        "wrong blob taken as a landmark: %d frames; ball reported > 100 mm from the truth: %d; "
+        "ball not located: %d; ball horizontal error mean %.1f / max %.1f mm\n",
+        wrong_landmarks, wrong_ball, ball_missing, object.Mean(), object.Max());
+    for (const std::string& why : reasons) std::printf("  rejected: %s\n", why.c_str());
+    auto lowest = [](const Stats& st) {
+      return st.v.empty() ? NAN : *std::min_element(st.v.begin(), st.v.end());
+    };
+    std::printf(
+        "visible fraction (blob area / predicted): whole landmarks median %.2f, lowest %.2f; "
+        "partly covered landmarks median %.2f, highest %.2f\n",
+        visible_clear.Median(), lowest(visible_clear), visible_occluded.Median(),
+        visible_occluded.Max());
+    std::printf(
+        "\n| nearest landmark (mm) | frames | SVD 1/z^4 mean / max | closed form mean / max | "
+        "covariance mean / max |\n|---|---|---|---|---|\n");
+    for (int b = 0; b < 5; ++b) {
+      std::printf("| %s | %zu |", b < 4 ? bin_names[b] : "overall", err[0][b].v.size());
+      for (int m = 0; m < 3; ++m) std::printf(" %.1f / %.1f |", err[m][b].Mean(), err[m][b].Max());
+      std::printf("\n");
+    }
+    std::printf("| occluded frames | %zu |", occluded_err[0].v.size());
+    for (int m = 0; m < 3; ++m) {
+      std::printf(" %.1f / %.1f |", occluded_err[m].Mean(), occluded_err[m].Max());
+    }
+    std::printf("\n");
+    std::printf("covariance fit better than the closed form in %d of %d frames\n", cov_better,
+                compared);
+  }
 }
 
 void WalkingAccuracy(bool quick) {
@@ -388,7 +531,15 @@ void Speed(int width, int height, bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  bool quick = false, hard_only = false;
+  const char* rig = nullptr;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+    if (std::strcmp(argv[i], "--hard-only") == 0) hard_only = true;
+    if (std::strncmp(argv[i], "--rig=", 6) == 0) rig = argv[i] + 6;
+  }
+  HardFrames(quick, rig);
+  if (hard_only) return 0;
   GridAccuracy(quick);
   WalkingAccuracy(quick);
   Motion(quick);

@@ -322,7 +322,7 @@ StereoEstimator::ObjectCandidate StereoEstimator::LocateObject(const std::vector
         // In angle, not pixels: pixels need not be square.
         const double aw = w / fx, ah = h / fy;
         const double aspect = std::max(aw, ah) / std::min(aw, ah);
-        if (fill < options_.min_ball_fill || aspect > 1.6) fill_deficit = 1e9;
+        if (fill < options_.min_ball_fill || aspect > options_.max_ball_aspect) fill_deficit = 1e9;
         fill_deficit = std::max(fill_deficit, std::abs(fill - kPi / 4));
       }
       if (fill_deficit >= 1e9) {

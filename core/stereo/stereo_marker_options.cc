@@ -73,6 +73,7 @@ Status ValidateStereoMarkerOptions(const StereoMarkerOptions& o) {
   }
   if (!(o.max_ball_area_factor >= 1)) return bad("max_ball_area_factor must be >= 1");
   if (!(o.min_ball_fill >= 0 && o.min_ball_fill < 1)) return bad("min_ball_fill must be in [0, 1)");
+  if (!(o.max_ball_aspect >= 1)) return bad("max_ball_aspect must be >= 1");
   if (!(o.max_ball_height_error_m > 0)) return bad("max_ball_height_error_m must be > 0");
   if (!(o.robot_region_x_min_m < o.robot_region_x_max_m) ||
       !(o.robot_region_y_min_m < o.robot_region_y_max_m)) {

@@ -61,16 +61,18 @@ struct StereoMarkerOptions {
   // A landmark whose blob covers less than this fraction of the area its distance, the fit's
   // orientation and its size predict (or is touched by another blob or cut by the border) is
   // taken as partly hidden: its weight in the fit is multiplied by occluded_weight...
-  double occlusion_area_ratio = 0.8;
-  double occluded_weight = 0.05;
+  double occlusion_area_ratio = 0.88;
+  double occluded_weight = 0.01;
   // ...and below this fraction the frame is rejected (too little of it is visible).
   double min_visible_fraction = 0.3;
   // The ball: its blob area within [1/max, max] times the area its distance predicts, its fill
-  // of the bounding box at least min_ball_fill (a disc fills pi/4), and once the pose is known
+  // of the bounding box at least min_ball_fill (a disc fills pi/4) and its aspect at most
+  // max_ball_aspect, and once the pose is known
   // its centre within max_ball_height_error_m of ball_radius_m above the floor.
   double max_ball_area_factor = 2.2;
-  double min_ball_fill = 0.55;
-  double max_ball_height_error_m = 0.06;
+  double min_ball_fill = 0.62;
+  double max_ball_aspect = 1.35;  // of its bounding box, in angle (pixels need not be square).
+  double max_ball_height_error_m = 0.03;
   RigidFitMethod method = RigidFitMethod::kSvd;
   // Weight each landmark in the least-squares fit by 1 / depth^4 (stereo depth variance grows
   // with depth^4), so that near landmarks count more.
