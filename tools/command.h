@@ -22,6 +22,8 @@ int RunQuery(int argc, char** argv);
 // Stereo-marker estimator (cmd_stereo.cc). RunSimulateStereo also serves `hpose simulate stereo`.
 int RunEstimateStereo(int argc, char** argv);
 int RunSimulateStereo(int argc, char** argv);
+// Calibration tools (cmd_calibrate.cc): `calibrate stereo`, `calibrate world-from-ground`.
+int RunCalibrate(int argc, char** argv);
 
 }  // namespace hpose::tools
 

@@ -5,6 +5,8 @@
 #include <limits>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 #include "core/stereo/landmark_matcher.h"
 #include "core/stereo/rigid_fit.h"
 
@@ -175,9 +177,13 @@ Result<StereoFrameResult> StereoEstimator::Process(const RgbImage& left, const R
     result.reason = "the optical axis is vertical; the heading is undefined";
     return result;
   }
-  result.robot.x = head.x();
-  result.robot.y = head.y();
-  result.robot.theta = NormalizeAngle(std::atan2(axis.y(), axis.x()));
+  result.head.x = head.x();
+  result.head.y = head.y();
+  result.head.theta = NormalizeAngle(std::atan2(axis.y(), axis.x()));
+  const Eigen::Vector2d reference =
+      Eigen::Vector2d(head.x(), head.y()) +
+      Eigen::Rotation2Dd(result.head.theta) * options_.head_to_reference_m;
+  result.robot = Pose2D{reference.x(), reference.y(), result.head.theta};
   result.camera_height_m = head.z();
   if (result.object_in_camera) {
     const Eigen::Vector3d world_object = fit.rotation * result.object_camera_m + fit.translation;

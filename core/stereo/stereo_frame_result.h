@@ -69,7 +69,10 @@ struct StereoFrameResult {
   // The robot: the stereo head's centre (midpoint of the optical centres) projected onto the
   // floor, heading = the left optical axis projected onto the floor, counter-clockwise from
   // world +x. (The paper's theta = atan(r13 / r23) is measured from world +y instead.)
+  // `robot` is the configured reference point of the robot (options.head_to_reference_m from
+  // the head), `head` the head itself; they coincide by default.
   Pose2D robot;
+  Pose2D head;
   double camera_height_m = 0.0;  // head centre above the floor.
 
   // The object: the most ball-like left/right pair of object-coloured blobs (epipolar match,

@@ -152,6 +152,11 @@ Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path) {
       o.robot_region_x_max_m = v4[1];
       o.robot_region_y_min_m = v4[2];
       o.robot_region_y_max_m = v4[3];
+    } else if (key == "head_to_reference_m") {
+      if (!node.isSeq() || node.size() != 2 || !number(node[0], &o.head_to_reference_m.x()) ||
+          !number(node[1], &o.head_to_reference_m.y())) {
+        return fail(key, "must be [x, y] in metres");
+      }
     } else if (key == "min_blob_area_px") {
       if (!node.isInt()) return fail(key, "must be an integer");
       o.segmentation.min_blob_area_px = static_cast<int>(node);

@@ -73,6 +73,12 @@ struct StereoMarkerOptions {
   double min_ball_fill = 0.62;
   double max_ball_aspect = 1.35;  // of its bounding box, in angle (pixels need not be square).
   double max_ball_height_error_m = 0.03;
+  // The point of the robot reported as its position: by default the head's centre projected
+  // on the floor. Set it to where the head sits relative to the depth template's origin
+  // (below the torso centre), negated, so that both estimators report the same point:
+  // reference = head on the floor + R(heading) * head_to_reference_m (robot frame: x forward,
+  // y left), metres.
+  Eigen::Vector2d head_to_reference_m = Eigen::Vector2d::Zero();
   RigidFitMethod method = RigidFitMethod::kSvd;
   // Weight each landmark in the least-squares fit by 1 / depth^4 (stereo depth variance grows
   // with depth^4), so that near landmarks count more.
@@ -95,7 +101,11 @@ Status ValidateStereoMarkerOptions(const StereoMarkerOptions& options);
 // landmark_color and object_color ([hue_min_deg, hue_max_deg, sat_min, sat_max, val_min,
 // val_max]), min_blob_area_px, max_epipolar_error_px, max_fit_rms_m, ambiguity_ratio,
 // min_triangle_sine, min_camera_height_m, max_object_area_ratio, method ("svd" |
-// "closed_form"), depth_weighted_fit (0/1), robot_region_m ([x_min, x_max, y_min, y_max]). Fails
+// "closed_form" | "covariance"), depth_weighted_fit (0/1), robot_region_m ([x_min, x_max, y_min,
+// y_max]), head_to_reference_m ([x, y]), and the numbers landmark_radius_m, ball_radius_m,
+// max_landmark_range_m, centroid_sigma_px, layout_tolerance_m, occlusion_area_ratio,
+// occluded_weight, min_visible_fraction, max_ball_area_factor, min_ball_fill, max_ball_aspect,
+// max_ball_height_error_m. Fails
 // with kNotFound, kDataLoss or kInvalidArgument naming the key.
 Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path);
 

@@ -61,6 +61,20 @@ TEST_F(StereoEstimatorTest, LocatesRobotLandmarksAndBall) {
   }
 }
 
+TEST_F(StereoEstimatorTest, ReportsTheConfiguredRobotPoint) {
+  StereoMarkerOptions options;
+  options.head_to_reference_m = Eigen::Vector2d(-0.04, 0.01);  // head ahead of the torso.
+  auto est = Make(options);
+  const auto pair = sim_.RenderPair(Pose2D{0.0, -0.9, DegToRad(80)}, HeadSway{}, Scene(), 2);
+  auto r = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(r.ok() && r->ok());
+  EXPECT_NEAR(r->head.x, pair.truth.head.x, 0.015);
+  const double c = std::cos(r->head.theta), s = std::sin(r->head.theta);
+  EXPECT_NEAR(r->robot.x, r->head.x + c * -0.04 - s * 0.01, 1e-9);
+  EXPECT_NEAR(r->robot.y, r->head.y + s * -0.04 + c * 0.01, 1e-9);
+  EXPECT_EQ(r->robot.theta, r->head.theta);
+}
+
 TEST_F(StereoEstimatorTest, ClosedFormMethodGivesTheSamePose) {
   StereoMarkerOptions options;
   options.method = RigidFitMethod::kClosedForm;
