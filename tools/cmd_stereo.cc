@@ -49,6 +49,17 @@ nlohmann::json FrameJson(const StereoFrameResult& f, const StereoTrackState& t, 
       j["closed_form_orthonormality_error"] = f.closed_form.orthonormality_error;
     }
     j["max_epipolar_error_px"] = f.max_epipolar_error_px;
+    j["head"] = {{"x_m", f.head.x}, {"y_m", f.head.y}, {"theta_rad", f.head.theta}};
+    j["landmark_visible_fraction"] = f.landmark_visible_fraction;
+    if (!f.landmark_notes.empty()) j["landmark_notes"] = f.landmark_notes;
+  }
+  j["landmark_candidates"] = f.landmark_candidates;
+  j["landmark_triples"] = f.landmark_triples;
+  if (f.landmark_triples > 0) {
+    j["landmark_best_rms_m"] = f.landmark_best_rms_m;
+    if (std::isfinite(f.landmark_runner_up_rms_m)) {
+      j["landmark_runner_up_rms_m"] = f.landmark_runner_up_rms_m;
+    }
   }
   if (t.robot_valid) {
     j["robot_mean"] = {{"x_m", t.robot_mean.x},
@@ -126,11 +137,15 @@ int RunEstimateStereo(int argc, char** argv) {
   bool json = false;
   FlagParser flags(
       "hpose estimate-stereo --calibration CAL.yaml (--left L.png --right R.png | --sequence DIR)",
-      "Locates the robot (its stereo head projected on the floor) and the ball in the field "
-      "frame of three same-coloured landmarks, from one stereo pair or a sequence directory "
+      "Locates the robot (its stereo head projected on the floor, or the point set by the "
+      "options' head_to_reference_m) and the ball in the field frame of three same-coloured "
+      "landmarks, from one stereo pair or a sequence directory "
       "(layout: DIR/frames.csv or DIR/left/*.png + DIR/right/*.png, optional "
       "DIR/calibration.yaml). Over a sequence it also averages the robot pose over 8 frames, "
-      "detects when the ball starts moving and predicts its straight path.");
+      "detects when the ball starts moving and predicts its straight path. The landmarks are "
+      "chosen among all blobs of their colour by geometry (epipolar match, size for the "
+      "distance, spacing of the known layout), the ball as the most ball-like blob pair; a "
+      "partly hidden landmark is down-weighted, and every rejected frame names its reason.");
   flags.AddStrings("calibration", &calibration_paths,
                    "OpenCV stereo calibration (YAML/XML: M1 D1 M2 D2 R T); give two files for "
                    "separate intrinsics and extrinsics",
@@ -142,7 +157,9 @@ int RunEstimateStereo(int argc, char** argv) {
   flags.AddDouble("fps", &fps, "frame rate when the sequence has no frames.csv", "HZ");
   flags.AddString("options", &options_path,
                   "estimator options (YAML: colours, landmark positions, thresholds)", "FILE");
-  flags.AddString("method", &method, "camera->world fit: svd, closed_form or covariance (default: the options file's)", "NAME");
+  flags.AddString("method", &method,
+                  "camera->world fit: svd, closed_form or covariance (default: the options file's)",
+                  "NAME");
   flags.AddBool("json", &json, "print one JSON object per frame (SI units) instead of text");
   flags.SetEpilog(
       "exit status: 0 ok; 1 bad input; 2 usage; 3 a single pair gave no robot pose.\n"
