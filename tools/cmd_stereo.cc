@@ -232,7 +232,8 @@ int RunEstimateStereo(int argc, char** argv) {
       r = std::move(pair->second);
       t = seq->frame(i).timestamp_s;
     }
-    auto result = (*estimator)->Process(l, r, t);
+    StereoObjectPrior prior;
+    auto result = (*estimator)->Process(l, r, t, tracker.ObjectPrior(&prior) ? &prior : nullptr);
     if (!result.ok()) {
       Error e = result.error();
       e.message = (single ? left + ", " + right : seq->frame(i).left_path) + ": " + e.message;

@@ -62,7 +62,8 @@ StereoEstimator::StereoEstimator(std::unique_ptr<StereoRig> rig, ColorSegmenter 
     : rig_(std::move(rig)), segmenter_(std::move(segmenter)), options_(options) {}
 
 Result<StereoFrameResult> StereoEstimator::Process(const RgbImage& left, const RgbImage& right,
-                                                   double timestamp_s) const {
+                                                   double timestamp_s,
+                                                   const StereoObjectPrior* object_prior) const {
   if (!left.valid() || !right.valid()) {
     return MakeError(ErrorCode::kInvalidArgument,
                      std::string(left.valid() ? "right" : "left") +
@@ -87,7 +88,8 @@ Result<StereoFrameResult> StereoEstimator::Process(const RgbImage& left, const R
   result.method = options_.method;
   const std::vector<std::vector<ColorBlob>> lb = segmenter_.Segment(left);
   const std::vector<std::vector<ColorBlob>> rb = segmenter_.Segment(right);
-  const ObjectCandidate object = LocateObject(lb[kObjectClass], rb[kObjectClass], &result);
+  const std::vector<ObjectCandidate> objects =
+      LocateObject(lb[kObjectClass], rb[kObjectClass], &result);
 
   const std::vector<ColorBlob>& ll = lb[kLandmarkClass];
   const std::vector<ColorBlob>& rl = rb[kLandmarkClass];
@@ -185,21 +187,43 @@ Result<StereoFrameResult> StereoEstimator::Process(const RgbImage& left, const R
       Eigen::Rotation2Dd(result.head.theta) * options_.head_to_reference_m;
   result.robot = Pose2D{reference.x(), reference.y(), result.head.theta};
   result.camera_height_m = head.z();
-  if (result.object_in_camera) {
-    const Eigen::Vector3d world_object = fit.rotation * result.object_camera_m + fit.translation;
-    // The ball rests on (or rolls over) the floor: its centre is about one radius up.
-    const double height_error = std::abs(world_object.z() - options_.ball_radius_m);
-    const double allowed = options_.max_ball_height_error_m + 3.0 * object.sigma_m;
-    if (height_error <= allowed) {
-      result.object_world_m = world_object;
+  if (!objects.empty()) {
+    // Among the ball-like pairs: on the floor (centre about one radius up), and, given a
+    // prior from the track, reachable from where the ball was.
+    const ObjectCandidate* best = nullptr;
+    double best_score = std::numeric_limits<double>::infinity();
+    std::string why_not;
+    for (const ObjectCandidate& c : objects) {
+      const Eigen::Vector3d world_object = fit.rotation * c.camera_m + fit.translation;
+      const double height_error = std::abs(world_object.z() - options_.ball_radius_m);
+      if (height_error > options_.max_ball_height_error_m + 3.0 * c.sigma_m) {
+        if (why_not.empty()) {
+          std::ostringstream why;
+          why.precision(3);
+          why << "the most ball-like blob pair is " << world_object.z() * 1000
+              << " mm above the floor, not a ball of radius " << options_.ball_radius_m * 1000
+              << " mm on it";
+          why_not = why.str();
+        }
+        continue;
+      }
+      double score = c.score;
+      if (object_prior != nullptr) {
+        const double dt = std::max(0.0, timestamp_s - object_prior->timestamp_s);
+        const double reach = 0.05 + 3.0 * c.sigma_m + object_prior->max_speed_mps * dt;
+        score += (world_object - object_prior->world_m).head<2>().norm() / reach;
+      }
+      if (score < best_score) {
+        best_score = score;
+        best = &c;
+        result.object_world_m = world_object;
+      }
+    }
+    if (best != nullptr) {
+      SetObject(*best, &result);
       result.object_in_world = true;
     } else {
-      std::ostringstream why;
-      why.precision(3);
-      why << "the most ball-like blob pair is " << world_object.z() * 1000
-          << " mm above the floor, not a ball of radius " << options_.ball_radius_m * 1000
-          << " mm on it";
-      result.object_reason = why.str();
+      result.object_reason = why_not;
       result.object_in_camera = false;
     }
   } else if (result.object_reason.empty()) {
@@ -275,14 +299,14 @@ StereoEstimator::LandmarkVisibility StereoEstimator::AssessLandmark(
   return v;
 }
 
-StereoEstimator::ObjectCandidate StereoEstimator::LocateObject(const std::vector<ColorBlob>& left,
-                                                               const std::vector<ColorBlob>& right,
-                                                               StereoFrameResult* result) const {
-  ObjectCandidate best;
+std::vector<StereoEstimator::ObjectCandidate> StereoEstimator::LocateObject(
+    const std::vector<ColorBlob>& left, const std::vector<ColorBlob>& right,
+    StereoFrameResult* result) const {
+  std::vector<ObjectCandidate> found;
   if (left.empty() || right.empty()) {
     result->object_reason = std::string("no object-coloured blob in the ") +
                             (left.empty() ? "left" : "right") + " image";
-    return best;
+    return found;
   }
   std::vector<Eigen::Vector2d> lpx, rpx;
   for (const ColorBlob& b : left) lpx.push_back(b.centroid_px);
@@ -291,7 +315,6 @@ StereoEstimator::ObjectCandidate StereoEstimator::LocateObject(const std::vector
   const std::vector<Eigen::Vector2d> rn = rig_->Normalize(StereoSide::kRight, rpx);
   const double fx = rig_->calibration().left.camera_matrix(0, 0);
   const double fy = rig_->calibration().left.camera_matrix(1, 1);
-  double best_score = std::numeric_limits<double>::infinity();
   std::string last_failure = "the object's blobs do not match across the pair";
   for (size_t i = 0; i < left.size(); ++i) {
     for (size_t j = 0; j < right.size(); ++j) {
@@ -336,21 +359,33 @@ StereoEstimator::ObjectCandidate StereoEstimator::LocateObject(const std::vector
             "no round blob pair of the object's colour (the ball-sized ones are not round)";
         continue;
       }
-      const double score = size_error + err / options_.max_epipolar_error_px + 2.0 * fill_deficit;
-      if (score >= best_score) continue;
-      best_score = score;
-      best.found = true;
-      best.sigma_m = std::sqrt(
+      ObjectCandidate c;
+      c.score = size_error + err / options_.max_epipolar_error_px + 2.0 * fill_deficit;
+      c.sigma_m = std::sqrt(
           rig_->TriangulationCovariance(ln[i], rn[j], options_.centroid_sigma_px).trace());
-      result->object_camera_m = p;
-      result->object_left_px = l.centroid_px;
-      result->object_right_px = r.centroid_px;
-      result->object_epipolar_error_px = err;
+      c.camera_m = p;
+      c.left_px = l.centroid_px;
+      c.right_px = r.centroid_px;
+      c.epipolar_px = err;
+      found.push_back(c);
     }
   }
-  result->object_in_camera = best.found;
-  if (!best.found) result->object_reason = last_failure;
-  return best;
+  std::sort(found.begin(), found.end(),
+            [](const ObjectCandidate& a, const ObjectCandidate& b) { return a.score < b.score; });
+  if (found.empty()) {
+    result->object_reason = last_failure;
+  } else {
+    SetObject(found.front(), result);
+  }
+  return found;
+}
+
+void StereoEstimator::SetObject(const ObjectCandidate& c, StereoFrameResult* result) {
+  result->object_in_camera = true;
+  result->object_camera_m = c.camera_m;
+  result->object_left_px = c.left_px;
+  result->object_right_px = c.right_px;
+  result->object_epipolar_error_px = c.epipolar_px;
 }
 
 }  // namespace hpose

@@ -6,6 +6,7 @@
 
 #include "core/stereo/local_marker_estimator.h"
 #include "core/stereo/stereo_scene_simulator.h"
+#include "core/stereo/stereo_tracker.h"
 
 namespace hpose {
 namespace {
@@ -150,6 +151,34 @@ TEST_F(StereoEstimatorTest, BallColouredDistractorsAreNotTheBall) {
   ASSERT_TRUE(r.ok());
   EXPECT_FALSE(r->object_in_world);
   EXPECT_FALSE(r->object_reason.empty());
+}
+
+TEST_F(StereoEstimatorTest, TwinBallsAreToldApartByTheTrack) {
+  auto est = Make();
+  SimScene scene = Scene();  // the ball at (0.3, -0.1).
+  scene.balls.push_back(SimBall{Eigen::Vector3d(-0.3, 0.05, 0.035), 0.035, kSimBallColor});
+  const auto pair = sim_.RenderPair(Pose2D{0.05, -1.0, kPi / 2}, HeadSway{}, scene, 10);
+  for (const Eigen::Vector3d& was :
+       {Eigen::Vector3d(0.28, -0.12, 0.035), Eigen::Vector3d(-0.31, 0.08, 0.035)}) {
+    StereoObjectPrior prior;
+    prior.world_m = was;
+    prior.timestamp_s = 0.9;
+    auto r = est->Process(pair.left, pair.right, 1.0, &prior);
+    ASSERT_TRUE(r.ok());
+    ASSERT_TRUE(r->ok()) << r->reason;
+    ASSERT_TRUE(r->object_in_world) << r->object_reason;
+    EXPECT_LT((r->object_world_m - was).head<2>().norm(), 0.04);
+  }
+  // The tracker hands out the last located position.
+  StereoTracker tracker;
+  StereoObjectPrior prior;
+  EXPECT_FALSE(tracker.ObjectPrior(&prior));
+  auto first = est->Process(pair.left, pair.right, 2.0);
+  ASSERT_TRUE(first.ok() && first->object_in_world);
+  tracker.Update(*first);
+  ASSERT_TRUE(tracker.ObjectPrior(&prior));
+  EXPECT_EQ(prior.timestamp_s, 2.0);
+  EXPECT_EQ(prior.world_m, first->object_world_m);
 }
 
 TEST_F(StereoEstimatorTest, PartlyHiddenLandmarkIsDownWeightedOrRejected) {
