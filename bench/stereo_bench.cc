@@ -287,6 +287,10 @@ void HardFrames(bool quick, const char* only) {
         if (occluded > 0) occluded_err[m].Add(e);
         e_method[m] = e;
       }
+      if (e_method[2] > 50) {
+        std::printf("  frame %d: %.0f mm off (default fit); occluded %.2f; %s\n", f.index,
+                    e_method[2], occluded, r->landmark_notes.c_str());
+      }
       if (fit_ok[1] && fit_ok[2]) {
         ++compared;
         cov_better += e_method[2] < e_method[1];
