@@ -3,7 +3,7 @@
 // paper's Table 1), object accuracy (robot standing and walking), motion-detection delay and
 // path-prediction error for a kicked ball, the local mode, and frame pairs per second on one
 // core at 512x240 and 640x480; first the harder frames of both rigs with the three fits side by
-// side. Usage: stereo_bench [--quick] [--hard-only] [--rig=paper|vga]
+// side. Usage: stereo_bench [--quick] [--hard-only | --speed-only] [--rig=paper|vga]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -561,7 +561,7 @@ void Speed(int width, int height, bool quick) {
   spec.camera.height = height;
   spec.frames = 20;
   spec.seed = 9;
-  auto est = MakeEstimator(spec, RigidFitMethod::kSvd);
+  auto est = MakeEstimator(spec, StereoMarkerOptions().method);
   std::vector<StereoSimFrame> frames;
   GenerateStereoSimSequence(spec, [&](const StereoSimFrame& f) -> Status {
     frames.push_back(f);
@@ -595,20 +595,23 @@ void Speed(int width, int height, bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, hard_only = false;
+  bool quick = false, hard_only = false, speed_only = false;
   const char* rig = nullptr;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) quick = true;
     if (std::strcmp(argv[i], "--hard-only") == 0) hard_only = true;
+    if (std::strcmp(argv[i], "--speed-only") == 0) speed_only = true;
     if (std::strncmp(argv[i], "--rig=", 6) == 0) rig = argv[i] + 6;
   }
-  HardFrames(quick, rig);
-  if (hard_only) return 0;
-  WorldFromGround(quick);
-  GridAccuracy(quick);
-  WalkingAccuracy(quick);
-  Motion(quick);
-  LocalMode(quick);
+  if (!speed_only) {
+    HardFrames(quick, rig);
+    if (hard_only) return 0;
+    WorldFromGround(quick);
+    GridAccuracy(quick);
+    WalkingAccuracy(quick);
+    Motion(quick);
+    LocalMode(quick);
+  }
   std::printf("\n## Speed, one thread (full Process per pair; segmentation = both images)\n\n");
   std::printf(
       "| image | pairs/s | ms/pair | segmentation ms/pair | segmentation share | ok "
