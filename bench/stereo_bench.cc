@@ -3,7 +3,8 @@
 // paper's Table 1), object accuracy (robot standing and walking), motion-detection delay and
 // path-prediction error for a kicked ball, the local mode, and frame pairs per second on one
 // core at 512x240 and 640x480; first the harder frames of both rigs with the three fits side by
-// side. Usage: stereo_bench [--quick] [--hard-only | --speed-only] [--rig=paper|vga]
+// side. Usage: stereo_bench [--quick] [--hard-only | --speed-only] [--rig=paper|vga] [--far]
+// (--far: the harder frames on a grid 1.4-2.0 m from the landmarks instead).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -197,7 +198,7 @@ void GridAccuracy(bool quick) {
 // The harder frames (`simulate stereo --hard`) of both rigs: selection among distractors,
 // occlusion handling and the three fits side by side, all from the same Process call (the
 // result carries every fit; the head is recomputed from each).
-void HardFrames(bool quick, const char* only) {
+void HardFrames(bool quick, const char* only, bool far) {
   struct RigCase {
     const char* name;
     StereoSimCameraOptions camera;
@@ -215,6 +216,10 @@ void HardFrames(bool quick, const char* only) {
     MakeStereoSimHard(&spec);
     spec.frames_per_position = quick ? 1 : 3;
     spec.seed = 21;
+    if (far) {  // 1.4-2.0 m from the nearest landmark.
+      spec.grid_y_min_m = -2.0;
+      spec.grid_y_max_m = -1.4;
+    }
     auto est = MakeEstimator(spec, StereoMarkerOptions().method);  // the default fit.
     const Eigen::Vector3d head_in_left = 0.5 * est->rig().RightCentreInLeft();
     Stats err[3][5];  // per method: 4 distance bins + overall.
@@ -301,8 +306,9 @@ void HardFrames(bool quick, const char* only) {
       std::fprintf(stderr, "hard frames: %s\n", s.error().message.c_str());
       std::exit(1);
     }
-    std::printf("\n### %s, %d frames (%d positions x %d)\n\n", rig.name, total,
-                total / spec.frames_per_position, spec.frames_per_position);
+    std::printf("\n### %s%s, %d frames (%d positions x %d)\n\n", rig.name,
+                far ? ", far grid (y -2.0..-1.4 m)" : "", total, total / spec.frames_per_position,
+                spec.frames_per_position);
     std::printf(
         "frames with a pose: %d of %d (%.1f %%); frames with same-coloured distractors: %d "
         "(%.0f %%), with more than 3 landmark-coloured blobs in an image: %d; frames with an "
@@ -595,16 +601,17 @@ void Speed(int width, int height, bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, hard_only = false, speed_only = false;
+  bool quick = false, hard_only = false, speed_only = false, far = false;
   const char* rig = nullptr;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) quick = true;
     if (std::strcmp(argv[i], "--hard-only") == 0) hard_only = true;
     if (std::strcmp(argv[i], "--speed-only") == 0) speed_only = true;
+    if (std::strcmp(argv[i], "--far") == 0) far = true;
     if (std::strncmp(argv[i], "--rig=", 6) == 0) rig = argv[i] + 6;
   }
   if (!speed_only) {
-    HardFrames(quick, rig);
+    HardFrames(quick, rig, far);
     if (hard_only) return 0;
     WorldFromGround(quick);
     GridAccuracy(quick);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -69,9 +70,9 @@ TEST(StereoCalibratorTest, CalibratesOpenCvSamplePairsAndTheEstimatorReadsTheFil
   // The cameras sit side by side: the right one along the left one's +x.
   EXPECT_LT(report->calibration.right_t_left.x(), 0.0);
 
-  char tmpl[] = "/tmp/hpose_calib_XXXXXX";
-  ASSERT_NE(mkdtemp(tmpl), nullptr);
-  const std::string path = std::string(tmpl) + "/stereo.yaml";
+  std::string tmpl = (std::filesystem::temp_directory_path() / "hpose_calib_XXXXXX").string();
+  ASSERT_NE(mkdtemp(tmpl.data()), nullptr);
+  const std::string path = tmpl + "/stereo.yaml";
   ASSERT_TRUE(WriteStereoCalibrationReport(*report, path).ok());
   auto read = ReadStereoCalibration({path});
   ASSERT_TRUE(read.ok()) << read.error().message;
@@ -106,7 +107,7 @@ TEST(StereoCalibratorTest, CalibratesOpenCvSamplePairsAndTheEstimatorReadsTheFil
     EXPECT_NEAR(sum / n, board.square_m, 0.02 * board.square_m) << v.name;
   }
   std::remove(path.c_str());
-  rmdir(tmpl);
+  rmdir(tmpl.c_str());
 }
 
 TEST(StereoCalibratorTest, TooFewBoardsAndBadInputAreReported) {
