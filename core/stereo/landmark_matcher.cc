@@ -161,6 +161,14 @@ LandmarkMatch MatchLandmarks(const StereoRig& rig, const std::vector<ColorBlob>&
   }
   best.best_rms_m = best_rms;
   best.runner_up_rms_m = runner_up;
+  // The residual limit grows with the chosen landmarks' triangulation uncertainty: far
+  // landmarks fit worse without being wrong.
+  double limit = options.max_fit_rms_m;
+  if (std::isfinite(best_rms)) {
+    double variance = 0;
+    for (int k = 0; k < 3; ++k) variance += best.camera_covariance[k].trace() / 3;
+    limit += options.fit_rms_sigmas * std::sqrt(variance);
+  }
   if (cands.size() < 3) {
     best.status =
         cands.empty() ? StereoFrameStatus::kNoConsistentMatch : StereoFrameStatus::kMissingLandmark;
@@ -178,11 +186,11 @@ LandmarkMatch MatchLandmarks(const StereoRig& rig, const std::vector<ColorBlob>&
     why << (any_collinear ? "the triangulated landmarks are (nearly) collinear"
             : any_outside ? "every labelling of the landmarks puts the robot outside its region"
                           : "no labelling of the landmarks puts the camera above the floor");
-  } else if (best_rms > options.max_fit_rms_m) {
+  } else if (best_rms > limit) {
     best.status = StereoFrameStatus::kPoorFit;
     why << "best landmark fit leaves an RMS residual of " << best_rms * 1000 << " mm (limit "
-        << options.max_fit_rms_m * 1000 << " mm)";
-  } else if (runner_up <= options.max_fit_rms_m && runner_up < options.ambiguity_ratio * best_rms) {
+        << limit * 1000 << " mm at this distance)";
+  } else if (runner_up <= limit && runner_up < options.ambiguity_ratio * best_rms) {
     best.status = StereoFrameStatus::kAmbiguousMatch;
     why << "ambiguous landmark match: best RMS " << best_rms * 1000 << " mm, runner-up "
         << runner_up * 1000 << " mm (" << best.candidate_triples << " candidate triple(s))";

@@ -196,7 +196,7 @@ Result<StereoFrameResult> StereoEstimator::Process(const RgbImage& left, const R
     for (const ObjectCandidate& c : objects) {
       const Eigen::Vector3d world_object = fit.rotation * c.camera_m + fit.translation;
       const double height_error = std::abs(world_object.z() - options_.ball_radius_m);
-      if (height_error > options_.max_ball_height_error_m + 3.0 * c.sigma_m) {
+      if (height_error > options_.max_ball_height_error_m + std::min(3.0 * c.sigma_m, 0.1)) {
         if (why_not.empty()) {
           std::ostringstream why;
           why.precision(3);
@@ -346,8 +346,10 @@ std::vector<StereoEstimator::ObjectCandidate> StereoEstimator::LocateObject(
       double fill_deficit = 0;
       for (const ColorBlob* b : {&l, &r}) {
         const int w = b->max_x - b->min_x + 1, h = b->max_y - b->min_y + 1;
-        if (b->area_px < 30) continue;  // too small to judge its shape.
         const double fill = static_cast<double>(b->area_px) / (w * h);
+        // A round image never fills its bounding box (a disc fills pi/4).
+        if (b->area_px >= 9 && fill > 0.95) fill_deficit = 1e9;
+        if (b->area_px < 30) continue;  // too small to judge its shape further.
         // In angle, not pixels: pixels need not be square.
         const double aw = w / fx, ah = h / fy;
         const double aspect = std::max(aw, ah) / std::min(aw, ah);

@@ -53,6 +53,7 @@ Status ValidateStereoMarkerOptions(const StereoMarkerOptions& o) {
   }
   if (!(o.max_epipolar_error_px > 0)) return bad("max_epipolar_error_px must be > 0");
   if (!(o.max_fit_rms_m > 0)) return bad("max_fit_rms_m must be > 0");
+  if (!(o.fit_rms_sigmas >= 0)) return bad("fit_rms_sigmas must be >= 0");
   if (!(o.ambiguity_ratio >= 1)) return bad("ambiguity_ratio must be >= 1");
   if (!(o.min_triangle_sine >= 0 && o.min_triangle_sine < 0.87)) {
     return bad("min_triangle_sine must be in [0, 0.87)");

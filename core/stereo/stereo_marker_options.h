@@ -37,8 +37,10 @@ struct StereoMarkerOptions {
   // A left/right pairing is plausible only when every pair is within this distance of its
   // epipolar line, pixels.
   double max_epipolar_error_px = 3.0;
-  // Frames whose best fit leaves an RMS landmark residual above this are rejected, metres.
+  // Frames whose best fit leaves an RMS landmark residual above max_fit_rms_m plus
+  // fit_rms_sigmas times the landmarks' RMS triangulation uncertainty are rejected, metres.
   double max_fit_rms_m = 0.04;
+  double fit_rms_sigmas = 2.0;
   // The pairing/labelling is ambiguous (frame rejected) when the runner-up hypothesis fits
   // within this factor of the best one.
   double ambiguity_ratio = 1.5;
