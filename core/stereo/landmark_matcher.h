@@ -41,7 +41,8 @@ struct LandmarkMatch {
 // P0, P1, P2 in every way and fitted (least squares); a naming must put the camera above the
 // floor and the robot in its region. The smallest residual wins; the frame is rejected as
 // ambiguous when another hypothesis fits within options.ambiguity_ratio of it, as a poor fit
-// when even the best exceeds options.max_fit_rms_m, and as missing/no-match otherwise, always
+// when even the best exceeds options.max_fit_rms_m plus options.fit_rms_sigmas times the
+// landmarks' RMS triangulation uncertainty, and as missing/no-match otherwise, always
 // with a reason.
 LandmarkMatch MatchLandmarks(const StereoRig& rig, const std::vector<ColorBlob>& left,
                              const std::vector<ColorBlob>& right,

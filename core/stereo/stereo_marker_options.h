@@ -103,7 +103,8 @@ Status ValidateStereoMarkerOptions(const StereoMarkerOptions& options);
 // Reads options from an OpenCV FileStorage YAML/XML file; keys absent keep their defaults and
 // unknown keys are errors. Keys: landmarks_world_m (3x3 matrix, one landmark per row),
 // landmark_color and object_color ([hue_min_deg, hue_max_deg, sat_min, sat_max, val_min,
-// val_max]), min_blob_area_px, max_epipolar_error_px, max_fit_rms_m, ambiguity_ratio,
+// val_max]), min_blob_area_px, max_epipolar_error_px, max_fit_rms_m, fit_rms_sigmas,
+// ambiguity_ratio,
 // min_triangle_sine, min_camera_height_m, max_object_area_ratio, method ("svd" |
 // "closed_form" | "covariance"), depth_weighted_fit (0/1), robot_region_m ([x_min, x_max, y_min,
 // y_max]), head_to_reference_m ([x, y]), and the numbers landmark_radius_m, ball_radius_m,
