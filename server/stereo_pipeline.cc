@@ -120,8 +120,10 @@ void StereoPipeline::Run() {
         e->error = pair.error();
       } else {
         const Clock::time_point process_start = Clock::now();
+        StereoObjectPrior prior;
         Result<StereoFrameResult> result =
-            estimator_->Process(pair->first, pair->second, entry.timestamp_s);
+            estimator_->Process(pair->first, pair->second, entry.timestamp_s,
+                                tracker_.ObjectPrior(&prior) ? &prior : nullptr);
         e->process_s = Seconds(Clock::now() - process_start);
         if (!result.ok()) {
           e->error = result.error();

@@ -41,7 +41,7 @@ void StereoResultToProto(const StereoFrameResult& f, const StereoTrackState* tra
   out->set_landmark_blobs_right(f.landmark_blobs_right);
   if (f.ok()) {
     SetPose2D(f.robot, out->mutable_robot_pose_world());
-    const RigidFit& fit = f.method == RigidFitMethod::kSvd ? f.svd : f.closed_form;
+    const RigidFit& fit = f.fit();
     const Eigen::Quaterniond q(NearestRotation(fit.rotation));
     v1::Pose3D* cam = out->mutable_camera_in_world();
     SetVector(fit.translation, cam->mutable_position());

@@ -49,6 +49,17 @@ nlohmann::json FrameJson(const StereoFrameResult& f, const StereoTrackState& t, 
       j["closed_form_orthonormality_error"] = f.closed_form.orthonormality_error;
     }
     j["max_epipolar_error_px"] = f.max_epipolar_error_px;
+    j["head"] = {{"x_m", f.head.x}, {"y_m", f.head.y}, {"theta_rad", f.head.theta}};
+    j["landmark_visible_fraction"] = f.landmark_visible_fraction;
+    if (!f.landmark_notes.empty()) j["landmark_notes"] = f.landmark_notes;
+  }
+  j["landmark_candidates"] = f.landmark_candidates;
+  j["landmark_triples"] = f.landmark_triples;
+  if (f.landmark_triples > 0) {
+    j["landmark_best_rms_m"] = f.landmark_best_rms_m;
+    if (std::isfinite(f.landmark_runner_up_rms_m)) {
+      j["landmark_runner_up_rms_m"] = f.landmark_runner_up_rms_m;
+    }
   }
   if (t.robot_valid) {
     j["robot_mean"] = {{"x_m", t.robot_mean.x},
@@ -89,7 +100,7 @@ void PrintFrameText(const StereoFrameResult& f, const StereoTrackState& t, size_
                   "%7.2f deg)  fit rms %.1f mm",
                   f.robot.x * 1e3, f.robot.y * 1e3, RadToDeg(f.robot.theta), t.robot_frames,
                   t.robot_mean.x * 1e3, t.robot_mean.y * 1e3, RadToDeg(t.robot_mean.theta),
-                  (f.method == RigidFitMethod::kSvd ? f.svd : f.closed_form).rms_residual_m * 1e3);
+                  f.fit().rms_residual_m * 1e3);
     std::cout << buf;
   } else {
     std::cout << "rejected (" << StereoFrameStatusName(f.status) << "): " << f.reason;
@@ -126,11 +137,15 @@ int RunEstimateStereo(int argc, char** argv) {
   bool json = false;
   FlagParser flags(
       "hpose estimate-stereo --calibration CAL.yaml (--left L.png --right R.png | --sequence DIR)",
-      "Locates the robot (its stereo head projected on the floor) and the ball in the field "
-      "frame of three same-coloured landmarks, from one stereo pair or a sequence directory "
+      "Locates the robot (its stereo head projected on the floor, or the point set by the "
+      "options' head_to_reference_m) and the ball in the field frame of three same-coloured "
+      "landmarks, from one stereo pair or a sequence directory "
       "(layout: DIR/frames.csv or DIR/left/*.png + DIR/right/*.png, optional "
       "DIR/calibration.yaml). Over a sequence it also averages the robot pose over 8 frames, "
-      "detects when the ball starts moving and predicts its straight path.");
+      "detects when the ball starts moving and predicts its straight path. The landmarks are "
+      "chosen among all blobs of their colour by geometry (epipolar match, size for the "
+      "distance, spacing of the known layout), the ball as the most ball-like blob pair; a "
+      "partly hidden landmark is down-weighted, and every rejected frame names its reason.");
   flags.AddStrings("calibration", &calibration_paths,
                    "OpenCV stereo calibration (YAML/XML: M1 D1 M2 D2 R T); give two files for "
                    "separate intrinsics and extrinsics",
@@ -142,7 +157,9 @@ int RunEstimateStereo(int argc, char** argv) {
   flags.AddDouble("fps", &fps, "frame rate when the sequence has no frames.csv", "HZ");
   flags.AddString("options", &options_path,
                   "estimator options (YAML: colours, landmark positions, thresholds)", "FILE");
-  flags.AddString("method", &method, "camera->world fit: svd (default) or closed_form", "NAME");
+  flags.AddString("method", &method,
+                  "camera->world fit: svd, closed_form or covariance (default: the options file's)",
+                  "NAME");
   flags.AddBool("json", &json, "print one JSON object per frame (SI units) instead of text");
   flags.SetEpilog(
       "exit status: 0 ok; 1 bad input; 2 usage; 3 a single pair gave no robot pose.\n"
@@ -183,14 +200,12 @@ int RunEstimateStereo(int argc, char** argv) {
     options = *loaded;
   }
   if (!method.empty()) {
-    if (method == "svd") {
-      options.method = RigidFitMethod::kSvd;
-    } else if (method == "closed_form") {
-      options.method = RigidFitMethod::kClosedForm;
-    } else {
-      std::cerr << "hpose " << cmd << ": --method must be svd or closed_form\n";
+    auto parsed = ParseRigidFitMethod(method);
+    if (!parsed.ok()) {
+      std::cerr << "hpose " << cmd << ": --method: " << parsed.error().message << "\n";
       return kExitUsage;
     }
+    options.method = *parsed;
   }
   auto estimator = StereoEstimator::Create(*calibration, options);
   if (!estimator.ok()) return ReportError(cmd, estimator.error());
@@ -217,7 +232,8 @@ int RunEstimateStereo(int argc, char** argv) {
       r = std::move(pair->second);
       t = seq->frame(i).timestamp_s;
     }
-    auto result = (*estimator)->Process(l, r, t);
+    StereoObjectPrior prior;
+    auto result = (*estimator)->Process(l, r, t, tracker.ObjectPrior(&prior) ? &prior : nullptr);
     if (!result.ok()) {
       Error e = result.error();
       e.message = (single ? left + ", " + right : seq->frame(i).left_path) + ": " + e.message;
@@ -249,8 +265,8 @@ int RunEstimateStereo(int argc, char** argv) {
 
 int RunSimulateStereo(int argc, char** argv) {
   StereoSimSequenceSpec spec;
-  std::string out, scenario = "rolling";
-  bool no_distractors = false, no_sway = false;
+  std::string out, scenario = "rolling", rig = "paper";
+  bool no_distractors = false, no_sway = false, hard = false;
   int seed = 1;
   double noise = spec.noise.pixel_noise_sigma;
   FlagParser flags(
@@ -259,8 +275,17 @@ int RunSimulateStereo(int argc, char** argv) {
       "sheet, three blue landmark discs at the paper's positions, an orange ball, optional "
       "distractor colours, with lens distortion, image noise, lighting variation and head sway "
       "while walking. Writes DIR/calibration.yaml (OpenCV), DIR/left/, DIR/right/, "
-      "DIR/frames.csv and DIR/ground_truth.csv (SI units).");
+      "DIR/frames.csv and DIR/ground_truth.csv (SI units). --hard adds what real rigs see: "
+      "carpet texture, vignetting, Bayer sensor noise with demosaicing, JPEG, speckles, "
+      "distractors of the landmark and ball colours (40 % of placements) and occluders over "
+      "part of a landmark (15 %); ground_truth.csv then records the occluded fraction of each "
+      "landmark and the number of same-coloured distractors.");
   flags.AddString("out", &out, "output directory (created)", "DIR");
+  flags.AddString("rig", &rig,
+                  "stereo head: paper (512x240, 70 mm baseline) or vga (640x480, strong "
+                  "k1 k2 p1 p2 k3 distortion, 76 mm baseline); camera flags override it",
+                  "NAME");
+  flags.AddBool("hard", &hard, "realistic sensor and cluttered scenes (see above)");
   flags.AddString("scenario", &scenario,
                   "rolling: ball kicked towards a standing robot; walking: robot walks, ball at "
                   "rest; grid: the paper's grid of robot positions",
@@ -286,6 +311,21 @@ int RunSimulateStereo(int argc, char** argv) {
   flags.AddInt("seed", &seed, "random seed");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::string cmd = "simulate-stereo";
+  if (rig != "paper" && rig != "vga") {
+    std::cerr << "hpose " << cmd << ": --rig must be paper or vga\n";
+    return kExitUsage;
+  }
+  if (rig == "vga") {
+    // The rig's camera, with any camera flag given explicitly kept.
+    const StereoSimCameraOptions given = spec.camera;
+    spec.camera = VgaRigCameraOptions();
+    if (flags.Seen("width")) spec.camera.width = given.width;
+    if (flags.Seen("height")) spec.camera.height = given.height;
+    if (flags.Seen("hfov")) spec.camera.hfov_deg = given.hfov_deg;
+    if (flags.Seen("baseline")) spec.camera.baseline_m = given.baseline_m;
+    if (flags.Seen("head-height")) spec.camera.head_height_m = given.head_height_m;
+    if (flags.Seen("tilt")) spec.camera.head_tilt_deg = given.head_tilt_deg;
+  }
   if (out.empty()) {
     std::cerr << "hpose " << cmd << ": --out is required\n";
     return kExitUsage;
@@ -299,6 +339,10 @@ int RunSimulateStereo(int argc, char** argv) {
   spec.distractors = !no_distractors;
   spec.sway_enabled = !no_sway;
   spec.noise.pixel_noise_sigma = noise;
+  if (hard) {
+    MakeStereoSimHard(&spec);
+    if (flags.Seen("noise")) spec.noise.pixel_noise_sigma = noise;
+  }
   spec.seed = static_cast<std::uint64_t>(seed);
   Status s = WriteStereoSimSequence(spec, out);
   if (!s.ok()) return ReportError(cmd, s.error());

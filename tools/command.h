@@ -30,6 +30,8 @@ int RunSimulateStereo(int argc, char** argv);
 // (cmd_simulate_turntable.cc, served as `hpose simulate turntable`).
 int RunTemplateFromCaptures(int argc, char** argv);
 int RunSimulateTurntable(int argc, char** argv);
+// Calibration tools (cmd_calibrate.cc): `calibrate stereo`, `calibrate world-from-ground`.
+int RunCalibrate(int argc, char** argv);
 
 }  // namespace hpose::tools
 

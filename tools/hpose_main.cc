@@ -20,6 +20,8 @@ const Command kCommands[] = {
      hpose::tools::RunEstimateStereo},
     {"simulate-stereo", "render simulated stereo pairs of the landmark field",
      hpose::tools::RunSimulateStereo},
+    {"calibrate", "stereo pair from chessboards; depth sensor's place in the landmark frame",
+     hpose::tools::RunCalibrate},
     {"template", "make, inspect and regenerate humanoid templates", hpose::tools::RunTemplate},
     {"record", "record depth from an OpenNI2 device to .oni or PNG frames",
      hpose::tools::RunRecord},

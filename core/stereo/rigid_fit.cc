@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
@@ -126,6 +127,58 @@ Result<RigidFit> FitRigidSvd(const std::vector<Eigen::Vector3d>& src,
     fit.rotation = k.matrixU() * fix * k.matrixV().transpose();
     fit.translation = md - fit.rotation * ms;
   }
+  Residuals(src, dst, &fit);
+  return fit;
+}
+
+Result<RigidFit> FitRigidCovariance(const std::vector<Eigen::Vector3d>& src,
+                                    const std::vector<Eigen::Vector3d>& dst,
+                                    const std::vector<Eigen::Matrix3d>& src_covariance,
+                                    double min_sine) {
+  Result<RigidFit> start = FitRigidSvd(src, dst, min_sine);
+  if (!start.ok()) return start;
+  if (src_covariance.size() != src.size()) {
+    return MakeError(ErrorCode::kInvalidArgument, "rigid fit: one covariance per point needed");
+  }
+  const int n = static_cast<int>(src.size());
+  std::vector<Eigen::Matrix3d> info(n);  // inverse covariances, source frame.
+  for (int i = 0; i < n; ++i) {
+    const Eigen::LLT<Eigen::Matrix3d> llt(src_covariance[i]);
+    if (!src_covariance[i].allFinite() || llt.info() != Eigen::Success) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "rigid fit: covariance " + std::to_string(i) + " is not positive definite");
+    }
+    info[i] = llt.solve(Eigen::Matrix3d::Identity());
+  }
+  Eigen::Matrix3d r = start->rotation;
+  Eigen::Vector3d t = start->translation;
+  // In the source frame the residual is e_i = src_i - R^T (dst_i - t), with covariance C_i.
+  // Parameters: a small rotation w (R <- R exp([w])) and a translation step dt.
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector3d q = r.transpose() * (dst[i] - t);  // dst in the source frame.
+      const Eigen::Vector3d e = src[i] - q;
+      // d q / d w = [q]x (for R exp([w])), d q / d t = -R^T.
+      Eigen::Matrix<double, 3, 6> j;
+      Eigen::Matrix3d qx;
+      qx << 0, -q.z(), q.y(), q.z(), 0, -q.x(), -q.y(), q.x(), 0;
+      j.leftCols<3>() = -qx;
+      j.rightCols<3>() = r.transpose();
+      h += j.transpose() * info[i] * j;
+      g += j.transpose() * info[i] * e;
+    }
+    const Eigen::Matrix<double, 6, 1> step = -h.ldlt().solve(g);
+    if (!step.allFinite()) break;
+    const Eigen::Vector3d w = step.head<3>();
+    if (w.norm() > 1e-12) r = r * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+    t += step.tail<3>();
+    if (step.norm() < 1e-10) break;
+  }
+  RigidFit fit;
+  fit.rotation = r;
+  fit.translation = t;
   Residuals(src, dst, &fit);
   return fit;
 }

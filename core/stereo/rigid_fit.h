@@ -44,6 +44,17 @@ Result<RigidFit> FitRigidSvd(const std::vector<Eigen::Vector3d>& src,
                              const std::vector<Eigen::Vector3d>& dst, double min_sine = 0.1,
                              const std::vector<double>& weights = {});
 
+// Maximum-likelihood rigid transform when the source points carry Gaussian noise of known
+// covariance (e.g. stereo triangulation: much larger along the line of sight) and the
+// destination points are exact: minimises sum_i r_i^T (R C_i R^T)^-1 r_i with
+// r_i = R src_i + t - dst_i by Gauss-Newton from the (unweighted) SVD solution.
+// `src_covariance` holds one symmetric positive-definite matrix per point (m^2). Fails like
+// FitRigidSvd, and with kInvalidArgument for a missing or non-positive-definite covariance.
+Result<RigidFit> FitRigidCovariance(const std::vector<Eigen::Vector3d>& src,
+                                    const std::vector<Eigen::Vector3d>& dst,
+                                    const std::vector<Eigen::Matrix3d>& src_covariance,
+                                    double min_sine = 0.1);
+
 }  // namespace hpose
 
 #endif  // HPOSE_CORE_STEREO_RIGID_FIT_H_

@@ -254,7 +254,8 @@ Result<StereoCalibration> ReadStereoCalibration(const std::vector<std::string>& 
   return cal;
 }
 
-Status WriteStereoCalibration(const StereoCalibration& calibration, const std::string& path) {
+Status WriteStereoCalibration(const StereoCalibration& calibration, const std::string& path,
+                              const std::vector<NamedMatrix>& extra) {
   auto to_cv = [](const Eigen::MatrixXd& m) {
     cv::Mat out(static_cast<int>(m.rows()), static_cast<int>(m.cols()), CV_64F);
     for (int r = 0; r < m.rows(); ++r)
@@ -277,6 +278,7 @@ Status WriteStereoCalibration(const StereoCalibration& calibration, const std::s
     fs << "T" << to_cv(calibration.right_t_left);
     fs << "translation_unit"
        << "m";
+    for (const NamedMatrix& m : extra) fs << m.name << to_cv(m.value);
     fs.release();
   } catch (const cv::Exception& e) {
     return MakeError(ErrorCode::kInternal, path + ": cannot write (" + e.what() + ")");

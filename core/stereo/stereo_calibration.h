@@ -61,10 +61,17 @@ Result<StereoCalibration> ReadStereoCalibration(const std::vector<std::string>& 
 Status ValidateStereoCalibration(const StereoCalibration& calibration, const std::string& where,
                                  const StereoCalibrationReadOptions& options = {});
 
+// A further matrix to store beside the calibration (e.g. rectification, errors).
+struct NamedMatrix {
+  std::string name;
+  Eigen::MatrixXd value;
+};
+
 // Writes the calibration as OpenCV FileStorage (".yaml"/".yml" or ".xml" chosen by extension)
-// with the names M1 D1 M2 D2 R T image_width image_height and translation_unit "m".
-// Fails with kInternal when the file cannot be written.
-Status WriteStereoCalibration(const StereoCalibration& calibration, const std::string& path);
+// with the names M1 D1 M2 D2 R T image_width image_height and translation_unit "m", then the
+// `extra` matrices (which readers ignore). Fails with kInternal when the file cannot be written.
+Status WriteStereoCalibration(const StereoCalibration& calibration, const std::string& path,
+                              const std::vector<NamedMatrix>& extra = {});
 
 }  // namespace hpose
 

@@ -12,7 +12,24 @@
 namespace hpose {
 
 const char* RigidFitMethodName(RigidFitMethod method) {
-  return method == RigidFitMethod::kSvd ? "svd" : "closed_form";
+  switch (method) {
+    case RigidFitMethod::kSvd:
+      return "svd";
+    case RigidFitMethod::kClosedForm:
+      return "closed_form";
+    case RigidFitMethod::kCovariance:
+      return "covariance";
+  }
+  return "unknown";
+}
+
+Result<RigidFitMethod> ParseRigidFitMethod(const std::string& name) {
+  for (RigidFitMethod m :
+       {RigidFitMethod::kSvd, RigidFitMethod::kClosedForm, RigidFitMethod::kCovariance}) {
+    if (name == RigidFitMethodName(m)) return m;
+  }
+  return MakeError(ErrorCode::kInvalidArgument,
+                   "unknown fit method '" + name + "' (svd, closed_form or covariance)");
 }
 
 Status ValidateStereoMarkerOptions(const StereoMarkerOptions& o) {
@@ -36,12 +53,29 @@ Status ValidateStereoMarkerOptions(const StereoMarkerOptions& o) {
   }
   if (!(o.max_epipolar_error_px > 0)) return bad("max_epipolar_error_px must be > 0");
   if (!(o.max_fit_rms_m > 0)) return bad("max_fit_rms_m must be > 0");
+  if (!(o.fit_rms_sigmas >= 0)) return bad("fit_rms_sigmas must be >= 0");
   if (!(o.ambiguity_ratio >= 1)) return bad("ambiguity_ratio must be >= 1");
   if (!(o.min_triangle_sine >= 0 && o.min_triangle_sine < 0.87)) {
     return bad("min_triangle_sine must be in [0, 0.87)");
   }
   if (!std::isfinite(o.min_camera_height_m)) return bad("min_camera_height_m is not finite");
   if (!(o.max_object_area_ratio >= 1)) return bad("max_object_area_ratio must be >= 1");
+  if (!(o.landmark_radius_m > 0) || !(o.ball_radius_m > 0)) {
+    return bad("landmark_radius_m and ball_radius_m must be > 0");
+  }
+  if (!(o.max_landmark_range_m > 0)) return bad("max_landmark_range_m must be > 0");
+  if (!(o.centroid_sigma_px > 0)) return bad("centroid_sigma_px must be > 0");
+  if (!(o.layout_tolerance_m >= 0)) return bad("layout_tolerance_m must be >= 0");
+  if (!(o.occluded_weight > 0 && o.occluded_weight <= 1)) {
+    return bad("occluded_weight must be in (0, 1]");
+  }
+  if (!(o.min_visible_fraction >= 0 && o.min_visible_fraction <= o.occlusion_area_ratio)) {
+    return bad("min_visible_fraction must be in [0, occlusion_area_ratio]");
+  }
+  if (!(o.max_ball_area_factor >= 1)) return bad("max_ball_area_factor must be >= 1");
+  if (!(o.min_ball_fill >= 0 && o.min_ball_fill < 1)) return bad("min_ball_fill must be in [0, 1)");
+  if (!(o.max_ball_aspect >= 1)) return bad("max_ball_aspect must be >= 1");
+  if (!(o.max_ball_height_error_m > 0)) return bad("max_ball_height_error_m must be > 0");
   if (!(o.robot_region_x_min_m < o.robot_region_x_max_m) ||
       !(o.robot_region_y_min_m < o.robot_region_y_max_m)) {
     return bad("robot region must have min < max");
@@ -100,14 +134,9 @@ Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path) {
     } else if (key == "object_color") {
       if (!color(node, &o.object_color)) return fail(key, "must be a list of 6 numbers");
     } else if (key == "method") {
-      const std::string m = node.isString() ? static_cast<std::string>(node) : "";
-      if (m == "svd") {
-        o.method = RigidFitMethod::kSvd;
-      } else if (m == "closed_form") {
-        o.method = RigidFitMethod::kClosedForm;
-      } else {
-        return fail(key, "must be \"svd\" or \"closed_form\"");
-      }
+      auto m = ParseRigidFitMethod(node.isString() ? static_cast<std::string>(node) : "");
+      if (!m.ok()) return fail(key, m.error().message);
+      o.method = *m;
     } else if (key == "depth_weighted_fit") {
       if (!node.isInt()) return fail(key, "must be 0 or 1");
       o.depth_weighted_fit = static_cast<int>(node) != 0;
@@ -124,17 +153,33 @@ Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path) {
       o.robot_region_x_max_m = v4[1];
       o.robot_region_y_min_m = v4[2];
       o.robot_region_y_max_m = v4[3];
+    } else if (key == "head_to_reference_m") {
+      if (!node.isSeq() || node.size() != 2 || !number(node[0], &o.head_to_reference_m.x()) ||
+          !number(node[1], &o.head_to_reference_m.y())) {
+        return fail(key, "must be [x, y] in metres");
+      }
     } else if (key == "min_blob_area_px") {
       if (!node.isInt()) return fail(key, "must be an integer");
       o.segmentation.min_blob_area_px = static_cast<int>(node);
     } else {
-      double* target = key == "max_epipolar_error_px"   ? &o.max_epipolar_error_px
-                       : key == "max_fit_rms_m"         ? &o.max_fit_rms_m
-                       : key == "ambiguity_ratio"       ? &o.ambiguity_ratio
-                       : key == "min_triangle_sine"     ? &o.min_triangle_sine
-                       : key == "min_camera_height_m"   ? &o.min_camera_height_m
-                       : key == "max_object_area_ratio" ? &o.max_object_area_ratio
-                                                        : nullptr;
+      double* target = key == "max_epipolar_error_px"     ? &o.max_epipolar_error_px
+                       : key == "max_fit_rms_m"           ? &o.max_fit_rms_m
+                       : key == "ambiguity_ratio"         ? &o.ambiguity_ratio
+                       : key == "min_triangle_sine"       ? &o.min_triangle_sine
+                       : key == "min_camera_height_m"     ? &o.min_camera_height_m
+                       : key == "max_object_area_ratio"   ? &o.max_object_area_ratio
+                       : key == "landmark_radius_m"       ? &o.landmark_radius_m
+                       : key == "ball_radius_m"           ? &o.ball_radius_m
+                       : key == "max_landmark_range_m"    ? &o.max_landmark_range_m
+                       : key == "centroid_sigma_px"       ? &o.centroid_sigma_px
+                       : key == "layout_tolerance_m"      ? &o.layout_tolerance_m
+                       : key == "occlusion_area_ratio"    ? &o.occlusion_area_ratio
+                       : key == "occluded_weight"         ? &o.occluded_weight
+                       : key == "min_visible_fraction"    ? &o.min_visible_fraction
+                       : key == "max_ball_area_factor"    ? &o.max_ball_area_factor
+                       : key == "min_ball_fill"           ? &o.min_ball_fill
+                       : key == "max_ball_height_error_m" ? &o.max_ball_height_error_m
+                                                          : nullptr;
       if (target == nullptr) return fail(key, "unknown key");
       if (!number(node, &v)) return fail(key, "must be a finite number");
       *target = v;

@@ -15,8 +15,11 @@ namespace hpose {
 enum class RigidFitMethod {
   kSvd,         // least-squares rotation (Horn/Umeyama); always a proper rotation.
   kClosedForm,  // the paper's appendix; exact without noise, not orthonormal with it.
+  kCovariance,  // maximum likelihood under each landmark's triangulation covariance.
 };
-const char* RigidFitMethodName(RigidFitMethod method);  // "svd" | "closed_form"
+const char* RigidFitMethodName(RigidFitMethod method);  // "svd" | "closed_form" | "covariance"
+// Fails with kInvalidArgument naming the accepted names.
+Result<RigidFitMethod> ParseRigidFitMethod(const std::string& name);
 
 // Options of the stereo-marker estimator; every default lives here.
 struct StereoMarkerOptions {
@@ -34,8 +37,10 @@ struct StereoMarkerOptions {
   // A left/right pairing is plausible only when every pair is within this distance of its
   // epipolar line, pixels.
   double max_epipolar_error_px = 3.0;
-  // Frames whose best fit leaves an RMS landmark residual above this are rejected, metres.
+  // Frames whose best fit leaves an RMS landmark residual above max_fit_rms_m plus
+  // fit_rms_sigmas times the landmarks' RMS triangulation uncertainty are rejected, metres.
   double max_fit_rms_m = 0.04;
+  double fit_rms_sigmas = 2.0;
   // The pairing/labelling is ambiguous (frame rejected) when the runner-up hypothesis fits
   // within this factor of the best one.
   double ambiguity_ratio = 1.5;
@@ -45,8 +50,41 @@ struct StereoMarkerOptions {
   double min_camera_height_m = 0.05;
   // The object's left and right blobs must have areas within this factor of each other.
   double max_object_area_ratio = 3.0;
-  RigidFitMethod method = RigidFitMethod::kSvd;
-  // Weight each landmark in the least-squares fit by 1 / depth^4 (stereo depth variance grows
+  // Radius of the landmark discs and of the ball, metres: the blob sizes a distance predicts.
+  double landmark_radius_m = 0.06;
+  double ball_radius_m = 0.035;
+  // Candidate landmarks farther than this from the camera are ignored, metres.
+  double max_landmark_range_m = 6.0;
+  // Noise of a blob centroid, pixels: sets the triangulation covariance and with it the
+  // tolerance of the layout test and the covariance-weighted fit.
+  double centroid_sigma_px = 0.5;
+  // Pairwise landmark distances must match the layout within this plus three sigma, metres.
+  double layout_tolerance_m = 0.03;
+  // A landmark whose blob covers less than this fraction of the area its distance, the fit's
+  // orientation and its size predict (or is touched by another blob or cut by the border) is
+  // taken as partly hidden: its weight in the fit is multiplied by occluded_weight...
+  double occlusion_area_ratio = 0.88;
+  double occluded_weight = 0.01;
+  // ...and below this fraction the frame is rejected (too little of it is visible).
+  double min_visible_fraction = 0.3;
+  // The ball: its blob area within [1/max, max] times the area its distance predicts, its fill
+  // of the bounding box at least min_ball_fill (a disc fills pi/4) and its aspect at most
+  // max_ball_aspect, and once the pose is known
+  // its centre within max_ball_height_error_m of ball_radius_m above the floor.
+  double max_ball_area_factor = 2.2;
+  double min_ball_fill = 0.62;
+  double max_ball_aspect = 1.35;  // of its bounding box, in angle (pixels need not be square).
+  double max_ball_height_error_m = 0.03;
+  // The point of the robot reported as its position: by default the head's centre projected
+  // on the floor. Set it to where the head sits relative to the depth template's origin
+  // (below the torso centre), negated, so that both estimators report the same point:
+  // reference = head on the floor + R(heading) * head_to_reference_m (robot frame: x forward,
+  // y left), metres.
+  Eigen::Vector2d head_to_reference_m = Eigen::Vector2d::Zero();
+  // The covariance-weighted fit is the default: on the harder simulated frames of both rigs it
+  // left a third of the closed form's mean robot error (docs/BENCHMARKS.md).
+  RigidFitMethod method = RigidFitMethod::kCovariance;
+  // Weight each landmark in the SVD least-squares fit by 1 / depth^4 (stereo depth variance grows
   // with depth^4), so that near landmarks count more.
   bool depth_weighted_fit = true;
   // Where the robot may be, world frame, metres. A labelling of the landmarks that puts the
@@ -65,9 +103,14 @@ Status ValidateStereoMarkerOptions(const StereoMarkerOptions& options);
 // Reads options from an OpenCV FileStorage YAML/XML file; keys absent keep their defaults and
 // unknown keys are errors. Keys: landmarks_world_m (3x3 matrix, one landmark per row),
 // landmark_color and object_color ([hue_min_deg, hue_max_deg, sat_min, sat_max, val_min,
-// val_max]), min_blob_area_px, max_epipolar_error_px, max_fit_rms_m, ambiguity_ratio,
+// val_max]), min_blob_area_px, max_epipolar_error_px, max_fit_rms_m, fit_rms_sigmas,
+// ambiguity_ratio,
 // min_triangle_sine, min_camera_height_m, max_object_area_ratio, method ("svd" |
-// "closed_form"), depth_weighted_fit (0/1), robot_region_m ([x_min, x_max, y_min, y_max]). Fails
+// "closed_form" | "covariance"), depth_weighted_fit (0/1), robot_region_m ([x_min, x_max, y_min,
+// y_max]), head_to_reference_m ([x, y]), and the numbers landmark_radius_m, ball_radius_m,
+// max_landmark_range_m, centroid_sigma_px, layout_tolerance_m, occlusion_area_ratio,
+// occluded_weight, min_visible_fraction, max_ball_area_factor, min_ball_fill, max_ball_aspect,
+// max_ball_height_error_m. Fails
 // with kNotFound, kDataLoss or kInvalidArgument naming the key.
 Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path);
 

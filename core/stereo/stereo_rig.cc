@@ -128,4 +128,26 @@ bool StereoRig::Project(StereoSide side, const Eigen::Vector3d& point_left,
   return true;
 }
 
+Eigen::Matrix3d StereoRig::TriangulationCovariance(const Eigen::Vector2d& left_normalized,
+                                                   const Eigen::Vector2d& right_normalized,
+                                                   double sigma_px) const {
+  bool ok = false;
+  // Jacobian with respect to the four image coordinates, by central differences of one pixel.
+  Eigen::Matrix<double, 3, 4> j;
+  const double f[4] = {calibration_.left.camera_matrix(0, 0), calibration_.left.camera_matrix(1, 1),
+                       calibration_.right.camera_matrix(0, 0),
+                       calibration_.right.camera_matrix(1, 1)};
+  for (int k = 0; k < 4; ++k) {
+    Eigen::Vector2d l = left_normalized, r = right_normalized;
+    const double h = 0.5 / f[k];
+    Eigen::Vector2d& v = k < 2 ? l : r;
+    v[k % 2] += h;
+    const Eigen::Vector3d plus = Triangulate(l, r, &ok);
+    v[k % 2] -= 2 * h;
+    const Eigen::Vector3d minus = Triangulate(l, r, &ok);
+    j.col(k) = (plus - minus);  // per pixel (step of one pixel in total).
+  }
+  return sigma_px * sigma_px * j * j.transpose();
+}
+
 }  // namespace hpose

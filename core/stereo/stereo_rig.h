@@ -39,6 +39,12 @@ class StereoRig final {
   Eigen::Vector3d Triangulate(const Eigen::Vector2d& left_normalized,
                               const Eigen::Vector2d& right_normalized, bool* depth_ok) const;
 
+  // Covariance (m^2, left camera frame) of Triangulate's point when each image coordinate of
+  // both points carries independent noise of `sigma_px` pixels (first-order propagation).
+  Eigen::Matrix3d TriangulationCovariance(const Eigen::Vector2d& left_normalized,
+                                          const Eigen::Vector2d& right_normalized,
+                                          double sigma_px) const;
+
   // The right camera's optical centre in the left camera frame, metres.
   Eigen::Vector3d RightCentreInLeft() const;
 

@@ -1,11 +1,14 @@
 #include "core/stereo/stereo_scene_simulator.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <random>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace hpose {
 namespace {
@@ -29,7 +32,50 @@ std::uint32_t Hash(std::int64_t a, std::int64_t b, std::uint32_t seed) {
   return static_cast<std::uint32_t>(h);
 }
 
+// Smooth value noise in [-1, 1] over the floor: bilinear interpolation of hashed lattice values
+// with a smoothstep.
+double ValueNoise(double x, double y, std::uint32_t seed) {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
+  auto lattice = [&](std::int64_t a, std::int64_t b) {
+    return (Hash(a, b, seed) & 0xFFFF) / 32767.5 - 1.0;
+  };
+  auto smooth = [](double t) { return t * t * (3 - 2 * t); };
+  const double tx = smooth(x - fx), ty = smooth(y - fy);
+  const double top = lattice(ix, iy) * (1 - tx) + lattice(ix + 1, iy) * tx;
+  const double bottom = lattice(ix, iy + 1) * (1 - tx) + lattice(ix + 1, iy + 1) * tx;
+  return top * (1 - ty) + bottom * ty;
+}
+
 }  // namespace
+
+bool SimPatch::Contains(const Eigen::Vector2d& p) const {
+  const Eigen::Vector2d d = p - centre_m;
+  const double c = std::cos(yaw_rad), s = std::sin(yaw_rad);
+  return std::abs(c * d.x() + s * d.y()) <= half_size_m.x() &&
+         std::abs(-s * d.x() + c * d.y()) <= half_size_m.y();
+}
+
+double DiscCapFraction(double d, double r) {
+  const double u = std::clamp(d / r, -1.0, 1.0);
+  return (std::acos(u) - u * std::sqrt(1 - u * u)) / kPi;
+}
+
+StereoSimCameraOptions VgaRigCameraOptions() {
+  StereoSimCameraOptions c;
+  c.width = 640;
+  c.height = 480;
+  c.hfov_deg = 66.0;
+  c.pixel_aspect = 1.0;
+  c.distortion = {-0.31, 0.12, 0.0011, -0.0007, -0.025};
+  c.baseline_m = 0.076;
+  c.right_yaw_deg = -0.9;
+  c.right_roll_deg = 0.7;
+  c.right_focal_scale = 0.992;
+  c.head_height_m = 0.47;
+  c.head_tilt_deg = 22.0;
+  return c;
+}
 
 HeadSway HeadSwayModel::At(double t_s) const {
   const double phase = kPi * step_frequency_hz * t_s;  // one sway cycle per two steps.
@@ -163,7 +209,13 @@ RgbImage StereoSceneSimulator::Render(StereoSide side, const Eigen::Isometry3d& 
                 hit = &disc;
               }
             }
-            if (hit != nullptr) {
+            const SimPatch* patch = nullptr;
+            for (const SimPatch& pt : scene.patches) {
+              if (pt.Contains(p.head<2>())) patch = &pt;
+            }
+            if (patch != nullptr) {
+              color = Eigen::Vector3d(patch->color[0], patch->color[1], patch->color[2]);
+            } else if (hit != nullptr) {
               color = Eigen::Vector3d(hit->color[0], hit->color[1], hit->color[2]);
             } else {
               const double gx = p.x() / scene.grid_spacing_m, gy = p.y() / scene.grid_spacing_m;
@@ -174,7 +226,12 @@ RgbImage StereoSceneSimulator::Render(StereoSide side, const Eigen::Isometry3d& 
               const std::uint32_t hsh =
                   Hash(static_cast<std::int64_t>(std::floor(p.x() * 50)),
                        static_cast<std::int64_t>(std::floor(p.y() * 50)), texture_seed);
-              const double texture = 1.0 + 0.06 * ((hsh & 0xFFFF) / 32767.5 - 1.0);
+              double texture = 1.0 + scene.carpet_fine_contrast * ((hsh & 0xFFFF) / 32767.5 - 1.0);
+              if (scene.carpet_coarse_contrast > 0) {
+                texture *= 1.0 + scene.carpet_coarse_contrast *
+                                     ValueNoise(p.x() / scene.carpet_scale_m,
+                                                p.y() / scene.carpet_scale_m, texture_seed + 7);
+              }
               color = Eigen::Vector3d(base[0], base[1], base[2]) * texture;
             }
           }
@@ -185,12 +242,69 @@ RgbImage StereoSceneSimulator::Render(StereoSide side, const Eigen::Isometry3d& 
       const double g = gain * (1.0 + noise_.gradient * (static_cast<double>(u) / w - 0.5));
       std::uint8_t* px = image.at(u, v);
       for (int c = 0; c < 3; ++c) {
-        const double value = acc[c] * g + noise(rng);
+        const double value = acc[c] * g + (noise_.bayer ? 0.f : noise(rng));
         px[c] = static_cast<std::uint8_t>(std::clamp(std::lround(value), 0L, 255L));
       }
     }
   }
+  ApplySensor(&image, seed ^ 0x5DEECE66Dull);
   return image;
+}
+
+void StereoSceneSimulator::ApplySensor(RgbImage* image, std::uint64_t seed) const {
+  const int w = image->width, h = image->height;
+  std::mt19937_64 rng(seed);
+  if (noise_.speckles_per_image > 0 && !noise_.speckle_colors.empty()) {
+    std::uniform_int_distribution<int> count(0, noise_.speckles_per_image);
+    std::uniform_int_distribution<int> ux(0, w - 1), uy(0, h - 1), size(2, 4);
+    std::uniform_int_distribution<size_t> pick(0, noise_.speckle_colors.size() - 1);
+    const int n = count(rng);
+    for (int i = 0; i < n; ++i) {
+      const int x0 = ux(rng), y0 = uy(rng), sx = size(rng), sy = size(rng);
+      const Rgb8 c = noise_.speckle_colors[pick(rng)];
+      for (int y = y0; y < std::min(h, y0 + sy); ++y)
+        for (int x = x0; x < std::min(w, x0 + sx); ++x)
+          for (int k = 0; k < 3; ++k) image->at(x, y)[k] = c[k];
+    }
+  }
+  if (noise_.vignetting > 0) {
+    const double cx = 0.5 * (w - 1), cy = 0.5 * (h - 1), r2max = cx * cx + cy * cy;
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const double f =
+            1.0 - noise_.vignetting * ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / r2max;
+        std::uint8_t* px = image->at(x, y);
+        for (int k = 0; k < 3; ++k) px[k] = static_cast<std::uint8_t>(std::lround(px[k] * f));
+      }
+    }
+  }
+  if (noise_.bayer) {
+    // RGGB: even rows R G R G..., odd rows G B G B...
+    cv::Mat raw(h, w, CV_8UC1);
+    std::normal_distribution<double> unit(0.0, 1.0);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const int channel = (y % 2 == 0) ? (x % 2 == 0 ? 0 : 1) : (x % 2 == 0 ? 1 : 2);
+        const double level = image->at(x, y)[channel];
+        const double sigma = std::sqrt(noise_.pixel_noise_sigma * noise_.pixel_noise_sigma +
+                                       noise_.shot_noise * noise_.shot_noise * level);
+        raw.at<std::uint8_t>(y, x) =
+            static_cast<std::uint8_t>(std::clamp(std::lround(level + sigma * unit(rng)), 0L, 255L));
+      }
+    }
+    // OpenCV names Bayer patterns by the second row's second and third pixels: RGGB is "BG".
+    cv::Mat rgb(h, w, CV_8UC3, image->pixels.data());
+    cv::demosaicing(raw, rgb, cv::COLOR_BayerBG2RGB_EA);
+  }
+  if (noise_.jpeg_quality > 0) {
+    cv::Mat rgb(h, w, CV_8UC3, image->pixels.data()), bgr;
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+    std::vector<std::uint8_t> encoded;
+    cv::imencode(".jpg", bgr, encoded, {cv::IMWRITE_JPEG_QUALITY, noise_.jpeg_quality});
+    const cv::Mat decoded = cv::imdecode(encoded, cv::IMREAD_COLOR);
+    assert(decoded.rows == h && decoded.cols == w);
+    cv::cvtColor(decoded, rgb, cv::COLOR_BGR2RGB);
+  }
 }
 
 StereoSceneSimulator::Pair StereoSceneSimulator::RenderPair(const Pose2D& robot,
@@ -234,7 +348,7 @@ SimScene MakeFieldScene(const std::array<Eigen::Vector3d, 3>& landmarks, bool di
     SimDisc d;
     d.centre_m = p.head<2>();
     d.radius_m = 0.06;
-    d.color = Rgb8{35, 70, 190};
+    d.color = kSimLandmarkColor;
     scene.discs.push_back(d);
   }
   if (distractors) {

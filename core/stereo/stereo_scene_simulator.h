@@ -31,9 +31,23 @@ struct SimBall {
   Rgb8 color{225, 105, 25};
 };
 
-// What the cameras see: a floor (carpet with a 0.1 m grid sheet), discs on it, balls.
+// A flat rectangle lying on the floor (a cloth, a sheet of paper), drawn over the discs: a
+// distractor when it has a landmark's or the ball's colour, an occluder when it covers part of
+// a landmark disc.
+struct SimPatch {
+  Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d half_size_m{0.05, 0.05};  // along its own x and y axes.
+  double yaw_rad = 0.0;                     // of its x axis from world +x.
+  Rgb8 color{200, 200, 200};
+
+  bool Contains(const Eigen::Vector2d& p) const;
+};
+
+// What the cameras see: a floor (carpet with a 0.1 m grid sheet), discs on it, patches over
+// the discs, balls (spheres; the first is the tracked object, the others distractors).
 struct SimScene {
   std::vector<SimDisc> discs;
+  std::vector<SimPatch> patches;
   std::vector<SimBall> balls;
   Rgb8 floor_color{60, 110, 65};
   Rgb8 grid_color{150, 165, 150};
@@ -41,6 +55,11 @@ struct SimScene {
   double grid_line_width_m = 0.004;
   Rgb8 wall_color{180, 170, 150};  // rays that miss the floor within 6 m.
   Eigen::Vector3d light_direction = Eigen::Vector3d(0.3, -0.4, 1.0);  // towards the light.
+  // Carpet texture: relative brightness variation of 2 cm cells (fine) and of a smooth
+  // pattern of carpet_scale_m (coarse), both multiplicative.
+  double carpet_fine_contrast = 0.06;
+  double carpet_coarse_contrast = 0.0;
+  double carpet_scale_m = 0.15;
 };
 
 // Simulated stereo head. The left camera's calibration is the reference; the right camera is
@@ -89,6 +108,18 @@ struct StereoSimNoiseOptions {
   double gradient = 0.15;  // brightness change across the image width (fraction).
   double left_right_gain_difference = 0.05;
   int supersample = 3;  // samples per pixel along each axis (anti-aliasing).
+  // Darkening towards the corners: brightness factor 1 - vignetting * (r / r_corner)^2.
+  double vignetting = 0.0;
+  // Single-chip colour sensor: the image is sampled through an RGGB Bayer mosaic, noise is
+  // added per photosite (pixel_noise_sigma plus shot noise shot_noise * sqrt(level)), then the
+  // mosaic is demosaiced (OpenCV, edge-aware). Without it noise is added per RGB channel.
+  bool bayer = false;
+  double shot_noise = 0.0;
+  int jpeg_quality = 0;  // 1..100: JPEG-compress and decode each image; 0: none.
+  // Up to this many small speckles (2..4 px across) of the colours in speckle_colors per image,
+  // placed independently in the two images (dust, reflections, noise clusters).
+  int speckles_per_image = 0;
+  std::vector<Rgb8> speckle_colors;
 };
 
 // Ground truth of one rendered pair.
@@ -100,6 +131,12 @@ struct StereoSimTruth {
   Eigen::Isometry3d world_from_left = Eigen::Isometry3d::Identity();
   bool object_present = false;
   Eigen::Vector3d object_world_m = Eigen::Vector3d::Zero();
+  // Filled by the sequence generator: fraction of each landmark disc (P0, P1, P2) hidden under
+  // an occluder patch, and how many distractors of the landmarks' / the ball's colour are in
+  // the scene (their places are in the scene itself).
+  std::array<double, 3> landmark_occluded_fraction{0.0, 0.0, 0.0};
+  int landmark_color_distractors = 0;
+  int ball_color_distractors = 0;
 };
 
 // Renders stereo pairs of a field by ray casting through the distorted lenses.
@@ -131,6 +168,10 @@ class StereoSceneSimulator final {
   Pair RenderPair(const Pose2D& robot, const HeadSway& sway, const SimScene& scene,
                   std::uint64_t seed) const;
 
+  // The sensor after the optics: vignetting, speckles, Bayer sampling with noise and
+  // demosaicing, JPEG round trip, as configured in the noise options. Render applies it.
+  void ApplySensor(RgbImage* image, std::uint64_t seed) const;
+
  private:
   StereoSimCameraOptions camera_;
   StereoSimNoiseOptions noise_;
@@ -143,6 +184,18 @@ class StereoSceneSimulator final {
 // patches of colours outside the estimator's ranges, and optionally a ball.
 SimScene MakeFieldScene(const std::array<Eigen::Vector3d, 3>& landmarks, bool distractors,
                         std::uint64_t seed);
+
+// Default colours of the simulated landmarks and ball.
+inline constexpr Rgb8 kSimLandmarkColor{35, 70, 190};
+inline constexpr Rgb8 kSimBallColor{225, 105, 25};
+
+// A second, different stereo head: 640x480 with square pixels, strong five-coefficient lens
+// distortion (k1 k2 p1 p2 k3), a 76 mm baseline and larger mounting errors.
+StereoSimCameraOptions VgaRigCameraOptions();
+
+// Fraction of a disc of radius r hidden by a half-plane whose edge is `d` from its centre
+// (d in [-r, r]; d > 0 means the centre is not covered).
+double DiscCapFraction(double d, double r);
 
 }  // namespace hpose
 

@@ -48,7 +48,114 @@ Eigen::Vector2d RollingBallAt(const StereoSimSequenceSpec& s, double t, bool* mo
   return s.ball_start_m + dir * (v0 * tt - 0.5 * a * tt * tt);
 }
 
+// Distance from a disc's centre of a straight edge that hides `fraction` of the disc.
+double EdgeDistanceForFraction(double fraction, double r) {
+  double lo = -r, hi = r;  // DiscCapFraction decreases from 1 to 0 over [-r, r].
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (DiscCapFraction(mid, r) > fraction ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double SegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                       const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double u = std::clamp((p - a).dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
+  return (a + u * ab - p).norm();
+}
+
+// Adds the same-coloured distractors and the occluder of one placement to `scene` and records
+// them in `truth`. `eye` is the robot's place (no sphere stands between it and a landmark).
+void AddClutter(const StereoSimSequenceSpec& spec, const Eigen::Vector2d& eye,
+                const Eigen::Vector2d& ball, std::mt19937_64& rng, SimScene* scene,
+                StereoSimTruth* truth) {
+  const StereoSimClutterOptions& c = spec.clutter;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double landmark_radius = scene->discs.empty() ? 0.06 : scene->discs.front().radius_m;
+  auto clear_of = [&](const Eigen::Vector2d& p, double size, bool sphere) {
+    if ((p - ball).norm() < size + spec.ball_radius_m + 0.12) return false;
+    for (const Eigen::Vector3d& l : spec.landmarks_m) {
+      if ((p - l.head<2>()).norm() < size + landmark_radius + 0.12) return false;
+      if (sphere && SegmentDistance(p, eye, l.head<2>()) < size + landmark_radius + 0.05) {
+        return false;
+      }
+    }
+    return true;
+  };
+  auto place = [&](double size, bool sphere, Eigen::Vector2d* where) {
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      const Eigen::Vector2d p(-0.6 + 1.2 * unit(rng), -0.45 + 1.35 * unit(rng));
+      if (clear_of(p, size, sphere)) {
+        *where = p;
+        return true;
+      }
+    }
+    return false;
+  };
+  if (unit(rng) < c.same_color_distractor_probability) {
+    for (int colour = 0; colour < 2; ++colour) {
+      const Rgb8 rgb = colour == 0 ? kSimLandmarkColor : kSimBallColor;
+      const int count = 1 + (unit(rng) < 0.5 ? 1 : 0);
+      for (int k = 0; k < count; ++k) {
+        const int kind = static_cast<int>(unit(rng) * 3);  // disc, cloth, sphere.
+        Eigen::Vector2d p;
+        if (kind == 0) {
+          // Discs: smaller or larger than a landmark, or a landmark's twin.
+          const double choices[] = {0.03, 0.06, 0.1};
+          const double r = choices[static_cast<int>(unit(rng) * 3)];
+          if (!place(r, false, &p)) continue;
+          if (colour == 0) {
+            scene->discs.push_back(SimDisc{p, r, rgb});
+          } else {
+            scene->patches.push_back(
+                SimPatch{p, Eigen::Vector2d(r, r) * 0.8, unit(rng) * kPi, rgb});
+          }
+        } else if (kind == 1) {
+          const Eigen::Vector2d half(0.04 + 0.1 * unit(rng), 0.02 + 0.05 * unit(rng));
+          if (!place(half.norm(), false, &p)) continue;
+          scene->patches.push_back(SimPatch{p, half, unit(rng) * kPi, rgb});
+        } else {
+          // A sphere clearly larger than the ball (a toy, a bigger ball).
+          const double r = 0.065 + 0.035 * unit(rng);
+          if (!place(r, true, &p)) continue;
+          scene->balls.push_back(SimBall{Eigen::Vector3d(p.x(), p.y(), r), r, rgb});
+        }
+        ++(colour == 0 ? truth->landmark_color_distractors : truth->ball_color_distractors);
+      }
+    }
+  }
+  if (unit(rng) < c.occluder_probability) {
+    const int k = std::min(2, static_cast<int>(unit(rng) * 3));
+    const double fraction = c.occluded_min + (c.occluded_max - c.occluded_min) * unit(rng);
+    const double d = EdgeDistanceForFraction(fraction, landmark_radius);
+    const double phi = 2 * kPi * unit(rng);
+    const Eigen::Vector2d n(std::cos(phi), std::sin(phi));
+    const double half_depth = 0.08;
+    const Rgb8 neutral[] = {{205, 200, 190}, {85, 80, 78}, {160, 140, 110}};
+    scene->patches.push_back(SimPatch{spec.landmarks_m[k].head<2>() + n * (d + half_depth),
+                                      Eigen::Vector2d(half_depth, 0.12), phi,
+                                      neutral[static_cast<int>(unit(rng) * 3) % 3]});
+    truth->landmark_occluded_fraction[k] = fraction;
+  }
+}
+
 }  // namespace
+
+void MakeStereoSimHard(StereoSimSequenceSpec* spec) {
+  StereoSimNoiseOptions& n = spec->noise;
+  n.bayer = true;
+  n.pixel_noise_sigma = 2.0;
+  n.shot_noise = 0.35;
+  n.vignetting = 0.35;
+  n.jpeg_quality = 80;
+  n.speckles_per_image = 3;
+  n.speckle_colors = {kSimLandmarkColor, kSimBallColor};
+  spec->clutter.same_color_distractor_probability = 0.4;
+  spec->clutter.occluder_probability = 0.15;
+  spec->clutter.carpet_fine_contrast = 0.12;
+  spec->clutter.carpet_coarse_contrast = 0.25;
+}
 
 const char* StereoSimScenarioName(StereoSimScenario scenario) {
   switch (scenario) {
@@ -88,6 +195,12 @@ Status ValidateStereoSimSequenceSpec(const StereoSimSequenceSpec& s) {
   if (!(s.fps > 0)) return bad("fps must be > 0");
   if (s.frames < 1 || s.frames > 100000) return bad("frames must be 1..100000");
   if (!(s.ball_radius_m > 0)) return bad("ball radius must be > 0");
+  if (s.noise.jpeg_quality < 0 || s.noise.jpeg_quality > 100) return bad("JPEG quality 0..100");
+  if (!(s.noise.vignetting >= 0 && s.noise.vignetting < 1)) return bad("vignetting must be 0..1");
+  if (!(s.clutter.occluded_min >= 0 && s.clutter.occluded_max <= 0.9 &&
+        s.clutter.occluded_min <= s.clutter.occluded_max)) {
+    return bad("occluded fraction range must be within 0..0.9");
+  }
   if (s.scenario == StereoSimScenario::kGrid &&
       (!(s.grid_step_m > 0) || s.grid_x_max_m < s.grid_x_min_m || s.grid_y_max_m < s.grid_y_min_m ||
        s.frames_per_position < 1)) {
@@ -108,6 +221,12 @@ Status GenerateStereoSimSequence(const StereoSimSequenceSpec& spec,
   if (!valid.ok()) return valid;
   const StereoSceneSimulator sim(spec.camera, spec.noise);
   SimScene base = MakeFieldScene(spec.landmarks_m, spec.distractors, spec.seed);
+  if (spec.clutter.carpet_fine_contrast >= 0) {
+    base.carpet_fine_contrast = spec.clutter.carpet_fine_contrast;
+  }
+  if (spec.clutter.carpet_coarse_contrast >= 0) {
+    base.carpet_coarse_contrast = spec.clutter.carpet_coarse_contrast;
+  }
   std::mt19937_64 rng(spec.seed * 7919 + 17);
   const int n = StereoSimFrameCount(spec);
   const Eigen::Vector2d centroid =
@@ -117,6 +236,14 @@ Status GenerateStereoSimSequence(const StereoSimSequenceSpec& spec,
   std::uniform_real_distribution<double> phase(0.0, 10.0);
   Pose2D grid_pose;
   Eigen::Vector2d grid_ball = spec.ball_start_m;
+  // Clutter of the current placement (a grid position, or the whole sequence).
+  SimScene cluttered = base;
+  StereoSimTruth clutter_truth;
+  std::mt19937_64 clutter_rng(spec.seed * 104729 + 3);
+  if (spec.scenario != StereoSimScenario::kGrid) {
+    AddClutter(spec, Eigen::Vector2d(spec.robot_start.x, spec.robot_start.y), spec.ball_start_m,
+               clutter_rng, &cluttered, &clutter_truth);
+  }
   for (int i = 0; i < n; ++i) {
     StereoSimFrame frame;
     frame.index = i;
@@ -161,20 +288,28 @@ Status GenerateStereoSimSequence(const StereoSimSequenceSpec& spec,
               break;
             }
           }
+          cluttered = base;
+          clutter_truth = StereoSimTruth();
+          AddClutter(spec, Eigen::Vector2d(grid_pose.x, grid_pose.y), grid_ball, clutter_rng,
+                     &cluttered, &clutter_truth);
         }
         robot = grid_pose;
         ball = grid_ball;
         break;
       }
     }
-    SimScene scene = base;
-    scene.balls.push_back(SimBall{Eigen::Vector3d(ball.x(), ball.y(), spec.ball_radius_m),
-                                  spec.ball_radius_m, Rgb8{225, 105, 25}});
+    SimScene scene = cluttered;
+    scene.balls.insert(scene.balls.begin(),
+                       SimBall{Eigen::Vector3d(ball.x(), ball.y(), spec.ball_radius_m),
+                               spec.ball_radius_m, kSimBallColor});
     StereoSceneSimulator::Pair pair =
         sim.RenderPair(robot, sway, scene, spec.seed * 1000003ull + static_cast<std::uint64_t>(i));
     frame.left = std::move(pair.left);
     frame.right = std::move(pair.right);
     frame.truth = pair.truth;
+    frame.truth.landmark_occluded_fraction = clutter_truth.landmark_occluded_fraction;
+    frame.truth.landmark_color_distractors = clutter_truth.landmark_color_distractors;
+    frame.truth.ball_color_distractors = clutter_truth.ball_color_distractors;
     Status s = sink(frame);
     if (!s.ok()) return s;
   }
@@ -189,7 +324,9 @@ Status WriteStereoSimSequence(const StereoSimSequenceSpec& spec, const std::stri
     if (!s.ok()) return s;
   }
   {
-    const StereoSceneSimulator sim_for_cal(spec.camera, StereoSimNoiseOptions{0, 1, 1, 0, 0, 1});
+    StereoSimNoiseOptions quiet;
+    quiet.supersample = 1;
+    const StereoSceneSimulator sim_for_cal(spec.camera, quiet);
     Status s = WriteStereoCalibration(sim_for_cal.calibration(), dir + "/calibration.yaml");
     if (!s.ok()) return s;
   }
@@ -199,7 +336,8 @@ Status WriteStereoSimSequence(const StereoSimSequenceSpec& spec, const std::stri
   frames << "timestamp_s,left,right\n";
   truth << "index,timestamp_s,robot_x_m,robot_y_m,robot_theta_rad,head_x_m,head_y_m,"
            "head_theta_rad,head_z_m,object_present,object_x_m,object_y_m,object_z_m,"
-           "object_moving\n";
+           "object_moving,occluded_p0,occluded_p1,occluded_p2,landmark_color_distractors,"
+           "ball_color_distractors\n";
   frames.precision(9);
   truth.precision(9);
   Status status = GenerateStereoSimSequence(spec, [&](const StereoSimFrame& f) -> Status {
@@ -215,7 +353,10 @@ Status WriteStereoSimSequence(const StereoSimSequenceSpec& spec, const std::stri
           << "," << t.robot_nominal.theta << "," << t.head.x << "," << t.head.y << ","
           << t.head.theta << "," << t.head_position_m.z() << "," << (t.object_present ? 1 : 0)
           << "," << t.object_world_m.x() << "," << t.object_world_m.y() << ","
-          << t.object_world_m.z() << "," << (f.object_moving ? 1 : 0) << "\n";
+          << t.object_world_m.z() << "," << (f.object_moving ? 1 : 0) << ","
+          << t.landmark_occluded_fraction[0] << "," << t.landmark_occluded_fraction[1] << ","
+          << t.landmark_occluded_fraction[2] << "," << t.landmark_color_distractors << ","
+          << t.ball_color_distractors << "\n";
     return Status::Ok();
   });
   if (!status.ok()) return status;

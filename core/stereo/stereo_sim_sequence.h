@@ -23,6 +23,22 @@ enum class StereoSimScenario {
 const char* StereoSimScenarioName(StereoSimScenario scenario);
 Result<StereoSimScenario> ParseStereoSimScenario(const std::string& name);
 
+// Objects that make a scene hard (all off by default). A "placement" is one grid position, or
+// the whole rolling/walking sequence; each draws its clutter independently.
+struct StereoSimClutterOptions {
+  // Probability that a placement has distractors of the landmarks' colour and of the ball's
+  // colour (1..2 of each: discs and cloths of other sizes, larger spheres) near the landmarks.
+  double same_color_distractor_probability = 0.0;
+  // Probability that a placement has an occluder (a neutral sheet) lying over part of one
+  // landmark disc, hiding between occluded_min and occluded_max of its area.
+  double occluder_probability = 0.0;
+  double occluded_min = 0.1;
+  double occluded_max = 0.45;
+  // Carpet texture of the floor (see SimScene); negative keeps the scene's default.
+  double carpet_fine_contrast = -1.0;
+  double carpet_coarse_contrast = -1.0;
+};
+
 // Everything that defines a simulated sequence; defaults in one place. World frame = field
 // frame of the landmarks (z up), metres, radians, seconds.
 struct StereoSimSequenceSpec {
@@ -35,6 +51,7 @@ struct StereoSimSequenceSpec {
                                                 Eigen::Vector3d(-0.25, 0.4, 0.0),
                                                 Eigen::Vector3d(0.25, 0.4, 0.0)};
   bool distractors = true;
+  StereoSimClutterOptions clutter;
   int frames = 60;    // rolling and walking scenarios.
   double fps = 15.0;  // frame rate.
   Pose2D robot_start{0.05, -1.0, kPi / 2};
@@ -53,6 +70,11 @@ struct StereoSimSequenceSpec {
   double heading_jitter_deg = 8.0;
   std::uint64_t seed = 1;
 };
+
+// Turns on everything that makes frames look like a real rig's: carpet texture, vignetting,
+// Bayer sampling with shot noise and demosaicing, JPEG (quality 80), speckles of the landmark
+// and ball colours, same-coloured distractors in 40 % of placements and occluders in 15 %.
+void MakeStereoSimHard(StereoSimSequenceSpec* spec);
 
 // Fails with kInvalidArgument naming the first bad field.
 Status ValidateStereoSimSequenceSpec(const StereoSimSequenceSpec& spec);
@@ -76,7 +98,8 @@ Status GenerateStereoSimSequence(const StereoSimSequenceSpec& spec,
 
 // Writes the sequence in the StereoSequence directory layout: calibration.yaml, left/NNNNNN.png,
 // right/NNNNNN.png, frames.csv, and ground_truth.csv (index, timestamp_s, nominal robot pose,
-// head pose = what the estimator measures, head height, object presence, position and motion).
+// head pose = what the estimator measures, head height, object presence, position and motion,
+// the occluded fraction of each landmark and the number of same-coloured distractors).
 // Creates `dir` (and parents) if needed. Fails with kInternal when a file cannot be written.
 Status WriteStereoSimSequence(const StereoSimSequenceSpec& spec, const std::string& dir);
 

@@ -73,6 +73,7 @@ StereoTrackState StereoTracker::Update(const StereoFrameResult& frame) {
       }
     }
     last_object_time_s_ = frame.timestamp_s;
+    last_object_world_m_ = frame.object_world_m;
     have_object_before_ = true;
     state.object_valid = true;
     state.object_world_m = frame.object_world_m;
@@ -82,6 +83,13 @@ StereoTrackState StereoTracker::Update(const StereoFrameResult& frame) {
   state.path_valid = moving_ && path_valid_;
   if (state.path_valid) state.path = path_;
   return state;
+}
+
+bool StereoTracker::ObjectPrior(StereoObjectPrior* prior) const {
+  if (!have_object_before_) return false;
+  prior->world_m = last_object_world_m_;
+  prior->timestamp_s = last_object_time_s_;
+  return true;
 }
 
 }  // namespace hpose

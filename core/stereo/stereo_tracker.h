@@ -9,6 +9,7 @@
 #include "core/common/pose2d.h"
 #include "core/stereo/object_motion_detector.h"
 #include "core/stereo/path_line_fit.h"
+#include "core/stereo/stereo_estimator.h"
 #include "core/stereo/stereo_frame_result.h"
 
 namespace hpose {
@@ -45,6 +46,10 @@ class StereoTracker final {
   StereoTrackState Update(const StereoFrameResult& frame);
   void Reset();
 
+  // The object's last world position and its time, for StereoEstimator::Process to continue
+  // the track; false before the object has been located.
+  bool ObjectPrior(StereoObjectPrior* prior) const;
+
  private:
   StereoTrackerOptions options_;
   std::deque<Pose2D> robot_history_;
@@ -52,6 +57,7 @@ class StereoTracker final {
   double last_time_s_ = -1e300;
   double last_object_time_s_ = 0.0;
   bool have_object_before_ = false;
+  Eigen::Vector3d last_object_world_m_ = Eigen::Vector3d::Zero();
   bool moving_ = false;
   int not_moving_count_ = 0;
   double motion_start_s_ = 0.0;

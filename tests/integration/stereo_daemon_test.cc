@@ -68,7 +68,7 @@ std::vector<StereoTruthRow> ReadStereoTruth(const std::string& path) {
     std::stringstream ss(line);
     std::string cell;
     while (std::getline(ss, cell, ',')) v.push_back(std::stod(cell));
-    if (v.size() != 14) continue;
+    if (v.size() < 14) continue;  // later columns: occlusion and distractor counts.
     StereoTruthRow r;
     r.t = v[1];
     r.head = Pose2D{v[5], v[6], v[7]};

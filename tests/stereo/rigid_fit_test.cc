@@ -114,5 +114,40 @@ TEST(RigidFitTest, TriangleMinSine) {
   EXPECT_NEAR(TriangleMinSine({0, 0, 0}, {1, 0, 0}, {2, 0, 0}), 0.0, 1e-12);
 }
 
+TEST(RigidFitTest, CovarianceFitEqualsSvdForIsotropicNoiseAndTrustsPreciseAxes) {
+  // A camera-frame triangle seen from a known pose, with noise.
+  const Eigen::Matrix3d r = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(-1.9, Eigen::Vector3d::UnitX()))
+                                .toRotationMatrix();
+  const Eigen::Vector3d t(0.1, -1.0, 0.45);
+  std::vector<Eigen::Vector3d> src, dst(kWorld.begin(), kWorld.end());
+  const Eigen::Vector3d noise[3] = {
+      {0.004, -0.002, 0.01}, {-0.003, 0.001, -0.02}, {0.002, 0.003, 0.015}};
+  for (int i = 0; i < 3; ++i) src.push_back(r.transpose() * (dst[i] - t) + noise[i]);
+  const std::vector<Eigen::Matrix3d> iso(3, Eigen::Matrix3d::Identity() * 1e-4);
+  auto cov = FitRigidCovariance(src, dst, iso);
+  auto svd = FitRigidSvd(src, dst);
+  ASSERT_TRUE(cov.ok() && svd.ok());
+  EXPECT_LT((cov->rotation - svd->rotation).norm(), 1e-7);
+  EXPECT_LT((cov->translation - svd->translation).norm(), 1e-7);
+  EXPECT_LT((cov->rotation.transpose() * cov->rotation - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+  // Noise only along the camera's z axis, and covariances that say so: the fit recovers the pose
+  // better than the SVD that treats every axis alike.
+  std::vector<Eigen::Vector3d> zsrc;
+  for (int i = 0; i < 3; ++i)
+    zsrc.push_back(src[i] - noise[i] + Eigen::Vector3d(0, 0, noise[i].z()));
+  std::vector<Eigen::Matrix3d> along_z(3, Eigen::Matrix3d::Identity() * 1e-8);
+  for (auto& c : along_z) c(2, 2) = 4e-4;
+  auto zcov = FitRigidCovariance(zsrc, dst, along_z);
+  auto zsvd = FitRigidSvd(zsrc, dst);
+  ASSERT_TRUE(zcov.ok() && zsvd.ok());
+  EXPECT_LT((zcov->translation - t).norm(), (zsvd->translation - t).norm());
+  // Bad covariances are refused.
+  std::vector<Eigen::Matrix3d> bad = iso;
+  bad[1] = -bad[1];
+  EXPECT_EQ(FitRigidCovariance(src, dst, bad).error().code, ErrorCode::kInvalidArgument);
+  EXPECT_FALSE(FitRigidCovariance(src, dst, {iso[0]}).ok());
+}
+
 }  // namespace
 }  // namespace hpose

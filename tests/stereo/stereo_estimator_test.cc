@@ -6,6 +6,7 @@
 
 #include "core/stereo/local_marker_estimator.h"
 #include "core/stereo/stereo_scene_simulator.h"
+#include "core/stereo/stereo_tracker.h"
 
 namespace hpose {
 namespace {
@@ -61,6 +62,20 @@ TEST_F(StereoEstimatorTest, LocatesRobotLandmarksAndBall) {
   }
 }
 
+TEST_F(StereoEstimatorTest, ReportsTheConfiguredRobotPoint) {
+  StereoMarkerOptions options;
+  options.head_to_reference_m = Eigen::Vector2d(-0.04, 0.01);  // head ahead of the torso.
+  auto est = Make(options);
+  const auto pair = sim_.RenderPair(Pose2D{0.0, -0.9, DegToRad(80)}, HeadSway{}, Scene(), 2);
+  auto r = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(r.ok() && r->ok());
+  EXPECT_NEAR(r->head.x, pair.truth.head.x, 0.015);
+  const double c = std::cos(r->head.theta), s = std::sin(r->head.theta);
+  EXPECT_NEAR(r->robot.x, r->head.x + c * -0.04 - s * 0.01, 1e-9);
+  EXPECT_NEAR(r->robot.y, r->head.y + s * -0.04 + c * 0.01, 1e-9);
+  EXPECT_EQ(r->robot.theta, r->head.theta);
+}
+
 TEST_F(StereoEstimatorTest, ClosedFormMethodGivesTheSamePose) {
   StereoMarkerOptions options;
   options.method = RigidFitMethod::kClosedForm;
@@ -73,7 +88,7 @@ TEST_F(StereoEstimatorTest, ClosedFormMethodGivesTheSamePose) {
   EXPECT_NEAR(r->robot.y, pair.truth.head.y, 0.015);
 }
 
-TEST_F(StereoEstimatorTest, RejectsMissingAndExtraLandmarks) {
+TEST_F(StereoEstimatorTest, RejectsMissingLandmark) {
   auto est = Make();
   SimScene missing = Scene();
   missing.discs.erase(missing.discs.begin() + 1);
@@ -85,13 +100,113 @@ TEST_F(StereoEstimatorTest, RejectsMissingAndExtraLandmarks) {
   // The ball is still seen in the camera frame, but it has no world position.
   EXPECT_TRUE(r->object_in_camera);
   EXPECT_FALSE(r->object_in_world);
+}
 
+TEST_F(StereoEstimatorTest, ExtraLandmarkColouredBlobsCostNothing) {
+  auto est = Make();
+  // A landmark's twin, a larger disc, a cloth of the landmark colour and speckles.
   SimScene extra = Scene();
-  extra.discs.push_back(SimDisc{Eigen::Vector2d(-0.3, -0.1), 0.05, {35, 70, 190}});
-  pair = sim_.RenderPair(Pose2D{0.05, -1.0, kPi / 2}, HeadSway{}, extra, 4);
-  r = est->Process(pair.left, pair.right, 0.0);
+  extra.discs.push_back(SimDisc{Eigen::Vector2d(-0.3, -0.1), 0.06, kSimLandmarkColor});
+  extra.discs.push_back(SimDisc{Eigen::Vector2d(0.45, 0.7), 0.1, kSimLandmarkColor});
+  extra.patches.push_back(
+      SimPatch{Eigen::Vector2d(0.0, 0.25), Eigen::Vector2d(0.08, 0.03), 0.4, kSimLandmarkColor});
+  StereoSimNoiseOptions noisy = QuietNoise();
+  noisy.speckles_per_image = 4;
+  noisy.speckle_colors = {kSimLandmarkColor};
+  const StereoSceneSimulator sim(StereoSimCameraOptions{}, noisy);
+  const auto pair = sim.RenderPair(Pose2D{0.05, -1.0, kPi / 2}, HeadSway{}, extra, 4);
+  auto r = est->Process(pair.left, pair.right, 0.0);
   ASSERT_TRUE(r.ok());
-  EXPECT_EQ(r->status, StereoFrameStatus::kTooManyLandmarks);
+  ASSERT_TRUE(r->ok()) << r->reason;
+  EXPECT_GE(r->landmark_blobs_left, 5);
+  EXPECT_GE(r->landmark_candidates, 4);
+  EXPECT_GT(r->landmark_runner_up_rms_m, 1.5 * r->landmark_best_rms_m);
+  const Eigen::Isometry3d left_from_world = pair.truth.world_from_left.inverse();
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d truth = left_from_world * est->options().landmarks_world_m[k];
+    EXPECT_LT((r->landmark_camera_m[k] - truth).norm(), 0.015) << "landmark " << k;
+  }
+  EXPECT_NEAR(r->robot.x, pair.truth.head.x, 0.015);
+  EXPECT_NEAR(r->robot.y, pair.truth.head.y, 0.015);
+}
+
+TEST_F(StereoEstimatorTest, BallColouredDistractorsAreNotTheBall) {
+  auto est = Make();
+  // A bigger sphere and a cloth of the ball's colour, both larger than the ball in the image.
+  SimScene scene = Scene();
+  scene.balls.push_back(SimBall{Eigen::Vector3d(-0.35, 0.05, 0.08), 0.08, kSimBallColor});
+  scene.patches.push_back(
+      SimPatch{Eigen::Vector2d(0.4, 0.5), Eigen::Vector2d(0.12, 0.03), 0.2, kSimBallColor});
+  const auto pair = sim_.RenderPair(Pose2D{0.05, -1.0, kPi / 2}, HeadSway{}, scene, 6);
+  auto r = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(r.ok());
+  ASSERT_TRUE(r->ok()) << r->reason;
+  ASSERT_TRUE(r->object_in_world) << r->object_reason;
+  EXPECT_LT((r->object_world_m - pair.truth.object_world_m).head<2>().norm(), 0.02);
+
+  // Without the ball, neither distractor is reported as the ball.
+  scene.balls.erase(scene.balls.begin());
+  const auto no_ball = sim_.RenderPair(Pose2D{0.05, -1.0, kPi / 2}, HeadSway{}, scene, 7);
+  r = est->Process(no_ball.left, no_ball.right, 0.0);
+  ASSERT_TRUE(r.ok());
+  EXPECT_FALSE(r->object_in_world);
+  EXPECT_FALSE(r->object_reason.empty());
+}
+
+TEST_F(StereoEstimatorTest, TwinBallsAreToldApartByTheTrack) {
+  auto est = Make();
+  SimScene scene = Scene();  // the ball at (0.3, -0.1).
+  scene.balls.push_back(SimBall{Eigen::Vector3d(-0.3, 0.05, 0.035), 0.035, kSimBallColor});
+  const auto pair = sim_.RenderPair(Pose2D{0.05, -1.0, kPi / 2}, HeadSway{}, scene, 10);
+  for (const Eigen::Vector3d& was :
+       {Eigen::Vector3d(0.28, -0.12, 0.035), Eigen::Vector3d(-0.31, 0.08, 0.035)}) {
+    StereoObjectPrior prior;
+    prior.world_m = was;
+    prior.timestamp_s = 0.9;
+    auto r = est->Process(pair.left, pair.right, 1.0, &prior);
+    ASSERT_TRUE(r.ok());
+    ASSERT_TRUE(r->ok()) << r->reason;
+    ASSERT_TRUE(r->object_in_world) << r->object_reason;
+    EXPECT_LT((r->object_world_m - was).head<2>().norm(), 0.04);
+  }
+  // The tracker hands out the last located position.
+  StereoTracker tracker;
+  StereoObjectPrior prior;
+  EXPECT_FALSE(tracker.ObjectPrior(&prior));
+  auto first = est->Process(pair.left, pair.right, 2.0);
+  ASSERT_TRUE(first.ok() && first->object_in_world);
+  tracker.Update(*first);
+  ASSERT_TRUE(tracker.ObjectPrior(&prior));
+  EXPECT_EQ(prior.timestamp_s, 2.0);
+  EXPECT_EQ(prior.world_m, first->object_world_m);
+}
+
+TEST_F(StereoEstimatorTest, PartlyHiddenLandmarkIsDownWeightedOrRejected) {
+  auto est = Make();
+  SimScene scene = Scene();
+  const double r = scene.discs[1].radius_m;
+  // A grey sheet over a third of P1 (its edge 0.2 r from the centre hides about 37 %).
+  const Eigen::Vector2d p1 = scene.discs[1].centre_m;
+  scene.patches.push_back(SimPatch{p1 + Eigen::Vector2d(0.2 * r + 0.08, 0.0),
+                                   Eigen::Vector2d(0.08, 0.12),
+                                   0.0,
+                                   {200, 200, 195}});
+  auto pair = sim_.RenderPair(Pose2D{0.05, -1.0, kPi / 2}, HeadSway{}, scene, 8);
+  auto res = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(res.ok());
+  ASSERT_TRUE(res->ok()) << res->reason;
+  EXPECT_TRUE(res->landmark_downweighted[1]) << res->landmark_notes;
+  EXPECT_FALSE(res->landmark_downweighted[0]);
+  EXPECT_FALSE(res->landmark_downweighted[2]);
+  EXPECT_NEAR(res->landmark_visible_fraction[1], 1.0 - DiscCapFraction(0.2 * r, r), 0.15);
+  EXPECT_NE(res->landmark_notes.find("P1"), std::string::npos);
+  // Most of it hidden: the frame is rejected and says which landmark.
+  scene.patches.back().centre_m = p1 + Eigen::Vector2d(-0.6 * r + 0.08, 0.0);
+  pair = sim_.RenderPair(Pose2D{0.05, -1.0, kPi / 2}, HeadSway{}, scene, 9);
+  res = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(res.ok());
+  EXPECT_FALSE(res->ok());
+  EXPECT_FALSE(res->reason.empty());
 }
 
 TEST_F(StereoEstimatorTest, RejectsCollinearLandmarks) {
@@ -104,7 +219,9 @@ TEST_F(StereoEstimatorTest, RejectsCollinearLandmarks) {
   auto pair = sim_.RenderPair(Pose2D{0.0, -0.9, kPi / 2}, HeadSway{}, line, 5);
   auto r = est->Process(pair.left, pair.right, 0.0);
   ASSERT_TRUE(r.ok());
-  EXPECT_EQ(r->status, StereoFrameStatus::kCollinearLandmarks) << r->reason;
+  // No three blobs are spaced like the landmark triangle.
+  EXPECT_EQ(r->status, StereoFrameStatus::kNoConsistentMatch) << r->reason;
+  EXPECT_NE(r->reason.find("layout"), std::string::npos) << r->reason;
   // Collinear landmark positions in the options are refused up front.
   StereoMarkerOptions bad;
   bad.landmarks_world_m[2] = Eigen::Vector3d(-0.5, 0.8, 0.0);

@@ -252,5 +252,84 @@ TEST_F(StereoCliTest, UsageErrors) {
   EXPECT_NE(run.err.find("no_such_dir"), std::string::npos) << run.err;
 }
 
+TEST_F(StereoCliTest, HardVgaSimulationRecordsOcclusionAndDistractorTruth) {
+  const std::string out = *dir_ / "hard";
+  const CliRun run =
+      RunHpose("simulate stereo --out " + Q(out) + " --rig vga --hard --frames 2", *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("640x480"), std::string::npos) << run.out;
+  const std::string truth = Slurp(out + "/ground_truth.csv");
+  EXPECT_NE(truth.find("occluded_p0,occluded_p1,occluded_p2,landmark_color_distractors"),
+            std::string::npos);
+  const CliRun est = RunHpose("estimate-stereo --sequence " + Q(out) + " --json", *dir_);
+  EXPECT_EQ(est.exit_code, 0) << est.err;
+  std::istringstream lines(est.out);
+  std::string line;
+  int frames = 0;
+  while (std::getline(lines, line)) {
+    const auto j = nlohmann::json::parse(line);
+    ++frames;
+    if (j["status"] != "ok") EXPECT_FALSE(j["reason"].get<std::string>().empty());
+    EXPECT_TRUE(j.contains("landmark_candidates"));
+  }
+  EXPECT_EQ(frames, 2);
+  const CliRun bad = RunHpose("simulate stereo --out " + Q(out) + " --rig nope", *dir_);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--rig"), std::string::npos) << bad.err;
+}
+
+TEST_F(StereoCliTest, CalibrateWorldFromGroundFromACsv) {
+  // A square walk; the ground frame sits at (1, 2) turned by 90 degrees in the world.
+  const std::string csv = *dir_ / "pairs.csv";
+  {
+    std::ofstream f(csv);
+    f << "timestamp_s,ground_x_m,ground_y_m,ground_theta_rad,world_x_m,world_y_m,"
+         "world_theta_rad\n";
+    for (int i = 0; i < 20; ++i) {
+      const double gx = 0.5 + 0.05 * (i % 5), gy = 0.1 * (i / 5);
+      // world = R(90 deg) * ground + (1, 2).
+      f << i * 0.1 << "," << gx << "," << gy << ",0.1," << 1.0 - gy << "," << 2.0 + gx << ","
+        << 0.1 + kPi / 2 << "\n";
+    }
+    f << "2.0,0.7,0.2,0.1,9,9,0.1\n";  // an outlier.
+  }
+  CliRun run = RunHpose("calibrate world-from-ground --pairs " + Q(csv), *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("x 1.0000 m, y 2.0000 m, yaw 1.5708 rad"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("pairs used 20 of 21"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("observable:"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("dropped pair at t=2.000 s"), std::string::npos) << run.out;
+  {
+    std::ofstream f(*dir_ / "bad.csv");
+    f << "0,1,2\n";
+  }
+  run = RunHpose("calibrate world-from-ground --pairs " + Q(*dir_ / "bad.csv"), *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("bad.csv:1"), std::string::npos) << run.err;
+  run = RunHpose("calibrate nothing", *dir_);
+  EXPECT_EQ(run.exit_code, 2);
+}
+
+TEST_F(StereoCliTest, CalibrateStereoOnOpenCvSamplesWritesAFileTheEstimatorReads) {
+  const std::string samples = "/usr/share/doc/opencv-doc/examples/data";
+  if (!fs::exists(samples + "/left01.jpg")) {
+    GTEST_SKIP() << "OpenCV's sample chessboard pairs not in " << samples
+                 << " (install opencv-doc)";
+  }
+  const std::string cal = *dir_ / "ocv.yaml";
+  CliRun run = RunHpose("calibrate stereo --dir " + Q(samples) + " --out " + Q(cal), *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("stereo RMS reprojection error"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("| left01.jpg right01.jpg | yes |"), std::string::npos) << run.out;
+  run = RunHpose("estimate-stereo --calibration " + Q(cal) + " --left " +
+                     Q(samples + "/left01.jpg") + " --right " + Q(samples + "/right01.jpg"),
+                 *dir_);
+  EXPECT_EQ(run.exit_code, 3) << run.err;  // read fine; no landmarks on a chessboard.
+  EXPECT_NE(run.err.find("landmark"), std::string::npos) << run.err;
+  run = RunHpose("calibrate stereo --dir " + Q(*dir_ / "seq") + " --out " + Q(cal), *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("no left<N>/right<N>"), std::string::npos) << run.err;
+}
+
 }  // namespace
 }  // namespace hpose

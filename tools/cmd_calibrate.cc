@@ -1,0 +1,252 @@
+// `hpose calibrate stereo`: a stereo pair's calibration from chessboard views, written as the
+// file the stereo-marker estimator reads. `hpose calibrate world-from-ground`: where the depth
+// sensor's ground frame sits in the landmarks' world frame, from poses both estimators reported.
+#include <dirent.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/common/pose2d.h"
+#include "core/stereo/rgb_image_io.h"
+#include "core/stereo/stereo_calibrator.h"
+#include "core/stereo/world_from_ground_fit.h"
+#include "tools/command.h"
+#include "tools/exit_codes.h"
+#include "tools/flag_parser.h"
+
+namespace hpose::tools {
+namespace {
+
+// Pairs DIR/left<N><EXT> with DIR/right<N><EXT> (N: one or more digits, e.g. left01.jpg).
+std::vector<std::pair<std::string, std::string>> PairsInDirectory(const std::string& dir) {
+  std::vector<std::pair<std::string, std::string>> pairs;
+  DIR* d = opendir(dir.c_str());
+  if (d == nullptr) return pairs;
+  std::vector<std::string> names;
+  while (const dirent* e = readdir(d)) names.push_back(e->d_name);
+  closedir(d);
+  std::sort(names.begin(), names.end());
+  for (const std::string& n : names) {
+    if (n.rfind("left", 0) != 0 || n.size() < 5 ||
+        !std::isdigit(static_cast<unsigned char>(n[4]))) {
+      continue;
+    }
+    const std::string right = "right" + n.substr(4);
+    if (std::find(names.begin(), names.end(), right) != names.end()) {
+      pairs.emplace_back(dir + "/" + n, dir + "/" + right);
+    }
+  }
+  return pairs;
+}
+
+std::string Base(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+int RunCalibrateStereo(int argc, char** argv) {
+  std::vector<std::string> lefts, rights;
+  std::string dir, out;
+  ChessboardOptions board;
+  FlagParser flags(
+      "hpose calibrate stereo --out CAL.yaml (--dir DIR | --left L1 --right R1 ...)",
+      "Calibrates a stereo pair from views of a chessboard held still in front of both cameras "
+      "(OpenCV: findChessboardCorners, cornerSubPix, calibrateCamera per camera, "
+      "stereoCalibrate, stereoRectify). Writes the calibration that `hpose estimate-stereo "
+      "--calibration` and hposed read (M1 D1 M2 D2 R T in metres, the image size, R1 R2 P1 P2 "
+      "Q and the RMS error), and prints the RMS reprojection error with a per-pair table. "
+      "Use 10 or more pairs with the board tilted and spread over the whole image.");
+  flags.AddString(
+      "dir", &dir,
+      "directory of pairs named left<N>.<ext> / right<N>.<ext> (N: digits, e.g. left01.jpg)",
+      "DIR");
+  flags.AddStrings("left", &lefts, "left image of one pair (repeat, in the order of --right)",
+                   "IMAGE");
+  flags.AddStrings("right", &rights, "right image of one pair (repeat)", "IMAGE");
+  flags.AddInt("cols", &board.inner_columns, "inner corners along a board row");
+  flags.AddInt("rows", &board.inner_rows, "inner corners along a board column");
+  flags.AddDouble("square", &board.square_m, "side of one chessboard square", "M");
+  flags.AddString("out", &out, "calibration file to write (.yaml or .xml)", "FILE");
+  flags.SetEpilog(
+      "exit status: 0 ok; 1 bad input or too few usable pairs; 2 usage.\n"
+      "example:\n  hpose calibrate stereo --dir ./chessboard --cols 9 --rows 6 --square 0.025 "
+      "--out stereo.yaml\n");
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
+  const std::string cmd = "calibrate stereo";
+  if (out.empty()) {
+    std::cerr << "hpose " << cmd << ": --out is required\n";
+    return kExitUsage;
+  }
+  if (lefts.size() != rights.size()) {
+    std::cerr << "hpose " << cmd << ": give as many --left as --right images\n";
+    return kExitUsage;
+  }
+  std::vector<std::pair<std::string, std::string>> files;
+  if (!dir.empty()) {
+    files = PairsInDirectory(dir);
+    if (files.empty()) {
+      std::cerr << "hpose " << cmd << ": " << dir
+                << ": no left<N>/right<N> image pairs (or not a directory)\n";
+      return kExitError;
+    }
+  }
+  for (size_t i = 0; i < lefts.size(); ++i) files.emplace_back(lefts[i], rights[i]);
+  if (files.empty()) {
+    std::cerr << "hpose " << cmd << ": give --dir or --left/--right pairs (see --help)\n";
+    return kExitUsage;
+  }
+  std::vector<StereoCalibrationView> views;
+  for (const auto& [l, r] : files) {
+    StereoCalibrationView v;
+    v.name = Base(l) + " " + Base(r);
+    auto li = ReadRgbImage(l);
+    if (!li.ok()) return ReportError(cmd, li.error());
+    auto ri = ReadRgbImage(r);
+    if (!ri.ok()) return ReportError(cmd, ri.error());
+    v.left = std::move(li).value();
+    v.right = std::move(ri).value();
+    views.push_back(std::move(v));
+  }
+  size_t searched = 0;
+  auto report = CalibrateStereo(views, board, [&](const StereoCalibrationReport::View& v) {
+    std::cerr << "\r  corners: " << ++searched << "/" << views.size() << " pairs" << std::flush;
+    (void)v;
+  });
+  std::cerr << "\n";
+  if (!report.ok()) return ReportError(cmd, report.error());
+  Status s = WriteStereoCalibrationReport(*report, out);
+  if (!s.ok()) return ReportError(cmd, s.error());
+  char line[256];
+  std::cout << "| pair | board found | left RMS (px) | right RMS (px) |\n|---|---|---|---|\n";
+  int used = 0;
+  for (const auto& v : report->views) {
+    if (v.used) {
+      ++used;
+      std::snprintf(line, sizeof(line), "| %s | yes | %.3f | %.3f |\n", v.name.c_str(),
+                    v.left_rms_px, v.right_rms_px);
+    } else {
+      std::snprintf(line, sizeof(line), "| %s | no: %s | | |\n", v.name.c_str(), v.reason.c_str());
+    }
+    std::cout << line;
+  }
+  const StereoCalibration& c = report->calibration;
+  std::snprintf(line, sizeof(line),
+                "\nstereo RMS reprojection error %.3f px over %d of %zu pairs (left alone %.3f, "
+                "right alone %.3f); baseline %.1f mm; fx %.1f / %.1f px; %dx%d\n",
+                report->rms_px, used, report->views.size(), report->left_rms_px,
+                report->right_rms_px, c.BaselineM() * 1e3, c.left.camera_matrix(0, 0),
+                c.right.camera_matrix(0, 0), c.image_width, c.image_height);
+  std::cout << line << "wrote " << out << "\n";
+  return kExitOk;
+}
+
+// One CSV row: timestamp_s, ground x y theta, world x y theta.
+Result<std::vector<GroundWorldPair>> ReadPairs(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return MakeError(ErrorCode::kNotFound, path + ": cannot open");
+  std::vector<GroundWorldPair> pairs;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0]))) {
+      continue;  // comment or header.
+    }
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    GroundWorldPair p;
+    if (!(fields >> p.timestamp_s >> p.ground.x >> p.ground.y >> p.ground.theta >> p.world.x >>
+          p.world.y >> p.world.theta)) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       path + ":" + std::to_string(number) +
+                           ": expected 7 numbers: timestamp_s, ground_x_m, ground_y_m, "
+                           "ground_theta_rad, world_x_m, world_y_m, world_theta_rad");
+    }
+    pairs.push_back(p);
+  }
+  return pairs;
+}
+
+int RunCalibrateWorldFromGround(int argc, char** argv) {
+  std::string pairs_path;
+  WorldFromGroundOptions options;
+  FlagParser flags(
+      "hpose calibrate world-from-ground --pairs PAIRS.csv",
+      "Finds where the depth sensor's ground frame lies in the landmarks' world frame "
+      "(world_from_ground: x, y, yaw) from a recording in which both estimators saw the robot: "
+      "a least-squares 2D rigid fit of the depth poses onto the stereo poses with outlier "
+      "rejection. Both poses must be of the same robot point (set the stereo estimator's "
+      "head_to_reference_m). Prints the placement for hposed's world_from_ground, the "
+      "residuals, and what the robot's motion made observable: walk it around the field; a "
+      "robot standing still gives the yaw only through its headings.");
+  flags.AddString("pairs", &pairs_path,
+                  "CSV rows: timestamp_s, ground_x_m, ground_y_m, ground_theta_rad, world_x_m, "
+                  "world_y_m, world_theta_rad (header and # lines skipped)",
+                  "FILE");
+  flags.AddDouble("outlier", &options.outlier_threshold_m,
+                  "position residual beyond which (and 3 robust sigmas) a pair is dropped", "M");
+  if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
+  const std::string cmd = "calibrate world-from-ground";
+  if (pairs_path.empty()) {
+    std::cerr << "hpose " << cmd << ": --pairs is required\n";
+    return kExitUsage;
+  }
+  auto pairs = ReadPairs(pairs_path);
+  if (!pairs.ok()) return ReportError(cmd, pairs.error());
+  auto fit = FitWorldFromGround(*pairs, options);
+  if (!fit.ok()) {
+    Error e = fit.error();
+    e.message = pairs_path + ": " + e.message;
+    return ReportError(cmd, e);
+  }
+  char line[512];
+  std::snprintf(line, sizeof(line),
+                "world_from_ground: x %.4f m, y %.4f m, yaw %.4f rad (%.2f deg)\n"
+                "pairs used %d of %d; position residual RMS %.1f mm, max %.1f mm; heading "
+                "residual RMS %.2f deg\n",
+                fit->world_from_ground.x, fit->world_from_ground.y, fit->world_from_ground.theta,
+                RadToDeg(fit->world_from_ground.theta), fit->inliers, fit->pairs, fit->rms_m * 1e3,
+                fit->max_m * 1e3, RadToDeg(fit->heading_rms_rad));
+  std::cout << line << "observable: " << fit->observability << "\n";
+  for (size_t i = 0; i < fit->inlier.size(); ++i) {
+    if (!fit->inlier[i]) {
+      std::snprintf(line, sizeof(line), "  dropped pair at t=%.3f s: residual %.1f mm\n",
+                    (*pairs)[i].timestamp_s, fit->residuals_m[i] * 1e3);
+      std::cout << line;
+    }
+  }
+  std::snprintf(line, sizeof(line),
+                "hposed config:\n  world_from_ground: {x_m: %.4f, y_m: %.4f, yaw_rad: %.4f}\n",
+                fit->world_from_ground.x, fit->world_from_ground.y, fit->world_from_ground.theta);
+  std::cout << line;
+  return kExitOk;
+}
+
+}  // namespace
+
+int RunCalibrate(int argc, char** argv) {
+  const std::string usage =
+      "usage: hpose calibrate stereo|world-from-ground [--help] [options]\n"
+      "  stereo             stereo pair calibration from chessboard views\n"
+      "  world-from-ground  the depth sensor's place in the landmarks' frame\n";
+  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+    (argc < 2 ? std::cerr : std::cout) << usage;
+    return argc < 2 ? kExitUsage : kExitOk;
+  }
+  const std::string sub = argv[1];
+  std::string prog = "hpose calibrate " + sub;
+  argv[1] = prog.data();
+  if (sub == "stereo") return RunCalibrateStereo(argc - 1, argv + 1);
+  if (sub == "world-from-ground") return RunCalibrateWorldFromGround(argc - 1, argv + 1);
+  std::cerr << "hpose calibrate: unknown target '" << sub << "'\n" << usage;
+  return kExitUsage;
+}
+
+}  // namespace hpose::tools
