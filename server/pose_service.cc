@@ -1,6 +1,8 @@
 #include "server/pose_service.h"
 
 #include <algorithm>
+#include <exception>
+#include <new>
 #include <utility>
 
 #include "server/proto_convert.h"
@@ -178,23 +180,30 @@ grpc::Status PoseServiceImpl::Estimate(grpc::ServerContext* context,
     return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED, "deadline passed");
   const std::vector<std::string> names(request->templates().begin(), request->templates().end());
   Result<hpose::Estimate> result = MakeError(ErrorCode::kInternal, "not run");
-  switch (request->input_case()) {
-    case v1::EstimateRequest::kDepth: {
-      Intrinsics intrinsics;
-      Result<DepthImage> depth = DepthFromProto(request->depth(), &intrinsics);
-      if (!depth.ok()) return ToGrpcStatus(depth.error());
-      result = pool_->EstimateDepth(*depth, intrinsics, names, deadline);
-      break;
+  // Inputs are validated in core; a library that still throws fails this call, not the daemon.
+  try {
+    switch (request->input_case()) {
+      case v1::EstimateRequest::kDepth: {
+        Intrinsics intrinsics;
+        Result<DepthImage> depth = DepthFromProto(request->depth(), &intrinsics);
+        if (!depth.ok()) return ToGrpcStatus(depth.error());
+        result = pool_->EstimateDepth(*depth, intrinsics, names, deadline);
+        break;
+      }
+      case v1::EstimateRequest::kCloud: {
+        Result<PointCloud> cloud = CloudFromProto(request->cloud());
+        if (!cloud.ok()) return ToGrpcStatus(cloud.error());
+        result = pool_->EstimateCloud(*cloud, names, deadline);
+        break;
+      }
+      default:
+        return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                            "request holds neither a depth image nor a cloud");
     }
-    case v1::EstimateRequest::kCloud: {
-      Result<PointCloud> cloud = CloudFromProto(request->cloud());
-      if (!cloud.ok()) return ToGrpcStatus(cloud.error());
-      result = pool_->EstimateCloud(*cloud, names, deadline);
-      break;
-    }
-    default:
-      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                          "request holds neither a depth image nor a cloud");
+  } catch (const std::bad_alloc&) {
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, "out of memory for this request");
+  } catch (const std::exception& e) {
+    return grpc::Status(grpc::StatusCode::INTERNAL, std::string("estimation failed: ") + e.what());
   }
   if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "cancelled");
   if (!result.ok()) {
