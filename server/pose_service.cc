@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <exception>
 #include <new>
+#include <optional>
 #include <utility>
 
 #include "server/proto_convert.h"
@@ -173,11 +174,23 @@ void PoseServiceImpl::ToProto(const PublishedStereoEstimate& e, v1::PoseEstimate
 grpc::Status PoseServiceImpl::Estimate(grpc::ServerContext* context,
                                        const v1::EstimateRequest* request,
                                        v1::EstimateResponse* response) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kEstimate); !auth.ok()) return auth;
   const Clock::time_point deadline = SteadyDeadline(context);
   const auto received = std::chrono::system_clock::now();
   const Clock::time_point start = Clock::now();
   if (start >= deadline)
     return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED, "deadline passed");
+  // Admission before any copy of the request: a bounded number of calls and bytes at once.
+  std::optional<AdmissionControl::Ticket> ticket;
+  if (admission_ != nullptr) {
+    ticket.emplace(admission_->TryAdmit(request->ByteSizeLong()));
+    if (!ticket->admitted()) {
+      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                          "busy: " + std::to_string(admission_->max_calls()) +
+                              " Estimate calls or " + std::to_string(admission_->max_bytes()) +
+                              " request bytes are in flight; retry later");
+    }
+  }
   const std::vector<std::string> names(request->templates().begin(), request->templates().end());
   Result<hpose::Estimate> result = MakeError(ErrorCode::kInternal, "not run");
   // Inputs are validated in core; a library that still throws fails this call, not the daemon.
@@ -223,6 +236,7 @@ grpc::Status PoseServiceImpl::Estimate(grpc::ServerContext* context,
 grpc::Status PoseServiceImpl::EstimateStereo(grpc::ServerContext* context,
                                              const v1::EstimateStereoRequest* request,
                                              v1::EstimateResponse* response) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kEstimate); !auth.ok()) return auth;
   const Clock::time_point deadline = SteadyDeadline(context);
   const auto received = std::chrono::system_clock::now();
   const Clock::time_point start = Clock::now();
@@ -259,6 +273,7 @@ grpc::Status PoseServiceImpl::EstimateStereo(grpc::ServerContext* context,
 grpc::Status PoseServiceImpl::GetLatest(grpc::ServerContext* context,
                                         const v1::GetLatestRequest* request,
                                         v1::GetLatestResponse* response) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
   v1::EstimatorKind kind = request->estimator();
   if (kind == v1::ESTIMATOR_KIND_UNSPECIFIED) {
     kind = pipeline_->has_source() || stereo_pipeline_ == nullptr
@@ -297,6 +312,7 @@ grpc::Status PoseServiceImpl::GetLatest(grpc::ServerContext* context,
 grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
                                           const v1::StreamPosesRequest* request,
                                           grpc::ServerWriter<v1::PoseEstimate>* writer) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
   bool want_depth = request->estimators().empty() && pipeline_->has_source();
   bool want_stereo = request->estimators().empty() && stereo_pipeline_ != nullptr;
   for (const int k : request->estimators()) {
@@ -372,9 +388,10 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
   return grpc::Status::OK;
 }
 
-grpc::Status PoseServiceImpl::ListTemplates(grpc::ServerContext* /*context*/,
+grpc::Status PoseServiceImpl::ListTemplates(grpc::ServerContext* context,
                                             const v1::ListTemplatesRequest* /*request*/,
                                             v1::ListTemplatesResponse* response) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
   for (const VoxelTemplate& t : pool_->templates()) {
     v1::TemplateInfo* info = response->add_templates();
     info->set_name(t.name);
@@ -387,9 +404,10 @@ grpc::Status PoseServiceImpl::ListTemplates(grpc::ServerContext* /*context*/,
   return grpc::Status::OK;
 }
 
-grpc::Status PoseServiceImpl::GetStatus(grpc::ServerContext* /*context*/,
+grpc::Status PoseServiceImpl::GetStatus(grpc::ServerContext* context,
                                         const v1::GetStatusRequest* /*request*/,
                                         v1::GetStatusResponse* response) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
   const PipelineStatus s = pipeline_->Status();
   response->set_version(version_);
   response->set_uptime(std::chrono::duration<double>(Clock::now() - start_).count());

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <string>
 
+#include "core/io/atomic_file.h"
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
 #include "tools/command.h"
@@ -47,6 +48,8 @@ int RunDemo(int argc, char** argv) {
     return kExitUsage;
   }
   spec.seed = static_cast<std::uint64_t>(seed);
+  const Status writable = CheckOutputPath(picture);  // before the work.
+  if (!writable.ok()) return ReportError(cmd, writable.error());
 
   Result<std::vector<VoxelTemplate>> templates = LoadTemplates({});
   if (!templates.ok()) return ReportError(cmd, templates.error());

@@ -2,8 +2,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -13,6 +15,7 @@
 #include <google/protobuf/util/json_util.h>
 
 #include "core/common/pose2d.h"
+#include "core/io/atomic_file.h"
 #include "core/search/estimator.h"
 #include "core/templates/template_io.h"
 #include "server/daemon_config.h"
@@ -120,6 +123,10 @@ int RunReplay(int argc, char** argv) {
     return kExitUsage;
   }
   if (no_progress) progress = false;
+  if (!out_path.empty()) {  // before the work: results that cannot be written are an error.
+    const Status writable = CheckOutputPath(out_path);
+    if (!writable.ok()) return ReportError("replay", writable.error());
+  }
 
   server::DaemonConfig config;
   if (!config_path.empty()) {
@@ -211,6 +218,11 @@ int RunReplay(int argc, char** argv) {
       (void)google::protobuf::util::MessageToJsonString(msg, &line, json_options);
       out << line << "\n";
     }
+    if (!out) {  // a full disk or a closed pipe: stop instead of estimating for nothing.
+      return ReportError("replay", MakeError(ErrorCode::kInternal,
+                                             (out_path.empty() ? "standard output" : out_path) +
+                                                 ": write failed: " + std::strerror(errno)));
+    }
     if (progress) {
       DrawProgress(frames, std::max(total, frames),
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -227,8 +239,11 @@ int RunReplay(int argc, char** argv) {
                "(e.g. no floor), %ld unreadable; humanoid found in %ld; median estimate %.1f ms\n",
                frames, wall, wall > 0 ? frames / wall : 0.0, estimated, failed, unreadable,
                humanoids, median);
-  if (!out_path.empty() && !file) {
-    return ReportError("replay", MakeError(ErrorCode::kInternal, out_path + ": write failed"));
+  if (!out_path.empty()) file.close();
+  if (!out || (!out_path.empty() && file.fail())) {
+    return ReportError("replay", MakeError(ErrorCode::kInternal,
+                                           (out_path.empty() ? "standard output" : out_path) +
+                                               ": write failed: " + std::strerror(errno)));
   }
   return frames > 0 ? kExitOk : kExitError;
 }

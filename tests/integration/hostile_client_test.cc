@@ -4,12 +4,22 @@
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <string>
+#include <thread>
+#include <vector>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "core/depth/depth_to_cloud.h"
 #include "core/io/depth_png.h"
@@ -138,6 +148,154 @@ TEST_F(HostileClientTest, DegenerateCloudsDoNotStopTheDaemon) {
         << kind << ": " << s.error_code() << " " << s.error_message();
   }
   ExpectStillServing();
+}
+
+// hposed in its own process (so its memory is measured alone) on a free loopback port.
+class HposedProcess {
+ public:
+  explicit HposedProcess(const std::vector<std::string>& args) {
+    int fds[2];
+    if (::pipe(fds) != 0) return;
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::dup2(fds[1], STDOUT_FILENO);
+      ::close(fds[0]);
+      const std::string program = std::string(HPOSE_BINARY_DIR) + "/server/hposed";
+      std::vector<char*> argv{const_cast<char*>(program.c_str())};
+      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      ::execv(program.c_str(), argv.data());
+      ::_exit(127);
+    }
+    ::close(fds[1]);
+    out_ = ::fdopen(fds[0], "r");
+    char line[1024];
+    while (out_ != nullptr && std::fgets(line, sizeof(line), out_) != nullptr) {
+      const std::string text = line;
+      const size_t at = text.find("listening on ");
+      if (at == std::string::npos) continue;
+      address_ = text.substr(at + 13, text.find(' ', at + 13) - (at + 13));
+      break;
+    }
+  }
+  ~HposedProcess() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGINT);
+      int status = 0;
+      ::waitpid(pid_, &status, 0);
+    }
+    if (out_ != nullptr) std::fclose(out_);
+  }
+  const std::string& address() const { return address_; }
+  bool alive() const { return pid_ > 0 && ::kill(pid_, 0) == 0; }
+  // A field of /proc/PID/status in kB (VmRSS, VmHWM), -1 when unreadable.
+  long StatusKb(const std::string& field) const {
+    std::ifstream in("/proc/" + std::to_string(pid_) + "/status");
+    std::string key;
+    long value = -1;
+    while (in >> key) {
+      if (key == field + ":") {
+        in >> value;
+        return value;
+      }
+      std::getline(in, key);
+    }
+    return -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  FILE* out_ = nullptr;
+  std::string address_;
+};
+
+// 40 clients on their own connections send a ~15 MB cloud each at the same moment. Every answer
+// is OK or RESOURCE_EXHAUSTED (admission control), hposed keeps serving, and its peak resident
+// memory stays within 1 GB (docs/RELIABILITY.md).
+TEST(DaemonFloodTest, FortyConcurrentLargeRequestsStayBounded) {
+  const std::string dir = tu::MakeTempDir("flood");
+  ASSERT_TRUE(tu::SimulateFrames(dir + "/frames", 2));
+  HposedProcess hposed({"--listen", "127.0.0.1:0", "--template", tu::TemplatePath("standing")});
+  ASSERT_FALSE(hposed.address().empty()) << "hposed did not start";
+  const long base_kb = hposed.StatusKb("VmRSS");
+
+  // The frame's cloud, tiled with small offsets to ~15 MB (1.25 million points).
+  Result<DepthImage> depth = ReadDepthPng(dir + "/frames/depth_000.png");
+  Result<Intrinsics> k = ReadIntrinsicsJson(dir + "/frames/intrinsics.json");
+  ASSERT_TRUE(depth.ok() && k.ok());
+  const PointCloud frame = *DepthToCloud(*depth, *k);
+  v1::EstimateRequest request;
+  auto* xyz = request.mutable_cloud()->mutable_xyz();
+  constexpr int kPoints = 1'250'000;
+  xyz->Reserve(3 * kPoints);
+  for (int i = 0; i < kPoints; ++i) {
+    const Eigen::Vector3f& p = frame.points[i % frame.size()];
+    const float jitter = 0.001f * static_cast<float>((i / frame.size()) % 7);
+    xyz->Add(p.x() + jitter);
+    xyz->Add(p.y());
+    xyz->Add(p.z());
+  }
+  ASSERT_GT(request.ByteSizeLong(), 14u << 20);
+  ASSERT_LT(request.ByteSizeLong(), 16u << 20);
+
+  constexpr int kClients = 40;
+  std::vector<grpc::StatusCode> codes(kClients, grpc::StatusCode::UNKNOWN);
+  std::vector<std::string> messages(kClients);
+  std::atomic<int> ready{0};
+  std::vector<std::thread> clients;
+  for (int c = 0; c < kClients; ++c) {
+    clients.emplace_back([&, c] {
+      grpc::ChannelArguments args;
+      args.SetInt("grpc.channel_id", c);  // one connection per client.
+      args.SetMaxSendMessageSize(32 << 20);
+      auto stub = v1::PoseService::NewStub(
+          grpc::CreateCustomChannel(hposed.address(), grpc::InsecureChannelCredentials(), args));
+      ++ready;
+      while (ready.load() < kClients) std::this_thread::yield();
+      grpc::ClientContext ctx;
+      ctx.set_deadline(std::chrono::system_clock::now() + 300s);
+      v1::EstimateResponse response;
+      const grpc::Status s = stub->Estimate(&ctx, request, &response);
+      codes[c] = s.error_code();
+      messages[c] = s.error_message();
+    });
+  }
+  for (std::thread& t : clients) t.join();
+  int ok = 0, exhausted = 0;
+  for (int c = 0; c < kClients; ++c) {
+    EXPECT_TRUE(codes[c] == grpc::StatusCode::OK ||
+                codes[c] == grpc::StatusCode::RESOURCE_EXHAUSTED)
+        << "client " << c << ": " << codes[c] << " " << messages[c];
+    ok += codes[c] == grpc::StatusCode::OK ? 1 : 0;
+    exhausted += codes[c] == grpc::StatusCode::RESOURCE_EXHAUSTED ? 1 : 0;
+  }
+  std::map<std::string, int> reasons;  // for the log: who refused, and why.
+  for (int c = 0; c < kClients; ++c) ++reasons[messages[c]];
+  for (const auto& [reason, n] : reasons) std::printf("  %2d x '%s'\n", n, reason.c_str());
+  const long peak_kb = hposed.StatusKb("VmHWM");
+  std::printf("flood: %d OK, %d RESOURCE_EXHAUSTED; hposed RSS %ld kB before, peak %ld kB\n", ok,
+              exhausted, base_kb, peak_kb);
+  ASSERT_TRUE(hposed.alive());
+  EXPECT_GT(peak_kb, 0);
+  EXPECT_LE(peak_kb, 1024L * 1024L);
+
+  // Still serving: an ordinary frame is estimated. Right after the flood gRPC's memory quota
+  // may still refuse a call (RESOURCE_EXHAUSTED, as a client is told to retry): a few tries.
+  auto stub = v1::PoseService::NewStub(
+      grpc::CreateChannel(hposed.address(), grpc::InsecureChannelCredentials()));
+  v1::EstimateRequest normal;
+  DepthToProto(*depth, *k, normal.mutable_depth());
+  grpc::Status s;
+  for (int attempt = 0; attempt < 10; ++attempt) {
+    grpc::ClientContext ctx;
+    ctx.set_deadline(std::chrono::system_clock::now() + 60s);
+    v1::EstimateResponse response;
+    s = stub->Estimate(&ctx, normal, &response);
+    if (s.error_code() != grpc::StatusCode::RESOURCE_EXHAUSTED) break;
+    std::this_thread::sleep_for(1s);
+  }
+  EXPECT_TRUE(s.ok()) << s.error_code() << " " << s.error_message();
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
