@@ -8,7 +8,7 @@ PACKAGES := build-essential cmake pkg-config ccache git \
   libeigen3-dev libpcl-dev liboctomap-dev libopencv-dev libopenni2-dev \
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc \
   nlohmann-json3-dev libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  python3 python3-grpcio python3-protobuf
+  python3 python3-grpcio python3-protobuf openssl
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
