@@ -170,6 +170,29 @@ TEST_F(SecureDaemonTest, TokensAndRolesOnEveryCall) {
   EXPECT_TRUE(s.ok()) << s.error_message();
 }
 
+// `hpose query` takes the same options.
+TEST_F(SecureDaemonTest, QueryCommandSpeaksTlsWithTokens) {
+  Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(SecureConfig(/*mutual=*/true));
+  ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
+  std::ofstream(*dir_ + "/my_token") << kReadToken << "\n";
+  const std::string base = tu::HposeProgram() + " query --timeout 20 --server localhost:" +
+                           std::to_string((*daemon)->port()) + " --tls-ca '" + *dir_ +
+                           "/ca.pem' --tls-cert '" + *dir_ + "/client.pem' --tls-key '" + *dir_ +
+                           "/client.key'";
+  std::string out;
+  EXPECT_EQ(tu::RunCommand(base + " --token-file '" + *dir_ + "/my_token' status 2>&1", &out), 0)
+      << out;
+  out.clear();
+  EXPECT_NE(tu::RunCommand(base + " status 2>&1", &out), 0);
+  EXPECT_NE(out.find("bearer token"), std::string::npos) << out;
+  out.clear();
+  EXPECT_NE(tu::RunCommand(base + " --token-file '" + *dir_ + "/my_token' estimate '" + *dir_ +
+                               "/frames/depth_000.png' 2>&1",
+                           &out),
+            0);
+  EXPECT_NE(out.find("read-only"), std::string::npos) << out;
+}
+
 TEST_F(SecureDaemonTest, PlaintextClientCannotTalkToATlsDaemon) {
   Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(SecureConfig(/*mutual=*/false));
   ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
