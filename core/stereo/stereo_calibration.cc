@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <initializer_list>
 #include <sstream>
 
@@ -69,7 +70,7 @@ Result<cv::Mat> ReadMatrix(const std::vector<cv::FileStorage>& files,
       }
       node >> m;
     }
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {
     return MakeError(ErrorCode::kInvalidArgument, where + ": entry " + name + " is not a matrix");
   }
   if (m.empty()) {
@@ -173,7 +174,7 @@ Result<StereoCalibration> ReadStereoCalibration(const std::vector<std::string>& 
     cv::FileStorage fs;
     try {
       fs.open(path, cv::FileStorage::READ);
-    } catch (const cv::Exception& e) {
+    } catch (const std::exception& e) {  // cv::Exception, and std::length_error on some input.
       return MakeError(ErrorCode::kDataLoss,
                        path + ": not an OpenCV calibration file (YAML/XML FileStorage)");
     }
