@@ -17,7 +17,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 all: build
 
 deps:
-	@missing=""; for p in $(PACKAGES); do \
+	@missing=""; for p in $(PACKAGES) $(EXTRA_PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -64,7 +64,9 @@ templates: configure
 # seeded with real files; each runs FUZZ_SECONDS (see docs/RELIABILITY.md).
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
+FUZZ_PACKAGES := clang libclang-rt-14-dev
 fuzz: configure
+	@$(MAKE) --no-print-directory deps EXTRA_PACKAGES="$(FUZZ_PACKAGES)"
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target hpose hpose_proto_python
 	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DHPOSE_FUZZ=ON -DHPOSE_BUILD_TESTS=OFF -DHPOSE_BUILD_BENCH=OFF > $(FUZZ_DIR).configure.log
