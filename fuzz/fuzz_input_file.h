@@ -16,10 +16,9 @@ namespace hpose::fuzz {
 // Writes `data` to a file named fuzz_input_PID.EXT in the temporary directory (one per
 // process, overwritten on every input) and returns its path.
 inline std::string WriteInput(const std::uint8_t* data, std::size_t size, const std::string& ext) {
-  static const std::string path =
-      (std::filesystem::temp_directory_path() /
-       ("hpose_fuzz_input_" + std::to_string(::getpid()) + "." + ext))
-          .string();
+  static const std::string path = (std::filesystem::temp_directory_path() /
+                                   ("hpose_fuzz_input_" + std::to_string(::getpid()) + "." + ext))
+                                      .string();
   std::ofstream(path, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path;
