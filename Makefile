@@ -9,17 +9,17 @@ PACKAGES := build-essential cmake pkg-config ccache git \
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc \
   nlohmann-json3-dev libyaml-cpp-dev liburdfdom-dev libassimp-dev libgtest-dev libgmock-dev \
   libbenchmark-dev python3 python3-grpcio python3-protobuf python3-numpy python3-venv \
-  python3-setuptools python3-pip \
-  opencv-doc
+  python3-setuptools python3-pip opencv-doc openssl
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps configure build run demo test bench templates python-stubs format clean
+.PHONY: all deps configure build run demo test bench templates python-stubs format clean fuzz \
+  test-asan
 
 all: build
 
 deps:
-	@missing=""; for p in $(PACKAGES); do \
+	@missing=""; for p in $(PACKAGES) $(EXTRA_PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -68,6 +68,30 @@ templates: configure
 	./$(BUILD_DIR)/tools/hpose template generate --pose standing --out templates/standing.bt
 	./$(BUILD_DIR)/tools/hpose template generate --pose right_arm_raised \
 	  --out templates/right_arm_raised.bt
+
+# libFuzzer targets (clang, ASan + UBSan) for every file reader and the Estimate request path,
+# seeded with real files; each runs FUZZ_SECONDS (see docs/RELIABILITY.md).
+FUZZ_DIR ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_PACKAGES := clang libclang-rt-14-dev
+fuzz: configure
+	@$(MAKE) --no-print-directory deps EXTRA_PACKAGES="$(FUZZ_PACKAGES)"
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target hpose hpose_proto_python
+	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DHPOSE_FUZZ=ON -DHPOSE_BUILD_TESTS=OFF -DHPOSE_BUILD_BENCH=OFF > $(FUZZ_DIR).configure.log
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_targets
+	fuzz/run_fuzzers.sh $(BUILD_DIR) $(FUZZ_DIR) $(FUZZ_SECONDS)
+
+# The test suite built with AddressSanitizer and UndefinedBehaviorSanitizer; leaks inside the
+# third-party OpenNI2 library (and its drivers) are suppressed, nothing else.
+ASAN_DIR ?= build-asan
+test-asan: deps
+	cmake -S . -B $(ASAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHPOSE_SANITIZE=ON \
+	  -DHPOSE_BUILD_BENCH=OFF > $(ASAN_DIR).configure.log
+	cmake --build $(ASAN_DIR) -j $(JOBS)
+	cd $(ASAN_DIR) && LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers/lsan.supp \
+	  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --output-on-failure -j $(JOBS)
 
 format:
 	clang-format -i $$(git ls-files '*.cc' '*.h')

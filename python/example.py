@@ -21,9 +21,14 @@ def main():
     parser.add_argument("--count", type=int, default=10, help="estimates to read (0 = forever)")
     parser.add_argument("--estimator", choices=["depth", "stereo"], default=None,
                         help="only this estimator's estimates (default: all)")
+    parser.add_argument("--tls-ca", help="PEM CA of the daemon's certificate: connect with TLS")
+    parser.add_argument("--tls-cert", help="PEM client certificate (mutual TLS, with --tls-key)")
+    parser.add_argument("--tls-key", help="PEM private key of --tls-cert")
+    parser.add_argument("--token-file", help="file whose first line is the bearer token")
     args = parser.parse_args()
 
-    with PoseClient(args.server) as client:
+    with PoseClient(args.server, tls_ca=args.tls_ca, tls_cert=args.tls_cert,
+                    tls_key=args.tls_key, token_file=args.token_file) as client:
         try:
             client.wait_ready(timeout=10)
             status = client.status()

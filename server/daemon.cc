@@ -3,16 +3,19 @@
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/resource_quota.h>
 
 #include <chrono>
 #include <utility>
 
+#include "core/io/atomic_file.h"
 #include "core/io/intrinsics_file.h"
 #include "core/stereo/stereo_calibration.h"
 #include "core/stereo/stereo_estimator.h"
 #include "core/stereo/stereo_marker_options.h"
 #include "core/stereo/stereo_sequence.h"
 #include "core/templates/template_io.h"
+#include "server/admission_control.h"
 #include "server/estimator_pool.h"
 #include "server/frame_source.h"
 #include "server/listen_check.h"
@@ -20,6 +23,7 @@
 #include "server/pose_service.h"
 #include "server/publish_signal.h"
 #include "server/stereo_pipeline.h"
+#include "server/token_auth.h"
 #include "server/world_frame.h"
 
 namespace hpose::server {
@@ -92,6 +96,8 @@ class Daemon::Impl {
   std::unique_ptr<StereoEstimator> stereo_estimator;  // shared by the pipeline and the calls.
   std::unique_ptr<StereoPipeline> stereo_pipeline;
   std::unique_ptr<EstimatorPool> pool;
+  std::unique_ptr<AdmissionControl> admission;
+  std::unique_ptr<TokenAuthorizer> tokens;
   std::unique_ptr<PosePipeline> pipeline;
   std::unique_ptr<PoseServiceImpl> service;
   std::unique_ptr<grpc::Server> server;
@@ -99,6 +105,28 @@ class Daemon::Impl {
   int port = 0;
   bool shut_down = false;
 };
+
+namespace {
+
+// Plaintext, TLS, or mutual TLS, from the PEM files of the config.
+Result<std::shared_ptr<grpc::ServerCredentials>> ServerCredentials(const SecurityConfig& sec) {
+  if (!sec.tls()) return grpc::InsecureServerCredentials();
+  grpc::SslServerCredentialsOptions options;
+  Result<std::string> cert = ReadFile(sec.tls_cert);
+  if (!cert.ok()) return cert.error();
+  Result<std::string> key = ReadFile(sec.tls_key);
+  if (!key.ok()) return key.error();
+  options.pem_key_cert_pairs.push_back({*key, *cert});
+  if (!sec.tls_client_ca.empty()) {
+    Result<std::string> ca = ReadFile(sec.tls_client_ca);
+    if (!ca.ok()) return ca.error();
+    options.pem_root_certs = *ca;
+    options.client_certificate_request = GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY;
+  }
+  return grpc::SslServerCredentials(options);
+}
+
+}  // namespace
 
 Daemon::Daemon(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
@@ -160,8 +188,19 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   }
   impl->pipeline = std::make_unique<PosePipeline>(std::move(source), std::move(estimator),
                                                   config.source, impl->signal.get());
+  impl->admission = std::make_unique<AdmissionControl>(
+      config.grpc.max_inflight_estimates,
+      static_cast<std::uint64_t>(config.grpc.max_inflight_request_bytes));
   impl->service = std::make_unique<PoseServiceImpl>(
       impl->pipeline.get(), impl->pool.get(), config.floor.fixed ? "fixed" : "fit", HposeVersion());
+  impl->service->SetAdmissionControl(impl->admission.get());
+  if (!config.security.tokens_file.empty()) {
+    Result<std::unique_ptr<TokenAuthorizer>> tokens =
+        TokenAuthorizer::Load(config.security.tokens_file);
+    if (!tokens.ok()) return tokens.error();
+    impl->tokens = std::move(*tokens);
+    impl->service->SetTokenAuthorizer(impl->tokens.get());
+  }
   impl->service->AttachStereo(impl->stereo_pipeline.get(), impl->stereo_estimator.get());
   impl->service->SetPublishSignal(impl->signal.get());
   if (config.world_from_ground.configured) {
@@ -172,11 +211,20 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int selected_port = 0;
-  builder.AddListeningPort(config.grpc.listen, grpc::InsecureServerCredentials(), &selected_port);
+  Result<std::shared_ptr<grpc::ServerCredentials>> credentials = ServerCredentials(config.security);
+  if (!credentials.ok()) return credentials.error();
+  builder.AddListeningPort(config.grpc.listen, *credentials, &selected_port);
   // A second daemon on the same port must fail, not silently share it.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(config.grpc.max_receive_message_bytes);
   builder.SetMaxSendMessageSize(config.grpc.max_send_message_bytes);
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONCURRENT_STREAMS, config.grpc.max_streams_per_client);
+  // gRPC's own buffers (requests being received) come out of a bounded quota: under pressure
+  // the transport shrinks its flow-control windows, so clients wait instead of the daemon
+  // buffering every large request at once.
+  grpc::ResourceQuota quota("hposed");
+  quota.Resize(static_cast<size_t>(config.grpc.max_inflight_request_bytes) * 4);
+  builder.SetResourceQuota(quota);
   builder.RegisterService(impl->service.get());
   impl->server = builder.BuildAndStart();
   if (!impl->server || selected_port == 0) {

@@ -132,7 +132,33 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
         r.Read("max_send_message_bytes", &c->grpc.max_send_message_bytes, "an integer"));
     HPOSE_RETURN_IF_ERROR(
         r.Read("max_concurrent_estimates", &c->grpc.max_concurrent_estimates, "an integer"));
+    HPOSE_RETURN_IF_ERROR(
+        r.Read("max_inflight_estimates", &c->grpc.max_inflight_estimates, "an integer"));
+    HPOSE_RETURN_IF_ERROR(
+        r.Read("max_inflight_request_bytes", &c->grpc.max_inflight_request_bytes, "an integer"));
+    HPOSE_RETURN_IF_ERROR(
+        r.Read("max_streams_per_client", &c->grpc.max_streams_per_client, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
+  }
+  {
+    MapReader r(top.Get("tls"), "tls", origin);
+    HPOSE_RETURN_IF_ERROR(r.CheckIsMap());
+    SecurityConfig& s = c->security;
+    HPOSE_RETURN_IF_ERROR(r.Read("cert", &s.tls_cert, "a PEM file"));
+    HPOSE_RETURN_IF_ERROR(r.Read("key", &s.tls_key, "a PEM file"));
+    HPOSE_RETURN_IF_ERROR(r.Read("client_ca", &s.tls_client_ca, "a PEM file"));
+    HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
+    s.tls_cert = Resolve(base_dir, s.tls_cert);
+    s.tls_key = Resolve(base_dir, s.tls_key);
+    s.tls_client_ca = Resolve(base_dir, s.tls_client_ca);
+  }
+  {
+    MapReader r(top.Get("auth"), "auth", origin);
+    HPOSE_RETURN_IF_ERROR(r.CheckIsMap());
+    HPOSE_RETURN_IF_ERROR(r.Read("tokens_file", &c->security.tokens_file, "a path"));
+    HPOSE_RETURN_IF_ERROR(r.Read("insecure", &c->security.insecure, "true or false"));
+    HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
+    c->security.tokens_file = Resolve(base_dir, c->security.tokens_file);
   }
   {
     MapReader r(top.Get("source"), "source", origin);
@@ -258,6 +284,11 @@ bool ValidListen(const std::string& listen) {
 
 }  // namespace
 
+bool IsLoopbackListen(const std::string& listen) {
+  const std::string host = listen.substr(0, listen.rfind(':'));
+  return host == "localhost" || host == "[::1]" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
 Result<ScorerKind> ParseScorerName(const std::string& name) {
   if (name == "reference") return ScorerKind::kOctomapReference;
   if (name == "fast") return ScorerKind::kFast;
@@ -301,11 +332,35 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (!ValidListen(c.grpc.listen)) {
     return fail("listen", "expected HOST:PORT (e.g. 127.0.0.1:50051), got '" + c.grpc.listen + "'");
   }
+  const SecurityConfig& sec = c.security;
+  if (sec.tls_cert.empty() != sec.tls_key.empty()) {
+    return fail("tls", "cert and key go together");
+  }
+  if (!sec.tls_client_ca.empty() && !sec.tls()) {
+    return fail("tls.client_ca", "mutual TLS needs the server's cert and key too");
+  }
+  if (!sec.tls() && !sec.insecure && !IsLoopbackListen(c.grpc.listen)) {
+    return fail("listen", "refusing to serve " + c.grpc.listen +
+                              " without TLS: anyone on the network could read poses and send "
+                              "requests. Configure tls: {cert, key} (and auth: tokens_file), or "
+                              "pass --insecure to accept that on a trusted network");
+  }
   if (c.grpc.max_receive_message_bytes < 1024 || c.grpc.max_send_message_bytes < 1024) {
     return fail("grpc.max_receive_message_bytes", "message limits must be at least 1024 bytes");
   }
   if (c.grpc.max_concurrent_estimates < 1 || c.grpc.max_concurrent_estimates > 64) {
     return fail("grpc.max_concurrent_estimates", "must be in [1, 64]");
+  }
+  if (c.grpc.max_inflight_estimates < c.grpc.max_concurrent_estimates ||
+      c.grpc.max_inflight_estimates > 1024) {
+    return fail("grpc.max_inflight_estimates", "must be in [max_concurrent_estimates, 1024]");
+  }
+  if (c.grpc.max_inflight_request_bytes < c.grpc.max_receive_message_bytes) {
+    return fail("grpc.max_inflight_request_bytes",
+                "must be at least max_receive_message_bytes (one largest request)");
+  }
+  if (c.grpc.max_streams_per_client < 1 || c.grpc.max_streams_per_client > 10000) {
+    return fail("grpc.max_streams_per_client", "must be in [1, 10000]");
   }
   const SourceConfig& s = c.source;
   if (!(s.fps > 0.0 && s.fps <= 10000.0)) return fail("source.fps", "must be in (0, 10000]");
@@ -366,6 +421,19 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
       << c.grpc.max_receive_message_bytes;
   out << YAML::Key << "max_send_message_bytes" << YAML::Value << c.grpc.max_send_message_bytes;
   out << YAML::Key << "max_concurrent_estimates" << YAML::Value << c.grpc.max_concurrent_estimates;
+  out << YAML::Key << "max_inflight_estimates" << YAML::Value << c.grpc.max_inflight_estimates;
+  out << YAML::Key << "max_inflight_request_bytes" << YAML::Value
+      << c.grpc.max_inflight_request_bytes;
+  out << YAML::Key << "max_streams_per_client" << YAML::Value << c.grpc.max_streams_per_client;
+  out << YAML::EndMap;
+  out << YAML::Key << "tls" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "cert" << YAML::Value << c.security.tls_cert;
+  out << YAML::Key << "key" << YAML::Value << c.security.tls_key;
+  out << YAML::Key << "client_ca" << YAML::Value << c.security.tls_client_ca;
+  out << YAML::EndMap;
+  out << YAML::Key << "auth" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "tokens_file" << YAML::Value << c.security.tokens_file;
+  out << YAML::Key << "insecure" << YAML::Value << c.security.insecure;
   out << YAML::EndMap;
   const SourceConfig& s = c.source;
   out << YAML::Key << "source" << YAML::Value << YAML::BeginMap;

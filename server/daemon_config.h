@@ -1,6 +1,7 @@
 #ifndef HPOSE_SERVER_DAEMON_CONFIG_H_
 #define HPOSE_SERVER_DAEMON_CONFIG_H_
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,24 @@ struct GrpcConfig {
   int max_receive_message_bytes = 16 << 20;  // larger requests get RESOURCE_EXHAUSTED.
   int max_send_message_bytes = 16 << 20;
   int max_concurrent_estimates = 2;  // Estimate calls running at once; others wait.
+  // Admission control: Estimate calls held at once (running plus waiting for an estimator) and
+  // the request bytes they may hold together; beyond either, RESOURCE_EXHAUSTED at once.
+  int max_inflight_estimates = 4;
+  std::int64_t max_inflight_request_bytes = std::int64_t{64} << 20;
+  // Concurrent calls (streams) one client connection may open; more wait on the client side.
+  int max_streams_per_client = 16;
+};
+
+// Transport security and who may call. A daemon on a non-loopback address needs TLS (or an
+// explicit `insecure`), so that poses and tokens never cross a network in the clear by accident.
+struct SecurityConfig {
+  std::string tls_cert;       // PEM server certificate (chain); "" = plaintext.
+  std::string tls_key;        // PEM private key of tls_cert.
+  std::string tls_client_ca;  // PEM CA bundle; given = mutual TLS, clients must present a cert.
+  std::string tokens_file;    // bearer tokens with roles (TokenAuthorizer); "" = no tokens.
+  bool insecure = false;      // allow a non-loopback address without TLS.
+
+  bool tls() const { return !tls_cert.empty(); }
 };
 
 // The daemon's own frame source.
@@ -77,6 +96,7 @@ struct WorldFrameConfig {
 // DefaultEstimatorOptions().
 struct DaemonConfig {
   GrpcConfig grpc;
+  SecurityConfig security;
   SourceConfig source;
   std::vector<std::string> templates;  // .bt files.
   FloorConfig floor;
@@ -98,6 +118,9 @@ inline bool IsTemplateName(const std::string& entry) {
   return !entry.empty() && entry.find('/') == std::string::npos &&
          !(entry.size() >= 3 && entry.compare(entry.size() - 3, 3, ".bt") == 0);
 }
+
+// True for 127.x.y.z, localhost and [::1] listen addresses (HOST:PORT).
+bool IsLoopbackListen(const std::string& listen);
 
 // Reads and parses a config file (kNotFound when missing).
 Result<DaemonConfig> LoadDaemonConfig(const std::string& path);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <malloc.h>
 #include <pthread.h>
 
 #include "server/daemon.h"
@@ -36,10 +37,16 @@ bool ParseWorldFromGround(const std::string& text, hpose::server::WorldFrameConf
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Requests, clouds and their copies are megabytes each: a fixed mmap threshold gives every
+  // such buffer back to the system when freed. glibc's default raises the threshold after the
+  // first large free, and the heap arenas of many handler threads then keep a flood of large
+  // requests' memory resident long after it was released.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   std::string config_path, listen, source, rate, intrinsics;
   std::string stereo_source, stereo_calibration, stereo_options, world_from_ground;
   std::vector<std::string> templates;
-  bool loop = false, print_config = false;
+  std::string tls_cert, tls_key, tls_client_ca, token_file;
+  bool loop = false, print_config = false, insecure = false;
   double fps = 30.0, stereo_fps = 15.0;
   FlagParser flags(
       "hposed [--config FILE.yaml] [--listen ADDR] [--source PATH] [--template FILE.bt ...] "
@@ -83,6 +90,17 @@ int main(int argc, char** argv) {
                   "X,Y in metres and its yaw in radians; depth poses are then also reported in "
                   "the world frame",
                   "X,Y,YAW");
+  flags.AddString("tls-cert", &tls_cert, "PEM server certificate: serve TLS (with --tls-key)",
+                  "FILE");
+  flags.AddString("tls-key", &tls_key, "PEM private key of --tls-cert", "FILE");
+  flags.AddString("tls-client-ca", &tls_client_ca,
+                  "PEM CA: mutual TLS, clients must present a certificate it signed", "FILE");
+  flags.AddString("token-file", &token_file,
+                  "bearer tokens, one 'TOKEN ROLE' per line (ROLE read or estimate); every call "
+                  "must then carry 'authorization: Bearer TOKEN'",
+                  "FILE");
+  flags.AddBool("insecure", &insecure,
+                "serve a non-loopback --listen address without TLS (refused otherwise)");
   flags.AddBool("print-config", &print_config, "print the effective config as YAML and exit");
   flags.SetEpilog(
       "examples:\n"
@@ -103,6 +121,11 @@ int main(int argc, char** argv) {
     config = std::move(*loaded);
   }
   if (flags.Seen("listen")) config.grpc.listen = listen;
+  if (flags.Seen("tls-cert")) config.security.tls_cert = tls_cert;
+  if (flags.Seen("tls-key")) config.security.tls_key = tls_key;
+  if (flags.Seen("tls-client-ca")) config.security.tls_client_ca = tls_client_ca;
+  if (flags.Seen("token-file")) config.security.tokens_file = token_file;
+  if (flags.Seen("insecure")) config.security.insecure = insecure;
   if (flags.Seen("source")) config.source.path = source;
   if (flags.Seen("intrinsics")) config.source.intrinsics = intrinsics;
   if (flags.Seen("template")) config.templates = templates;

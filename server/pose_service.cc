@@ -1,6 +1,9 @@
 #include "server/pose_service.h"
 
 #include <algorithm>
+#include <exception>
+#include <new>
+#include <optional>
 #include <utility>
 
 #include "server/proto_convert.h"
@@ -197,30 +200,49 @@ void PoseServiceImpl::ToProto(const PublishedStereoEstimate& e, std::uint64_t sk
 grpc::Status PoseServiceImpl::Estimate(grpc::ServerContext* context,
                                        const v1::EstimateRequest* request,
                                        v1::EstimateResponse* response) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kEstimate); !auth.ok()) return auth;
   const Clock::time_point deadline = SteadyDeadline(context);
   const auto received = std::chrono::system_clock::now();
   const Clock::time_point start = Clock::now();
   if (start >= deadline)
     return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED, "deadline passed");
+  // Admission before any copy of the request: a bounded number of calls and bytes at once.
+  std::optional<AdmissionControl::Ticket> ticket;
+  if (admission_ != nullptr) {
+    ticket.emplace(admission_->TryAdmit(request->ByteSizeLong()));
+    if (!ticket->admitted()) {
+      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                          "busy: " + std::to_string(admission_->max_calls()) +
+                              " Estimate calls or " + std::to_string(admission_->max_bytes()) +
+                              " request bytes are in flight; retry later");
+    }
+  }
   const std::vector<std::string> names(request->templates().begin(), request->templates().end());
   Result<hpose::Estimate> result = MakeError(ErrorCode::kInternal, "not run");
-  switch (request->input_case()) {
-    case v1::EstimateRequest::kDepth: {
-      Intrinsics intrinsics;
-      Result<DepthImage> depth = DepthFromProto(request->depth(), &intrinsics);
-      if (!depth.ok()) return ToGrpcStatus(depth.error());
-      result = pool_->EstimateDepth(*depth, intrinsics, names, deadline);
-      break;
+  // Inputs are validated in core; a library that still throws fails this call, not the daemon.
+  try {
+    switch (request->input_case()) {
+      case v1::EstimateRequest::kDepth: {
+        Intrinsics intrinsics;
+        Result<DepthImage> depth = DepthFromProto(request->depth(), &intrinsics);
+        if (!depth.ok()) return ToGrpcStatus(depth.error());
+        result = pool_->EstimateDepth(*depth, intrinsics, names, deadline);
+        break;
+      }
+      case v1::EstimateRequest::kCloud: {
+        Result<PointCloud> cloud = CloudFromProto(request->cloud());
+        if (!cloud.ok()) return ToGrpcStatus(cloud.error());
+        result = pool_->EstimateCloud(*cloud, names, deadline);
+        break;
+      }
+      default:
+        return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                            "request holds neither a depth image nor a cloud");
     }
-    case v1::EstimateRequest::kCloud: {
-      Result<PointCloud> cloud = CloudFromProto(request->cloud());
-      if (!cloud.ok()) return ToGrpcStatus(cloud.error());
-      result = pool_->EstimateCloud(*cloud, names, deadline);
-      break;
-    }
-    default:
-      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                          "request holds neither a depth image nor a cloud");
+  } catch (const std::bad_alloc&) {
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, "out of memory for this request");
+  } catch (const std::exception& e) {
+    return grpc::Status(grpc::StatusCode::INTERNAL, std::string("estimation failed: ") + e.what());
   }
   if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "cancelled");
   if (!result.ok()) {
@@ -240,6 +262,7 @@ grpc::Status PoseServiceImpl::Estimate(grpc::ServerContext* context,
 grpc::Status PoseServiceImpl::EstimateStereo(grpc::ServerContext* context,
                                              const v1::EstimateStereoRequest* request,
                                              v1::EstimateResponse* response) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kEstimate); !auth.ok()) return auth;
   const Clock::time_point deadline = SteadyDeadline(context);
   const auto received = std::chrono::system_clock::now();
   const Clock::time_point start = Clock::now();
@@ -276,6 +299,7 @@ grpc::Status PoseServiceImpl::EstimateStereo(grpc::ServerContext* context,
 grpc::Status PoseServiceImpl::GetLatest(grpc::ServerContext* context,
                                         const v1::GetLatestRequest* request,
                                         v1::GetLatestResponse* response) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
   v1::EstimatorKind kind = request->estimator();
   if (kind == v1::ESTIMATOR_KIND_UNSPECIFIED) {
     kind = pipeline_->has_source() || stereo_pipeline_ == nullptr
@@ -314,6 +338,7 @@ grpc::Status PoseServiceImpl::GetLatest(grpc::ServerContext* context,
 grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
                                           const v1::StreamPosesRequest* request,
                                           grpc::ServerWriter<v1::PoseEstimate>* writer) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
   bool want_depth = request->estimators().empty() && pipeline_->has_source();
   bool want_stereo = request->estimators().empty() && stereo_pipeline_ != nullptr;
   for (const int k : request->estimators()) {
@@ -393,9 +418,10 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
   return grpc::Status::OK;
 }
 
-grpc::Status PoseServiceImpl::ListTemplates(grpc::ServerContext* /*context*/,
+grpc::Status PoseServiceImpl::ListTemplates(grpc::ServerContext* context,
                                             const v1::ListTemplatesRequest* /*request*/,
                                             v1::ListTemplatesResponse* response) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
   for (const VoxelTemplate& t : pool_->templates()) {
     v1::TemplateInfo* info = response->add_templates();
     info->set_name(t.name);
@@ -408,9 +434,10 @@ grpc::Status PoseServiceImpl::ListTemplates(grpc::ServerContext* /*context*/,
   return grpc::Status::OK;
 }
 
-grpc::Status PoseServiceImpl::GetStatus(grpc::ServerContext* /*context*/,
+grpc::Status PoseServiceImpl::GetStatus(grpc::ServerContext* context,
                                         const v1::GetStatusRequest* /*request*/,
                                         v1::GetStatusResponse* response) {
+  if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
   const PipelineStatus s = pipeline_->Status();
   response->set_version(version_);
   response->set_uptime(std::chrono::duration<double>(Clock::now() - start_).count());

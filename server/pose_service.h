@@ -12,10 +12,12 @@
 #include "core/common/status.h"
 #include "core/stereo/stereo_estimator.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
+#include "server/admission_control.h"
 #include "server/estimator_pool.h"
 #include "server/pose_pipeline.h"
 #include "server/publish_signal.h"
 #include "server/stereo_pipeline.h"
+#include "server/token_auth.h"
 
 namespace hpose::server {
 
@@ -37,6 +39,10 @@ class PoseServiceImpl final : public v1::PoseService::Service {
   void SetWorldFromGround(const Pose2D& world_from_ground);
   // Notified by both pipelines; lets a stream of both estimators wait for either.
   void SetPublishSignal(const PublishSignal* signal) { signal_ = signal; }
+  // Estimate calls pass it before their request is decoded (null: no admission control).
+  void SetAdmissionControl(AdmissionControl* admission) { admission_ = admission; }
+  // Every call must carry a bearer token it accepts (null: no tokens needed).
+  void SetTokenAuthorizer(const TokenAuthorizer* tokens) { tokens_ = tokens; }
 
   grpc::Status Estimate(grpc::ServerContext* context, const v1::EstimateRequest* request,
                         v1::EstimateResponse* response) override;
@@ -69,6 +75,11 @@ class PoseServiceImpl final : public v1::PoseService::Service {
   bool has_world_from_ground_ = false;
   Pose2D world_from_ground_;
   EstimatorPool* pool_;
+  AdmissionControl* admission_ = nullptr;
+  const TokenAuthorizer* tokens_ = nullptr;
+  grpc::Status Authorize(const grpc::ServerContext* context, TokenRole needed) const {
+    return tokens_ == nullptr ? grpc::Status::OK : tokens_->Check(*context, needed);
+  }
   const std::string floor_mode_;
   const std::string version_;
   const std::chrono::steady_clock::time_point start_;

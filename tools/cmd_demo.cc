@@ -6,6 +6,7 @@
 #include <iostream>
 #include <string>
 
+#include "core/io/atomic_file.h"
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
 #include "core/sim/triangle_mesh.h"
@@ -58,6 +59,8 @@ int RunDemo(int argc, char** argv) {
     return kExitUsage;
   }
   spec.seed = static_cast<std::uint64_t>(seed);
+  const Status writable = CheckOutputPath(picture);  // before the work.
+  if (!writable.ok()) return ReportError(cmd, writable.error());
 
   Result<std::vector<VoxelTemplate>> templates = std::vector<VoxelTemplate>{};
   if (robot_urdf.empty()) {

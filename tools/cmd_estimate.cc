@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/io/atomic_file.h"
 #include "core/io/cloud_io.h"
 #include "core/io/depth_frame_io.h"
 #include "core/io/frame_file_time.h"
@@ -98,6 +99,10 @@ int RunEstimate(int argc, char** argv) {
   if (stride < 1 || stride > 16) {
     std::cerr << "hpose estimate: --stride must be within [1, 16]\n";
     return kExitUsage;
+  }
+  if (!picture.empty()) {  // before the work: a picture that cannot be written is an error.
+    const Status writable = CheckOutputPath(picture);
+    if (!writable.ok()) return ReportError(cmd, writable.error());
   }
   options.cloud.stride = stride;
   Result<SearchKind> kind = ParseSearchKind(search);

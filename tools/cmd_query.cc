@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/common/pose2d.h"
+#include "core/io/atomic_file.h"
 #include "core/io/cloud_io.h"
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
@@ -203,7 +204,36 @@ void PrintEstimate(const v1::PoseEstimate& e, bool json) {
   std::cout << (json ? ToJson(e) : Describe(e)) << std::endl;
 }
 
-void SetDeadline(grpc::ClientContext* ctx, double seconds) {
+// Plaintext, or TLS trusting `ca` (with a client certificate for mutual TLS).
+Result<std::shared_ptr<grpc::ChannelCredentials>> ClientCredentials(const std::string& ca,
+                                                                    const std::string& cert,
+                                                                    const std::string& key) {
+  if (ca.empty() && cert.empty()) return grpc::InsecureChannelCredentials();
+  if (cert.empty() != key.empty()) {
+    return MakeError(ErrorCode::kInvalidArgument, "--tls-cert and --tls-key go together");
+  }
+  grpc::SslCredentialsOptions options;
+  for (const auto& [path, out] :
+       {std::pair<const std::string*, std::string*>{&ca, &options.pem_root_certs},
+        {&cert, &options.pem_cert_chain},
+        {&key, &options.pem_private_key}}) {
+    if (path->empty()) continue;
+    Result<std::string> text = ReadFile(*path);
+    if (!text.ok()) return text.error();
+    *out = *text;
+  }
+  return grpc::SslCredentials(options);
+}
+
+// "Bearer TOKEN" sent with every call when --token-file was given.
+std::string& BearerMetadata() {
+  static std::string value;
+  return value;
+}
+
+// Sets the call's deadline (none for seconds <= 0) and its bearer token.
+void PrepareCall(grpc::ClientContext* ctx, double seconds) {
+  if (!BearerMetadata().empty()) ctx->AddMetadata("authorization", BearerMetadata());
   if (seconds > 0) {
     ctx->set_deadline(std::chrono::system_clock::now() +
                       std::chrono::milliseconds(static_cast<long>(seconds * 1000)));
@@ -245,6 +275,7 @@ Result<v1::EstimateRequest> MakeRequest(const std::string& path,
 int RunQuery(int argc, char** argv) {
   std::string server = "127.0.0.1:50051", intrinsics, estimator = "all";
   std::vector<std::string> templates;
+  std::string tls_ca, tls_cert, tls_key, token_file;
   bool json = false, compare = false;
   int count = 0;
   double timeout_s = 10.0;
@@ -271,7 +302,14 @@ int RunQuery(int argc, char** argv) {
                   "NAME");
   flags.AddBool("compare", &compare,
                 "stream: both estimators' world-frame poses side by side (text output)");
-  flags.AddStrings("template", &templates, "estimate: only these templates", "NAME");
+  flags.AddStrings("template", &templates, "estimate: only these templates (repeatable)", "NAME");
+  flags.AddString("tls-ca", &tls_ca,
+                  "PEM CA that signed the daemon's certificate: connect with TLS", "FILE");
+  flags.AddString("tls-cert", &tls_cert, "PEM client certificate (mutual TLS; with --tls-key)",
+                  "FILE");
+  flags.AddString("tls-key", &tls_key, "PEM private key of --tls-cert", "FILE");
+  flags.AddString("token-file", &token_file,
+                  "file holding the bearer token sent with every call (first line)", "FILE");
   flags.AllowPositional("COMMAND [FILE...]");
   flags.SetEpilog(
       "examples:\n  hpose query status\n  hpose query stream --count 10\n"
@@ -312,8 +350,20 @@ int RunQuery(int argc, char** argv) {
   // rather than older ones held by the transport (docs/API.md, "Streams").
   channel_args.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
   channel_args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, 1);
-  auto channel =
-      grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), channel_args);
+  Result<std::shared_ptr<grpc::ChannelCredentials>> credentials =
+      ClientCredentials(tls_ca, tls_cert, tls_key);
+  if (!credentials.ok()) return ReportError("query", credentials.error());
+  if (!token_file.empty()) {
+    Result<std::string> token = ReadFile(token_file);
+    if (!token.ok()) return ReportError("query", token.error());
+    const std::string first = token->substr(0, token->find('\n'));
+    if (first.empty()) {
+      return ReportError("query", MakeError(ErrorCode::kInvalidArgument,
+                                            token_file + ": the first line holds no token"));
+    }
+    BearerMetadata() = "Bearer " + first;
+  }
+  auto channel = grpc::CreateCustomChannel(server, *credentials, channel_args);
   // Wait for the daemon (it may still be starting) up to the timeout.
   if (!channel->WaitForConnected(std::chrono::system_clock::now() +
                                  std::chrono::milliseconds(static_cast<long>(
@@ -325,7 +375,7 @@ int RunQuery(int argc, char** argv) {
 
   if (cmd == "latest") {
     grpc::ClientContext ctx;
-    SetDeadline(&ctx, timeout_s);
+    PrepareCall(&ctx, timeout_s);
     v1::GetLatestResponse response;
     v1::GetLatestRequest request;
     request.set_estimator(kind);
@@ -336,6 +386,7 @@ int RunQuery(int argc, char** argv) {
   }
   if (cmd == "stream") {
     grpc::ClientContext ctx;
+    PrepareCall(&ctx, 0.0);  // a stream runs until stopped: no deadline.
     v1::StreamPosesRequest request;
     request.set_max_estimates(count > 0 ? static_cast<std::uint32_t>(count) : 0);
     if (kind != v1::ESTIMATOR_KIND_UNSPECIFIED) request.add_estimators(kind);
@@ -373,7 +424,7 @@ int RunQuery(int argc, char** argv) {
     if (!request.ok()) return ReportError("query", request.error());
     for (const std::string& t : templates) request->add_templates(t);
     grpc::ClientContext ctx;
-    SetDeadline(&ctx, timeout_s);
+    PrepareCall(&ctx, timeout_s);
     v1::EstimateResponse response;
     grpc::Status s = stub->Estimate(&ctx, *request, &response);
     if (!s.ok()) return Fail("estimate", s);
@@ -389,7 +440,7 @@ int RunQuery(int argc, char** argv) {
       server::ColorImageToProto(*image, i == 0 ? request.mutable_left() : request.mutable_right());
     }
     grpc::ClientContext ctx;
-    SetDeadline(&ctx, timeout_s);
+    PrepareCall(&ctx, timeout_s);
     v1::EstimateResponse response;
     grpc::Status s = stub->EstimateStereo(&ctx, request, &response);
     if (!s.ok()) return Fail("estimate-stereo", s);
@@ -398,7 +449,7 @@ int RunQuery(int argc, char** argv) {
   }
   if (cmd == "status") {
     grpc::ClientContext ctx;
-    SetDeadline(&ctx, timeout_s);
+    PrepareCall(&ctx, timeout_s);
     v1::GetStatusResponse st;
     grpc::Status s = stub->GetStatus(&ctx, v1::GetStatusRequest(), &st);
     if (!s.ok()) return Fail("status", s);
@@ -453,7 +504,7 @@ int RunQuery(int argc, char** argv) {
   }
   if (cmd == "templates") {
     grpc::ClientContext ctx;
-    SetDeadline(&ctx, timeout_s);
+    PrepareCall(&ctx, timeout_s);
     v1::ListTemplatesResponse list;
     grpc::Status s = stub->ListTemplates(&ctx, v1::ListTemplatesRequest(), &list);
     if (!s.ok()) return Fail("templates", s);

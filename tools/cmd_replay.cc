@@ -2,8 +2,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "core/common/pose2d.h"
+#include "core/io/atomic_file.h"
 #include "core/io/intrinsics_file.h"
 #include "core/search/estimator.h"
 #include "core/templates/template_io.h"
@@ -140,6 +143,10 @@ int RunReplay(int argc, char** argv) {
         << fps << "\n";
     return kExitUsage;
   }
+  if (!out_path.empty()) {  // before the work: results that cannot be written are an error.
+    const Status writable = CheckOutputPath(out_path);
+    if (!writable.ok()) return ReportError("replay", writable.error());
+  }
 
   server::DaemonConfig config;
   if (!config_path.empty()) {
@@ -235,6 +242,11 @@ int RunReplay(int argc, char** argv) {
     } else {
       out << server::MessageToJsonLine(msg) << "\n";
     }
+    if (!out) {  // a full disk or a closed pipe: stop instead of estimating for nothing.
+      return ReportError("replay", MakeError(ErrorCode::kInternal,
+                                             (out_path.empty() ? "standard output" : out_path) +
+                                                 ": write failed: " + std::strerror(errno)));
+    }
     if (progress) {
       DrawProgress(frames, std::max(total, frames),
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -251,8 +263,11 @@ int RunReplay(int argc, char** argv) {
                "(e.g. no floor), %ld unreadable; humanoid found in %ld; median estimate %.1f ms\n",
                frames, wall, wall > 0 ? frames / wall : 0.0, estimated, failed, unreadable,
                humanoids, median);
-  if (!out_path.empty() && !file) {
-    return ReportError("replay", MakeError(ErrorCode::kInternal, out_path + ": write failed"));
+  if (!out_path.empty()) file.close();
+  if (!out || (!out_path.empty() && file.fail())) {
+    return ReportError("replay", MakeError(ErrorCode::kInternal,
+                                           (out_path.empty() ? "standard output" : out_path) +
+                                               ": write failed: " + std::strerror(errno)));
   }
   return frames > 0 ? kExitOk : kExitError;
 }

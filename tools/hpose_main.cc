@@ -1,4 +1,6 @@
 // `hpose`: the command line of hpose. Dispatches to one subcommand per file.
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -42,6 +44,19 @@ void PrintHelp() {
                "             4 no floor found, 5 server or device unavailable\n";
 }
 
+// Results written to standard output and lost (a full disk, a closed pipe, /dev/full) must
+// not be reported as success: flush it and check for any write error.
+int CheckStdoutWritten(const std::string& prog, int code) {
+  std::cout.flush();
+  errno = 0;
+  const bool failed = !std::cout || std::fflush(stdout) != 0 || std::ferror(stdout) != 0;
+  if (!failed) return code;
+  const int err = errno;
+  std::cerr << prog << ": cannot write the output to standard output"
+            << (err != 0 ? std::string(": ") + std::strerror(err) : std::string()) << "\n";
+  return hpose::tools::kExitError;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -54,7 +69,8 @@ int main(int argc, char** argv) {
     if (argv[1] == std::string(c.name)) {
       std::string prog = std::string("hpose ") + c.name;
       argv[1] = prog.data();
-      return c.run(argc - 1, argv + 1);
+      const int code = c.run(argc - 1, argv + 1);
+      return CheckStdoutWritten(prog, code);
     }
   }
   std::cerr << "hpose: unknown command '" << argv[1] << "' (see hpose --help)\n";

@@ -15,6 +15,7 @@
 #include <pcl/search/kdtree.h>
 #include <pcl/segmentation/extract_clusters.h>
 
+#include "core/depth/cloud_validation.h"
 #include "core/depth/grid_euclidean_clusters.h"
 #include "core/depth/voxel_downsample.h"
 
@@ -252,6 +253,8 @@ Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
                                              const ClusterOptions& options) {
   const Status valid = ValidateOptions(options);
   if (!valid.ok()) return valid.error();
+  const Status valid_floor = ValidateFloor(floor);
+  if (!valid_floor.ok()) return valid_floor.error();
 
   // 1. Ground frame, height band and range.
   const Eigen::Matrix3f rotation = floor.ground_from_sensor.linear().cast<float>();
@@ -270,8 +273,9 @@ Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
     const Eigen::Vector3f& p = cloud_sensor.points[i];
     if (!p.allFinite()) continue;
     const Eigen::Vector3f g = rotation * p + translation;
-    if (g.z() < z_min || g.z() > z_max) continue;
-    if (g.x() * g.x() + g.y() * g.y() > range2) continue;
+    // Written to fail for NaN: only points provably inside the band and range pass.
+    if (!(g.z() >= z_min && g.z() <= z_max)) continue;
+    if (!(g.x() * g.x() + g.y() * g.y() <= range2)) continue;
     if (drop_veils && IsVeilPoint(cloud_sensor.points, width, height, static_cast<int>(i % width),
                                   static_cast<int>(i / width), cos2_veil)) {
       continue;

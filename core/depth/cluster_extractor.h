@@ -56,7 +56,7 @@ struct ClusterOptions {
 // Transforms the cloud to the ground frame, keeps points above the floor, downsamples and
 // splits them into Euclidean clusters (PCL), filtered by size and height. Clusters are sorted by
 // point count, largest first. An empty result is not an error. Fails (kInvalidArgument) only on
-// invalid options.
+// invalid options or a degenerate floor (ValidateFloor).
 // Details: organised clouds lose their mixed pixels at depth jumps (veil_max_angle_rad);
 // clusters with several tops are split (split_min_top_separation_m); clusters reaching within
 // max(2 tolerance_m, 0.1 m) of max_range_m or max_height_above_floor_m are dropped as cut-off

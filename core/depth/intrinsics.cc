@@ -1,5 +1,6 @@
 #include "core/depth/intrinsics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -15,11 +16,36 @@ constexpr double kNativeCx = 339.3;
 constexpr double kNativeCy = 242.7;
 
 constexpr int kMaxSide = 8192;
+// A ray at most 84 degrees off the optical axis (tan = 10): any real lens, fish-eyes aside.
+constexpr double kMaxRaySlope = 10.0;
+constexpr double kMaxFocalPx = 1e6;
 
 std::string Num(double value) {
   if (std::isnan(value)) return "NaN";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
   return std::to_string(value);
+}
+
+// Range checks of one image axis ("x": width, fx, cx). The principal point must lie within one
+// image size of the image, and the focal length must keep every pixel's ray within
+// kMaxRaySlope of the optical axis (and below kMaxFocalPx): beyond that the back-projected
+// points are not a camera's and their coordinates can overflow downstream.
+Status CheckAxis(const char* axis, int size, double f, double c) {
+  const std::string fname = std::string("f") + axis, cname = std::string("c") + axis;
+  if (c < -size || c > 2.0 * size) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "intrinsics: " + cname + " " + Num(c) + " is outside [-" +
+                         std::to_string(size) + ", " + std::to_string(2 * size) +
+                         "] (the principal point must lie near the image)");
+  }
+  const double widest = std::max(std::abs(c), std::abs(size - 1 - c));
+  if (f > kMaxFocalPx || widest > kMaxRaySlope * f) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "intrinsics: " + fname + " " + Num(f) + " is outside [" +
+                         Num(widest / kMaxRaySlope) + ", " + Num(kMaxFocalPx) +
+                         "] px (field of view between nothing and wider than 168 degrees)");
+  }
+  return Status::Ok();
 }
 
 }  // namespace
@@ -62,7 +88,9 @@ Status Intrinsics::Validate() const {
   if (!std::isfinite(cy)) {
     return MakeError(ErrorCode::kInvalidArgument, "intrinsics: cy " + Num(cy) + " is not finite");
   }
-  return Status::Ok();
+  Status st = CheckAxis("x", width, fx, cx);
+  if (!st.ok()) return st;
+  return CheckAxis("y", height, fy, cy);
 }
 
 }  // namespace hpose

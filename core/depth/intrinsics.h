@@ -20,7 +20,10 @@ struct Intrinsics {
   static Intrinsics KinectV1(int width = 640, int height = 480);
 
   // Checks sizes are positive and bounded (<= 8192), focal lengths finite and positive and the
-  // principal point finite. The message names the offending field.
+  // principal point finite; then that the principal point lies within one image size of the
+  // image ([-width, 2 width]) and that every pixel's ray is within 84 degrees of the optical
+  // axis (|u - cx| <= 10 fx) with fx, fy <= 1e6 px, so back-projected points stay finite and
+  // bounded. The message names the offending field.
   Status Validate() const;
 };
 

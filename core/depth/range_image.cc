@@ -30,9 +30,12 @@ RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
   r.depth_.assign(static_cast<size_t>(r.width_) * r.height_, 0.0f);
   for (const Eigen::Vector3f& p : cloud.points) {
     if (!p.allFinite() || p.z() <= 0.0f) continue;
-    const int u = static_cast<int>(std::floor(p.x() / p.z() * focal_px + r.u0_));
-    const int v = static_cast<int>(std::floor(p.y() / p.z() * focal_px + r.v0_));
-    if (u < 0 || v < 0 || u >= r.width_ || v >= r.height_) continue;
+    // In double and range-checked before the conversion: a point almost in the optical
+    // centre's plane has an enormous ray slope that no int holds.
+    const double uf = std::floor(p.x() / p.z() * focal_px + r.u0_);
+    const double vf = std::floor(p.y() / p.z() * focal_px + r.v0_);
+    if (!(uf >= 0.0 && vf >= 0.0 && uf < r.width_ && vf < r.height_)) continue;
+    const int u = static_cast<int>(uf), v = static_cast<int>(vf);
     float& d = r.depth_[static_cast<size_t>(v) * r.width_ + u];
     if (d == 0.0f || p.z() < d) d = p.z();
   }

@@ -11,8 +11,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/io/input_file.h"
+
 namespace hpose {
 namespace {
+
+// ReadFile reads configuration, sidecars and intrinsics: small text files.
+constexpr std::uint64_t kMaxReadFileBytes = std::uint64_t{64} << 20;
 
 std::string ErrnoText() { return std::strerror(errno); }
 
@@ -47,9 +52,13 @@ void SyncPath(const std::string& path, int flags) {
 
 Status WriteAtomically(const std::string& path,
                        const std::function<Status(const std::string& temp_path)>& write_temp) {
-  if (path.empty()) return MakeError(ErrorCode::kInternal, "cannot write: empty path");
-  if (path.back() == '/') {
-    return MakeError(ErrorCode::kInternal, path + ": is a directory name, not a file");
+  const Status destination = CheckOutputPath(path);
+  if (!destination.ok()) return destination;
+  struct stat existing;
+  if (::stat(path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode)) {
+    // A device or FIFO (/dev/stdout, /dev/null, a pipe) is written in place: renaming over it
+    // would replace the device node with a regular file.
+    return write_temp(path);
   }
   const std::string temp = TempPathFor(path);
   Status written = write_temp(temp);
@@ -72,6 +81,31 @@ Status WriteAtomically(const std::string& path,
   return Status::Ok();
 }
 
+Status CheckOutputPath(const std::string& path) {
+  if (path.empty()) return MakeError(ErrorCode::kInvalidArgument, "cannot write: empty path");
+  if (path.back() == '/') {
+    return MakeError(ErrorCode::kInvalidArgument, path + ": is a directory name, not a file");
+  }
+  struct stat st;
+  if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
+    return MakeError(ErrorCode::kInvalidArgument, path + ": is a directory, not a file");
+  }
+  const std::string dir = DirectoryOf(path);
+  if (::stat(dir.c_str(), &st) != 0) {
+    return MakeError(ErrorCode::kNotFound,
+                     path + ": cannot write there: the directory '" + dir + "' does not exist");
+  }
+  if (!S_ISDIR(st.st_mode)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     path + ": cannot write there: '" + dir + "' is not a directory");
+  }
+  if (::access(dir.c_str(), W_OK) != 0) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     path + ": cannot write there: the directory '" + dir + "' is not writable");
+  }
+  return Status::Ok();
+}
+
 Status WriteFileAtomically(const std::string& path, const std::string& contents) {
   return WriteAtomically(path, [&](const std::string& temp) -> Status {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
@@ -87,22 +121,9 @@ Status WriteFileAtomically(const std::string& path, const std::string& contents)
 }
 
 Result<std::string> ReadFile(const std::string& path) {
-  struct stat st;
-  if (::stat(path.c_str(), &st) != 0) {
-    if (errno == ENOENT || errno == ENOTDIR) {
-      return MakeError(ErrorCode::kNotFound, path + ": no such file");
-    }
-    return MakeError(ErrorCode::kInternal, path + ": cannot stat: " + ErrnoText());
-  }
-  if (S_ISDIR(st.st_mode)) {
-    return MakeError(ErrorCode::kInternal, path + ": is a directory, not a file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return MakeError(ErrorCode::kInternal, path + ": cannot open: " + ErrnoText());
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) return MakeError(ErrorCode::kInternal, path + ": read failed: " + ErrnoText());
-  return buffer.str();
+  Result<std::uint64_t> size = CheckInputFile(path, kMaxReadFileBytes);
+  if (!size.ok()) return size.error();
+  return ReadFileHead(path, static_cast<std::size_t>(*size));
 }
 
 }  // namespace hpose

@@ -14,10 +14,19 @@ namespace hpose {
 Status WriteAtomically(const std::string& path,
                        const std::function<Status(const std::string& temp_path)>& write_temp);
 
+// A path that exists and is not a regular file (a device such as /dev/null or /dev/full, a
+// FIFO) is written in place by `write_temp(path)`, with its failures reported, never replaced.
+//
+// Checks early, before any work, that `path` can be written: not a directory, in an existing,
+// writable directory. Fails with kNotFound (missing directory) or kInvalidArgument naming why.
+Status CheckOutputPath(const std::string& path);
+
 // Convenience: atomically writes `contents` to `path`.
 Status WriteFileAtomically(const std::string& path, const std::string& contents);
 
-// Reads a whole file. kNotFound when it does not exist, kInternal when unreadable.
+// Reads a whole (small: at most 64 MiB) regular file. kNotFound when it does not exist,
+// kInvalidArgument for a directory, FIFO or device, kOutOfRange when too large, kDataLoss when
+// unreadable.
 Result<std::string> ReadFile(const std::string& path);
 
 }  // namespace hpose

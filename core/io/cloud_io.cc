@@ -1,7 +1,5 @@
 #include "core/io/cloud_io.h"
 
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cstring>
@@ -18,6 +16,8 @@
 #include <pcl/point_types.h>
 
 #include "core/io/atomic_file.h"
+#include "core/io/cloud_header_check.h"
+#include "core/io/input_file.h"
 
 namespace hpose {
 namespace {
@@ -121,19 +121,17 @@ Result<PointCloud> BlobToCloud(const pcl::PCLPointCloud2& blob, const std::strin
 }  // namespace
 
 Result<PointCloud> ReadCloud(const std::string& path) {
-  struct stat st;
-  if (::stat(path.c_str(), &st) != 0) {
-    return MakeError(ErrorCode::kNotFound, path + ": no such file");
-  }
-  if (S_ISDIR(st.st_mode)) {
-    return MakeError(ErrorCode::kInvalidArgument, path + ": is a directory, not a cloud file");
-  }
+  Result<std::uint64_t> size = CheckInputFile(path);  // regular files only: no FIFO waits.
+  if (!size.ok()) return size.error();
   const std::string ext = LowerExtension(path);
   if (ext != "pcd" && ext != "ply") {
     return MakeError(ErrorCode::kInvalidArgument,
                      path + ": unknown cloud file extension '" + ext + "' (expected .pcd or .ply)");
   }
-  if (st.st_size == 0) return MakeError(ErrorCode::kDataLoss, path + ": the file is empty");
+  if (*size == 0) return MakeError(ErrorCode::kDataLoss, path + ": the file is empty");
+  // What the header announces must fit the file before PCL allocates it.
+  const Status header = CheckCloudFileHeader(path, ext, *size);
+  if (!header.ok()) return header.error();
 
   pcl::PCLPointCloud2 blob;
   try {

@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/io/atomic_file.h"
+#include "core/io/image_header.h"
 
 namespace hpose {
 namespace {
@@ -42,13 +43,9 @@ std::string DepthName(int depth) {
 }  // namespace
 
 Result<DepthImage> ReadDepthPng(const std::string& path) {
-  struct stat st;
-  if (::stat(path.c_str(), &st) != 0) {
-    return MakeError(ErrorCode::kNotFound, path + ": no such file");
-  }
-  if (S_ISDIR(st.st_mode)) {
-    return MakeError(ErrorCode::kInvalidArgument, path + ": is a directory, not a PNG file");
-  }
+  // A regular file (a FIFO would block) whose header announces a decodable size.
+  const Status size = CheckImageSize(path);
+  if (!size.ok()) return size.error();
   {
     std::ifstream in(path, std::ios::binary);
     if (!in) return MakeError(ErrorCode::kInternal, path + ": cannot open the file");

@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "core/depth/cloud_validation.h"
 #include "core/search/exact_search.h"
 
 namespace hpose {
@@ -294,6 +295,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
   const Clock::time_point t_start = Clock::now();
   Estimate est;
   est.timings.cloud_ms = cloud_ms;
+  const Status valid = ValidateCloud(cloud);  // finite and bounded before PCL sees it.
+  if (!valid.ok()) return valid.error();
   if (cloud.empty()) {
     return MakeError(ErrorCode::kInvalidArgument, "the point cloud is empty (no valid depth)");
   }

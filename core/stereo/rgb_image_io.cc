@@ -10,13 +10,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/io/image_header.h"
+
 namespace hpose {
 
 Result<RgbImage> ReadRgbImage(const std::string& path) {
-  struct stat st {};
-  if (stat(path.c_str(), &st) != 0) {
-    return MakeError(ErrorCode::kNotFound, path + ": no such file");
-  }
+  const Status size = CheckImageSize(path);  // regular file, sides <= 8192 px, before decoding.
+  if (!size.ok()) return size.error();
   cv::Mat raw;
   try {
     raw = cv::imread(path, cv::IMREAD_UNCHANGED);

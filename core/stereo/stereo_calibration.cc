@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <initializer_list>
 #include <sstream>
 
@@ -56,9 +57,20 @@ Result<cv::Mat> ReadMatrix(const std::vector<cv::FileStorage>& files,
       node >> values;
       m = cv::Mat(values, true).reshape(1, 1);
     } else {
+      // OpenCV allocates rows x cols before reading the data: bound them first (calibration
+      // matrices are 3x3, 3x1 or 1x14 at most).
+      const cv::FileNode rows = node["rows"], cols = node["cols"], data = node["data"];
+      const int nr = rows.isInt() ? static_cast<int>(rows) : 0;
+      const int nc = cols.isInt() ? static_cast<int>(cols) : 0;
+      if (!node.isMap() || nr < 1 || nc < 1 || nr > 64 || nc > 64 || nr * nc > 64 ||
+          !data.isSeq() || data.size() != static_cast<size_t>(nr * nc)) {
+        return MakeError(
+            ErrorCode::kInvalidArgument,
+            where + ": entry " + name + " is not a matrix of at most 64 values (rows, cols, data)");
+      }
       node >> m;
     }
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {
     return MakeError(ErrorCode::kInvalidArgument, where + ": entry " + name + " is not a matrix");
   }
   if (m.empty()) {
@@ -162,7 +174,7 @@ Result<StereoCalibration> ReadStereoCalibration(const std::vector<std::string>& 
     cv::FileStorage fs;
     try {
       fs.open(path, cv::FileStorage::READ);
-    } catch (const cv::Exception& e) {
+    } catch (const std::exception& e) {  // cv::Exception, and std::length_error on some input.
       return MakeError(ErrorCode::kDataLoss,
                        path + ": not an OpenCV calibration file (YAML/XML FileStorage)");
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/io/atomic_file.h"
+#include "core/io/input_file.h"
 
 namespace hpose {
 namespace {
@@ -54,6 +56,26 @@ bool WriteOctreeBinary(octomap::OcTree* tree, std::ostream& out) {
       << tree->getResolution() << "\ndata\n";
   if (tree->getRoot() != nullptr) tree->writeBinaryNode(out, tree->getRoot());
   return static_cast<bool>(out);
+}
+
+// Templates are a few thousand voxels (a 58 cm humanoid at 16 mm: ~3000); the limits leave
+// room for a large robot at fine resolution.
+constexpr std::uint64_t kMaxTemplateFileBytes = std::uint64_t{256} << 20;
+constexpr std::uint64_t kMaxTemplateVoxels = 4'000'000;
+
+// Occupied voxels at full depth once the tree is expanded: a pruned occupied leaf at depth d
+// stands for 8^(max_depth - d) of them. Saturates instead of overflowing.
+std::uint64_t ExpandedOccupiedVoxels(const octomap::OcTree& tree) {
+  const unsigned max_depth = tree.getTreeDepth();
+  std::uint64_t total = 0;
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    if (!tree.isNodeOccupied(*it)) continue;
+    const unsigned levels = max_depth - it.getDepth();
+    if (levels >= 21) return ~std::uint64_t{0};
+    total += std::uint64_t{1} << (3 * levels);
+    if (total > kMaxTemplateVoxels) return total;
+  }
+  return total;
 }
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
@@ -216,9 +238,11 @@ Status SaveTemplate(const VoxelTemplate& tpl, const std::string& bt_path) {
 
 Result<VoxelTemplate> LoadTemplate(const std::string& bt_path) {
   std::error_code ec;
-  if (!fs::is_regular_file(bt_path, ec)) {
+  if (!fs::exists(bt_path, ec)) {
     return MakeError(ErrorCode::kNotFound, bt_path + ": no such template file");
   }
+  Result<std::uint64_t> size = CheckInputFile(bt_path, kMaxTemplateFileBytes);
+  if (!size.ok()) return size.error();
   std::ifstream in(bt_path, std::ios::binary);
   if (!in) return MakeError(ErrorCode::kNotFound, bt_path + ": cannot open");
   // OctoMap's reader wants a tree of the right resolution first; readBinary(istream) replaces
@@ -238,6 +262,19 @@ Result<VoxelTemplate> LoadTemplate(const std::string& bt_path) {
   }
   if (!read_ok) {
     return MakeError(ErrorCode::kDataLoss, bt_path + ": corrupt or truncated OctoMap tree");
+  }
+  // A pruned leaf high in the tree stands for up to 8^15 voxels: count before expanding.
+  const std::uint64_t voxels = ExpandedOccupiedVoxels(tree);
+  if (voxels > kMaxTemplateVoxels) {
+    return MakeError(ErrorCode::kOutOfRange,
+                     bt_path + ": the tree expands to " + std::to_string(voxels) +
+                         " occupied voxels, more than the " + std::to_string(kMaxTemplateVoxels) +
+                         " a template may hold");
+  }
+  if (!(tree.getResolution() >= 1e-4 && tree.getResolution() <= 10.0)) {
+    return MakeError(ErrorCode::kDataLoss, bt_path + ": resolution " +
+                                               std::to_string(tree.getResolution()) +
+                                               " m is outside [0.0001, 10]");
   }
   tree.expand();
   VoxelTemplate tpl;

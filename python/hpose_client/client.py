@@ -62,10 +62,21 @@ def world_pose(estimate):
     return (pose.x, pose.y, pose.theta)
 
 
+def _read_bytes(path):
+    if not path:
+        return None
+    with open(path, "rb") as f:
+        return f.read()
+
+
 class PoseClient:
     """Talks to one hposed. Every call takes a timeout in seconds (the gRPC deadline)."""
 
-    def __init__(self, address="127.0.0.1:50051", max_message_bytes=64 << 20):
+    def __init__(self, address="127.0.0.1:50051", max_message_bytes=64 << 20, tls_ca=None,
+                 tls_cert=None, tls_key=None, token=None, token_file=None):
+        """`tls_ca`: PEM file of the CA that signed the daemon's certificate (connects with
+        TLS); `tls_cert`/`tls_key`: PEM client certificate and key for mutual TLS; `token` or
+        `token_file` (its first line): the bearer token sent with every call."""
         options = [
             ("grpc.max_receive_message_length", max_message_bytes),
             ("grpc.max_send_message_length", max_message_bytes),
@@ -74,7 +85,22 @@ class PoseClient:
             ("grpc.http2.bdp_probe", 0),
             ("grpc.http2.lookahead_bytes", 1),
         ]
-        self._channel = grpc.insecure_channel(address, options=options)
+        if bool(tls_cert) != bool(tls_key):
+            raise ValueError("tls_cert and tls_key go together")
+        if tls_ca or tls_cert:
+            creds = grpc.ssl_channel_credentials(
+                root_certificates=_read_bytes(tls_ca),
+                private_key=_read_bytes(tls_key),
+                certificate_chain=_read_bytes(tls_cert))
+            self._channel = grpc.secure_channel(address, creds, options=options)
+        else:
+            self._channel = grpc.insecure_channel(address, options=options)
+        if token_file:
+            with open(token_file, encoding="utf-8") as f:
+                token = f.readline().strip()
+            if not token:
+                raise ValueError(f"{token_file}: the first line holds no token")
+        self._metadata = (("authorization", "Bearer " + token),) if token else ()
         self._stub = pb_grpc.PoseServiceStub(self._channel)
 
     def close(self):
@@ -88,7 +114,7 @@ class PoseClient:
 
     def _call(self, method, request, timeout):
         try:
-            return method(request, timeout=timeout)
+            return method(request, timeout=timeout, metadata=self._metadata)
         except grpc.RpcError as e:  # pylint: disable=no-member
             raise PoseClientError(e.code(), e.details()) from None
 
@@ -112,7 +138,7 @@ class PoseClient:
         of `estimators` (names: "depth", "stereo"). Breaking out of the loop cancels."""
         req = pb.StreamPosesRequest(max_estimates=max_estimates,
                                     estimators=[_estimator_kind(e) for e in estimators])
-        call = self._stub.StreamPoses(req, timeout=timeout)
+        call = self._stub.StreamPoses(req, timeout=timeout, metadata=self._metadata)
         try:
             for estimate in call:
                 yield estimate

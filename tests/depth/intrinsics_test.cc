@@ -48,6 +48,12 @@ TEST(IntrinsicsTest, ValidateNamesTheOffendingField) {
       {"fy", [](Intrinsics* k) { k->fy = std::numeric_limits<double>::infinity(); }},
       {"cx", [](Intrinsics* k) { k->cx = std::numeric_limits<double>::quiet_NaN(); }},
       {"cy", [](Intrinsics* k) { k->cy = -std::numeric_limits<double>::infinity(); }},
+      // Finite but absurd: back-projected points would overflow downstream.
+      {"fx", [](Intrinsics* k) { k->fx = 1e-30; }},
+      {"fx", [](Intrinsics* k) { k->fx = 30.0; }},  // rays 84+ degrees off axis.
+      {"fy", [](Intrinsics* k) { k->fy = 1e30; }},
+      {"cx", [](Intrinsics* k) { k->cx = 1e12; }},
+      {"cy", [](Intrinsics* k) { k->cy = -481.0; }},
   };
   for (const Case& c : cases) {
     Intrinsics k = Intrinsics::KinectV1();
@@ -61,8 +67,13 @@ TEST(IntrinsicsTest, ValidateNamesTheOffendingField) {
 
 TEST(IntrinsicsTest, PrincipalPointOutsideTheImageIsAllowed) {
   Intrinsics k = Intrinsics::KinectV1();
-  k.cx = -10.0;  // cropped images can have it outside; only finiteness is required.
+  k.cx = -10.0;  // cropped images can have it outside, within one image size.
   EXPECT_TRUE(k.Validate().ok());
+  k.cx = 1280.0;
+  k.fx = 128.0;  // the widest ray, 1280 px at 128 px focal length, is at the 84 degree limit.
+  EXPECT_TRUE(k.Validate().ok());
+  k.fx = 127.0;
+  EXPECT_FALSE(k.Validate().ok());
 }
 
 }  // namespace

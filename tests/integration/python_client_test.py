@@ -126,5 +126,76 @@ class PythonClientTest(unittest.TestCase):
         self.assertIn("stopped", rest)
 
 
+READ_TOKEN = "python-read-token-0123456789"
+ESTIMATE_TOKEN = "python-estimate-token-0123456789"
+
+
+class PythonSecureClientTest(unittest.TestCase):
+    """TLS and bearer tokens through the Python client (certificates made with openssl)."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        d = cls.tmp.name
+        with open(os.path.join(d, "server.ext"), "w", encoding="utf-8") as f:
+            f.write("subjectAltName=IP:127.0.0.1,DNS:localhost\n")
+        for cmd in (
+                ["req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "2", "-subj", "/CN=ca",
+                 "-keyout", "ca.key", "-out", "ca.pem"],
+                ["req", "-newkey", "rsa:2048", "-nodes", "-subj", "/CN=localhost", "-keyout",
+                 "server.key", "-out", "server.csr"],
+                ["x509", "-req", "-in", "server.csr", "-CA", "ca.pem", "-CAkey", "ca.key",
+                 "-CAcreateserial", "-days", "2", "-extfile", "server.ext", "-out",
+                 "server.pem"]):
+            subprocess.run(["openssl"] + cmd, cwd=d, check=True, stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL)
+        with open(os.path.join(d, "tokens"), "w", encoding="utf-8") as f:
+            f.write(f"{READ_TOKEN} read\n{ESTIMATE_TOKEN} estimate\n")
+        with open(os.path.join(d, "my_token"), "w", encoding="utf-8") as f:
+            f.write(READ_TOKEN + "\n")
+        cls.proc, cls.address = start_daemon([
+            "--template", os.path.join(SOURCE_DIR, "templates", "standing.bt"),
+            "--tls-cert", os.path.join(d, "server.pem"), "--tls-key", os.path.join(d, "server.key"),
+            "--token-file", os.path.join(d, "tokens")])
+        cls.ca = os.path.join(d, "ca.pem")
+
+    @classmethod
+    def tearDownClass(cls):
+        if cls.proc.poll() is None:
+            cls.proc.kill()
+            cls.proc.wait()
+        cls.tmp.cleanup()
+
+    def test_tokens_and_roles(self):
+        with PoseClient(self.address, tls_ca=self.ca) as client:
+            client.wait_ready(timeout=20)
+            with self.assertRaises(PoseClientError) as ctx:
+                client.status()
+            self.assertEqual(ctx.exception.code, grpc.StatusCode.UNAUTHENTICATED)
+        with PoseClient(self.address, tls_ca=self.ca,
+                        token_file=os.path.join(self.tmp.name, "my_token")) as client:
+            self.assertEqual(client.status().templates, 1)
+            with self.assertRaises(PoseClientError) as ctx:
+                client.estimate_cloud([(0.0, 0.3, 1.0)] * 10)
+            self.assertEqual(ctx.exception.code, grpc.StatusCode.PERMISSION_DENIED)
+            try:  # streams carry the token too (no source here: no estimates to stream).
+                list(client.stream(max_estimates=1, timeout=3))
+            except PoseClientError as e:
+                self.assertNotIn(e.code, (grpc.StatusCode.UNAUTHENTICATED,
+                                          grpc.StatusCode.PERMISSION_DENIED))
+        with PoseClient(self.address, tls_ca=self.ca, token=ESTIMATE_TOKEN) as client:
+            with self.assertRaises(PoseClientError) as ctx:
+                client.estimate_cloud([(0.0, 0.3, 1.0)] * 10)
+            # Past authorization: the tiny cloud itself is what fails.
+            self.assertNotIn(ctx.exception.code, (grpc.StatusCode.UNAUTHENTICATED,
+                                                  grpc.StatusCode.PERMISSION_DENIED))
+
+    def test_plaintext_client_fails(self):
+        with PoseClient(self.address, token=READ_TOKEN) as client:
+            with self.assertRaises(PoseClientError) as ctx:
+                client.status(timeout=5)
+            self.assertEqual(ctx.exception.code, grpc.StatusCode.UNAVAILABLE)
+
+
 if __name__ == "__main__":
     unittest.main(argv=[sys.argv[0]], verbosity=2)

@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 
 #include "tests/io/temp_dir.h"
@@ -65,13 +67,28 @@ TEST(AtomicFileTest, WriterThatWritesNothingIsAnError) {
   EXPECT_FALSE(std::filesystem::exists(dir.File("x")));
 }
 
-TEST(AtomicFileTest, MissingDirectoryIsInternalErrorNamingThePath) {
+TEST(AtomicFileTest, MissingDirectoryIsNotFoundNamingThePathAndDirectory) {
   TempDir dir;
   const std::string path = dir.File("no/such/dir/file.txt");
   const Status status = WriteFileAtomically(path, "x");
   ASSERT_FALSE(status.ok());
-  EXPECT_EQ(status.error().code, ErrorCode::kInternal);
+  EXPECT_EQ(status.error().code, ErrorCode::kNotFound);
   EXPECT_NE(status.error().message.find(path), std::string::npos) << status.error().message;
+  EXPECT_NE(status.error().message.find("does not exist"), std::string::npos);
+  EXPECT_FALSE(CheckOutputPath(path).ok());
+  EXPECT_FALSE(CheckOutputPath(dir.path()).ok());  // a directory is not a file.
+  EXPECT_TRUE(CheckOutputPath(dir.File("fine.txt")).ok());
+}
+
+TEST(AtomicFileTest, DevicesAreWrittenInPlaceAndTheirFailuresReported) {
+  // /dev/full accepts opens and fails every write (ENOSPC): the failure must come back, and the
+  // device must not be replaced by a renamed temporary file.
+  const Status full = WriteFileAtomically("/dev/full", std::string(100000, 'x'));
+  ASSERT_FALSE(full.ok());
+  struct stat st;
+  ASSERT_EQ(::stat("/dev/full", &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode));
+  EXPECT_TRUE(WriteFileAtomically("/dev/null", "discarded").ok());
 }
 
 TEST(AtomicFileTest, ReadFileErrors) {
@@ -82,8 +99,14 @@ TEST(AtomicFileTest, ReadFileErrors) {
   EXPECT_NE(read.error().message.find("missing.txt"), std::string::npos);
   read = ReadFile(dir.path());
   ASSERT_FALSE(read.ok());
-  EXPECT_EQ(read.error().code, ErrorCode::kInternal);
+  EXPECT_EQ(read.error().code, ErrorCode::kInvalidArgument);
   EXPECT_NE(read.error().message.find("directory"), std::string::npos);
+  // A FIFO is refused at once instead of waiting for a writer.
+  const std::string fifo = dir.File("fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  read = ReadFile(fifo);
+  ASSERT_FALSE(read.ok());
+  EXPECT_NE(read.error().message.find("FIFO"), std::string::npos) << read.error().message;
   // An empty file is fine.
   read = ReadFile(dir.Write("empty", ""));
   ASSERT_TRUE(read.ok());

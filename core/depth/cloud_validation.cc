@@ -1,0 +1,72 @@
+#include "core/depth/cloud_validation.h"
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace hpose {
+namespace {
+
+bool IsMissing(const Eigen::Vector3f& p) { return p.array().isNaN().any(); }
+
+bool IsWithin(const Eigen::Vector3f& p, float limit) {
+  // NaN-safe: the comparison fails for NaN, and infinities exceed any finite limit.
+  return std::abs(p.x()) <= limit && std::abs(p.y()) <= limit && std::abs(p.z()) <= limit;
+}
+
+std::string Describe(const Eigen::Vector3f& p) {
+  std::ostringstream out;
+  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return out.str();
+}
+
+}  // namespace
+
+Status ValidateCloud(const PointCloud& cloud, const CloudLimits& limits) {
+  if (cloud.size() > limits.max_points) {
+    return MakeError(ErrorCode::kInvalidArgument, "the cloud has " + std::to_string(cloud.size()) +
+                                                      " points, more than " +
+                                                      std::to_string(limits.max_points));
+  }
+  const float limit = static_cast<float>(limits.max_abs_coordinate_m);
+  size_t bad = 0;
+  size_t first_bad = 0;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3f& p = cloud.points[i];
+    if (IsWithin(p, limit) || IsMissing(p)) continue;
+    if (bad == 0) first_bad = i;
+    ++bad;
+  }
+  if (bad == 0) return Status::Ok();
+  std::ostringstream limit_text;
+  limit_text << limits.max_abs_coordinate_m;
+  return MakeError(ErrorCode::kInvalidArgument,
+                   "point " + std::to_string(first_bad) + " " + Describe(cloud.points[first_bad]) +
+                       " is infinite or farther than " + limit_text.str() +
+                       " m from the sensor on some axis (" + std::to_string(bad) + " of " +
+                       std::to_string(cloud.size()) + " points are; missing readings must be NaN)");
+}
+
+Status ValidateFloor(const FloorEstimate& floor, const CloudLimits& limits) {
+  const Eigen::Matrix4d& m = floor.ground_from_sensor.matrix();
+  if (!floor.plane_sensor.allFinite() || !m.allFinite()) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "floor: the plane or the ground frame is not finite (a degenerate floor, "
+                     "e.g. the optical axis perpendicular to it)");
+  }
+  const Eigen::Matrix3d r = floor.ground_from_sensor.linear();
+  if (!(((r * r.transpose()) - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6) ||
+      !(r.determinant() > 0.0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "floor: the ground frame's rotation is not a rotation (degenerate floor)");
+  }
+  if (!(floor.height_m > 0.0 && floor.height_m <= limits.max_abs_coordinate_m)) {
+    std::ostringstream out;
+    out << "floor: the sensor height " << floor.height_m << " m is outside (0, "
+        << limits.max_abs_coordinate_m << "]";
+    return MakeError(ErrorCode::kInvalidArgument, out.str());
+  }
+  return Status::Ok();
+}
+
+}  // namespace hpose

@@ -1,0 +1,76 @@
+#!/bin/sh
+# Runs every libFuzzer target for SECONDS, seeded with real files made by the regular build's
+# `hpose` (simulated depth frames, clouds, stereo calibration) and files of the repository
+# (templates, the example config), and prints one summary line per target.
+# usage: fuzz/run_fuzzers.sh BUILD_DIR FUZZ_BUILD_DIR SECONDS
+set -eu
+build=$1
+fuzz=$2
+seconds=$3
+src=$(cd "$(dirname "$0")/.." && pwd)
+work=$fuzz/fuzz-work
+seeds=$work/seeds
+mkdir -p "$seeds"
+
+# Seeds (made once).
+if [ ! -f "$seeds/.done" ]; then
+  "$build/tools/hpose" simulate --out "$seeds/frame" --width 160 --height 120 --clutter 2 > /dev/null
+  "$build/tools/hpose" simulate-stereo --out "$seeds/stereo" --frames 1 > /dev/null 2>&1 ||
+    "$build/tools/hpose" simulate-stereo --out "$seeds/stereo" > /dev/null
+  for t in depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template daemon_config \
+           stereo_calibration estimate_request; do
+    mkdir -p "$seeds/$t"
+  done
+  cp "$seeds/frame/depth.png" "$seeds/depth_png/"
+  cp "$seeds/frame/depth.png" "$seeds/rgb_image_tiff/"
+  find "$seeds/stereo" -name '*.png' | head -n 2 | while read -r f; do
+    cp "$f" "$seeds/rgb_image_tiff/$(basename "$(dirname "$f")")_$(basename "$f")"
+  done
+  cp "$seeds/frame/cloud.pcd" "$seeds/cloud_pcd/"
+  printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 1\n0.1 0 1\n0 0.1 1\n' \
+    > "$seeds/cloud_ply/small.ply"
+  cp "$seeds/frame/intrinsics.json" "$seeds/intrinsics_json/"
+  cp "$src/templates/standing.bt" "$seeds/template/"
+  cp "$src/server/hposed.example.yaml" "$seeds/daemon_config/"
+  cp "$seeds/stereo/calibration.yaml" "$seeds/stereo_calibration/"
+  PYTHONPATH="$build/python" /usr/bin/python3 - "$seeds/frame" "$seeds/estimate_request" <<'PY'
+import json, struct, sys, zlib
+from hpose.v1 import pose_service_pb2 as pb
+frame, out = sys.argv[1], sys.argv[2]
+k = json.load(open(frame + "/intrinsics.json"))
+# A tiny synthetic depth request and a cloud request (the PNG is not decoded here).
+req = pb.EstimateRequest()
+req.depth.width, req.depth.height = 8, 6
+req.depth.data = struct.pack("<48H", *([1500] * 48))
+req.depth.intrinsics.width, req.depth.intrinsics.height = 8, 6
+req.depth.intrinsics.fx = req.depth.intrinsics.fy = 10.0
+req.depth.intrinsics.cx, req.depth.intrinsics.cy = 4.0, 3.0
+open(out + "/depth.bin", "wb").write(req.SerializeToString())
+req = pb.EstimateRequest()
+req.cloud.xyz.extend([0.0, 0.3, 1.0, 0.1, 0.3, 1.0, 0.0, -0.2, 1.5] * 20)
+open(out + "/cloud.bin", "wb").write(req.SerializeToString())
+PY
+  touch "$seeds/.done"
+fi
+
+status=0
+for t in depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template daemon_config \
+         stereo_calibration estimate_request; do
+  corpus=$work/corpus/$t
+  crashes=$work/crashes/$t
+  mkdir -p "$corpus" "$crashes"
+  log=$work/$t.log
+  if "$fuzz/fuzz/fuzz_$t" "$corpus" "$seeds/$t" -max_total_time="$seconds" -timeout=20 \
+       -rss_limit_mb=2560 -max_len=1048576 -print_final_stats=1 \
+       -artifact_prefix="$crashes/" > "$log" 2>&1; then
+    result=ok
+  else
+    result="CRASH (see $log and $crashes)"
+    status=1
+  fi
+  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
+  speed=$(grep -o 'stat::average_exec_per_sec: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
+  files=$(find "$corpus" -type f | wc -l)
+  echo "fuzz_$t: $result; $execs runs, $speed execs/s, corpus $files files"
+done
+exit $status

@@ -1,0 +1,74 @@
+#include "core/depth/cloud_validation.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace hpose {
+namespace {
+
+PointCloud SmallCloud() {
+  PointCloud cloud;
+  for (int i = 0; i < 10; ++i) cloud.points.emplace_back(0.1f * i, -0.2f, 1.0f + 0.1f * i);
+  return cloud;
+}
+
+TEST(CloudValidationTest, OrdinaryAndMissingPointsPass) {
+  PointCloud cloud = SmallCloud();
+  EXPECT_TRUE(ValidateCloud(cloud).ok());
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cloud.points[3] = Eigen::Vector3f(nan, nan, nan);
+  // One NaN coordinate marks the point missing whatever the others hold.
+  cloud.points[4] = Eigen::Vector3f(nan, std::numeric_limits<float>::infinity(), 1e30f);
+  EXPECT_TRUE(ValidateCloud(cloud).ok());
+  cloud.points[5] = Eigen::Vector3f(-1000.0f, 1000.0f, 999.0f);  // the limit itself is fine.
+  EXPECT_TRUE(ValidateCloud(cloud).ok());
+  EXPECT_TRUE(ValidateCloud(PointCloud()).ok());
+}
+
+TEST(CloudValidationTest, InfiniteAndHugeCoordinatesNameThePoint) {
+  for (const float v : {std::numeric_limits<float>::infinity(), -1e38f, 1000.5f}) {
+    for (int axis = 0; axis < 3; ++axis) {
+      PointCloud cloud = SmallCloud();
+      cloud.points[7][axis] = v;
+      cloud.points[8][axis] = v;
+      const Status s = ValidateCloud(cloud);
+      ASSERT_FALSE(s.ok()) << v << " axis " << axis;
+      EXPECT_EQ(s.error().code, ErrorCode::kInvalidArgument);
+      EXPECT_NE(s.error().message.find("point 7 "), std::string::npos) << s.error().message;
+      EXPECT_NE(s.error().message.find("2 of 10"), std::string::npos) << s.error().message;
+    }
+  }
+}
+
+TEST(CloudValidationTest, LimitsAreConfigurable) {
+  CloudLimits limits;
+  limits.max_abs_coordinate_m = 1.0;
+  EXPECT_FALSE(ValidateCloud(SmallCloud(), limits).ok());  // z reaches 1.9 m.
+  limits.max_abs_coordinate_m = 2.0;
+  EXPECT_TRUE(ValidateCloud(SmallCloud(), limits).ok());
+  limits.max_points = 9;
+  const Status s = ValidateCloud(SmallCloud(), limits);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("10 points"), std::string::npos) << s.error().message;
+}
+
+TEST(CloudValidationTest, FloorMustBeARigidFrameAboveTheFloor) {
+  EXPECT_TRUE(ValidateFloor(FloorEstimate::FromHeightPitchRoll(0.4, 0.3, -0.1)).ok());
+  // Optical axis along the floor normal: no horizontal +x, the rotation degenerates.
+  Status s = ValidateFloor(FloorEstimate::FromPlane(Eigen::Vector4d(0.0, 0.0, -1.0, 0.5)));
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("floor"), std::string::npos);
+  FloorEstimate nan_floor = FloorEstimate::FromHeightPitchRoll(0.4, 0.0, 0.0);
+  nan_floor.ground_from_sensor.translation().x() = std::nan("");
+  EXPECT_FALSE(ValidateFloor(nan_floor).ok());
+  EXPECT_FALSE(ValidateFloor(FloorEstimate::FromHeightPitchRoll(5000.0, 0.0, 0.0)).ok());
+  FloorEstimate scaled = FloorEstimate::FromHeightPitchRoll(0.4, 0.0, 0.0);
+  scaled.ground_from_sensor.linear() *= 2.0;
+  EXPECT_FALSE(ValidateFloor(scaled).ok());
+}
+
+}  // namespace
+}  // namespace hpose

@@ -1,0 +1,69 @@
+// Inputs found by fuzz_stereo_calibration (fuzz/): a matrix whose header announces far more
+// values than it holds made OpenCV allocate rows x cols first (48 GB), and a mutated file made
+// OpenCV's YAML parser throw an exception nobody caught; both are errors now.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/stereo/stereo_calibration.h"
+
+namespace hpose {
+namespace {
+
+std::string WriteYaml(const std::string& name, const std::string& text) {
+  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(CalibrationFuzzRegressionTest, HugeMatrixHeaderIsRefusedBeforeAllocating) {
+  for (const char* cols : {"1000000000", "-3", "3.5", "\"x\""}) {
+    const std::string path =
+        WriteYaml("hpose_calib_fuzz.yaml", std::string("%YAML:1.0\n---\nM1: !!opencv-matrix\n"
+                                                       "   rows: 3\n   cols: ") +
+                                               cols + "\n   dt: d\n   data: [ 1., 0., 0. ]\n");
+    const Result<StereoCalibration> cal = ReadStereoCalibration({path});
+    ASSERT_FALSE(cal.ok()) << cols;
+    EXPECT_EQ(cal.error().code, ErrorCode::kInvalidArgument) << cal.error().ToString();
+    EXPECT_NE(cal.error().message.find("M1"), std::string::npos) << cal.error().message;
+    std::remove(path.c_str());
+  }
+}
+
+// The YAML parser itself throws std::length_error (not cv::Exception) on this mutated file.
+TEST(CalibrationFuzzRegressionTest, ParserExceptionIsAnError) {
+  const std::string path = WriteYaml("hpose_calib_fuzz2.yaml", R"(%YAML:1.0
+---
+image_width: 512
+image_height: 240
+M1: !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [ 4.4340500673763262e+02, 0., 2.5860000000000002e+02, 0.,
+       2.7712812921102039e+02, 1.1720000000000000e+02, 0., 0., 1. ]
+D1: !!opencv-matrix
+   rows: 1
+   cols: 5
+   dt: d
+   data: [ -2.2000000000000000e-01, 5.9999999999999998e-02,
+       5.9999999999999995e-04, -4.0000000000000002e-04, 0. ]
+M2: !!opencv-matrix
+   rows: 3
+   :olsc 3
+   dt: d
+   {ata: [ 4.4783905680500897e+02, 0., 2.5130000000000001e+02, 0.,
+       2.7989941050313058e+02, 1.212000000000000000702483775353e-04 ]
+translation_unit: m
+)");
+  const Result<StereoCalibration> cal = ReadStereoCalibration({path});
+  ASSERT_FALSE(cal.ok());
+  EXPECT_EQ(cal.error().code, ErrorCode::kDataLoss) << cal.error().ToString();
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace hpose
