@@ -132,8 +132,9 @@ TEST(RobotCliTest, SimulateRobotFramesAreFoundWithTheRobotsTemplate) {
                               dir);
   ASSERT_EQ(est.exit_code, 0) << est.err;
   const nlohmann::json j = nlohmann::json::parse(est.out);
-  ASSERT_FALSE(j.at("detections").empty()) << est.out;
-  const nlohmann::json& d = j.at("detections")[0];
+  const nlohmann::json& detections = j.at("depth_template").at("detections");
+  ASSERT_FALSE(detections.empty()) << est.out;
+  const nlohmann::json& d = detections[0].at("best").at("pose");
   EXPECT_NEAR(d.at("x").get<double>(), 1.4, 0.03);
   EXPECT_NEAR(d.at("y").get<double>(), -0.1, 0.03);
   EXPECT_NEAR(d.at("theta").get<double>(), 60.0 * M_PI / 180.0, 5.0 * M_PI / 180.0);
