@@ -213,7 +213,8 @@ Outcome Evaluate(const Estimate& e, const Trial& t) {
     o.template_ambiguous = d.template_ambiguous;
   }
   for (const Candidate& c : e.candidates) {
-    if (c.cluster_index != cluster || c.template_name != right || c.stopped_below_threshold) continue;
+    if (c.cluster_index != cluster || c.template_name != right || c.stopped_below_threshold)
+      continue;
     o.found = true;
     o.theta_err_deg = AngleDiff(c.pose.theta, t.theta_deg * kPi / 180.0) * 180.0 / kPi;
     o.x_err_mm = 1000.0 * (c.pose.x - t.distance_m);

@@ -60,9 +60,9 @@ Status ValidateFloor(const FloorEstimate& floor, const CloudLimits& limits) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "floor: the ground frame's rotation is not a rotation (degenerate floor)");
   }
-  if (!(floor.height_m > 0.0 && floor.height_m <= limits.max_abs_coordinate_m)) {
+  if (!(floor.height_m >= 0.0 && floor.height_m <= limits.max_abs_coordinate_m)) {
     std::ostringstream out;
-    out << "floor: the sensor height " << floor.height_m << " m is outside (0, "
+    out << "floor: the sensor height " << floor.height_m << " m is outside [0, "
         << limits.max_abs_coordinate_m << "]";
     return MakeError(ErrorCode::kInvalidArgument, out.str());
   }

@@ -29,7 +29,7 @@ Status ValidateCloud(const PointCloud& cloud, const CloudLimits& limits = {});
 
 // Checks a floor (fitted or fixed) before points are moved into its ground frame: the plane and
 // ground_from_sensor must be finite, the rotation orthonormal (a floor seen edge-on or along the
-// optical axis has no ground frame) and the sensor height within (0, max_abs_coordinate_m].
+// optical axis has no ground frame) and the sensor height within [0, max_abs_coordinate_m].
 // Fails with kInvalidArgument naming what is wrong.
 Status ValidateFloor(const FloorEstimate& floor, const CloudLimits& limits = {});
 
