@@ -116,6 +116,11 @@ int Run(int argc, char** argv) {
   std::vector<Variant> variants;
   variants.push_back({"paper search", [](EstimatorOptions* o) { o->search = SearchKind::kPaper; }});
   variants.push_back({"exact search", [](EstimatorOptions* o) { o->search = SearchKind::kExact; }});
+  variants.push_back({"exact search, fast refinement", [](EstimatorOptions* o) {
+                        o->search = SearchKind::kExact;
+                        o->refine.surface_spacing_m = 0.012;
+                        o->refine.max_data_points = 500;
+                      }});
   variants.push_back({"exact search, no refinement", [](EstimatorOptions* o) {
                         o->search = SearchKind::kExact;
                         o->refine.enabled = false;

@@ -236,7 +236,7 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
   rotations_.reserve(templates_.size());
   for (const VoxelTemplate& t : templates_) {
     rotations_.push_back(std::make_unique<TemplateRotations>(t, options_.lattice));
-    surfaces_.push_back(std::make_unique<SurfaceModel>(t));
+    surfaces_.push_back(std::make_unique<SurfaceModel>(t, options_.refine.surface_spacing_m));
     silhouette_widths_.push_back(SilhouetteWidths(t, options_.clusters.min_height_above_floor_m));
   }
   search_ = MakeSearch(options_);

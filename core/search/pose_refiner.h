@@ -47,6 +47,9 @@ struct RefineOptions {
   // within this or 4 axial sigmas, whichever is larger; farther points are unexplained.
   double association_gate_m = 0.03;
   int max_data_points = 800;  // cluster points used (evenly strided).
+  // The template surface the refinement fits to is reduced to one point per cell of this edge
+  // (SurfaceModel); 0 keeps the template's own surface (8 mm at 16 mm voxels).
+  double surface_spacing_m = 0.0;
 };
 
 // What a pose explains of the observation and what contradicts it.

@@ -68,9 +68,13 @@ std::vector<Eigen::Vector3f> PlaneNormals(const std::vector<Eigen::Vector3f>& po
 
 }  // namespace
 
-SurfaceModel::SurfaceModel(const VoxelTemplate& tpl)
+SurfaceModel::SurfaceModel(const VoxelTemplate& tpl, double spacing_m)
     : points_(tpl.SurfaceOrVoxels()),
       spacing_(tpl.surface.empty() ? tpl.resolution_m : tpl.SurfaceCellM()) {
+  if (!tpl.surface.empty() && spacing_m > spacing_) {
+    points_ = ReduceSurfacePoints(points_, spacing_m);
+    spacing_ = spacing_m;
+  }
   normals_ = PlaneNormals(points_, static_cast<float>(2.5 * spacing_));
   for (const Eigen::Vector3f& p : points_) centre_ += p;
   if (!points_.empty()) centre_ /= static_cast<float>(points_.size());

@@ -14,7 +14,9 @@ namespace hpose {
 // Built once per template (a few ms), immutable, shareable between threads.
 class SurfaceModel {
  public:
-  explicit SurfaceModel(const VoxelTemplate& tpl);
+  // `spacing_m`: the template's surface is reduced to one point per cell of this edge when it is
+  // coarser than the template's own surface cell (fewer points, a faster refinement).
+  explicit SurfaceModel(const VoxelTemplate& tpl, double spacing_m = 0.0);
 
   const std::vector<Eigen::Vector3f>& points() const { return points_; }
   // Unit normals of `points` (sign arbitrary: the direction of least spread of the neighbours).
