@@ -124,22 +124,24 @@ struct Variant {
   bool surface = true;  // templates keep their surface points.
 };
 
+// The previous round's estimator: no refinement, the template's full height and the width
+// checks as pre-filters.
+EstimatorOptions PreviousRoundOptions() {
+  EstimatorOptions o = DefaultEstimatorOptions();
+  o.refine.enabled = false;
+  o.height_check_uses_view = false;
+  o.min_width_ratio = 0.6;
+  o.max_width_ratio = 1.6;
+  return o;
+}
+
 std::vector<Variant> AllVariants() {
   std::vector<Variant> out;
-  EstimatorOptions previous = DefaultEstimatorOptions();
-  previous.refine.enabled = false;
-  previous.height_check_uses_view = false;
-  previous.min_width_ratio = 0.6;
-  previous.max_width_ratio = 1.6;
-  out.push_back({"previous", previous, false});
-  EstimatorOptions paper = DefaultEstimatorOptions();
+  out.push_back({"previous", PreviousRoundOptions(), false});
+  EstimatorOptions paper = PreviousRoundOptions();
   paper.search = SearchKind::kPaper;
   paper.score = ScoreKind::kPaper;
   paper.hit_weight = 1;
-  paper.refine.enabled = false;
-  paper.height_check_uses_view = false;
-  paper.min_width_ratio = 0.6;
-  paper.max_width_ratio = 1.6;
   out.push_back({"paper", paper, false});
   // The refinement on a coarser surface (12 mm) and fewer points: about half its time.
   EstimatorOptions fast = DefaultEstimatorOptions();
@@ -163,19 +165,17 @@ double Mean(const std::vector<double>& v) {
   return v.empty() ? NAN : s / v.size();
 }
 
-std::vector<double> ParseList(const std::string& s) {
-  std::vector<double> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) out.push_back(std::atof(item.c_str()));
-  return out;
-}
-
 std::vector<std::string> ParseNames(const std::string& s) {
   std::vector<std::string> out;
   std::stringstream ss(s);
   std::string item;
   while (std::getline(ss, item, ',')) out.push_back(item);
+  return out;
+}
+
+std::vector<double> ParseList(const std::string& s) {
+  std::vector<double> out;
+  for (const std::string& item : ParseNames(s)) out.push_back(std::atof(item.c_str()));
   return out;
 }
 
