@@ -1,19 +1,43 @@
 #include "tools/template_paths.h"
 
 #include <cstdlib>
+#include <filesystem>
+#include <system_error>
 
 #include "core/templates/template_io.h"
 #include "server/daemon_config.h"
 
+// The source tree's templates/ (a build run in place) and the installed templates' directory
+// relative to the installed programs' directory (e.g. "../share/hpose/templates").
 #ifndef HPOSE_TEMPLATE_DIR
 #define HPOSE_TEMPLATE_DIR "templates"
+#endif
+#ifndef HPOSE_INSTALLED_TEMPLATE_DIR_FROM_BIN
+#define HPOSE_INSTALLED_TEMPLATE_DIR_FROM_BIN "../share/hpose/templates"
 #endif
 
 namespace hpose::tools {
 
+namespace {
+
+// The installed templates beside the running program (<prefix>/bin/../share/hpose/templates),
+// or "" when the program does not run from an installation (e.g. from the build tree).
+std::string InstalledTemplateDir() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec || exe.empty()) return "";
+  const std::filesystem::path dir =
+      (exe.parent_path() / HPOSE_INSTALLED_TEMPLATE_DIR_FROM_BIN).lexically_normal();
+  return std::filesystem::is_regular_file(dir / "standing.bt", ec) ? dir.string() : "";
+}
+
+}  // namespace
+
 std::string DefaultTemplateDir() {
   const char* env = std::getenv("HPOSE_TEMPLATE_DIR");
-  return (env != nullptr && *env != '\0') ? env : HPOSE_TEMPLATE_DIR;
+  if (env != nullptr && *env != '\0') return env;
+  static const std::string installed = InstalledTemplateDir();
+  return installed.empty() ? HPOSE_TEMPLATE_DIR : installed;
 }
 
 std::vector<std::string> DefaultTemplatePaths() {

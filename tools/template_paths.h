@@ -9,8 +9,10 @@
 
 namespace hpose::tools {
 
-// The directory of the templates shipped with hpose: $HPOSE_TEMPLATE_DIR when set, else the
-// build's configured location.
+// The directory of the templates shipped with hpose: $HPOSE_TEMPLATE_DIR when set; else, for
+// an installed program, the installed templates (<prefix>/share/hpose/templates, found from the
+// program's own location, so a relocated installation keeps working); else the source tree's
+// templates/ (a program run from the build tree).
 std::string DefaultTemplateDir();
 
 // The shipped templates (standing, right_arm_raised) as paths.
