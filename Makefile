@@ -9,12 +9,12 @@ PACKAGES := build-essential cmake pkg-config ccache git \
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc \
   nlohmann-json3-dev libyaml-cpp-dev liburdfdom-dev libassimp-dev libgtest-dev libgmock-dev \
   libbenchmark-dev python3 python3-grpcio python3-protobuf python3-numpy python3-venv \
-  python3-setuptools python3-pip opencv-doc openssl
+  python3-setuptools python3-pip opencv-doc openssl systemd
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: all deps configure build run demo test bench templates python-stubs format clean fuzz \
-  test-asan
+  test-asan package
 
 all: build
 
@@ -51,6 +51,12 @@ demo: build
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# Debian packages of this build (CPack): $(BUILD_DIR)/hpose_*.deb (programs, templates,
+# /etc/hpose/hposed.yaml, hposed.service) and hpose-dev_*.deb (C++ client library). See
+# docs/INSTALL.md.
+package: build
+	cmake --build $(BUILD_DIR) --target package
 
 bench: build
 	./$(BUILD_DIR)/bench/accuracy_bench

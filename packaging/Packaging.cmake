@@ -23,11 +23,12 @@ set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME hpose)
 set(CPACK_PACKAGE_VENDOR "hpose")
 set(CPACK_PACKAGE_CONTACT "hpose maintainers <hpose@localhost>")
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
-    "humanoid pose from an off-board depth camera, served over gRPC")
+# No common summary: each package's description starts with its own synopsis line.
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+# Packages install under /usr whatever the build's prefix; the configuration goes to /etc
+# (outside the prefix), so CPack stages the installation with DESTDIR.
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
-# The configuration goes to /etc (outside the prefix): install with DESTDIR staging.
+set(CPACK_INSTALL_PREFIX /usr)
 set(CPACK_SET_DESTDIR ON)
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_COMPONENTS_ALL runtime dev)
@@ -38,18 +39,18 @@ set(CPACK_DEBIAN_ENABLE_COMPONENT_DEPENDS ON)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME hpose)
 set(CPACK_DEBIAN_RUNTIME_DESCRIPTION
     "humanoid pose from an off-board depth camera, served over gRPC
- hposed watches a floor with a depth camera (OpenNI2) and serves the pose of a humanoid
- robot found by matching 3D voxel templates; hpose is its command line (estimate, record,
- replay, template authoring, query). Ships the default templates, an example configuration
- (/etc/hpose/hposed.yaml) and the systemd unit hposed.service.")
+hposed watches a floor with a depth camera (OpenNI2) and serves the pose of a humanoid
+robot found by matching 3D voxel templates; hpose is its command line (estimate, record,
+replay, template authoring, query). Ships the default templates, an example configuration
+(/etc/hpose/hposed.yaml) and the systemd unit hposed.service.")
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA ${PROJECT_BINARY_DIR}/packaging/conffiles)
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME hpose-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
 set(CPACK_DEBIAN_DEV_DESCRIPTION
     "C++ client library of the hpose daemon (hpose::client)
- Connects to hposed (plaintext, TLS, bearer token) and asks for the latest pose, streams
- poses to a callback and sends depth images or clouds to estimate. Found by CMake with
- find_package(hpose).")
+Connects to hposed (plaintext, TLS, bearer token) and asks for the latest pose, streams
+poses to a callback and sends depth images or clouds to estimate. Found by CMake with
+find_package(hpose).")
 # Headers and the static libraries need gRPC's and protobuf's development files.
 set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "libgrpc++-dev, libprotobuf-dev, protobuf-compiler-grpc")
 file(WRITE ${PROJECT_BINARY_DIR}/packaging/conffiles "/etc/hpose/hposed.yaml\n")
