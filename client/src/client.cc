@@ -144,7 +144,8 @@ Status Client::Latest(PoseEstimate* out, Estimator estimator) {
 Status Client::Stream(const std::function<bool(const PoseEstimate&)>& on_estimate,
                       const StreamOptions& options) {
   grpc::ClientContext ctx;
-  impl_->Prepare(&ctx, false);  // a stream runs until stopped: no deadline.
+  impl_->Prepare(&ctx, false);  // a stream runs until stopped: its own deadline only.
+  if (options.timeout_s > 0) ctx.set_deadline(After(options.timeout_s));
   v1::StreamPosesRequest request;
   request.set_max_estimates(options.max_estimates);
   if (options.estimator != Estimator::kAny) {

@@ -6,11 +6,13 @@
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <regex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -178,6 +180,20 @@ TEST_F(ClientTest, StreamEndsAfterMaxEstimates) {
   EXPECT_EQ(calls, 2);
 }
 
+TEST_F(ClientTest, StreamEndsAtItsDeadline) {
+  int calls = 0;
+  hc::StreamOptions options;
+  options.timeout_s = 1.0;
+  const hc::Status s = client_->Stream(
+      [&](const hc::PoseEstimate&) {
+        ++calls;
+        return true;
+      },
+      options);
+  EXPECT_EQ(s.code, 4);  // DEADLINE_EXCEEDED
+  EXPECT_GT(calls, 0);   // the source publishes at 10 Hz.
+}
+
 // The client's depth Estimate gives what the raw API gives for the same frame.
 TEST_F(ClientTest, EstimateDepthAgreesWithTheRawApi) {
   const hc::DepthImage depth = ClientDepth(*dir_ + "/frames", 1);
@@ -240,6 +256,32 @@ TEST_F(ClientTest, ErrorsCarryTheirCodes) {
   s = client_->Estimate(cloud, &e);
   EXPECT_EQ(s.code, kInvalidArgument);
   EXPECT_NE(s.message.find("multiple of 3"), std::string::npos) << s.message;
+}
+
+// The example program (client/examples) against the same daemon.
+TEST_F(ClientTest, ExampleProgramAnswers) {
+  WaitLatest();
+  const std::string example =
+      std::string(HPOSE_BINARY_DIR) + "/client/hpose_client_example --server " + daemon_->address();
+  std::string out;
+  ASSERT_EQ(tu::RunCommand(example + " status", &out), 0) << out;
+  EXPECT_NE(out.find("(running)"), std::string::npos) << out;
+  EXPECT_NE(out.find("templates 2"), std::string::npos) << out;
+  out.clear();
+  ASSERT_EQ(tu::RunCommand(example + " stream 2", &out), 0) << out;
+  // Two lines, each with the humanoid within 5 cm of 1 m ahead (printed in metres).
+  const std::regex near_1m(R"(x (0\.9[5-9]|1\.0[0-5])\d* m)");
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << out;
+  EXPECT_EQ(
+      std::distance(std::sregex_iterator(out.begin(), out.end(), near_1m), std::sregex_iterator()),
+      2)
+      << out;
+  out.clear();
+  ASSERT_EQ(tu::RunCommand(example + " estimate " + *dir_ + "/frames/cloud_000.pcd", &out), 0)
+      << out;
+  EXPECT_TRUE(std::regex_search(out, near_1m)) << out;
+  EXPECT_EQ(out.find("below threshold"), std::string::npos) << out;
+  EXPECT_EQ(tu::RunCommand(example + " estimate 2>/dev/null"), 2);  // usage: missing FILE.
 }
 
 TEST(ClientConnectTest, UnreachableDaemonIsUnavailable) {

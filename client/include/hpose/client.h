@@ -125,6 +125,10 @@ struct DaemonStatus {
 struct StreamOptions {
   Estimator estimator = Estimator::kAny;  // kAny: both estimators' estimates.
   std::uint32_t max_estimates = 0;        // stop after this many (0 = until the callback stops).
+  // The stream's deadline, seconds (0 = none): a daemon that stops sending (machine hung,
+  // network cut) does not always close the stream; with a deadline Stream then returns
+  // DEADLINE_EXCEEDED (4) and the caller can reconnect.
+  double timeout_s = 0.0;
 };
 
 class Client {
@@ -143,8 +147,8 @@ class Client {
   Status Latest(PoseEstimate* out, Estimator estimator = Estimator::kAny);
 
   // Calls on_estimate with each estimate as the daemon publishes it, until on_estimate returns
-  // false, max_estimates were delivered or the daemon ends the stream. Blocks meanwhile (no
-  // deadline); returns OK when stopped by the callback or the count.
+  // false, max_estimates were delivered, options.timeout_s passed or the daemon ends the stream.
+  // Blocks meanwhile; returns OK when stopped by the callback or the count.
   Status Stream(const std::function<bool(const PoseEstimate&)>& on_estimate,
                 const StreamOptions& options = {});
 
@@ -166,7 +170,7 @@ class Client {
 };
 
 // Reads the x, y, z fields of a PCD file (DATA ascii or binary, 4-byte float fields; NaN
-// points are dropped), such as those `hpose record` and `hpose simulate` write. The message of
+// points are dropped), such as those `hpose simulate` and PCL write. The message of
 // a failure names the file and what is wrong.
 Status ReadPcd(const std::string& path, PointCloud* out);
 
