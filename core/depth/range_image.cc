@@ -31,9 +31,10 @@ RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
   for (const Eigen::Vector3f& p : cloud.points) {
     if (!p.allFinite() || p.z() <= 0.0f) continue;
     // In double and range-checked before the conversion: a point almost in the optical
-    // centre's plane has an enormous ray slope that no int holds.
-    const double uf = std::floor(p.x() / p.z() * focal_px + r.u0_);
-    const double vf = std::floor(p.y() / p.z() * focal_px + r.v0_);
+    // centre's plane has an enormous ray slope that no int holds. Within [0, size) truncation
+    // is the floor, and floor(x) lies in [0, size) exactly when x does (size is an integer).
+    const double uf = p.x() / p.z() * focal_px + r.u0_;
+    const double vf = p.y() / p.z() * focal_px + r.v0_;
     if (!(uf >= 0.0 && vf >= 0.0 && uf < r.width_ && vf < r.height_)) continue;
     const int u = static_cast<int>(uf), v = static_cast<int>(vf);
     float& d = r.depth_[static_cast<size_t>(v) * r.width_ + u];
