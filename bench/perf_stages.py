@@ -8,7 +8,7 @@ within a stage the leaf functions are ranked by samples. Usage:
   perf record -F 2000 --call-graph dwarf,16384 -o frame.data -- \
       taskset -c 0 build/bench/frame_bench --frames 30 --only "exact search"
   perf script -i frame.data -F comm,tid,time,event,ip,sym --no-inline | \
-      bench/perf_stages.py [--top N]
+      bench/perf_stages.py [--top N] [--hz 2000 --frames 30]
 """
 import argparse
 import collections
@@ -59,6 +59,9 @@ def Short(symbol):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--top", type=int, default=5, help="leaf functions per stage (5)")
+    parser.add_argument("--hz", type=float, default=0.0,
+                        help="the -F sampling rate of perf record: adds ms per frame")
+    parser.add_argument("--frames", type=int, default=1, help="frames the run estimated")
     args = parser.parse_args()
     stage_samples = collections.Counter()
     leaves = collections.defaultdict(collections.Counter)
@@ -76,11 +79,14 @@ def main():
     if total == 0:
         sys.exit("perf_stages: no samples on stdin (pipe `perf script` output in)")
     print(f"{total} samples\n")
-    print("| stage | share of samples | top leaf functions (share of the stage) |")
-    print("|---|---|---|")
+    per_frame = args.hz > 0 and args.frames > 0
+    print("| stage | share of samples |" + (" ms per frame |" if per_frame else "") +
+          " top leaf functions (share of the stage) |")
+    print("|---|---|" + ("---|" if per_frame else "") + "---|")
     for stage, n in stage_samples.most_common():
         top = ", ".join(f"`{sym}` {100.0 * c / n:.0f}%" for sym, c in leaves[stage].most_common(args.top))
-        print(f"| {stage} | {100.0 * n / total:.1f}% | {top} |")
+        ms = f" {1e3 * n / args.hz / args.frames:.2f} |" if per_frame else ""
+        print(f"| {stage} | {100.0 * n / total:.1f}% |{ms} {top} |")
 
 
 if __name__ == "__main__":
