@@ -225,6 +225,7 @@ int main(int argc, char** argv) {
   double pipeline_seconds = 10.0;
   int pipeline_frames = 30;
   bool pipeline_only = false;
+  bool no_search = false;
   std::vector<int> threads = {1, 2};
   std::string hpose = HPOSE_PROGRAM;
   for (int i = 1; i < argc; ++i) {
@@ -244,6 +245,8 @@ int main(int argc, char** argv) {
       threads = ParseIntList(argv[++i]);
     } else if (flag == "--hpose" && has_value) {
       hpose = argv[++i];
+    } else if (flag == "--no-search") {
+      no_search = true;
     } else {
       std::printf(
           "usage: latency_bench [--calls N] [--seconds S] [--hpose PATH] [--pipeline-only]\n"
@@ -255,6 +258,8 @@ int main(int argc, char** argv) {
           "  --pipeline-frames N   640x480 frames rendered for the pipeline runs (30)\n"
           "  --threads LIST        source.estimate_threads values to compare (1,2)\n"
           "  --hpose PATH          the hpose program that renders the frames\n"
+          "  --no-search           pipeline runs without the pose search (no cluster is\n"
+          "                        large enough): the cost of everything else\n"
           "Run under taskset -c 0 / taskset -c 0,1 to compare one and two cores.\n");
       return flag == "--help" ? 0 : 2;
     }
@@ -271,7 +276,13 @@ int main(int argc, char** argv) {
   config.templates = {std::string(HPOSE_TEMPLATE_DIR) + "/standing.bt",
                       std::string(HPOSE_TEMPLATE_DIR) + "/right_arm_raised.bt"};
   config.grpc.max_concurrent_estimates = 1;
-  std::printf("# hposed latency benchmark\n");
+  if (no_search) {
+    // No cluster reaches this size: every frame is decoded, turned into a cloud, its floor
+    // fitted and clustered, and an estimate without detections is published.
+    config.estimator.clusters.min_points = 100000000;
+    config.estimator.clusters.max_points = 100000000;
+  }
+  std::printf("# hposed latency benchmark%s\n", no_search ? " (--no-search: no pose search)" : "");
   std::printf("machine: %u cores, %s\n\n", std::thread::hardware_concurrency(), CpuModel().c_str());
   if (pipeline_only) {
     const int rc =
