@@ -22,13 +22,13 @@ constexpr double kKinectNoise = 1.425e-3;  // sigma_z = k z^2 (SPEC §5).
 // A noisy organised 320x240 frame of a floor with a person and a robot-sized cylinder seen from
 // a sensor at `height_m`, pitched and rolled (degrees); `seed` changes the noise.
 PointCloud Frame(double height_m, double pitch_deg, double roll_deg, unsigned seed,
-                 double person_x = 2.0) {
+                 double person_x = 2.0, bool organised = true) {
   Scene scene;
   scene.cylinders.push_back(Cylinder{person_x, 0.4, 0.2, 1.7});
   scene.cylinders.push_back(Cylinder{1.2, -0.3, 0.12, 0.58});
   RenderOptions render;
   render.noise_sigma_k = kKinectNoise;
-  render.organised = true;
+  render.organised = organised;
   render.seed = seed;
   return Render(scene, GroundFromSensor(height_m, pitch_deg * kDeg, roll_deg * kDeg),
                 Intrinsics::KinectV1(320, 240), render);
@@ -72,6 +72,17 @@ TEST(FloorTrackerTest, KeepsTheFloorOfAFixedSensorAndStaysAsGoodAsAFreshFit) {
     EXPECT_LT(TiltBetweenDeg(*tracked, *fitted), 1.0);
     EXPECT_NEAR(tracked->height_m, fitted->height_m, 0.02);
   }
+}
+
+TEST(FloorTrackerTest, UnorganisedCloudsAreCheckedToo) {
+  FloorTracker tracker;
+  ASSERT_TRUE(tracker.Update(Frame(1.0, 30.0, 0.0, 1, 2.0, /*organised=*/false)).ok());
+  ASSERT_TRUE(tracker.Update(Frame(1.0, 30.0, 0.0, 2, 2.5, /*organised=*/false)).ok());
+  EXPECT_FALSE(tracker.refitted()) << tracker.refit_reason();
+  const Result<FloorEstimate> moved = tracker.Update(Frame(1.1, 30.0, 0.0, 3, 2.5, false));
+  ASSERT_TRUE(moved.ok());
+  EXPECT_TRUE(tracker.refitted());
+  EXPECT_NEAR(moved->height_m, 1.1, 0.02);
 }
 
 struct Move {
