@@ -1,10 +1,16 @@
 // Daemon latency benchmark: `Estimate` round trip on loopback (median, p99) next to the
 // estimator's own time, the transport overhead alone, and `StreamPoses` throughput with one
-// and several clients. Starts hposed's core in-process on a free loopback port; frames are
-// rendered by `hpose simulate`.
+// and several clients; then the pose pipeline on 640x480 frames: estimates published per
+// second with a PNG file sequence at `rate: fast`, and frame-arrival -> published latency
+// (median, p99) at 30 fps paced input, for each `source.estimate_threads` value. Starts hposed's
+// core in-process on a free loopback port; frames are rendered by `hpose simulate`. Run it
+// under `taskset -c 0` and `taskset -c 0,1` to compare one and two cores.
 //
-//   latency_bench [--calls N] [--seconds S] [--hpose PATH]
+//   latency_bench [--calls N] [--seconds S] [--hpose PATH] [--pipeline-only]
+//                 [--pipeline-seconds S] [--threads 1,2] [--pipeline-frames N]
 #include <grpcpp/grpcpp.h>
+#include <sched.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -14,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -93,24 +100,196 @@ double StreamThroughput(int port, int clients, double seconds, long* total) {
   return received.load() / seconds / clients;
 }
 
+v1::GetStatusResponse GetStatus(int port) {
+  auto stub = v1::PoseService::NewStub(
+      grpc::CreateChannel("127.0.0.1:" + std::to_string(port), grpc::InsecureChannelCredentials()));
+  grpc::ClientContext ctx;
+  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+  v1::GetStatusResponse st;
+  stub->GetStatus(&ctx, v1::GetStatusRequest(), &st);
+  return st;
+}
+
+// What the pose pipeline did over one measurement window.
+struct PipelineRun {
+  double publish_rate_hz = 0.0;  // estimates published (ok or failed) per second.
+  double input_rate_hz = 0.0;    // frames read per second.
+  double latency_median_ms = 0.0, latency_p99_ms = 0.0;
+  unsigned latency_samples = 0;
+  unsigned long long published = 0, dropped = 0;
+};
+
+// Starts the daemon on the frame directory `dir` (looped), waits `warmup_s`, then measures for
+// `seconds`: the publish and input rates from the counters, the arrival -> published latency
+// over the last 256 published frames (the daemon's own statistics).
+bool RunPipeline(DaemonConfig config, const std::string& dir, bool fast, int threads,
+                 double seconds, double warmup_s, PipelineRun* run) {
+  config.source.path = dir;
+  config.source.loop = true;
+  config.source.realtime = !fast;
+  config.source.fps = 30.0;
+  config.source.estimate_threads = threads;
+  // Fast: room for every estimation thread plus one waiting frame (nothing is dropped at
+  // rate: fast). Paced: the default, one frame (newest only, lowest latency).
+  config.source.queue_capacity = fast ? threads + 1 : 1;
+  auto daemon = Daemon::Start(config);
+  if (!daemon.ok()) {
+    std::fprintf(stderr, "%s\n", daemon.error().ToString().c_str());
+    return false;
+  }
+  const int port = (*daemon)->port();
+  std::this_thread::sleep_for(std::chrono::duration<double>(warmup_s));
+  const v1::GetStatusResponse a = GetStatus(port);
+  const Clock::time_point t0 = Clock::now();
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  const v1::GetStatusResponse b = GetStatus(port);
+  const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+  (*daemon)->Shutdown();
+  auto done = [](const v1::GetStatusResponse& s) {
+    return s.source().frames_estimated() + s.source().frames_failed();
+  };
+  run->published = done(b) - done(a);
+  run->dropped = b.source().frames_dropped() - a.source().frames_dropped();
+  run->publish_rate_hz = static_cast<double>(run->published) / dt;
+  run->input_rate_hz = static_cast<double>(b.source().frames_in() - a.source().frames_in()) / dt;
+  run->latency_median_ms = b.latency().median() * 1e3;
+  run->latency_p99_ms = b.latency().p99() * 1e3;
+  run->latency_samples = b.latency().samples();
+  return true;
+}
+
+int AllowedCpus() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) != 0) return 0;
+  return CPU_COUNT(&set);
+}
+
+// The pipeline section: 640x480 frames of a humanoid turning and walking among clutter.
+int PipelineSection(const DaemonConfig& base, const std::string& hpose, const std::string& dir,
+                    const std::vector<int>& threads, int frames, double seconds) {
+  const std::string sim = hpose + " simulate --out " + dir + " --frames " + std::to_string(frames) +
+                          " --turn-deg 12 --step-m 0.02 --x 1.5 --width 640 --height 480 "
+                          "--no-cloud --clutter 4 > /dev/null";
+  if (std::system(sim.c_str()) != 0) {
+    std::fprintf(stderr, "cannot render frames with: %s\n", sim.c_str());
+    return 1;
+  }
+  std::printf(
+      "## Pose pipeline, 640x480 frames (%d simulated, humanoid turning and walking, 4 "
+      "clutter objects), 2 templates\n",
+      frames);
+  std::printf("CPUs this process may use: %d (of %u)\n\n", AllowedCpus(),
+              std::thread::hardware_concurrency());
+  std::printf(
+      "| estimate_threads | rate: fast, published/s | rate: recorded 30 fps: published/s "
+      "| dropped/s | latency median ms | latency p99 ms | samples |\n");
+  std::printf("|---|---|---|---|---|---|---|\n");
+  for (const int t : threads) {
+    PipelineRun fast, paced;
+    if (!RunPipeline(base, dir, /*fast=*/true, t, seconds, 2.0, &fast)) return 1;
+    if (!RunPipeline(base, dir, /*fast=*/false, t, seconds, 2.0, &paced)) return 1;
+    std::printf("| %d | %.1f | %.1f (input %.1f) | %.1f | %.1f | %.1f | %u |\n", t,
+                fast.publish_rate_hz, paced.publish_rate_hz, paced.input_rate_hz,
+                paced.dropped / seconds, paced.latency_median_ms, paced.latency_p99_ms,
+                paced.latency_samples);
+    std::fflush(stdout);
+  }
+  std::printf(
+      "\nlatency: frame arrival (read from the source) to published, over the last 256 "
+      "published frames of the paced run\n\n");
+  return 0;
+}
+
+std::vector<int> ParseIntList(const std::string& text) {
+  std::vector<int> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    const int v = std::atoi(item.c_str());
+    if (v < 1 || v > 64) {
+      std::fprintf(stderr, "latency_bench: --threads wants integers in [1, 64], got '%s'\n",
+                   item.c_str());
+      std::exit(2);
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int calls = 100;
   double seconds = 10.0;
+  double pipeline_seconds = 10.0;
+  int pipeline_frames = 30;
+  bool pipeline_only = false;
+  bool no_search = false;
+  std::vector<int> threads = {1, 2};
   std::string hpose = HPOSE_PROGRAM;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
-    if (flag == "--calls")
-      calls = std::atoi(argv[i + 1]);
-    else if (flag == "--seconds")
-      seconds = std::atof(argv[i + 1]);
-    else if (flag == "--hpose")
-      hpose = argv[i + 1];
+    const bool has_value = i + 1 < argc;
+    if (flag == "--pipeline-only") {
+      pipeline_only = true;
+    } else if (flag == "--calls" && has_value) {
+      calls = std::atoi(argv[++i]);
+    } else if (flag == "--seconds" && has_value) {
+      seconds = std::atof(argv[++i]);
+    } else if (flag == "--pipeline-seconds" && has_value) {
+      pipeline_seconds = std::atof(argv[++i]);
+    } else if (flag == "--pipeline-frames" && has_value) {
+      pipeline_frames = std::atoi(argv[++i]);
+    } else if (flag == "--threads" && has_value) {
+      threads = ParseIntList(argv[++i]);
+    } else if (flag == "--hpose" && has_value) {
+      hpose = argv[++i];
+    } else if (flag == "--no-search") {
+      no_search = true;
+    } else {
+      std::printf(
+          "usage: latency_bench [--calls N] [--seconds S] [--hpose PATH] [--pipeline-only]\n"
+          "                     [--pipeline-seconds S] [--pipeline-frames N] [--threads 1,2]\n"
+          "  --calls N             Estimate round trips to time (100)\n"
+          "  --seconds S           StreamPoses throughput window (10)\n"
+          "  --pipeline-only       only the pose pipeline section\n"
+          "  --pipeline-seconds S  measurement window of each pipeline run (10)\n"
+          "  --pipeline-frames N   640x480 frames rendered for the pipeline runs (30)\n"
+          "  --threads LIST        source.estimate_threads values to compare (1,2)\n"
+          "  --hpose PATH          the hpose program that renders the frames\n"
+          "  --no-search           pipeline runs without the pose search (no cluster is\n"
+          "                        large enough): the cost of everything else\n"
+          "Run under taskset -c 0 / taskset -c 0,1 to compare one and two cores.\n");
+      return flag == "--help" ? 0 : 2;
+    }
+  }
+  if (calls < 1 || !(seconds > 0.0) || !(pipeline_seconds > 0.0) || pipeline_frames < 1) {
+    std::fprintf(stderr, "latency_bench: counts and durations must be positive\n");
+    return 2;
   }
   const std::string dir =
       (std::filesystem::temp_directory_path() / ("hpose_latency_" + std::to_string(getpid())))
           .string();
+  DaemonConfig config;
+  config.grpc.listen = "127.0.0.1:0";
+  config.templates = {std::string(HPOSE_TEMPLATE_DIR) + "/standing.bt",
+                      std::string(HPOSE_TEMPLATE_DIR) + "/right_arm_raised.bt"};
+  config.grpc.max_concurrent_estimates = 1;
+  if (no_search) {
+    // No cluster reaches this size: every frame is decoded, turned into a cloud, its floor
+    // fitted and clustered, and an estimate without detections is published.
+    config.estimator.clusters.min_points = 100000000;
+    config.estimator.clusters.max_points = 100000000;
+  }
+  std::printf("# hposed latency benchmark%s\n", no_search ? " (--no-search: no pose search)" : "");
+  std::printf("machine: %u cores, %s\n\n", std::thread::hardware_concurrency(), CpuModel().c_str());
+  if (pipeline_only) {
+    const int rc =
+        PipelineSection(config, hpose, dir + "_640", threads, pipeline_frames, pipeline_seconds);
+    std::filesystem::remove_all(dir + "_640");
+    return rc;
+  }
   const std::string sim = hpose + " simulate --out " + dir +
                           " --frames 8 --turn-deg 45 --width 320 --height 240 --no-cloud "
                           "--clutter 2 > /dev/null";
@@ -118,15 +297,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cannot render frames with: %s\n", sim.c_str());
     return 1;
   }
-  DaemonConfig config;
-  config.grpc.listen = "127.0.0.1:0";
   config.source.path = dir;
   config.source.loop = true;
   config.source.realtime = false;  // as fast as the estimator goes: measures throughput.
   config.source.queue_capacity = 4;
-  config.templates = {std::string(HPOSE_TEMPLATE_DIR) + "/standing.bt",
-                      std::string(HPOSE_TEMPLATE_DIR) + "/right_arm_raised.bt"};
-  config.grpc.max_concurrent_estimates = 1;
   auto daemon = Daemon::Start(config);
   if (!daemon.ok()) {
     std::fprintf(stderr, "%s\n", daemon.error().ToString().c_str());
@@ -136,8 +310,6 @@ int main(int argc, char** argv) {
   auto stub = v1::PoseService::NewStub(
       grpc::CreateChannel("127.0.0.1:" + std::to_string(port), grpc::InsecureChannelCredentials()));
 
-  std::printf("# hposed latency benchmark\n");
-  std::printf("machine: %u cores, %s\n", std::thread::hardware_concurrency(), CpuModel().c_str());
   std::printf("frames: 320x240 simulated (hpose simulate, 2 clutter objects), 2 templates\n\n");
 
   // 1. Throughput first, with the source running flat out.
@@ -191,5 +363,9 @@ int main(int argc, char** argv) {
               Quantile(bare.rtt_ms, 0.5), Quantile(bare.rtt_ms, 0.99));
   (*quiet)->Shutdown();
   std::filesystem::remove_all(dir);
-  return 0;
+  std::printf("\n");
+  const int rc =
+      PipelineSection(config, hpose, dir + "_640", threads, pipeline_frames, pipeline_seconds);
+  std::filesystem::remove_all(dir + "_640");
+  return rc;
 }

@@ -162,7 +162,7 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   impl->pool = std::move(*pool);
 
   std::unique_ptr<FrameSource> source;
-  std::unique_ptr<Estimator> estimator;
+  std::vector<std::unique_ptr<Estimator>> estimators;
   if (!config.source.path.empty()) {
     ReplayOptions replay;
     replay.realtime = config.source.realtime;
@@ -177,16 +177,18 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     Result<std::unique_ptr<FrameSource>> made = MakeFrameSource(config.source.path, replay);
     if (!made.ok()) return made.error();
     source = std::move(*made);
-    Result<std::unique_ptr<Estimator>> e = Estimator::Create(options, templates);
-    if (!e.ok()) return e.error();
-    estimator = std::move(*e);
+    for (int i = 0; i < config.source.estimate_threads; ++i) {
+      Result<std::unique_ptr<Estimator>> e = Estimator::Create(options, templates);
+      if (!e.ok()) return e.error();
+      estimators.push_back(std::move(*e));
+    }
   }
   if (config.stereo.enabled()) {
     Status stereo = StartStereo(config.stereo, impl->signal.get(), &impl->stereo_estimator,
                                 &impl->stereo_pipeline);
     if (!stereo.ok()) return stereo.error();
   }
-  impl->pipeline = std::make_unique<PosePipeline>(std::move(source), std::move(estimator),
+  impl->pipeline = std::make_unique<PosePipeline>(std::move(source), std::move(estimators),
                                                   config.source, impl->signal.get());
   impl->admission = std::make_unique<AdmissionControl>(
       config.grpc.max_inflight_estimates,

@@ -172,6 +172,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.Read("intrinsics", &s.intrinsics, "a path"));
     s.intrinsics = Resolve(base_dir, s.intrinsics);
     HPOSE_RETURN_IF_ERROR(r.Read("queue_capacity", &s.queue_capacity, "an integer"));
+    HPOSE_RETURN_IF_ERROR(r.Read("estimate_threads", &s.estimate_threads, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("frame_timeout_s", &s.frame_timeout_s));
     HPOSE_RETURN_IF_ERROR(
         r.ReadDouble("reconnect_initial_backoff_s", &s.reconnect_initial_backoff_s));
@@ -367,6 +368,9 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (s.queue_capacity < 1 || s.queue_capacity > 1000) {
     return fail("source.queue_capacity", "must be in [1, 1000]");
   }
+  if (s.estimate_threads < 1 || s.estimate_threads > 64) {
+    return fail("source.estimate_threads", "must be in [1, 64]");
+  }
   if (!(s.frame_timeout_s > 0.0)) return fail("source.frame_timeout_s", "must be positive");
   if (!(s.reconnect_initial_backoff_s > 0.0)) {
     return fail("source.reconnect_initial_backoff_s", "must be positive");
@@ -443,6 +447,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "fps" << YAML::Value << s.fps;
   out << YAML::Key << "intrinsics" << YAML::Value << s.intrinsics;
   out << YAML::Key << "queue_capacity" << YAML::Value << s.queue_capacity;
+  out << YAML::Key << "estimate_threads" << YAML::Value << s.estimate_threads;
   out << YAML::Key << "frame_timeout_s" << YAML::Value << s.frame_timeout_s;
   out << YAML::Key << "reconnect_initial_backoff_s" << YAML::Value << s.reconnect_initial_backoff_s;
   out << YAML::Key << "reconnect_max_backoff_s" << YAML::Value << s.reconnect_max_backoff_s;

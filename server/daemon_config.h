@@ -48,6 +48,10 @@ struct SourceConfig {
   // Frames waiting for the estimator; a live source drops the oldest. 1 keeps the latency
   // lowest: the estimator always takes the newest frame.
   int queue_capacity = 1;
+  // Frames estimated at the same time, each by its own estimator on its own thread. 2 keeps up
+  // with a source whose frames take up to two frame periods to estimate (on >= 2 cores);
+  // poses are still published in frame order (a live source's late older frame is dropped).
+  int estimate_threads = 1;
   double frame_timeout_s = 2.0;              // live device: no frame for this long = lost.
   double reconnect_initial_backoff_s = 0.5;  // first retry delay after a loss, doubled each try.
   double reconnect_max_backoff_s = 8.0;      // upper bound of the retry delay.

@@ -53,17 +53,43 @@ bool DescribeStaleness(SourceState state, const std::string& state_reason, doubl
   return false;
 }
 
+namespace {
+
+// Recordings replayed as fast as possible lose no frame: every result is published, in order.
+// Live and real-time sources want the newest pose only.
+PublishOrder<std::shared_ptr<PublishedEstimate>>::Policy OrderPolicy(const FrameSource* source,
+                                                                     const SourceConfig& config) {
+  using Order = PublishOrder<std::shared_ptr<PublishedEstimate>>;
+  const bool newest_only = source != nullptr && (source->live() || config.realtime);
+  return newest_only ? Order::Policy::kNewestOnly : Order::Policy::kInOrder;
+}
+
+std::vector<std::unique_ptr<Estimator>> OneEstimator(std::unique_ptr<Estimator> estimator) {
+  std::vector<std::unique_ptr<Estimator>> v;
+  if (estimator) v.push_back(std::move(estimator));
+  return v;
+}
+
+}  // namespace
+
 PosePipeline::PosePipeline(std::unique_ptr<FrameSource> source,
-                           std::unique_ptr<Estimator> estimator, SourceConfig config,
+                           std::vector<std::unique_ptr<Estimator>> estimators, SourceConfig config,
                            PublishSignal* signal)
     : source_(std::move(source)),
-      estimator_(std::move(estimator)),
+      estimators_(std::move(estimators)),
       config_(std::move(config)),
       signal_(signal),
-      queue_(static_cast<size_t>(std::max(1, config_.queue_capacity))) {
+      queue_(static_cast<size_t>(std::max(1, config_.queue_capacity))),
+      publish_order_(OrderPolicy(source_.get(), config_)) {
   state_ = source_ ? SourceState::kStarting : SourceState::kNone;
   reason_ = source_ ? "opening the source" : "no source configured";
 }
+
+PosePipeline::PosePipeline(std::unique_ptr<FrameSource> source,
+                           std::unique_ptr<Estimator> estimator, SourceConfig config,
+                           PublishSignal* signal)
+    : PosePipeline(std::move(source), OneEstimator(std::move(estimator)), std::move(config),
+                   signal) {}
 
 PosePipeline::~PosePipeline() { Stop(); }
 
@@ -71,7 +97,9 @@ void PosePipeline::Start() {
   if (started_ || !source_) return;
   started_ = true;
   capture_thread_ = std::thread([this] { CaptureLoop(); });
-  estimate_thread_ = std::thread([this] { EstimateLoop(); });
+  for (const std::unique_ptr<Estimator>& e : estimators_) {
+    estimate_threads_.emplace_back([this, estimator = e.get()] { EstimateLoop(estimator); });
+  }
 }
 
 void PosePipeline::Stop() {
@@ -84,7 +112,9 @@ void PosePipeline::Stop() {
   if (signal_ != nullptr) signal_->Notify();
   queue_.Close();
   if (capture_thread_.joinable()) capture_thread_.join();
-  if (estimate_thread_.joinable()) estimate_thread_.join();
+  for (std::thread& t : estimate_threads_) {
+    if (t.joinable()) t.join();
+  }
   if (source_) source_->Close();
 }
 
@@ -173,14 +203,21 @@ void PosePipeline::CaptureLoop() {
   }
 }
 
-void PosePipeline::EstimateLoop() {
+void PosePipeline::EstimateLoop(Estimator* estimator) {
   while (!stopping_.load()) {
-    std::optional<Frame> frame = queue_.Pop(std::chrono::milliseconds(100));
-    if (!frame) continue;
+    std::optional<Frame> frame;
+    std::uint64_t ticket = 0;
+    {
+      std::lock_guard<std::mutex> take(take_mu_);
+      frame = queue_.Pop(std::chrono::milliseconds(100));
+      if (!frame) continue;
+      std::lock_guard<std::mutex> lock(mu_);
+      ticket = publish_order_.NextTicket();
+    }
     const Clock::time_point start = Clock::now();
     Result<Estimate> result = frame->is_cloud
-                                  ? estimator_->EstimateCloud(frame->cloud)
-                                  : estimator_->EstimateDepth(frame->depth, frame->intrinsics);
+                                  ? estimator->EstimateCloud(frame->cloud)
+                                  : estimator->EstimateDepth(frame->depth, frame->intrinsics);
     auto published = std::make_shared<PublishedEstimate>();
     published->sequence = frame->sequence;
     published->source_time_s = frame->source_time_s;
@@ -192,13 +229,22 @@ void PosePipeline::EstimateLoop() {
     } else {
       published->error = result.error();
     }
-    published->published = Clock::now();
-    published->published_wall = std::chrono::system_clock::now();
     published->source_epoch = frame->epoch;
     published->queue_s = Seconds(start - frame->received_steady);
-    published->latency_s = Seconds(published->published - frame->received_steady);
-    {
-      std::lock_guard<std::mutex> lock(mu_);
+    published->received_steady = frame->received_steady;
+    Publish(ticket, std::move(published));
+  }
+}
+
+void PosePipeline::Publish(std::uint64_t ticket, std::shared_ptr<PublishedEstimate> result) {
+  std::vector<std::shared_ptr<PublishedEstimate>> ready;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    frames_dropped_ += publish_order_.Done(ticket, std::move(result), &ready);
+    for (std::shared_ptr<PublishedEstimate>& published : ready) {
+      published->published = Clock::now();
+      published->published_wall = std::chrono::system_clock::now();
+      published->latency_s = Seconds(published->published - published->received_steady);
       published->publish_id = next_publish_id_++;
       if (published->ok) {
         ++frames_estimated_;
@@ -210,9 +256,10 @@ void PosePipeline::EstimateLoop() {
       stats_.RecordPublish(published->published, published->latency_s);
       latest_ = std::move(published);
     }
-    published_cv_.notify_all();
-    if (signal_ != nullptr) signal_->Notify();
   }
+  if (ready.empty()) return;
+  published_cv_.notify_all();
+  if (signal_ != nullptr) signal_->Notify();
 }
 
 std::shared_ptr<const PublishedEstimate> PosePipeline::Latest() const {

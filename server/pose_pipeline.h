@@ -10,6 +10,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "core/common/status.h"
 #include "core/search/estimator.h"
@@ -17,6 +18,7 @@
 #include "server/frame_queue.h"
 #include "server/frame_source.h"
 #include "server/pipeline_stats.h"
+#include "server/publish_order.h"
 #include "server/publish_signal.h"
 
 namespace hpose::server {
@@ -39,6 +41,7 @@ struct PublishedEstimate {
   std::uint64_t sequence = 0;    // the frame's sequence number from the source.
   double source_time_s = 0.0;
   std::chrono::system_clock::time_point received;
+  std::chrono::steady_clock::time_point received_steady;  // the same moment, for latency_s.
   std::chrono::steady_clock::time_point published;
   std::chrono::system_clock::time_point published_wall;
   std::uint64_t source_epoch = 0;
@@ -71,15 +74,23 @@ struct PipelineStatus {
   FloorEstimate last_floor;
 };
 
-// Reads the daemon's source on a capture thread into a bounded FrameQueue and estimates on an
-// estimation thread; the newest result is published for GetLatest / StreamPoses. A live device
-// that fails is closed and reopened with exponential back-off while readers keep being served;
-// a recording that ends leaves its last estimate in place (then reported stale).
+// Reads the daemon's source on a capture thread into a bounded FrameQueue and estimates on one
+// estimation thread per estimator (each on its own frame, so with two estimators a frame may
+// take up to two frame periods and the daemon still keeps up); the newest result is published
+// for GetLatest / StreamPoses, always in frame order (PublishOrder: a recording replayed as
+// fast as possible publishes every frame in order; a live or real-time source never publishes
+// an older frame after a newer one and counts such a frame as dropped). A live device that
+// fails is closed and reopened with exponential back-off while readers keep being served; a
+// recording that ends leaves its last estimate in place (then reported stale).
 class PosePipeline {
  public:
-  // `source` may be null (no source: state kNone). `estimator` is used by the estimation
-  // thread only. `signal`, when not null, is notified after every publication and on Stop(); it
-  // must outlive the pipeline.
+  // `source` may be null (no source: state kNone). Each estimator is used by its own estimation
+  // thread only (at least one when there is a source). `signal`, when not null, is notified
+  // after every publication and on Stop(); it must outlive the pipeline.
+  PosePipeline(std::unique_ptr<FrameSource> source,
+               std::vector<std::unique_ptr<Estimator>> estimators, SourceConfig config,
+               PublishSignal* signal = nullptr);
+  // One estimation thread.
   PosePipeline(std::unique_ptr<FrameSource> source, std::unique_ptr<Estimator> estimator,
                SourceConfig config, PublishSignal* signal = nullptr);
   ~PosePipeline();
@@ -107,20 +118,25 @@ class PosePipeline {
 
  private:
   void CaptureLoop();
-  void EstimateLoop();
+  void EstimateLoop(Estimator* estimator);
+  // Hands the result of frame `ticket` to publish_order_ and publishes what it releases.
+  void Publish(std::uint64_t ticket, std::shared_ptr<PublishedEstimate> result);
   void SetState(SourceState state, std::string reason);
   // Sleeps up to `d` unless stopping; false when stopping.
   bool SleepFor(std::chrono::duration<double> d);
   bool OpenWithBackoff();
 
   std::unique_ptr<FrameSource> source_;
-  std::unique_ptr<Estimator> estimator_;
+  std::vector<std::unique_ptr<Estimator>> estimators_;
   const SourceConfig config_;
   PublishSignal* const signal_;
   FrameQueue queue_;
 
   std::thread capture_thread_;
-  std::thread estimate_thread_;
+  std::vector<std::thread> estimate_threads_;
+  // Taking a frame from the queue and its ticket happen together under this lock, so tickets
+  // follow the frames' order.
+  std::mutex take_mu_;
   std::atomic<bool> stopping_{false};
   bool started_ = false;
 
@@ -130,6 +146,8 @@ class PosePipeline {
   SourceState state_ = SourceState::kNone;
   std::string reason_;
   std::shared_ptr<const PublishedEstimate> latest_;
+  // Tickets are taken under take_mu_ and handed in under mu_.
+  PublishOrder<std::shared_ptr<PublishedEstimate>> publish_order_;
   std::uint64_t next_publish_id_ = 1;
   std::uint64_t frames_in_ = 0;
   std::uint64_t frames_dropped_ = 0;

@@ -12,8 +12,8 @@
 #include <pcl/sample_consensus/ransac.h>
 #include <pcl/sample_consensus/sac_model_perpendicular_plane.h>
 #include <pcl/search/kdtree.h>
-#include <Eigen/Eigenvalues>
 
+#include "core/depth/floor_plane.h"
 #include "core/depth/voxel_downsample.h"
 
 namespace hpose {
@@ -105,81 +105,6 @@ std::string Degrees(double rad) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.0f deg", rad * 180.0 / M_PI);
   return text;
-}
-
-// Depth noise of a structured-light sensor grows with the square of the range (SPEC §5,
-// Kinect v1: sigma_z = 1.425e-3 * z^2). Far floor points are noisy and quantised in steps of
-// several centimetres, so the refinement widens their inlier band and weights them down;
-// otherwise a few far points would tilt the plane.
-constexpr double kDepthNoisePerM2 = 1.425e-3;
-
-// Inlier half-width (m) of a point at squared range `range2` for a base threshold (m).
-float InlierBand(float threshold, float range2) {
-  return threshold + static_cast<float>(2.5 * kDepthNoisePerM2) * range2;
-}
-
-// Weighted least-squares plane (weighted centroid + smallest principal axis) through the given
-// points with weights 1 / sigma^2, sigma^2 = (threshold / 2)^2 + (k r^2)^2; oriented so that
-// the sensor (origin) is on its positive side. Returns false when degenerate.
-bool FitPlaneLeastSquares(const std::vector<Eigen::Vector3f>& points,
-                          const std::vector<int>& indices, double threshold,
-                          Eigen::Vector4d* plane) {
-  if (indices.size() < 3) return false;
-  const double base_var = 0.25 * threshold * threshold;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
-  double weight_sum = 0.0;
-  for (const int i : indices) {
-    const Eigen::Vector3d p = points[i].cast<double>();
-    const double range_sigma = kDepthNoisePerM2 * p.squaredNorm();
-    const double w = 1.0 / (base_var + range_sigma * range_sigma);
-    mean += w * p;
-    second.noalias() += w * p * p.transpose();
-    weight_sum += w;
-  }
-  mean /= weight_sum;
-  const Eigen::Matrix3d cov = second / weight_sum - mean * mean.transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov);
-  if (solver.info() != Eigen::Success) return false;
-  Eigen::Vector3d n = solver.eigenvectors().col(0);  // eigenvalues ascend.
-  if (!n.allFinite() || n.norm() < 1e-9) return false;
-  n.normalize();
-  double d = -n.dot(mean);
-  if (d < 0.0) {
-    n = -n;
-    d = -d;
-  }
-  *plane << n, d;
-  return true;
-}
-
-// Points farther below the plane (on the side away from the sensor) than twice their inlier band
-// plus 3 cm.
-size_t CountBelow(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector4d& plane,
-                  double threshold) {
-  const Eigen::Vector3f n = plane.head<3>().cast<float>();
-  const float d = static_cast<float>(plane[3]);
-  const float t = static_cast<float>(threshold);
-  size_t below = 0;
-  for (const Eigen::Vector3f& p : points) {
-    if (n.dot(p) + d < -(2.0f * InlierBand(t, p.squaredNorm()) + 0.03f)) ++below;
-  }
-  return below;
-}
-
-// Points within the (range-dependent) inlier band of the plane.
-void SelectInliers(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector4d& plane,
-                   double threshold, std::vector<int>* inliers) {
-  inliers->clear();
-  const Eigen::Vector3f n = plane.head<3>().cast<float>();
-  const float d = static_cast<float>(plane[3]);
-  const float t = static_cast<float>(threshold);
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3f& p = points[i];
-    if (std::abs(n.dot(p) + d) <= InlierBand(t, p.squaredNorm())) {
-      inliers->push_back(static_cast<int>(i));
-    }
-  }
 }
 
 Status ValidateOptions(const FloorFitterOptions& o) {
@@ -300,15 +225,15 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     if (!(norm > 0.0)) break;
     plane /= norm;
     // Claim the RANSAC plane's points so the next round looks for another plane.
-    SelectInliers(sampled, plane, options.distance_threshold_m, &inliers);
+    SelectFloorInliers(sampled, plane, options.distance_threshold_m, &inliers);
     for (const int i : inliers) taken[i] = 1;
 
     // Refine by least squares on the inliers, re-selecting them with the refined plane.
     bool ok = true;
     for (int r = 0; r < kRefineRounds && ok; ++r) {
-      ok = FitPlaneLeastSquares(sampled, inliers, options.distance_threshold_m, &plane);
+      ok = FitFloorPlaneLeastSquares(sampled, inliers, options.distance_threshold_m, &plane);
       if (!ok) break;
-      SelectInliers(sampled, plane, options.distance_threshold_m, &inliers);
+      SelectFloorInliers(sampled, plane, options.distance_threshold_m, &inliers);
     }
     if (!ok || inliers.size() < 3 || plane[3] < 1e-3) continue;  // degenerate or through sensor.
     // The sensor must be above the plane, i.e. its normal towards the sensor points "up":
@@ -320,7 +245,7 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     for (const int i : inliers) taken[i] = 1;
     // Nothing lies below a floor. Points well below a candidate mean it is a table top or a
     // slanted plane cutting through walls and people.
-    if (CountBelow(sampled, plane, options.distance_threshold_m) >
+    if (CountBelowFloorPlane(sampled, plane, options.distance_threshold_m) >
         std::max(kMaxBelowFraction * inliers.size(), kMaxBelowFractionOfAll * n)) {
       ++rejected;
       continue;

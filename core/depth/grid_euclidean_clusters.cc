@@ -50,7 +50,10 @@ std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& 
   std::vector<Eigen::Matrix<std::int64_t, 3, 1>> key(points.size());
   for (int i = 0; i < n; ++i) {
     for (int a = 0; a < 3; ++a) {
-      key[i][a] = static_cast<std::int64_t>(std::floor(static_cast<double>(points[i][a]) / cell));
+      // floor() without a libm call: truncate, then step down for negative fractions.
+      const double q = static_cast<double>(points[i][a]) / cell;
+      const std::int64_t truncated = static_cast<std::int64_t>(q);
+      key[i][a] = truncated - (static_cast<double>(truncated) > q ? 1 : 0);
     }
   }
   Eigen::Matrix<std::int64_t, 3, 1> lo = key[0], hi = key[0];
@@ -63,12 +66,15 @@ std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& 
   std::vector<int> parent(points.size());
   std::iota(parent.begin(), parent.end(), 0);
   const float tol2 = static_cast<float>(tolerance_m * tolerance_m);
+  // Joins the components of i and j when they are within the tolerance; true when they are
+  // (whether or not they were joined already).
   auto unite = [&](int i, int j) {
-    if (SquaredDistance(points[i], points[j]) >= tol2) return;
+    if (SquaredDistance(points[i], points[j]) >= tol2) return false;
     int ri = Find(&parent, i), rj = Find(&parent, j);
-    if (ri == rj) return;
+    if (ri == rj) return true;
     if (ri > rj) std::swap(ri, rj);
     parent[rj] = ri;
+    return true;
   };
   if (!packable) {
     // Absurd extent for the tolerance: compare every pair (correct, slow, never hit in practice).
@@ -94,6 +100,14 @@ std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& 
     }
     start.push_back(n);
     const int buckets = static_cast<int>(bucket_key.size());
+    // The root shared by every point of bucket b, or -1 when they lie in several components.
+    auto common_root = [&](int b) {
+      const int root = Find(&parent, order[start[b]].second);
+      for (int s = start[b] + 1; s < start[b + 1]; ++s) {
+        if (Find(&parent, order[s].second) != root) return -1;
+      }
+      return root;
+    };
     const std::uint64_t one_y = std::uint64_t{1} << kKeyBits;
     const std::uint64_t one_x = std::uint64_t{1} << (2 * kKeyBits);
     for (int b = 0; b < buckets; ++b) {
@@ -115,8 +129,21 @@ std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& 
         auto it = std::lower_bound(bucket_key.begin() + b + 1, bucket_key.end(), r[0]);
         for (; it != bucket_key.end() && *it <= r[1]; ++it) {
           const int c = static_cast<int>(it - bucket_key.begin());
-          for (int s = start[b]; s < start[b + 1]; ++s) {
-            for (int t = start[c]; t < start[c + 1]; ++t) unite(order[s].second, order[t].second);
+          // Two buckets each already inside one component: one close pair joins them and
+          // nothing else can change, so the pair scan stops there (or is skipped when they are
+          // already one component). Only the union-find changes, not the components.
+          const int root_b = common_root(b);
+          const int root_c = root_b >= 0 ? common_root(c) : -1;
+          if (root_b >= 0 && root_b == root_c) continue;
+          const bool stop_at_first = root_b >= 0 && root_c >= 0;
+          bool joined = false;
+          for (int s = start[b]; s < start[b + 1] && !joined; ++s) {
+            for (int t = start[c]; t < start[c + 1]; ++t) {
+              if (unite(order[s].second, order[t].second) && stop_at_first) {
+                joined = true;
+                break;
+              }
+            }
           }
         }
       }

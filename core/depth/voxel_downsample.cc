@@ -12,13 +12,19 @@ namespace {
 constexpr std::int64_t kAxisLimit = (1 << 20) - 1;
 constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
 
+// floor(x) for |x| <= kAxisLimit without a libm call (x86-64's baseline has no SSE4.1 round).
+std::int64_t FloorToInt(float x) {
+  const std::int64_t truncated = static_cast<std::int64_t>(x);
+  return truncated - (static_cast<float>(truncated) > x ? 1 : 0);
+}
+
 std::uint64_t PackKey(const Eigen::Vector3f& p, float inv_leaf) {
+  // Clamping before flooring gives floor-then-clamp's result: the limit is an integer.
+  const float limit = static_cast<float>(kAxisLimit);
   std::uint64_t key = 0;
   for (int axis = 0; axis < 3; ++axis) {
-    const float cell = std::floor(p[axis] * inv_leaf);
-    const float limit = static_cast<float>(kAxisLimit);
-    const std::int64_t clamped = static_cast<std::int64_t>(std::clamp(cell, -limit, limit));
-    key = (key << 21) | static_cast<std::uint64_t>(clamped + kAxisLimit);
+    const std::int64_t cell = FloorToInt(std::clamp(p[axis] * inv_leaf, -limit, limit));
+    key = (key << 21) | static_cast<std::uint64_t>(cell + kAxisLimit);
   }
   return key;
 }
@@ -40,17 +46,27 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
   if (voxel_of_point != nullptr) voxel_of_point->resize(points.size());
   if (points.empty()) return;
 
-  size_t capacity = 16;
-  while (capacity < 2 * points.size()) capacity <<= 1;
-  const size_t mask = capacity - 1;
+  // Open addressing, at most half full. Sized for a quarter of the points as voxels (depth
+  // clouds have several points per voxel) and doubled when that is exceeded: a table sized for
+  // every point would not fit in the cache for a 640x480 frame and would cost more than it saves.
   struct Slot {
     std::uint64_t key;
     int voxel;
   };
+  size_t capacity = 64;
+  while (capacity < points.size() / 2) capacity <<= 1;
+  size_t mask = capacity - 1;
   std::vector<Slot> table(capacity, Slot{kEmpty, -1});
+  std::vector<std::uint64_t> keys;  // of each voxel, to rehash.
   std::vector<int> counts;
   counts.reserve(points.size() / 4 + 16);
+  keys.reserve(points.size() / 4 + 16);
   centroids->reserve(points.size() / 4 + 16);
+  auto find_slot = [&](std::uint64_t key) {
+    size_t slot = Mix(key) & mask;
+    while (table[slot].key != kEmpty && table[slot].key != key) slot = (slot + 1) & mask;
+    return slot;
+  };
 
   const float inv_leaf = 1.0f / leaf_m;
   // Depth-camera clouds come in scan order, so consecutive points often share a voxel: the
@@ -62,14 +78,22 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
     const std::uint64_t key = PackKey(p, inv_leaf);
     int voxel = last_voxel;
     if (key != last_key) {
-      size_t slot = Mix(key) & mask;
-      while (table[slot].key != kEmpty && table[slot].key != key) slot = (slot + 1) & mask;
+      size_t slot = find_slot(key);
       voxel = table[slot].voxel;
       if (voxel < 0) {
         voxel = static_cast<int>(centroids->size());
         table[slot] = Slot{key, voxel};
         centroids->push_back(Eigen::Vector3f::Zero());
         counts.push_back(0);
+        keys.push_back(key);
+        if (2 * keys.size() > capacity) {
+          capacity <<= 1;
+          mask = capacity - 1;
+          table.assign(capacity, Slot{kEmpty, -1});
+          for (size_t v = 0; v < keys.size(); ++v) {
+            table[find_slot(keys[v])] = Slot{keys[v], static_cast<int>(v)};
+          }
+        }
       }
       last_key = key;
       last_voxel = voxel;

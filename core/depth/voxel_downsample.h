@@ -14,7 +14,7 @@ namespace hpose {
 // copy into a PCL cloud. All points must be finite.
 //
 // `voxel_of_point` (optional) receives, for every input point, the index of its centroid.
-// Runs in O(n) with one hash table sized for n; `centroids` is cleared first.
+// Runs in O(n) with a hash table of the voxels; `centroids` is cleared first.
 void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
                      std::vector<Eigen::Vector3f>* centroids,
                      std::vector<int>* voxel_of_point = nullptr);

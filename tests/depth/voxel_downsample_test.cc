@@ -1,5 +1,10 @@
 #include "core/depth/voxel_downsample.h"
 
+#include <cmath>
+#include <map>
+#include <random>
+#include <tuple>
+
 #include <gtest/gtest.h>
 
 namespace hpose {
@@ -35,6 +40,53 @@ TEST(VoxelDownsampleTest, HandlesLargeExtentsAndEmptyInput) {
   // 1 km apart at 1 mm leaf: pcl::VoxelGrid would overflow its index here.
   VoxelDownsample({{0, 0, 0}, {1000, -1000, 500}}, 0.001f, &centroids);
   EXPECT_EQ(centroids.size(), 2u);
+}
+
+// The reference: an ordered map from std::floor cell indices, centroids in first-seen order,
+// sums in point order (so the floats must agree exactly).
+TEST(VoxelDownsampleTest, EqualsAStraightforwardReferenceOnLargeClouds) {
+  std::mt19937 rng(7);
+  for (const int n : {10, 5000, 200000}) {
+    std::uniform_real_distribution<float> u(-2.0f, 2.0f);
+    std::vector<Eigen::Vector3f> points;
+    for (int i = 0; i < n; ++i) {
+      // Every third point repeats a cell of an earlier one; exact multiples of the leaf too.
+      if (i % 3 == 2) {
+        points.push_back(points[i / 2] + Eigen::Vector3f::Constant(0.001f));
+      } else if (i % 97 == 0) {
+        points.emplace_back(0.008f * (i % 11 - 5), -0.016f, 0.0f);
+      } else {
+        points.emplace_back(u(rng), u(rng), 0.5f * u(rng));
+      }
+    }
+    const float leaf = 0.008f;
+    std::vector<Eigen::Vector3f> centroids;
+    std::vector<int> owner;
+    VoxelDownsample(points, leaf, &centroids, &owner);
+
+    std::map<std::tuple<long, long, long>, int> index;
+    std::vector<Eigen::Vector3f> sums;
+    std::vector<int> counts, expected_owner;
+    const float inv = 1.0f / leaf;
+    for (const Eigen::Vector3f& p : points) {
+      const auto key = std::make_tuple(static_cast<long>(std::floor(p.x() * inv)),
+                                       static_cast<long>(std::floor(p.y() * inv)),
+                                       static_cast<long>(std::floor(p.z() * inv)));
+      auto [it, inserted] = index.emplace(key, static_cast<int>(sums.size()));
+      if (inserted) {
+        sums.push_back(Eigen::Vector3f::Zero());
+        counts.push_back(0);
+      }
+      sums[it->second] += p;
+      ++counts[it->second];
+      expected_owner.push_back(it->second);
+    }
+    ASSERT_EQ(centroids.size(), sums.size()) << n << " points";
+    EXPECT_EQ(owner, expected_owner) << n << " points";
+    for (size_t v = 0; v < sums.size(); ++v) {
+      ASSERT_EQ(centroids[v], sums[v] / static_cast<float>(counts[v])) << "voxel " << v;
+    }
+  }
 }
 
 }  // namespace

@@ -10,7 +10,7 @@ TEST(DaemonConfigTest, ParsesEveryKeyAndResolvesRelativePaths) {
 listen: 127.0.0.1:6000
 grpc: {max_receive_message_bytes: 2048, max_concurrent_estimates: 3}
 source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
-         stale_after_s: 0.5}
+         estimate_threads: 2, stale_after_s: 0.5}
 templates: [t/standing.bt, /abs/arm.bt]
 search: {score_threshold: 55, scorer: reference}
 floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
@@ -25,6 +25,7 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_TRUE(c->source.loop);
   EXPECT_DOUBLE_EQ(c->source.fps, 15.0);
   EXPECT_EQ(c->source.queue_capacity, 2);
+  EXPECT_EQ(c->source.estimate_threads, 2);
   ASSERT_EQ(c->templates.size(), 2u);
   EXPECT_EQ(c->templates[0], "/etc/hpose/t/standing.bt");
   EXPECT_EQ(c->templates[1], "/abs/arm.bt");
@@ -79,6 +80,10 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   bad = c;
   bad.source.queue_capacity = 0;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.queue_capacity"),
+            std::string::npos);
+  bad = c;
+  bad.source.estimate_threads = 0;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.estimate_threads"),
             std::string::npos);
   bad = c;
   bad.source.reconnect_max_backoff_s = 0.1;

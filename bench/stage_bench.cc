@@ -1,0 +1,246 @@
+// Cost of a frame's stages outside the pose search: depth to cloud, floor (a fit on every frame
+// and FloorTracker, which reuses the last floor while it still fits), clustering (bucket grid and
+// PCL's kd-tree, the reference) and the range image of the free-space score. Runs on the
+// simulated 640x480 frames of frame_bench (a sequence from one fixed sensor mount) and on any
+// real clouds given with --cloud (each replayed --repeat times as a still sequence). Every
+// variant runs on every frame in turn, so drift on a shared machine hits all alike. It also
+// checks that the fast paths agree with the references (same clusters; tracked floor within
+// 1 cm and 1 degree of a fresh fit) and says so.
+// Pin it to one core for the documented numbers:
+//   taskset -c 0 stage_bench [--frames N] [--clutter N] [--repeat N] [--cloud FILE]...
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bench/bench_frames.h"
+#include "core/depth/cluster_extractor.h"
+#include "core/depth/depth_to_cloud.h"
+#include "core/depth/floor_fitter.h"
+#include "core/depth/floor_tracker.h"
+#include "core/depth/range_image.h"
+#include "core/io/cloud_io.h"
+
+namespace hpose::bench {
+namespace {
+
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
+}
+
+// Runs `fn` and returns the CPU time (ms) this thread spent in it: on a shared, loaded machine
+// this is far steadier than wall time (the stages are single-threaded).
+double TimeMs(const std::function<void()>& fn) {
+  const double t0 = ThreadCpuMs();
+  fn();
+  return ThreadCpuMs() - t0;
+}
+
+struct Column {
+  std::string name;
+  std::vector<double> ms;
+};
+
+// Times of one input set (simulated frames or a real cloud), one column per stage variant.
+struct Table {
+  std::string title;
+  std::vector<Column> columns;
+  int frames = 0;
+  int refits = 0;
+  int cluster_mismatches = 0;
+  int cluster_count = 0;
+  double worst_floor_angle_deg = 0.0;
+  double worst_floor_height_mm = 0.0;
+  // Simulated frames only: worst error against the true mount, of a fit on every frame and of
+  // the tracked floor (angle in degrees, height in mm).
+  bool has_truth = false;
+  double fit_truth_deg = 0.0, fit_truth_mm = 0.0, tracked_truth_deg = 0.0, tracked_truth_mm = 0.0;
+
+  std::vector<double>& At(const std::string& name) {
+    for (Column& c : columns) {
+      if (c.name == name) return c.ms;
+    }
+    columns.push_back({name, {}});
+    return columns.back().ms;
+  }
+};
+
+double AngleDeg(const FloorEstimate& a, const FloorEstimate& b) {
+  const double c = std::clamp(a.plane_sensor.head<3>().dot(b.plane_sensor.head<3>()), -1.0, 1.0);
+  return std::acos(c) * 180.0 / M_PI;
+}
+
+// Worst-so-far angle (deg) and height (mm) between two floors.
+void Worst(const FloorEstimate& a, const FloorEstimate& b, double* deg, double* mm) {
+  *deg = std::max(*deg, AngleDeg(a, b));
+  *mm = std::max(*mm, 1e3 * std::abs(a.height_m - b.height_m));
+}
+
+bool SameClusters(const std::vector<Cluster>& a, const std::vector<Cluster>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].points != b[i].points) return false;
+  }
+  return true;
+}
+
+// One frame through every stage variant; `cloud_ms` is the depth-to-cloud time (0 for a
+// cloud read from a file); `truth` the true floor when known.
+Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* truth,
+                const EstimatorOptions& options, FloorTracker* tracker, Table* table) {
+  ++table->frames;
+  table->At("cloud").push_back(cloud_ms);
+  Result<FloorEstimate> fitted = MakeError(ErrorCode::kInternal, "not run");
+  table->At("floor: fit every frame").push_back(TimeMs([&] {
+    fitted = FitFloor(cloud, options.floor_fit);
+  }));
+  if (!fitted.ok()) return fitted.error();
+  Result<FloorEstimate> tracked = MakeError(ErrorCode::kInternal, "not run");
+  const double track_ms = TimeMs([&] { tracked = tracker->Update(cloud); });
+  table->At("floor: FloorTracker").push_back(track_ms);
+  if (!tracked.ok()) return tracked.error();
+  table->refits += tracker->refitted() ? 1 : 0;
+  Worst(*tracked, *fitted, &table->worst_floor_angle_deg, &table->worst_floor_height_mm);
+  if (truth != nullptr) {
+    table->has_truth = true;
+    Worst(*fitted, *truth, &table->fit_truth_deg, &table->fit_truth_mm);
+    Worst(*tracked, *truth, &table->tracked_truth_deg, &table->tracked_truth_mm);
+  }
+
+  ClusterOptions grid = options.clusters;
+  grid.method = ClusterOptions::Method::kGrid;
+  ClusterOptions pcl = options.clusters;
+  pcl.method = ClusterOptions::Method::kPcl;
+  Result<std::vector<Cluster>> fast = MakeError(ErrorCode::kInternal, "not run");
+  Result<std::vector<Cluster>> reference = MakeError(ErrorCode::kInternal, "not run");
+  const double cluster_ms = TimeMs([&] { fast = ExtractClusters(cloud, *tracked, grid); });
+  table->At("clustering: grid").push_back(cluster_ms);
+  table->At("clustering: PCL (reference)").push_back(TimeMs([&] {
+    reference = ExtractClusters(cloud, *tracked, pcl);
+  }));
+  if (!fast.ok()) return fast.error();
+  if (!reference.ok()) return reference.error();
+  table->cluster_count += static_cast<int>(fast->size());
+  table->cluster_mismatches += SameClusters(*fast, *reference) ? 0 : 1;
+
+  RangeImage range;
+  const double range_ms =
+      TimeMs([&] { range = RangeImage::FromCloud(cloud, options.range_image_focal_px); });
+  table->At("range image").push_back(range_ms);
+  table->At("total: cloud + FloorTracker + grid + range image")
+      .push_back(cloud_ms + track_ms + cluster_ms + range_ms);
+  return Status::Ok();
+}
+
+void Print(const Table& t) {
+  std::printf("\n%s: %d frames, median / p90 / p99 of thread CPU time in ms\n\n", t.title.c_str(),
+              t.frames);
+  std::printf("| stage | median | p90 | p99 |\n|---|---|---|---|\n");
+  for (const Column& c : t.columns) {
+    std::printf("| %s | %.2f | %.2f | %.2f |\n", c.name.c_str(), Median(c.ms),
+                Percentile(c.ms, 90.0), Percentile(c.ms, 99.0));
+  }
+  std::printf(
+      "\nFloorTracker refitted on %d of %d frames; tracked floor vs a fresh fit: worst %.2f deg, "
+      "%.1f mm. Clusters: %d, grid vs PCL differ on %d frame(s).\n",
+      t.refits, t.frames, t.worst_floor_angle_deg, t.worst_floor_height_mm, t.cluster_count,
+      t.cluster_mismatches);
+  if (t.has_truth) {
+    std::printf(
+        "Against the true mount, worst over the frames: fit every frame %.2f deg, %.1f mm; "
+        "FloorTracker %.2f deg, %.1f mm.\n",
+        t.fit_truth_deg, t.fit_truth_mm, t.tracked_truth_deg, t.tracked_truth_mm);
+  }
+}
+
+int Run(int argc, char** argv) {
+  int frames = 30;
+  int clutter = 4;
+  int repeat = 10;
+  std::vector<std::string> clouds;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (a == "--frames" && has_value) {
+      frames = std::atoi(argv[++i]);
+    } else if (a == "--clutter" && has_value) {
+      clutter = std::atoi(argv[++i]);
+    } else if (a == "--repeat" && has_value) {
+      repeat = std::atoi(argv[++i]);
+    } else if (a == "--cloud" && has_value) {
+      clouds.push_back(argv[++i]);
+    } else {
+      std::printf(
+          "usage: stage_bench [--frames N] [--clutter N] [--repeat N] [--cloud FILE]...\n"
+          "Times the non-search stages of a frame (cloud, floor, clustering, range image).\n"
+          "  --frames N   simulated 640x480 frames (30); 0 runs only the --cloud files\n"
+          "  --clutter N  clutter objects per simulated frame (4)\n"
+          "  --repeat N   times each --cloud file is replayed as a still sequence (10)\n"
+          "  --cloud FILE a real cloud (.pcd/.ply, sensor frame); may be repeated\n");
+      return a == "--help" ? 0 : 2;
+    }
+  }
+  if (frames < 0 || clutter < 0 || repeat < 1) {
+    std::fprintf(stderr, "stage_bench: --frames and --clutter must be >= 0, --repeat >= 1\n");
+    return 2;
+  }
+  const EstimatorOptions options = DefaultEstimatorOptions();
+  std::vector<Table> tables;
+  if (frames > 0) {
+    Table t;
+    t.title = "simulated 640x480 frames, " + std::to_string(clutter) + " clutter objects";
+    FloorTracker tracker(FloorTrackerOptions{options.floor_fit});
+    for (const FrameSpec& spec : BenchFrameSpecs(frames, clutter)) {
+      Result<SimulatedFrame> sim = SimulateFrame(spec);
+      if (!sim.ok()) {
+        std::fprintf(stderr, "stage_bench: %s\n", sim.error().message.c_str());
+        return 1;
+      }
+      Result<PointCloud> cloud = MakeError(ErrorCode::kInternal, "not run");
+      const double cloud_ms =
+          TimeMs([&] { cloud = DepthToCloud(sim->depth, spec.intrinsics, options.cloud); });
+      if (!cloud.ok()) {
+        std::fprintf(stderr, "stage_bench: %s\n", cloud.error().message.c_str());
+        return 1;
+      }
+      const Status st = RunFrame(*cloud, cloud_ms, &sim->sensor_mount, options, &tracker, &t);
+      if (!st.ok()) {
+        std::fprintf(stderr, "stage_bench: simulated frame: %s\n", st.error().message.c_str());
+        return 1;
+      }
+    }
+    tables.push_back(std::move(t));
+  }
+  for (const std::string& path : clouds) {
+    Result<PointCloud> cloud = ReadCloud(path);
+    if (!cloud.ok()) {
+      std::fprintf(stderr, "stage_bench: %s: %s\n", path.c_str(), cloud.error().message.c_str());
+      return 1;
+    }
+    Table t;
+    t.title = path.substr(path.find_last_of('/') + 1) + " (" + std::to_string(cloud->size()) +
+              " points" + (cloud->organised() ? ", organised" : "") + ")";
+    FloorTracker tracker(FloorTrackerOptions{options.floor_fit});
+    for (int r = 0; r < repeat; ++r) {
+      const Status st = RunFrame(*cloud, 0.0, nullptr, options, &tracker, &t);
+      if (!st.ok()) {
+        std::fprintf(stderr, "stage_bench: %s: %s\n", path.c_str(), st.error().message.c_str());
+        return 1;
+      }
+    }
+    tables.push_back(std::move(t));
+  }
+  for (const Table& t : tables) Print(t);
+  return 0;
+}
+
+}  // namespace
+}  // namespace hpose::bench
+
+int main(int argc, char** argv) { return hpose::bench::Run(argc, argv); }

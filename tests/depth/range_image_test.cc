@@ -1,0 +1,102 @@
+#include "core/depth/range_image.h"
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <utility>
+
+#include <gtest/gtest.h>
+
+namespace hpose {
+namespace {
+
+// A cloud in front of the sensor: random points over a +-40 degree view at 0.5-5 m, some NaN,
+// some behind the sensor, a few almost in the optical centre's plane.
+PointCloud RandomCloud(unsigned seed, int n) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> tan(-0.8f, 0.8f), depth(0.5f, 5.0f);
+  PointCloud cloud;
+  for (int i = 0; i < n; ++i) {
+    const float z = depth(rng);
+    if (i % 50 == 0) {
+      cloud.points.emplace_back(NAN, NAN, NAN);
+    } else if (i % 71 == 0) {
+      cloud.points.emplace_back(tan(rng), tan(rng), -z);
+    } else if (i % 113 == 0) {
+      cloud.points.emplace_back(tan(rng), tan(rng), 1e-7f);
+    } else {
+      cloud.points.emplace_back(tan(rng) * z, tan(rng) * z, z);
+    }
+  }
+  return cloud;
+}
+
+// The reference binning: bin = floor(tan * focal + offset), tan = x / z in float as the sensor
+// frame's points are, over the cloud's own tangent extent
+// (clamped to +-3), nearest z per bin.
+TEST(RangeImageTest, NearestDepthPerBinEqualsAStraightforwardReference) {
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    const PointCloud cloud = RandomCloud(seed, 20000);
+    const double focal = 300.0;
+    const RangeImage image = RangeImage::FromCloud(cloud, focal);
+    double tx_lo = 3.0, ty_lo = 3.0, tx_hi = -3.0, ty_hi = -3.0;
+    for (const Eigen::Vector3f& p : cloud.points) {
+      if (!p.allFinite() || p.z() <= 0.0f) continue;
+      tx_lo = std::min(tx_lo, static_cast<double>(p.x() / p.z()));
+      ty_lo = std::min(ty_lo, static_cast<double>(p.y() / p.z()));
+      tx_hi = std::max(tx_hi, static_cast<double>(p.x() / p.z()));
+      ty_hi = std::max(ty_hi, static_cast<double>(p.y() / p.z()));
+    }
+    tx_lo = std::max(tx_lo, -3.0);
+    ty_lo = std::max(ty_lo, -3.0);
+    tx_hi = std::min(tx_hi, 3.0);
+    ty_hi = std::min(ty_hi, 3.0);
+    const int width = static_cast<int>((tx_hi - tx_lo) * focal) + 1;
+    const int height = static_cast<int>((ty_hi - ty_lo) * focal) + 1;
+    ASSERT_EQ(image.width(), width);
+    ASSERT_EQ(image.height(), height);
+    EXPECT_DOUBLE_EQ(image.TopTan(), ty_lo);
+    std::map<std::pair<int, int>, float> nearest;
+    for (const Eigen::Vector3f& p : cloud.points) {
+      if (!p.allFinite() || p.z() <= 0.0f) continue;
+      const double u = std::floor(static_cast<double>(p.x() / p.z()) * focal - tx_lo * focal);
+      const double v = std::floor(static_cast<double>(p.y() / p.z()) * focal - ty_lo * focal);
+      if (!(u >= 0 && v >= 0 && u < width && v < height)) continue;
+      const std::pair<int, int> bin(static_cast<int>(u), static_cast<int>(v));
+      auto it = nearest.find(bin);
+      if (it == nearest.end() || p.z() < it->second) nearest[bin] = p.z();
+    }
+    ASSERT_GT(nearest.size(), 1000u);
+    for (const auto& [bin, z] : nearest) {
+      // Ask along the ray through the bin's centre.
+      const Eigen::Vector3d ray((bin.first + 0.5) / focal + tx_lo,
+                                (bin.second + 0.5) / focal + ty_lo, 1.0);
+      EXPECT_EQ(image.DepthToward(ray), z) << "bin " << bin.first << ", " << bin.second;
+    }
+    // Bins without a point are unknown.
+    int empty = 0;
+    for (int v = 0; v < height; v += 7) {
+      for (int u = 0; u < width; u += 7) {
+        if (nearest.count({u, v}) > 0) continue;
+        ++empty;
+        EXPECT_EQ(image.DepthToward(
+                      Eigen::Vector3d((u + 0.5) / focal + tx_lo, (v + 0.5) / focal + ty_lo, 1.0)),
+                  0.0f);
+      }
+    }
+    EXPECT_GT(empty, 0);
+  }
+}
+
+TEST(RangeImageTest, EmptyAndBehindTheSensorGiveAnEmptyImage) {
+  PointCloud cloud;
+  cloud.points.emplace_back(0.0f, 0.0f, -1.0f);
+  cloud.points.emplace_back(NAN, 0.0f, 1.0f);
+  const RangeImage image = RangeImage::FromCloud(cloud);
+  EXPECT_EQ(image.width(), 0);
+  EXPECT_EQ(image.DepthToward(Eigen::Vector3d(0, 0, 1)), 0.0f);
+  EXPECT_FALSE(image.Covers(Eigen::Vector3d(0, 0, 1)));
+}
+
+}  // namespace
+}  // namespace hpose

@@ -1,0 +1,116 @@
+// The pose pipeline with several estimation threads on a recording of simulated frames: every
+// frame published in frame order at rate: fast; never an older frame after a newer one when
+// paced.
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/templates/template_io.h"
+#include "server/frame_source.h"
+#include "server/pose_pipeline.h"
+#include "tests/integration/test_util.h"
+
+namespace hpose::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr int kFrames = 6;
+
+class PipelineThreadsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing_util::MakeTempDir("pipeline_threads");
+    ASSERT_FALSE(dir_.empty());
+    ASSERT_TRUE(testing_util::SimulateFrames(dir_, kFrames, "--clutter 2"));
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::unique_ptr<PosePipeline> MakePipeline(bool realtime, double fps, int threads) {
+    ReplayOptions replay;
+    replay.realtime = realtime;
+    replay.fps = fps;
+    Result<std::unique_ptr<FrameSource>> source = MakeFrameSource(dir_, replay);
+    EXPECT_TRUE(source.ok()) << source.error().ToString();
+    std::vector<VoxelTemplate> templates;
+    for (const char* name : {"standing", "right_arm_raised"}) {
+      Result<VoxelTemplate> t = LoadTemplate(testing_util::TemplatePath(name));
+      EXPECT_TRUE(t.ok());
+      templates.push_back(*t);
+    }
+    std::vector<std::unique_ptr<Estimator>> estimators;
+    for (int i = 0; i < threads; ++i) {
+      Result<std::unique_ptr<Estimator>> e =
+          Estimator::Create(DefaultEstimatorOptions(), templates);
+      EXPECT_TRUE(e.ok());
+      estimators.push_back(std::move(*e));
+    }
+    SourceConfig config;
+    config.realtime = realtime;
+    config.fps = fps;
+    config.queue_capacity = threads + 1;
+    config.estimate_threads = threads;
+    return std::make_unique<PosePipeline>(std::move(*source), std::move(estimators), config);
+  }
+
+  // Follows the published estimates until the source finished and the last frame is out (or
+  // 120 s pass); returns the frame sequence numbers seen, in publishing order.
+  static std::vector<std::uint64_t> Follow(PosePipeline* pipeline) {
+    std::vector<std::uint64_t> seen;
+    std::uint64_t last_id = 0;
+    const Clock::time_point give_up = Clock::now() + std::chrono::seconds(120);
+    while (Clock::now() < give_up) {
+      auto e = pipeline->WaitNewer(last_id, Clock::now() + std::chrono::milliseconds(200));
+      if (e && e->publish_id > last_id) {
+        last_id = e->publish_id;
+        seen.push_back(e->sequence);
+      }
+      const PipelineStatus s = pipeline->Status();
+      if (s.state == SourceState::kFinished &&
+          s.frames_estimated + s.frames_failed + s.frames_dropped >= s.frames_in && e != nullptr &&
+          e->publish_id == s.frames_estimated + s.frames_failed) {
+        break;
+      }
+    }
+    return seen;
+  }
+
+  std::string dir_;
+};
+
+TEST_F(PipelineThreadsTest, FastReplayPublishesEveryFrameInOrder) {
+  std::unique_ptr<PosePipeline> pipeline = MakePipeline(/*realtime=*/false, 30.0, 2);
+  pipeline->Start();
+  const std::vector<std::uint64_t> seen = Follow(pipeline.get());
+  const PipelineStatus s = pipeline->Status();
+  pipeline->Stop();
+  EXPECT_EQ(s.frames_in, static_cast<std::uint64_t>(kFrames));
+  EXPECT_EQ(s.frames_dropped, 0u);
+  EXPECT_EQ(s.frames_estimated + s.frames_failed, static_cast<std::uint64_t>(kFrames));
+  ASSERT_FALSE(seen.empty());
+  for (size_t i = 1; i < seen.size(); ++i) EXPECT_LT(seen[i - 1], seen[i]);
+  const std::shared_ptr<const PublishedEstimate> latest = pipeline->Latest();
+  ASSERT_NE(latest, nullptr);
+  EXPECT_EQ(latest->publish_id, static_cast<std::uint64_t>(kFrames));
+  EXPECT_EQ(latest->sequence, seen.back());
+  EXPECT_GE(latest->latency_s, latest->queue_s);
+}
+
+TEST_F(PipelineThreadsTest, PacedReplayNeverPublishesAnOlderFrameAfterANewerOne) {
+  // Faster than the estimators: frames are dropped, the published ones stay in order.
+  std::unique_ptr<PosePipeline> pipeline = MakePipeline(/*realtime=*/true, 100.0, 2);
+  pipeline->Start();
+  const std::vector<std::uint64_t> seen = Follow(pipeline.get());
+  const PipelineStatus s = pipeline->Status();
+  pipeline->Stop();
+  EXPECT_EQ(s.frames_in, static_cast<std::uint64_t>(kFrames));
+  EXPECT_EQ(s.frames_estimated + s.frames_failed + s.frames_dropped,
+            static_cast<std::uint64_t>(kFrames));
+  ASSERT_FALSE(seen.empty());
+  for (size_t i = 1; i < seen.size(); ++i) EXPECT_LT(seen[i - 1], seen[i]);
+}
+
+}  // namespace
+}  // namespace hpose::server
