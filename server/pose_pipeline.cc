@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <vector>
 
+#include <spdlog/spdlog.h>
+
 namespace hpose::server {
 
 namespace {
@@ -88,8 +90,25 @@ void PosePipeline::Stop() {
   if (source_) source_->Close();
 }
 
+void PosePipeline::LogStateChange(SourceState from, SourceState to,
+                                  const std::string& reason) const {
+  if (from == to) return;
+  const std::string what = source_ ? source_->description() : std::string("(none)");
+  if (to == SourceState::kRunning) {
+    spdlog::info("source {}: {}", from == SourceState::kReconnecting ? "reconnected" : "opened",
+                 what);
+  } else if (to == SourceState::kReconnecting || to == SourceState::kFailed) {
+    spdlog::warn("source {}: {} ({})", to == SourceState::kFailed ? "failed" : "lost", what,
+                 reason);
+  } else {
+    spdlog::info("source {}: {}{}", SourceStateName(to), what,
+                 reason.empty() ? "" : " (" + reason + ")");
+  }
+}
+
 void PosePipeline::SetState(SourceState state, std::string reason) {
   std::lock_guard<std::mutex> lock(mu_);
+  LogStateChange(state_, state, reason);
   state_ = state;
   reason_ = std::move(reason);
 }
@@ -111,9 +130,10 @@ bool PosePipeline::OpenWithBackoff() {
     }
     {
       std::lock_guard<std::mutex> lock(mu_);
-      state_ = SourceState::kReconnecting;
       char buf[64];
       std::snprintf(buf, sizeof(buf), "; retrying in %.1f s", backoff);
+      LogStateChange(state_, SourceState::kReconnecting, status.error().message);
+      state_ = SourceState::kReconnecting;
       reason_ = status.error().message + buf;
     }
     if (!SleepFor(std::chrono::duration<double>(backoff))) return false;
@@ -208,8 +228,9 @@ void PosePipeline::EstimateLoop() {
         ++frames_failed_;
       }
       stats_.RecordPublish(published->published, published->latency_s);
-      latest_ = std::move(published);
+      latest_ = published;
     }
+    if (observer_) observer_(*published, *frame);
     published_cv_.notify_all();
     if (signal_ != nullptr) signal_->Notify();
   }

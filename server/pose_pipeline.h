@@ -6,6 +6,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -87,6 +88,12 @@ class PosePipeline {
   PosePipeline(const PosePipeline&) = delete;
   PosePipeline& operator=(const PosePipeline&) = delete;
 
+  // Called on the estimation thread after each publication, with the frame it came from
+  // (metrics, the web view). Set before Start(); must be cheap and must not call back into the
+  // pipeline.
+  using PublishObserver = std::function<void(const PublishedEstimate&, const Frame&)>;
+  void SetPublishObserver(PublishObserver observer) { observer_ = std::move(observer); }
+
   void Start();
   // Stops both threads (waits for a blocked source read to return). Idempotent.
   void Stop();
@@ -109,6 +116,8 @@ class PosePipeline {
   void CaptureLoop();
   void EstimateLoop();
   void SetState(SourceState state, std::string reason);
+  // Logs a change of state (one line per change, never per frame). Called with mu_ held.
+  void LogStateChange(SourceState from, SourceState to, const std::string& reason) const;
   // Sleeps up to `d` unless stopping; false when stopping.
   bool SleepFor(std::chrono::duration<double> d);
   bool OpenWithBackoff();
@@ -117,6 +126,7 @@ class PosePipeline {
   std::unique_ptr<Estimator> estimator_;
   const SourceConfig config_;
   PublishSignal* const signal_;
+  PublishObserver observer_;
   FrameQueue queue_;
 
   std::thread capture_thread_;
