@@ -56,16 +56,11 @@ class RpcMetricsInterceptor final : public grpc::experimental::Interceptor {
  public:
   RpcMetricsInterceptor(DaemonMetrics* metrics, grpc::experimental::ServerRpcInfo* info)
       : metrics_(metrics),
+        info_(info),
         method_(info->method() != nullptr && info->method()[0] == '/' ? info->method() + 1
                                                                       : info->method()),
         streaming_(info->type() != grpc::experimental::ServerRpcInfo::Type::UNARY) {
-    if (info->server_context() != nullptr) peer_ = info->server_context()->peer();
     metrics_->ClientConnected("grpc_call");
-    if (streaming_) {
-      spdlog::info("client {} opened {}", peer_, method_);
-    } else {
-      spdlog::debug("client {} called {}", peer_, method_);
-    }
   }
   ~RpcMetricsInterceptor() override {
     metrics_->ClientDisconnected("grpc_call");
@@ -73,6 +68,15 @@ class RpcMetricsInterceptor final : public grpc::experimental::Interceptor {
   }
 
   void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
+    if (!announced_) {  // the peer is known once the call's first batch runs.
+      announced_ = true;
+      if (info_->server_context() != nullptr) peer_ = info_->server_context()->peer();
+      if (streaming_) {
+        spdlog::info("client {} opened {}", peer_, method_);
+      } else {
+        spdlog::debug("client {} called {}", peer_, method_);
+      }
+    }
     if (methods->QueryInterceptionHookPoint(
             grpc::experimental::InterceptionHookPoints::PRE_SEND_STATUS)) {
       code_ = CodeName(methods->GetSendStatus().error_code());
@@ -83,10 +87,12 @@ class RpcMetricsInterceptor final : public grpc::experimental::Interceptor {
 
  private:
   DaemonMetrics* metrics_;
+  grpc::experimental::ServerRpcInfo* info_;  // outlives the interceptor (gRPC owns both).
   std::string method_;
   std::string peer_;
   std::string code_ = "no status";
   bool streaming_;
+  bool announced_ = false;
 };
 
 }  // namespace

@@ -12,16 +12,16 @@ usage: web_view_test.py HPOSED HPOSE SOURCE_DIR [--screenshot PNG]
 import json
 import math
 import os
-import queue
 import shutil
 import signal
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 import unittest
 import urllib.request
+
+from daemon_process import start_daemon_with_http
 
 HPOSED, HPOSE, SOURCE_DIR = sys.argv[1:4]
 SCREENSHOT = sys.argv[sys.argv.index("--screenshot") + 1] if "--screenshot" in sys.argv else None
@@ -41,35 +41,8 @@ CHROMEDRIVER = shutil.which("chromedriver")
 DELIVERY_FIELDS = {"send_time", "age"}
 
 
-def start_daemon(args, timeout=60.0):
-    """Starts hposed; returns (process, gRPC address, HTTP base URL) once both are served."""
-    proc = subprocess.Popen([HPOSED, "--listen", "127.0.0.1:0", "--http", "127.0.0.1:0"] + args,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    # A thread reads the log: select() on a buffered pipe misses lines already read ahead.
-    lines = queue.Queue()
-    threading.Thread(target=lambda: [lines.put(l) for l in proc.stdout], daemon=True).start()
-    grpc_address = http_url = None
-    deadline = time.monotonic() + timeout
-    seen = []
-    while time.monotonic() < deadline and not (grpc_address and http_url):
-        try:
-            line = lines.get(timeout=0.5)
-        except queue.Empty:
-            if proc.poll() is not None:
-                break
-            continue
-        seen.append(line)
-        if "listening on " in line:
-            grpc_address = line.split("listening on ")[1].split()[0]
-        if "web view on " in line:
-            http_url = line.split("web view on ")[1].split()[0].rstrip("/")
-    if not (grpc_address and http_url):
-        proc.kill()
-        raise RuntimeError("hposed did not start: %s" % "".join(seen))
-    return proc, grpc_address, http_url
-
-
 def get_json(url):
+    """The JSON body of a GET."""
     with urllib.request.urlopen(url, timeout=10) as reply:
         return json.loads(reply.read().decode())
 
@@ -108,9 +81,11 @@ class WebViewTest(unittest.TestCase):
     def setUp(self):
         self.tmp = tempfile.TemporaryDirectory()
         frames = os.path.join(self.tmp.name, "frames")
-        # A humanoid turning 15 degrees a frame among clutter, replayed once at 1 Hz.
+        # A humanoid walking a curve (4 cm and 15 degrees a frame) among clutter, replayed once at
+        # 1 Hz.
         subprocess.run([HPOSE, "simulate", "--out", frames, "--frames", "12", "--width", "320",
-                        "--height", "240", "--no-cloud", "--turn-deg", "15", "--clutter", "2"],
+                        "--height", "240", "--no-cloud", "--turn-deg", "15", "--step-m", "0.04",
+                        "--clutter", "2"],
                        check=True, stdout=subprocess.DEVNULL)
         options = webdriver.ChromeOptions()
         options.binary_location = CHROMIUM
@@ -122,7 +97,7 @@ class WebViewTest(unittest.TestCase):
         # see the recording play.
         self.driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
         templates = os.path.join(SOURCE_DIR, "templates")
-        self.proc, self.grpc, self.http = start_daemon([
+        self.proc, self.grpc, self.http = start_daemon_with_http(HPOSED, [
             "--source", frames, "--fps", "1",
             "--template", os.path.join(templates, "standing.bt"),
             "--template", os.path.join(templates, "right_arm_raised.bt")])
@@ -132,7 +107,6 @@ class WebViewTest(unittest.TestCase):
         if self.proc.poll() is None:
             self.proc.kill()
             self.proc.wait()
-        self.proc.stdout.close()
         self.tmp.cleanup()
 
     def text(self, element_id):
@@ -167,7 +141,7 @@ class WebViewTest(unittest.TestCase):
             pose = self.displayed_pose()
             if pose is not None:
                 thetas.add(pose[3])
-            if SCREENSHOT and not screenshot_taken and len(thetas) >= 4:
+            if SCREENSHOT and not screenshot_taken and len(thetas) >= 8:  # a trail to show.
                 time.sleep(0.5)
                 self.driver.save_screenshot(SCREENSHOT)
                 screenshot_taken = True
