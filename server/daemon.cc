@@ -96,6 +96,9 @@ Status StartStereo(const StereoConfig& config, PublishSignal* signal,
 
 class Daemon::Impl {
  public:
+  // Fed by the pipeline's estimation thread: declared first, destroyed last.
+  std::unique_ptr<DaemonMetrics> metrics = std::make_unique<DaemonMetrics>();
+  std::unique_ptr<LiveScene> scene;  // only with the web view.
   std::unique_ptr<PublishSignal> signal = std::make_unique<PublishSignal>();
   std::unique_ptr<StereoEstimator> stereo_estimator;  // shared by the pipeline and the calls.
   std::unique_ptr<StereoPipeline> stereo_pipeline;
@@ -104,8 +107,6 @@ class Daemon::Impl {
   std::unique_ptr<TokenAuthorizer> tokens;
   std::unique_ptr<PosePipeline> pipeline;
   std::unique_ptr<PoseServiceImpl> service;
-  std::unique_ptr<DaemonMetrics> metrics = std::make_unique<DaemonMetrics>();
-  std::unique_ptr<LiveScene> scene;  // only with the web view.
   std::unique_ptr<grpc::Server> server;
   std::unique_ptr<HttpView> http;
   std::string host;

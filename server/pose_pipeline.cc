@@ -90,20 +90,22 @@ void PosePipeline::Stop() {
   if (source_) source_->Close();
 }
 
+void LogSourceStateChange(const std::string& what, SourceState from, SourceState to,
+                          const std::string& reason) {
+  if (from == to) return;
+  if (to == SourceState::kRunning) {
+    spdlog::info("{} {}", what, from == SourceState::kReconnecting ? "reconnected" : "opened");
+  } else if (to == SourceState::kReconnecting || to == SourceState::kFailed) {
+    spdlog::warn("{} {} ({})", what, to == SourceState::kFailed ? "failed" : "lost", reason);
+  } else {
+    spdlog::info("{} {}{}", what, SourceStateName(to), reason.empty() ? "" : " (" + reason + ")");
+  }
+}
+
 void PosePipeline::LogStateChange(SourceState from, SourceState to,
                                   const std::string& reason) const {
-  if (from == to) return;
-  const std::string what = source_ ? source_->description() : std::string("(none)");
-  if (to == SourceState::kRunning) {
-    spdlog::info("source {}: {}", from == SourceState::kReconnecting ? "reconnected" : "opened",
-                 what);
-  } else if (to == SourceState::kReconnecting || to == SourceState::kFailed) {
-    spdlog::warn("source {}: {} ({})", to == SourceState::kFailed ? "failed" : "lost", what,
-                 reason);
-  } else {
-    spdlog::info("source {}: {}{}", SourceStateName(to), what,
-                 reason.empty() ? "" : " (" + reason + ")");
-  }
+  LogSourceStateChange("source " + (source_ ? source_->description() : std::string("(none)")), from,
+                       to, reason);
 }
 
 void PosePipeline::SetState(SourceState state, std::string reason) {

@@ -26,6 +26,11 @@ enum class SourceState { kNone, kStarting, kRunning, kReconnecting, kFinished, k
 
 const char* SourceStateName(SourceState state);
 
+// Logs a source's change of state, one line (info: opened, reconnected, finished; warn: lost,
+// failed); nothing when `from` equals `to`. `what` names the source ("stereo source DIR").
+void LogSourceStateChange(const std::string& what, SourceState from, SourceState to,
+                          const std::string& reason);
+
 // Whether an estimate published `age_s` ago by a source in `state` is stale, and why: the
 // source is not running ("<source_name> finished: <state_reason>"), or nothing newer came for
 // longer than `stale_after_s` ("no newer <estimate_name> for 2.31 s"). Clears `reason` when
@@ -116,7 +121,7 @@ class PosePipeline {
   void CaptureLoop();
   void EstimateLoop();
   void SetState(SourceState state, std::string reason);
-  // Logs a change of state (one line per change, never per frame). Called with mu_ held.
+  // LogSourceStateChange for this pipeline's source. Called with mu_ held.
   void LogStateChange(SourceState from, SourceState to, const std::string& reason) const;
   // Sleeps up to `d` unless stopping; false when stopping.
   bool SleepFor(std::chrono::duration<double> d);
