@@ -12,6 +12,7 @@
 #include "server/pose_pipeline.h"
 #include "server/pose_service.h"
 #include "server/publish_signal.h"
+#include "server/rpc_metrics_interceptor.h"
 #include "server/stereo_pipeline.h"
 
 namespace hpose::server {
@@ -173,11 +174,7 @@ void HttpView::Routes() {
     const grpc::Status st = sources_.service->ReadLatest(kind, &latest);
     if (!st.ok()) {
       res.status = HttpCode(st.error_code());
-      res.set_content(
-          ErrorJson(st.error_code() == grpc::StatusCode::UNAVAILABLE ? "UNAVAILABLE"
-                                                                     : "FAILED_PRECONDITION",
-                    st.error_message()),
-          kJson);
+      res.set_content(ErrorJson(GrpcCodeName(st.error_code()), st.error_message()), kJson);
       return;
     }
     res.set_content(MessageToJsonLine(latest), kJson);
