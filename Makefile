@@ -9,7 +9,8 @@ PACKAGES := build-essential cmake pkg-config ccache git \
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc \
   nlohmann-json3-dev libyaml-cpp-dev liburdfdom-dev libassimp-dev libgtest-dev libgmock-dev \
   libbenchmark-dev python3 python3-grpcio python3-protobuf python3-numpy python3-venv \
-  python3-setuptools python3-pip opencv-doc openssl systemd
+  python3-setuptools python3-pip opencv-doc openssl systemd \
+  libspdlog-dev libcpp-httplib-dev chromium chromium-driver python3-selenium prometheus
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 

@@ -18,10 +18,14 @@
 #include "server/admission_control.h"
 #include "server/estimator_pool.h"
 #include "server/frame_source.h"
+#include "server/http_view.h"
 #include "server/listen_check.h"
+#include "server/live_scene.h"
+#include "server/metrics.h"
 #include "server/pose_pipeline.h"
 #include "server/pose_service.h"
 #include "server/publish_signal.h"
+#include "server/rpc_metrics_interceptor.h"
 #include "server/stereo_pipeline.h"
 #include "server/token_auth.h"
 #include "server/world_frame.h"
@@ -92,6 +96,9 @@ Status StartStereo(const StereoConfig& config, PublishSignal* signal,
 
 class Daemon::Impl {
  public:
+  // Fed by the pipeline's estimation thread: declared first, destroyed last.
+  std::unique_ptr<DaemonMetrics> metrics = std::make_unique<DaemonMetrics>();
+  std::unique_ptr<LiveScene> scene;  // only with the web view.
   std::unique_ptr<PublishSignal> signal = std::make_unique<PublishSignal>();
   std::unique_ptr<StereoEstimator> stereo_estimator;  // shared by the pipeline and the calls.
   std::unique_ptr<StereoPipeline> stereo_pipeline;
@@ -101,6 +108,7 @@ class Daemon::Impl {
   std::unique_ptr<PosePipeline> pipeline;
   std::unique_ptr<PoseServiceImpl> service;
   std::unique_ptr<grpc::Server> server;
+  std::unique_ptr<HttpView> http;
   std::string host;
   int port = 0;
   bool shut_down = false;
@@ -133,6 +141,12 @@ Daemon::Daemon(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Daemon::~Daemon() { Shutdown(); }
 
 int Daemon::port() const { return impl_->port; }
+
+int Daemon::http_port() const { return impl_->http ? impl_->http->port() : 0; }
+
+std::string Daemon::http_address() const {
+  return impl_->http ? impl_->http->address() : std::string();
+}
 
 std::string Daemon::address() const { return impl_->host + ":" + std::to_string(impl_->port); }
 
@@ -190,6 +204,19 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   }
   impl->pipeline = std::make_unique<PosePipeline>(std::move(source), std::move(estimators),
                                                   config.source, impl->signal.get());
+  if (!config.http.listen.empty()) {
+    Status can_serve = CheckCanListen(config.http.listen);
+    if (!can_serve.ok()) return Prefixed("web view (http.listen): ", can_serve.error());
+    LiveSceneOptions scene;
+    scene.min_height_m = options.clusters.min_height_above_floor_m;
+    scene.max_height_m = options.clusters.max_height_above_floor_m;
+    impl->scene = std::make_unique<LiveScene>(templates, scene);
+  }
+  impl->pipeline->SetPublishObserver([metrics = impl->metrics.get(), scene = impl->scene.get()](
+                                         const PublishedEstimate& e, const Frame& frame) {
+    metrics->RecordDepthEstimate(e);
+    if (scene != nullptr) scene->Update(e, frame);
+  });
   impl->admission = std::make_unique<AdmissionControl>(
       config.grpc.max_inflight_estimates,
       static_cast<std::uint64_t>(config.grpc.max_inflight_request_bytes));
@@ -228,6 +255,9 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   quota.Resize(static_cast<size_t>(config.grpc.max_inflight_request_bytes) * 4);
   builder.SetResourceQuota(quota);
   builder.RegisterService(impl->service.get());
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> counters;
+  counters.push_back(std::make_unique<RpcMetricsInterceptorFactory>(impl->metrics.get()));
+  builder.experimental().SetInterceptorCreators(std::move(counters));
   impl->server = builder.BuildAndStart();
   if (!impl->server || selected_port == 0) {
     return MakeError(ErrorCode::kUnavailable,
@@ -238,6 +268,23 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   if (grpc::HealthCheckServiceInterface* health = impl->server->GetHealthCheckService()) {
     health->SetServingStatus("hpose.v1.PoseService", true);
     health->SetServingStatus("", true);
+  }
+  if (impl->scene) {
+    HttpViewSources sources;
+    sources.service = impl->service.get();
+    sources.pipeline = impl->pipeline.get();
+    sources.stereo = impl->stereo_pipeline.get();
+    sources.signal = impl->signal.get();
+    sources.metrics = impl->metrics.get();
+    sources.client_counter = impl->metrics.get();
+    sources.scene = impl->scene.get();
+    sources.version = HposeVersion();
+    Result<std::unique_ptr<HttpView>> http = HttpView::Start(config.http, std::move(sources));
+    if (!http.ok()) {
+      impl->server->Shutdown();
+      return http.error();
+    }
+    impl->http = std::move(*http);
   }
   impl->pipeline->Start();
   if (impl->stereo_pipeline) impl->stereo_pipeline->Start();
@@ -252,6 +299,7 @@ void Daemon::Shutdown(double grace_s) {
     health->SetServingStatus("", false);
   }
   impl_->service->BeginShutdown();
+  if (impl_->http) impl_->http->Stop();
   impl_->server->Shutdown(std::chrono::system_clock::now() +
                           std::chrono::milliseconds(static_cast<int>(grace_s * 1000)));
   impl_->server->Wait();

@@ -23,6 +23,9 @@ class Daemon {
 
   int port() const;             // the bound TCP port.
   std::string address() const;  // host:port actually bound.
+  // The web view's bound address ("" / 0 when http.listen is off).
+  int http_port() const;
+  std::string http_address() const;
 
   // Marks the service NOT_SERVING, ends streams, waits up to `grace_s` for calls in flight,
   // then stops the source. Idempotent.

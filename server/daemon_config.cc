@@ -141,6 +141,13 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
   }
   {
+    MapReader r(top.Get("http"), "http", origin);
+    HPOSE_RETURN_IF_ERROR(r.CheckIsMap());
+    HPOSE_RETURN_IF_ERROR(r.Read("listen", &c->http.listen, "a host:port string"));
+    HPOSE_RETURN_IF_ERROR(r.Read("max_event_clients", &c->http.max_event_clients, "an integer"));
+    HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
+  }
+  {
     MapReader r(top.Get("tls"), "tls", origin);
     HPOSE_RETURN_IF_ERROR(r.CheckIsMap());
     SecurityConfig& s = c->security;
@@ -346,6 +353,20 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
                               "requests. Configure tls: {cert, key} (and auth: tokens_file), or "
                               "pass --insecure to accept that on a trusted network");
   }
+  if (!c.http.listen.empty()) {
+    if (!ValidListen(c.http.listen)) {
+      return fail("http.listen",
+                  "expected HOST:PORT (e.g. 127.0.0.1:8080), got '" + c.http.listen + "'");
+    }
+    if (!sec.insecure && !IsLoopbackListen(c.http.listen)) {
+      return fail("http.listen", "refusing to serve the web view on " + c.http.listen +
+                                     ": it has no TLS or tokens, anyone on the network could "
+                                     "watch; pass --insecure to accept that on a trusted network");
+    }
+  }
+  if (c.http.max_event_clients < 1 || c.http.max_event_clients > 64) {
+    return fail("http.max_event_clients", "must be in [1, 64]");
+  }
   if (c.grpc.max_receive_message_bytes < 1024 || c.grpc.max_send_message_bytes < 1024) {
     return fail("grpc.max_receive_message_bytes", "message limits must be at least 1024 bytes");
   }
@@ -429,6 +450,10 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "max_inflight_request_bytes" << YAML::Value
       << c.grpc.max_inflight_request_bytes;
   out << YAML::Key << "max_streams_per_client" << YAML::Value << c.grpc.max_streams_per_client;
+  out << YAML::EndMap;
+  out << YAML::Key << "http" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "listen" << YAML::Value << c.http.listen;
+  out << YAML::Key << "max_event_clients" << YAML::Value << c.http.max_event_clients;
   out << YAML::EndMap;
   out << YAML::Key << "tls" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "cert" << YAML::Value << c.security.tls_cert;

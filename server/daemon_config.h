@@ -24,6 +24,14 @@ struct GrpcConfig {
   int max_streams_per_client = 16;
 };
 
+// The live web view, /metrics and /healthz (plain HTTP, read only).
+struct HttpConfig {
+  // "" = off. Loopback by default when given without a host; a non-loopback address needs
+  // auth.insecure (the view has no TLS or tokens).
+  std::string listen;
+  int max_event_clients = 8;  // pages following /events at once; more get HTTP 503.
+};
+
 // Transport security and who may call. A daemon on a non-loopback address needs TLS (or an
 // explicit `insecure`), so that poses and tokens never cross a network in the clear by accident.
 struct SecurityConfig {
@@ -100,6 +108,7 @@ struct WorldFrameConfig {
 // DefaultEstimatorOptions().
 struct DaemonConfig {
   GrpcConfig grpc;
+  HttpConfig http;
   SecurityConfig security;
   SourceConfig source;
   std::vector<std::string> templates;  // .bt files.

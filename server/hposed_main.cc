@@ -9,6 +9,8 @@
 
 #include <malloc.h>
 #include <pthread.h>
+#include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/spdlog.h>
 
 #include "server/daemon.h"
 #include "server/daemon_config.h"
@@ -34,6 +36,19 @@ bool ParseWorldFromGround(const std::string& text, hpose::server::WorldFrameConf
   return true;
 }
 
+// Log lines on stdout: ISO 8601 time with milliseconds, level, message; flushed at once (the
+// lines are rare: state changes, clients, never one per frame at info).
+bool SetUpLogging(const std::string& level_name) {
+  const spdlog::level::level_enum level = spdlog::level::from_str(level_name);
+  if (level == spdlog::level::off && level_name != "off") return false;
+  auto logger = spdlog::stdout_logger_mt("hposed");
+  logger->set_pattern("%Y-%m-%dT%H:%M:%S.%e%z %l %v");
+  logger->set_level(level);
+  logger->flush_on(spdlog::level::trace);
+  spdlog::set_default_logger(logger);
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -45,7 +60,7 @@ int main(int argc, char** argv) {
   std::string config_path, listen, source, rate, intrinsics;
   std::string stereo_source, stereo_calibration, stereo_options, world_from_ground;
   std::vector<std::string> templates;
-  std::string tls_cert, tls_key, tls_client_ca, token_file;
+  std::string tls_cert, tls_key, tls_client_ca, token_file, http, log_level = "info";
   bool loop = false, print_config = false, insecure = false;
   double fps = 30.0, stereo_fps = 15.0;
   FlagParser flags(
@@ -62,6 +77,15 @@ int main(int argc, char** argv) {
                   "FILE");
   flags.AddString("listen", &listen, "address to serve on (default 127.0.0.1:50051)", "ADDR");
   flags.AddString("source", &source, "frame source (see above)", "PATH");
+  flags.AddString("http", &http,
+                  "serve the live web view, its JSON, /metrics and /healthz over plain HTTP on "
+                  "ADDR (e.g. 127.0.0.1:8080; port 0 picks one); off by default, a non-loopback "
+                  "address needs --insecure (docs/WEB.md)",
+                  "ADDR");
+  flags.AddString("log-level", &log_level,
+                  "trace, debug, info (default: state changes and clients), warn, err, critical "
+                  "or off",
+                  "LEVEL");
   flags.AddString("intrinsics", &intrinsics,
                   "the depth camera's intrinsics for every frame (hpose intrinsics.json or a ROS "
                   "camera_info YAML), e.g. a calibrated camera on openni2://; default: what the "
@@ -109,9 +133,16 @@ int main(int argc, char** argv) {
       "--template templates/right_arm_raised.bt\n"
       "  hposed --source openni2:// --stereo-source stereo_run/ "
       "--world-from-ground 0,-2,1.5708\n"
+      "  hposed --source openni2:// --http 127.0.0.1:8080   (then open http://127.0.0.1:8080/)\n"
       "--loop and --rate apply to both sources.\n"
       "SIGINT or SIGTERM shut the daemon down cleanly.\n");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
+  if (!SetUpLogging(log_level)) {
+    std::cerr << "hposed: --log-level: expected trace, debug, info, warn, err, critical or off, "
+                 "got '"
+              << log_level << "'\n";
+    return hpose::tools::kExitUsage;
+  }
 
   hpose::server::DaemonConfig config;
   if (!config_path.empty()) {
@@ -121,6 +152,7 @@ int main(int argc, char** argv) {
     config = std::move(*loaded);
   }
   if (flags.Seen("listen")) config.grpc.listen = listen;
+  if (flags.Seen("http")) config.http.listen = http;
   if (flags.Seen("tls-cert")) config.security.tls_cert = tls_cert;
   if (flags.Seen("tls-key")) config.security.tls_key = tls_key;
   if (flags.Seen("tls-client-ca")) config.security.tls_client_ca = tls_client_ca;
@@ -178,16 +210,18 @@ int main(int argc, char** argv) {
   hpose::Result<std::unique_ptr<hpose::server::Daemon>> daemon =
       hpose::server::Daemon::Start(config);
   if (!daemon.ok()) return hpose::tools::ReportProgramError("hposed", daemon.error());
-  std::cout << "hposed: listening on " << (*daemon)->address() << " with "
-            << config.templates.size() << " template(s), source "
-            << (config.source.path.empty() ? "(none)" : config.source.path) << ", stereo source "
-            << (config.stereo.source.empty() ? "(none)" : config.stereo.source) << std::endl;
+  spdlog::info("hposed: listening on {} with {} template(s), source {}, stereo source {}",
+               (*daemon)->address(), config.templates.size(),
+               config.source.path.empty() ? "(none)" : config.source.path,
+               config.stereo.source.empty() ? "(none)" : config.stereo.source);
+  if ((*daemon)->http_port() > 0) {
+    spdlog::info("hposed: web view on http://{}/ (metrics on /metrics)", (*daemon)->http_address());
+  }
 
   int sig = 0;
   sigwait(&signals, &sig);
-  std::cout << "hposed: " << (sig == SIGINT ? "SIGINT" : "SIGTERM") << ", shutting down"
-            << std::endl;
+  spdlog::info("hposed: {}, shutting down", sig == SIGINT ? "SIGINT" : "SIGTERM");
   (*daemon)->Shutdown();
-  std::cout << "hposed: stopped" << std::endl;
+  spdlog::info("hposed: stopped");
   return hpose::tools::kExitOk;
 }

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <vector>
 
+#include <spdlog/spdlog.h>
+
 namespace hpose::server {
 
 namespace {
@@ -118,8 +120,27 @@ void PosePipeline::Stop() {
   if (source_) source_->Close();
 }
 
+void LogSourceStateChange(const std::string& what, SourceState from, SourceState to,
+                          const std::string& reason) {
+  if (from == to) return;
+  if (to == SourceState::kRunning) {
+    spdlog::info("{} {}", what, from == SourceState::kReconnecting ? "reconnected" : "opened");
+  } else if (to == SourceState::kReconnecting || to == SourceState::kFailed) {
+    spdlog::warn("{} {} ({})", what, to == SourceState::kFailed ? "failed" : "lost", reason);
+  } else {
+    spdlog::info("{} {}{}", what, SourceStateName(to), reason.empty() ? "" : " (" + reason + ")");
+  }
+}
+
+void PosePipeline::LogStateChange(SourceState from, SourceState to,
+                                  const std::string& reason) const {
+  LogSourceStateChange("source " + (source_ ? source_->description() : std::string("(none)")), from,
+                       to, reason);
+}
+
 void PosePipeline::SetState(SourceState state, std::string reason) {
   std::lock_guard<std::mutex> lock(mu_);
+  LogStateChange(state_, state, reason);
   state_ = state;
   reason_ = std::move(reason);
 }
@@ -141,9 +162,10 @@ bool PosePipeline::OpenWithBackoff() {
     }
     {
       std::lock_guard<std::mutex> lock(mu_);
-      state_ = SourceState::kReconnecting;
       char buf[64];
       std::snprintf(buf, sizeof(buf), "; retrying in %.1f s", backoff);
+      LogStateChange(state_, SourceState::kReconnecting, status.error().message);
+      state_ = SourceState::kReconnecting;
       reason_ = status.error().message + buf;
     }
     if (!SleepFor(std::chrono::duration<double>(backoff))) return false;
@@ -232,6 +254,7 @@ void PosePipeline::EstimateLoop(Estimator* estimator) {
     published->source_epoch = frame->epoch;
     published->queue_s = Seconds(start - frame->received_steady);
     published->received_steady = frame->received_steady;
+    if (observer_) published->frame = std::make_shared<const Frame>(std::move(*frame));
     Publish(ticket, std::move(published));
   }
 }
@@ -254,10 +277,15 @@ void PosePipeline::Publish(std::uint64_t ticket, std::shared_ptr<PublishedEstima
         ++frames_failed_;
       }
       stats_.RecordPublish(published->published, published->latency_s);
-      latest_ = std::move(published);
+      latest_ = published;
     }
   }
   if (ready.empty()) return;
+  if (observer_) {
+    for (const std::shared_ptr<PublishedEstimate>& published : ready) {
+      if (published->frame != nullptr) observer_(*published, *published->frame);
+    }
+  }
   published_cv_.notify_all();
   if (signal_ != nullptr) signal_->Notify();
 }

@@ -6,6 +6,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -27,6 +28,11 @@ enum class SourceState { kNone, kStarting, kRunning, kReconnecting, kFinished, k
 
 const char* SourceStateName(SourceState state);
 
+// Logs a source's change of state, one line (info: opened, reconnected, finished; warn: lost,
+// failed); nothing when `from` equals `to`. `what` names the source ("stereo source DIR").
+void LogSourceStateChange(const std::string& what, SourceState from, SourceState to,
+                          const std::string& reason);
+
 // Whether an estimate published `age_s` ago by a source in `state` is stale, and why: the
 // source is not running ("<source_name> finished: <state_reason>"), or nothing newer came for
 // longer than `stale_after_s` ("no newer <estimate_name> for 2.31 s"). Clears `reason` when
@@ -46,6 +52,9 @@ struct PublishedEstimate {
   std::chrono::system_clock::time_point published_wall;
   std::uint64_t source_epoch = 0;
   std::string origin;
+  // The input frame, for the publish observer (web view); null once published to readers is
+  // all that matters.
+  std::shared_ptr<const Frame> frame;
   bool ok = false;
   Estimate estimate;       // when ok.
   Error error;             // when !ok (e.g. no floor in this frame).
@@ -98,6 +107,12 @@ class PosePipeline {
   PosePipeline(const PosePipeline&) = delete;
   PosePipeline& operator=(const PosePipeline&) = delete;
 
+  // Called on the estimation thread after each publication, with the frame it came from
+  // (metrics, the web view). Set before Start(); must be cheap and must not call back into the
+  // pipeline.
+  using PublishObserver = std::function<void(const PublishedEstimate&, const Frame&)>;
+  void SetPublishObserver(PublishObserver observer) { observer_ = std::move(observer); }
+
   void Start();
   // Stops both threads (waits for a blocked source read to return). Idempotent.
   void Stop();
@@ -122,6 +137,8 @@ class PosePipeline {
   // Hands the result of frame `ticket` to publish_order_ and publishes what it releases.
   void Publish(std::uint64_t ticket, std::shared_ptr<PublishedEstimate> result);
   void SetState(SourceState state, std::string reason);
+  // LogSourceStateChange for this pipeline's source. Called with mu_ held.
+  void LogStateChange(SourceState from, SourceState to, const std::string& reason) const;
   // Sleeps up to `d` unless stopping; false when stopping.
   bool SleepFor(std::chrono::duration<double> d);
   bool OpenWithBackoff();
@@ -130,6 +147,7 @@ class PosePipeline {
   std::vector<std::unique_ptr<Estimator>> estimators_;
   const SourceConfig config_;
   PublishSignal* const signal_;
+  PublishObserver observer_;
   FrameQueue queue_;
 
   std::thread capture_thread_;

@@ -99,7 +99,9 @@ grpc::Status LatestFrom(const Pipeline& pipeline, grpc::ServerContext* context, 
                         std::shared_ptr<const Published>* out) {
   std::shared_ptr<const Published> latest = pipeline.Latest();
   while (after > 0 && (!latest || latest->sequence <= after)) {
-    if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "cancelled");
+    if (context != nullptr && context->IsCancelled()) {
+      return grpc::Status(grpc::StatusCode::CANCELLED, "cancelled");
+    }
     const Clock::time_point now = Clock::now();
     if (now >= deadline) {
       return grpc::Status(
@@ -300,21 +302,30 @@ grpc::Status PoseServiceImpl::GetLatest(grpc::ServerContext* context,
                                         const v1::GetLatestRequest* request,
                                         v1::GetLatestResponse* response) {
   if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
-  v1::EstimatorKind kind = request->estimator();
+  return Latest(context, request->estimator(), request->after_sequence(), response);
+}
+
+grpc::Status PoseServiceImpl::ReadLatest(v1::EstimatorKind kind,
+                                         v1::GetLatestResponse* response) const {
+  return Latest(nullptr, kind, 0, response);
+}
+
+grpc::Status PoseServiceImpl::Latest(grpc::ServerContext* context, v1::EstimatorKind kind,
+                                     std::uint64_t after, v1::GetLatestResponse* response) const {
   if (kind == v1::ESTIMATOR_KIND_UNSPECIFIED) {
     kind = pipeline_->has_source() || stereo_pipeline_ == nullptr
                ? v1::ESTIMATOR_KIND_DEPTH_TEMPLATE
                : v1::ESTIMATOR_KIND_STEREO_MARKER;
   }
-  const Clock::time_point deadline = SteadyDeadline(context);
+  const Clock::time_point deadline =
+      context != nullptr ? SteadyDeadline(context) : Clock::now() + std::chrono::hours(24);
   if (kind == v1::ESTIMATOR_KIND_DEPTH_TEMPLATE) {
     if (!pipeline_->has_source()) {
       return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
                           "the daemon has no depth source; send frames with Estimate");
     }
     std::shared_ptr<const PublishedEstimate> latest;
-    grpc::Status s = LatestFrom(*pipeline_, context, request->after_sequence(), deadline,
-                                shutting_down_, &latest);
+    grpc::Status s = LatestFrom(*pipeline_, context, after, deadline, shutting_down_, &latest);
     if (!s.ok()) return s;
     ToProto(*latest, 0, response->mutable_estimate());
     return grpc::Status::OK;
@@ -328,8 +339,7 @@ grpc::Status PoseServiceImpl::GetLatest(grpc::ServerContext* context,
                         "the daemon has no stereo source (start it with --stereo-source DIR)");
   }
   std::shared_ptr<const PublishedStereoEstimate> latest;
-  grpc::Status s = LatestFrom(*stereo_pipeline_, context, request->after_sequence(), deadline,
-                              shutting_down_, &latest);
+  grpc::Status s = LatestFrom(*stereo_pipeline_, context, after, deadline, shutting_down_, &latest);
   if (!s.ok()) return s;
   ToProto(*latest, 0, response->mutable_estimate());
   return grpc::Status::OK;
@@ -422,6 +432,11 @@ grpc::Status PoseServiceImpl::ListTemplates(grpc::ServerContext* context,
                                             const v1::ListTemplatesRequest* /*request*/,
                                             v1::ListTemplatesResponse* response) {
   if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
+  ReadTemplates(response);
+  return grpc::Status::OK;
+}
+
+void PoseServiceImpl::ReadTemplates(v1::ListTemplatesResponse* response) const {
   for (const VoxelTemplate& t : pool_->templates()) {
     v1::TemplateInfo* info = response->add_templates();
     info->set_name(t.name);
@@ -431,13 +446,17 @@ grpc::Status PoseServiceImpl::ListTemplates(grpc::ServerContext* context,
     info->set_height(t.Height());
     info->set_source(t.source);
   }
-  return grpc::Status::OK;
 }
 
 grpc::Status PoseServiceImpl::GetStatus(grpc::ServerContext* context,
                                         const v1::GetStatusRequest* /*request*/,
                                         v1::GetStatusResponse* response) {
   if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
+  ReadStatus(response);
+  return grpc::Status::OK;
+}
+
+void PoseServiceImpl::ReadStatus(v1::GetStatusResponse* response) const {
   const PipelineStatus s = pipeline_->Status();
   response->set_version(version_);
   response->set_uptime(std::chrono::duration<double>(Clock::now() - start_).count());
@@ -467,7 +486,6 @@ grpc::Status PoseServiceImpl::GetStatus(grpc::ServerContext* context,
   }
   response->set_templates(static_cast<std::uint32_t>(pool_->templates().size()));
   response->set_estimate_calls(estimate_calls_.load());
-  return grpc::Status::OK;
 }
 
 }  // namespace hpose::server

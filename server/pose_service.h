@@ -58,6 +58,14 @@ class PoseServiceImpl final : public v1::PoseService::Service {
   grpc::Status GetStatus(grpc::ServerContext* context, const v1::GetStatusRequest* request,
                          v1::GetStatusResponse* response) override;
 
+  // The answers of GetLatest (after_sequence 0, no waiting) and GetStatus outside a gRPC call,
+  // for the daemon's web view: the same messages, filled the same way. UNSPECIFIED chooses the
+  // estimator as GetLatest does.
+  grpc::Status ReadLatest(v1::EstimatorKind kind, v1::GetLatestResponse* response) const;
+  void ReadStatus(v1::GetStatusResponse* response) const;
+  // The templates the daemon matches, as ListTemplates answers.
+  void ReadTemplates(v1::ListTemplatesResponse* response) const;
+
   // Ends running streams (called before the server shuts down).
   void BeginShutdown() { shutting_down_ = true; }
 
@@ -67,6 +75,10 @@ class PoseServiceImpl final : public v1::PoseService::Service {
   void ToProto(const PublishedEstimate& e, std::uint64_t skipped, v1::PoseEstimate* out) const;
   void ToProto(const PublishedStereoEstimate& e, std::uint64_t skipped,
                v1::PoseEstimate* out) const;
+
+  // GetLatest: `context` may be null when `after` is 0 (no waiting, no deadline).
+  grpc::Status Latest(grpc::ServerContext* context, v1::EstimatorKind kind, std::uint64_t after,
+                      v1::GetLatestResponse* response) const;
 
   PosePipeline* pipeline_;
   StereoPipeline* stereo_pipeline_ = nullptr;

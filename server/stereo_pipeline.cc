@@ -47,6 +47,7 @@ void StereoPipeline::Stop() {
 
 void StereoPipeline::SetState(SourceState state, std::string reason) {
   std::lock_guard<std::mutex> lock(mu_);
+  LogSourceStateChange("stereo source " + sequence_.dir(), state_, state, reason);
   state_ = state;
   reason_ = std::move(reason);
 }

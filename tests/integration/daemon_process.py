@@ -1,22 +1,52 @@
 """Starting hposed for the Python integration tests."""
 
+import os
 import select
 import subprocess
 import time
+
+
+def _watch_log(proc, wanted, timeout):
+    """Reads `proc`'s log until every marker in `wanted` has appeared; returns {marker: the word
+    after it}. Reads the pipe's descriptor directly: select() on Python's buffered reader would
+    miss lines it had already read ahead (e.g. a source's state logged just before the
+    address). What follows stays in the pipe for the caller (e.g. communicate())."""
+    fd = proc.stdout.fileno()
+    text = ""
+    found = {}
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and len(found) < len(wanted):
+        ready, _, _ = select.select([fd], [], [], 0.5)
+        if not ready:
+            if proc.poll() is not None:
+                break
+            continue
+        chunk = os.read(fd, 4096)
+        if not chunk:
+            break
+        text += chunk.decode(errors="replace")
+        for line in text.splitlines(keepends=True):
+            for marker in wanted:
+                if marker in line and line.endswith("\n"):
+                    found[marker] = line.split(marker)[1].split()[0]
+    if len(found) < len(wanted):
+        proc.kill()
+        raise RuntimeError("hposed did not start: %s" % text)
+    return found
 
 
 def start_daemon(hposed, args, timeout=60.0):
     """Starts `hposed` on a free loopback port with `args`; returns (process, address)."""
     proc = subprocess.Popen([hposed, "--listen", "127.0.0.1:0"] + args, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        ready, _, _ = select.select([proc.stdout], [], [], 0.5)
-        if ready:
-            line = proc.stdout.readline()
-            if not line:
-                break
-            if "listening on" in line:
-                return proc, line.split("listening on ")[1].split()[0]
-    proc.kill()
-    raise RuntimeError("hposed did not start: %s" % proc.stdout.read())
+    found = _watch_log(proc, ["listening on "], timeout)
+    return proc, found["listening on "]
+
+
+def start_daemon_with_http(hposed, args, timeout=60.0):
+    """Starts `hposed` with --http on free loopback ports; returns (process, gRPC address, HTTP
+    base URL such as http://127.0.0.1:PORT) once both are served."""
+    proc = subprocess.Popen([hposed, "--listen", "127.0.0.1:0", "--http", "127.0.0.1:0"] + args,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    found = _watch_log(proc, ["listening on ", "web view on "], timeout)
+    return proc, found["listening on "], found["web view on "].rstrip("/")

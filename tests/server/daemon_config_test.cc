@@ -110,6 +110,35 @@ TEST(DaemonConfigTest, DefaultsListenOnLoopbackAndPrintedConfigParsesBack) {
   EXPECT_EQ(DaemonConfigToYaml(*back), DaemonConfigToYaml(c));
 }
 
+TEST(DaemonConfigTest, WebViewIsOffByDefaultAndLoopbackUnlessInsecure) {
+  DaemonConfig c;
+  c.templates = {"/t/standing.bt"};
+  EXPECT_TRUE(c.http.listen.empty());
+  Result<DaemonConfig> parsed = ParseDaemonConfig(
+      "http: {listen: '127.0.0.1:8080', max_event_clients: 3}\n"
+      "templates: [/t/standing.bt]",
+      "web.yaml", "");
+  ASSERT_TRUE(parsed.ok()) << parsed.error().ToString();
+  EXPECT_EQ(parsed->http.listen, "127.0.0.1:8080");
+  EXPECT_EQ(parsed->http.max_event_clients, 3);
+  EXPECT_TRUE(ValidateDaemonConfig(*parsed).ok());
+  EXPECT_EQ(DaemonConfigToYaml(*ParseDaemonConfig(DaemonConfigToYaml(*parsed), "p", "")),
+            DaemonConfigToYaml(*parsed));
+
+  c.http.listen = "0.0.0.0:8080";
+  Status exposed = ValidateDaemonConfig(c);
+  ASSERT_FALSE(exposed.ok());
+  EXPECT_NE(exposed.error().message.find("http.listen"), std::string::npos);
+  c.security.insecure = true;
+  EXPECT_TRUE(ValidateDaemonConfig(c).ok());
+  c.http.listen = "8080";
+  EXPECT_FALSE(ValidateDaemonConfig(c).ok());
+  c.http.listen = "127.0.0.1:8080";
+  c.http.max_event_clients = 0;
+  EXPECT_FALSE(ValidateDaemonConfig(c).ok());
+  EXPECT_FALSE(ParseDaemonConfig("http: {port: 80}", "web.yaml", "").ok());  // unknown key.
+}
+
 }  // namespace
 }  // namespace hpose::server
 

@@ -1,0 +1,148 @@
+#!/usr/bin/env python3
+"""hposed's HTTP side without a browser: /metrics (promtool check metrics when Debian's
+prometheus package provides it; counters moving as frames flow), /healthz, the JSON endpoints,
+/events, and the refusal of a non-loopback --http address without --insecure.
+
+usage: http_endpoints_test.py HPOSED HPOSE SOURCE_DIR
+"""
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+import urllib.error
+import urllib.request
+
+from daemon_process import start_daemon_with_http
+
+HPOSED, HPOSE, SOURCE_DIR = sys.argv[1:4]
+
+
+def get(url):
+    """(HTTP status, body text, content type) of a GET."""
+    try:
+        with urllib.request.urlopen(url, timeout=10) as reply:
+            return reply.status, reply.read().decode(), reply.headers.get("Content-Type")
+    except urllib.error.HTTPError as e:
+        return e.code, e.read().decode(), e.headers.get("Content-Type")
+
+
+def sample(metrics, name, labels):
+    """The value of one sample line, e.g. sample(text, "x_total", 'source="depth"')."""
+    match = re.search(r"^%s\{%s\} (\S+)$" % (re.escape(name), re.escape(labels)), metrics,
+                      re.MULTILINE)
+    if not match:
+        raise AssertionError("no sample %s{%s} in:\n%s" % (name, labels, metrics))
+    return float(match.group(1))
+
+
+class HttpEndpointsTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        frames = os.path.join(cls.tmp.name, "frames")
+        subprocess.run([HPOSE, "simulate", "--out", frames, "--frames", "3", "--width", "320",
+                        "--height", "240", "--no-cloud", "--turn-deg", "20"], check=True,
+                       stdout=subprocess.DEVNULL)
+        templates = os.path.join(SOURCE_DIR, "templates")
+        cls.proc, cls.grpc, cls.http = start_daemon_with_http(HPOSED, [
+            "--source", frames, "--loop", "--fps", "5",
+            "--template", os.path.join(templates, "standing.bt")])
+        deadline = time.monotonic() + 120
+        while get(cls.http + "/api/latest")[0] != 200 and time.monotonic() < deadline:
+            time.sleep(0.2)
+
+    @classmethod
+    def tearDownClass(cls):
+        if cls.proc.poll() is None:
+            cls.proc.kill()
+            cls.proc.wait()
+        cls.tmp.cleanup()
+
+    def test_metrics_counters_move_and_the_text_is_valid(self):
+        status, first, ctype = get(self.http + "/metrics")
+        self.assertEqual(status, 200)
+        self.assertTrue(ctype.startswith("text/plain; version=0.0.4"), ctype)
+        estimated = sample(first, "hposed_frames_estimated_total", 'source="depth"')
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline:
+            later = get(self.http + "/metrics")[1]
+            if sample(later, "hposed_frames_estimated_total", 'source="depth"') > estimated:
+                break
+            time.sleep(0.2)
+        self.assertGreater(sample(later, "hposed_frames_estimated_total", 'source="depth"'),
+                           estimated)
+        self.assertGreater(sample(later, "hposed_frames_received_total", 'source="depth"'), 0)
+        self.assertEqual(sample(later, "hposed_source_state", 'source="depth",state="running"'),
+                         1)
+        self.assertGreater(sample(later, "hposed_estimate_stage_seconds_count",
+                                  'stage="search"'), 0)
+        # A gRPC call is counted by method and code.
+        subprocess.run([HPOSE, "query", "--server", self.grpc, "status"], check=True,
+                       stdout=subprocess.DEVNULL)
+        calls = get(self.http + "/metrics")[1]
+        self.assertGreaterEqual(sample(calls, "hposed_rpc_total",
+                                       'method="hpose.v1.PoseService/GetStatus",code="OK"'), 1)
+        promtool = shutil.which("promtool")
+        if promtool is None:
+            self.skipTest("promtool (Debian package prometheus) is not installed; the format is "
+                          "checked by server_unit_test's parser")
+        check = subprocess.run([promtool, "check", "metrics"], input=calls, text=True,
+                               capture_output=True)
+        self.assertEqual(check.returncode, 0, check.stdout + check.stderr)
+
+    def test_healthz_and_json_endpoints(self):
+        status, body, _ = get(self.http + "/healthz")
+        self.assertEqual(status, 200, body)
+        self.assertEqual(json.loads(body)["source_state"], "running")
+        status, body, ctype = get(self.http + "/api/latest?estimator=depth")
+        self.assertEqual(status, 200, body)
+        self.assertEqual(ctype, "application/json")
+        estimate = json.loads(body)["estimate"]
+        self.assertEqual(estimate["estimator"], "ESTIMATOR_KIND_DEPTH_TEMPLATE")
+        status, body, _ = get(self.http + "/api/latest?estimator=stereo")
+        self.assertEqual(status, 409, body)  # FAILED_PRECONDITION: no stereo source.
+        status, body, _ = get(self.http + "/api/latest?estimator=sideways")
+        self.assertEqual(status, 400, body)
+        self.assertIn("sideways", json.loads(body)["message"])
+        status, body, _ = get(self.http + "/api/status")
+        self.assertEqual(json.loads(body)["source"]["kind"], "png-dir")
+        status, body, _ = get(self.http + "/api/templates")
+        self.assertEqual([t["name"] for t in json.loads(body)["templates"]], ["standing"])
+        scene = json.loads(get(self.http + "/api/scene")[1])
+        self.assertGreater(len(scene["points"]), 0)
+        self.assertEqual(scene["template"], "standing")
+        self.assertEqual(get(self.http + "/no-such-page")[0], 404)
+
+    def test_events_stream_snapshots(self):
+        with urllib.request.urlopen(self.http + "/events", timeout=30) as reply:
+            self.assertEqual(reply.headers.get("Content-Type"), "text/event-stream")
+            line = reply.readline().decode()
+        self.assertTrue(line.startswith("data: "), line)
+        snapshot = json.loads(line[len("data: "):])
+        self.assertEqual(sorted(snapshot), ["latest", "latest_error", "scene", "status",
+                                            "stereo", "stereo_error"])
+
+    def test_page_is_self_contained(self):
+        status, page, ctype = get(self.http + "/")
+        self.assertEqual(status, 200)
+        self.assertTrue(ctype.startswith("text/html"))
+        # No external assets: nothing is loaded from another host.
+        self.assertIsNone(re.search(r"(src|href)=\"(https?:)?//", page), "external asset")
+        self.assertIn("new EventSource(\"events\")", page)
+
+    def test_non_loopback_http_needs_insecure(self):
+        run = subprocess.run([HPOSED, "--http", "0.0.0.0:0", "--print-config"],
+                             capture_output=True, text=True)
+        self.assertNotEqual(run.returncode, 0)
+        self.assertIn("http.listen", run.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -1,0 +1,195 @@
+#!/usr/bin/env python3
+"""hposed's web view in a real browser (headless Chromium through Selenium).
+
+A simulated recording of a humanoid turning is served by hposed with --http; the page must show
+the pose GetLatest answers (within the page's display rounding), show it change as the robot
+turns, log no console errors, agree field by field with the gRPC answer in its JSON, and show
+the daemon as disconnected once it stops.
+
+usage: web_view_test.py HPOSED HPOSE SOURCE_DIR [--screenshot PNG]
+"""
+
+import json
+import math
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+import urllib.request
+
+from daemon_process import start_daemon_with_http
+
+HPOSED, HPOSE, SOURCE_DIR = sys.argv[1:4]
+SCREENSHOT = sys.argv[sys.argv.index("--screenshot") + 1] if "--screenshot" in sys.argv else None
+
+try:
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+    HAVE_SELENIUM = True
+except ImportError:
+    HAVE_SELENIUM = False
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+CHROMEDRIVER = shutil.which("chromedriver")
+
+# The delivery stamps of a message (when it was handed to the transport, and the age then) are
+# the only fields two reads of the same estimate may disagree on.
+DELIVERY_FIELDS = {"send_time", "age"}
+
+
+def get_json(url):
+    """The JSON body of a GET."""
+    with urllib.request.urlopen(url, timeout=10) as reply:
+        return json.loads(reply.read().decode())
+
+
+def grpc_latest(address):
+    """GetLatest through the command-line client (the same JSON schema as the web view's)."""
+    out = subprocess.run([HPOSE, "query", "--server", address, "latest", "--json"], check=True,
+                         capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def differences(a, b, path=""):
+    """Paths where two JSON values differ (delivery stamps excluded)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        out = []
+        for key in sorted(set(a) | set(b)):
+            if key in DELIVERY_FIELDS and not path:
+                continue
+            if key not in a or key not in b:
+                out.append(path + "/" + key + " (missing on one side)")
+            else:
+                out += differences(a[key], b[key], path + "/" + key)
+        return out
+    if isinstance(a, list) and isinstance(b, list):
+        if len(a) != len(b):
+            return [path + " (lengths %d, %d)" % (len(a), len(b))]
+        return sum((differences(x, y, "%s[%d]" % (path, i)) for i, (x, y) in
+                    enumerate(zip(a, b))), [])
+    return [] if a == b else ["%s (%r != %r)" % (path, a, b)]
+
+
+@unittest.skipUnless(HAVE_SELENIUM and CHROMIUM and CHROMEDRIVER,
+                     "needs python3-selenium, chromium and chromium-driver (make deps)")
+class WebViewTest(unittest.TestCase):
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        frames = os.path.join(self.tmp.name, "frames")
+        # A humanoid walking a curve (4 cm and 15 degrees a frame) among clutter, replayed once at
+        # 1 Hz.
+        subprocess.run([HPOSE, "simulate", "--out", frames, "--frames", "12", "--width", "320",
+                        "--height", "240", "--no-cloud", "--turn-deg", "15", "--step-m", "0.04",
+                        "--clutter", "2"],
+                       check=True, stdout=subprocess.DEVNULL)
+        options = webdriver.ChromeOptions()
+        options.binary_location = CHROMIUM
+        for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                    "--window-size=1200,860"):
+            options.add_argument(arg)
+        options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+        # The browser first: it can take seconds to start on a busy machine, and the page must
+        # see the recording play.
+        self.driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+        templates = os.path.join(SOURCE_DIR, "templates")
+        self.proc, self.grpc, self.http = start_daemon_with_http(HPOSED, [
+            "--source", frames, "--fps", "1",
+            "--template", os.path.join(templates, "standing.bt"),
+            "--template", os.path.join(templates, "right_arm_raised.bt")])
+
+    def tearDown(self):
+        self.driver.quit()
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+        self.tmp.cleanup()
+
+    def text(self, element_id):
+        return self.driver.find_element("id", element_id).text
+
+    def wait_for(self, what, predicate, timeout):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if predicate():
+                return
+            time.sleep(0.2)
+        self.fail("timed out waiting for %s; page shows connection '%s', message '%s'" %
+                  (what, self.text("conn"), self.text("message")))
+
+    def displayed_pose(self):
+        """(sequence, x m, y m, theta deg) as the page shows them, or None."""
+        try:
+            return (int(self.text("sequence")), float(self.text("pose-x")),
+                    float(self.text("pose-y")), float(self.text("pose-theta")))
+        except ValueError:
+            return None
+
+    def test_live_view(self):
+        self.driver.get(self.http + "/")
+        self.wait_for("the page to connect", lambda: self.text("conn") == "live", 60)
+
+        # While the recording plays, the displayed heading follows the turning robot.
+        thetas = set()
+        screenshot_taken = False
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline:
+            pose = self.displayed_pose()
+            if pose is not None:
+                thetas.add(pose[3])
+            if SCREENSHOT and not screenshot_taken and len(thetas) >= 8:  # a trail to show.
+                time.sleep(0.5)
+                self.driver.save_screenshot(SCREENSHOT)
+                screenshot_taken = True
+            state = get_json(self.http + "/api/status")["source"]["state"]
+            if state == "SOURCE_STATE_FINISHED":
+                break
+            time.sleep(0.2)
+        self.assertEqual(get_json(self.http + "/api/status")["source"]["state"],
+                         "SOURCE_STATE_FINISHED")
+        self.assertGreaterEqual(len(thetas), 2, "the heading shown never changed: %s" % thetas)
+        self.assertGreater(max(thetas) - min(thetas), 20.0, sorted(thetas))
+
+        # Finished: the last estimate stays; page, web JSON and GetLatest must agree on it.
+        latest = grpc_latest(self.grpc)
+        best = latest["depth_template"]["best"]["best"]
+        self.wait_for("the page to show the last frame",
+                      lambda: (self.displayed_pose() or (0,))[0] == latest["sequence"], 10)
+        sequence, x, y, theta = self.displayed_pose()
+        self.assertTrue(latest["depth_template"]["humanoid_found"])
+        self.assertAlmostEqual(x, best["pose"]["x"], delta=0.0005 + 1e-9)
+        self.assertAlmostEqual(y, best["pose"]["y"], delta=0.0005 + 1e-9)
+        self.assertAlmostEqual(theta, math.degrees(best["pose"]["theta"]), delta=0.05 + 1e-9)
+        self.assertEqual(self.text("template"), best["template_name"])
+        self.assertEqual(self.text("score"), "%.1f" % best["score"])
+        web = get_json(self.http + "/api/latest")["estimate"]
+        self.assertEqual(differences(web, latest), [])
+
+        # Metrics moved with the frames.
+        with urllib.request.urlopen(self.http + "/metrics", timeout=10) as reply:
+            metrics = reply.read().decode()
+        # Every frame was read; a busy machine may drop some unestimated (a newer one came).
+        self.assertIn('hposed_frames_received_total{source="depth"} 12', metrics)
+        estimated = re.search(r'^hposed_frames_estimated_total\{source="depth"\} (\d+)$',
+                              metrics, re.MULTILINE)
+        self.assertGreaterEqual(int(estimated.group(1)), len(thetas))
+        self.assertIn('hposed_clients_connected{kind="http_events"} 1', metrics)
+
+        # No errors in the page's console while the daemon served it.
+        errors = [e for e in self.driver.get_log("browser") if e["level"] == "SEVERE"]
+        self.assertEqual(errors, [])
+
+        # A stopped daemon is shown as disconnected.
+        self.proc.send_signal(signal.SIGINT)
+        self.proc.wait(timeout=30)
+        self.wait_for("the page to show the daemon disconnected",
+                      lambda: self.text("conn") == "disconnected", 15)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)
