@@ -29,7 +29,7 @@ struct Variant {
   std::string name;
   std::function<void(EstimatorOptions*)> configure;
   std::unique_ptr<Estimator> estimator;
-  std::vector<double> cloud, floor, cluster, search, refine, total;
+  std::vector<double> cloud, floor, cluster, search, refine, total, bounds;
   int found = 0;
   std::uint64_t digest = 1469598103934665603ull;  // FNV-1a.
 };
@@ -125,6 +125,15 @@ int Run(int argc, char** argv) {
                         o->search = SearchKind::kExact;
                         o->refine.enabled = false;
                       }});
+  variants.push_back({"exact search, 2 deg lattice", [](EstimatorOptions* o) {
+                        o->search = SearchKind::kExact;
+                        o->lattice.angle_steps = 180;
+                      }});
+  variants.push_back({"exact search, 2 deg 8 mm lattice", [](EstimatorOptions* o) {
+                        o->search = SearchKind::kExact;
+                        o->lattice.angle_steps = 180;
+                        o->lattice.subdivisions = 2;
+                      }});
   variants.push_back({"exact search, PCL clustering", [](EstimatorOptions* o) {
                         o->search = SearchKind::kExact;
                         o->clusters.method = ClusterOptions::Method::kPcl;
@@ -178,6 +187,9 @@ int Run(int argc, char** argv) {
         v.search.push_back(t.search_ms);
         v.refine.push_back(t.refine_ms);
         v.total.push_back(t.total_ms);
+        double nb = 0;
+        for (const Candidate& c : e->candidates) nb += static_cast<double>(c.bounds_evaluated);
+        v.bounds.push_back(nb / 1000.0);
         if (r > 0) continue;
         MixEstimate(&v.digest, *e);
         if (dump) {
@@ -214,13 +226,13 @@ int Run(int argc, char** argv) {
       frames, clutter, repeat);
   std::printf(
       "| variant | cloud | floor | clustering | search (incl. refinement) | refinement | total | "
-      "humanoid found | digest |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+      "bounds (k) | humanoid found | digest |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Variant& v : variants) {
-    std::printf("| %s | %s | %s | %s | %s | %s | %s | %d / %d | %016llx |\n", v.name.c_str(),
+    std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %d / %d | %016llx |\n", v.name.c_str(),
                 Cell(v.cloud).c_str(), Cell(v.floor).c_str(), Cell(v.cluster).c_str(),
-                Cell(v.search).c_str(), Cell(v.refine).c_str(), Cell(v.total).c_str(), v.found,
-                frames, static_cast<unsigned long long>(v.digest));
+                Cell(v.search).c_str(), Cell(v.refine).c_str(), Cell(v.total).c_str(),
+                Cell(v.bounds).c_str(), v.found, frames, static_cast<unsigned long long>(v.digest));
   }
   std::printf(
       "\nhumanoid found: the best humanoid detection within 5 cm and 10 deg of the truth\n");

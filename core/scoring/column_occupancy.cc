@@ -134,6 +134,10 @@ int SumGeneric(const std::uint64_t* data, int x0, int y0, int nx, int ny, int s,
   return sum;
 }
 
+// The smallest level whose blocks sweep `span` more sub-voxel steps than their first:
+// 2^level - 1 >= span.
+inline int LevelSweeping(int span) { return span <= 0 ? 0 : 32 - __builtin_clz(span); }
+
 HPOSE_POPCNT_CLONES
 int HitsOneWord(const std::uint64_t* acc, const std::uint64_t* occ, const int* touched, int n) {
   int hits = 0;
@@ -265,13 +269,63 @@ int ColumnOccupancy::Hits(const RotatedTemplate& rotated, int ix, int iy) const 
 }
 
 int ColumnOccupancy::Bound(const RotatedTemplate& rotated, int a, int b, int level) const {
+  if (!rotated.column_extent.empty()) {
+    int out[4];
+    ArcBounds(rotated, a, b, level, 1, out);
+    return out[0];
+  }
   return LowerBound(rotated, rotated.column_masks.data(), a, b, level);
+}
+
+// A theta block's column sweeps its square (side column_extent) plus the translation block:
+// 2^level - 1 + extent steps beyond its corner, which the level sweeping that many holds (a
+// window of the same start, no shorter). Past the top level the column's voxels all count.
+// With `blocks` = 2 the four blocks of Bound4 (2^level a multiple of the subdivisions, so the
+// windows are 2^level / S cells apart with equal lengths).
+void ColumnOccupancy::ArcBounds(const RotatedTemplate& rotated, int a, int b, int level, int blocks,
+                                int out[4]) const {
+  const int n = static_cast<int>(rotated.column_q.size());
+  const int top = static_cast<int>(levels_.size()) - 1;
+  const int d = blocks == 2 ? (1 << level) / lattice_.subdivisions : 0;
+  int sums[4] = {0, 0, 0, 0};
+  for (int c = 0; c < n; ++c) {
+    const std::uint64_t* m = &rotated.column_masks[static_cast<size_t>(c) * words_];
+    const int lvl = LevelSweeping((1 << level) - 1 + rotated.column_extent[c]);
+    if (lvl > top) {
+      int all = 0;
+      for (int w = 0; w < words_; ++w) all += Popcount(m[w]);
+      for (int k = 0; k < 4; ++k) sums[k] += all;
+      continue;
+    }
+    const Level& lv = levels_[lvl];
+    const int span = (1 << lvl) - 1;
+    const int qa = rotated.column_q[c].x() + a;
+    const int qb = rotated.column_q[c].y() + b;
+    const int cx = FloorDivS(qa), cy = FloorDivS(qb);
+    const int ex = FloorDivS(qa + span) - cx - (lv.min_len - 1);
+    const int ey = FloorDivS(qb + span) - cy - (lv.min_len - 1);
+    for (int i = 0; i < blocks; ++i) {
+      const unsigned dx = static_cast<unsigned>(cx + i * d - lv.x0);
+      if (dx >= static_cast<unsigned>(lv.nx)) continue;
+      for (int j = 0; j < blocks; ++j) {
+        const unsigned dy = static_cast<unsigned>(cy + j * d - lv.y0);
+        if (dy >= static_cast<unsigned>(lv.ny)) continue;
+        const std::uint64_t* cell =
+            &lv.data[((static_cast<size_t>(dy) * lv.nx + dx) * 4 + 2 * ex + ey) * words_];
+        int hits = 0;
+        for (int w = 0; w < words_; ++w) hits += Popcount(m[w] & cell[w]);
+        sums[2 * i + j] += hits;
+      }
+    }
+  }
+  for (int k = 0; k < 4; ++k) out[k] = sums[k];
 }
 
 int ColumnOccupancy::LowerBound(const RotatedTemplate& rotated, const std::uint64_t* masks, int a,
                                 int b, int level) const {
   assert(level >= 0 && level < static_cast<int>(levels_.size()));
   assert(rotated.z_words == words_);
+  assert(rotated.column_extent.empty());  // single rotations only.
   const Level& lv = levels_[level];
   const int span = (1 << level) - 1;
   const int n = static_cast<int>(rotated.column_q.size());
@@ -287,7 +341,11 @@ void ColumnOccupancy::Bound4(const RotatedTemplate& rotated, int a, int b, int l
                              int out[4]) const {
   assert(level >= 0 && level < static_cast<int>(levels_.size()));
   const int size = 1 << level;
-  if (shift_ < 0 || words_ != 1 || size < lattice_.subdivisions) {
+  if (!rotated.column_extent.empty() && size % lattice_.subdivisions == 0) {
+    ArcBounds(rotated, a, b, level, 2, out);
+    return;
+  }
+  if (!rotated.column_extent.empty() || shift_ < 0 || words_ != 1 || size < lattice_.subdivisions) {
     for (int i = 0; i < 2; ++i) {
       for (int j = 0; j < 2; ++j)
         out[2 * i + j] = Bound(rotated, a + i * size, b + j * size, level);

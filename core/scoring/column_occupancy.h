@@ -36,9 +36,11 @@ class ColumnOccupancy {
 
   // Sum over the columns of the voxels each column meets in its window over every translation
   // in [a, a + 2^level) x [b, b + 2^level), level in [0, max_level]. With kMax it is an upper
-  // bound of Hits over the block, also for unions of rotations (TemplateRotations::GetBlock):
-  // a cell that two columns reach counts twice. With kMin it is NOT a lower bound in general
-  // (two columns landing in one cell count twice): use LowerBound for that.
+  // bound of Hits over the block, also over the rotations of a theta block
+  // (TemplateRotations::GetBlock: each column then sweeps its square of sub-voxel coordinates
+  // too, through a higher level's window); a cell that two columns reach counts twice. Levels
+  // above max_level make a column count all its voxels. With kMin it is NOT a lower bound in
+  // general (two columns landing in one cell count twice): use LowerBound for that.
   int Bound(const RotatedTemplate& rotated, int a, int b, int level) const;
 
   // The same sum with `masks` (z_words per column of `rotated`) in place of the column masks.
@@ -69,6 +71,9 @@ class ColumnOccupancy {
     std::vector<std::uint64_t> masks;  // nx * ny * words.
   };
   Level Filtered(int level, bool max_filter) const;
+  // Bound (blocks 1: out[0]) or Bound4 (blocks 2) of a theta block's columns.
+  void ArcBounds(const RotatedTemplate& rotated, int a, int b, int level, int blocks,
+                 int out[4]) const;
   int FloorDivS(int v) const;
 
   PoseLattice lattice_;

@@ -355,7 +355,11 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   int top = 0;
   while (top < options_.max_level && (1 << top) < span) ++top;
   const RotatedTemplate& r0 = rotations.Get(0);
-  const ColumnOccupancy occ(cluster, lattice, r0.z_base, r0.z_words, top);
+  // Theta blocks' columns sweep their arcs too: levels up to the one sweeping the top block
+  // plus the widest arc.
+  int arc_top = top;
+  while ((1 << arc_top) - 1 < (1 << top) - 1 + rotations.max_block_extent()) ++arc_top;
+  const ColumnOccupancy occ(cluster, lattice, r0.z_base, r0.z_words, arc_top);
   std::unique_ptr<ColumnOccupancy> free;
   if (problem.free_space != nullptr) {
     free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, r0.z_base, r0.z_words,
