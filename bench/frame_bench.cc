@@ -125,6 +125,10 @@ int Run(int argc, char** argv) {
                         o->search = SearchKind::kExact;
                         o->refine.enabled = false;
                       }});
+  variants.push_back({"exact search, 2 threads", [](EstimatorOptions* o) {
+                        o->search = SearchKind::kExact;
+                        o->threads = 2;
+                      }});
   variants.push_back({"exact search, 2 deg lattice", [](EstimatorOptions* o) {
                         o->search = SearchKind::kExact;
                         o->lattice.angle_steps = 180;

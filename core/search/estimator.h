@@ -23,6 +23,8 @@
 
 namespace hpose {
 
+class TaskPool;
+
 enum class SearchKind { kPaper, kExact };
 
 const char* SearchKindName(SearchKind kind);
@@ -87,6 +89,9 @@ struct EstimatorOptions {
   // Continuous refinement of each candidate's lattice pose and the refined evidence that
   // chooses between the runner-up heading and between templates (pose_refiner.h).
   RefineOptions refine;
+  // Threads for the (cluster, template) searches and refinements of a frame, the calling
+  // thread included; 0: one per core. Results do not depend on it.
+  int threads = 1;
 };
 
 // Default options (the paper's settings, Kinect v1) in one place.
@@ -125,6 +130,7 @@ class Estimator {
   std::vector<std::pair<double, double>> silhouette_widths_;
   std::vector<std::unique_ptr<SurfaceModel>> surfaces_;  // one per template, for refinement.
   std::unique_ptr<PoseSearch> search_;
+  std::unique_ptr<TaskPool> pool_;
 };
 
 }  // namespace hpose
