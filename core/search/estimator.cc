@@ -286,21 +286,28 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
   return e;
 }
 
-Result<Estimate> Estimator::EstimateDepth(const DepthImage& depth,
-                                          const Intrinsics& intrinsics) const {
+Result<Estimate> Estimator::EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics,
+                                          const FramePrior* prior) const {
   const Clock::time_point t0 = Clock::now();
   Result<PointCloud> cloud = DepthToCloud(depth, intrinsics, options_.cloud);
   if (!cloud.ok()) return cloud.error();
-  return Run(*cloud, MsSince(t0));
+  return Run(*cloud, MsSince(t0), prior);
 }
 
-Result<Estimate> Estimator::EstimateCloud(const PointCloud& cloud_sensor) const {
-  return Run(cloud_sensor, 0.0);
+Result<Estimate> Estimator::EstimateCloud(const PointCloud& cloud_sensor,
+                                          const FramePrior* prior) const {
+  return Run(cloud_sensor, 0.0, prior);
 }
 
-Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const {
+Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
+                                const FramePrior* prior) const {
   const Clock::time_point t_start = Clock::now();
   Estimate est;
+  if (prior != nullptr) {
+    est.tracking.prior_given = true;
+    est.tracking.prior_template = prior->template_name;
+    est.tracking.prior_pose = prior->pose;
+  }
   est.timings.cloud_ms = cloud_ms;
   const Status valid = ValidateCloud(cloud);  // finite and bounded before PCL sees it.
   if (!valid.ok()) return valid.error();
@@ -360,7 +367,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
   struct Task {
     int cluster = 0;
     int tpl = 0;
-    bool kept = false;  // passed the voxel-count bound.
+    bool kept = false;    // passed the voxel-count bound.
+    bool seeded = false;  // the prior pose lay in its search region.
     Candidate cand;
     double refine_ms = 0.0;
   };
@@ -453,7 +461,19 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
       problem.min_value = static_cast<int>(
           std::ceil(options_.score_threshold * options_.hit_weight * n / 100.0 - 1e-9));
     }
+    // The prior pose seeds the search of the cluster it stands on (within a hand of its
+    // footprint), for every template: the bodies differ little.
+    LatticePose incumbent;
+    constexpr float kFootprintMargin = 0.15f;  // metres.
+    if (prior != nullptr && prior->pose.x >= c.min.x() - kFootprintMargin &&
+        prior->pose.x <= c.max.x() + kFootprintMargin &&
+        prior->pose.y >= c.min.y() - kFootprintMargin &&
+        prior->pose.y <= c.max.y() + kFootprintMargin) {
+      incumbent = NearestLatticePose(options_.lattice, prior->pose);
+      problem.incumbent = &incumbent;
+    }
     const SearchResult r = search_->Search(problem);
+    task.seeded = r.incumbent_used;
     Candidate& cand = task.cand;
     cand.template_name = rot.name();
     cand.cluster_index = task.cluster;
@@ -496,6 +516,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
     est.candidates.push_back(task.cand);
     est.clusters[task.cluster].searched = true;
     refine_ms += task.refine_ms;
+    est.tracking.tracked = est.tracking.tracked || task.seeded;
   }
   est.timings.search_ms = MsSince(t);
   est.timings.refine_ms = refine_ms;
