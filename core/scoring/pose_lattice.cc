@@ -166,6 +166,19 @@ RotatedTemplate BlockColumns(const Arcs& arcs, const RotatedTemplate& first, int
   return out;
 }
 
+// Fills column_cxe / column_cy for a power-of-two subdivision (2^shift).
+void AddCellTables(int shift, RotatedTemplate* r) {
+  if (shift < 0) return;
+  const int mask = (1 << shift) - 1;
+  r->column_cxe.clear();
+  r->column_cy.clear();
+  for (const Eigen::Vector2i& q : r->column_q) {
+    const int e = 2 * ((q.x() & mask) != 0 ? 1 : 0) + ((q.y() & mask) != 0 ? 1 : 0);
+    r->column_cxe.push_back(4 * (q.x() >> shift) + e);
+    r->column_cy.push_back(q.y() >> shift);
+  }
+}
+
 }  // namespace
 
 TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice)
@@ -188,6 +201,23 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
     }
     blocks_.push_back(std::move(blocks));
     arcs = std::move(joined);
+  }
+  int shift = -1;
+  for (int k = 0; k < 31; ++k) {
+    if ((1 << k) == lattice.subdivisions) shift = k;
+  }
+  bool first = true;
+  const auto visit = [&](RotatedTemplate* r) {
+    AddCellTables(shift, r);
+    for (const Eigen::Vector2i& q : r->column_q) {
+      column_q_min_ = first ? q : column_q_min_.cwiseMin(q);
+      column_q_max_ = first ? q : column_q_max_.cwiseMax(q);
+      first = false;
+    }
+  };
+  for (RotatedTemplate& r : rotations_) visit(&r);
+  for (std::vector<RotatedTemplate>& level : blocks_) {
+    for (RotatedTemplate& r : level) visit(&r);
   }
 }
 

@@ -81,6 +81,12 @@ struct RotatedTemplate {
   // [column_q[c], column_q[c] + column_extent[c]] on both axes. Empty for single rotations
   // (every extent 0).
   std::vector<int> column_extent;
+  // With a power-of-two subdivision S, per column: the cell of column_q (q >> log2 S) as cy and
+  // 4 cx + e, e = 2 [qx mod S != 0] + [qy mod S != 0]: for a translation block of at least S
+  // steps starting at a multiple of S, the window the column sweeps starts at its cell plus the
+  // block's and is one cell longer per axis where e says (ColumnOccupancy's aligned path).
+  std::vector<std::int32_t> column_cxe;
+  std::vector<std::int32_t> column_cy;
 };
 
 RotatedTemplate RotateTemplate(const VoxelTemplate& tpl, const PoseLattice& lattice, int itheta);
@@ -116,6 +122,9 @@ class TemplateRotations {
   const RotatedTemplate& GetBlock(int level, int itheta0) const;
   // The largest column_extent of any theta block (0 without blocks).
   int max_block_extent() const { return max_block_extent_; }
+  // The range of column_q over every rotation and block (sub-voxel steps).
+  const Eigen::Vector2i& column_q_min() const { return column_q_min_; }
+  const Eigen::Vector2i& column_q_max() const { return column_q_max_; }
   const std::string& name() const { return name_; }
   double height_m() const { return height_m_; }
   const PoseLattice& lattice() const { return lattice_; }
@@ -128,6 +137,8 @@ class TemplateRotations {
   // blocks_[level - 1][itheta0 >> level] for level in [1, kThetaLevels).
   std::vector<std::vector<RotatedTemplate>> blocks_;
   int max_block_extent_ = 0;
+  Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
+  Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
 };
 
 }  // namespace hpose

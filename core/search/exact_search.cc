@@ -367,9 +367,12 @@ ExactSearch::Region ExactSearch::TranslationRegion(const ClusterVoxels& cluster,
   }
   const double res = lattice.resolution_m;
   const double step = lattice.step_m();
-  r.ix_min = static_cast<int>(std::floor((x_lo * res - margin) / step));
+  // Starting at a multiple of the subdivisions, every block of at least that many steps does
+  // too (ColumnOccupancy's aligned bounds).
+  const int s = lattice.subdivisions;
+  r.ix_min = s * FloorDiv(static_cast<int>(std::floor((x_lo * res - margin) / step)), s);
   r.ix_max = static_cast<int>(std::ceil(((x_hi + 1) * res + margin) / step));
-  r.iy_min = static_cast<int>(std::floor((y_lo * res - margin) / step));
+  r.iy_min = s * FloorDiv(static_cast<int>(std::floor((y_lo * res - margin) / step)), s);
   r.iy_max = static_cast<int>(std::ceil(((y_hi + 1) * res + margin) / step));
   return r;
 }
@@ -391,7 +394,18 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   // plus the widest arc.
   int arc_top = top;
   while ((1 << arc_top) - 1 < (1 << top) - 1 + rotations.max_block_extent()) ++arc_top;
-  const ColumnOccupancy occ(cluster, lattice, r0.z_base, r0.z_words, arc_top);
+  // Where bound windows start: any column's cell plus any block's (quarters of the last block
+  // reach one top block past the region).
+  const int s = lattice.subdivisions;
+  ColumnOccupancy::CellRange lookups;
+  lookups.x_lo = FloorDiv(region.ix_min, s) + FloorDiv(rotations.column_q_min().x(), s);
+  lookups.y_lo = FloorDiv(region.iy_min, s) + FloorDiv(rotations.column_q_min().y(), s);
+  lookups.x_hi =
+      FloorDiv(region.ix_max + (1 << top), s) + FloorDiv(rotations.column_q_max().x(), s);
+  lookups.y_hi =
+      FloorDiv(region.iy_max + (1 << top), s) + FloorDiv(rotations.column_q_max().y(), s);
+  const ColumnOccupancy occ(cluster, lattice, r0.z_base, r0.z_words, arc_top,
+                            ColumnOccupancy::Filter::kMax, &lookups);
   std::unique_ptr<ColumnOccupancy> free;
   if (problem.free_space != nullptr) {
     free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, r0.z_base, r0.z_words,

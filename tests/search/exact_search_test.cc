@@ -127,6 +127,46 @@ TEST(ColumnOccupancyTest, ThetaBlockBoundsCoverEveryRotationOfTheBlock) {
   EXPECT_GT(arcs_past_top, 0) << "no bound had a column past the top level";
 }
 
+// The aligned layout (one box for every level, per-column cell tables) gives exactly the bounds
+// of the per-level layout, for rotations and theta blocks, single and four-quarter bounds.
+TEST(ColumnOccupancyTest, AlignedBoundsEqualThePerLevelOnes) {
+  std::mt19937 rng(17);
+  for (unsigned scene = 0; scene < 4; ++scene) {
+    const PoseLattice lattice;  // 4 subdivisions.
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(scene), "t", lattice.resolution_m);
+    const Pose2D truth{1.1, -0.1 * scene, DegToRad(47.0 * scene)};
+    const ClusterVoxels cluster = VoxeliseCluster(
+        testing::VisibleCluster(testing::RandomRobotPoints(scene), truth, 0.004f, scene),
+        lattice.resolution_m);
+    const TemplateRotations rot(tpl, lattice);
+    const LatticePose c = NearestLatticePose(lattice, truth);
+    const int reach = 48;  // steps the tested blocks start from the truth.
+    ColumnOccupancy::CellRange range;
+    range.x_lo = FloorDiv(c.ix - reach, 4) + FloorDiv(rot.column_q_min().x(), 4);
+    range.y_lo = FloorDiv(c.iy - reach, 4) + FloorDiv(rot.column_q_min().y(), 4);
+    range.x_hi = FloorDiv(c.ix + reach + 64, 4) + FloorDiv(rot.column_q_max().x(), 4);
+    range.y_hi = FloorDiv(c.iy + reach + 64, 4) + FloorDiv(rot.column_q_max().y(), 4);
+    const int z_base = rot.Get(0).z_base, z_words = rot.Get(0).z_words;
+    const ColumnOccupancy plain(cluster, lattice, z_base, z_words, 7);
+    const ColumnOccupancy aligned(cluster, lattice, z_base, z_words, 7,
+                                  ColumnOccupancy::Filter::kMax, &range);
+    std::uniform_int_distribution<int> d(-reach / 4, reach / 4), th(0, 359), tl(0, 4), lv(2, 5);
+    for (int k = 0; k < 300; ++k) {
+      const int tlevel = tl(rng);
+      const RotatedTemplate& r = rot.GetBlock(tlevel, (th(rng) >> tlevel) << tlevel);
+      const int level = lv(rng);
+      const int a = 4 * (FloorDiv(c.ix, 4) + d(rng)), b = 4 * (FloorDiv(c.iy, 4) + d(rng));
+      ASSERT_EQ(aligned.Bound(r, a, b, level), plain.Bound(r, a, b, level))
+          << "scene " << scene << " tlevel " << tlevel << " level " << level;
+      int x[4], y[4];
+      aligned.Bound4(r, a, b, level, x);
+      plain.Bound4(r, a, b, level, y);
+      for (int q = 0; q < 4; ++q) ASSERT_EQ(x[q], y[q]) << "quarter " << q << " level " << level;
+    }
+  }
+}
+
 TEST(ExactSearchTest, EqualsExhaustiveSearchOnRandomScenes) {
   for (unsigned scene = 0; scene < 16; ++scene) {
     PoseLattice lattice;
