@@ -357,12 +357,6 @@ int ColumnOccupancy::Hits(const RotatedTemplate& rotated, int ix, int iy) const 
 }
 
 int ColumnOccupancy::Bound(const RotatedTemplate& rotated, int a, int b, int level) const {
-  if (rotated.column_extent.empty() && Aligned(rotated, a, b, level)) {
-    const Level& lv = levels_[level];
-    return SumAligned(lv.data.data(), AlignedBase(a, b), static_cast<std::ptrdiff_t>(lv.nx) * 4,
-                      rotated.column_cxe.data(), rotated.column_cy.data(),
-                      rotated.column_masks.data(), static_cast<int>(rotated.column_q.size()));
-  }
   if (!rotated.column_extent.empty()) {
     int out[4];
     ArcBounds(rotated, a, b, level, 1, out);
@@ -431,6 +425,11 @@ int ColumnOccupancy::LowerBound(const RotatedTemplate& rotated, const std::uint6
   assert(rotated.z_words == words_);
   assert(rotated.column_extent.empty());  // single rotations only.
   const Level& lv = levels_[level];
+  if (Aligned(rotated, a, b, level)) {
+    return SumAligned(lv.data.data(), AlignedBase(a, b), static_cast<std::ptrdiff_t>(lv.nx) * 4,
+                      rotated.column_cxe.data(), rotated.column_cy.data(), masks,
+                      static_cast<int>(rotated.column_q.size()));
+  }
   const int span = (1 << level) - 1;
   const int n = static_cast<int>(rotated.column_q.size());
   if (shift_ >= 0 && words_ == 1) {

@@ -409,7 +409,7 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   std::unique_ptr<ColumnOccupancy> free;
   if (problem.free_space != nullptr) {
     free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, r0.z_base, r0.z_words,
-                                             top, ColumnOccupancy::Filter::kMin);
+                                             top, ColumnOccupancy::Filter::kMin, &lookups);
   }
   Evaluator eval(&occ, free.get(), problem.free_space_weight, problem.hit_weight, rotations);
   const int n_weighted = n * problem.hit_weight;  // the score's denominator.

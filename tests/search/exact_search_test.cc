@@ -151,6 +151,10 @@ TEST(ColumnOccupancyTest, AlignedBoundsEqualThePerLevelOnes) {
     const ColumnOccupancy plain(cluster, lattice, z_base, z_words, 7);
     const ColumnOccupancy aligned(cluster, lattice, z_base, z_words, 7,
                                   ColumnOccupancy::Filter::kMax, &range);
+    const ColumnOccupancy plain_min(cluster, lattice, z_base, z_words, 7,
+                                    ColumnOccupancy::Filter::kMin);
+    const ColumnOccupancy aligned_min(cluster, lattice, z_base, z_words, 7,
+                                      ColumnOccupancy::Filter::kMin, &range);
     std::uniform_int_distribution<int> d(-reach / 4, reach / 4), th(0, 359), tl(0, 4), lv(2, 5);
     for (int k = 0; k < 300; ++k) {
       const int tlevel = tl(rng);
@@ -163,6 +167,12 @@ TEST(ColumnOccupancyTest, AlignedBoundsEqualThePerLevelOnes) {
       aligned.Bound4(r, a, b, level, x);
       plain.Bound4(r, a, b, level, y);
       for (int q = 0; q < 4; ++q) ASSERT_EQ(x[q], y[q]) << "quarter " << q << " level " << level;
+      if (tlevel == 0) {  // the free-space lower bound (AND filter) of single rotations too.
+        const std::vector<std::uint64_t> masks = CellDisjointMasks(r, lattice.subdivisions);
+        ASSERT_EQ(aligned_min.LowerBound(r, masks.data(), a, b, level),
+                  plain_min.LowerBound(r, masks.data(), a, b, level))
+            << "scene " << scene << " level " << level;
+      }
     }
   }
 }
