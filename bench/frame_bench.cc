@@ -240,14 +240,9 @@ std::vector<Variant> ScatteredVariants() {
                  Exact(o);
                  o->threads = 2;
                }});
-  v.push_back({"exact search, 2 deg lattice", [](EstimatorOptions* o) {
+  v.push_back({"exact search, previous lattice (1 deg, 4 mm)", [](EstimatorOptions* o) {
                  Exact(o);
-                 o->lattice.angle_steps = 180;
-               }});
-  v.push_back({"exact search, 2 deg 8 mm lattice", [](EstimatorOptions* o) {
-                 Exact(o);
-                 o->lattice.angle_steps = 180;
-                 o->lattice.subdivisions = 2;
+                 o->lattice = PaperLattice();
                }});
   v.push_back({"exact search, fast refinement", [](EstimatorOptions* o) {
                  Exact(o);
