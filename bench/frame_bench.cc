@@ -240,9 +240,14 @@ std::vector<Variant> ScatteredVariants() {
                  Exact(o);
                  o->threads = 2;
                }});
-  v.push_back({"exact search, previous lattice (1 deg, 4 mm)", [](EstimatorOptions* o) {
+  v.push_back({"exact search, 2 deg lattice", [](EstimatorOptions* o) {
                  Exact(o);
-                 o->lattice = PaperLattice();
+                 o->lattice.angle_steps = 180;
+               }});
+  v.push_back({"exact search, 2 deg 8 mm lattice", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->lattice.angle_steps = 180;
+                 o->lattice.subdivisions = 2;
                }});
   v.push_back({"exact search, fast refinement", [](EstimatorOptions* o) {
                  Exact(o);

@@ -230,20 +230,6 @@ Result<SearchKind> ParseSearchKind(const std::string& name) {
                    "unknown search '" + name + "' (expected 'paper' or 'exact')");
 }
 
-PoseLattice DefaultSearchLattice() {
-  PoseLattice l;
-  l.subdivisions = 2;
-  l.angle_steps = 180;
-  return l;
-}
-
-PoseLattice PaperLattice() {
-  PoseLattice l;
-  l.subdivisions = 4;
-  l.angle_steps = 360;
-  return l;
-}
-
 EstimatorOptions DefaultEstimatorOptions() { return EstimatorOptions{}; }
 
 Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates)
@@ -264,14 +250,6 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
                                                      std::vector<VoxelTemplate> templates) {
   if (templates.empty()) {
     return MakeError(ErrorCode::kInvalidArgument, "no templates given (at least one is needed)");
-  }
-  const PoseLattice standard = DefaultSearchLattice();
-  if (options.search == SearchKind::kPaper &&
-      options.lattice.subdivisions == standard.subdivisions &&
-      options.lattice.angle_steps == standard.angle_steps) {
-    const double res = options.lattice.resolution_m;
-    options.lattice = PaperLattice();
-    options.lattice.resolution_m = res;
   }
   Status st = options.lattice.Validate();
   if (!st.ok()) return st.error();

@@ -42,22 +42,13 @@ const char* ScoreKindName(ScoreKind kind);
 // Parses "paper" or "free-space".
 Result<ScoreKind> ParseScoreKind(const std::string& name);
 
-// 16 mm voxels, 8 mm and 2 degree steps.
-PoseLattice DefaultSearchLattice();
-// 16 mm voxels, 4 mm and 1 degree steps: every step of the paper's two passes lies on it.
-PoseLattice PaperLattice();
-
 struct EstimatorOptions {
   DepthToCloudOptions cloud;
   FloorFitterOptions floor_fit;
   bool use_fixed_floor = false;  // true: `fixed_floor` instead of fitting every frame.
   FloorEstimate fixed_floor;
   ClusterOptions clusters;
-  // The poses searched: 16 mm voxels, 8 mm and 2 degree steps by default (the paper's fine
-  // pass, Table 1, which the exact search covers exhaustively over every heading; refinement
-  // then leaves the lattice). The paper's own search needs 4 mm and 1 degree steps for its 5
-  // and 2 degree passes: with search kPaper a default lattice is taken as PaperLattice().
-  PoseLattice lattice = DefaultSearchLattice();
+  PoseLattice lattice;
   SearchKind search = SearchKind::kExact;
   ScorerKind scorer = ScorerKind::kFast;  // equal scores; kOctomapReference is slow.
   PaperSearchOptions paper;
