@@ -4,6 +4,8 @@
 #include <climits>
 #include <cmath>
 
+#include "core/scoring/column_occupancy.h"
+
 namespace hpose {
 
 Status PoseLattice::Validate() const {
@@ -215,7 +217,10 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
       first = false;
     }
   };
-  for (RotatedTemplate& r : rotations_) visit(&r);
+  for (RotatedTemplate& r : rotations_) {
+    visit(&r);
+    disjoint_.push_back(CellDisjointMasks(r, lattice.subdivisions));
+  }
   for (std::vector<RotatedTemplate>& level : blocks_) {
     for (RotatedTemplate& r : level) visit(&r);
   }

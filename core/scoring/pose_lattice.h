@@ -122,6 +122,8 @@ class TemplateRotations {
   const RotatedTemplate& GetBlock(int level, int itheta0) const;
   // The largest column_extent of any theta block (0 without blocks).
   int max_block_extent() const { return max_block_extent_; }
+  // CellDisjointMasks of rotation itheta (for free-space lower bounds), made once.
+  const std::vector<std::uint64_t>& DisjointMasks(int itheta) const { return disjoint_[itheta]; }
   // The range of column_q over every rotation and block (sub-voxel steps).
   const Eigen::Vector2i& column_q_min() const { return column_q_min_; }
   const Eigen::Vector2i& column_q_max() const { return column_q_max_; }
@@ -137,6 +139,7 @@ class TemplateRotations {
   // blocks_[level - 1][itheta0 >> level] for level in [1, kThetaLevels).
   std::vector<std::vector<RotatedTemplate>> blocks_;
   int max_block_extent_ = 0;
+  std::vector<std::vector<std::uint64_t>> disjoint_;  // per rotation.
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
 };

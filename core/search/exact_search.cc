@@ -62,8 +62,7 @@ class Evaluator {
         free_(free),
         free_weight_(free_weight),
         hit_weight_(hit_weight),
-        rotations_(rotations),
-        disjoint_(free != nullptr ? rotations.lattice().angle_steps : 0) {}
+        rotations_(rotations) {}
 
   int Value(const RotatedTemplate& r, int a, int b) const {
     int v = hit_weight_ * cluster_->Hits(r, a, b);
@@ -82,11 +81,9 @@ class Evaluator {
     return free_ != nullptr && tlevel == 0 && level > 0;
   }
   // Weighted lower bound of the free hits of rotation itheta over the block.
-  int FreePart(int itheta, int a, int b, int level) {
-    std::vector<std::uint64_t>& masks = disjoint_[itheta];
-    const RotatedTemplate& r = rotations_.Get(itheta);
-    if (masks.empty()) masks = CellDisjointMasks(r, rotations_.lattice().subdivisions);
-    return free_weight_ * free_->LowerBound(r, masks.data(), a, b, level);
+  int FreePart(int itheta, int a, int b, int level) const {
+    return free_weight_ * free_->LowerBound(rotations_.Get(itheta),
+                                            rotations_.DisjointMasks(itheta).data(), a, b, level);
   }
 
  private:
@@ -95,7 +92,6 @@ class Evaluator {
   int free_weight_;
   int hit_weight_;
   const TemplateRotations& rotations_;
-  std::vector<std::vector<std::uint64_t>> disjoint_;  // per theta, made on first use.
 };
 
 // Best-first branch and bound over thetas and the translation region. Next() returns the
