@@ -22,17 +22,34 @@ Result<std::vector<VoxelTemplate>> LoadShippedTemplates(const std::string& dir) 
   return templates;
 }
 
-std::vector<FrameSpec> BenchFrameSpecs(int count, int clutter) {
+std::vector<FrameSpec> BenchFrameSpecs(int count, int clutter, double max_distance_m) {
   std::vector<FrameSpec> specs;
   for (int i = 0; i < count; ++i) {
     FrameSpec s;
     s.preset = i % 2 == 0 ? "standing" : "right_arm_raised";
     const double heading_deg = -180.0 + std::fmod(77.0 * i, 360.0);
-    const double distance = 0.9 + 0.1 * (i % 12);
+    const double distance = 0.9 + (max_distance_m - 0.9) / 11.0 * (i % 12);
     const double lateral = 0.05 * ((i % 7) - 3);
     s.humanoid_pose = Pose2D{distance, lateral, NormalizeAngle(DegToRad(heading_deg))};
     s.clutter = clutter;
     s.seed = static_cast<std::uint64_t>(i + 1);
+    specs.push_back(s);
+  }
+  return specs;
+}
+
+std::vector<FrameSpec> BenchSequenceSpecs(int count, int clutter) {
+  std::vector<FrameSpec> specs;
+  for (int i = 0; i < count; ++i) {
+    FrameSpec s;
+    s.preset = (i / 15) % 2 == 0 ? "standing" : "right_arm_raised";
+    // Walking a circle of 0.8 m radius around (2.2, 0) m, 2.5 degrees of arc a frame (about
+    // 3.5 cm), facing along the path: 1.4-3.0 m from the sensor, every heading in 144 frames.
+    const double phi = kPi + DegToRad(2.5 * i);
+    s.humanoid_pose =
+        Pose2D{2.2 + 0.8 * std::cos(phi), 0.8 * std::sin(phi), NormalizeAngle(phi + 0.5 * kPi)};
+    s.clutter = clutter;
+    s.seed = 1;  // the same clutter in every frame.
     specs.push_back(s);
   }
   return specs;

@@ -21,9 +21,13 @@ namespace hpose::bench {
 // Loads standing.bt and right_arm_raised.bt from `dir`.
 Result<std::vector<VoxelTemplate>> LoadShippedTemplates(const std::string& dir);
 
-// `count` frame specs: both presets, headings spread over the circle, 0.9-2.0 m away, 4 clutter
-// objects, seeds 1..count. Deterministic.
-std::vector<FrameSpec> BenchFrameSpecs(int count, int clutter = 4);
+// `count` frame specs: both presets, headings spread over the circle (77 degree strides),
+// 0.9-`max_distance_m` away in 12 steps, `clutter` clutter objects, seeds 1..count.
+// Deterministic.
+std::vector<FrameSpec> BenchFrameSpecs(int count, int clutter = 4, double max_distance_m = 2.0);
+// A walk: `count` consecutive frames of one humanoid walking a circle (1.4-3.0 m away, turning
+// 2.5 degrees a frame, switching preset every 15 frames) among the same `clutter` objects.
+std::vector<FrameSpec> BenchSequenceSpecs(int count, int clutter = 4);
 
 // One (cluster, template) search as the estimator sets it up (free-space score, threshold).
 struct BenchProblem {

@@ -134,6 +134,72 @@ int SumGeneric(const std::uint64_t* data, int x0, int y0, int nx, int ny, int s,
   return sum;
 }
 
+// The bound sums of the aligned path: per column one lookup at base + cy * row + cxe.
+HPOSE_POPCNT_CLONES
+int SumAligned(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
+               const std::int32_t* cxe, const std::int32_t* cy, const std::uint64_t* masks, int n) {
+  int sum = 0;
+  for (int c = 0; c < n; ++c) sum += Popcount(masks[c] & data[base + cy[c] * row + cxe[c]]);
+  return sum;
+}
+
+// The four blocks d cells apart (Bound4), aligned.
+HPOSE_POPCNT_CLONES
+void SumAligned4(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
+                 std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* cxe,
+                 const std::int32_t* cy, const std::uint64_t* masks, int n, int out[4]) {
+  int s00 = 0, s01 = 0, s10 = 0, s11 = 0;
+  for (int c = 0; c < n; ++c) {
+    const std::uint64_t* p = data + base + cy[c] * row + cxe[c];
+    const std::uint64_t m = masks[c];
+    s00 += Popcount(m & p[0]);
+    s01 += Popcount(m & p[dy]);
+    s10 += Popcount(m & p[dx]);
+    s11 += Popcount(m & p[dx + dy]);
+  }
+  out[0] = s00;
+  out[1] = s01;
+  out[2] = s10;
+  out[3] = s11;
+}
+
+// Theta blocks, aligned: column c reads the level levels[c] points at (null: all its voxels
+// count).
+HPOSE_POPCNT_CLONES
+void SumArcsAligned(const std::uint64_t* const* levels, std::ptrdiff_t base, std::ptrdiff_t row,
+                    std::ptrdiff_t dx, std::ptrdiff_t dy, int blocks, const std::int32_t* cxe,
+                    const std::int32_t* cy, const std::uint64_t* masks, int n, int out[4]) {
+  int s[4] = {0, 0, 0, 0};
+  for (int c = 0; c < n; ++c) {
+    const std::uint64_t m = masks[c];
+    if (levels[c] == nullptr) {
+      const int all = Popcount(m);
+      for (int k = 0; k < 4; ++k) s[k] += all;
+      continue;
+    }
+    const std::uint64_t* p = levels[c] + base + cy[c] * row + cxe[c];
+    s[0] += Popcount(m & p[0]);
+    if (blocks == 2) {
+      s[1] += Popcount(m & p[dy]);
+      s[2] += Popcount(m & p[dx]);
+      s[3] += Popcount(m & p[dx + dy]);
+    }
+  }
+  for (int k = 0; k < 4; ++k) out[k] = s[k];
+}
+
+// Theta blocks, any layout: per column its level's window, range-checked.
+HPOSE_POPCNT_CLONES
+int SumArcColumn(const std::uint64_t* m, const std::uint64_t* cell, int words) {
+  int hits = 0;
+  for (int w = 0; w < words; ++w) hits += Popcount(m[w] & cell[w]);
+  return hits;
+}
+
+// The smallest level whose blocks sweep `span` more sub-voxel steps than their first:
+// 2^level - 1 >= span.
+inline int LevelSweeping(int span) { return span <= 0 ? 0 : 32 - __builtin_clz(span); }
+
 HPOSE_POPCNT_CLONES
 int HitsOneWord(const std::uint64_t* acc, const std::uint64_t* occ, const int* touched, int n) {
   int hits = 0;
@@ -144,7 +210,8 @@ int HitsOneWord(const std::uint64_t* acc, const std::uint64_t* occ, const int* t
 }  // namespace
 
 ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice& lattice,
-                                 int z_base, int z_words, int max_level, Filter filter)
+                                 int z_base, int z_words, int max_level, Filter filter,
+                                 const CellRange* aligned_lookups)
     : lattice_(lattice), words_(z_words) {
   assert(z_words >= 1 && max_level >= 0);
   for (int s = 0; s < 31; ++s) {
@@ -174,22 +241,47 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
   stamp_.assign(static_cast<size_t>(base_.nx) * base_.ny, 0);
   acc_.assign(base_.masks.size(), 0);
 
-  for (int k = 0; k <= max_level; ++k) levels_.push_back(Filtered(k, filter == Filter::kMax));
+  // Each level's own box: every window that touches the base starts in it; windows starting
+  // elsewhere hold nothing (kMax) or reach outside the voxels (kMin: 0) and are never looked up
+  // (or read as 0 in the aligned layout).
+  CellRange common;
+  aligned_ = aligned_lookups != nullptr && shift_ >= 0 && words_ == 1 &&
+             aligned_lookups->x_hi >= aligned_lookups->x_lo &&
+             aligned_lookups->y_hi >= aligned_lookups->y_lo;
+  if (aligned_) {
+    const int longest = ((1 << max_level) - 1) / lattice_.subdivisions + 1;
+    common.x_lo = std::min(aligned_lookups->x_lo, base_.x0 - longest);
+    common.y_lo = std::min(aligned_lookups->y_lo, base_.y0 - longest);
+    common.x_hi = std::max(aligned_lookups->x_hi, base_.x0 + base_.nx - 1);
+    common.y_hi = std::max(aligned_lookups->y_hi, base_.y0 + base_.ny - 1);
+  }
+  for (int k = 0; k <= max_level; ++k) {
+    CellRange box = common;
+    if (!aligned_) {
+      const int min_len = ((1 << k) - 1) / lattice_.subdivisions + 1;
+      box = CellRange{base_.x0 - min_len, base_.x0 + base_.nx - 1, base_.y0 - min_len,
+                      base_.y0 + base_.ny - 1};
+    }
+    levels_.push_back(Filtered(k, filter == Filter::kMax, box));
+  }
 }
 
-ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter) const {
+std::ptrdiff_t ColumnOccupancy::AlignedBase(int a, int b) const {
+  const Level& lv = levels_[0];
+  return (static_cast<std::ptrdiff_t>((b >> shift_) - lv.y0) * lv.nx + ((a >> shift_) - lv.x0)) * 4;
+}
+
+ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
+                                                 const CellRange& box) const {
   const Grid& g0 = base_;
   Level lv;
   // A block of 2^k steps starting at sub-voxel offset r in [0, S) sweeps
   // floor((r + 2^k - 1) / S) + 1 cells: min_len at r = 0, at most one more.
   lv.min_len = ((1 << k) - 1) / lattice_.subdivisions + 1;
-  // Every window of up to min_len + 1 cells that touches the base starts in this box; windows
-  // starting elsewhere hold nothing (kMax) or reach outside the voxels (kMin: 0) and are never
-  // looked up.
-  lv.x0 = g0.x0 - lv.min_len;
-  lv.y0 = g0.y0 - lv.min_len;
-  lv.nx = g0.nx + lv.min_len;
-  lv.ny = g0.ny + lv.min_len;
+  lv.x0 = box.x_lo;
+  lv.y0 = box.y_lo;
+  lv.nx = box.x_hi - box.x_lo + 1;
+  lv.ny = box.y_hi - box.y_lo + 1;
   const int words = words_;
   lv.data.assign(static_cast<size_t>(lv.nx) * lv.ny * 4 * words, 0);
   if (g0.nx == 0 || g0.ny == 0) return lv;
@@ -265,14 +357,79 @@ int ColumnOccupancy::Hits(const RotatedTemplate& rotated, int ix, int iy) const 
 }
 
 int ColumnOccupancy::Bound(const RotatedTemplate& rotated, int a, int b, int level) const {
+  if (!rotated.column_extent.empty()) {
+    int out[4];
+    ArcBounds(rotated, a, b, level, 1, out);
+    return out[0];
+  }
   return LowerBound(rotated, rotated.column_masks.data(), a, b, level);
+}
+
+// A theta block's column sweeps its square (side column_extent) plus the translation block:
+// 2^level - 1 + extent steps beyond its corner, which the level sweeping that many holds (a
+// window of the same start, no shorter). Past the top level the column's voxels all count.
+// With `blocks` = 2 the four blocks of Bound4 (2^level a multiple of the subdivisions, so the
+// windows are 2^level / S cells apart with equal lengths).
+void ColumnOccupancy::ArcBounds(const RotatedTemplate& rotated, int a, int b, int level, int blocks,
+                                int out[4]) const {
+  const int n = static_cast<int>(rotated.column_q.size());
+  const int top = static_cast<int>(levels_.size()) - 1;
+  const int d = blocks == 2 ? (1 << level) / lattice_.subdivisions : 0;
+  if (Aligned(rotated, a, b, level)) {
+    thread_local std::vector<const std::uint64_t*> column_levels;
+    column_levels.resize(static_cast<size_t>(n));
+    for (int c = 0; c < n; ++c) {
+      const int lvl = LevelSweeping((1 << level) - 1 + rotated.column_extent[c]);
+      column_levels[c] = lvl > top ? nullptr : levels_[lvl].data.data();
+    }
+    const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(levels_[0].nx) * 4;
+    SumArcsAligned(column_levels.data(), AlignedBase(a, b), row, 4 * d, d * row, blocks,
+                   rotated.column_cxe.data(), rotated.column_cy.data(), rotated.column_masks.data(),
+                   n, out);
+    return;
+  }
+  int sums[4] = {0, 0, 0, 0};
+  for (int c = 0; c < n; ++c) {
+    const std::uint64_t* m = &rotated.column_masks[static_cast<size_t>(c) * words_];
+    const int lvl = LevelSweeping((1 << level) - 1 + rotated.column_extent[c]);
+    if (lvl > top) {
+      const int all = SumArcColumn(m, m, words_);
+      for (int k = 0; k < 4; ++k) sums[k] += all;
+      continue;
+    }
+    const Level& lv = levels_[lvl];
+    const int span = (1 << lvl) - 1;
+    const int qa = rotated.column_q[c].x() + a;
+    const int qb = rotated.column_q[c].y() + b;
+    const int cx = FloorDivS(qa), cy = FloorDivS(qb);
+    const int ex = FloorDivS(qa + span) - cx - (lv.min_len - 1);
+    const int ey = FloorDivS(qb + span) - cy - (lv.min_len - 1);
+    for (int i = 0; i < blocks; ++i) {
+      const unsigned dx = static_cast<unsigned>(cx + i * d - lv.x0);
+      if (dx >= static_cast<unsigned>(lv.nx)) continue;
+      for (int j = 0; j < blocks; ++j) {
+        const unsigned dy = static_cast<unsigned>(cy + j * d - lv.y0);
+        if (dy >= static_cast<unsigned>(lv.ny)) continue;
+        const std::uint64_t* cell =
+            &lv.data[((static_cast<size_t>(dy) * lv.nx + dx) * 4 + 2 * ex + ey) * words_];
+        sums[2 * i + j] += SumArcColumn(m, cell, words_);
+      }
+    }
+  }
+  for (int k = 0; k < 4; ++k) out[k] = sums[k];
 }
 
 int ColumnOccupancy::LowerBound(const RotatedTemplate& rotated, const std::uint64_t* masks, int a,
                                 int b, int level) const {
   assert(level >= 0 && level < static_cast<int>(levels_.size()));
   assert(rotated.z_words == words_);
+  assert(rotated.column_extent.empty());  // single rotations only.
   const Level& lv = levels_[level];
+  if (Aligned(rotated, a, b, level)) {
+    return SumAligned(lv.data.data(), AlignedBase(a, b), static_cast<std::ptrdiff_t>(lv.nx) * 4,
+                      rotated.column_cxe.data(), rotated.column_cy.data(), masks,
+                      static_cast<int>(rotated.column_q.size()));
+  }
   const int span = (1 << level) - 1;
   const int n = static_cast<int>(rotated.column_q.size());
   if (shift_ >= 0 && words_ == 1) {
@@ -287,7 +444,11 @@ void ColumnOccupancy::Bound4(const RotatedTemplate& rotated, int a, int b, int l
                              int out[4]) const {
   assert(level >= 0 && level < static_cast<int>(levels_.size()));
   const int size = 1 << level;
-  if (shift_ < 0 || words_ != 1 || size < lattice_.subdivisions) {
+  if (!rotated.column_extent.empty() && size % lattice_.subdivisions == 0) {
+    ArcBounds(rotated, a, b, level, 2, out);
+    return;
+  }
+  if (!rotated.column_extent.empty() || shift_ < 0 || words_ != 1 || size < lattice_.subdivisions) {
     for (int i = 0; i < 2; ++i) {
       for (int j = 0; j < 2; ++j)
         out[2 * i + j] = Bound(rotated, a + i * size, b + j * size, level);
@@ -296,6 +457,14 @@ void ColumnOccupancy::Bound4(const RotatedTemplate& rotated, int a, int b, int l
   }
   assert(rotated.z_words == words_);
   const Level& lv = levels_[level];
+  if (Aligned(rotated, a, b, level)) {
+    const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(lv.nx) * 4;
+    const std::ptrdiff_t d = size >> shift_;
+    SumAligned4(lv.data.data(), AlignedBase(a, b), row, 4 * d, d * row, rotated.column_cxe.data(),
+                rotated.column_cy.data(), rotated.column_masks.data(),
+                static_cast<int>(rotated.column_q.size()), out);
+    return;
+  }
   SumOneWordPow2x4(lv.data.data(), lv.x0, lv.y0, lv.nx, lv.ny, shift_, lv.min_len - 1,
                    rotated.column_q.data(), rotated.column_masks.data(),
                    static_cast<int>(rotated.column_q.size()), a, b, size - 1, size >> shift_, out);

@@ -27,8 +27,17 @@ class ColumnOccupancy {
  public:
   enum class Filter { kMax, kMin };
 
+  // Cells (inclusive) where bound windows may start: with a power-of-two subdivision, one word
+  // per column and such a range, every level covers it with one common layout, and bounds of
+  // blocks of at least S steps starting at multiples of S (S = subdivisions) take the aligned
+  // path (RotatedTemplate::column_cxe: no per-column index arithmetic or range checks).
+  struct CellRange {
+    int x_lo = 0, x_hi = -1, y_lo = 0, y_hi = -1;
+  };
+
   ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice& lattice, int z_base, int z_words,
-                  int max_level, Filter filter = Filter::kMax);
+                  int max_level, Filter filter = Filter::kMax,
+                  const CellRange* aligned_lookups = nullptr);
 
   // Exact number of distinct cluster voxels covered by `rotated` at (ix, iy): equal to
   // PoseScorer::Hits for the same pose. Not thread-safe (scratch space).
@@ -36,9 +45,11 @@ class ColumnOccupancy {
 
   // Sum over the columns of the voxels each column meets in its window over every translation
   // in [a, a + 2^level) x [b, b + 2^level), level in [0, max_level]. With kMax it is an upper
-  // bound of Hits over the block, also for unions of rotations (TemplateRotations::GetBlock):
-  // a cell that two columns reach counts twice. With kMin it is NOT a lower bound in general
-  // (two columns landing in one cell count twice): use LowerBound for that.
+  // bound of Hits over the block, also over the rotations of a theta block
+  // (TemplateRotations::GetBlock: each column then sweeps its square of sub-voxel coordinates
+  // too, through a higher level's window); a cell that two columns reach counts twice. Levels
+  // above max_level make a column count all its voxels. With kMin it is NOT a lower bound in
+  // general (two columns landing in one cell count twice): use LowerBound for that.
   int Bound(const RotatedTemplate& rotated, int a, int b, int level) const;
 
   // The same sum with `masks` (z_words per column of `rotated`) in place of the column masks.
@@ -68,7 +79,17 @@ class ColumnOccupancy {
     int x0 = 0, y0 = 0, nx = 0, ny = 0;
     std::vector<std::uint64_t> masks;  // nx * ny * words.
   };
-  Level Filtered(int level, bool max_filter) const;
+  Level Filtered(int level, bool max_filter, const CellRange& box) const;
+  // Whether a block of 2^level steps at (a, b) can take the aligned path with `rotated`.
+  bool Aligned(const RotatedTemplate& rotated, int a, int b, int level) const {
+    return aligned_ && level >= shift_ && ((a | b) & (lattice_.subdivisions - 1)) == 0 &&
+           !rotated.column_cxe.empty();
+  }
+  // Index of the cell holding the windows of cell offset (0, 0) for a block at (a, b).
+  std::ptrdiff_t AlignedBase(int a, int b) const;
+  // Bound (blocks 1: out[0]) or Bound4 (blocks 2) of a theta block's columns.
+  void ArcBounds(const RotatedTemplate& rotated, int a, int b, int level, int blocks,
+                 int out[4]) const;
   int FloorDivS(int v) const;
 
   PoseLattice lattice_;
@@ -76,6 +97,7 @@ class ColumnOccupancy {
   int words_ = 1;
   Grid base_;
   std::vector<Level> levels_;
+  bool aligned_ = false;  // every level shares the layout of levels_[0] over the lookup range.
   mutable std::vector<std::uint32_t> stamp_;
   mutable std::vector<std::uint64_t> acc_;
   mutable std::vector<int> touched_;

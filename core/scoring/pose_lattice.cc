@@ -4,6 +4,8 @@
 #include <climits>
 #include <cmath>
 
+#include "core/scoring/column_occupancy.h"
+
 namespace hpose {
 
 Status PoseLattice::Validate() const {
@@ -108,33 +110,75 @@ RotatedTemplate RotatePoints(const std::vector<Eigen::Vector3f>& points, const P
 
 namespace {
 
-// Union of two column views (both sorted by (qx, qy)): shared columns OR their masks.
-RotatedTemplate MergeColumns(const RotatedTemplate& a, const RotatedTemplate& b) {
-  RotatedTemplate out;
-  out.itheta = a.itheta;
-  out.z_base = a.z_base;
-  out.z_words = a.z_words;
-  const int w = a.z_words;
-  auto less = [](const Eigen::Vector2i& p, const Eigen::Vector2i& q) {
-    return p.x() != q.x() ? p.x() < q.x() : p.y() < q.y();
-  };
-  size_t i = 0, j = 0;
-  while (i < a.column_q.size() || j < b.column_q.size()) {
-    const bool take_a =
-        j == b.column_q.size() || (i < a.column_q.size() && !less(b.column_q[j], a.column_q[i]));
-    const bool take_b =
-        i == a.column_q.size() || (j < b.column_q.size() && !less(a.column_q[i], b.column_q[j]));
-    out.column_q.push_back(take_a ? a.column_q[i] : b.column_q[j]);
-    for (int k = 0; k < w; ++k) {
-      std::uint64_t m = 0;
-      if (take_a) m |= a.column_masks[i * w + k];
-      if (take_b) m |= b.column_masks[j * w + k];
-      out.column_masks.push_back(m);
-    }
-    if (take_a) ++i;
-    if (take_b) ++j;
+// Per template point, the square of sub-voxel coordinates it sweeps over a theta block.
+struct Arcs {
+  std::vector<Eigen::Vector2i> lo, hi;
+};
+
+Arcs ArcsOf(const RotatedTemplate& r) {
+  Arcs arcs;
+  for (const Eigen::Vector3i& q : r.sub_cells) {
+    arcs.lo.push_back(q.head<2>());
+    arcs.hi.push_back(q.head<2>());
+  }
+  return arcs;
+}
+
+Arcs Join(const Arcs& a, const Arcs& b) {
+  Arcs out = a;
+  for (size_t i = 0; i < out.lo.size(); ++i) {
+    out.lo[i] = out.lo[i].cwiseMin(b.lo[i]);
+    out.hi[i] = out.hi[i].cwiseMax(b.hi[i]);
   }
   return out;
+}
+
+// The block's column view: points with equal squares share a column (sorted by corner, then
+// side), the side being the larger extent of the two axes.
+RotatedTemplate BlockColumns(const Arcs& arcs, const RotatedTemplate& first, int itheta0) {
+  struct Entry {
+    int qx, qy, extent, z;
+  };
+  std::vector<Entry> entries;
+  entries.reserve(arcs.lo.size());
+  for (size_t i = 0; i < arcs.lo.size(); ++i) {
+    const Eigen::Vector2i side = arcs.hi[i] - arcs.lo[i];
+    entries.push_back({arcs.lo[i].x(), arcs.lo[i].y(), side.maxCoeff(), first.sub_cells[i].z()});
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    if (a.qx != b.qx) return a.qx < b.qx;
+    if (a.qy != b.qy) return a.qy < b.qy;
+    return a.extent < b.extent;
+  });
+  RotatedTemplate out;
+  out.itheta = itheta0;
+  out.z_base = first.z_base;
+  out.z_words = first.z_words;
+  for (const Entry& e : entries) {
+    const Eigen::Vector2i q(e.qx, e.qy);
+    if (out.column_q.empty() || out.column_q.back() != q || out.column_extent.back() != e.extent) {
+      out.column_q.push_back(q);
+      out.column_extent.push_back(e.extent);
+      out.column_masks.resize(out.column_masks.size() + out.z_words, 0);
+    }
+    const int bit = e.z - out.z_base;
+    out.column_masks[(out.column_q.size() - 1) * out.z_words + bit / 64] |= std::uint64_t{1}
+                                                                            << (bit % 64);
+  }
+  return out;
+}
+
+// Fills column_cxe / column_cy for a power-of-two subdivision (2^shift).
+void AddCellTables(int shift, RotatedTemplate* r) {
+  if (shift < 0) return;
+  const int mask = (1 << shift) - 1;
+  r->column_cxe.clear();
+  r->column_cy.clear();
+  for (const Eigen::Vector2i& q : r->column_q) {
+    const int e = 2 * ((q.x() & mask) != 0 ? 1 : 0) + ((q.y() & mask) != 0 ? 1 : 0);
+    r->column_cxe.push_back(4 * (q.x() >> shift) + e);
+    r->column_cy.push_back(q.y() >> shift);
+  }
 }
 
 }  // namespace
@@ -146,18 +190,39 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
   for (int i = 0; i < lattice.angle_steps; ++i) {
     rotations_.push_back(RotatePoints(points, lattice, i));
   }
+  std::vector<Arcs> arcs;  // of the previous level's blocks.
+  for (const RotatedTemplate& r : rotations_) arcs.push_back(ArcsOf(r));
   for (int level = 1; level < kThetaLevels; ++level) {
     std::vector<RotatedTemplate> blocks;
-    const int size = 1 << level;
-    for (int start = 0; start < lattice.angle_steps; start += size) {
-      const RotatedTemplate& left = GetBlock(level - 1, start);
-      const int right_start = start + size / 2;
-      blocks.push_back(right_start < lattice.angle_steps
-                           ? MergeColumns(left, GetBlock(level - 1, right_start))
-                           : left);
-      blocks.back().itheta = start;
+    std::vector<Arcs> joined;
+    for (size_t k = 0; k < arcs.size(); k += 2) {
+      joined.push_back(k + 1 < arcs.size() ? Join(arcs[k], arcs[k + 1]) : arcs[k]);
+      const int start = static_cast<int>(k / 2) << level;
+      blocks.push_back(BlockColumns(joined.back(), rotations_[start], start));
+      for (int e : blocks.back().column_extent) max_block_extent_ = std::max(max_block_extent_, e);
     }
     blocks_.push_back(std::move(blocks));
+    arcs = std::move(joined);
+  }
+  int shift = -1;
+  for (int k = 0; k < 31; ++k) {
+    if ((1 << k) == lattice.subdivisions) shift = k;
+  }
+  bool first = true;
+  const auto visit = [&](RotatedTemplate* r) {
+    AddCellTables(shift, r);
+    for (const Eigen::Vector2i& q : r->column_q) {
+      column_q_min_ = first ? q : column_q_min_.cwiseMin(q);
+      column_q_max_ = first ? q : column_q_max_.cwiseMax(q);
+      first = false;
+    }
+  };
+  for (RotatedTemplate& r : rotations_) {
+    visit(&r);
+    disjoint_.push_back(CellDisjointMasks(r, lattice.subdivisions));
+  }
+  for (std::vector<RotatedTemplate>& level : blocks_) {
+    for (RotatedTemplate& r : level) visit(&r);
   }
 }
 

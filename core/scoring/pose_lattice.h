@@ -76,6 +76,17 @@ struct RotatedTemplate {
   int z_words = 0;                          // 64-bit words per column mask.
   std::vector<Eigen::Vector2i> column_q;    // (qx, qy) per column, sorted.
   std::vector<std::uint64_t> column_masks;  // z_words per column.
+  // Theta blocks only (TemplateRotations::GetBlock with level > 0): over the block's rotations
+  // the template columns gathered in column c lie at sub-voxel coordinates within
+  // [column_q[c], column_q[c] + column_extent[c]] on both axes. Empty for single rotations
+  // (every extent 0).
+  std::vector<int> column_extent;
+  // With a power-of-two subdivision S, per column: the cell of column_q (q >> log2 S) as cy and
+  // 4 cx + e, e = 2 [qx mod S != 0] + [qy mod S != 0]: for a translation block of at least S
+  // steps starting at a multiple of S, the window the column sweeps starts at its cell plus the
+  // block's and is one cell longer per axis where e says (ColumnOccupancy's aligned path).
+  std::vector<std::int32_t> column_cxe;
+  std::vector<std::int32_t> column_cy;
 };
 
 RotatedTemplate RotateTemplate(const VoxelTemplate& tpl, const PoseLattice& lattice, int itheta);
@@ -92,9 +103,12 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
 
 // All angle_steps rotations of one template under one lattice, computed once at construction
 // (360 rotations of a few thousand voxels: a few ms, a few MB), plus a pyramid over theta for
-// branch and bound: the block of level t starting at itheta0 (a multiple of 2^t) is the union
-// of the columns of rotations itheta0 .. itheta0 + 2^t - 1 (masks OR-ed), so each of those
-// rotations' columns maps to a block column with the same (qx, qy) and a superset mask.
+// branch and bound: the block of level t starting at itheta0 (a multiple of 2^t) holds, per
+// template column, the arc it sweeps over rotations itheta0 .. itheta0 + 2^t - 1 as the
+// smallest square of sub-voxel coordinates holding it (corner column_q, side column_extent),
+// columns with equal squares merged. Every voxel of every rotation in the block then lies in
+// exactly one block column's square with its z bit set, and counts once in a bound over the
+// block, however far it moves.
 // Immutable, so shareable between threads.
 class TemplateRotations {
  public:
@@ -103,9 +117,16 @@ class TemplateRotations {
   TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice);
   // itheta in [0, angle_steps).
   const RotatedTemplate& Get(int itheta) const { return rotations_[itheta]; }
-  // Union columns of the theta block (level, itheta0); level 0 is Get(itheta0). Only the
-  // column view (column_q, column_masks, z_base, z_words) is filled for level > 0.
+  // The columns of the theta block (level, itheta0); level 0 is Get(itheta0). Only the column
+  // view (column_q, column_masks, column_extent, z_base, z_words) is filled for level > 0.
   const RotatedTemplate& GetBlock(int level, int itheta0) const;
+  // The largest column_extent of any theta block (0 without blocks).
+  int max_block_extent() const { return max_block_extent_; }
+  // CellDisjointMasks of rotation itheta (for free-space lower bounds), made once.
+  const std::vector<std::uint64_t>& DisjointMasks(int itheta) const { return disjoint_[itheta]; }
+  // The range of column_q over every rotation and block (sub-voxel steps).
+  const Eigen::Vector2i& column_q_min() const { return column_q_min_; }
+  const Eigen::Vector2i& column_q_max() const { return column_q_max_; }
   const std::string& name() const { return name_; }
   double height_m() const { return height_m_; }
   const PoseLattice& lattice() const { return lattice_; }
@@ -117,6 +138,10 @@ class TemplateRotations {
   std::vector<RotatedTemplate> rotations_;
   // blocks_[level - 1][itheta0 >> level] for level in [1, kThetaLevels).
   std::vector<std::vector<RotatedTemplate>> blocks_;
+  int max_block_extent_ = 0;
+  std::vector<std::vector<std::uint64_t>> disjoint_;  // per rotation.
+  Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
+  Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
 };
 
 }  // namespace hpose

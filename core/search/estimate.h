@@ -87,6 +87,17 @@ struct StageTimings {
 };
 
 // Everything one frame produced.
+// How a frame was searched: cold, or seeded with the previous frame's pose (PoseTracker). The
+// result is the same either way: a seeded search still proves the global optimum, so a robot
+// that moved far (or a second one) is found in the same frame.
+struct TrackingInfo {
+  bool tracked = false;       // the previous pose seeded the search of the cluster holding it.
+  bool prior_given = false;   // a previous pose was offered (false: a cold start).
+  bool floor_reused = false;  // the previous frame's floor still fitted this frame's points.
+  std::string prior_template;
+  Pose2D prior_pose;  // ground frame.
+};
+
 struct Estimate {
   FloorEstimate floor;
   int cloud_points = 0;
@@ -94,6 +105,7 @@ struct Estimate {
   std::vector<Candidate> candidates;  // every (cluster, template), best score first.
   std::vector<Detection> detections;  // one per searched cluster, best score first.
   StageTimings timings;
+  TrackingInfo tracking;
 
   // Detections that pass the score threshold (is_humanoid), best first.
   std::vector<Detection> Humanoids() const;

@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "core/common/task_pool.h"
 #include "core/depth/cloud_validation.h"
 #include "core/search/exact_search.h"
 
@@ -240,6 +241,7 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
     silhouette_widths_.push_back(SilhouetteWidths(t, options_.clusters.min_height_above_floor_m));
   }
   search_ = MakeSearch(options_);
+  pool_ = std::make_unique<TaskPool>(TaskPool::Resolve(options_.threads));
 }
 
 Estimator::~Estimator() = default;
@@ -267,6 +269,11 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
                            std::to_string(options.lattice.resolution_m) + " m");
     }
   }
+  if (options.threads < 0 || options.threads > 256) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "threads must be within [0, 256] (0: one per core), got " +
+                         std::to_string(options.threads));
+  }
   if (!(options.score_threshold >= 0.0 && options.score_threshold <= 100.0)) {
     return MakeError(ErrorCode::kInvalidArgument, "score_threshold must be within [0, 100]");
   }
@@ -279,21 +286,28 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
   return e;
 }
 
-Result<Estimate> Estimator::EstimateDepth(const DepthImage& depth,
-                                          const Intrinsics& intrinsics) const {
+Result<Estimate> Estimator::EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics,
+                                          const FramePrior* prior) const {
   const Clock::time_point t0 = Clock::now();
   Result<PointCloud> cloud = DepthToCloud(depth, intrinsics, options_.cloud);
   if (!cloud.ok()) return cloud.error();
-  return Run(*cloud, MsSince(t0));
+  return Run(*cloud, MsSince(t0), prior);
 }
 
-Result<Estimate> Estimator::EstimateCloud(const PointCloud& cloud_sensor) const {
-  return Run(cloud_sensor, 0.0);
+Result<Estimate> Estimator::EstimateCloud(const PointCloud& cloud_sensor,
+                                          const FramePrior* prior) const {
+  return Run(cloud_sensor, 0.0, prior);
 }
 
-Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const {
+Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
+                                const FramePrior* prior) const {
   const Clock::time_point t_start = Clock::now();
   Estimate est;
+  if (prior != nullptr) {
+    est.tracking.prior_given = true;
+    est.tracking.prior_template = prior->template_name;
+    est.tracking.prior_pose = prior->pose;
+  }
   est.timings.cloud_ms = cloud_ms;
   const Status valid = ValidateCloud(cloud);  // finite and bounded before PCL sees it.
   if (!valid.ok()) return valid.error();
@@ -344,24 +358,38 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
     }
     reach += 2.0 * options_.lattice.resolution_m;
   }
-  double refine_ms = 0.0;
-  for (size_t i = 0; i < clusters->size(); ++i) {
+  // What each cluster shares between its templates' searches.
+  struct ClusterWork {
+    ClusterVoxels voxels;
+    ClusterVoxels free;
+    int n = 0;  // cluster voxels (the score's denominator).
+  };
+  struct Task {
+    int cluster = 0;
+    int tpl = 0;
+    bool kept = false;    // passed the voxel-count bound.
+    bool seeded = false;  // the prior pose lay in its search region.
+    Candidate cand;
+    double refine_ms = 0.0;
+  };
+  const int cluster_count = static_cast<int>(clusters->size());
+  std::vector<ClusterWork> work(cluster_count);
+  std::vector<Task> tasks;
+  std::vector<int> searched_clusters;
+  for (int i = 0; i < cluster_count; ++i) {
     const Cluster& c = (*clusters)[i];
     ClusterSummary summary;
-    summary.index = static_cast<int>(i);
+    summary.index = i;
     summary.points = static_cast<int>(c.points.size());
     summary.centroid = c.centroid;
     summary.min = c.min;
     summary.max = c.max;
-
-    std::unique_ptr<PoseScorer> scorer;
-    ClusterVoxels voxels;
-    ClusterVoxels free;
+    est.clusters.push_back(summary);
     const double width = ApparentWidth(c);
     const double visible_top = options_.height_check_uses_view
                                    ? top_of_view.HeightAbove(c)
                                    : std::numeric_limits<double>::infinity();
-    const Observation obs{&c.points, &range, sensor_from_ground};
+    const size_t before = tasks.size();
     for (size_t j = 0; j < templates_.size(); ++j) {
       const TemplateRotations& rot = *rotations_[j];
       if (options_.max_height_ratio_error >= 0.0) {
@@ -373,80 +401,122 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms) const 
       const auto [narrow, wide] = silhouette_widths_[j];
       if (options_.min_width_ratio >= 0.0 && width < options_.min_width_ratio * narrow) continue;
       if (options_.max_width_ratio >= 0.0 && width > options_.max_width_ratio * wide) continue;
-      if (scorer == nullptr) {
-        const double res = options_.lattice.resolution_m;
-        voxels = VoxeliseCluster(c.points, res);
-        scorer = MakePoseScorer(options_.scorer, voxels, options_.lattice);
-        if (use_free_space) {
-          // Wherever a template placed in the search region can reach (the search region grows
-          // the cluster by one template reach, the template reaches one more).
-          const Eigen::Vector3f lo(c.min.x() - 2 * reach, c.min.y() - 2 * reach, 0.0f);
-          const Eigen::Vector3f hi(c.max.x() + 2 * reach, c.max.y() + 2 * reach, 0.0f);
-          Eigen::Vector3i cell_lo = CellOf(lo, res), cell_hi = CellOf(hi, res);
-          cell_lo.z() = 0;
-          cell_hi.z() = top_cell;
-          free =
-              FreeSpaceCells(range, sensor_from_ground, cell_lo, cell_hi, res, options_.free_space);
-        }
-      }
-      // A bound, not a heuristic: a placed template covers at most as many cluster voxels as it
-      // has voxels, so a cluster that large cannot reach the threshold with it.
-      const int n = scorer->cluster_voxels();
-      if (options_.score_threshold > 0.0 && n > 0 &&
-          100.0 * static_cast<double>(templates_[j].voxels.size()) / n < options_.score_threshold) {
-        continue;
-      }
-      SearchProblem problem;
-      problem.cluster = &voxels;
-      problem.scorer = scorer.get();
-      problem.rotations = &rot;
-      problem.centre_ground = c.centroid.head<2>().cast<double>();
-      problem.free_space = use_free_space ? &free : nullptr;
-      problem.free_space_weight = options_.free_space_weight;
-      problem.hit_weight = options_.hit_weight;
-      if (options_.stop_below_threshold) {
-        problem.min_value = static_cast<int>(
-            std::ceil(options_.score_threshold * options_.hit_weight * n / 100.0 - 1e-9));
-      }
-      const SearchResult r = search_->Search(problem);
-      Candidate cand;
-      cand.template_name = rot.name();
-      cand.cluster_index = summary.index;
-      cand.pose = r.pose;
-      cand.lattice_pose = r.pose;
-      cand.score = r.score;
-      cand.coverage = r.coverage;
-      cand.stopped_below_threshold = r.below_min_value;
-      cand.score_upper_bound = r.below_min_value ? r.score_upper_bound : r.score;
-      cand.free_space_hits = r.free_hits;
-      cand.hits = r.hits;
-      cand.cluster_voxels = n;
-      cand.has_runner_up = r.has_runner_up;
-      cand.runner_up_pose = r.runner_up_pose;
-      cand.runner_up_score = r.runner_up_score;
-      cand.poses_evaluated = r.poses_evaluated;
-      cand.bounds_evaluated = r.bounds_evaluated;
-      if (refine && !r.below_min_value) {
-        const Clock::time_point t_refine = Clock::now();
-        // What the pose's search scores would be at another lattice pose (when the refined
-        // runner-up replaces the search's optimum).
-        const auto rescore = [&](Candidate* cd) {
-          const LatticePose lp = NearestLatticePose(options_.lattice, cd->lattice_pose);
-          const RotatedTemplate& rt = rot.Get(lp.itheta);
-          cd->hits = scorer->Hits(rt, lp.ix, lp.iy);
-          cd->free_space_hits = use_free_space
-                                    ? MakePoseScorer(ScorerKind::kFast, free, options_.lattice)
-                                          ->Hits(rt, lp.ix, lp.iy)
-                                    : 0;
-          cd->coverage = n > 0 ? 100.0 * cd->hits / n : 0.0;
-        };
-        RefineCandidate(*surfaces_[j], obs, options_.refine, rescore, &cand);
-        refine_ms += MsSince(t_refine);
-      }
-      est.candidates.push_back(cand);
-      summary.searched = true;
+      Task task;
+      task.cluster = i;
+      task.tpl = static_cast<int>(j);
+      tasks.push_back(task);
     }
-    est.clusters.push_back(summary);
+    if (tasks.size() > before) searched_clusters.push_back(i);
+  }
+
+  // Voxels and free space of every cluster that has a template to search, one cluster per
+  // thread.
+  const double res = options_.lattice.resolution_m;
+  pool_->ParallelFor(static_cast<int>(searched_clusters.size()), [&](int k) {
+    const int i = searched_clusters[k];
+    const Cluster& c = (*clusters)[i];
+    ClusterWork& w = work[i];
+    w.voxels = VoxeliseCluster(c.points, res);
+    w.n = MakePoseScorer(ScorerKind::kFast, w.voxels, options_.lattice)->cluster_voxels();
+    if (use_free_space) {
+      // Wherever a template placed in the search region can reach (the search region grows
+      // the cluster by one template reach, the template reaches one more).
+      const Eigen::Vector3f lo(c.min.x() - 2 * reach, c.min.y() - 2 * reach, 0.0f);
+      const Eigen::Vector3f hi(c.max.x() + 2 * reach, c.max.y() + 2 * reach, 0.0f);
+      Eigen::Vector3i cell_lo = CellOf(lo, res), cell_hi = CellOf(hi, res);
+      cell_lo.z() = 0;
+      cell_hi.z() = top_cell;
+      w.free =
+          FreeSpaceCells(range, sensor_from_ground, cell_lo, cell_hi, res, options_.free_space);
+    }
+  });
+
+  // Every (cluster, template) search and its refinement, one per thread; each task has its own
+  // scorer (scorers keep scratch space).
+  pool_->ParallelFor(static_cast<int>(tasks.size()), [&](int k) {
+    Task& task = tasks[k];
+    const Cluster& c = (*clusters)[task.cluster];
+    const ClusterWork& w = work[task.cluster];
+    const int j = task.tpl;
+    const TemplateRotations& rot = *rotations_[j];
+    // A bound, not a heuristic: a placed template covers at most as many cluster voxels as it
+    // has voxels, so a cluster that large cannot reach the threshold with it.
+    const int n = w.n;
+    if (options_.score_threshold > 0.0 && n > 0 &&
+        100.0 * static_cast<double>(templates_[j].voxels.size()) / n < options_.score_threshold) {
+      return;
+    }
+    task.kept = true;
+    const std::unique_ptr<PoseScorer> scorer =
+        MakePoseScorer(options_.scorer, w.voxels, options_.lattice);
+    SearchProblem problem;
+    problem.cluster = &w.voxels;
+    problem.scorer = scorer.get();
+    problem.rotations = &rot;
+    problem.centre_ground = c.centroid.head<2>().cast<double>();
+    problem.free_space = use_free_space ? &w.free : nullptr;
+    problem.free_space_weight = options_.free_space_weight;
+    problem.hit_weight = options_.hit_weight;
+    if (options_.stop_below_threshold) {
+      problem.min_value = static_cast<int>(
+          std::ceil(options_.score_threshold * options_.hit_weight * n / 100.0 - 1e-9));
+    }
+    // The prior pose seeds the search of the cluster it stands on (within a hand of its
+    // footprint), for every template: the bodies differ little.
+    LatticePose incumbent;
+    constexpr float kFootprintMargin = 0.15f;  // metres.
+    if (prior != nullptr && prior->pose.x >= c.min.x() - kFootprintMargin &&
+        prior->pose.x <= c.max.x() + kFootprintMargin &&
+        prior->pose.y >= c.min.y() - kFootprintMargin &&
+        prior->pose.y <= c.max.y() + kFootprintMargin) {
+      incumbent = NearestLatticePose(options_.lattice, prior->pose);
+      problem.incumbent = &incumbent;
+    }
+    const SearchResult r = search_->Search(problem);
+    task.seeded = r.incumbent_used;
+    Candidate& cand = task.cand;
+    cand.template_name = rot.name();
+    cand.cluster_index = task.cluster;
+    cand.pose = r.pose;
+    cand.lattice_pose = r.pose;
+    cand.score = r.score;
+    cand.coverage = r.coverage;
+    cand.stopped_below_threshold = r.below_min_value;
+    cand.score_upper_bound = r.below_min_value ? r.score_upper_bound : r.score;
+    cand.free_space_hits = r.free_hits;
+    cand.hits = r.hits;
+    cand.cluster_voxels = n;
+    cand.has_runner_up = r.has_runner_up;
+    cand.runner_up_pose = r.runner_up_pose;
+    cand.runner_up_score = r.runner_up_score;
+    cand.poses_evaluated = r.poses_evaluated;
+    cand.bounds_evaluated = r.bounds_evaluated;
+    if (refine && !r.below_min_value) {
+      const Clock::time_point t_refine = Clock::now();
+      const Observation obs{&c.points, &range, sensor_from_ground};
+      // What the pose's search scores would be at another lattice pose (when the refined
+      // runner-up replaces the search's optimum).
+      const auto rescore = [&](Candidate* cd) {
+        const LatticePose lp = NearestLatticePose(options_.lattice, cd->lattice_pose);
+        const RotatedTemplate& rt = rot.Get(lp.itheta);
+        cd->hits = scorer->Hits(rt, lp.ix, lp.iy);
+        cd->free_space_hits = use_free_space
+                                  ? MakePoseScorer(ScorerKind::kFast, w.free, options_.lattice)
+                                        ->Hits(rt, lp.ix, lp.iy)
+                                  : 0;
+        cd->coverage = n > 0 ? 100.0 * cd->hits / n : 0.0;
+      };
+      RefineCandidate(*surfaces_[j], obs, options_.refine, rescore, &cand);
+      task.refine_ms = MsSince(t_refine);
+    }
+  });
+  double refine_ms = 0.0;  // summed over the candidates (CPU time, whatever the threads).
+  for (const Task& task : tasks) {
+    if (!task.kept) continue;
+    est.candidates.push_back(task.cand);
+    est.clusters[task.cluster].searched = true;
+    refine_ms += task.refine_ms;
+    est.tracking.tracked = est.tracking.tracked || task.seeded;
   }
   est.timings.search_ms = MsSince(t);
   est.timings.refine_ms = refine_ms;

@@ -23,6 +23,8 @@
 
 namespace hpose {
 
+class TaskPool;
+
 enum class SearchKind { kPaper, kExact };
 
 const char* SearchKindName(SearchKind kind);
@@ -87,10 +89,20 @@ struct EstimatorOptions {
   // Continuous refinement of each candidate's lattice pose and the refined evidence that
   // chooses between the runner-up heading and between templates (pose_refiner.h).
   RefineOptions refine;
+  // Threads for the (cluster, template) searches and refinements of a frame, the calling
+  // thread included; 0: one per core. Results do not depend on it.
+  int threads = 1;
 };
 
 // Default options (the paper's settings, Kinect v1) in one place.
 EstimatorOptions DefaultEstimatorOptions();
+
+// What a stream's previous frame tells the next one's search (PoseTracker keeps it): the pose
+// of the humanoid found there, ground frame.
+struct FramePrior {
+  std::string template_name;
+  Pose2D pose;
+};
 
 // The depth-template estimator: cloud -> floor -> clusters -> search every template on every
 // cluster. Thread-compatible: one Estimate call at a time per instance.
@@ -104,9 +116,13 @@ class Estimator {
   // Fails with kInvalidArgument (bad intrinsics, size mismatch, no valid depth) or
   // kFailedPrecondition (no floor found). "No humanoid" is not a failure: see
   // Estimate::Humanoids().
-  Result<Estimate> EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics) const;
+  // With `prior`, the cluster holding the prior pose is searched from it first (same result,
+  // see TrackingInfo).
+  Result<Estimate> EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics,
+                                 const FramePrior* prior = nullptr) const;
   // `cloud_sensor` in the sensor frame (x right, y down, z forward), metres; NaNs are skipped.
-  Result<Estimate> EstimateCloud(const PointCloud& cloud_sensor) const;
+  Result<Estimate> EstimateCloud(const PointCloud& cloud_sensor,
+                                 const FramePrior* prior = nullptr) const;
 
   const std::vector<VoxelTemplate>& templates() const { return templates_; }
   const EstimatorOptions& options() const { return options_; }
@@ -115,7 +131,8 @@ class Estimator {
 
  private:
   Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates);
-  Result<Estimate> Run(const PointCloud& cloud_sensor, double cloud_ms) const;
+  Result<Estimate> Run(const PointCloud& cloud_sensor, double cloud_ms,
+                       const FramePrior* prior) const;
 
   EstimatorOptions options_;
   std::vector<VoxelTemplate> templates_;
@@ -125,6 +142,7 @@ class Estimator {
   std::vector<std::pair<double, double>> silhouette_widths_;
   std::vector<std::unique_ptr<SurfaceModel>> surfaces_;  // one per template, for refinement.
   std::unique_ptr<PoseSearch> search_;
+  std::unique_ptr<TaskPool> pool_;
 };
 
 }  // namespace hpose

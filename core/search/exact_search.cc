@@ -4,8 +4,8 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
-#include <queue>
 #include <vector>
 
 #include "core/scoring/column_occupancy.h"
@@ -62,8 +62,7 @@ class Evaluator {
         free_(free),
         free_weight_(free_weight),
         hit_weight_(hit_weight),
-        rotations_(rotations),
-        disjoint_(free != nullptr ? rotations.lattice().angle_steps : 0) {}
+        rotations_(rotations) {}
 
   int Value(const RotatedTemplate& r, int a, int b) const {
     int v = hit_weight_ * cluster_->Hits(r, a, b);
@@ -82,11 +81,9 @@ class Evaluator {
     return free_ != nullptr && tlevel == 0 && level > 0;
   }
   // Weighted lower bound of the free hits of rotation itheta over the block.
-  int FreePart(int itheta, int a, int b, int level) {
-    std::vector<std::uint64_t>& masks = disjoint_[itheta];
-    const RotatedTemplate& r = rotations_.Get(itheta);
-    if (masks.empty()) masks = CellDisjointMasks(r, rotations_.lattice().subdivisions);
-    return free_weight_ * free_->LowerBound(r, masks.data(), a, b, level);
+  int FreePart(int itheta, int a, int b, int level) const {
+    return free_weight_ * free_->LowerBound(rotations_.Get(itheta),
+                                            rotations_.DisjointMasks(itheta).data(), a, b, level);
   }
 
  private:
@@ -95,7 +92,6 @@ class Evaluator {
   int free_weight_;
   int hit_weight_;
   const TemplateRotations& rotations_;
-  std::vector<std::vector<std::uint64_t>> disjoint_;  // per theta, made on first use.
 };
 
 // Best-first branch and bound over thetas and the translation region. Next() returns the
@@ -105,7 +101,7 @@ class Evaluator {
 class BranchAndBound {
  public:
   BranchAndBound(Evaluator* eval, const TemplateRotations& rotations,
-                 const ExactSearch::Region& region, int top_level, int min_value,
+                 const ExactSearch::Region& region, int top_level, int min_value, int defer_below,
                  SearchResult* counters)
       : eval_(*eval),
         rotations_(rotations),
@@ -113,7 +109,8 @@ class BranchAndBound {
         min_value_(min_value),
         counters_(counters),
         steps_(rotations.lattice().angle_steps),
-        allowed_(steps_, true) {
+        allowed_(steps_, true),
+        defer_below_(defer_below) {
     int top_tlevel = TemplateRotations::kThetaLevels - 1;
     while (top_tlevel > 0 && (1 << top_tlevel) > steps_) --top_tlevel;
     const int block = 1 << top_level;
@@ -131,9 +128,11 @@ class BranchAndBound {
   // remaining node, evaluated exactly. Always a real pose of the lattice with its exact value.
   BranchAndBoundResult BestEvaluated() {
     if (!best_exact_.found) {
-      while (!queue_.empty()) {
-        Node n = Unpack(queue_.top());
-        queue_.pop();
+      defer_below_ = std::numeric_limits<int>::min();  // nothing is deferred from here on.
+      MergeDeferredIfNeeded();
+      while (!Empty()) {
+        Node n = Unpack(Top());
+        Pop();
         if (!AnyAllowed(n.itheta, n.tlevel)) continue;
         // Descend best first until a pose is evaluated.
         while (!best_exact_.found && (n.tlevel > 0 || n.level > 0)) {
@@ -149,8 +148,8 @@ class BranchAndBound {
             }
           }
           if (best_exact_.found || queue_.size() == size_before) break;
-          n = Unpack(queue_.top());
-          queue_.pop();
+          n = Unpack(Top());
+          Pop();
           if (n.loose) n.value -= eval_.FreePart(n.itheta, n.a, n.b, n.level);
         }
         if (best_exact_.found) break;
@@ -166,9 +165,9 @@ class BranchAndBound {
 
   BranchAndBoundResult Next() {
     BranchAndBoundResult out;
-    while (!queue_.empty()) {
-      const Node n = Unpack(queue_.top());
-      queue_.pop();
+    for (MergeDeferredIfNeeded(); !Empty(); MergeDeferredIfNeeded()) {
+      const Node n = Unpack(Top());
+      Pop();
       if (!AnyAllowed(n.itheta, n.tlevel)) continue;
       if (n.loose) {  // subtract the free-space part now and queue it again.
         Node tight = n;
@@ -245,12 +244,37 @@ class BranchAndBound {
     p.lo = ((kOffsetMask - da) << 40) | ((kOffsetMask - db) << 16) |
            (static_cast<std::uint64_t>(7 - n.tlevel) << 13) |
            (static_cast<std::uint64_t>(n.level) << 8) | (n.loose ? 1 : 0);
-    queue_.push(p);
+    if (n.value < defer_below_) {
+      deferred_.push_back(p);
+      return;
+    }
+    queue_.push_back(p);
+    std::push_heap(queue_.begin(), queue_.end(), PackedLess());
+  }
+
+  bool Empty() const { return queue_.empty(); }
+  const PackedNode& Top() const { return queue_.front(); }
+  void Pop() {
+    std::pop_heap(queue_.begin(), queue_.end(), PackedLess());
+    queue_.pop_back();
+  }
+  // Brings the deferred nodes in when the heap's best no longer beats them: the pop order is
+  // then the order without deferral.
+  void MergeDeferredIfNeeded() {
+    if (deferred_.empty()) return;
+    if (!queue_.empty() && UnpackValue(queue_.front()) >= defer_below_) return;
+    queue_.insert(queue_.end(), deferred_.begin(), deferred_.end());
+    deferred_.clear();
+    std::make_heap(queue_.begin(), queue_.end(), PackedLess());
+    defer_below_ = std::numeric_limits<int>::min();
+  }
+  static int UnpackValue(const PackedNode& p) {
+    return static_cast<int>(static_cast<std::uint32_t>(p.hi >> 32) ^ 0x80000000u);
   }
 
   Node Unpack(const PackedNode& p) const {
     Node n;
-    n.value = static_cast<int>(static_cast<std::uint32_t>(p.hi >> 32) ^ 0x80000000u);
+    n.value = UnpackValue(p);
     n.itheta = 0xFFFF - static_cast<int>(p.hi & 0xFFFF);
     n.a = region_.ix_min + static_cast<int>(kOffsetMask - (p.lo >> 40));
     n.b = region_.iy_min + static_cast<int>(kOffsetMask - ((p.lo >> 16) & kOffsetMask));
@@ -288,7 +312,11 @@ class BranchAndBound {
   const int steps_;
   std::vector<bool> allowed_;
   bool all_allowed_ = true;
-  std::priority_queue<PackedNode, std::vector<PackedNode>, PackedLess> queue_;
+  // A binary heap (std::push_heap order), plus nodes kept out of it while they cannot beat the
+  // incumbent: they join the heap, in one make_heap, once its best falls below defer_below_.
+  std::vector<PackedNode> queue_;
+  std::vector<PackedNode> deferred_;
+  int defer_below_;
   BranchAndBoundResult best_exact_;  // the best exactly evaluated pose so far.
 };
 
@@ -335,9 +363,12 @@ ExactSearch::Region ExactSearch::TranslationRegion(const ClusterVoxels& cluster,
   }
   const double res = lattice.resolution_m;
   const double step = lattice.step_m();
-  r.ix_min = static_cast<int>(std::floor((x_lo * res - margin) / step));
+  // Starting at a multiple of the subdivisions, every block of at least that many steps does
+  // too (ColumnOccupancy's aligned bounds).
+  const int s = lattice.subdivisions;
+  r.ix_min = s * FloorDiv(static_cast<int>(std::floor((x_lo * res - margin) / step)), s);
   r.ix_max = static_cast<int>(std::ceil(((x_hi + 1) * res + margin) / step));
-  r.iy_min = static_cast<int>(std::floor((y_lo * res - margin) / step));
+  r.iy_min = s * FloorDiv(static_cast<int>(std::floor((y_lo * res - margin) / step)), s);
   r.iy_max = static_cast<int>(std::ceil(((y_hi + 1) * res + margin) / step));
   return r;
 }
@@ -355,16 +386,45 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   int top = 0;
   while (top < options_.max_level && (1 << top) < span) ++top;
   const RotatedTemplate& r0 = rotations.Get(0);
-  const ColumnOccupancy occ(cluster, lattice, r0.z_base, r0.z_words, top);
+  // Theta blocks' columns sweep their arcs too: levels up to the one sweeping the top block
+  // plus the widest arc.
+  int arc_top = top;
+  while ((1 << arc_top) - 1 < (1 << top) - 1 + rotations.max_block_extent()) ++arc_top;
+  // Where bound windows start: any column's cell plus any block's (quarters of the last block
+  // reach one top block past the region).
+  const int s = lattice.subdivisions;
+  ColumnOccupancy::CellRange lookups;
+  lookups.x_lo = FloorDiv(region.ix_min, s) + FloorDiv(rotations.column_q_min().x(), s);
+  lookups.y_lo = FloorDiv(region.iy_min, s) + FloorDiv(rotations.column_q_min().y(), s);
+  lookups.x_hi =
+      FloorDiv(region.ix_max + (1 << top), s) + FloorDiv(rotations.column_q_max().x(), s);
+  lookups.y_hi =
+      FloorDiv(region.iy_max + (1 << top), s) + FloorDiv(rotations.column_q_max().y(), s);
+  const ColumnOccupancy occ(cluster, lattice, r0.z_base, r0.z_words, arc_top,
+                            ColumnOccupancy::Filter::kMax, &lookups);
   std::unique_ptr<ColumnOccupancy> free;
   if (problem.free_space != nullptr) {
     free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, r0.z_base, r0.z_words,
-                                             top, ColumnOccupancy::Filter::kMin);
+                                             top, ColumnOccupancy::Filter::kMin, &lookups);
   }
   Evaluator eval(&occ, free.get(), problem.free_space_weight, problem.hit_weight, rotations);
   const int n_weighted = n * problem.hit_weight;  // the score's denominator.
 
-  BranchAndBound bnb(&eval, rotations, region, top, problem.min_value, &result);
+  // A known pose's value (e.g. the previous frame's): nodes whose bound cannot reach it stay
+  // out of the queue until the search gets down to them (if ever). Same result, fewer heap
+  // operations.
+  int defer_below = problem.min_value;
+  if (problem.incumbent != nullptr) {
+    const LatticePose& p = *problem.incumbent;
+    if (p.ix >= region.ix_min && p.ix <= region.ix_max && p.iy >= region.iy_min &&
+        p.iy <= region.iy_max && p.itheta >= 0 && p.itheta < lattice.angle_steps) {
+      ++result.poses_evaluated;
+      result.incumbent_value = eval.Value(rotations.Get(p.itheta), p.ix, p.iy);
+      result.incumbent_used = true;
+      defer_below = std::max(defer_below, result.incumbent_value);
+    }
+  }
+  BranchAndBound bnb(&eval, rotations, region, top, problem.min_value, defer_below, &result);
   const BranchAndBoundResult best = bnb.Next();
   if (best.below_min) {
     result.below_min_value = true;

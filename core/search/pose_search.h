@@ -50,6 +50,10 @@ struct SearchProblem {
   // may stop as soon as it has proved that no pose reaches it, and then reports only that
   // bound (SearchResult::below_min_value). The default asks for the optimum whatever it is.
   int min_value = std::numeric_limits<int>::min();
+  // Optional: a pose believed good (the previous frame's, when tracking). The exact search
+  // evaluates it first and uses its value to order work; the result is the same with or without
+  // it (the global optimum is still proved).
+  const LatticePose* incumbent = nullptr;
 };
 
 // Finds the pose of highest value of one template over one cluster.

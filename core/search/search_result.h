@@ -30,6 +30,9 @@ struct SearchResult {
   bool below_min_value = false;
   int value_upper_bound = 0;
   double score_upper_bound = 0.0;
+  // SearchProblem::incumbent lay in the searched region and was evaluated: its value.
+  bool incumbent_used = false;
+  int incumbent_value = 0;
   std::int64_t poses_evaluated = 0;   // full score evaluations (bounds not counted).
   std::int64_t bounds_evaluated = 0;  // upper-bound evaluations (branch and bound only).
 };

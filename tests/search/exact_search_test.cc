@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <random>
 #include <set>
 #include <tuple>
 
@@ -61,6 +62,116 @@ TEST(ColumnOccupancyTest, HitsEqualReferenceAndBoundsAreUpperBounds) {
         // The block starting here contains (a, b) ... and the bound covers every pose in it.
         const int a0 = a - (k % (1 << level)), b0 = b - ((k / 2) % (1 << level));
         ASSERT_GE(occ.Bound(r, a0, b0, level), exact) << "level " << level;
+      }
+    }
+  }
+}
+
+// A theta block's bound covers every rotation of the block at every translation of the
+// translation block: the arcs its columns sweep are part of the bound, at every level and on
+// both subdivisions (power of two and not), including levels whose arcs pass the top level.
+TEST(ColumnOccupancyTest, ThetaBlockBoundsCoverEveryRotationOfTheBlock) {
+  std::mt19937 rng(11);
+  int checked = 0, arcs_past_top = 0;
+  for (unsigned scene = 0; scene < 6; ++scene) {
+    PoseLattice lattice;
+    lattice.subdivisions = scene % 2 == 1 ? 3 : 4;
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(scene), "t", lattice.resolution_m);
+    const Pose2D truth{1.0 + 0.1 * scene, 0.2 - 0.07 * scene, DegToRad(31.0 * scene)};
+    const ClusterVoxels cluster = VoxeliseCluster(
+        testing::VisibleCluster(testing::RandomRobotPoints(scene), truth, 0.004f, scene),
+        lattice.resolution_m);
+    const TemplateRotations rot(tpl, lattice);
+    ASSERT_GT(rot.max_block_extent(), 0);
+    // Hits equals the OctoMap reference (HitsEqualReferenceAndBoundsAreUpperBounds).
+    const ColumnOccupancy occ(cluster, lattice, rot.Get(0).z_base, rot.Get(0).z_words, 4);
+    const LatticePose c = NearestLatticePose(lattice, truth);
+    std::uniform_int_distribution<int> d(-30, 30), th(0, 359), tl(1, 4), off(0, 1 << 20);
+    for (int k = 0; k < 60; ++k) {
+      const int tlevel = tl(rng);
+      const int t0 = (th(rng) >> tlevel) << tlevel;
+      const RotatedTemplate& block = rot.GetBlock(tlevel, t0);
+      ASSERT_EQ(block.column_extent.size(), block.column_q.size());
+      const int level = k % 5;
+      const int a0 = c.ix + d(rng), b0 = c.iy + d(rng);
+      const int bound = occ.Bound(block, a0, b0, level);
+      int four[4];
+      if (level < 4) occ.Bound4(block, a0, b0, level, four);
+      for (int t = t0; t < std::min(360, t0 + (1 << tlevel)); ++t) {
+        for (int s = 0; s < 4; ++s) {  // translations in the block, corners included.
+          const int da = s < 2 ? (s == 0 ? 0 : (1 << level) - 1) : off(rng) % (1 << level);
+          const int db = s < 2 ? (s == 0 ? 0 : (1 << level) - 1) : off(rng) % (1 << level);
+          const int exact = occ.Hits(rot.Get(t), a0 + da, b0 + db);
+          ASSERT_GE(bound, exact) << "scene " << scene << " tlevel " << tlevel << " level "
+                                  << level;
+          if (level < 4) {
+            for (int q = 0; q < 4; ++q) {
+              const int qa = a0 + (q / 2) * (1 << level) + da,
+                        qb = b0 + (q % 2) * (1 << level) + db;
+              ASSERT_GE(four[q], occ.Hits(rot.Get(t), qa, qb)) << "quarter " << q;
+            }
+          }
+          ++checked;
+        }
+      }
+      // The arcs are never looser than counting every voxel of the block once.
+      int voxels = 0;
+      for (std::uint64_t m : block.column_masks) voxels += __builtin_popcountll(m);
+      EXPECT_LE(bound, voxels);
+      const int widest = *std::max_element(block.column_extent.begin(), block.column_extent.end());
+      if ((1 << level) - 1 + widest > (1 << 4) - 1) ++arcs_past_top;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(arcs_past_top, 0) << "no bound had a column past the top level";
+}
+
+// The aligned layout (one box for every level, per-column cell tables) gives exactly the bounds
+// of the per-level layout, for rotations and theta blocks, single and four-quarter bounds.
+TEST(ColumnOccupancyTest, AlignedBoundsEqualThePerLevelOnes) {
+  std::mt19937 rng(17);
+  for (unsigned scene = 0; scene < 4; ++scene) {
+    const PoseLattice lattice;  // 4 subdivisions.
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(scene), "t", lattice.resolution_m);
+    const Pose2D truth{1.1, -0.1 * scene, DegToRad(47.0 * scene)};
+    const ClusterVoxels cluster = VoxeliseCluster(
+        testing::VisibleCluster(testing::RandomRobotPoints(scene), truth, 0.004f, scene),
+        lattice.resolution_m);
+    const TemplateRotations rot(tpl, lattice);
+    const LatticePose c = NearestLatticePose(lattice, truth);
+    const int reach = 48;  // steps the tested blocks start from the truth.
+    ColumnOccupancy::CellRange range;
+    range.x_lo = FloorDiv(c.ix - reach, 4) + FloorDiv(rot.column_q_min().x(), 4);
+    range.y_lo = FloorDiv(c.iy - reach, 4) + FloorDiv(rot.column_q_min().y(), 4);
+    range.x_hi = FloorDiv(c.ix + reach + 64, 4) + FloorDiv(rot.column_q_max().x(), 4);
+    range.y_hi = FloorDiv(c.iy + reach + 64, 4) + FloorDiv(rot.column_q_max().y(), 4);
+    const int z_base = rot.Get(0).z_base, z_words = rot.Get(0).z_words;
+    const ColumnOccupancy plain(cluster, lattice, z_base, z_words, 7);
+    const ColumnOccupancy aligned(cluster, lattice, z_base, z_words, 7,
+                                  ColumnOccupancy::Filter::kMax, &range);
+    const ColumnOccupancy plain_min(cluster, lattice, z_base, z_words, 7,
+                                    ColumnOccupancy::Filter::kMin);
+    const ColumnOccupancy aligned_min(cluster, lattice, z_base, z_words, 7,
+                                      ColumnOccupancy::Filter::kMin, &range);
+    std::uniform_int_distribution<int> d(-reach / 4, reach / 4), th(0, 359), tl(0, 4), lv(2, 5);
+    for (int k = 0; k < 300; ++k) {
+      const int tlevel = tl(rng);
+      const RotatedTemplate& r = rot.GetBlock(tlevel, (th(rng) >> tlevel) << tlevel);
+      const int level = lv(rng);
+      const int a = 4 * (FloorDiv(c.ix, 4) + d(rng)), b = 4 * (FloorDiv(c.iy, 4) + d(rng));
+      ASSERT_EQ(aligned.Bound(r, a, b, level), plain.Bound(r, a, b, level))
+          << "scene " << scene << " tlevel " << tlevel << " level " << level;
+      int x[4], y[4];
+      aligned.Bound4(r, a, b, level, x);
+      plain.Bound4(r, a, b, level, y);
+      for (int q = 0; q < 4; ++q) ASSERT_EQ(x[q], y[q]) << "quarter " << q << " level " << level;
+      if (tlevel == 0) {  // the free-space lower bound (AND filter) of single rotations too.
+        const std::vector<std::uint64_t> masks = CellDisjointMasks(r, lattice.subdivisions);
+        ASSERT_EQ(aligned_min.LowerBound(r, masks.data(), a, b, level),
+                  plain_min.LowerBound(r, masks.data(), a, b, level))
+            << "scene " << scene << " level " << level;
       }
     }
   }

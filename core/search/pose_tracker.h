@@ -1,0 +1,37 @@
+#ifndef HPOSE_CORE_SEARCH_POSE_TRACKER_H_
+#define HPOSE_CORE_SEARCH_POSE_TRACKER_H_
+
+#include <optional>
+
+#include "core/common/status.h"
+#include "core/search/estimator.h"
+
+namespace hpose {
+
+// Estimates the frames of one stream in order, each seeded with the humanoid pose of the frame
+// before (Estimator's FramePrior), so the search starts from where the robot was. Every frame
+// is still searched globally: a robot that was carried away, or lost and found again, comes
+// back in the same frame. A frame without a humanoid (or an error) drops the prior: the next
+// search starts cold. Not thread-safe: one stream, one tracker.
+class PoseTracker {
+ public:
+  // `estimator` must outlive the tracker.
+  explicit PoseTracker(const Estimator* estimator) : estimator_(estimator) {}
+
+  Result<Estimate> EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics);
+  Result<Estimate> EstimateCloud(const PointCloud& cloud_sensor);
+
+  // Forgets the previous frame (e.g. when the source restarts).
+  void Reset() { prior_.reset(); }
+  const std::optional<FramePrior>& prior() const { return prior_; }
+
+ private:
+  Result<Estimate> Keep(Result<Estimate> estimate);
+
+  const Estimator* estimator_;
+  std::optional<FramePrior> prior_;
+};
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SEARCH_POSE_TRACKER_H_

@@ -1,0 +1,91 @@
+// Tracking seeds each frame's search with the previous pose and changes no result: the same
+// candidates as a cold search, and a robot carried away is found in the same frame.
+#include "core/search/pose_tracker.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/sim/frame_simulator.h"
+#include "core/sim/humanoid_model.h"
+
+namespace hpose {
+namespace {
+
+VoxelTemplate ModelTemplate(const std::string& preset) {
+  const HumanoidModel model = *HumanoidModel::FromPreset(preset);
+  const std::vector<Eigen::Vector3f> pts = *model.SampleSurface(0.004);
+  return *MakeTemplateFromPoints(pts, preset, 0.016, preset, "test");
+}
+
+SimulatedFrame Frame(const Pose2D& pose, std::uint64_t seed, bool humanoid = true) {
+  FrameSpec spec;
+  spec.preset = "standing";
+  spec.humanoid_pose = pose;
+  spec.clutter = 3;
+  spec.seed = seed;
+  if (!humanoid) spec.humanoid_pose = Pose2D{30.0, 0.0, 0.0};  // out of range: floor only.
+  return *SimulateFrame(spec);
+}
+
+void ExpectSameCandidates(const Estimate& a, const Estimate& b, int frame) {
+  ASSERT_EQ(a.candidates.size(), b.candidates.size()) << "frame " << frame;
+  for (size_t i = 0; i < a.candidates.size(); ++i) {
+    const Candidate& x = a.candidates[i];
+    const Candidate& y = b.candidates[i];
+    EXPECT_EQ(x.template_name, y.template_name) << "frame " << frame;
+    EXPECT_EQ(x.pose.x, y.pose.x) << "frame " << frame;
+    EXPECT_EQ(x.pose.y, y.pose.y) << "frame " << frame;
+    EXPECT_EQ(x.pose.theta, y.pose.theta) << "frame " << frame;
+    EXPECT_EQ(x.score, y.score) << "frame " << frame;
+    EXPECT_EQ(x.runner_up_score, y.runner_up_score) << "frame " << frame;
+  }
+}
+
+TEST(PoseTrackerTest, SeededFramesEqualColdOnesAndAKidnappedRobotIsFoundAtOnce) {
+  const std::vector<VoxelTemplate> tpls = {ModelTemplate("standing"),
+                                           ModelTemplate("right_arm_raised")};
+  auto estimator = std::move(Estimator::Create(DefaultEstimatorOptions(), tpls).value());
+  PoseTracker tracker(estimator.get());
+  const Intrinsics intrinsics = FrameSpec().intrinsics;
+  int tracked = 0;
+  for (int k = 0; k < 4; ++k) {
+    // Walking forward and turning; the last frame is carried 1.2 m to the side and turned.
+    Pose2D truth{1.3 + 0.03 * k, -0.2 + 0.02 * k, DegToRad(40.0 + 4.0 * k)};
+    if (k == 3) truth = Pose2D{2.2, 0.9, DegToRad(-100.0)};
+    const SimulatedFrame frame = Frame(truth, 11);
+    const Estimate cold = *estimator->EstimateDepth(frame.depth, intrinsics);
+    const Estimate seeded = *tracker.EstimateDepth(frame.depth, intrinsics);
+    EXPECT_FALSE(cold.tracking.prior_given);
+    EXPECT_EQ(seeded.tracking.prior_given, k > 0) << k;
+    ExpectSameCandidates(cold, seeded, k);
+    tracked += seeded.tracking.tracked ? 1 : 0;
+    if (k == 1 || k == 2) EXPECT_TRUE(seeded.tracking.tracked) << k;
+    if (k == 3) EXPECT_FALSE(seeded.tracking.tracked) << "the prior lay on no cluster";
+    ASSERT_FALSE(seeded.Humanoids().empty()) << k;
+    const Pose2D& p = seeded.Humanoids().front().best.pose;
+    EXPECT_LT(std::hypot(p.x - truth.x, p.y - truth.y), 0.05) << k;
+    EXPECT_LT(std::abs(AngleDiff(p.theta, truth.theta)), DegToRad(10.0)) << k;
+    ASSERT_TRUE(tracker.prior().has_value());
+    EXPECT_EQ(tracker.prior()->pose.x, p.x);
+  }
+  EXPECT_EQ(tracked, 2);
+}
+
+TEST(PoseTrackerTest, AFrameWithoutHumanoidDropsThePrior) {
+  auto estimator =
+      std::move(Estimator::Create(DefaultEstimatorOptions(), {ModelTemplate("standing")}).value());
+  PoseTracker tracker(estimator.get());
+  const Intrinsics intrinsics = FrameSpec().intrinsics;
+  ASSERT_TRUE(tracker.EstimateDepth(Frame({1.5, 0.0, 0.3}, 5).depth, intrinsics).ok());
+  ASSERT_TRUE(tracker.prior().has_value());
+  const Estimate empty = *tracker.EstimateDepth(Frame({1.5, 0.0, 0.3}, 5, false).depth, intrinsics);
+  EXPECT_TRUE(empty.Humanoids().empty());
+  EXPECT_FALSE(tracker.prior().has_value());
+  DepthImage bad;
+  EXPECT_FALSE(tracker.EstimateDepth(bad, intrinsics).ok());
+  EXPECT_FALSE(tracker.prior().has_value());
+}
+
+}  // namespace
+}  // namespace hpose
