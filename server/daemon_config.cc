@@ -180,6 +180,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     s.intrinsics = Resolve(base_dir, s.intrinsics);
     HPOSE_RETURN_IF_ERROR(r.Read("queue_capacity", &s.queue_capacity, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.Read("estimate_threads", &s.estimate_threads, "an integer"));
+    HPOSE_RETURN_IF_ERROR(r.Read("tracking", &s.tracking, "true or false"));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("frame_timeout_s", &s.frame_timeout_s));
     HPOSE_RETURN_IF_ERROR(
         r.ReadDouble("reconnect_initial_backoff_s", &s.reconnect_initial_backoff_s));
@@ -225,6 +226,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_range_m", &e.cloud.min_range_m));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("max_range_m", &e.cloud.max_range_m));
     HPOSE_RETURN_IF_ERROR(r.Read("stride", &e.cloud.stride, "an integer"));
+    HPOSE_RETURN_IF_ERROR(r.Read("threads", &e.threads, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
   }
   {
@@ -392,6 +394,9 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (s.estimate_threads < 1 || s.estimate_threads > 64) {
     return fail("source.estimate_threads", "must be in [1, 64]");
   }
+  if (c.estimator.threads < 0 || c.estimator.threads > 256) {
+    return fail("search.threads", "must be in [0, 256] (0: one per core)");
+  }
   if (!(s.frame_timeout_s > 0.0)) return fail("source.frame_timeout_s", "must be positive");
   if (!(s.reconnect_initial_backoff_s > 0.0)) {
     return fail("source.reconnect_initial_backoff_s", "must be positive");
@@ -473,6 +478,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "intrinsics" << YAML::Value << s.intrinsics;
   out << YAML::Key << "queue_capacity" << YAML::Value << s.queue_capacity;
   out << YAML::Key << "estimate_threads" << YAML::Value << s.estimate_threads;
+  out << YAML::Key << "tracking" << YAML::Value << s.tracking;
   out << YAML::Key << "frame_timeout_s" << YAML::Value << s.frame_timeout_s;
   out << YAML::Key << "reconnect_initial_backoff_s" << YAML::Value << s.reconnect_initial_backoff_s;
   out << YAML::Key << "reconnect_max_backoff_s" << YAML::Value << s.reconnect_max_backoff_s;
@@ -491,6 +497,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "min_range_m" << YAML::Value << e.cloud.min_range_m;
   out << YAML::Key << "max_range_m" << YAML::Value << e.cloud.max_range_m;
   out << YAML::Key << "stride" << YAML::Value << e.cloud.stride;
+  out << YAML::Key << "threads" << YAML::Value << e.threads;
   out << YAML::EndMap;
   out << YAML::Key << "floor" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "mode" << YAML::Value << (c.floor.fixed ? "fixed" : "fit");

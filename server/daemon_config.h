@@ -60,6 +60,10 @@ struct SourceConfig {
   // with a source whose frames take up to two frame periods to estimate (on >= 2 cores);
   // poses are still published in frame order (a live source's late older frame is dropped).
   int estimate_threads = 1;
+  // Track the robot over the stream: each frame's search starts from the previous frame's pose
+  // (the result is the same, the global optimum is still proved) and the floor is kept while
+  // it still fits the points (floor.mode fit) instead of being fitted every frame.
+  bool tracking = true;
   double frame_timeout_s = 2.0;              // live device: no frame for this long = lost.
   double reconnect_initial_backoff_s = 0.5;  // first retry delay after a loss, doubled each try.
   double reconnect_max_backoff_s = 8.0;      // upper bound of the retry delay.

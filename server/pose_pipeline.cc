@@ -7,6 +7,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "core/search/pose_tracker.h"
+
 namespace hpose::server {
 
 namespace {
@@ -226,6 +228,9 @@ void PosePipeline::CaptureLoop() {
 }
 
 void PosePipeline::EstimateLoop(Estimator* estimator) {
+  // One tracker per estimation thread: with several threads each follows every n-th frame.
+  PoseTracker tracker(estimator);
+  std::uint64_t tracked_epoch = 0;
   while (!stopping_.load()) {
     std::optional<Frame> frame;
     std::uint64_t ticket = 0;
@@ -237,9 +242,16 @@ void PosePipeline::EstimateLoop(Estimator* estimator) {
       ticket = publish_order_.NextTicket();
     }
     const Clock::time_point start = Clock::now();
-    Result<Estimate> result = frame->is_cloud
-                                  ? estimator->EstimateCloud(frame->cloud)
-                                  : estimator->EstimateDepth(frame->depth, frame->intrinsics);
+    if (frame->epoch != tracked_epoch) {  // the source (re)started: nothing to follow yet.
+      tracker.Reset();
+      tracked_epoch = frame->epoch;
+    }
+    Result<Estimate> result =
+        config_.tracking
+            ? (frame->is_cloud ? tracker.EstimateCloud(frame->cloud)
+                               : tracker.EstimateDepth(frame->depth, frame->intrinsics))
+            : (frame->is_cloud ? estimator->EstimateCloud(frame->cloud)
+                               : estimator->EstimateDepth(frame->depth, frame->intrinsics));
     auto published = std::make_shared<PublishedEstimate>();
     published->sequence = frame->sequence;
     published->source_time_s = frame->source_time_s;

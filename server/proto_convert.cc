@@ -105,6 +105,7 @@ void TimingsToProto(const StageTimings& t, v1::Timings* out) {
   out->set_cluster(t.cluster_ms * 1e-3);
   out->set_search(t.search_ms * 1e-3);
   out->set_total(t.total_ms * 1e-3);
+  out->set_refine(t.refine_ms * 1e-3);
 }
 
 void EstimateToProto(const Estimate& e, v1::DepthTemplateResult* out) {
@@ -120,6 +121,14 @@ void EstimateToProto(const Estimate& e, v1::DepthTemplateResult* out) {
     p->set_searched(c.searched);
   }
   for (const Candidate& c : e.candidates) CandidateToProto(c, out->add_candidates());
+  v1::Tracking* tracking = out->mutable_tracking();
+  tracking->set_tracked(e.tracking.tracked);
+  tracking->set_prior_given(e.tracking.prior_given);
+  tracking->set_floor_reused(e.tracking.floor_reused);
+  if (e.tracking.prior_given) {
+    tracking->set_prior_template(e.tracking.prior_template);
+    SetPose2D(e.tracking.prior_pose, tracking->mutable_prior_pose());
+  }
   for (const Detection& d : e.detections) DetectionToProto(d, out->add_detections());
   if (!e.detections.empty()) {
     DetectionToProto(e.detections.front(), out->mutable_best());

@@ -9,6 +9,7 @@
 
 #include "core/common/task_pool.h"
 #include "core/depth/cloud_validation.h"
+#include "core/depth/floor_tracker.h"
 #include "core/search/exact_search.h"
 
 namespace hpose {
@@ -303,7 +304,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
                                 const FramePrior* prior) const {
   const Clock::time_point t_start = Clock::now();
   Estimate est;
-  if (prior != nullptr) {
+  if (prior != nullptr && prior->has_pose) {
     est.tracking.prior_given = true;
     est.tracking.prior_template = prior->template_name;
     est.tracking.prior_pose = prior->pose;
@@ -326,6 +327,11 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   Clock::time_point t = Clock::now();
   if (options_.use_fixed_floor) {
     est.floor = options_.fixed_floor;
+  } else if (prior != nullptr && prior->floor != nullptr) {
+    Result<FloorEstimate> floor = prior->floor->Update(cloud);
+    if (!floor.ok()) return floor.error();
+    est.floor = *floor;
+    est.tracking.floor_reused = !prior->floor->refitted();
   } else {
     Result<FloorEstimate> floor = FitFloor(cloud, options_.floor_fit);
     if (!floor.ok()) return floor.error();
@@ -465,7 +471,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     // footprint), for every template: the bodies differ little.
     LatticePose incumbent;
     constexpr float kFootprintMargin = 0.15f;  // metres.
-    if (prior != nullptr && prior->pose.x >= c.min.x() - kFootprintMargin &&
+    if (prior != nullptr && prior->has_pose && prior->pose.x >= c.min.x() - kFootprintMargin &&
         prior->pose.x <= c.max.x() + kFootprintMargin &&
         prior->pose.y >= c.min.y() - kFootprintMargin &&
         prior->pose.y <= c.max.y() + kFootprintMargin) {

@@ -23,6 +23,7 @@
 
 namespace hpose {
 
+class FloorTracker;
 class TaskPool;
 
 enum class SearchKind { kPaper, kExact };
@@ -97,11 +98,14 @@ struct EstimatorOptions {
 // Default options (the paper's settings, Kinect v1) in one place.
 EstimatorOptions DefaultEstimatorOptions();
 
-// What a stream's previous frame tells the next one's search (PoseTracker keeps it): the pose
-// of the humanoid found there, ground frame.
+// What a stream's earlier frames tell the next one (PoseTracker keeps it): the pose of the
+// humanoid found in the previous frame (ground frame), and the stream's floor tracker, which
+// keeps the floor while it still fits instead of fitting it every frame.
 struct FramePrior {
+  bool has_pose = false;
   std::string template_name;
   Pose2D pose;
+  FloorTracker* floor = nullptr;  // optional; ignored with a fixed floor.
 };
 
 // The depth-template estimator: cloud -> floor -> clusters -> search every template on every

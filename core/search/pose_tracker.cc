@@ -3,21 +3,51 @@
 #include <utility>
 
 namespace hpose {
+namespace {
+
+FloorTrackerOptions FloorOptions(const Estimator& estimator) {
+  FloorTrackerOptions o;
+  o.fit = estimator.options().floor_fit;
+  return o;
+}
+
+}  // namespace
+
+PoseTracker::PoseTracker(const Estimator* estimator)
+    : estimator_(estimator), floor_(FloorOptions(*estimator)) {}
+
+void PoseTracker::Reset() {
+  prior_.reset();
+  floor_.Reset();
+}
+
+FramePrior PoseTracker::Context() {
+  FramePrior context = prior_ ? *prior_ : FramePrior{};
+  context.floor = &floor_;
+  return context;
+}
 
 Result<Estimate> PoseTracker::EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics) {
-  return Keep(estimator_->EstimateDepth(depth, intrinsics, prior_ ? &*prior_ : nullptr));
+  const FramePrior context = Context();
+  return Keep(estimator_->EstimateDepth(depth, intrinsics, &context));
 }
 
 Result<Estimate> PoseTracker::EstimateCloud(const PointCloud& cloud_sensor) {
-  return Keep(estimator_->EstimateCloud(cloud_sensor, prior_ ? &*prior_ : nullptr));
+  const FramePrior context = Context();
+  return Keep(estimator_->EstimateCloud(cloud_sensor, &context));
 }
 
 Result<Estimate> PoseTracker::Keep(Result<Estimate> estimate) {
   prior_.reset();
   if (!estimate.ok()) return estimate;
   const std::vector<Detection> humans = estimate->Humanoids();
-  if (!humans.empty())
-    prior_ = FramePrior{humans.front().best.template_name, humans.front().best.pose};
+  if (!humans.empty()) {
+    FramePrior p;
+    p.has_pose = true;
+    p.template_name = humans.front().best.template_name;
+    p.pose = humans.front().best.pose;
+    prior_ = p;
+  }
   return estimate;
 }
 

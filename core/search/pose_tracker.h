@@ -4,32 +4,38 @@
 #include <optional>
 
 #include "core/common/status.h"
+#include "core/depth/floor_tracker.h"
 #include "core/search/estimator.h"
 
 namespace hpose {
 
 // Estimates the frames of one stream in order, each seeded with the humanoid pose of the frame
-// before (Estimator's FramePrior), so the search starts from where the robot was. Every frame
-// is still searched globally: a robot that was carried away, or lost and found again, comes
-// back in the same frame. A frame without a humanoid (or an error) drops the prior: the next
-// search starts cold. Not thread-safe: one stream, one tracker.
+// before (Estimator's FramePrior), so the search starts from where the robot was, and with the
+// stream's floor kept while it still fits (FloorTracker). Every frame is still searched
+// globally: a robot that was carried away, or lost and found again, comes back in the same
+// frame. A frame without a humanoid (or an error) drops the pose: the next search starts cold.
+// Not thread-safe: one stream, one tracker.
 class PoseTracker {
  public:
   // `estimator` must outlive the tracker.
-  explicit PoseTracker(const Estimator* estimator) : estimator_(estimator) {}
+  explicit PoseTracker(const Estimator* estimator);
 
   Result<Estimate> EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics);
   Result<Estimate> EstimateCloud(const PointCloud& cloud_sensor);
 
-  // Forgets the previous frame (e.g. when the source restarts).
-  void Reset() { prior_.reset(); }
+  // Forgets the previous frames (e.g. when the source restarts): pose and floor.
+  void Reset();
+  // The pose the next frame starts from, if any.
   const std::optional<FramePrior>& prior() const { return prior_; }
 
  private:
   Result<Estimate> Keep(Result<Estimate> estimate);
 
+  FramePrior Context();
+
   const Estimator* estimator_;
-  std::optional<FramePrior> prior_;
+  std::optional<FramePrior> prior_;  // with has_pose.
+  FloorTracker floor_;
 };
 
 }  // namespace hpose

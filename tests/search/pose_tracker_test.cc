@@ -45,7 +45,12 @@ void ExpectSameCandidates(const Estimate& a, const Estimate& b, int frame) {
 TEST(PoseTrackerTest, SeededFramesEqualColdOnesAndAKidnappedRobotIsFoundAtOnce) {
   const std::vector<VoxelTemplate> tpls = {ModelTemplate("standing"),
                                            ModelTemplate("right_arm_raised")};
-  auto estimator = std::move(Estimator::Create(DefaultEstimatorOptions(), tpls).value());
+  // The floor is given (the sensor's true mount), so cold and tracked frames share it exactly
+  // and only the seeding differs.
+  EstimatorOptions options = DefaultEstimatorOptions();
+  options.use_fixed_floor = true;
+  options.fixed_floor = Frame({1.3, -0.2, 0.0}, 11).sensor_mount;
+  auto estimator = std::move(Estimator::Create(options, tpls).value());
   PoseTracker tracker(estimator.get());
   const Intrinsics intrinsics = FrameSpec().intrinsics;
   int tracked = 0;
@@ -70,6 +75,30 @@ TEST(PoseTrackerTest, SeededFramesEqualColdOnesAndAKidnappedRobotIsFoundAtOnce) 
     EXPECT_EQ(tracker.prior()->pose.x, p.x);
   }
   EXPECT_EQ(tracked, 2);
+}
+
+// With a fitted floor, the tracker keeps the first frame's floor while it fits: later frames
+// of a fixed sensor reuse it (one ground frame for the whole stream), and poses stay right.
+TEST(PoseTrackerTest, KeepsTheFloorOfAFixedSensor) {
+  auto estimator =
+      std::move(Estimator::Create(DefaultEstimatorOptions(), {ModelTemplate("standing")}).value());
+  PoseTracker tracker(estimator.get());
+  const Intrinsics intrinsics = FrameSpec().intrinsics;
+  Eigen::Vector4d first_plane = Eigen::Vector4d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const Pose2D truth{1.4 + 0.05 * k, 0.1, DegToRad(10.0 * k)};
+    const Estimate e = *tracker.EstimateDepth(Frame(truth, 30 + k).depth, intrinsics);
+    EXPECT_EQ(e.tracking.floor_reused, k > 0) << k;
+    if (k == 0) first_plane = e.floor.plane_sensor;
+    if (k > 0) EXPECT_EQ(e.floor.plane_sensor, first_plane) << k;
+    ASSERT_FALSE(e.Humanoids().empty()) << k;
+    const Pose2D& p = e.Humanoids().front().best.pose;
+    EXPECT_LT(std::hypot(p.x - truth.x, p.y - truth.y), 0.03) << k;
+  }
+  tracker.Reset();
+  const Estimate fresh = *tracker.EstimateDepth(Frame({1.5, 0.0, 0.0}, 40).depth, intrinsics);
+  EXPECT_FALSE(fresh.tracking.floor_reused);
+  EXPECT_FALSE(fresh.tracking.prior_given);
 }
 
 TEST(PoseTrackerTest, AFrameWithoutHumanoidDropsThePrior) {
