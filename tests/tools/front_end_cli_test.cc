@@ -60,6 +60,23 @@ TEST(FrontEndCliTest, HelpAndFlagErrorsNeedNoCommandProgram) {
   EXPECT_NE(missing.err.find("cannot start"), std::string::npos) << missing.err;
 }
 
+// What makes the help instant: the front end records no heavy library. Only an optimised build
+// drops the commands' work from it (see tools/flag_parser.h), so other builds skip.
+TEST(FrontEndCliTest, FrontEndLinksNoHeavyLibrary) {
+#ifndef __OPTIMIZE__
+  GTEST_SKIP() << "unoptimised build: the front end keeps the commands' code and libraries";
+#endif
+  TempDir dir("front_end_needed");
+  const CliRun needed = RunProgram("readelf", "-d '" + kToolsDir + "/hpose'", dir);
+  if (needed.exit_code == 127) GTEST_SKIP() << "readelf (binutils) not installed";
+  ASSERT_EQ(needed.exit_code, 0) << needed.err;
+  ASSERT_NE(needed.out.find("(NEEDED)"), std::string::npos) << needed.out;
+  for (const char* heavy :
+       {"pcl", "opencv", "vtk", "grpc", "protobuf", "OpenNI", "octo", "assimp", "urdf", "yaml"}) {
+    EXPECT_EQ(needed.out.find(heavy), std::string::npos) << heavy << " in\n" << needed.out;
+  }
+}
+
 TEST(FrontEndCliTest, EveryCommandHasAProgramWithTheSameFlags) {
   TempDir dir("front_end_programs");
   const CliRun top = RunHpose("--help", dir);
