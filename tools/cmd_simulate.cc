@@ -35,11 +35,6 @@ namespace {
 
 const char kCmd[] = "simulate";
 
-int UsageError(const std::string& message) {
-  std::cerr << "hpose " << kCmd << ": error: " << message << " (see --help)\n";
-  return kExitUsage;
-}
-
 std::string Fixed(double v, int decimals) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
@@ -161,27 +156,31 @@ int RunSimulate(int argc, char** argv) {
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
 
   // Values.
-  if (out_dir.empty()) return UsageError("--out DIR is required");
+  if (out_dir.empty()) return UsageError(kCmd, "--out DIR is required");
   if (std::abs(x) > 20.0 || std::abs(y) > 20.0) {
-    return UsageError("--x and --y must be within +-20 m");
+    return UsageError(kCmd, "--x and --y must be within +-20 m");
   }
   if (!(sensor_height > 0.05 && sensor_height <= 3.0)) {
-    return UsageError("--sensor-height must be in (0.05, 3] m, got " + Fixed(sensor_height, 3));
+    return UsageError(kCmd,
+                      "--sensor-height must be in (0.05, 3] m, got " + Fixed(sensor_height, 3));
   }
-  if (std::abs(pitch_deg) > 60.0) return UsageError("--pitch-deg must be within +-60 degrees");
-  if (std::abs(roll_deg) > 45.0) return UsageError("--roll-deg must be within +-45 degrees");
-  if (clutter < 0 || clutter > 50) return UsageError("--clutter must be in [0, 50]");
-  if (seed < 0) return UsageError("--seed must be >= 0");
+  if (std::abs(pitch_deg) > 60.0)
+    return UsageError(kCmd, "--pitch-deg must be within +-60 degrees");
+  if (std::abs(roll_deg) > 45.0) return UsageError(kCmd, "--roll-deg must be within +-45 degrees");
+  if (clutter < 0 || clutter > 50) return UsageError(kCmd, "--clutter must be in [0, 50]");
+  if (seed < 0) return UsageError(kCmd, "--seed must be >= 0");
   if (width < 16 || width > 4096 || height < 16 || height > 4096) {
-    return UsageError("--width and --height must be in [16, 4096] pixels");
+    return UsageError(kCmd, "--width and --height must be in [16, 4096] pixels");
   }
-  if (frames < 1 || frames > 1000) return UsageError("--frames must be in [1, 1000]");
-  if (std::abs(turn_deg) > 180.0) return UsageError("--turn-deg must be within +-180 degrees");
-  if (std::abs(step_m) > 1.0) return UsageError("--step-m must be within +-1 m");
+  if (frames < 1 || frames > 1000) return UsageError(kCmd, "--frames must be in [1, 1000]");
+  if (std::abs(turn_deg) > 180.0)
+    return UsageError(kCmd, "--turn-deg must be within +-180 degrees");
+  if (std::abs(step_m) > 1.0) return UsageError(kCmd, "--step-m must be within +-1 m");
   MainRobot robot;
   if (!robot_urdf.empty()) {
     if (flags.Seen("pose") || flags.Seen("body")) {
-      return UsageError("--pose and --body describe the parametric humanoid: not with --robot");
+      return UsageError(kCmd,
+                        "--pose and --body describe the parametric humanoid: not with --robot");
     }
     Result<std::shared_ptr<const MeshBvh>> mesh =
         LoadPosedRobotMesh(robot_flags, robot_urdf, kCmd, &robot.label);
@@ -189,9 +188,9 @@ int RunSimulate(int argc, char** argv) {
     robot.mesh = *mesh;
   } else {
     Result<HumanoidDimensions> dimensions = HumanoidDimensions::Variant(body);
-    if (!dimensions.ok()) return UsageError("--body: " + dimensions.error().message);
+    if (!dimensions.ok()) return UsageError(kCmd, "--body: " + dimensions.error().message);
     Result<HumanoidModel> model = HumanoidModel::FromPreset(pose_name, *dimensions);
-    if (!model.ok()) return UsageError("--pose: " + model.error().message);
+    if (!model.ok()) return UsageError(kCmd, "--pose: " + model.error().message);
     robot.model = *model;
     robot.label = body == "nao" ? pose_name : pose_name + "/" + body;
   }
@@ -199,10 +198,11 @@ int RunSimulate(int argc, char** argv) {
   if (!second_at.empty() || flags.Seen("second-pose")) {
     Pose2D p;
     if (!ParsePoseTriple(second_at, &p)) {
-      return UsageError("--second-at needs X,Y,THETA_DEG (e.g. 2,0.5,90), got '" + second_at + "'");
+      return UsageError(kCmd,
+                        "--second-at needs X,Y,THETA_DEG (e.g. 2,0.5,90), got '" + second_at + "'");
     }
     Result<HumanoidModel> m = HumanoidModel::FromPreset(second_pose);
-    if (!m.ok()) return UsageError("--second-pose: " + m.error().message);
+    if (!m.ok()) return UsageError(kCmd, "--second-pose: " + m.error().message);
     others.push_back({*m, p, second_pose});
   }
 
@@ -219,7 +219,7 @@ int RunSimulate(int argc, char** argv) {
     for (const Pose2D& p : poses) {
       const double gap = std::hypot(o.pose.x - p.x, o.pose.y - p.y);
       if (gap < FootprintRadius(o.model.bounds()) + FootprintRadius(robot.Bounds())) {
-        return UsageError("--second-at: the second humanoid would overlap the first");
+        return UsageError(kCmd, "--second-at: the second humanoid would overlap the first");
       }
     }
   }
@@ -231,7 +231,7 @@ int RunSimulate(int argc, char** argv) {
     for (const Pose2D& p : poses) robot.AddTo(&layout, p);
     for (const PlacedHumanoid& o : others) layout.AddHumanoid(o.model, o.pose);
     const Status s = layout.AddRandomClutter(clutter, static_cast<std::uint64_t>(seed));
-    if (!s.ok()) return UsageError("--clutter: " + s.error().message);
+    if (!s.ok()) return UsageError(kCmd, "--clutter: " + s.error().message);
     clutter_objects = layout.clutter();
   }
 

@@ -25,11 +25,6 @@ namespace {
 
 const char kCmd[] = "simulate turntable";
 
-int UsageError(const std::string& message) {
-  std::cerr << "hpose " << kCmd << ": error: " << message << " (see --help)\n";
-  return kExitUsage;
-}
-
 // "X,Y" -> two finite numbers.
 bool ParsePair(const std::string& text, double* a, double* b) {
   char comma = 0, extra = 0;
@@ -94,19 +89,20 @@ int RunSimulateTurntable(int argc, char** argv) {
       "--hand-error-deg 10\n"
       "\nexit status: 0 ok, 1 error writing the files, 2 bad flags or values");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
-  if (out_dir.empty()) return UsageError("--out DIR is required");
+  if (out_dir.empty()) return UsageError(kCmd, "--out DIR is required");
   if (!ParsePair(offset, &spec.robot_on_table.x, &spec.robot_on_table.y)) {
-    return UsageError("--robot-offset needs X,Y in metres (e.g. 0.03,-0.02), got '" + offset + "'");
+    return UsageError(kCmd,
+                      "--robot-offset needs X,Y in metres (e.g. 0.03,-0.02), got '" + offset + "'");
   }
   if (std::abs(axis_x) > 10.0 || std::abs(axis_y) > 10.0) {
-    return UsageError("--axis-x and --axis-y must be within +-10 m");
+    return UsageError(kCmd, "--axis-x and --axis-y must be within +-10 m");
   }
   if (!(std::abs(step_deg) <= 360.0) || !(std::abs(error_deg) <= 90.0)) {
-    return UsageError("--step-deg must be within +-360 and --hand-error-deg within [0, 90]");
+    return UsageError(kCmd, "--step-deg must be within +-360 and --hand-error-deg within [0, 90]");
   }
-  if (seed < 0) return UsageError("--seed must be >= 0");
+  if (seed < 0) return UsageError(kCmd, "--seed must be >= 0");
   if (width < 16 || width > 4096 || height < 16 || height > 4096) {
-    return UsageError("--width and --height must be in [16, 4096] pixels");
+    return UsageError(kCmd, "--width and --height must be in [16, 4096] pixels");
   }
   spec.preset = pose_name;
   spec.axis_ground = Eigen::Vector2d(axis_x, axis_y);
@@ -133,7 +129,7 @@ int RunSimulateTurntable(int argc, char** argv) {
   Result<TurntableCaptures> captures = SimulateTurntableCaptures(spec);
   if (!captures.ok()) {
     if (captures.error().code == ErrorCode::kInvalidArgument) {
-      return UsageError(captures.error().message);
+      return UsageError(kCmd, captures.error().message);
     }
     return ReportError(kCmd, captures.error());
   }

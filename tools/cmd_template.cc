@@ -20,11 +20,6 @@ namespace {
 
 const char kCmd[] = "template";
 
-int UsageError(const std::string& sub, const std::string& message) {
-  std::cerr << "hpose " << kCmd << " " << sub << ": error: " << message << " (see --help)\n";
-  return kExitUsage;
-}
-
 std::string Fixed(double v, int decimals) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
@@ -56,25 +51,26 @@ int Generate(int argc, char** argv) {
   flags.SetEpilog(
       "example:\n  hpose template generate --pose standing --out templates/standing.bt");
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
-  if (out.empty()) return UsageError("generate", "--out FILE.bt is required");
+  if (out.empty()) return UsageError("template generate", "--out FILE.bt is required");
   if (!(resolution >= 0.001 && resolution <= 0.5)) {
-    return UsageError("generate", "--resolution must be in [0.001, 0.5] m");
+    return UsageError("template generate", "--resolution must be in [0.001, 0.5] m");
   }
   if (!flags.Seen("spacing")) spacing = 0.25 * resolution;
   if (name.empty()) name = pose;
 
   Result<HumanoidDimensions> dimensions = HumanoidDimensions::Variant(body);
-  if (!dimensions.ok()) return UsageError("generate", "--body: " + dimensions.error().message);
+  if (!dimensions.ok())
+    return UsageError("template generate", "--body: " + dimensions.error().message);
   Result<HumanoidModel> model = HumanoidModel::FromPreset(pose, *dimensions);
-  if (!model.ok()) return UsageError("generate", "--pose: " + model.error().message);
+  if (!model.ok()) return UsageError("template generate", "--pose: " + model.error().message);
   Result<std::vector<Eigen::Vector3f>> points = model->SampleSurface(spacing);
-  if (!points.ok()) return UsageError("generate", "--spacing: " + points.error().message);
+  if (!points.ok()) return UsageError("template generate", "--spacing: " + points.error().message);
   const std::string source = "hpose template generate --pose " + pose +
                              (body == "nao" ? "" : " --body " + body) + " --resolution " +
                              Fixed(resolution, 4) + " (parametric humanoid, " +
                              Fixed(model->Height(), 3) + " m tall)";
   Result<VoxelTemplate> tpl = MakeTemplateFromPoints(*points, name, resolution, pose, source);
-  if (!tpl.ok()) return UsageError("generate", tpl.error().message);
+  if (!tpl.ok()) return UsageError("template generate", tpl.error().message);
   if (Status s = SaveTemplate(*tpl, out); !s.ok()) return ReportError(kCmd, s.error());
   PrintSaved(*tpl, out);
   return kExitOk;
@@ -95,12 +91,12 @@ int FromCloud(int argc, char** argv) {
   flags.AddString("variant", &variant, "shape label, e.g. standing [default: the name]", "V");
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
   if (flags.positional().size() != 1) {
-    return UsageError("from-cloud", "give exactly one cloud file (.pcd or .ply)");
+    return UsageError("template from-cloud", "give exactly one cloud file (.pcd or .ply)");
   }
-  if (name.empty()) return UsageError("from-cloud", "--name N is required");
-  if (out.empty()) return UsageError("from-cloud", "--out FILE.bt is required");
+  if (name.empty()) return UsageError("template from-cloud", "--name N is required");
+  if (out.empty()) return UsageError("template from-cloud", "--out FILE.bt is required");
   if (!(resolution >= 0.001 && resolution <= 0.5)) {
-    return UsageError("from-cloud", "--resolution must be in [0.001, 0.5] m");
+    return UsageError("template from-cloud", "--resolution must be in [0.001, 0.5] m");
   }
   const std::string cloud_path = flags.positional().front();
   Result<PointCloud> cloud = ReadCloud(cloud_path);

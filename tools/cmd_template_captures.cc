@@ -35,11 +35,6 @@ namespace fs = std::filesystem;
 
 const char kCmd[] = "template from-captures";
 
-int UsageError(const std::string& message) {
-  std::cerr << "hpose " << kCmd << ": error: " << message << " (see --help)\n";
-  return kExitUsage;
-}
-
 int Fail(const Error& error) {
   std::cerr << "hpose " << kCmd << ": " << error.message << "\n";
   return kExitError;
@@ -292,32 +287,33 @@ int RunTemplateFromCaptures(int argc, char** argv) {
       "2 bad flags");
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
 
-  if (flags.positional().empty()) return UsageError("give the capture files or a directory");
-  if (name.empty()) return UsageError("--name N is required");
-  if (out.empty()) return UsageError("--out FILE.bt is required");
+  if (flags.positional().empty()) return UsageError(kCmd, "give the capture files or a directory");
+  if (name.empty()) return UsageError(kCmd, "--name N is required");
+  if (out.empty()) return UsageError(kCmd, "--out FILE.bt is required");
   const bool hand = !headings_text.empty();
   if (turntable == hand) {
-    return UsageError("say how the robot was turned: --turntable or --headings-deg");
+    return UsageError(kCmd, "say how the robot was turned: --turntable or --headings-deg");
   }
   if (hand && (flags.Seen("step-deg") || !angles_text.empty())) {
-    return UsageError("--step-deg and --angles-deg are for --turntable");
+    return UsageError(kCmd, "--step-deg and --angles-deg are for --turntable");
   }
   if (!(resolution >= 0.001 && resolution <= 0.5)) {
-    return UsageError("--resolution must be in [0.001, 0.5] m");
+    return UsageError(kCmd, "--resolution must be in [0.001, 0.5] m");
   }
   if (!(table_height >= 0.0 && table_height <= 1.5)) {
-    return UsageError("--table-height must be in [0, 1.5] m");
+    return UsageError(kCmd, "--table-height must be in [0, 1.5] m");
   }
   if (origin_name != "centroid" && origin_name != "axis") {
-    return UsageError("--origin must be centroid or axis, got '" + origin_name + "'");
+    return UsageError(kCmd, "--origin must be centroid or axis, got '" + origin_name + "'");
   }
-  if (origin_name == "axis" && hand) return UsageError("--origin axis needs --turntable");
+  if (origin_name == "axis" && hand) return UsageError(kCmd, "--origin axis needs --turntable");
   if (!(max_rms_mm > 0.0) || !(min_inliers >= 0.0 && min_inliers <= 1.0)) {
-    return UsageError("--max-rms-mm must be > 0 and --min-inliers in [0, 1]");
+    return UsageError(kCmd, "--max-rms-mm must be > 0 and --min-inliers in [0, 1]");
   }
   if (!(axis_search >= 0.0 && axis_search <= 2.0) ||
       !(heading_search_deg >= 0.0 && heading_search_deg <= 90.0)) {
-    return UsageError("--axis-search-m must be in [0, 2] and --heading-search-deg in [0, 90]");
+    return UsageError(kCmd,
+                      "--axis-search-m must be in [0, 2] and --heading-search-deg in [0, 90]");
   }
 
   Result<std::vector<fs::path>> files = CollectCaptureFiles(flags.positional());
@@ -326,22 +322,23 @@ int RunTemplateFromCaptures(int argc, char** argv) {
   std::vector<double> angles_deg;
   if (hand) {
     if (!ParseList(headings_text, &angles_deg)) {
-      return UsageError("--headings-deg needs comma-separated degrees, got '" + headings_text +
-                        "'");
+      return UsageError(
+          kCmd, "--headings-deg needs comma-separated degrees, got '" + headings_text + "'");
     }
   } else if (!angles_text.empty()) {
     if (!ParseList(angles_text, &angles_deg)) {
-      return UsageError("--angles-deg needs comma-separated degrees, got '" + angles_text + "'");
+      return UsageError(kCmd,
+                        "--angles-deg needs comma-separated degrees, got '" + angles_text + "'");
     }
   } else {
     for (int i = 0; i < n; ++i) angles_deg.push_back(i * step_deg);
   }
   if (static_cast<int>(angles_deg.size()) != n) {
-    return UsageError(std::to_string(angles_deg.size()) + " angles for " + std::to_string(n) +
-                      " captures");
+    return UsageError(
+        kCmd, std::to_string(angles_deg.size()) + " angles for " + std::to_string(n) + " captures");
   }
   if (front_view < 0 || front_view >= n) {
-    return UsageError("--front-view must be in [0, " + std::to_string(n - 1) + "]");
+    return UsageError(kCmd, "--front-view must be in [0, " + std::to_string(n - 1) + "]");
   }
 
   const auto start = std::chrono::steady_clock::now();

@@ -20,11 +20,6 @@ namespace {
 
 const char kSub[] = "template from-urdf";
 
-int UsageError(const std::string& message) {
-  std::cerr << "hpose " << kSub << ": error: " << message << " (see --help)\n";
-  return kExitUsage;
-}
-
 std::string Fixed(double v, int decimals) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
@@ -99,10 +94,10 @@ int TemplateFromUrdf(int argc, char** argv) {
       "  right_arm_raised: {j_shoulder_r: 1.3}\n"
       "\nexit status: 0 ok, 1 bad robot, mesh or joints, 2 bad flags");
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
-  if (flags.positional().size() != 1) return UsageError("give exactly one ROBOT.urdf");
-  if (!list_joints && out.empty()) return UsageError("--out FILE.bt|DIR is required");
+  if (flags.positional().size() != 1) return UsageError(kSub, "give exactly one ROBOT.urdf");
+  if (!list_joints && out.empty()) return UsageError(kSub, "--out FILE.bt|DIR is required");
   if (!(resolution >= 0.001 && resolution <= 0.5)) {
-    return UsageError("--resolution must be in [0.001, 0.5] m");
+    return UsageError(kSub, "--resolution must be in [0.001, 0.5] m");
   }
   const std::string urdf_path = flags.positional().front();
   Result<UrdfRobot> robot = robot_flags.Load(urdf_path, kSub);

@@ -16,11 +16,6 @@
 namespace hpose::tools {
 namespace {
 
-int UsageError(const std::string& sub, const std::string& message) {
-  std::cerr << "hpose template " << sub << ": error: " << message << " (see --help)\n";
-  return kExitUsage;
-}
-
 std::string Fixed(double v, int decimals) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
@@ -47,7 +42,8 @@ int TemplateInfo(int argc, char** argv) {
   flags.AllowPositional("FILE.bt");
   flags.AddBool("json", &json, "print one JSON object (SI units) instead of text");
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
-  if (flags.positional().size() != 1) return UsageError("info", "give exactly one FILE.bt");
+  if (flags.positional().size() != 1)
+    return UsageError("template info", "give exactly one FILE.bt");
   Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
   if (!tpl.ok()) return ReportError("template info", tpl.error());
   const TemplateShape s = DescribeTemplate(*tpl);
@@ -111,13 +107,14 @@ int TemplateShow(int argc, char** argv) {
                   "sensor)",
                   "D");
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
-  if (flags.positional().size() != 1) return UsageError("show", "give exactly one FILE.bt");
-  if (picture.empty()) return UsageError("show", "--picture OUT.png is required");
+  if (flags.positional().size() != 1)
+    return UsageError("template show", "give exactly one FILE.bt");
+  if (picture.empty()) return UsageError("template show", "--picture OUT.png is required");
   if (!(options.sensor_distance_m >= 0.3 && options.sensor_distance_m <= 10.0)) {
-    return UsageError("show", "--distance must be in [0.3, 10] m");
+    return UsageError("template show", "--distance must be in [0.3, 10] m");
   }
   if (!(options.sensor_height_m > 0.0 && options.sensor_height_m <= 3.0)) {
-    return UsageError("show", "--sensor-height must be in (0, 3] m");
+    return UsageError("template show", "--sensor-height must be in (0, 3] m");
   }
   Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
   if (!tpl.ok()) return ReportError("template show", tpl.error());

@@ -10,6 +10,11 @@ struct Command {
   int (*run)(int argc, char** argv);
 };
 
+// Runs `hpose <c.name> ...` with argv[1] = c.name, as `hpose` and the command programs do:
+// argv[1] becomes "hpose <name>" for the command's messages, and what the command wrote to
+// standard output must have been written (a full disk or a closed pipe is an error).
+int RunCommand(const Command& c, int argc, char** argv);
+
 // Subcommand entry points, each in its own cmd_<name>.cc.
 int RunDemo(int argc, char** argv);
 int RunEstimate(int argc, char** argv);

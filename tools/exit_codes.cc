@@ -8,6 +8,11 @@ int ReportError(const std::string& command, const Error& error) {
   return ReportProgramError("hpose " + command, error);
 }
 
+int UsageError(const std::string& command, const std::string& message) {
+  std::cerr << "hpose " << command << ": error: " << message << " (see --help)\n";
+  return kExitUsage;
+}
+
 int ReportProgramError(const std::string& program, const Error& error) {
   std::cerr << program << ": " << error.message << "\n";
   return ExitCodeFor(error);

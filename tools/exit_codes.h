@@ -20,6 +20,10 @@ enum ExitCode : int {
 // Prints "hpose <command>: <message>" to stderr and returns the exit code that fits the error.
 int ReportError(const std::string& command, const Error& error);
 
+// Prints "hpose <command>: error: <message> (see --help)" to stderr and returns kExitUsage, for
+// flags that parse but do not make sense together or are out of range.
+int UsageError(const std::string& command, const std::string& message);
+
 // The same for a program of its own: "<program>: <message>" (e.g. "hposed: ...").
 int ReportProgramError(const std::string& program, const Error& error);
 

@@ -91,18 +91,6 @@ void FlagParser::AddBool(const std::string& name, bool* out, const std::string& 
                     }});
 }
 
-int FlagParser::ParseOrExitCode(int argc, char** argv, int first) {
-  switch (Parse(argc, argv, first)) {
-    case Outcome::kHelpShown:
-      return 0;
-    case Outcome::kError:
-      return 2;
-    case Outcome::kOk:
-      break;
-  }
-  return -1;
-}
-
 FlagParser::Flag* FlagParser::Find(const std::string& name) {
   for (Flag& f : flags_) {
     if (f.name == name) return &f;

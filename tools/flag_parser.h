@@ -7,6 +7,10 @@
 
 namespace hpose::tools {
 
+// What a command returns in the `hpose` front end when its flags parsed: "run me for real".
+// Never an exit status.
+inline constexpr int kFlagsAccepted = 1000;
+
 // A small GNU-style flag parser shared by every command: `--name value`, `--name=value`,
 // boolean `--name`, repeatable flags, positional arguments, and a generated --help.
 class FlagParser {
@@ -37,8 +41,26 @@ class FlagParser {
   Outcome Parse(int argc, char** argv, int first = 1);
 
   // Parse() for a command's entry point: -1 to go on, else the status to exit with (0 after
-  // --help, 2 after a usage error, already reported).
-  int ParseOrExitCode(int argc, char** argv, int first = 1);
+  // --help, 2 after a usage error, already reported). In the `hpose` front end (built with
+  // HPOSE_TOOLS_FLAGS_ONLY) a successful parse ends the command with kFlagsAccepted instead:
+  // the compiler then drops everything after the parse, so the front end prints help and
+  // rejects bad flags without loading the libraries the command's work needs, and hands the
+  // command line on to the command's own program (see hpose_main.cc).
+  int ParseOrExitCode(int argc, char** argv, int first = 1) {
+    switch (Parse(argc, argv, first)) {
+      case Outcome::kHelpShown:
+        return 0;
+      case Outcome::kError:
+        return 2;
+      case Outcome::kOk:
+        break;
+    }
+#ifdef HPOSE_TOOLS_FLAGS_ONLY
+    return kFlagsAccepted;
+#else
+    return -1;
+#endif
+  }
 
   const std::vector<std::string>& positional() const { return positional_; }
   // True when the named flag appeared on the command line.

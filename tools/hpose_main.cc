@@ -1,12 +1,20 @@
-// `hpose`: the command line of hpose. Dispatches to one subcommand per file.
+// `hpose`: the command line of hpose, a thin front end that starts instantly. It holds every
+// command's flags (the cmd_*.cc files built with HPOSE_TOOLS_FLAGS_ONLY, see flag_parser.h) but
+// none of their work: it prints the help, rejects unknown commands and bad flags itself, and
+// runs an accepted command line in the command's own program, `hpose-<command>` (beside this
+// one in the build tree, in ../libexec/hpose once installed), which loads only the libraries
+// that command needs.
+#include <unistd.h>
+
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "tools/command.h"
 #include "tools/exit_codes.h"
+#include "tools/flag_parser.h"
 
 namespace {
 
@@ -44,16 +52,30 @@ void PrintHelp() {
                "             4 no floor found, 5 server or device unavailable\n";
 }
 
-// Results written to standard output and lost (a full disk, a closed pipe, /dev/full) must
-// not be reported as success: flush it and check for any write error.
-int CheckStdoutWritten(const std::string& prog, int code) {
-  std::cout.flush();
-  errno = 0;
-  const bool failed = !std::cout || std::fflush(stdout) != 0 || std::ferror(stdout) != 0;
-  if (!failed) return code;
-  const int err = errno;
-  std::cerr << prog << ": cannot write the output to standard output"
-            << (err != 0 ? std::string(": ") + std::strerror(err) : std::string()) << "\n";
+// The directory of this executable, with a trailing '/' ("" when unknown).
+std::string OwnDirectory() {
+  std::vector<char> path(4096);
+  const ssize_t n = readlink("/proc/self/exe", path.data(), path.size() - 1);
+  if (n <= 0) return "";
+  const std::string self(path.data(), static_cast<size_t>(n));
+  return self.substr(0, self.rfind('/') + 1);
+}
+
+// Replaces this process by `hpose-<name>` with the original command line; returns only on
+// failure.
+int ExecCommandProgram(const std::string& name, const std::vector<std::string>& args) {
+  const std::string dir = OwnDirectory();
+  const std::string program = "hpose-" + name;
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  std::string tried;
+  for (const std::string& path : {dir + program, dir + "../libexec/hpose/" + program}) {
+    execv(path.c_str(), argv.data());
+    tried += (tried.empty() ? "" : ", ") + path + " (" + std::strerror(errno) + ")";
+  }
+  std::cerr << "hpose " << name << ": cannot start the program of this command: " << tried
+            << "; is hpose fully built or installed?\n";
   return hpose::tools::kExitError;
 }
 
@@ -65,13 +87,11 @@ int main(int argc, char** argv) {
     PrintHelp();
     return argc < 2 ? hpose::tools::kExitUsage : hpose::tools::kExitOk;
   }
+  const std::vector<std::string> args(argv, argv + argc);  // commands may rewrite argv.
   for (const Command& c : kCommands) {
-    if (argv[1] == std::string(c.name)) {
-      std::string prog = std::string("hpose ") + c.name;
-      argv[1] = prog.data();
-      const int code = c.run(argc - 1, argv + 1);
-      return CheckStdoutWritten(prog, code);
-    }
+    if (args[1] != c.name) continue;
+    const int code = hpose::tools::RunCommand(c, argc, argv);
+    return code == hpose::tools::kFlagsAccepted ? ExecCommandProgram(c.name, args) : code;
   }
   std::cerr << "hpose: unknown command '" << argv[1] << "' (see hpose --help)\n";
   return hpose::tools::kExitUsage;

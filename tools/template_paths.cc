@@ -15,20 +15,27 @@
 #ifndef HPOSE_INSTALLED_TEMPLATE_DIR_FROM_BIN
 #define HPOSE_INSTALLED_TEMPLATE_DIR_FROM_BIN "../share/hpose/templates"
 #endif
+// The same from the command programs' directory (<prefix>/libexec/hpose).
+#ifndef HPOSE_INSTALLED_TEMPLATE_DIR_FROM_LIBEXEC
+#define HPOSE_INSTALLED_TEMPLATE_DIR_FROM_LIBEXEC "../../share/hpose/templates"
+#endif
 
 namespace hpose::tools {
 
 namespace {
 
-// The installed templates beside the running program (<prefix>/bin/../share/hpose/templates),
-// or "" when the program does not run from an installation (e.g. from the build tree).
+// The installed templates beside the running program (<prefix>/bin/../share/hpose/templates,
+// or from <prefix>/libexec/hpose), or "" when the program does not run from an installation (e.g. from the build tree).
 std::string InstalledTemplateDir() {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec || exe.empty()) return "";
-  const std::filesystem::path dir =
-      (exe.parent_path() / HPOSE_INSTALLED_TEMPLATE_DIR_FROM_BIN).lexically_normal();
-  return std::filesystem::is_regular_file(dir / "standing.bt", ec) ? dir.string() : "";
+  for (const char* relative :
+       {HPOSE_INSTALLED_TEMPLATE_DIR_FROM_BIN, HPOSE_INSTALLED_TEMPLATE_DIR_FROM_LIBEXEC}) {
+    const std::filesystem::path dir = (exe.parent_path() / relative).lexically_normal();
+    if (std::filesystem::is_regular_file(dir / "standing.bt", ec)) return dir.string();
+  }
+  return "";
 }
 
 }  // namespace

@@ -1,3 +1,8 @@
+// PCL's reference clustering (Method::kPcl) is compiled here from PCL's headers instead of being
+// linked from libpcl_segmentation, which loads libpcl_features, libpcl_filters and more: every
+// program that clusters would pay for them at start-up (docs/BENCHMARKS.md, "Start-up").
+#define PCL_NO_PRECOMPILE
+
 #include "core/depth/cluster_extractor.h"
 
 #include "core/depth/cluster_merge.h"

@@ -48,19 +48,23 @@ inline std::string Slurp(const std::string& path) {
   return s.str();
 }
 
-// Runs `hpose <args>` (args already shell-quoted where needed), capturing stdout and stderr
+// Runs `program <args>` (args already shell-quoted where needed), capturing stdout and stderr
 // into files inside `dir`.
-inline CliRun RunHpose(const std::string& args, const TempDir& dir) {
+inline CliRun RunProgram(const std::string& program, const std::string& args, const TempDir& dir) {
   const std::string out = dir / "stdout.txt";
   const std::string err = dir / "stderr.txt";
-  const std::string cmd = std::string("'") + HPOSE_BINARY_DIR + "/tools/hpose' " + args + " >'" +
-                          out + "' 2>'" + err + "'";
+  const std::string cmd = "'" + program + "' " + args + " >'" + out + "' 2>'" + err + "'";
   const int status = std::system(cmd.c_str());
   CliRun run;
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   run.out = Slurp(out);
   run.err = Slurp(err);
   return run;
+}
+
+// Runs the built `hpose <args>`.
+inline CliRun RunHpose(const std::string& args, const TempDir& dir) {
+  return RunProgram(std::string(HPOSE_BINARY_DIR) + "/tools/hpose", args, dir);
 }
 
 }  // namespace hpose::testing

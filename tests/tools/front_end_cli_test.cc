@@ -1,0 +1,102 @@
+// The `hpose` front end: help and flag errors without the command programs, and every command
+// handed to its own program `hpose-COMMAND` with the same flags.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/tools/cli_test_util.h"
+
+namespace hpose::testing {
+namespace {
+
+const std::string kToolsDir = std::string(HPOSE_BINARY_DIR) + "/tools";
+
+// The command names listed by `hpose --help` (the lines under "commands:").
+std::vector<std::string> ListedCommands(const std::string& help) {
+  std::vector<std::string> names;
+  std::istringstream lines(help);
+  std::string line;
+  bool in_list = false;
+  while (std::getline(lines, line)) {
+    if (line == "commands:") {
+      in_list = true;
+    } else if (in_list && line.empty()) {
+      break;
+    } else if (in_list) {
+      std::istringstream words(line);
+      std::string name;
+      words >> name;
+      names.push_back(name);
+    }
+  }
+  return names;
+}
+
+TEST(FrontEndCliTest, HelpAndFlagErrorsNeedNoCommandProgram) {
+  TempDir dir("front_end_alone");
+  const std::string alone = dir / "hpose";
+  std::filesystem::copy_file(kToolsDir + "/hpose", alone);
+
+  CliRun help = RunProgram(alone, "estimate --help", dir);
+  EXPECT_EQ(help.exit_code, 0) << help.err;
+  EXPECT_NE(help.out.find("usage: hpose estimate"), std::string::npos) << help.out;
+  EXPECT_NE(help.out.find("--floor-height"), std::string::npos) << help.out;
+
+  CliRun sub_help = RunProgram(alone, "template from-urdf --help", dir);
+  EXPECT_EQ(sub_help.exit_code, 0) << sub_help.err;
+  EXPECT_NE(sub_help.out.find("--joint-set"), std::string::npos) << sub_help.out;
+
+  CliRun bad = RunProgram(alone, "estimate --no-such-flag", dir);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("unknown flag --no-such-flag"), std::string::npos) << bad.err;
+
+  // Accepted flags need the command's program: without it, a clear error naming it.
+  CliRun missing = RunProgram(alone, "estimate --depth frame.png", dir);
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("hpose-estimate"), std::string::npos) << missing.err;
+  EXPECT_NE(missing.err.find("cannot start"), std::string::npos) << missing.err;
+}
+
+// What makes the help instant: the front end records no heavy library. Only an optimised build
+// drops the commands' work from it (see tools/flag_parser.h), so other builds skip.
+TEST(FrontEndCliTest, FrontEndLinksNoHeavyLibrary) {
+#ifndef __OPTIMIZE__
+  GTEST_SKIP() << "unoptimised build: the front end keeps the commands' code and libraries";
+#endif
+  TempDir dir("front_end_needed");
+  const CliRun needed = RunProgram("readelf", "-d '" + kToolsDir + "/hpose'", dir);
+  if (needed.exit_code == 127) GTEST_SKIP() << "readelf (binutils) not installed";
+  ASSERT_EQ(needed.exit_code, 0) << needed.err;
+  ASSERT_NE(needed.out.find("(NEEDED)"), std::string::npos) << needed.out;
+  for (const char* heavy :
+       {"pcl", "opencv", "vtk", "grpc", "protobuf", "OpenNI", "octo", "assimp", "urdf", "yaml"}) {
+    EXPECT_EQ(needed.out.find(heavy), std::string::npos) << heavy << " in\n" << needed.out;
+  }
+}
+
+TEST(FrontEndCliTest, EveryCommandHasAProgramWithTheSameFlags) {
+  TempDir dir("front_end_programs");
+  const CliRun top = RunHpose("--help", dir);
+  ASSERT_EQ(top.exit_code, 0);
+  const std::vector<std::string> commands = ListedCommands(top.out);
+  ASSERT_GE(commands.size(), 10u) << top.out;
+  for (const std::string& c : commands) {
+    SCOPED_TRACE(c);
+    const CliRun front = RunHpose(c + " --help", dir);
+    EXPECT_EQ(front.exit_code, 0) << front.err;
+    // The command's program prints the same help from the same flag declarations.
+    const CliRun program = RunProgram(kToolsDir + "/hpose-" + c, c + " --help", dir);
+    EXPECT_EQ(program.exit_code, 0) << program.err;
+    EXPECT_EQ(program.out, front.out);
+    // Run alone, it says how to run it.
+    const CliRun direct = RunProgram(kToolsDir + "/hpose-" + c, "--help", dir);
+    EXPECT_EQ(direct.exit_code, 2);
+    EXPECT_NE(direct.err.find("hpose " + c), std::string::npos) << direct.err;
+  }
+}
+
+}  // namespace
+}  // namespace hpose::testing

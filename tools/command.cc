@@ -1,0 +1,35 @@
+#include "tools/command.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <string>
+
+#include "tools/exit_codes.h"
+
+namespace hpose::tools {
+namespace {
+
+// Results written to standard output and lost (a full disk, a closed pipe, /dev/full) must
+// not be reported as success: flush it and check for any write error.
+int CheckStdoutWritten(const std::string& prog, int code) {
+  std::cout.flush();
+  errno = 0;
+  const bool failed = !std::cout || std::fflush(stdout) != 0 || std::ferror(stdout) != 0;
+  if (!failed) return code;
+  const int err = errno;
+  std::cerr << prog << ": cannot write the output to standard output"
+            << (err != 0 ? std::string(": ") + std::strerror(err) : std::string()) << "\n";
+  return kExitError;
+}
+
+}  // namespace
+
+int RunCommand(const Command& c, int argc, char** argv) {
+  std::string prog = std::string("hpose ") + c.name;
+  argv[1] = prog.data();
+  return CheckStdoutWritten(prog, c.run(argc - 1, argv + 1));
+}
+
+}  // namespace hpose::tools
