@@ -16,6 +16,7 @@
 #include "core/io/atomic_file.h"
 #include "core/io/intrinsics_file.h"
 #include "core/search/estimator.h"
+#include "core/search/pose_tracker.h"
 #include "core/templates/template_io.h"
 #include "server/daemon_config.h"
 #include "server/frame_source.h"
@@ -172,6 +173,7 @@ int RunReplay(int argc, char** argv) {
   }
   Result<std::unique_ptr<Estimator>> estimator = Estimator::Create(options, std::move(loaded));
   if (!estimator.ok()) return ReportError("replay", estimator.error());
+  PoseTracker tracker(estimator->get());
 
   server::ReplayOptions replay;
   replay.realtime = rate == "recorded";
@@ -223,9 +225,14 @@ int RunReplay(int argc, char** argv) {
       continue;
     }
     ++frames;
-    Result<Estimate> result = frame->is_cloud
-                                  ? (*estimator)->EstimateCloud(frame->cloud)
-                                  : (*estimator)->EstimateDepth(frame->depth, frame->intrinsics);
+    // Like hposed: with source.tracking (the default) each frame starts from the last pose and
+    // the floor is kept while it fits.
+    Result<Estimate> result =
+        config.source.tracking
+            ? (frame->is_cloud ? tracker.EstimateCloud(frame->cloud)
+                               : tracker.EstimateDepth(frame->depth, frame->intrinsics))
+            : (frame->is_cloud ? (*estimator)->EstimateCloud(frame->cloud)
+                               : (*estimator)->EstimateDepth(frame->depth, frame->intrinsics));
     v1::PoseEstimate msg;
     server::FillPoseEstimate(frame->sequence, frame->source_time_s, frame->received, frame->origin,
                              result.ok() ? &*result : nullptr,
