@@ -53,6 +53,9 @@ nlohmann::json FrameJson(const StereoFrameResult& f, const StereoTrackState& t, 
     j["head"] = {{"x_m", f.head.x}, {"y_m", f.head.y}, {"theta_rad", f.head.theta}};
     j["landmark_visible_fraction"] = f.landmark_visible_fraction;
     if (!f.landmark_notes.empty()) j["landmark_notes"] = f.landmark_notes;
+    if (!f.landmark_blobs_excluded.empty()) {
+      j["landmark_blobs_excluded"] = f.landmark_blobs_excluded;
+    }
   }
   j["landmark_candidates"] = f.landmark_candidates;
   j["landmark_triples"] = f.landmark_triples;

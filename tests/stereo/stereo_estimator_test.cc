@@ -209,6 +209,37 @@ TEST_F(StereoEstimatorTest, PartlyHiddenLandmarkIsDownWeightedOrRejected) {
   EXPECT_FALSE(res->reason.empty());
 }
 
+// A landmark-coloured cloth lying against P1 merges with it into one blob about twice the
+// disc's area: that blob is not P1 (its centroid is not P1's centre), so it is set aside and,
+// with no other P1 in view, the frame is rejected with both reasons rather than posed off.
+TEST_F(StereoEstimatorTest, BlobTooLargeForItsLandmarkIsSetAside) {
+  SimScene scene = Scene();
+  const Pose2D robot{0.05, -1.0, kPi / 2};
+  auto est = Make();
+  auto pair = sim_.RenderPair(robot, HeadSway{}, scene, 8);
+  auto res = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(res.ok());
+  ASSERT_TRUE(res->ok()) << res->reason;
+  EXPECT_TRUE(res->landmark_blobs_excluded.empty()) << res->landmark_blobs_excluded;
+
+  scene.patches.push_back(SimPatch{scene.discs[1].centre_m + Eigen::Vector2d(0.07, 0.0),
+                                   Eigen::Vector2d(0.055, 0.055), 0.0, kSimLandmarkColor});
+  pair = sim_.RenderPair(robot, HeadSway{}, scene, 8);
+  res = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(res.ok());
+  EXPECT_FALSE(res->ok());
+  EXPECT_NE(res->landmark_blobs_excluded.find("times the area of landmark P"), std::string::npos)
+      << res->reason << " / " << res->landmark_notes;
+  EXPECT_NE(res->reason.find("after excluding blobs too large for a landmark"), std::string::npos)
+      << res->reason;
+  // Allowing such blobs brings the old behaviour back: a pose, off by the merged centroid.
+  StereoMarkerOptions lenient;
+  lenient.max_landmark_area_ratio = 10;
+  res = Make(lenient)->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(res.ok());
+  EXPECT_TRUE(res->landmark_blobs_excluded.empty());
+}
+
 TEST_F(StereoEstimatorTest, RejectsCollinearLandmarks) {
   // Discs laid out on a line, while the estimator expects the triangle.
   SimScene line = Scene(false);
