@@ -107,11 +107,14 @@ Result<StereoFrameResult> StereoEstimator::Process(const RgbImage& left, const R
     int worst_k = -1, worst_side = 0;
     double worst_ratio = options_.max_landmark_area_ratio;
     for (int k = 0; k < 3; ++k) {
-      const std::array<double, 2> predicted = PredictedDiscAreaPx(match.svd, k);
+      std::array<double, 2> perimeter{};
+      const std::array<double, 2> predicted = PredictedDiscAreaPx(match.svd, k, &perimeter);
       for (int side = 0; side < 2; ++side) {
         if (predicted[side] <= 1) continue;
         const ColorBlob& blob = side == 0 ? ll[match.left_index[k]] : rl[match.right_index[k]];
-        const double ratio = blob.area_px / predicted[side];
+        // The disc grown by one pixel all round: blur, demosaicing and JPEG widen a blob by
+        // about that much, which matters for the few-pixel-high discs far away.
+        const double ratio = blob.area_px / (predicted[side] + perimeter[side]);
         if (ratio > worst_ratio) {
           worst_ratio = ratio;
           worst_k = k;
@@ -271,7 +274,8 @@ Result<StereoFrameResult> StereoEstimator::Process(const RgbImage& left, const R
   return result;
 }
 
-std::array<double, 2> StereoEstimator::PredictedDiscAreaPx(const RigidFit& fit, int k) const {
+std::array<double, 2> StereoEstimator::PredictedDiscAreaPx(
+    const RigidFit& fit, int k, std::array<double, 2>* perimeter_px) const {
   // The disc's rim in the left camera frame, from the fit (camera = R^T (world - t)).
   const Eigen::Matrix3d rt = fit.rotation.transpose();
   const Eigen::Vector3d centre = options_.landmarks_world_m[k];
@@ -290,12 +294,14 @@ std::array<double, 2> StereoEstimator::PredictedDiscAreaPx(const RigidFit& fit, 
     }
   }
   std::array<double, 2> area{0.0, 0.0};
+  if (perimeter_px != nullptr) *perimeter_px = {0.0, 0.0};
   for (int side = 0; side < 2; ++side) {
     if (rim[side].size() != kRim) continue;  // partly behind the camera.
     for (int i = 0; i < kRim; ++i) {         // shoelace.
       const Eigen::Vector2d& a = rim[side][i];
       const Eigen::Vector2d& b = rim[side][(i + 1) % kRim];
       area[side] += a.x() * b.y() - b.x() * a.y();
+      if (perimeter_px != nullptr) (*perimeter_px)[side] += (b - a).norm();
     }
     area[side] = std::abs(area[side]) / 2;
   }

@@ -68,8 +68,10 @@ class StereoEstimator final {
   static void SetObject(const ObjectCandidate& candidate, StereoFrameResult* result);
 
   // The area of landmark k's disc in the left and right images (pixels) when the camera sits
-  // where `fit` puts it; 0 for an image the whole disc does not project into.
-  std::array<double, 2> PredictedDiscAreaPx(const RigidFit& fit, int k) const;
+  // where `fit` puts it, and its perimeter (pixels) when asked; 0 for an image the whole disc
+  // does not project into.
+  std::array<double, 2> PredictedDiscAreaPx(const RigidFit& fit, int k,
+                                            std::array<double, 2>* perimeter_px = nullptr) const;
   // Blobs too large for their landmark excluded from one frame before the match is given up.
   static constexpr int kMaxExcludedBlobs = 4;
 

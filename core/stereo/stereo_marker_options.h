@@ -67,9 +67,9 @@ struct StereoMarkerOptions {
   double occluded_weight = 0.01;
   // ...and below this fraction the frame is rejected (too little of it is visible).
   double min_visible_fraction = 0.3;
-  // A landmark's blob larger than this times the disc's predicted area is not the landmark
-  // (a cloth or disc of its colour, or the landmark merged with one): it is set aside and the
-  // landmarks are matched again without it.
+  // A landmark's blob larger than this times the disc's predicted area (the disc grown by one
+  // pixel all round) is not the landmark (a cloth or disc of its colour, or the landmark merged
+  // with one): it is set aside and the landmarks are matched again without it.
   double max_landmark_area_ratio = 1.6;
   // The ball: its blob area within [1/max, max] times the area its distance predicts, its fill
   // of the bounding box at least min_ball_fill (a disc fills pi/4) and its aspect at most

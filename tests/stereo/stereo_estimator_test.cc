@@ -209,7 +209,7 @@ TEST_F(StereoEstimatorTest, PartlyHiddenLandmarkIsDownWeightedOrRejected) {
   EXPECT_FALSE(res->reason.empty());
 }
 
-// A landmark-coloured cloth lying against P1 merges with it into one blob about twice the
+// A landmark-coloured cloth lying against P1 merges with it into one blob about three times the
 // disc's area: that blob is not P1 (its centroid is not P1's centre), so it is set aside and,
 // with no other P1 in view, the frame is rejected with both reasons rather than posed off.
 TEST_F(StereoEstimatorTest, BlobTooLargeForItsLandmarkIsSetAside) {
@@ -222,8 +222,10 @@ TEST_F(StereoEstimatorTest, BlobTooLargeForItsLandmarkIsSetAside) {
   ASSERT_TRUE(res->ok()) << res->reason;
   EXPECT_TRUE(res->landmark_blobs_excluded.empty()) << res->landmark_blobs_excluded;
 
-  scene.patches.push_back(SimPatch{scene.discs[1].centre_m + Eigen::Vector2d(0.07, 0.0),
-                                   Eigen::Vector2d(0.055, 0.055), 0.0, kSimLandmarkColor});
+  // The cloth reaches from under the disc 0.2 m away from the robot: the merged blob is about
+  // three discs' area, a little higher in the image but no wider.
+  scene.patches.push_back(SimPatch{scene.discs[1].centre_m + Eigen::Vector2d(0.0, 0.14),
+                                   Eigen::Vector2d(0.05, 0.12), 0.0, kSimLandmarkColor});
   pair = sim_.RenderPair(robot, HeadSway{}, scene, 8);
   res = est->Process(pair.left, pair.right, 0.0);
   ASSERT_TRUE(res.ok());
