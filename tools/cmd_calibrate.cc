@@ -320,7 +320,7 @@ int RunCalibrateWorldFromGround(int argc, char** argv) {
                   "DIR");
   flags.AddString("depth", &in.depth,
                   "depth recording (a directory of depth frames or clouds, or an .oni file; frame "
-                  "times from the file names, else --fps)",
+                  "times from the file names, else source.fps of --config)",
                   "PATH");
   flags.AddString("stereo", &in.stereo,
                   "stereo sequence directory (frames.csv or left/ + right/, calibration.yaml)",
