@@ -1,6 +1,11 @@
 #include "core/stereo/stereo_estimator.h"
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -240,6 +245,23 @@ TEST_F(StereoEstimatorTest, BlobTooLargeForItsLandmarkIsSetAside) {
   res = Make(lenient)->Process(pair.left, pair.right, 0.0);
   ASSERT_TRUE(res.ok());
   EXPECT_TRUE(res->landmark_blobs_excluded.empty());
+}
+
+TEST(StereoMarkerOptionsTest, LandmarkAreaRatioFromTheOptionsFile) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("hpose_area_ratio_" + std::to_string(::getpid()) + ".yaml"))
+                               .string();
+  std::ofstream(path) << "%YAML:1.0\nmax_landmark_area_ratio: 2.5\n";
+  Result<StereoMarkerOptions> loaded = LoadStereoMarkerOptions(path);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().ToString();
+  EXPECT_DOUBLE_EQ(loaded->max_landmark_area_ratio, 2.5);
+  std::ofstream(path)
+      << "%YAML:1.0\nmax_landmark_area_ratio: 0.5\n";  // smaller than the disc itself.
+  loaded = LoadStereoMarkerOptions(path);
+  ASSERT_FALSE(loaded.ok());
+  EXPECT_NE(loaded.error().message.find("max_landmark_area_ratio"), std::string::npos)
+      << loaded.error().message;
+  std::filesystem::remove(path);
 }
 
 TEST_F(StereoEstimatorTest, RejectsCollinearLandmarks) {
