@@ -528,4 +528,14 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   return std::string(out.c_str()) + "\n";
 }
 
+EstimatorOptions EffectiveEstimatorOptions(const DaemonConfig& config) {
+  EstimatorOptions options = config.estimator;
+  if (config.floor.fixed) {
+    options.use_fixed_floor = true;
+    options.fixed_floor = FloorEstimate::FromHeightPitchRoll(
+        config.floor.height_m, config.floor.pitch_rad, config.floor.roll_rad);
+  }
+  return options;
+}
+
 }  // namespace hpose::server

@@ -149,6 +149,10 @@ Status ValidateDaemonConfig(const DaemonConfig& config);
 // The effective config as YAML that ParseDaemonConfig accepts again.
 std::string DaemonConfigToYaml(const DaemonConfig& config);
 
+// The depth estimator's options a config gives: `estimator`, with the fixed floor of `floor`
+// when floor.mode is fixed.
+EstimatorOptions EffectiveEstimatorOptions(const DaemonConfig& config);
+
 // Scorer names used by the config: "reference" (OctoMap) and "fast".
 Result<ScorerKind> ParseScorerName(const std::string& name);
 const char* ScorerName(ScorerKind kind);

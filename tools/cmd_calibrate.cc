@@ -14,12 +14,21 @@
 #include <vector>
 
 #include "core/common/pose2d.h"
+#include "core/io/intrinsics_file.h"
+#include "core/search/estimator.h"
 #include "core/stereo/rgb_image_io.h"
+#include "core/stereo/stereo_calibration.h"
 #include "core/stereo/stereo_calibrator.h"
+#include "core/stereo/stereo_estimator.h"
+#include "core/stereo/stereo_marker_options.h"
+#include "core/stereo/stereo_sequence.h"
 #include "core/stereo/world_from_ground_fit.h"
+#include "server/daemon_config.h"
+#include "server/frame_source.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
+#include "tools/template_paths.h"
 
 namespace hpose::tools {
 namespace {
@@ -174,36 +183,234 @@ Result<std::vector<GroundWorldPair>> ReadPairs(const std::string& path) {
   return pairs;
 }
 
+// Where a recording's two halves are and how to estimate them (hposed's config keys).
+struct RecordingInputs {
+  std::string depth;   // depth frames (any recording hposed's source.path takes).
+  std::string stereo;  // stereo sequence directory.
+  server::DaemonConfig config;
+  double max_dt_s = 0.05;
+  double stereo_time_offset_s = 0.0;
+};
+
+// The depth estimator's robot poses (ground frame) over the whole depth recording.
+Result<std::vector<TimedPose>> DepthPoses(const RecordingInputs& in, int* frames) {
+  std::vector<std::string> paths = in.config.templates;
+  if (paths.empty()) paths = DefaultTemplatePaths();
+  Result<std::vector<VoxelTemplate>> templates = LoadTemplates(ResolveTemplateNames(paths));
+  if (!templates.ok()) return templates.error();
+  Result<std::unique_ptr<Estimator>> estimator =
+      Estimator::Create(server::EffectiveEstimatorOptions(in.config), std::move(*templates));
+  if (!estimator.ok()) return estimator.error();
+  server::ReplayOptions replay;
+  replay.realtime = false;
+  replay.fps = in.config.source.fps;
+  if (!in.config.source.intrinsics.empty()) {
+    Result<Intrinsics> k = ReadIntrinsicsFile(in.config.source.intrinsics);
+    if (!k.ok()) return k.error();
+    replay.has_intrinsics = true;
+    replay.intrinsics = *k;
+  }
+  Result<std::unique_ptr<server::FrameSource>> source = server::MakeFrameSource(in.depth, replay);
+  if (!source.ok()) return source.error();
+  if ((*source)->live()) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     in.depth + ": a live device; record it first (hpose record)");
+  }
+  if (Status s = (*source)->Open(); !s.ok()) return s.error();
+  const long total = (*source)->frame_count();
+  std::vector<TimedPose> poses;
+  *frames = 0;
+  while (true) {
+    Result<server::Frame> frame = (*source)->Next();
+    if (!frame.ok()) {
+      if (frame.error().code == ErrorCode::kOutOfRange) break;
+      return frame.error();
+    }
+    ++*frames;
+    Result<Estimate> e = frame->is_cloud
+                             ? (*estimator)->EstimateCloud(frame->cloud)
+                             : (*estimator)->EstimateDepth(frame->depth, frame->intrinsics);
+    if (!e.ok()) return Error{e.error().code, frame->origin + ": " + e.error().message};
+    const std::vector<Detection> humanoids = e->Humanoids();
+    if (!humanoids.empty()) poses.push_back({frame->source_time_s, humanoids.front().best.pose});
+    std::cerr << "\r  depth: " << *frames << "/" << total << " frames, robot in " << poses.size()
+              << std::flush;
+  }
+  std::cerr << "\n";
+  return poses;
+}
+
+// The stereo estimator's robot poses (world frame) over the whole stereo sequence.
+Result<std::vector<TimedPose>> StereoPoses(const RecordingInputs& in, int* frames) {
+  Result<StereoSequence> seq = StereoSequence::Open(in.stereo, in.config.stereo.fps);
+  if (!seq.ok()) return seq.error();
+  std::string calibration = in.config.stereo.calibration;
+  if (calibration.empty()) calibration = seq->calibration_path();
+  if (calibration.empty()) {
+    return MakeError(ErrorCode::kNotFound,
+                     in.stereo + " holds no calibration.yaml; give --stereo-calibration FILE");
+  }
+  StereoCalibrationReadOptions read;
+  read.translation_unit_m = in.config.stereo.calibration_unit == "mm" ? 0.001 : 1.0;
+  Result<StereoCalibration> cal = ReadStereoCalibration({calibration}, read);
+  if (!cal.ok()) return cal.error();
+  StereoMarkerOptions options;
+  if (!in.config.stereo.options.empty()) {
+    Result<StereoMarkerOptions> loaded = LoadStereoMarkerOptions(in.config.stereo.options);
+    if (!loaded.ok()) return loaded.error();
+    options = *loaded;
+  }
+  Result<std::unique_ptr<StereoEstimator>> estimator = StereoEstimator::Create(*cal, options);
+  if (!estimator.ok()) return estimator.error();
+  std::vector<TimedPose> poses;
+  *frames = static_cast<int>(seq->size());
+  for (size_t i = 0; i < seq->size(); ++i) {
+    Result<std::pair<RgbImage, RgbImage>> pair = seq->Load(i);
+    if (!pair.ok()) return pair.error();
+    const double t = seq->frame(i).timestamp_s + in.stereo_time_offset_s;
+    Result<StereoFrameResult> r = (*estimator)->Process(pair->first, pair->second, t);
+    if (!r.ok()) return Error{r.error().code, seq->frame(i).left_path + ": " + r.error().message};
+    if (r->ok()) poses.push_back({t, r->robot});
+    std::cerr << "\r  stereo: " << i + 1 << "/" << seq->size() << " pairs, robot in "
+              << poses.size() << std::flush;
+  }
+  std::cerr << "\n";
+  return poses;
+}
+
+Status WritePairs(const std::vector<GroundWorldPair>& pairs, const std::string& path) {
+  std::ofstream out(path);
+  out << "timestamp_s,ground_x_m,ground_y_m,ground_theta_rad,world_x_m,world_y_m,"
+         "world_theta_rad\n";
+  char line[256];
+  for (const GroundWorldPair& p : pairs) {
+    std::snprintf(line, sizeof(line), "%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", p.timestamp_s,
+                  p.ground.x, p.ground.y, p.ground.theta, p.world.x, p.world.y, p.world.theta);
+    out << line;
+  }
+  out.close();
+  if (!out) return MakeError(ErrorCode::kInternal, path + ": cannot write");
+  return Status::Ok();
+}
+
 int RunCalibrateWorldFromGround(int argc, char** argv) {
-  std::string pairs_path;
+  std::string pairs_path, recording, config_path, pairs_out, stereo_options, stereo_calibration;
+  RecordingInputs in;
+  std::vector<std::string> templates;
   WorldFromGroundOptions options;
   FlagParser flags(
-      "hpose calibrate world-from-ground --pairs PAIRS.csv",
+      "hpose calibrate world-from-ground (--pairs PAIRS.csv | --recording DIR | --depth DIR "
+      "--stereo DIR)",
       "Finds where the depth sensor's ground frame lies in the landmarks' world frame "
       "(world_from_ground: x, y, yaw) from a recording in which both estimators saw the robot: "
       "a least-squares 2D rigid fit of the depth poses onto the stereo poses with outlier "
       "rejection. Both poses must be of the same robot point (set the stereo estimator's "
       "head_to_reference_m). Prints the placement for hposed's world_from_ground, the "
       "residuals, and what the robot's motion made observable: walk it around the field; a "
-      "robot standing still gives the yaw only through its headings.");
+      "robot standing still gives the yaw only through its headings. The poses come from a "
+      "CSV (--pairs), or from the recording itself: both estimators run over it offline and "
+      "each depth pose is paired with the stereo pose nearest in time (within --max-dt).");
   flags.AddString("pairs", &pairs_path,
                   "CSV rows: timestamp_s, ground_x_m, ground_y_m, ground_theta_rad, world_x_m, "
                   "world_y_m, world_theta_rad (header and # lines skipped)",
                   "FILE");
+  flags.AddString("recording", &recording,
+                  "recording with DIR/depth (depth frames) and DIR/stereo (stereo pairs), as "
+                  "`hpose simulate stereo --depth-sensor` writes",
+                  "DIR");
+  flags.AddString("depth", &in.depth,
+                  "depth recording (a directory of depth frames or clouds, or an .oni file; frame "
+                  "times from the file names, else source.fps of --config)",
+                  "PATH");
+  flags.AddString("stereo", &in.stereo,
+                  "stereo sequence directory (frames.csv or left/ + right/, calibration.yaml)",
+                  "DIR");
+  flags.AddDouble("max-dt", &in.max_dt_s,
+                  "pair a depth pose with the nearest stereo pose at most this far apart in time",
+                  "S");
+  flags.AddDouble("stereo-time-offset", &in.stereo_time_offset_s,
+                  "added to the stereo times to put them on the depth recording's clock", "S");
+  flags.AddString("config", &config_path,
+                  "hposed YAML config: templates, search, floor, source.fps/intrinsics and the "
+                  "stereo calibration and options used on the recording",
+                  "FILE");
+  flags.AddStrings("template", &templates,
+                   "humanoid template, .bt file or shipped name (default: config's, else the "
+                   "shipped templates)",
+                   "FILE.bt");
+  flags.AddString("stereo-calibration", &stereo_calibration,
+                  "stereo calibration (default: config's, else the sequence's calibration.yaml)",
+                  "FILE");
+  flags.AddString("stereo-options", &stereo_options,
+                  "stereo estimator options (head_to_reference_m, landmarks, ...)", "FILE");
+  flags.AddString("pairs-out", &pairs_out, "write the paired poses of a recording as a --pairs CSV",
+                  "FILE");
   flags.AddDouble("outlier", &options.outlier_threshold_m,
                   "position residual beyond which (and 3 robust sigmas) a pair is dropped", "M");
+  flags.SetEpilog(
+      "exit status: 0 ok; 1 bad input or no usable pairs; 2 usage.\n"
+      "examples:\n  hpose calibrate world-from-ground --pairs pairs.csv\n"
+      "  hpose calibrate world-from-ground --recording rec --config hposed.yaml\n");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::string cmd = "calibrate world-from-ground";
-  if (pairs_path.empty()) {
-    std::cerr << "hpose " << cmd << ": --pairs is required\n";
+  if (!recording.empty()) {
+    if (!in.depth.empty() || !in.stereo.empty()) {
+      std::cerr << "hpose " << cmd << ": --recording or --depth/--stereo, not both\n";
+      return kExitUsage;
+    }
+    in.depth = recording + "/depth";
+    in.stereo = recording + "/stereo";
+  }
+  const bool from_recording = !in.depth.empty() || !in.stereo.empty();
+  if (from_recording == !pairs_path.empty() ||
+      (from_recording && (in.depth.empty() || in.stereo.empty()))) {
+    std::cerr << "hpose " << cmd
+              << ": give --pairs, or --recording, or both --depth and --stereo (see --help)\n";
     return kExitUsage;
   }
-  auto pairs = ReadPairs(pairs_path);
-  if (!pairs.ok()) return ReportError(cmd, pairs.error());
+  if (!(in.max_dt_s > 0.0 && in.max_dt_s <= 10.0)) {
+    std::cerr << "hpose " << cmd << ": --max-dt must be in (0, 10] seconds\n";
+    return kExitUsage;
+  }
+  Result<std::vector<GroundWorldPair>> pairs = std::vector<GroundWorldPair>();
+  std::string origin = pairs_path;
+  if (!from_recording) {
+    pairs = ReadPairs(pairs_path);
+    if (!pairs.ok()) return ReportError(cmd, pairs.error());
+  } else {
+    if (!config_path.empty()) {
+      Result<server::DaemonConfig> loaded = server::LoadDaemonConfig(config_path);
+      if (!loaded.ok()) return ReportError(cmd, loaded.error());
+      in.config = std::move(*loaded);
+    }
+    if (!templates.empty()) in.config.templates = templates;
+    if (!stereo_calibration.empty()) in.config.stereo.calibration = stereo_calibration;
+    if (!stereo_options.empty()) in.config.stereo.options = stereo_options;
+    int depth_frames = 0, stereo_frames = 0;
+    Result<std::vector<TimedPose>> ground = DepthPoses(in, &depth_frames);
+    if (!ground.ok()) return ReportError(cmd, ground.error());
+    Result<std::vector<TimedPose>> world = StereoPoses(in, &stereo_frames);
+    if (!world.ok()) return ReportError(cmd, world.error());
+    *pairs = PairPosesByTime(*ground, *world, in.max_dt_s);
+    std::cout << "depth: robot found in " << ground->size() << " of " << depth_frames
+              << " frames; stereo: robot pose in " << world->size() << " of " << stereo_frames
+              << " pairs; " << pairs->size() << " pairs within " << in.max_dt_s * 1e3 << " ms\n";
+    if (pairs->size() < 3) {
+      std::cerr << "hpose " << cmd << ": " << in.depth << " and " << in.stereo
+                << ": fewer than 3 pose pairs within --max-dt " << in.max_dt_s
+                << " s (do the two clocks agree? see --stereo-time-offset)\n";
+      return kExitError;
+    }
+    if (!pairs_out.empty()) {
+      if (Status s = WritePairs(*pairs, pairs_out); !s.ok()) return ReportError(cmd, s.error());
+      std::cout << "wrote " << pairs_out << "\n";
+    }
+    origin = recording.empty() ? in.depth + " + " + in.stereo : recording;
+  }
   auto fit = FitWorldFromGround(*pairs, options);
   if (!fit.ok()) {
     Error e = fit.error();
-    e.message = pairs_path + ": " + e.message;
+    e.message = origin + ": " + e.message;
     return ReportError(cmd, e);
   }
   char line[512];

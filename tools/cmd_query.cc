@@ -1,6 +1,7 @@
 // `hpose query`: a command-line client of hposed (hpose.v1.PoseService).
 #include <grpcpp/grpcpp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
 #include "core/stereo/rgb_image_io.h"
+#include "core/stereo/world_from_ground_fit.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
 #include "server/message_json.h"
 #include "server/proto_convert.h"
@@ -159,27 +161,65 @@ std::string Describe(const v1::PoseEstimate& e) {
 }
 
 // Side by side: the newest world-frame pose of each estimator and their difference.
+// `stream --compare`: each line shows the newest world-frame robot pose of both estimators, and
+// the difference between the poses both made of the same instant: the other estimator's pose
+// whose frame reached the daemon nearest in time (received_time, one clock for both sources),
+// within max_dt_s. The slower estimator's pose is compared when it arrives, with the faster
+// one's pose of its own frame's instant, not with the faster one's newest.
 class Comparison {
  public:
+  explicit Comparison(double max_dt_s) : max_dt_s_(max_dt_s) {}
+
   std::string Update(const v1::PoseEstimate& e) {
     const bool stereo = e.estimator() == v1::ESTIMATOR_KIND_STEREO_MARKER;
     Slot& slot = stereo ? stereo_ : depth_;
     slot.sequence = e.sequence();
     slot.valid = e.has_robot_pose_world();
-    if (slot.valid) slot.pose = e.robot_pose_world();
+    const double received = e.received_time().seconds() + 1e-9 * e.received_time().nanos();
+    if (slot.valid) {
+      slot.pose = e.robot_pose_world();
+      std::vector<TimedPose>& history = stereo ? stereo_history_ : depth_history_;
+      history.push_back({received, Pose2D{slot.pose.x(), slot.pose.y(), slot.pose.theta()}});
+      // Keep the last few seconds: enough for the slower estimator's latency.
+      while (!history.empty() && history.front().timestamp_s < received - 10.0) {
+        history.erase(history.begin());
+      }
+    }
     char buf[512];
     std::snprintf(buf, sizeof(buf), "%-6s t %8.3f s  depth %s  stereo %s",
                   stereo ? "stereo" : "depth", e.source_time(), Text(depth_).c_str(),
                   Text(stereo_).c_str());
     std::string line = buf;
-    if (depth_.valid && stereo_.valid) {
-      const double dx = depth_.pose.x() - stereo_.pose.x();
-      const double dy = depth_.pose.y() - stereo_.pose.y();
-      std::snprintf(buf, sizeof(buf), "  diff %6.0f mm %6.1f deg", std::hypot(dx, dy) * 1000.0,
-                    RadToDeg(AngleDiff(depth_.pose.theta(), stereo_.pose.theta())));
-      line += buf;
+    if (!slot.valid) return line;
+    const std::vector<TimedPose>& own = stereo ? stereo_history_ : depth_history_;
+    const std::vector<TimedPose>& other = stereo ? depth_history_ : stereo_history_;
+    const std::vector<GroundWorldPair> same = PairPosesByTime({own.back()}, other, max_dt_s_);
+    if (same.empty()) return line;
+    // same[0].ground: this estimate's pose; .world: the other estimator's of the same instant.
+    const Pose2D& mine = same[0].ground;
+    const Pose2D& theirs = same[0].world;
+    const double mm = std::hypot(mine.x - theirs.x, mine.y - theirs.y) * 1000.0;
+    const double deg = RadToDeg(stereo ? AngleDiff(theirs.theta, mine.theta)
+                                       : AngleDiff(mine.theta, theirs.theta));
+    diffs_mm_.push_back(mm);
+    diffs_deg_.push_back(std::abs(deg));
+    std::snprintf(buf, sizeof(buf), "  diff %6.0f mm %6.1f deg (same instant)", mm, deg);
+    return line + buf;
+  }
+
+  // A summary of the same-instant differences, for the end of the stream.
+  std::string Summary() const {
+    if (diffs_mm_.empty()) {
+      return "compare: no pair of depth and stereo poses of the same instant (within " +
+             std::to_string(static_cast<int>(max_dt_s_ * 1000.0)) + " ms)";
     }
-    return line;
+    char buf[256];
+    std::snprintf(buf, sizeof(buf),
+                  "compare: %zu same-instant pairs (frames within %.0f ms): position difference "
+                  "median %.1f mm, max %.1f mm; heading difference median %.1f deg",
+                  diffs_mm_.size(), max_dt_s_ * 1000.0, Median(diffs_mm_),
+                  *std::max_element(diffs_mm_.begin(), diffs_mm_.end()), Median(diffs_deg_));
+    return buf;
   }
 
  private:
@@ -197,7 +237,14 @@ class Comparison {
                   s.pose.y() * 1000.0, RadToDeg(s.pose.theta()));
     return std::string(buf) + "      ";
   }
+  static double Median(std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  }
+  double max_dt_s_;
   Slot depth_, stereo_;
+  std::vector<TimedPose> depth_history_, stereo_history_;  // by received_time, oldest first.
+  std::vector<double> diffs_mm_, diffs_deg_;
 };
 
 void PrintEstimate(const v1::PoseEstimate& e, bool json) {
@@ -278,14 +325,16 @@ int RunQuery(int argc, char** argv) {
   std::string tls_ca, tls_cert, tls_key, token_file;
   bool json = false, compare = false;
   int count = 0;
-  double timeout_s = 10.0;
+  double timeout_s = 10.0, max_dt_s = 0.05;
   FlagParser flags(
       "hpose query [--server ADDR] (latest | stream | estimate FILE | estimate-stereo LEFT RIGHT "
       "| status | templates)",
       "Asks a running hposed. latest: the newest estimate of the daemon's source (--estimator); "
       "stream: estimates of both estimators as they are made, each line marked depth or stereo, "
       "until Ctrl-C (or --count); with --compare each line shows the newest world-frame robot "
-      "pose of both estimators side by side and their difference; estimate FILE: sends a depth "
+      "pose of both estimators side by side and the difference between the poses both made of "
+      "the same instant (frames that reached the daemon within --max-dt), with a summary at the "
+      "end; estimate FILE: sends a depth "
       "PNG (millimetres; intrinsics.json beside it or --intrinsics) or a PCD cloud and prints "
       "the estimate; estimate-stereo LEFT RIGHT: sends a stereo pair of colour images to the "
       "stereo-marker estimator; status: source states, counters, rates, latency, floor, world "
@@ -302,6 +351,10 @@ int RunQuery(int argc, char** argv) {
                   "NAME");
   flags.AddBool("compare", &compare,
                 "stream: both estimators' world-frame poses side by side (text output)");
+  flags.AddDouble("max-dt", &max_dt_s,
+                  "stream --compare: frames of the two estimators at most this far apart in "
+                  "arrival time are of the same instant",
+                  "S");
   flags.AddStrings("template", &templates, "estimate: only these templates (repeatable)", "NAME");
   flags.AddString("tls-ca", &tls_ca,
                   "PEM CA that signed the daemon's certificate: connect with TLS", "FILE");
@@ -390,7 +443,11 @@ int RunQuery(int argc, char** argv) {
     v1::StreamPosesRequest request;
     request.set_max_estimates(count > 0 ? static_cast<std::uint32_t>(count) : 0);
     if (kind != v1::ESTIMATOR_KIND_UNSPECIFIED) request.add_estimators(kind);
-    Comparison comparison;
+    if (!(max_dt_s > 0.0)) {
+      std::cerr << "hpose query: --max-dt must be more than 0 seconds\n";
+      return kExitUsage;
+    }
+    Comparison comparison(max_dt_s);
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
     std::atomic<bool> done{false};
@@ -412,6 +469,7 @@ int RunQuery(int argc, char** argv) {
     grpc::Status s = reader->Finish();
     done = true;
     watcher.join();
+    if (compare && !json) std::cout << comparison.Summary() << std::endl;
     if (g_interrupted || s.error_code() == grpc::StatusCode::CANCELLED) {
       std::cerr << "hpose query stream: stopped after " << received << " estimate(s)\n";
       return kExitOk;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/common/pose2d.h"
+#include "core/stereo/paired_sim_recording.h"
 #include "core/stereo/rgb_image_io.h"
 #include "core/stereo/stereo_calibration.h"
 #include "core/stereo/stereo_estimator.h"
@@ -52,6 +53,9 @@ nlohmann::json FrameJson(const StereoFrameResult& f, const StereoTrackState& t, 
     j["head"] = {{"x_m", f.head.x}, {"y_m", f.head.y}, {"theta_rad", f.head.theta}};
     j["landmark_visible_fraction"] = f.landmark_visible_fraction;
     if (!f.landmark_notes.empty()) j["landmark_notes"] = f.landmark_notes;
+    if (!f.landmark_blobs_excluded.empty()) {
+      j["landmark_blobs_excluded"] = f.landmark_blobs_excluded;
+    }
   }
   j["landmark_candidates"] = f.landmark_candidates;
   j["landmark_triples"] = f.landmark_triples;
@@ -268,6 +272,9 @@ int RunSimulateStereo(int argc, char** argv) {
   std::string out, scenario = "rolling", rig = "paper";
   bool no_distractors = false, no_sway = false, hard = false;
   int seed = 1;
+  PairedDepthSensorSpec depth;
+  std::string depth_sensor, depth_size;
+  double depth_pitch_deg = 0.0;
   double noise = spec.noise.pixel_noise_sigma;
   FlagParser flags(
       "hpose simulate-stereo --out DIR [--scenario rolling|walking|grid]",
@@ -309,8 +316,51 @@ int RunSimulateStereo(int argc, char** argv) {
   flags.AddBool("no-distractors", &no_distractors, "no distractor colours on the floor");
   flags.AddBool("no-sway", &no_sway, "no head sway");
   flags.AddInt("seed", &seed, "random seed");
+  flags.AddDouble("speed", &spec.robot_speed_mps, "robot walking speed (walking)", "M/S");
+  flags.AddString("depth-sensor", &depth_sensor,
+                  "also render a depth sensor (Kinect v1 model) watching the robot, its ground "
+                  "frame at X,Y (world, metres) facing YAW degrees from world +x: writes "
+                  "DIR/stereo/ and DIR/depth/ (see below)",
+                  "X,Y,YAW");
+  flags.AddDouble("depth-mount-height", &depth.height_m,
+                  "depth sensor's optical centre above the floor", "M");
+  flags.AddDouble("depth-pitch", &depth_pitch_deg, "depth sensor pitch (+ looks down)", "DEG");
+  flags.AddString("depth-size", &depth_size, "depth image size", "WxH");
+  flags.AddInt("depth-every", &depth.every, "one depth frame per N stereo frames", "N");
+  flags.SetEpilog(
+      "With --depth-sensor the output is a recording both estimators see: DIR/stereo/ (the "
+      "layout above) and DIR/depth/ (16-bit depth PNGs named by their time in seconds on the "
+      "stereo clock, intrinsics.json, truth.csv with the humanoid's ground and world poses). "
+      "The humanoid stands where the robot's stereo head is (head_to_reference_m = 0). Use it "
+      "with `hpose calibrate world-from-ground --recording DIR`, and as hposed's source.path "
+      "(DIR/depth) and stereo.source (DIR/stereo).\n"
+      "example:\n  hpose simulate stereo --out rec --scenario walking --frames 90 --fps 10 "
+      "--speed 0.08 --robot-y -1.35 --depth-sensor -1.1,-2.1,45\n");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::string cmd = "simulate-stereo";
+  if (!depth_size.empty() &&
+      std::sscanf(depth_size.c_str(), "%dx%d", &depth.width, &depth.height) != 2) {
+    std::cerr << "hpose " << cmd << ": --depth-size must be WxH (e.g. 320x240), got '" << depth_size
+              << "'\n";
+    return kExitUsage;
+  }
+  if (!depth_sensor.empty()) {
+    double yaw_deg = 0;
+    char end = 0;
+    if (std::sscanf(depth_sensor.c_str(), "%lf,%lf,%lf%c", &depth.world_from_ground.x,
+                    &depth.world_from_ground.y, &yaw_deg, &end) != 3) {
+      std::cerr << "hpose " << cmd
+                << ": --depth-sensor must be X,Y,YAW_DEG (e.g. -1.1,-2.1,45), got '" << depth_sensor
+                << "'\n";
+      return kExitUsage;
+    }
+    depth.world_from_ground.theta = NormalizeAngle(DegToRad(yaw_deg));
+    depth.pitch_rad = DegToRad(depth_pitch_deg);
+  } else if (flags.Seen("depth-mount-height") || flags.Seen("depth-pitch") ||
+             flags.Seen("depth-size") || flags.Seen("depth-every")) {
+    std::cerr << "hpose " << cmd << ": the --depth-* flags need --depth-sensor\n";
+    return kExitUsage;
+  }
   if (rig != "paper" && rig != "vga") {
     std::cerr << "hpose " << cmd << ": --rig must be paper or vga\n";
     return kExitUsage;
@@ -344,11 +394,28 @@ int RunSimulateStereo(int argc, char** argv) {
     if (flags.Seen("noise")) spec.noise.pixel_noise_sigma = noise;
   }
   spec.seed = static_cast<std::uint64_t>(seed);
-  Status s = WriteStereoSimSequence(spec, out);
+  if (depth_sensor.empty()) {
+    Status s = WriteStereoSimSequence(spec, out);
+    if (!s.ok()) return ReportError(cmd, s.error());
+    std::cout << "wrote " << StereoSimFrameCount(spec) << " stereo pairs (" << spec.camera.width
+              << "x" << spec.camera.height << ", scenario " << StereoSimScenarioName(spec.scenario)
+              << ") to " << out << "\n";
+    return kExitOk;
+  }
+  Status s = WritePairedSimRecording(spec, depth, out, [](int done, int total) {
+    if (done % 10 == 0 || done == total) {
+      std::cerr << "\r  rendered " << done << "/" << total << " frames" << std::flush;
+    }
+  });
+  std::cerr << "\n";
   if (!s.ok()) return ReportError(cmd, s.error());
-  std::cout << "wrote " << StereoSimFrameCount(spec) << " stereo pairs (" << spec.camera.width
-            << "x" << spec.camera.height << ", scenario " << StereoSimScenarioName(spec.scenario)
-            << ") to " << out << "\n";
+  const int frames = StereoSimFrameCount(spec);
+  std::cout << "wrote " << frames << " stereo pairs (" << spec.camera.width << "x"
+            << spec.camera.height << ", scenario " << StereoSimScenarioName(spec.scenario)
+            << ") to " << out << "/stereo and " << (frames + depth.every - 1) / depth.every
+            << " depth frames (" << depth.width << "x" << depth.height << ") to " << out
+            << "/depth; world_from_ground x " << depth.world_from_ground.x << " m, y "
+            << depth.world_from_ground.y << " m, yaw " << depth.world_from_ground.theta << " rad\n";
   return kExitOk;
 }
 

@@ -91,13 +91,55 @@ Result<StereoFrameResult> StereoEstimator::Process(const RgbImage& left, const R
   const std::vector<ObjectCandidate> objects =
       LocateObject(lb[kObjectClass], rb[kObjectClass], &result);
 
-  const std::vector<ColorBlob>& ll = lb[kLandmarkClass];
-  const std::vector<ColorBlob>& rl = rb[kLandmarkClass];
+  std::vector<ColorBlob> ll = lb[kLandmarkClass];
+  std::vector<ColorBlob> rl = rb[kLandmarkClass];
   result.landmark_blobs_left = static_cast<int>(ll.size());
   result.landmark_blobs_right = static_cast<int>(rl.size());
-  const LandmarkMatch match = MatchLandmarks(*rig_, ll, rl, options_);
+  // A chosen blob much larger than the disc the fitted pose predicts where it lies is not that
+  // landmark (a landmark-coloured cloth, or a landmark merged with one); the landmarks are
+  // matched again without it, so a distractor that happened to complete the layout within the
+  // triangulation tolerance (far away, where that tolerance is wide) cannot stay chosen.
+  LandmarkMatch match;
+  std::string excluded;
+  for (int round = 0;; ++round) {
+    match = MatchLandmarks(*rig_, ll, rl, options_);
+    if (match.status != StereoFrameStatus::kOk || round == kMaxExcludedBlobs) break;
+    int worst_k = -1, worst_side = 0;
+    double worst_ratio = options_.max_landmark_area_ratio;
+    for (int k = 0; k < 3; ++k) {
+      std::array<double, 2> perimeter{};
+      const std::array<double, 2> predicted = PredictedDiscAreaPx(match.svd, k, &perimeter);
+      for (int side = 0; side < 2; ++side) {
+        if (predicted[side] <= 1) continue;
+        const ColorBlob& blob = side == 0 ? ll[match.left_index[k]] : rl[match.right_index[k]];
+        // The disc grown by one pixel all round: blur, demosaicing and JPEG widen a blob by
+        // about that much, which matters for the few-pixel-high discs far away.
+        const double ratio = blob.area_px / (predicted[side] + perimeter[side]);
+        if (ratio > worst_ratio) {
+          worst_ratio = ratio;
+          worst_k = k;
+          worst_side = side;
+        }
+      }
+    }
+    if (worst_k < 0) break;
+    std::vector<ColorBlob>& blobs = worst_side == 0 ? ll : rl;
+    const int index = worst_side == 0 ? match.left_index[worst_k] : match.right_index[worst_k];
+    std::ostringstream note;
+    note.precision(3);
+    note << (excluded.empty() ? "" : "; ") << "a " << (worst_side == 0 ? "left" : "right")
+         << " blob at (" << blobs[index].centroid_px.x() << ", " << blobs[index].centroid_px.y()
+         << ") is " << worst_ratio << " times the area of landmark P" << worst_k
+         << " there: not a landmark";
+    excluded += note.str();
+    blobs.erase(blobs.begin() + index);
+  }
+  result.landmark_blobs_excluded = excluded;
   result.status = match.status;
   result.reason = match.reason;
+  if (match.status != StereoFrameStatus::kOk && !excluded.empty()) {
+    result.reason += " (after excluding blobs too large for a landmark: " + excluded + ")";
+  }
   result.landmark_candidates = match.candidate_matches;
   result.landmark_triples = match.candidate_triples;
   result.landmark_best_rms_m = match.best_rms_m;
@@ -232,13 +274,10 @@ Result<StereoFrameResult> StereoEstimator::Process(const RgbImage& left, const R
   return result;
 }
 
-StereoEstimator::LandmarkVisibility StereoEstimator::AssessLandmark(
-    const LandmarkMatch& match, int k, const std::vector<ColorBlob>& left_landmarks,
-    const std::vector<ColorBlob>& right_landmarks, const std::vector<ColorBlob>& left_objects,
-    const std::vector<ColorBlob>& right_objects, int width, int height) const {
-  LandmarkVisibility v;
+std::array<double, 2> StereoEstimator::PredictedDiscAreaPx(
+    const RigidFit& fit, int k, std::array<double, 2>* perimeter_px) const {
   // The disc's rim in the left camera frame, from the fit (camera = R^T (world - t)).
-  const Eigen::Matrix3d rt = match.svd.rotation.transpose();
+  const Eigen::Matrix3d rt = fit.rotation.transpose();
   const Eigen::Vector3d centre = options_.landmarks_world_m[k];
   constexpr int kRim = 24;
   std::array<std::vector<Eigen::Vector2d>, 2> rim;
@@ -246,7 +285,7 @@ StereoEstimator::LandmarkVisibility StereoEstimator::AssessLandmark(
     const double a = 2 * kPi * i / kRim;
     const Eigen::Vector3d p =
         centre + options_.landmark_radius_m * Eigen::Vector3d(std::cos(a), std::sin(a), 0);
-    const Eigen::Vector3d c = rt * (p - match.svd.translation);
+    const Eigen::Vector3d c = rt * (p - fit.translation);
     for (int side = 0; side < 2; ++side) {
       Eigen::Vector2d px;
       if (rig_->Project(side == 0 ? StereoSide::kLeft : StereoSide::kRight, c, &px)) {
@@ -254,6 +293,27 @@ StereoEstimator::LandmarkVisibility StereoEstimator::AssessLandmark(
       }
     }
   }
+  std::array<double, 2> area{0.0, 0.0};
+  if (perimeter_px != nullptr) *perimeter_px = {0.0, 0.0};
+  for (int side = 0; side < 2; ++side) {
+    if (rim[side].size() != kRim) continue;  // partly behind the camera.
+    for (int i = 0; i < kRim; ++i) {         // shoelace.
+      const Eigen::Vector2d& a = rim[side][i];
+      const Eigen::Vector2d& b = rim[side][(i + 1) % kRim];
+      area[side] += a.x() * b.y() - b.x() * a.y();
+      if (perimeter_px != nullptr) (*perimeter_px)[side] += (b - a).norm();
+    }
+    area[side] = std::abs(area[side]) / 2;
+  }
+  return area;
+}
+
+StereoEstimator::LandmarkVisibility StereoEstimator::AssessLandmark(
+    const LandmarkMatch& match, int k, const std::vector<ColorBlob>& left_landmarks,
+    const std::vector<ColorBlob>& right_landmarks, const std::vector<ColorBlob>& left_objects,
+    const std::vector<ColorBlob>& right_objects, int width, int height) const {
+  LandmarkVisibility v;
+  const std::array<double, 2> predicted = PredictedDiscAreaPx(match.svd, k);
   std::vector<std::string> why;
   for (int side = 0; side < 2; ++side) {
     const std::vector<ColorBlob>& marks = side == 0 ? left_landmarks : right_landmarks;
@@ -261,14 +321,8 @@ StereoEstimator::LandmarkVisibility StereoEstimator::AssessLandmark(
     const int index = side == 0 ? match.left_index[k] : match.right_index[k];
     const ColorBlob& blob = marks[index];
     const char* name = side == 0 ? "left" : "right";
-    if (rim[side].size() == kRim) {
-      double area = 0;  // shoelace.
-      for (int i = 0; i < kRim; ++i) {
-        const Eigen::Vector2d& a = rim[side][i];
-        const Eigen::Vector2d& b = rim[side][(i + 1) % kRim];
-        area += a.x() * b.y() - b.x() * a.y();
-      }
-      area = std::abs(area) / 2;
+    {
+      const double area = predicted[side];
       if (area > 1) {
         const double fraction = blob.area_px / area;
         v.visible_fraction = std::min(v.visible_fraction, fraction);

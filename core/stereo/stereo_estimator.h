@@ -1,6 +1,7 @@
 #ifndef HPOSE_CORE_STEREO_STEREO_ESTIMATOR_H_
 #define HPOSE_CORE_STEREO_STEREO_ESTIMATOR_H_
 
+#include <array>
 #include <memory>
 
 #include "core/common/status.h"
@@ -65,6 +66,14 @@ class StereoEstimator final {
                                             const std::vector<ColorBlob>& right,
                                             StereoFrameResult* result) const;
   static void SetObject(const ObjectCandidate& candidate, StereoFrameResult* result);
+
+  // The area of landmark k's disc in the left and right images (pixels) when the camera sits
+  // where `fit` puts it, and its perimeter (pixels) when asked; 0 for an image the whole disc
+  // does not project into.
+  std::array<double, 2> PredictedDiscAreaPx(const RigidFit& fit, int k,
+                                            std::array<double, 2>* perimeter_px = nullptr) const;
+  // Blobs too large for their landmark excluded from one frame before the match is given up.
+  static constexpr int kMaxExcludedBlobs = 4;
 
   struct LandmarkVisibility {
     double visible_fraction = 1.0;  // blob area / predicted area, smaller of the two images.

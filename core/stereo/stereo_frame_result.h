@@ -49,6 +49,9 @@ struct StereoFrameResult {
   // the two images), whether it was down-weighted as partly hidden, and why (empty if not).
   std::array<double, 3> landmark_visible_fraction{1.0, 1.0, 1.0};
   std::array<bool, 3> landmark_downweighted{false, false, false};
+  // Landmark-coloured blobs set aside because they were much larger than the landmark the
+  // pose predicted where they lie (options.max_landmark_area_ratio), and why; empty: none.
+  std::string landmark_blobs_excluded;
   std::string landmark_notes;
 
   // Both camera -> world fits (rotation * x_camera + translation = x_world); `method` tells

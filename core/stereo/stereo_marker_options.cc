@@ -72,6 +72,7 @@ Status ValidateStereoMarkerOptions(const StereoMarkerOptions& o) {
   if (!(o.min_visible_fraction >= 0 && o.min_visible_fraction <= o.occlusion_area_ratio)) {
     return bad("min_visible_fraction must be in [0, occlusion_area_ratio]");
   }
+  if (!(o.max_landmark_area_ratio >= 1)) return bad("max_landmark_area_ratio must be >= 1");
   if (!(o.max_ball_area_factor >= 1)) return bad("max_ball_area_factor must be >= 1");
   if (!(o.min_ball_fill >= 0 && o.min_ball_fill < 1)) return bad("min_ball_fill must be in [0, 1)");
   if (!(o.max_ball_aspect >= 1)) return bad("max_ball_aspect must be >= 1");
@@ -176,6 +177,7 @@ Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path) {
                        : key == "occlusion_area_ratio"    ? &o.occlusion_area_ratio
                        : key == "occluded_weight"         ? &o.occluded_weight
                        : key == "min_visible_fraction"    ? &o.min_visible_fraction
+                       : key == "max_landmark_area_ratio" ? &o.max_landmark_area_ratio
                        : key == "max_ball_area_factor"    ? &o.max_ball_area_factor
                        : key == "min_ball_fill"           ? &o.min_ball_fill
                        : key == "max_ball_height_error_m" ? &o.max_ball_height_error_m

@@ -67,6 +67,10 @@ struct StereoMarkerOptions {
   double occluded_weight = 0.01;
   // ...and below this fraction the frame is rejected (too little of it is visible).
   double min_visible_fraction = 0.3;
+  // A landmark's blob larger than this times the disc's predicted area (the disc grown by one
+  // pixel all round) is not the landmark (a cloth or disc of its colour, or the landmark merged
+  // with one): it is set aside and the landmarks are matched again without it.
+  double max_landmark_area_ratio = 1.6;
   // The ball: its blob area within [1/max, max] times the area its distance predicts, its fill
   // of the bounding box at least min_ball_fill (a disc fills pi/4) and its aspect at most
   // max_ball_aspect, and once the pose is known
@@ -109,9 +113,9 @@ Status ValidateStereoMarkerOptions(const StereoMarkerOptions& options);
 // "closed_form" | "covariance"), depth_weighted_fit (0/1), robot_region_m ([x_min, x_max, y_min,
 // y_max]), head_to_reference_m ([x, y]), and the numbers landmark_radius_m, ball_radius_m,
 // max_landmark_range_m, centroid_sigma_px, layout_tolerance_m, occlusion_area_ratio,
-// occluded_weight, min_visible_fraction, max_ball_area_factor, min_ball_fill, max_ball_aspect,
-// max_ball_height_error_m. Fails
-// with kNotFound, kDataLoss or kInvalidArgument naming the key.
+// occluded_weight, min_visible_fraction, max_landmark_area_ratio, max_ball_area_factor,
+// min_ball_fill, max_ball_aspect, max_ball_height_error_m. Fails with kNotFound, kDataLoss or
+// kInvalidArgument naming the key.
 Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path);
 
 }  // namespace hpose

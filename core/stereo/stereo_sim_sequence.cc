@@ -195,6 +195,7 @@ Status ValidateStereoSimSequenceSpec(const StereoSimSequenceSpec& s) {
   if (!(s.fps > 0)) return bad("fps must be > 0");
   if (s.frames < 1 || s.frames > 100000) return bad("frames must be 1..100000");
   if (!(s.ball_radius_m > 0)) return bad("ball radius must be > 0");
+  if (!(std::abs(s.robot_speed_mps) <= 2.0)) return bad("robot speed must be within +-2 m/s");
   if (s.noise.jpeg_quality < 0 || s.noise.jpeg_quality > 100) return bad("JPEG quality 0..100");
   if (!(s.noise.vignetting >= 0 && s.noise.vignetting < 1)) return bad("vignetting must be 0..1");
   if (!(s.clutter.occluded_min >= 0 && s.clutter.occluded_max <= 0.9 &&
@@ -316,7 +317,8 @@ Status GenerateStereoSimSequence(const StereoSimSequenceSpec& spec,
   return Status::Ok();
 }
 
-Status WriteStereoSimSequence(const StereoSimSequenceSpec& spec, const std::string& dir) {
+Status WriteStereoSimSequence(const StereoSimSequenceSpec& spec, const std::string& dir,
+                              const std::function<Status(const StereoSimFrame&)>& also) {
   Status valid = ValidateStereoSimSequenceSpec(spec);
   if (!valid.ok()) return valid;
   for (const std::string& d : {dir, dir + "/left", dir + "/right"}) {
@@ -357,7 +359,7 @@ Status WriteStereoSimSequence(const StereoSimSequenceSpec& spec, const std::stri
           << t.landmark_occluded_fraction[0] << "," << t.landmark_occluded_fraction[1] << ","
           << t.landmark_occluded_fraction[2] << "," << t.landmark_color_distractors << ","
           << t.ball_color_distractors << "\n";
-    return Status::Ok();
+    return also ? also(f) : Status::Ok();
   });
   if (!status.ok()) return status;
   frames.close();

@@ -101,7 +101,10 @@ Status GenerateStereoSimSequence(const StereoSimSequenceSpec& spec,
 // head pose = what the estimator measures, head height, object presence, position and motion,
 // the occluded fraction of each landmark and the number of same-coloured distractors).
 // Creates `dir` (and parents) if needed. Fails with kInternal when a file cannot be written.
-Status WriteStereoSimSequence(const StereoSimSequenceSpec& spec, const std::string& dir);
+// `also`, when given, sees every frame after it was written (e.g. to render what another
+// sensor sees at that instant); its error stops the writing.
+Status WriteStereoSimSequence(const StereoSimSequenceSpec& spec, const std::string& dir,
+                              const std::function<Status(const StereoSimFrame&)>& also = nullptr);
 
 }  // namespace hpose
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
@@ -164,6 +165,31 @@ Result<WorldFromGroundFit> FitWorldFromGround(const std::vector<GroundWorldPair>
   }
   fit.observability = o.str();
   return fit;
+}
+
+std::vector<GroundWorldPair> PairPosesByTime(const std::vector<TimedPose>& ground,
+                                             const std::vector<TimedPose>& world, double max_dt_s) {
+  std::vector<TimedPose> sorted = world;
+  std::sort(sorted.begin(), sorted.end(),
+            [](const TimedPose& a, const TimedPose& b) { return a.timestamp_s < b.timestamp_s; });
+  std::vector<GroundWorldPair> pairs;
+  for (const TimedPose& g : ground) {
+    const auto after =
+        std::lower_bound(sorted.begin(), sorted.end(), g.timestamp_s,
+                         [](const TimedPose& w, double t) { return w.timestamp_s < t; });
+    const TimedPose* nearest = nullptr;
+    if (after != sorted.end()) nearest = &*after;
+    if (after != sorted.begin()) {
+      const TimedPose* before = &*std::prev(after);
+      if (nearest == nullptr ||
+          g.timestamp_s - before->timestamp_s < nearest->timestamp_s - g.timestamp_s) {
+        nearest = before;
+      }
+    }
+    if (nearest == nullptr || std::abs(nearest->timestamp_s - g.timestamp_s) > max_dt_s) continue;
+    pairs.push_back(GroundWorldPair{g.timestamp_s, g.pose, nearest->pose});
+  }
+  return pairs;
 }
 
 }  // namespace hpose

@@ -55,6 +55,19 @@ struct WorldFromGroundFit {
 Result<WorldFromGroundFit> FitWorldFromGround(const std::vector<GroundWorldPair>& pairs,
                                               const WorldFromGroundOptions& options = {});
 
+// A pose one estimator reported at one instant (seconds, the recording's clock).
+struct TimedPose {
+  double timestamp_s = 0.0;
+  Pose2D pose;
+};
+
+// Pairs every ground pose (depth estimator) with the world pose (stereo estimator) nearest to
+// it in time, when they are at most `max_dt_s` apart; a world pose may serve several ground
+// poses. The pair's timestamp is the ground pose's. Neither list needs to be sorted; the
+// result follows the order of `ground`.
+std::vector<GroundWorldPair> PairPosesByTime(const std::vector<TimedPose>& ground,
+                                             const std::vector<TimedPose>& world, double max_dt_s);
+
 }  // namespace hpose
 
 #endif  // HPOSE_CORE_STEREO_WORLD_FROM_GROUND_FIT_H_

@@ -1,6 +1,11 @@
 #include "core/stereo/stereo_estimator.h"
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -207,6 +212,56 @@ TEST_F(StereoEstimatorTest, PartlyHiddenLandmarkIsDownWeightedOrRejected) {
   ASSERT_TRUE(res.ok());
   EXPECT_FALSE(res->ok());
   EXPECT_FALSE(res->reason.empty());
+}
+
+// A landmark-coloured cloth lying against P1 merges with it into one blob about three times the
+// disc's area: that blob is not P1 (its centroid is not P1's centre), so it is set aside and,
+// with no other P1 in view, the frame is rejected with both reasons rather than posed off.
+TEST_F(StereoEstimatorTest, BlobTooLargeForItsLandmarkIsSetAside) {
+  SimScene scene = Scene();
+  const Pose2D robot{0.05, -1.0, kPi / 2};
+  auto est = Make();
+  auto pair = sim_.RenderPair(robot, HeadSway{}, scene, 8);
+  auto res = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(res.ok());
+  ASSERT_TRUE(res->ok()) << res->reason;
+  EXPECT_TRUE(res->landmark_blobs_excluded.empty()) << res->landmark_blobs_excluded;
+
+  // The cloth reaches from under the disc 0.2 m away from the robot: the merged blob is about
+  // three discs' area, a little higher in the image but no wider.
+  scene.patches.push_back(SimPatch{scene.discs[1].centre_m + Eigen::Vector2d(0.0, 0.14),
+                                   Eigen::Vector2d(0.05, 0.12), 0.0, kSimLandmarkColor});
+  pair = sim_.RenderPair(robot, HeadSway{}, scene, 8);
+  res = est->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(res.ok());
+  EXPECT_FALSE(res->ok());
+  EXPECT_NE(res->landmark_blobs_excluded.find("times the area of landmark P"), std::string::npos)
+      << res->reason << " / " << res->landmark_notes;
+  EXPECT_NE(res->reason.find("after excluding blobs too large for a landmark"), std::string::npos)
+      << res->reason;
+  // Allowing such blobs brings the old behaviour back: a pose, off by the merged centroid.
+  StereoMarkerOptions lenient;
+  lenient.max_landmark_area_ratio = 10;
+  res = Make(lenient)->Process(pair.left, pair.right, 0.0);
+  ASSERT_TRUE(res.ok());
+  EXPECT_TRUE(res->landmark_blobs_excluded.empty());
+}
+
+TEST(StereoMarkerOptionsTest, LandmarkAreaRatioFromTheOptionsFile) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("hpose_area_ratio_" + std::to_string(::getpid()) + ".yaml"))
+                               .string();
+  std::ofstream(path) << "%YAML:1.0\nmax_landmark_area_ratio: 2.5\n";
+  Result<StereoMarkerOptions> loaded = LoadStereoMarkerOptions(path);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().ToString();
+  EXPECT_DOUBLE_EQ(loaded->max_landmark_area_ratio, 2.5);
+  std::ofstream(path)
+      << "%YAML:1.0\nmax_landmark_area_ratio: 0.5\n";  // smaller than the disc itself.
+  loaded = LoadStereoMarkerOptions(path);
+  ASSERT_FALSE(loaded.ok());
+  EXPECT_NE(loaded.error().message.find("max_landmark_area_ratio"), std::string::npos)
+      << loaded.error().message;
+  std::filesystem::remove(path);
 }
 
 TEST_F(StereoEstimatorTest, RejectsCollinearLandmarks) {

@@ -76,5 +76,30 @@ TEST(WorldFromGroundFitTest, TooFewOrBadPairsFail) {
   EXPECT_NE(fit.error().message.find("pair 2"), std::string::npos);
 }
 
+// Each depth pose takes the stereo pose nearest in time, within the tolerance only; the
+// stereo poses may come in any order and at another rate.
+TEST(WorldFromGroundFitTest, PairsPosesByNearestTime) {
+  std::vector<TimedPose> world;
+  for (int i = 9; i >= 0; --i) world.push_back({0.1 * i, Pose2D{double(i), 0.0, 0.0}});
+  const std::vector<TimedPose> ground = {
+      {-0.5, Pose2D{-1, 0, 0}},                           // before every stereo pose.
+      {0.0, Pose2D{0, 1, 0}},   {0.26, Pose2D{1, 1, 0}},  // 0.3 is nearer than 0.2.
+      {0.34, Pose2D{2, 1, 0}},                            // 0.3 again.
+      {0.62, Pose2D{3, 1, 0}},  {0.94, Pose2D{4, 1, 0}},  // 0.04 after the last.
+      {1.2, Pose2D{5, 1, 0}}};                            // after every stereo pose.
+  const auto pairs = PairPosesByTime(ground, world, 0.05);
+  ASSERT_EQ(pairs.size(), 5u);
+  const double expected_world_x[] = {0, 3, 3, 6, 9};
+  const double expected_t[] = {0.0, 0.26, 0.34, 0.62, 0.94};
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    EXPECT_DOUBLE_EQ(pairs[i].timestamp_s, expected_t[i]);
+    EXPECT_DOUBLE_EQ(pairs[i].ground.x, static_cast<double>(i));
+    EXPECT_DOUBLE_EQ(pairs[i].world.x, expected_world_x[i]);
+  }
+  // A tighter tolerance drops the pairs 40 ms apart; none at all without stereo poses.
+  EXPECT_EQ(PairPosesByTime(ground, world, 0.03).size(), 2u);
+  EXPECT_TRUE(PairPosesByTime(ground, {}, 1.0).empty());
+}
+
 }  // namespace
 }  // namespace hpose

@@ -4,6 +4,7 @@
 // non-zero exit status.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -308,6 +309,64 @@ TEST_F(StereoCliTest, CalibrateWorldFromGroundFromACsv) {
   EXPECT_NE(run.err.find("bad.csv:1"), std::string::npos) << run.err;
   run = RunHpose("calibrate nothing", *dir_);
   EXPECT_EQ(run.exit_code, 2);
+}
+
+TEST_F(StereoCliTest, CalibrateWorldFromGroundFromARecording) {
+  // A short recording both sensors see: 6 stereo pairs, a depth frame with each.
+  const std::string rec = *dir_ / "rec";
+  CliRun run = RunHpose("simulate stereo --out " + Q(rec) +
+                            " --scenario walking --frames 6 --speed 0.3 --depth-sensor "
+                            "-1.1,-2.1,45 --depth-every 1",
+                        *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(fs::exists(rec + "/stereo/frames.csv"));
+  EXPECT_TRUE(fs::exists(rec + "/depth/intrinsics.json"));
+  EXPECT_TRUE(
+      fs::exists(rec + "/depth/0000.333333.png"));  // named by its time on the stereo clock.
+  const std::string truth = Slurp(rec + "/depth/truth.csv");
+  EXPECT_EQ(std::count(truth.begin(), truth.end(), '\n'), 7) << truth;
+
+  const std::string pairs = *dir_ / "rec_pairs.csv";
+  run = RunHpose("calibrate world-from-ground --recording " + Q(rec) + " --pairs-out " + Q(pairs),
+                 *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("depth: robot found in 6 of 6 frames"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("6 pairs within 50 ms"), std::string::npos) << run.out;
+  const size_t at = run.out.find("world_from_ground: x ");
+  ASSERT_NE(at, std::string::npos) << run.out;
+  // 0.1 m of walking: the yaw comes from the headings, the placement to a few centimetres.
+  EXPECT_NEAR(std::stod(run.out.substr(at + 21)), -1.1, 0.06) << run.out;
+  // The pairs it wrote give the same fit through --pairs.
+  const std::string first = run.out.substr(run.out.find("world_from_ground:"));
+  run = RunHpose("calibrate world-from-ground --pairs " + Q(pairs), *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.out.substr(run.out.find("world_from_ground:")), first);
+
+  // Clocks that do not agree: no pair within the tolerance, and the hint.
+  run = RunHpose("calibrate world-from-ground --recording " + Q(rec) + " --stereo-time-offset 100",
+                 *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("fewer than 3 pose pairs within --max-dt"), std::string::npos) << run.err;
+  // Usage errors and a missing half.
+  EXPECT_EQ(
+      RunHpose("calibrate world-from-ground --recording " + Q(rec) + " --depth x", *dir_).exit_code,
+      2);
+  EXPECT_EQ(RunHpose("calibrate world-from-ground --depth " + Q(rec + "/depth"), *dir_).exit_code,
+            2);
+  EXPECT_EQ(RunHpose("calibrate world-from-ground --recording " + Q(rec) + " --max-dt 0", *dir_)
+                .exit_code,
+            2);
+  run = RunHpose("calibrate world-from-ground --depth " + Q(rec + "/depth") + " --stereo " +
+                     Q(*dir_ / "nowhere"),
+                 *dir_);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("nowhere"), std::string::npos) << run.err;
+  run = RunHpose("simulate stereo --out " + Q(*dir_ / "x") + " --depth-every 2", *dir_);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--depth-sensor"), std::string::npos) << run.err;
+  run = RunHpose("simulate stereo --out " + Q(*dir_ / "x") + " --depth-sensor 1,2", *dir_);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("X,Y,YAW_DEG"), std::string::npos) << run.err;
 }
 
 TEST_F(StereoCliTest, CalibrateStereoOnOpenCvSamplesWritesAFileTheEstimatorReads) {
