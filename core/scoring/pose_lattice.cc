@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <map>
 
 #include "core/scoring/column_occupancy.h"
 
@@ -110,62 +111,109 @@ RotatedTemplate RotatePoints(const std::vector<Eigen::Vector3f>& points, const P
 
 namespace {
 
-// Per template point, the square of sub-voxel coordinates it sweeps over a theta block.
-struct Arcs {
-  std::vector<Eigen::Vector2i> lo, hi;
+// A template's points grouped by equal (x, y): every rotation moves them together, so the
+// rotations and the theta blocks are computed per column (a few hundred) instead of per point
+// (a few thousand), with no per-rotation sort of the points.
+struct PointColumns {
+  std::vector<Eigen::Vector2f> xy;  // per column.
+  std::vector<int> point_column;    // per point.
+  std::vector<int> point_z;         // per point: z cell.
+  int z_base = 0;
+  int z_words = 0;
+  std::vector<std::uint64_t> masks;  // z_words per column.
 };
 
-Arcs ArcsOf(const RotatedTemplate& r) {
-  Arcs arcs;
-  for (const Eigen::Vector3i& q : r.sub_cells) {
-    arcs.lo.push_back(q.head<2>());
-    arcs.hi.push_back(q.head<2>());
+PointColumns GroupPoints(const std::vector<Eigen::Vector3f>& points, double resolution_m) {
+  PointColumns g;
+  const double z_factor = 1.0 / resolution_m;
+  std::map<std::pair<float, float>, int> index;
+  int z_lo = INT_MAX, z_hi = INT_MIN;
+  for (const Eigen::Vector3f& v : points) {
+    const auto [it, added] = index.try_emplace({v.x(), v.y()}, static_cast<int>(g.xy.size()));
+    if (added) g.xy.emplace_back(v.x(), v.y());
+    g.point_column.push_back(it->second);
+    const int z = static_cast<int>(std::floor(z_factor * static_cast<double>(v.z())));
+    g.point_z.push_back(z);
+    z_lo = std::min(z_lo, z);
+    z_hi = std::max(z_hi, z);
   }
-  return arcs;
+  if (points.empty()) return g;
+  g.z_base = z_lo;
+  g.z_words = (z_hi - z_lo) / 64 + 1;
+  g.masks.assign(g.xy.size() * g.z_words, 0);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const int bit = g.point_z[i] - g.z_base;
+    g.masks[static_cast<size_t>(g.point_column[i]) * g.z_words + bit / 64] |= std::uint64_t{1}
+                                                                              << (bit % 64);
+  }
+  return g;
 }
 
-Arcs Join(const Arcs& a, const Arcs& b) {
-  Arcs out = a;
-  for (size_t i = 0; i < out.lo.size(); ++i) {
-    out.lo[i] = out.lo[i].cwiseMin(b.lo[i]);
-    out.hi[i] = out.hi[i].cwiseMax(b.hi[i]);
+// Sub-voxel (qx, qy) of every column at lattice angle itheta, exactly as RotatePoints computes
+// them for each point.
+std::vector<Eigen::Vector2i> RotateColumnsQ(const PointColumns& g, const PoseLattice& lattice,
+                                            int itheta) {
+  const double theta = itheta * lattice.angle_step_rad();
+  const double c = std::cos(theta);
+  const double s = std::sin(theta);
+  const double q_factor = lattice.subdivisions / lattice.resolution_m;
+  std::vector<Eigen::Vector2i> q;
+  q.reserve(g.xy.size());
+  for (const Eigen::Vector2f& v : g.xy) {
+    const double px = v.x();
+    const double py = v.y();
+    q.emplace_back(static_cast<int>(std::floor((c * px - s * py) * q_factor)),
+                   static_cast<int>(std::floor((s * px + c * py) * q_factor)));
   }
-  return out;
+  return q;
 }
 
-// The block's column view: points with equal squares share a column (sorted by corner, then
-// side), the side being the larger extent of the two axes.
-RotatedTemplate BlockColumns(const Arcs& arcs, const RotatedTemplate& first, int itheta0) {
-  struct Entry {
-    int qx, qy, extent, z;
-  };
-  std::vector<Entry> entries;
-  entries.reserve(arcs.lo.size());
-  for (size_t i = 0; i < arcs.lo.size(); ++i) {
-    const Eigen::Vector2i side = arcs.hi[i] - arcs.lo[i];
-    entries.push_back({arcs.lo[i].x(), arcs.lo[i].y(), side.maxCoeff(), first.sub_cells[i].z()});
-  }
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-    if (a.qx != b.qx) return a.qx < b.qx;
-    if (a.qy != b.qy) return a.qy < b.qy;
-    return a.extent < b.extent;
+// The column view of a set of template columns placed at `corner` with `extent` each (0 for a
+// single rotation): columns with equal (corner, extent) merged, sorted by corner then extent.
+void FillColumns(const PointColumns& g, const std::vector<Eigen::Vector2i>& corner,
+                 const std::vector<int>* extent, RotatedTemplate* r) {
+  std::vector<int> order(corner.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+  const auto ext = [&](int k) { return extent != nullptr ? (*extent)[k] : 0; };
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    if (corner[a].x() != corner[b].x()) return corner[a].x() < corner[b].x();
+    if (corner[a].y() != corner[b].y()) return corner[a].y() < corner[b].y();
+    return ext(a) < ext(b);
   });
-  RotatedTemplate out;
-  out.itheta = itheta0;
-  out.z_base = first.z_base;
-  out.z_words = first.z_words;
-  for (const Entry& e : entries) {
-    const Eigen::Vector2i q(e.qx, e.qy);
-    if (out.column_q.empty() || out.column_q.back() != q || out.column_extent.back() != e.extent) {
-      out.column_q.push_back(q);
-      out.column_extent.push_back(e.extent);
-      out.column_masks.resize(out.column_masks.size() + out.z_words, 0);
+  r->z_base = g.z_base;
+  r->z_words = g.z_words;
+  for (int k : order) {
+    const bool same = !r->column_q.empty() && r->column_q.back() == corner[k] &&
+                      (extent == nullptr || r->column_extent.back() == ext(k));
+    if (!same) {
+      r->column_q.push_back(corner[k]);
+      if (extent != nullptr) r->column_extent.push_back(ext(k));
+      r->column_masks.resize(r->column_masks.size() + g.z_words, 0);
     }
-    const int bit = e.z - out.z_base;
-    out.column_masks[(out.column_q.size() - 1) * out.z_words + bit / 64] |= std::uint64_t{1}
-                                                                            << (bit % 64);
+    std::uint64_t* m = &r->column_masks[(r->column_q.size() - 1) * g.z_words];
+    for (int w = 0; w < g.z_words; ++w) m[w] |= g.masks[static_cast<size_t>(k) * g.z_words + w];
   }
-  return out;
+}
+
+// RotatePoints for grouped points (the same RotatedTemplate).
+RotatedTemplate RotateColumns(const PointColumns& g, const PoseLattice& lattice, int itheta) {
+  RotatedTemplate r;
+  r.itheta = WrapAngleIndex(lattice, itheta);
+  if (g.point_column.empty()) return r;
+  const std::vector<Eigen::Vector2i> q = RotateColumnsQ(g, lattice, r.itheta);
+  r.q_min = q.front();
+  r.q_max = q.front();
+  for (const Eigen::Vector2i& p : q) {
+    r.q_min = r.q_min.cwiseMin(p);
+    r.q_max = r.q_max.cwiseMax(p);
+  }
+  r.sub_cells.reserve(g.point_column.size());
+  for (size_t i = 0; i < g.point_column.size(); ++i) {
+    const Eigen::Vector2i& p = q[g.point_column[i]];
+    r.sub_cells.emplace_back(p.x(), p.y(), g.point_z[i]);
+  }
+  FillColumns(g, q, nullptr, &r);
+  return r;
 }
 
 // Fills column_cxe / column_cy for a power-of-two subdivision (2^shift).
@@ -185,24 +233,40 @@ void AddCellTables(int shift, RotatedTemplate* r) {
 
 TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice)
     : name_(tpl.name), height_m_(tpl.Height()), lattice_(lattice) {
+  const PointColumns g = GroupPoints(tpl.VoxelSurfaceCentroids(), lattice.resolution_m);
   rotations_.reserve(lattice.angle_steps);
-  const std::vector<Eigen::Vector3f> points = tpl.VoxelSurfaceCentroids();
+  // Per column and block, the square its sub-voxel coordinates sweep: [lo, hi].
+  std::vector<std::vector<Eigen::Vector2i>> lo, hi;
   for (int i = 0; i < lattice.angle_steps; ++i) {
-    rotations_.push_back(RotatePoints(points, lattice, i));
+    rotations_.push_back(RotateColumns(g, lattice, i));
+    lo.push_back(RotateColumnsQ(g, lattice, i));
   }
-  std::vector<Arcs> arcs;  // of the previous level's blocks.
-  for (const RotatedTemplate& r : rotations_) arcs.push_back(ArcsOf(r));
+  hi = lo;
   for (int level = 1; level < kThetaLevels; ++level) {
     std::vector<RotatedTemplate> blocks;
-    std::vector<Arcs> joined;
-    for (size_t k = 0; k < arcs.size(); k += 2) {
-      joined.push_back(k + 1 < arcs.size() ? Join(arcs[k], arcs[k + 1]) : arcs[k]);
-      const int start = static_cast<int>(k / 2) << level;
-      blocks.push_back(BlockColumns(joined.back(), rotations_[start], start));
-      for (int e : blocks.back().column_extent) max_block_extent_ = std::max(max_block_extent_, e);
+    std::vector<std::vector<Eigen::Vector2i>> next_lo, next_hi;
+    for (size_t k = 0; k < lo.size(); k += 2) {
+      next_lo.push_back(lo[k]);
+      next_hi.push_back(hi[k]);
+      if (k + 1 < lo.size()) {
+        for (size_t c = 0; c < g.xy.size(); ++c) {
+          next_lo.back()[c] = next_lo.back()[c].cwiseMin(lo[k + 1][c]);
+          next_hi.back()[c] = next_hi.back()[c].cwiseMax(hi[k + 1][c]);
+        }
+      }
+      std::vector<int> extent(g.xy.size());
+      for (size_t c = 0; c < g.xy.size(); ++c) {
+        extent[c] = (next_hi.back()[c] - next_lo.back()[c]).maxCoeff();
+        max_block_extent_ = std::max(max_block_extent_, extent[c]);
+      }
+      RotatedTemplate block;
+      block.itheta = static_cast<int>(k / 2) << level;
+      if (!g.xy.empty()) FillColumns(g, next_lo.back(), &extent, &block);
+      blocks.push_back(std::move(block));
     }
     blocks_.push_back(std::move(blocks));
-    arcs = std::move(joined);
+    lo = std::move(next_lo);
+    hi = std::move(next_hi);
   }
   int shift = -1;
   for (int k = 0; k < 31; ++k) {

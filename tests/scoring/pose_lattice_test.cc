@@ -91,5 +91,34 @@ TEST(TemplateRotationsTest, PrecomputesEveryAngle) {
   EXPECT_EQ(rot.Get(0).sub_cells[0].x(), 25);
 }
 
+// TemplateRotations computes per column of the template (points of equal x, y) what
+// RotatePoints computes per point: the same rotated template at every angle.
+TEST(TemplateRotationsTest, EqualsRotatingEveryPoint) {
+  VoxelTemplate tpl;
+  tpl.name = "t";
+  tpl.resolution_m = 0.016;
+  for (int i = 0; i < 40; ++i) {
+    const float x = 0.013f * static_cast<float>(i % 7) - 0.04f;
+    const float y = 0.017f * static_cast<float>(i % 5) - 0.03f;
+    tpl.voxels.emplace_back(x, y, 0.016f * static_cast<float>(i % 11));
+    tpl.voxels.emplace_back(x, y, 0.016f * static_cast<float>(i % 11) + 0.5f);
+  }
+  const PoseLattice lattice;
+  const TemplateRotations rot(tpl, lattice);
+  const std::vector<Eigen::Vector3f> points = tpl.VoxelSurfaceCentroids();
+  for (int t = 0; t < lattice.angle_steps; t += 7) {
+    const RotatedTemplate a = RotatePoints(points, lattice, t);
+    const RotatedTemplate& b = rot.Get(t);
+    EXPECT_EQ(a.itheta, b.itheta);
+    EXPECT_EQ(a.sub_cells, b.sub_cells) << t;
+    EXPECT_EQ(a.column_q, b.column_q) << t;
+    EXPECT_EQ(a.column_masks, b.column_masks) << t;
+    EXPECT_EQ(a.q_min, b.q_min) << t;
+    EXPECT_EQ(a.q_max, b.q_max) << t;
+    EXPECT_EQ(a.z_base, b.z_base) << t;
+    EXPECT_EQ(a.z_words, b.z_words) << t;
+  }
+}
+
 }  // namespace
 }  // namespace hpose
