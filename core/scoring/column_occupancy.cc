@@ -266,6 +266,15 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
   }
 }
 
+int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const {
+  assert(aligned_);
+  const int mask = lattice_.subdivisions - 1;
+  const Level& lv = levels_[0];  // windows of one cell (entry 0): the cell's own voxels.
+  return SumAligned(lv.data.data(), AlignedBase(ix & ~mask, iy & ~mask),
+                    static_cast<std::ptrdiff_t>(lv.nx) * 4, groups.cxe.data(), groups.cy.data(),
+                    groups.masks.data(), static_cast<int>(groups.masks.size()));
+}
+
 std::ptrdiff_t ColumnOccupancy::AlignedBase(int a, int b) const {
   const Level& lv = levels_[0];
   return (static_cast<std::ptrdiff_t>((b >> shift_) - lv.y0) * lv.nx + ((a >> shift_) - lv.x0)) * 4;

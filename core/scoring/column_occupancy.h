@@ -64,6 +64,12 @@ class ColumnOccupancy {
   // column then sweeps windows of the same length in all four, one lookup apart).
   void Bound4(const RotatedTemplate& rotated, int a, int b, int level, int out[4]) const;
 
+  // Hits of a rotation at (ix, iy) from its CellGroups for the residue of (ix, iy)
+  // (TemplateRotations::Groups): equal to Hits, without scratch space, in the aligned layout
+  // (aligned() only; the cells of every group must lie in the lookup range).
+  int HitsGrouped(const CellGroups& groups, int ix, int iy) const;
+  bool aligned() const { return aligned_; }
+
   int max_level() const { return static_cast<int>(levels_.size()) - 1; }
 
  private:

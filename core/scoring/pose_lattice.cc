@@ -272,6 +272,10 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
   for (int k = 0; k < 31; ++k) {
     if ((1 << k) == lattice.subdivisions) shift = k;
   }
+  shift_ = shift;
+  z_words_ = g.z_words;
+  groups_.resize(rotations_.size());
+  groups_once_ = std::make_unique<std::once_flag[]>(rotations_.size());
   bool first = true;
   const auto visit = [&](RotatedTemplate* r) {
     AddCellTables(shift, r);
@@ -288,6 +292,40 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
   for (std::vector<RotatedTemplate>& level : blocks_) {
     for (RotatedTemplate& r : level) visit(&r);
   }
+}
+
+const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
+  const int s = 1 << shift_;
+  std::call_once(groups_once_[itheta], [&] {
+    const RotatedTemplate& r = rotations_[itheta];
+    std::vector<CellGroups>& out = groups_[itheta];
+    out.resize(static_cast<size_t>(s) * s);
+    std::vector<std::pair<std::int64_t, int>> keyed;  // (cell key, column).
+    for (int x = 0; x < s; ++x) {
+      for (int y = 0; y < s; ++y) {
+        keyed.clear();
+        for (size_t c = 0; c < r.column_q.size(); ++c) {
+          const std::int64_t cx = (r.column_q[c].x() + x) >> shift_;
+          const std::int64_t cy = (r.column_q[c].y() + y) >> shift_;
+          keyed.emplace_back((cx << 32) + (cy + (std::int64_t{1} << 31)), static_cast<int>(c));
+        }
+        std::sort(keyed.begin(), keyed.end());
+        CellGroups& g = out[static_cast<size_t>(x) * s + y];
+        std::int64_t last = 0;
+        for (size_t k = 0; k < keyed.size(); ++k) {
+          const int c = keyed[k].second;
+          if (k == 0 || keyed[k].first != last) {
+            g.cxe.push_back(4 * ((r.column_q[c].x() + x) >> shift_));
+            g.cy.push_back((r.column_q[c].y() + y) >> shift_);
+            g.masks.push_back(0);
+            last = keyed[k].first;
+          }
+          g.masks.back() |= r.column_masks[c];
+        }
+      }
+    }
+  });
+  return groups_[itheta][static_cast<size_t>(rx) * s + ry];
 }
 
 const RotatedTemplate& TemplateRotations::GetBlock(int level, int itheta0) const {

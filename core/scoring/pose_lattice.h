@@ -2,6 +2,8 @@
 #define HPOSE_CORE_SCORING_POSE_LATTICE_H_
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -101,6 +103,17 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
                          FloorDiv(sub_cell.y() + iy, subdivisions), sub_cell.z());
 }
 
+// A rotation's columns grouped by the cell they land in at translations with one residue
+// (ix mod S, iy mod S), S a power of two: per group the cell offset (4 cx, cy; added to the
+// translation's cell (ix >> log2 S, iy >> log2 S) minus the residue's) and the union of the
+// group's masks. Each cell appears once, so summing a group's voxels in its cell counts every
+// covered voxel exactly once: the exact hits (ColumnOccupancy::HitsGrouped).
+struct CellGroups {
+  std::vector<std::int32_t> cxe;  // 4 cx.
+  std::vector<std::int32_t> cy;
+  std::vector<std::uint64_t> masks;  // one word per group.
+};
+
 // All angle_steps rotations of one template under one lattice, computed once at construction
 // (360 rotations of a few thousand voxels: a few ms, a few MB), plus a pyramid over theta for
 // branch and bound: the block of level t starting at itheta0 (a multiple of 2^t) holds, per
@@ -122,6 +135,11 @@ class TemplateRotations {
   const RotatedTemplate& GetBlock(int level, int itheta0) const;
   // The largest column_extent of any theta block (0 without blocks).
   int max_block_extent() const { return max_block_extent_; }
+  // CellGroups of rotation itheta for translations of residue (rx, ry), made on first use
+  // (thread-safe); only for a power-of-two subdivision and one-word columns
+  // (has_cell_groups()).
+  const CellGroups& Groups(int itheta, int rx, int ry) const;
+  bool has_cell_groups() const { return shift_ >= 0 && z_words_ == 1; }
   // CellDisjointMasks of rotation itheta (for free-space lower bounds), made once.
   const std::vector<std::uint64_t>& DisjointMasks(int itheta) const { return disjoint_[itheta]; }
   // The range of column_q over every rotation and block (sub-voxel steps).
@@ -140,6 +158,11 @@ class TemplateRotations {
   std::vector<std::vector<RotatedTemplate>> blocks_;
   int max_block_extent_ = 0;
   std::vector<std::vector<std::uint64_t>> disjoint_;  // per rotation.
+  int shift_ = -1;                                    // log2(subdivisions) when a power of two.
+  int z_words_ = 0;                                   // words per column.
+  // Per rotation, S^2 residues of CellGroups, made once each on first use.
+  mutable std::vector<std::vector<CellGroups>> groups_;
+  mutable std::unique_ptr<std::once_flag[]> groups_once_;
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
 };

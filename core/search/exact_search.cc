@@ -65,6 +65,14 @@ class Evaluator {
         rotations_(rotations) {}
 
   int Value(const RotatedTemplate& r, int a, int b) const {
+    if (cluster_->aligned() && (free_ == nullptr || free_->aligned()) &&
+        rotations_.has_cell_groups()) {
+      const int mask = rotations_.lattice().subdivisions - 1;
+      const CellGroups& g = rotations_.Groups(r.itheta, a & mask, b & mask);
+      int v = hit_weight_ * cluster_->HitsGrouped(g, a, b);
+      if (free_ != nullptr) v -= free_weight_ * free_->HitsGrouped(g, a, b);
+      return v;
+    }
     int v = hit_weight_ * cluster_->Hits(r, a, b);
     if (free_ != nullptr) v -= free_weight_ * free_->Hits(r, a, b);
     return v;
@@ -391,15 +399,15 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   int arc_top = top;
   while ((1 << arc_top) - 1 < (1 << top) - 1 + rotations.max_block_extent()) ++arc_top;
   // Where bound windows start: any column's cell plus any block's (quarters of the last block
-  // reach one top block past the region).
+  // reach one top block past the region; exact hits' cell groups one cell more).
   const int s = lattice.subdivisions;
   ColumnOccupancy::CellRange lookups;
   lookups.x_lo = FloorDiv(region.ix_min, s) + FloorDiv(rotations.column_q_min().x(), s);
   lookups.y_lo = FloorDiv(region.iy_min, s) + FloorDiv(rotations.column_q_min().y(), s);
   lookups.x_hi =
-      FloorDiv(region.ix_max + (1 << top), s) + FloorDiv(rotations.column_q_max().x(), s);
+      FloorDiv(region.ix_max + (1 << top), s) + FloorDiv(rotations.column_q_max().x(), s) + 1;
   lookups.y_hi =
-      FloorDiv(region.iy_max + (1 << top), s) + FloorDiv(rotations.column_q_max().y(), s);
+      FloorDiv(region.iy_max + (1 << top), s) + FloorDiv(rotations.column_q_max().y(), s) + 1;
   const ColumnOccupancy occ(cluster, lattice, r0.z_base, r0.z_words, arc_top,
                             ColumnOccupancy::Filter::kMax, &lookups);
   std::unique_ptr<ColumnOccupancy> free;

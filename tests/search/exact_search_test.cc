@@ -167,6 +167,14 @@ TEST(ColumnOccupancyTest, AlignedBoundsEqualThePerLevelOnes) {
       aligned.Bound4(r, a, b, level, x);
       plain.Bound4(r, a, b, level, y);
       for (int q = 0; q < 4; ++q) ASSERT_EQ(x[q], y[q]) << "quarter " << q << " level " << level;
+      if (tlevel == 0) {  // exact hits from the cell groups, at every residue.
+        for (int k2 = 0; k2 < 4; ++k2) {
+          const int ix = a + d(rng), iy = b + d(rng);
+          const CellGroups& g = rot.Groups(r.itheta, ix & 3, iy & 3);
+          ASSERT_EQ(aligned.HitsGrouped(g, ix, iy), plain.Hits(r, ix, iy)) << "scene " << scene;
+          ASSERT_EQ(aligned_min.HitsGrouped(g, ix, iy), plain_min.Hits(r, ix, iy));
+        }
+      }
       if (tlevel == 0) {  // the free-space lower bound (AND filter) of single rotations too.
         const std::vector<std::uint64_t> masks = CellDisjointMasks(r, lattice.subdivisions);
         ASSERT_EQ(aligned_min.LowerBound(r, masks.data(), a, b, level),
