@@ -275,6 +275,16 @@ int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const
                     groups.masks.data(), static_cast<int>(groups.masks.size()));
 }
 
+int ColumnOccupancy::PairBound(const PairBlockTable& table, const std::uint64_t* masks, int a,
+                               int b) const {
+  assert(aligned_ && levels_.size() > 1);
+  const int mask = lattice_.subdivisions - 1;
+  const Level& lv = levels_[1];
+  return SumAligned(lv.data.data(), AlignedBase(a & ~mask, b & ~mask),
+                    static_cast<std::ptrdiff_t>(lv.nx) * 4, table.cxe.data(), table.cy.data(),
+                    masks, static_cast<int>(table.cxe.size()));
+}
+
 std::ptrdiff_t ColumnOccupancy::AlignedBase(int a, int b) const {
   const Level& lv = levels_[0];
   return (static_cast<std::ptrdiff_t>((b >> shift_) - lv.y0) * lv.nx + ((a >> shift_) - lv.x0)) * 4;

@@ -69,6 +69,10 @@ class ColumnOccupancy {
   // (aligned() only; the cells of every group must lie in the lookup range).
   int HitsGrouped(const CellGroups& groups, int ix, int iy) const;
   bool aligned() const { return aligned_; }
+  // The bound of a block of 2 steps (level 1) at (a, b), with the rotation's PairBlockTable for
+  // the residue of (a, b) and the rotation's masks (or cell-disjoint masks for a lower bound):
+  // equal to Bound / LowerBound at level 1, in the aligned layout (aligned(), S >= 4).
+  int PairBound(const PairBlockTable& table, const std::uint64_t* masks, int a, int b) const;
 
   int max_level() const { return static_cast<int>(levels_.size()) - 1; }
 

@@ -275,6 +275,7 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
   shift_ = shift;
   z_words_ = g.z_words;
   groups_.resize(rotations_.size());
+  pair_tables_.resize(rotations_.size());
   groups_once_ = std::make_unique<std::once_flag[]>(rotations_.size());
   bool first = true;
   const auto visit = [&](RotatedTemplate* r) {
@@ -324,8 +325,31 @@ const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
         }
       }
     }
+    // Blocks of two steps at even residues: the window starts at the cell of q + residue and
+    // is two cells long where q + residue is the last step of its cell.
+    const int half = s / 2;
+    std::vector<PairBlockTable>& pairs = pair_tables_[itheta];
+    pairs.resize(static_cast<size_t>(half) * half);
+    for (int x = 0; x < half; ++x) {
+      for (int y = 0; y < half; ++y) {
+        PairBlockTable& t = pairs[static_cast<size_t>(x) * half + y];
+        for (const Eigen::Vector2i& q : r.column_q) {
+          const int qx = q.x() + 2 * x, qy = q.y() + 2 * y;
+          const int ex = (qx & (s - 1)) == s - 1 ? 1 : 0;
+          const int ey = (qy & (s - 1)) == s - 1 ? 1 : 0;
+          t.cxe.push_back(4 * (qx >> shift_) + 2 * ex + ey);
+          t.cy.push_back(qy >> shift_);
+        }
+      }
+    }
   });
   return groups_[itheta][static_cast<size_t>(rx) * s + ry];
+}
+
+const PairBlockTable& TemplateRotations::PairTable(int itheta, int ra, int rb) const {
+  Groups(itheta, 0, 0);  // makes both on first use.
+  const int half = (1 << shift_) / 2;
+  return pair_tables_[itheta][static_cast<size_t>(ra / 2) * half + rb / 2];
 }
 
 const RotatedTemplate& TemplateRotations::GetBlock(int level, int itheta0) const {

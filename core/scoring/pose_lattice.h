@@ -114,6 +114,15 @@ struct CellGroups {
   std::vector<std::uint64_t> masks;  // one word per group.
 };
 
+// A rotation's columns (same order as column_q) for translation blocks of 2 steps starting at
+// residue (ra, rb) (even, below S): per column 4 cx + 2 ex + ey and cy, the window's first
+// cell (added to the aligned base of the block's translation minus the residue) and whether it
+// is one cell longer per axis (ColumnOccupancy::PairBound).
+struct PairBlockTable {
+  std::vector<std::int32_t> cxe;
+  std::vector<std::int32_t> cy;
+};
+
 // All angle_steps rotations of one template under one lattice, computed once at construction
 // (360 rotations of a few thousand voxels: a few ms, a few MB), plus a pyramid over theta for
 // branch and bound: the block of level t starting at itheta0 (a multiple of 2^t) holds, per
@@ -140,6 +149,9 @@ class TemplateRotations {
   // (has_cell_groups()).
   const CellGroups& Groups(int itheta, int rx, int ry) const;
   bool has_cell_groups() const { return shift_ >= 0 && z_words_ == 1; }
+  // PairBlockTable of rotation itheta for residue (ra, rb), both even and below S (S >= 4);
+  // made on first use with the CellGroups.
+  const PairBlockTable& PairTable(int itheta, int ra, int rb) const;
   // CellDisjointMasks of rotation itheta (for free-space lower bounds), made once.
   const std::vector<std::uint64_t>& DisjointMasks(int itheta) const { return disjoint_[itheta]; }
   // The range of column_q over every rotation and block (sub-voxel steps).
@@ -162,6 +174,7 @@ class TemplateRotations {
   int z_words_ = 0;                                   // words per column.
   // Per rotation, S^2 residues of CellGroups, made once each on first use.
   mutable std::vector<std::vector<CellGroups>> groups_;
+  mutable std::vector<std::vector<PairBlockTable>> pair_tables_;  // (S/2)^2 per rotation.
   mutable std::unique_ptr<std::once_flag[]> groups_once_;
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();

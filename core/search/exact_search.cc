@@ -62,7 +62,9 @@ class Evaluator {
         free_(free),
         free_weight_(free_weight),
         hit_weight_(hit_weight),
-        rotations_(rotations) {}
+        rotations_(rotations),
+        pairs_ok_(cluster->aligned() && (free == nullptr || free->aligned()) &&
+                  rotations.has_cell_groups() && rotations.lattice().subdivisions >= 4) {}
 
   int Value(const RotatedTemplate& r, int a, int b) const {
     if (cluster_->aligned() && (free_ == nullptr || free_->aligned()) &&
@@ -79,9 +81,19 @@ class Evaluator {
   }
   // The cluster part of a block's bound: with HasFreePart, FreePart is still to be subtracted.
   int ClusterBound(const RotatedTemplate& r, int a, int b, int level) const {
+    if (Pairs(r, a, b, level)) {
+      return hit_weight_ *
+             cluster_->PairBound(PairTable(r.itheta, a, b), r.column_masks.data(), a, b);
+    }
     return hit_weight_ * cluster_->Bound(r, a, b, level);
   }
   void ClusterBound4(const RotatedTemplate& r, int a, int b, int level, int out[4]) const {
+    if (Pairs(r, a, b, level)) {
+      for (int i = 0; i < 2; ++i) {
+        for (int j = 0; j < 2; ++j) out[2 * i + j] = ClusterBound(r, a + 2 * i, b + 2 * j, 1);
+      }
+      return;
+    }
     cluster_->Bound4(r, a, b, level, out);
     for (int k = 0; k < 4; ++k) out[k] *= hit_weight_;
   }
@@ -90,16 +102,33 @@ class Evaluator {
   }
   // Weighted lower bound of the free hits of rotation itheta over the block.
   int FreePart(int itheta, int a, int b, int level) const {
-    return free_weight_ * free_->LowerBound(rotations_.Get(itheta),
-                                            rotations_.DisjointMasks(itheta).data(), a, b, level);
+    const RotatedTemplate& r = rotations_.Get(itheta);
+    if (Pairs(r, a, b, level)) {
+      return free_weight_ * free_->PairBound(PairTable(itheta, a, b),
+                                             rotations_.DisjointMasks(itheta).data(), a, b);
+    }
+    return free_weight_ *
+           free_->LowerBound(r, rotations_.DisjointMasks(itheta).data(), a, b, level);
   }
 
+ private:
+  // Blocks of two steps of a single rotation take the PairBound path when the layouts allow.
+  bool Pairs(const RotatedTemplate& r, int a, int b, int level) const {
+    return level == 1 && pairs_ok_ && r.column_extent.empty() && ((a | b) & 1) == 0;
+  }
+  const PairBlockTable& PairTable(int itheta, int a, int b) const {
+    const int mask = rotations_.lattice().subdivisions - 1;
+    return rotations_.PairTable(itheta, a & mask, b & mask);
+  }
+
+ public:
  private:
   const ColumnOccupancy* cluster_;
   const ColumnOccupancy* free_;  // may be null.
   int free_weight_;
   int hit_weight_;
   const TemplateRotations& rotations_;
+  const bool pairs_ok_;
 };
 
 // Best-first branch and bound over thetas and the translation region. Next() returns the

@@ -167,6 +167,19 @@ TEST(ColumnOccupancyTest, AlignedBoundsEqualThePerLevelOnes) {
       aligned.Bound4(r, a, b, level, x);
       plain.Bound4(r, a, b, level, y);
       for (int q = 0; q < 4; ++q) ASSERT_EQ(x[q], y[q]) << "quarter " << q << " level " << level;
+      if (tlevel == 0) {  // blocks of two steps at every even residue, both filters.
+        const std::vector<std::uint64_t> dm = CellDisjointMasks(r, lattice.subdivisions);
+        for (int ra = 0; ra < 4; ra += 2) {
+          for (int rb = 0; rb < 4; rb += 2) {
+            const PairBlockTable& t = rot.PairTable(r.itheta, ra, rb);
+            ASSERT_EQ(aligned.PairBound(t, r.column_masks.data(), a + ra, b + rb),
+                      plain.Bound(r, a + ra, b + rb, 1))
+                << "residue " << ra << "," << rb;
+            ASSERT_EQ(aligned_min.PairBound(t, dm.data(), a + ra, b + rb),
+                      plain_min.LowerBound(r, dm.data(), a + ra, b + rb, 1));
+          }
+        }
+      }
       if (tlevel == 0) {  // exact hits from the cell groups, at every residue.
         for (int k2 = 0; k2 < 4; ++k2) {
           const int ix = a + d(rng), iy = b + d(rng);
