@@ -355,13 +355,15 @@ int Run(int argc, char** argv) {
       return 1;
     }
   }
+  // Renders one set of frames and runs its variants; false (after saying why) on an error.
+  const auto run_set = [&](std::vector<FrameSpec> specs, std::vector<Variant>* set) {
+    Result<Frames> f = Render(std::move(specs));
+    const Status st = f.ok() ? RunAll(*f, flags, set) : Status(f.error());
+    if (!st.ok()) std::fprintf(stderr, "frame_bench: %s\n", st.error().message.c_str());
+    return st.ok();
+  };
   if (!scattered.empty()) {
-    Result<Frames> f = Render(BenchFrameSpecs(frames, clutter, max_distance));
-    Status st = f.ok() ? RunAll(*f, flags, &scattered) : Status(f.error());
-    if (!st.ok()) {
-      std::fprintf(stderr, "frame_bench: %s\n", st.error().message.c_str());
-      return 1;
-    }
+    if (!run_set(BenchFrameSpecs(frames, clutter, max_distance), &scattered)) return 1;
     std::printf(
         "\n%d scattered simulated 640x480 frames (humanoid 0.9-%.1f m away, %d clutter objects, "
         "2 templates), %d run(s) each; median / p90 in ms\n\n",
@@ -370,12 +372,7 @@ int Run(int argc, char** argv) {
     PrintByDistance(scattered);
   }
   if (!walk.empty()) {
-    Result<Frames> f = Render(BenchSequenceSpecs(sequence, clutter));
-    Status st = f.ok() ? RunAll(*f, flags, &walk) : Status(f.error());
-    if (!st.ok()) {
-      std::fprintf(stderr, "frame_bench: %s\n", st.error().message.c_str());
-      return 1;
-    }
+    if (!run_set(BenchSequenceSpecs(sequence, clutter), &walk)) return 1;
     std::printf(
         "\nA walk of %d consecutive frames (1.4-3.0 m away, 2.5 degrees of turn a frame, %d "
         "clutter objects), %d run(s) each; median / p90 in ms\n\n",

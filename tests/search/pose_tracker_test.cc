@@ -8,15 +8,12 @@
 
 #include "core/sim/frame_simulator.h"
 #include "core/sim/humanoid_model.h"
+#include "tests/search/model_templates.h"
 
 namespace hpose {
 namespace {
 
-VoxelTemplate ModelTemplate(const std::string& preset) {
-  const HumanoidModel model = *HumanoidModel::FromPreset(preset);
-  const std::vector<Eigen::Vector3f> pts = *model.SampleSurface(0.004);
-  return *MakeTemplateFromPoints(pts, preset, 0.016, preset, "test");
-}
+using testing::ModelTemplate;
 
 SimulatedFrame Frame(const Pose2D& pose, std::uint64_t seed, bool humanoid = true) {
   FrameSpec spec;

@@ -6,15 +6,12 @@
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
 #include "core/sim/humanoid_model.h"
+#include "tests/search/model_templates.h"
 
 namespace hpose {
 namespace {
 
-VoxelTemplate ModelTemplate(const std::string& preset) {
-  const HumanoidModel model = *HumanoidModel::FromPreset(preset);
-  const std::vector<Eigen::Vector3f> pts = *model.SampleSurface(0.004);
-  return *MakeTemplateFromPoints(pts, preset, 0.016, preset, "test");
-}
+using testing::ModelTemplate;
 
 class RoundTripTest : public ::testing::TestWithParam<std::tuple<SearchKind, double, double>> {};
 

@@ -1,0 +1,23 @@
+#ifndef HPOSE_TESTS_SEARCH_MODEL_TEMPLATES_H_
+#define HPOSE_TESTS_SEARCH_MODEL_TEMPLATES_H_
+
+// Templates of the parametric humanoid for estimator tests.
+
+#include <string>
+#include <vector>
+
+#include "core/sim/humanoid_model.h"
+#include "core/templates/voxel_template.h"
+
+namespace hpose::testing {
+
+// The template of a humanoid joint preset ("standing", "right_arm_raised"), 16 mm voxels.
+inline VoxelTemplate ModelTemplate(const std::string& preset) {
+  const HumanoidModel model = *HumanoidModel::FromPreset(preset);
+  const std::vector<Eigen::Vector3f> pts = *model.SampleSurface(0.004);
+  return *MakeTemplateFromPoints(pts, preset, 0.016, preset, "test");
+}
+
+}  // namespace hpose::testing
+
+#endif  // HPOSE_TESTS_SEARCH_MODEL_TEMPLATES_H_
