@@ -164,6 +164,16 @@ TEST_F(JsonSchemaTest, EstimateAndReplayShareOneSchema) {
   EXPECT_DOUBLE_EQ(a.at("score").get<double>(), b.at("score").get<double>());
   EXPECT_DOUBLE_EQ(a.at("pose").at("x").get<double>(), b.at("pose").at("x").get<double>());
   EXPECT_NEAR(b.at("pose").at("x").get<double>(), 1.1, 0.05);
+  // replay follows the recording (source.tracking): the second frame starts from the first's
+  // pose on the first's floor; a single estimate is searched cold.
+  const json& t0 = replayed[0].at("depth_template").at("tracking");
+  const json& t1 = replayed[1].at("depth_template").at("tracking");
+  EXPECT_FALSE(t0.at("prior_given").get<bool>());
+  EXPECT_TRUE(t1.at("prior_given").get<bool>());
+  EXPECT_TRUE(t1.at("tracked").get<bool>());
+  EXPECT_TRUE(t1.at("floor_reused").get<bool>());
+  EXPECT_EQ(t1.at("prior_template"), a.at("template_name"));
+  EXPECT_FALSE(e.at("depth_template").at("tracking").at("tracked").get<bool>());
 }
 
 TEST_F(JsonSchemaTest, AFailedFrameKeepsEveryField) {
