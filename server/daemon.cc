@@ -162,12 +162,7 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     if (!t.ok()) return t.error();
     templates.push_back(std::move(*t));
   }
-  EstimatorOptions options = config.estimator;
-  if (config.floor.fixed) {
-    options.use_fixed_floor = true;
-    options.fixed_floor = FloorEstimate::FromHeightPitchRoll(
-        config.floor.height_m, config.floor.pitch_rad, config.floor.roll_rad);
-  }
+  EstimatorOptions options = EffectiveEstimatorOptions(config);
 
   auto impl = std::make_unique<Impl>();
   Result<std::unique_ptr<EstimatorPool>> pool =

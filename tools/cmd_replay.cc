@@ -165,12 +165,7 @@ int RunReplay(int argc, char** argv) {
     if (!t.ok()) return ReportError("replay", t.error());
     loaded.push_back(std::move(*t));
   }
-  EstimatorOptions options = config.estimator;
-  if (config.floor.fixed) {
-    options.use_fixed_floor = true;
-    options.fixed_floor = FloorEstimate::FromHeightPitchRoll(
-        config.floor.height_m, config.floor.pitch_rad, config.floor.roll_rad);
-  }
+  EstimatorOptions options = server::EffectiveEstimatorOptions(config);
   Result<std::unique_ptr<Estimator>> estimator = Estimator::Create(options, std::move(loaded));
   if (!estimator.ok()) return ReportError("replay", estimator.error());
   PoseTracker tracker(estimator->get());
