@@ -27,6 +27,7 @@
 #include "server/publish_signal.h"
 #include "server/rpc_metrics_interceptor.h"
 #include "server/stereo_pipeline.h"
+#include "server/stream_limiter.h"
 #include "server/token_auth.h"
 #include "server/world_frame.h"
 
@@ -104,6 +105,7 @@ class Daemon::Impl {
   std::unique_ptr<StereoPipeline> stereo_pipeline;
   std::unique_ptr<EstimatorPool> pool;
   std::unique_ptr<AdmissionControl> admission;
+  std::unique_ptr<StreamLimiter> streams;
   std::unique_ptr<TokenAuthorizer> tokens;
   std::unique_ptr<PosePipeline> pipeline;
   std::unique_ptr<PoseServiceImpl> service;
@@ -218,6 +220,8 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   impl->service = std::make_unique<PoseServiceImpl>(
       impl->pipeline.get(), impl->pool.get(), config.floor.fixed ? "fixed" : "fit", HposeVersion());
   impl->service->SetAdmissionControl(impl->admission.get());
+  impl->streams = std::make_unique<StreamLimiter>(config.grpc.max_pose_streams_per_client);
+  impl->service->SetStreamLimiter(impl->streams.get());
   if (!config.security.tokens_file.empty()) {
     Result<std::unique_ptr<TokenAuthorizer>> tokens =
         TokenAuthorizer::Load(config.security.tokens_file);

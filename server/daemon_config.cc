@@ -138,6 +138,8 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
         r.Read("max_inflight_request_bytes", &c->grpc.max_inflight_request_bytes, "an integer"));
     HPOSE_RETURN_IF_ERROR(
         r.Read("max_streams_per_client", &c->grpc.max_streams_per_client, "an integer"));
+    HPOSE_RETURN_IF_ERROR(
+        r.Read("max_pose_streams_per_client", &c->grpc.max_pose_streams_per_client, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
   }
   {
@@ -386,6 +388,9 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (c.grpc.max_streams_per_client < 1 || c.grpc.max_streams_per_client > 10000) {
     return fail("grpc.max_streams_per_client", "must be in [1, 10000]");
   }
+  if (c.grpc.max_pose_streams_per_client < 1 || c.grpc.max_pose_streams_per_client > 10000) {
+    return fail("grpc.max_pose_streams_per_client", "must be in [1, 10000]");
+  }
   const SourceConfig& s = c.source;
   if (!(s.fps > 0.0 && s.fps <= 10000.0)) return fail("source.fps", "must be in (0, 10000]");
   if (s.queue_capacity < 1 || s.queue_capacity > 1000) {
@@ -455,6 +460,8 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "max_inflight_request_bytes" << YAML::Value
       << c.grpc.max_inflight_request_bytes;
   out << YAML::Key << "max_streams_per_client" << YAML::Value << c.grpc.max_streams_per_client;
+  out << YAML::Key << "max_pose_streams_per_client" << YAML::Value
+      << c.grpc.max_pose_streams_per_client;
   out << YAML::EndMap;
   out << YAML::Key << "http" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "listen" << YAML::Value << c.http.listen;

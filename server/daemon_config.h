@@ -22,6 +22,10 @@ struct GrpcConfig {
   std::int64_t max_inflight_request_bytes = std::int64_t{64} << 20;
   // Concurrent calls (streams) one client connection may open; more wait on the client side.
   int max_streams_per_client = 16;
+  // StreamPoses calls one client may hold open at once; more are refused RESOURCE_EXHAUSTED.
+  // A client is its bearer token when tokens are checked, else its network address (every
+  // connection from one host counts together).
+  int max_pose_streams_per_client = 16;
 };
 
 // The live web view, /metrics and /healthz (plain HTTP, read only).

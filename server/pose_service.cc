@@ -349,6 +349,22 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
                                           const v1::StreamPosesRequest* request,
                                           grpc::ServerWriter<v1::PoseEstimate>* writer) {
   if (grpc::Status auth = Authorize(context, TokenRole::kRead); !auth.ok()) return auth;
+  std::optional<StreamLimiter::Slot> slot;
+  if (streams_ != nullptr) {
+    const auto& metadata = context->client_metadata();
+    const auto it = metadata.find("authorization");
+    const bool by_token = tokens_ != nullptr && it != metadata.end();
+    const std::string token = by_token ? std::string(it->second.data(), it->second.size()) : "";
+    slot.emplace(streams_->TryOpen(ClientKey(by_token, token, context->peer())));
+    if (!slot->admitted()) {
+      return grpc::Status(
+          grpc::StatusCode::RESOURCE_EXHAUSTED,
+          "too many streams: " +
+              (by_token ? std::string("this token") : "client " + PeerHost(context->peer())) +
+              " already has " + std::to_string(streams_->max_per_client()) +
+              " StreamPoses calls open (grpc.max_pose_streams_per_client); end one first");
+    }
+  }
   bool want_depth = request->estimators().empty() && pipeline_->has_source();
   bool want_stereo = request->estimators().empty() && stereo_pipeline_ != nullptr;
   for (const int k : request->estimators()) {

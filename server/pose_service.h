@@ -17,6 +17,7 @@
 #include "server/pose_pipeline.h"
 #include "server/publish_signal.h"
 #include "server/stereo_pipeline.h"
+#include "server/stream_limiter.h"
 #include "server/token_auth.h"
 
 namespace hpose::server {
@@ -43,6 +44,8 @@ class PoseServiceImpl final : public v1::PoseService::Service {
   void SetAdmissionControl(AdmissionControl* admission) { admission_ = admission; }
   // Every call must carry a bearer token it accepts (null: no tokens needed).
   void SetTokenAuthorizer(const TokenAuthorizer* tokens) { tokens_ = tokens; }
+  // StreamPoses calls pass it, per client (null: no per-client limit).
+  void SetStreamLimiter(StreamLimiter* streams) { streams_ = streams; }
 
   grpc::Status Estimate(grpc::ServerContext* context, const v1::EstimateRequest* request,
                         v1::EstimateResponse* response) override;
@@ -89,6 +92,7 @@ class PoseServiceImpl final : public v1::PoseService::Service {
   EstimatorPool* pool_;
   AdmissionControl* admission_ = nullptr;
   const TokenAuthorizer* tokens_ = nullptr;
+  StreamLimiter* streams_ = nullptr;
   grpc::Status Authorize(const grpc::ServerContext* context, TokenRole needed) const {
     return tokens_ == nullptr ? grpc::Status::OK : tokens_->Check(*context, needed);
   }

@@ -17,16 +17,13 @@
 #include <thread>
 #include <vector>
 
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include "core/depth/depth_to_cloud.h"
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
 #include "server/daemon.h"
 #include "server/proto_convert.h"
+#include "tests/integration/hposed_process.h"
 #include "tests/integration/test_util.h"
 
 namespace hpose::server {
@@ -150,72 +147,13 @@ TEST_F(HostileClientTest, DegenerateCloudsDoNotStopTheDaemon) {
   ExpectStillServing();
 }
 
-// hposed in its own process (so its memory is measured alone) on a free loopback port.
-class HposedProcess {
- public:
-  explicit HposedProcess(const std::vector<std::string>& args) {
-    int fds[2];
-    if (::pipe(fds) != 0) return;
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      ::dup2(fds[1], STDOUT_FILENO);
-      ::close(fds[0]);
-      const std::string program = std::string(HPOSE_BINARY_DIR) + "/server/hposed";
-      std::vector<char*> argv{const_cast<char*>(program.c_str())};
-      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      ::execv(program.c_str(), argv.data());
-      ::_exit(127);
-    }
-    ::close(fds[1]);
-    out_ = ::fdopen(fds[0], "r");
-    char line[1024];
-    while (out_ != nullptr && std::fgets(line, sizeof(line), out_) != nullptr) {
-      const std::string text = line;
-      const size_t at = text.find("listening on ");
-      if (at == std::string::npos) continue;
-      address_ = text.substr(at + 13, text.find(' ', at + 13) - (at + 13));
-      break;
-    }
-  }
-  ~HposedProcess() {
-    if (pid_ > 0) {
-      ::kill(pid_, SIGINT);
-      int status = 0;
-      ::waitpid(pid_, &status, 0);
-    }
-    if (out_ != nullptr) std::fclose(out_);
-  }
-  const std::string& address() const { return address_; }
-  bool alive() const { return pid_ > 0 && ::kill(pid_, 0) == 0; }
-  // A field of /proc/PID/status in kB (VmRSS, VmHWM), -1 when unreadable.
-  long StatusKb(const std::string& field) const {
-    std::ifstream in("/proc/" + std::to_string(pid_) + "/status");
-    std::string key;
-    long value = -1;
-    while (in >> key) {
-      if (key == field + ":") {
-        in >> value;
-        return value;
-      }
-      std::getline(in, key);
-    }
-    return -1;
-  }
-
- private:
-  pid_t pid_ = -1;
-  FILE* out_ = nullptr;
-  std::string address_;
-};
-
 // 40 clients on their own connections send a ~15 MB cloud each at the same moment. Every answer
 // is OK or RESOURCE_EXHAUSTED (admission control), hposed keeps serving, and its peak resident
 // memory stays within 1 GB (docs/RELIABILITY.md).
 TEST(DaemonFloodTest, FortyConcurrentLargeRequestsStayBounded) {
   const std::string dir = tu::MakeTempDir("flood");
   ASSERT_TRUE(tu::SimulateFrames(dir + "/frames", 2));
-  HposedProcess hposed({"--listen", "127.0.0.1:0", "--template", tu::TemplatePath("standing")});
+  tu::HposedProcess hposed({"--listen", "127.0.0.1:0", "--template", tu::TemplatePath("standing")});
   ASSERT_FALSE(hposed.address().empty()) << "hposed did not start";
   const long base_kb = hposed.StatusKb("VmRSS");
 
