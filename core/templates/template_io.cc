@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <tuple>
+#include <vector>
 
 #include <octomap/OcTree.h>
 #include <nlohmann/json.hpp>
@@ -56,6 +58,55 @@ bool WriteOctreeBinary(octomap::OcTree* tree, std::ostream& out) {
       << tree->getResolution() << "\ndata\n";
   if (tree->getRoot() != nullptr) tree->writeBinaryNode(out, tree->getRoot());
   return static_cast<bool>(out);
+}
+
+// OctoMap's binary reader recurses once per inner node and checks neither the depth nor the end
+// of the data: a crafted or damaged file recurses until the stack overflows. This walks the
+// same node stream (pre-order, two bytes a node: two bits per child, "11" = a child with
+// children of its own) without recursion and refuses data that runs past the end or nests
+// deeper than the tree's 16 levels, before OctoMap sees it.
+Status CheckOctreeNodes(const std::string& bytes, const std::string& path) {
+  const auto corrupt = [&](const std::string& why) {
+    return Status(MakeError(ErrorCode::kDataLoss, path + ": corrupt OctoMap tree (" + why + ")"));
+  };
+  // The header: the first line, then comment lines and "key value" lines up to "data".
+  size_t pos = 0;
+  long long size = -1;
+  bool first = true;
+  for (;;) {
+    const size_t end = bytes.find('\n', pos);
+    if (end == std::string::npos) return corrupt("no data section");
+    std::string line = bytes.substr(pos, end - pos);
+    pos = end + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (first || (!line.empty() && line[0] == '#')) {
+      first = false;
+      continue;
+    }
+    if (line == "data") break;
+    if (line.rfind("size ", 0) == 0) size = std::atoll(line.c_str() + 5);
+  }
+  if (size == 0) return Status::Ok();
+  constexpr size_t kTreeDepth = 16;
+  std::vector<int> todo{1};  // nodes still to read at each depth of the current path.
+  while (!todo.empty()) {
+    if (todo.back() == 0) {
+      todo.pop_back();
+      continue;
+    }
+    --todo.back();
+    if (pos + 2 > bytes.size()) return corrupt("the node data ends early");
+    int inner = 0;
+    for (int b = 0; b < 2; ++b) {
+      const unsigned char c = static_cast<unsigned char>(bytes[pos + b]);
+      for (int i = 0; i < 4; ++i) inner += ((c >> (2 * i)) & 3) == 3 ? 1 : 0;
+    }
+    pos += 2;
+    if (inner == 0) continue;
+    if (todo.size() >= kTreeDepth) return corrupt("nodes nested deeper than 16 levels");
+    todo.push_back(inner);
+  }
+  return Status::Ok();
 }
 
 // Templates are a few thousand voxels (a 58 cm humanoid at 16 mm: ~3000); the limits leave
@@ -254,6 +305,14 @@ Result<VoxelTemplate> LoadTemplate(const std::string& bt_path) {
     return MakeError(ErrorCode::kDataLoss,
                      bt_path + ": not an OctoMap binary tree (.bt) file (bad header)");
   }
+  {
+    std::ostringstream all;
+    in.seekg(0);
+    all << in.rdbuf();
+    const Status nodes = CheckOctreeNodes(all.str(), bt_path);
+    if (!nodes.ok()) return nodes.error();
+  }
+  in.clear();
   in.seekg(0);
   bool read_ok = false;
   {

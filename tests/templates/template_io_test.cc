@@ -89,6 +89,34 @@ TEST_F(TemplateIoTest, GarbageAndTruncatedTreesAreDataLoss) {
   EXPECT_EQ(r.error().code, ErrorCode::kDataLoss) << r.error().ToString();
 }
 
+// OctoMap's reader recurses once per inner node without checking depth or the end of the
+// data: nodes that all claim children, far past the tree's 16 levels or past the end of the
+// file, are refused before it reads them (no stack overflow), naming the problem.
+TEST_F(TemplateIoTest, NestedOrEndlessNodeDataIsDataLoss) {
+  const std::string header =
+      "# Octomap OcTree binary file\n#\nid OcTree\nsize 100\nres 0.016\ndata\n";
+  {
+    std::ofstream deep(Path("deep.bt"), std::ios::binary);
+    deep << header;
+    for (int i = 0; i < 200000; ++i) deep << '\xff' << '\xff';  // every child has children.
+  }
+  Result<VoxelTemplate> r = LoadTemplate(Path("deep.bt"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ErrorCode::kDataLoss);
+  EXPECT_NE(r.error().message.find("16 levels"), std::string::npos) << r.error().message;
+  {
+    std::ofstream endless(Path("endless.bt"), std::ios::binary);
+    endless << header << '\x03' << '\x00' << '\x03' << '\x00';  // children promised, none given.
+  }
+  r = LoadTemplate(Path("endless.bt"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ErrorCode::kDataLoss);
+  EXPECT_NE(r.error().message.find("ends early"), std::string::npos) << r.error().message;
+  // A real template still loads.
+  ASSERT_TRUE(SaveTemplate(RandomTemplate(300, 5), Path("fine.bt")).ok());
+  EXPECT_TRUE(LoadTemplate(Path("fine.bt")).ok());
+}
+
 TEST_F(TemplateIoTest, SidecarIsValidated) {
   const VoxelTemplate t = RandomTemplate(500, 3);
   ASSERT_TRUE(SaveTemplate(t, Path("s.bt")).ok());
