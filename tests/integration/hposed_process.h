@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace hpose::testing_util {
@@ -47,6 +48,15 @@ class HposedProcess {
       address_ = text.substr(at + 13, text.find(' ', at + 13) - (at + 13));
       break;
     }
+    // hposed keeps logging to standard output (state changes, streams opening and closing): keep
+    // reading it, or a full pipe would block the daemon's logging threads.
+    if (out_ != nullptr) {
+      drain_ = std::thread([f = out_] {
+        char buf[1024];
+        while (std::fgets(buf, sizeof(buf), f) != nullptr) {
+        }
+      });
+    }
   }
   HposedProcess(const HposedProcess&) = delete;
   HposedProcess& operator=(const HposedProcess&) = delete;
@@ -56,6 +66,7 @@ class HposedProcess {
       int status = 0;
       ::waitpid(pid_, &status, 0);
     }
+    if (drain_.joinable()) drain_.join();  // ends at the pipe's end of file.
     if (out_ != nullptr) std::fclose(out_);
   }
   const std::string& address() const { return address_; }
@@ -87,6 +98,7 @@ class HposedProcess {
   pid_t pid_ = -1;
   FILE* out_ = nullptr;
   std::string address_;
+  std::thread drain_;
 };
 
 }  // namespace hpose::testing_util
