@@ -181,6 +181,9 @@ void PosePipeline::CaptureLoop() {
   SetState(SourceState::kRunning, "");
   const bool drop_oldest = source_->live() || config_.realtime;
   int consecutive_bad = 0;
+  // Unreadable frames are logged, at most one line a second (with how many went unsaid).
+  Clock::time_point last_bad_log{};
+  int bad_unlogged = 0;
   while (!stopping_.load()) {
     Result<Frame> frame = source_->Next();
     if (stopping_.load()) break;
@@ -219,6 +222,18 @@ void PosePipeline::CaptureLoop() {
     {
       std::lock_guard<std::mutex> lock(mu_);
       ++frames_failed_;
+    }
+    const Clock::time_point now = Clock::now();
+    if (last_bad_log == Clock::time_point{} || now - last_bad_log >= std::chrono::seconds(1)) {
+      spdlog::warn(
+          "source {}: skipping an unreadable frame: {}{}", source_->description(), error.message,
+          bad_unlogged > 0
+              ? " (and " + std::to_string(bad_unlogged) + " more since the last such message)"
+              : "");
+      last_bad_log = now;
+      bad_unlogged = 0;
+    } else {
+      ++bad_unlogged;
     }
     if (++consecutive_bad >= kMaxConsecutiveBadFrames || error.code == ErrorCode::kUnavailable) {
       SetState(SourceState::kFailed, error.message);

@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -51,9 +52,11 @@ class HposedProcess {
     // hposed keeps logging to standard output (state changes, streams opening and closing): keep
     // reading it, or a full pipe would block the daemon's logging threads.
     if (out_ != nullptr) {
-      drain_ = std::thread([f = out_] {
+      drain_ = std::thread([this] {
         char buf[1024];
-        while (std::fgets(buf, sizeof(buf), f) != nullptr) {
+        while (std::fgets(buf, sizeof(buf), out_) != nullptr) {
+          std::lock_guard<std::mutex> lock(output_mu_);
+          output_ += buf;
         }
       });
     }
@@ -70,6 +73,11 @@ class HposedProcess {
     if (out_ != nullptr) std::fclose(out_);
   }
   const std::string& address() const { return address_; }
+  // What hposed has written on its standard output (its log) after the address line so far.
+  std::string output() const {
+    std::lock_guard<std::mutex> lock(output_mu_);
+    return output_;
+  }
   bool alive() const { return pid_ > 0 && ::kill(pid_, 0) == 0 && !Exited(); }
   // A field of /proc/PID/status in kB (VmRSS, VmHWM), -1 when unreadable.
   long StatusKb(const std::string& field) const {
@@ -99,6 +107,8 @@ class HposedProcess {
   FILE* out_ = nullptr;
   std::string address_;
   std::thread drain_;
+  mutable std::mutex output_mu_;
+  std::string output_;
 };
 
 }  // namespace hpose::testing_util

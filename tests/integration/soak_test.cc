@@ -272,6 +272,15 @@ TEST(SoakTest, DaemonsKeepServingThroughClientChurnFileFaultsAndDeviceLoss) {
     EXPECT_FALSE(reconnecting_reason.empty());
   }
 
+  // The faults in the logs: the unreadable frames (at most a line a second) and the device's
+  // losses and recoveries, one line per state change.
+  const std::string recording_log = recording.output();
+  const std::string device_log = device.output();
+  EXPECT_NE(recording_log.find("skipping an unreadable frame"), std::string::npos)
+      << recording_log.substr(0, 2000);
+  EXPECT_NE(device_log.find(" lost ("), std::string::npos) << device_log.substr(0, 2000);
+  EXPECT_NE(device_log.find(" reconnected"), std::string::npos) << device_log.substr(0, 2000);
+
   // Memory: bounded peak, and no steady growth from the baseline to the end.
   std::printf(
       "soak %.0f s: %d sessions, %d estimates streamed; recording: %llu failed frames, RSS %ld -> "
