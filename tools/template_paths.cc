@@ -25,7 +25,8 @@ namespace hpose::tools {
 namespace {
 
 // The installed templates beside the running program (<prefix>/bin/../share/hpose/templates,
-// or from <prefix>/libexec/hpose), or "" when the program does not run from an installation (e.g. from the build tree).
+// or from <prefix>/libexec/hpose), or "" when the program does not run from an installation (e.g.
+// from the build tree).
 std::string InstalledTemplateDir() {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
