@@ -387,7 +387,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     const Cluster& c = (*clusters)[i];
     ClusterWork& w = work[i];
     w.voxels = VoxeliseCluster(c.points, res);
-    w.n = MakePoseScorer(ScorerKind::kFast, w.voxels, options_.lattice)->cluster_voxels();
+    w.n = static_cast<int>(w.voxels.cells.size());  // what every scorer counts.
     if (use_free_space) {
       // Wherever a template placed in the search region can reach (the search region grows
       // the cluster by one template reach, the template reaches one more).
