@@ -308,7 +308,9 @@ const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
         for (size_t c = 0; c < r.column_q.size(); ++c) {
           const std::int64_t cx = (r.column_q[c].x() + x) >> shift_;
           const std::int64_t cy = (r.column_q[c].y() + y) >> shift_;
-          keyed.emplace_back((cx << 32) + (cy + (std::int64_t{1} << 31)), static_cast<int>(c));
+          // Multiplied, not shifted: cx may be negative.
+          keyed.emplace_back(cx * (std::int64_t{1} << 32) + (cy + (std::int64_t{1} << 31)),
+                             static_cast<int>(c));
         }
         std::sort(keyed.begin(), keyed.end());
         CellGroups& g = out[static_cast<size_t>(x) * s + y];
