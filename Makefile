@@ -14,8 +14,8 @@ PACKAGES := build-essential cmake pkg-config ccache git \
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps configure build run demo test bench templates python-stubs format clean fuzz \
-  test-asan package
+.PHONY: all deps configure build run demo test test-release bench templates python-stubs format \
+  clean san-configure fuzz test-asan package
 
 all: build
 
@@ -50,7 +50,12 @@ run: build
 demo: build
 	./$(BUILD_DIR)/tools/hpose demo --picture $(BUILD_DIR)/demo.png
 
-test: build
+# Every test: the Release suite, then the same suite under the sanitizers with the fuzz runs
+# (`make test-asan`). `make test-release` runs only the first.
+test: test-release
+	@$(MAKE) --no-print-directory test-asan
+
+test-release: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
 # Debian packages of this build (CPack): $(BUILD_DIR)/hpose_*.deb (programs, templates,
@@ -76,32 +81,36 @@ templates: configure
 	./$(BUILD_DIR)/tools/hpose template generate --pose right_arm_raised \
 	  --out templates/right_arm_raised.bt
 
-# libFuzzer targets (clang, ASan + UBSan) for every file reader and the Estimate request path,
-# seeded with real files; each runs FUZZ_SECONDS (see docs/RELIABILITY.md).
-FUZZ_DIR ?= build-fuzz
+# The sanitized build: clang with AddressSanitizer, UndefinedBehaviorSanitizer and libFuzzer's
+# coverage over the whole project (tests and fuzz targets; no benchmarks), in $(SAN_DIR). One
+# build serves both `make test-asan` and `make fuzz` (see docs/RELIABILITY.md for its cost).
+SAN_DIR ?= build-san
 FUZZ_SECONDS ?= 60
-FUZZ_PACKAGES := clang libclang-rt-14-dev
-fuzz: configure
-	@$(MAKE) --no-print-directory deps EXTRA_PACKAGES="$(FUZZ_PACKAGES)"
-	cmake --build $(BUILD_DIR) -j $(JOBS) --target hpose hpose_proto_python
-	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DHPOSE_FUZZ=ON -DHPOSE_BUILD_TESTS=OFF -DHPOSE_BUILD_BENCH=OFF > $(FUZZ_DIR).configure.log
-	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_targets
-	fuzz/run_fuzzers.sh $(BUILD_DIR) $(FUZZ_DIR) $(FUZZ_SECONDS)
+SAN_PACKAGES := clang libclang-rt-14-dev
+SAN_FLAGS := -O1 -gline-tables-only -DNDEBUG
+# Leaks inside the third-party OpenNI2 library (and its drivers) are suppressed, nothing else.
+SAN_ENV := LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers/lsan.supp \
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+san-configure: deps
+	@$(MAKE) --no-print-directory deps EXTRA_PACKAGES="$(SAN_PACKAGES)"
+	@CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SAN_FLAGS)" -DCMAKE_C_FLAGS_RELWITHDEBINFO="$(SAN_FLAGS)" \
+	  -DHPOSE_FUZZ=ON -DHPOSE_BUILD_BENCH=OFF -DHPOSE_FUZZ_SECONDS=$(FUZZ_SECONDS) \
+	  > $(SAN_DIR).configure.log 2>&1 || { cat $(SAN_DIR).configure.log; exit 1; }
 
-# The test suite built with AddressSanitizer and UndefinedBehaviorSanitizer; leaks inside the
-# third-party OpenNI2 library (and its drivers) are suppressed, nothing else.
-ASAN_DIR ?= build-asan
-test-asan: deps
-	cmake -S . -B $(ASAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHPOSE_SANITIZE=ON \
-	  -DHPOSE_BUILD_BENCH=OFF > $(ASAN_DIR).configure.log
-	cmake --build $(ASAN_DIR) -j $(JOBS)
-	cd $(ASAN_DIR) && LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers/lsan.supp \
-	  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  ctest --output-on-failure -j $(JOBS)
+# libFuzzer targets for every file reader and the Estimate request path, seeded with real files;
+# each runs FUZZ_SECONDS (default 60), JOBS at a time.
+fuzz: san-configure
+	cmake --build $(SAN_DIR) -j $(JOBS) --target fuzz_targets hpose hpose_proto_python
+	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -L fuzz
+
+# The whole test suite under the sanitizers, and every fuzz target for FUZZ_SECONDS.
+test-asan: san-configure
+	cmake --build $(SAN_DIR) -j $(JOBS)
+	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS)
 
 format:
 	clang-format -i $$(git ls-files '*.cc' '*.h')
 
 clean:
-	rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log
+	rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log $(SAN_DIR) $(SAN_DIR).configure.log

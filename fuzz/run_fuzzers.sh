@@ -1,18 +1,28 @@
 #!/bin/sh
-# Runs every libFuzzer target for SECONDS, seeded with real files made by the regular build's
-# `hpose` (simulated depth frames, clouds, stereo calibration) and files of the repository
-# (templates, the example config), and prints one summary line per target.
-# usage: fuzz/run_fuzzers.sh BUILD_DIR FUZZ_BUILD_DIR SECONDS
+# Runs libFuzzer targets for SECONDS each, seeded with real files made by a build's `hpose`
+# (simulated depth frames, clouds, stereo calibration) and files of the repository (templates,
+# the example config), and prints one summary line per target. With no TARGET it runs all of
+# them, one after the other; CTest runs them one target a test (see fuzz/CMakeLists.txt).
+# usage: fuzz/run_fuzzers.sh BUILD_DIR FUZZ_BUILD_DIR SECONDS [TARGET...]
+#   BUILD_DIR: a build with tools/hpose and the Python stubs (python/); may be FUZZ_BUILD_DIR.
+#   TARGET: depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template
+#           daemon_config stereo_calibration estimate_request
 set -eu
 build=$1
 fuzz=$2
 seconds=$3
+shift 3
+all_targets="depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template daemon_config
+             stereo_calibration estimate_request"
+targets=${*:-$all_targets}
 src=$(cd "$(dirname "$0")/.." && pwd)
 work=$fuzz/fuzz-work
 seeds=$work/seeds
 mkdir -p "$seeds"
 
-# Seeds (made once).
+# Seeds (made once; targets started in parallel wait here for the first to make them).
+exec 9> "$work/seeds.lock"
+flock 9
 if [ ! -f "$seeds/.done" ]; then
   "$build/tools/hpose" simulate --out "$seeds/frame" --width 160 --height 120 --clutter 2 > /dev/null
   "$build/tools/hpose" simulate-stereo --out "$seeds/stereo" --frames 1 > /dev/null 2>&1 ||
@@ -52,10 +62,14 @@ open(out + "/cloud.bin", "wb").write(req.SerializeToString())
 PY
   touch "$seeds/.done"
 fi
+flock -u 9
 
 status=0
-for t in depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template daemon_config \
-         stereo_calibration estimate_request; do
+for t in $targets; do
+  case " $(echo $all_targets) " in
+    *" $t "*) ;;
+    *) echo "run_fuzzers.sh: unknown target '$t' (one of: $(echo $all_targets))" >&2; exit 2 ;;
+  esac
   corpus=$work/corpus/$t
   crashes=$work/crashes/$t
   mkdir -p "$corpus" "$crashes"
@@ -67,6 +81,7 @@ for t in depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template d
   else
     result="CRASH (see $log and $crashes)"
     status=1
+    tail -n 40 "$log"
   fi
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
   speed=$(grep -o 'stat::average_exec_per_sec: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)

@@ -1,8 +1,8 @@
 // Files that used to hang `hpose` or exhaust its memory (headers announcing far more than the
 // file holds, a template that expands to trillions of voxels, a FIFO, a huge PNG) and output
 // that used to be lost silently (/dev/full, a missing directory). Every case must end with
-// exit status 1 and a message naming the problem; each runs under `timeout 5`, so a hang shows
-// up as status 124 instead.
+// exit status 1 and a message naming the problem; each runs under `timeout 5` (times
+// kTimeScale in sanitizer builds), so a hang shows up as status 124 instead.
 #include <sys/stat.h>
 
 #include <cstdint>
@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/time_scale.h"
 #include "tests/tools/cli_test_util.h"
 
 namespace hpose {
@@ -33,13 +34,14 @@ class HostileFilesCliTest : public ::testing::Test {
     dir_ = nullptr;
   }
 
-  // Runs `hpose <args>` under `timeout 5`; `args` may redirect stdout itself (else it is
+  // Runs `hpose <args>` under `timeout 5` (scaled); `args` may redirect stdout itself (else it is
   // discarded). stderr is captured.
   static CliRun Run(const std::string& args) {
     const std::string err = *dir_ / "stderr.txt";
     const std::string redirect = args.find('>') == std::string::npos ? " > /dev/null" : "";
-    const std::string cmd = std::string("timeout 5 '") + HPOSE_BINARY_DIR + "/tools/hpose' " +
-                            args + redirect + " 2>'" + err + "'";
+    const std::string cmd = "timeout " + std::to_string(5 * testing::kTimeScale) + " '" +
+                            HPOSE_BINARY_DIR + "/tools/hpose' " + args + redirect + " 2>'" + err +
+                            "'";
     const int status = std::system(cmd.c_str());
     CliRun run;
     run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
