@@ -8,12 +8,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <exception>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <vector>
 
+#include "core/io/decoded_image.h"
 #include "core/io/depth_png.h"
+#include "core/io/tiff_reader.h"
 
 namespace hpose {
 
@@ -40,33 +39,9 @@ Status CheckRegularFile(const std::string& path, const std::string& what) {
 }
 
 Result<DepthImage> ReadDepthTiff(const std::string& path) {
-  if (Status s = CheckRegularFile(path, "expected a 16-bit TIFF depth frame"); !s.ok()) {
-    return s.error();
-  }
-  cv::Mat image;
-  try {
-    image = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-  } catch (const std::exception& e) {
-    return MakeError(ErrorCode::kDataLoss, path + ": cannot decode the TIFF (" + e.what() + ")");
-  }
-  if (image.empty()) {
-    return MakeError(ErrorCode::kDataLoss, path + ": not a readable TIFF image");
-  }
-  if (image.depth() != CV_16U || image.channels() != 1) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     path + ": not a depth frame: expected one 16-bit channel (millimetres), got " +
-                         std::to_string(image.channels()) + " channel(s) of " +
-                         (image.depth() == CV_8U    ? "8"
-                          : image.depth() == CV_16U ? "16"
-                                                    : "other") +
-                         "-bit values (a colour image?)");
-  }
-  DepthImage depth(image.cols, image.rows);
-  for (int v = 0; v < image.rows; ++v) {
-    const auto* row = image.ptr<std::uint16_t>(v);
-    std::copy(row, row + image.cols, depth.mm.begin() + static_cast<size_t>(v) * image.cols);
-  }
-  return depth;
+  Result<DecodedImage> image = ReadTiff(path);
+  if (!image.ok()) return image.error();
+  return DepthFromDecodedImage(*image, path);
 }
 
 // PCL's reader, opened up to give the raw 16-bit values instead of a point cloud.
