@@ -19,7 +19,8 @@ Result<DecodedImage> ReadPng(const std::string& path, int max_side = kMaxImageSi
 
 // Encodes 8- or 16-bit pixels (interleaved samples, 1 to 4 channels, see DecodedImage; 16-bit
 // samples in this machine's byte order) as a PNG file's bytes. `compression_level`: zlib's
-// 0 (none, fastest) to 9 (smallest). Fails with kInvalidArgument for an inconsistent image.
+// 0 (none) to 9 (smallest); at 0 and 1 every row gets the same (Sub) filter and zlib matches
+// runs only, the fastest settings. Fails with kInvalidArgument for an inconsistent image.
 Result<std::string> EncodePng(const DecodedImage& image, int compression_level = 1);
 
 }  // namespace hpose
