@@ -1,6 +1,7 @@
 #include "core/io/pclzf_reader.h"
 
 #include <cstring>
+#include <utility>
 
 #include "core/io/atomic_file.h"
 #include "core/io/cloud_text.h"
