@@ -5,8 +5,10 @@
 #include <string>
 
 #include "core/io/cloud_io.h"
+#include "core/io/depth_frame_io.h"
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
+#include "core/io/pclzf_reader.h"
 #include "core/stereo/rgb_image_io.h"
 #include "core/stereo/stereo_calibration.h"
 #include "core/templates/template_io.h"
@@ -32,8 +34,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   (void)server::ParseDaemonConfig(text, "fuzz", "");
 #elif HPOSE_FUZZ_READER == 8
   (void)ReadStereoCalibration({fuzz::WriteInput(data, size, "yaml")});
+#elif HPOSE_FUZZ_READER == 9
+  (void)ReadDepthFrame(fuzz::WriteInput(data, size, "tiff"));
+#elif HPOSE_FUZZ_READER == 10
+  (void)ReadPclzfDepth16(fuzz::WriteInput(data, size, "pclzf"));
 #else
-#error "HPOSE_FUZZ_READER must name a reader (1-8)"
+#error "HPOSE_FUZZ_READER must name a reader (1-10)"
 #endif
   return 0;
 }

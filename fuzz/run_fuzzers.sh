@@ -6,14 +6,14 @@
 # usage: fuzz/run_fuzzers.sh BUILD_DIR FUZZ_BUILD_DIR SECONDS [TARGET...]
 #   BUILD_DIR: a build with tools/hpose and the Python stubs (python/); may be FUZZ_BUILD_DIR.
 #   TARGET: depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template
-#           daemon_config stereo_calibration estimate_request
+#           daemon_config stereo_calibration estimate_request depth_tiff depth_pclzf
 set -eu
 build=$1
 fuzz=$2
 seconds=$3
 shift 3
 all_targets="depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template daemon_config
-             stereo_calibration estimate_request"
+             stereo_calibration estimate_request depth_tiff depth_pclzf"
 targets=${*:-$all_targets}
 src=$(cd "$(dirname "$0")/.." && pwd)
 work=$fuzz/fuzz-work
@@ -27,10 +27,13 @@ if [ ! -f "$seeds/.done" ]; then
   "$build/tools/hpose" simulate --out "$seeds/frame" --width 160 --height 120 --clutter 2 > /dev/null
   "$build/tools/hpose" simulate-stereo --out "$seeds/stereo" --frames 1 > /dev/null 2>&1 ||
     "$build/tools/hpose" simulate-stereo --out "$seeds/stereo" > /dev/null
-  for t in depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template daemon_config \
-           stereo_calibration estimate_request; do
+  for t in $all_targets; do
     mkdir -p "$seeds/$t"
   done
+  # Real Kinect TIFF and .pclzf frames when the shared data is there (optional).
+  grabber=$src/../shared/data/kinect/grabber_sequences
+  cp "$grabber"/tiff/*_depth.tiff "$seeds/depth_tiff/" 2> /dev/null || true
+  cp "$grabber"/pclzf/*_depth.pclzf "$seeds/depth_pclzf/" 2> /dev/null || true
   cp "$seeds/frame/depth.png" "$seeds/depth_png/"
   cp "$seeds/frame/depth.png" "$seeds/rgb_image_tiff/"
   find "$seeds/stereo" -name '*.png' | head -n 2 | while read -r f; do
@@ -72,7 +75,7 @@ for t in $targets; do
   esac
   corpus=$work/corpus/$t
   crashes=$work/crashes/$t
-  mkdir -p "$corpus" "$crashes"
+  mkdir -p "$corpus" "$crashes" "$seeds/$t"  # seeds made by an older run may lack a new target
   log=$work/$t.log
   if "$fuzz/fuzz/fuzz_$t" "$corpus" "$seeds/$t" -max_total_time="$seconds" -timeout=20 \
        -rss_limit_mb=2560 -max_len=1048576 -print_final_stats=1 \

@@ -11,7 +11,6 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/common/pose2d.h"
@@ -27,6 +26,7 @@
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
+#include "tools/picture_png.h"
 
 namespace hpose::tools {
 namespace {
@@ -191,10 +191,7 @@ Status WriteRegistrationPicture(const CaptureRegistration& reg, const CaptureTem
               cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
   cv::putText(img, "from the robot's right (+x right, z up)", cv::Point(kPanel + 8, kPanel - 10),
               cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
-  if (!cv::imwrite(path, img)) {
-    return MakeError(ErrorCode::kInternal, "cannot write picture " + path);
-  }
-  return Status::Ok();
+  return WritePicturePng(img, path);
 }
 
 }  // namespace

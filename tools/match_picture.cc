@@ -6,10 +6,9 @@
 #include <set>
 #include <tuple>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "core/io/atomic_file.h"
+#include "tools/picture_png.h"
 
 namespace hpose::tools {
 namespace {
@@ -184,11 +183,7 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
     cv::putText(img, "blue: cluster  red: template  magenta: both", cv::Point(x1 + 10, kPanel - 2),
                 cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(200, 200, 200), 1, cv::LINE_AA);
   }
-  std::vector<uchar> png;
-  if (!cv::imencode(".png", img, png)) {
-    return MakeError(ErrorCode::kInternal, "cannot encode the picture as PNG");
-  }
-  return WriteFileAtomically(path, std::string(png.begin(), png.end()));
+  return WritePicturePng(img, path);
 }
 
 }  // namespace hpose::tools

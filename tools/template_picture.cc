@@ -5,12 +5,12 @@
 #include <cstdio>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/common/pose2d.h"
 #include "core/depth/intrinsics.h"
 #include "core/templates/template_shape.h"
+#include "tools/picture_png.h"
 
 namespace hpose::tools {
 namespace {
@@ -218,14 +218,7 @@ Status WriteTemplatePicture(const VoxelTemplate& tpl, const std::string& path,
       Num("%.0f", 100 * shape.mirror_difference) + "%";
   cv::putText(img, footer, cv::Point(10, kPanelH + 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, kText, 1,
               cv::LINE_AA);
-  try {
-    if (!cv::imwrite(path, img, {cv::IMWRITE_PNG_COMPRESSION, 9})) {
-      return MakeError(ErrorCode::kInternal, "cannot write picture " + path);
-    }
-  } catch (const cv::Exception& e) {
-    return MakeError(ErrorCode::kInternal, "cannot write picture " + path + ": " + e.what());
-  }
-  return Status::Ok();
+  return WritePicturePng(img, path, 9);
 }
 
 }  // namespace hpose::tools

@@ -1,6 +1,5 @@
 #include "core/io/depth_frame_io.h"
 
-#include <pcl/io/lzf_image_io.h>
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -8,12 +7,12 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <exception>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <vector>
 
+#include "core/io/decoded_image.h"
 #include "core/io/depth_png.h"
+#include "core/io/pclzf_reader.h"
+#include "core/io/tiff_reader.h"
 
 namespace hpose {
 
@@ -40,52 +39,10 @@ Status CheckRegularFile(const std::string& path, const std::string& what) {
 }
 
 Result<DepthImage> ReadDepthTiff(const std::string& path) {
-  if (Status s = CheckRegularFile(path, "expected a 16-bit TIFF depth frame"); !s.ok()) {
-    return s.error();
-  }
-  cv::Mat image;
-  try {
-    image = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-  } catch (const std::exception& e) {
-    return MakeError(ErrorCode::kDataLoss, path + ": cannot decode the TIFF (" + e.what() + ")");
-  }
-  if (image.empty()) {
-    return MakeError(ErrorCode::kDataLoss, path + ": not a readable TIFF image");
-  }
-  if (image.depth() != CV_16U || image.channels() != 1) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     path + ": not a depth frame: expected one 16-bit channel (millimetres), got " +
-                         std::to_string(image.channels()) + " channel(s) of " +
-                         (image.depth() == CV_8U    ? "8"
-                          : image.depth() == CV_16U ? "16"
-                                                    : "other") +
-                         "-bit values (a colour image?)");
-  }
-  DepthImage depth(image.cols, image.rows);
-  for (int v = 0; v < image.rows; ++v) {
-    const auto* row = image.ptr<std::uint16_t>(v);
-    std::copy(row, row + image.cols, depth.mm.begin() + static_cast<size_t>(v) * image.cols);
-  }
-  return depth;
+  Result<DecodedImage> image = ReadTiff(path);
+  if (!image.ok()) return image.error();
+  return DepthFromDecodedImage(*image, path);
 }
-
-// PCL's reader, opened up to give the raw 16-bit values instead of a point cloud.
-class RawLzfDepthReader final : public pcl::io::LZFDepth16ImageReader {
- public:
-  // The decompressed values (row-major) and the factor turning them into metres.
-  bool ReadRaw(const std::string& path, std::vector<std::uint16_t>* values, double* to_metres) {
-    std::uint32_t size = 0;
-    std::vector<char> compressed;
-    if (!loadImageBlob(path, compressed, size)) return false;
-    if (size != getWidth() * getHeight() * 2 || size == 0) return false;
-    std::vector<char> raw(size);
-    if (!decompress(compressed, raw) || raw.size() != size) return false;
-    values->resize(size / 2);
-    std::memcpy(values->data(), raw.data(), size);
-    *to_metres = z_multiplication_factor_;
-    return true;
-  }
-};
 
 Result<DepthFrameFile> ReadPclzf(const std::string& path) {
   if (Status s = CheckRegularFile(path, "expected a .pclzf depth image"); !s.ok()) {
@@ -95,35 +52,30 @@ Result<DepthFrameFile> ReadPclzf(const std::string& path) {
   if (Status s = CheckRegularFile(xml, "expected the camera parameters of " + path); !s.ok()) {
     return s.error();
   }
-  RawLzfDepthReader reader;
-  if (!reader.readParameters(xml)) {
-    return MakeError(ErrorCode::kDataLoss,
-                     xml + ": cannot read the <depth> camera parameters of " + path);
+  Result<PclzfDepthCamera> camera = ReadPclzfDepthCamera(xml);
+  if (!camera.ok()) {
+    return MakeError(camera.error().code, camera.error().message + " (the camera of " + path + ")");
   }
-  std::vector<std::uint16_t> values;
-  double to_metres = 0.0;
-  if (!reader.ReadRaw(path, &values, &to_metres)) {
-    return MakeError(ErrorCode::kDataLoss, path + ": not a 16-bit PCL-LZF depth image (type '" +
-                                               reader.getImageType() + "')");
-  }
+  const double to_metres = camera->z_multiplication_factor;
   if (!(to_metres > 0.0 && to_metres < 1.0)) {
     return MakeError(ErrorCode::kDataLoss, xml + ": z_multiplication_factor must be in (0, 1) m");
   }
+  Result<PclzfDepth16> raw = ReadPclzfDepth16(path);
+  if (!raw.ok()) return raw.error();
   DepthFrameFile out;
-  out.depth = DepthImage(static_cast<int>(reader.getWidth()), static_cast<int>(reader.getHeight()));
+  out.depth = DepthImage(raw->width, raw->height);
   const double to_mm = to_metres * 1000.0;
-  for (size_t i = 0; i < values.size(); ++i) {
-    const double mm = std::round(values[i] * to_mm);
+  for (size_t i = 0; i < raw->values.size(); ++i) {
+    const double mm = std::round(raw->values[i] * to_mm);
     out.depth.mm[i] = mm > 65535.0 ? 0 : static_cast<std::uint16_t>(mm);
   }
-  const pcl::io::CameraParameters p = reader.getParameters();
   out.has_intrinsics = true;
   out.intrinsics.width = out.depth.width;
   out.intrinsics.height = out.depth.height;
-  out.intrinsics.fx = p.focal_length_x;
-  out.intrinsics.fy = p.focal_length_y;
-  out.intrinsics.cx = p.principal_point_x;
-  out.intrinsics.cy = p.principal_point_y;
+  out.intrinsics.fx = camera->focal_length_x;
+  out.intrinsics.fy = camera->focal_length_y;
+  out.intrinsics.cx = camera->principal_point_x;
+  out.intrinsics.cy = camera->principal_point_y;
   Status valid = out.intrinsics.Validate();
   if (!valid.ok()) return MakeError(ErrorCode::kDataLoss, xml + ": " + valid.error().message);
   return out;

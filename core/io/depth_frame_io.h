@@ -21,9 +21,9 @@ struct DepthFrameFile {
 bool IsDepthFrameFile(const std::string& path);
 
 // Reads one depth frame:
-//   .png           single-channel 16-bit PNG, millimetres (ReadDepthPng);
+//   .png           single-channel 16-bit PNG, millimetres (ReadDepthPng, libpng);
 //   .tif / .tiff   single-channel 16-bit TIFF, millimetres (as PCL's grabbers and many
-//                  RGB-D datasets write them);
+//                  RGB-D datasets write them; ReadTiff, libtiff);
 //   .pclzf         PCL's LZF-compressed 16-bit depth image; its camera parameters come from
 //                  the .xml beside it (NAME_depth.pclzf -> NAME.xml, PCL's grabber layout),
 //                  the depth unit from its z_multiplication_factor.

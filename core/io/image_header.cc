@@ -1,7 +1,9 @@
 #include "core/io/image_header.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 
 #include "core/io/input_file.h"
 
@@ -39,24 +41,49 @@ Result<ImageSize> PngSize(const std::string& head, const std::string& path) {
   return ImageSize{true, Side(Read32(head, 16, true)), Side(Read32(head, 20, true))};
 }
 
+// `count` bytes of the file from `offset`, or fewer at its end.
+std::string ReadFileBytes(const std::string& path, std::uint64_t offset, std::size_t count) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes(count, '\0');
+  if (!in.seekg(static_cast<std::streamoff>(offset))) return std::string();
+  in.read(bytes.data(), static_cast<std::streamsize>(count));
+  bytes.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  return bytes;
+}
+
+// The first image file directory (its entry count and 12-byte entries). Most writers put it
+// in the head of the file; some (PCL's grabber, VTK) after the pixels, where it is read alone.
+Result<std::string> TiffDirectory(const std::string& head, std::uint32_t ifd, bool big,
+                                  const std::string& path) {
+  if (ifd < 8) return Truncated(path, "TIFF");
+  std::string count =
+      std::uint64_t{ifd} + 2 <= head.size() ? head.substr(ifd, 2) : ReadFileBytes(path, ifd, 2);
+  if (count.size() < 2) return Truncated(path, "TIFF");
+  const std::size_t bytes = 2 + 12 * static_cast<std::size_t>(Read16(count, 0, big));
+  std::string directory =
+      ifd + bytes <= head.size() ? head.substr(ifd, bytes) : ReadFileBytes(path, ifd, bytes);
+  if (directory.size() < bytes) return Truncated(path, "TIFF");
+  return directory;
+}
+
 Result<ImageSize> TiffSize(const std::string& head, const std::string& path) {
   const bool big = head[0] == 'M';
   const std::uint32_t magic = Read16(head, 2, big);
   if (magic == 43)
     return MakeError(ErrorCode::kInvalidArgument, path + ": BigTIFF is not supported");
   if (magic != 42) return ImageSize{};  // not a TIFF after all.
-  const std::uint32_t ifd = Read32(head, 4, big);
-  if (ifd + 2u > head.size() || ifd < 8) return Truncated(path, "TIFF");
-  const std::uint32_t entries = Read16(head, ifd, big);
+  Result<std::string> directory = TiffDirectory(head, Read32(head, 4, big), big, path);
+  if (!directory.ok()) return directory.error();
+  const std::string& d = *directory;
+  const std::uint32_t entries = Read16(d, 0, big);
   ImageSize size{true, -1, -1};
   for (std::uint32_t i = 0; i < entries; ++i) {
-    const std::size_t at = ifd + 2 + 12 * static_cast<std::size_t>(i);
-    if (at + 12 > head.size()) return Truncated(path, "TIFF");
-    const std::uint32_t tag = Read16(head, at, big);
+    const std::size_t at = 2 + 12 * static_cast<std::size_t>(i);
+    const std::uint32_t tag = Read16(d, at, big);
     if (tag != 256 && tag != 257) continue;
-    const std::uint32_t type = Read16(head, at + 2, big);
-    const std::uint32_t value = type == 3   ? Read16(head, at + 8, big)
-                                : type == 4 ? Read32(head, at + 8, big)
+    const std::uint32_t type = Read16(d, at + 2, big);
+    const std::uint32_t value = type == 3   ? Read16(d, at + 8, big)
+                                : type == 4 ? Read32(d, at + 8, big)
                                             : 0;
     if (value == 0) return Truncated(path, "TIFF");
     (tag == 256 ? size.width : size.height) = Side(value);

@@ -77,6 +77,24 @@ TEST(FrontEndCliTest, FrontEndLinksNoHeavyLibrary) {
   }
 }
 
+// What keeps `hpose estimate` and `hpose replay` quick to start: depth frames, pictures and
+// clouds are read and written with libpng, libtiff and hpose's own readers, so these programs
+// load neither OpenCV's image codecs (GDAL and ~100 more) nor PCL's io (VTK), not even through
+// another library (ldd lists every library loaded).
+TEST(FrontEndCliTest, FrameProgramsLoadNoImageCodecsNorPclIo) {
+  TempDir dir("front_end_frame_programs");
+  for (const char* program : {"hpose-estimate", "hpose-replay", "hpose-record", "hpose-demo"}) {
+    const CliRun loaded = RunProgram("ldd", "'" + kToolsDir + "/" + program + "'", dir);
+    if (loaded.exit_code == 127) GTEST_SKIP() << "ldd not installed";
+    ASSERT_EQ(loaded.exit_code, 0) << loaded.err;
+    ASSERT_NE(loaded.out.find("libc.so"), std::string::npos) << loaded.out;
+    for (const char* heavy : {"libopencv_imgcodecs", "libpcl_io", "libvtk", "libgdal"}) {
+      EXPECT_EQ(loaded.out.find(heavy), std::string::npos) << program << " loads " << heavy << ":\n"
+                                                           << loaded.out;
+    }
+  }
+}
+
 TEST(FrontEndCliTest, EveryCommandHasAProgramWithTheSameFlags) {
   TempDir dir("front_end_programs");
   const CliRun top = RunHpose("--help", dir);
