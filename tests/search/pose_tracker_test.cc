@@ -65,7 +65,7 @@ TEST(PoseTrackerTest, SeededFramesEqualColdOnesAndAKidnappedRobotIsFoundAtOnce) 
     if (k == 1 || k == 2) EXPECT_TRUE(seeded.tracking.tracked) << k;
     if (k == 3) EXPECT_FALSE(seeded.tracking.tracked) << "the prior lay on no cluster";
     ASSERT_FALSE(seeded.Humanoids().empty()) << k;
-    const Pose2D& p = seeded.Humanoids().front().best.pose;
+    const Pose2D p = seeded.Humanoids().front().best.pose;
     EXPECT_LT(std::hypot(p.x - truth.x, p.y - truth.y), 0.05) << k;
     EXPECT_LT(std::abs(AngleDiff(p.theta, truth.theta)), DegToRad(10.0)) << k;
     ASSERT_TRUE(tracker.prior().has_value());
@@ -89,7 +89,7 @@ TEST(PoseTrackerTest, KeepsTheFloorOfAFixedSensor) {
     if (k == 0) first_plane = e.floor.plane_sensor;
     if (k > 0) EXPECT_EQ(e.floor.plane_sensor, first_plane) << k;
     ASSERT_FALSE(e.Humanoids().empty()) << k;
-    const Pose2D& p = e.Humanoids().front().best.pose;
+    const Pose2D p = e.Humanoids().front().best.pose;
     EXPECT_LT(std::hypot(p.x - truth.x, p.y - truth.y), 0.03) << k;
   }
   tracker.Reset();
