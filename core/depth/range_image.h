@@ -28,6 +28,10 @@ class RangeImage {
   // Nearest observed depth over the bins within `radius` bins of the ray through `p_sensor`
   // (0 when all are empty or out of view).
   float NearestAround(const Eigen::Vector3d& p_sensor, int radius) const;
+  // Covers() and NearestAround() of the ray given by its slopes (x / z, y / z) of a point in
+  // front of the sensor, for callers that already divided.
+  bool CoversRay(double tan_x, double tan_y) const;
+  float NearestAroundRay(double tan_x, double tan_y, int radius) const;
 
   // Tangent (y / z, sensor frame: negative is up) of the image's top row.
   double TopTan() const { return -v0_ / focal_; }

@@ -1,0 +1,78 @@
+#ifndef HPOSE_CORE_SEARCH_REFINE_OBJECTIVE_H_
+#define HPOSE_CORE_SEARCH_REFINE_OBJECTIVE_H_
+
+#include <limits>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/common/pose2d.h"
+#include "core/search/pose_refiner.h"
+#include "core/search/refine_terms.h"
+#include "core/search/surface_model.h"
+
+namespace hpose {
+
+// The refinement's objective for one template on one observation, prepared once so that each
+// pose only costs what depends on it: the cluster points' sensor-frame positions, noise,
+// association gates and unexplained costs are computed at construction; per pose, one pass
+// places the template's points in the sensor's view and keeps the nearest per z-buffer bin
+// (scratch buffers reused between poses). Same arithmetic, point for point and in the same
+// order, as LineariseReference, so both give the same result.
+//
+// Keeps references to `model` and `obs` (and what it points to): they must outlive it. Not
+// thread-safe (one objective per refinement).
+class RefineObjective {
+ public:
+  RefineObjective(const SurfaceModel& model, const Observation& obs, const RefineOptions& options);
+
+  // The linearisation at `pose`. Every term of the cost is non-negative, so once the running
+  // cost exceeds `stop_above` the full cost would too: it stops there and returns what it has
+  // with `complete` false (a step that would be rejected anyway).
+  Linearisation Linearise(const Pose2D& pose,
+                          double stop_above = std::numeric_limits<double>::infinity());
+
+ private:
+  // Places the template at `pose` in the sensor's view and fills the z-buffer; false when
+  // nothing of it is visible.
+  bool Project(const Pose2D& pose);
+  // The visible template point nearest to cluster point k among the bins around its ray,
+  // within its gate, or -1.
+  int Associate(size_t k) const;
+
+  const SurfaceModel& model_;
+  const Observation& obs_;
+  RefineOptions options_;
+  Eigen::Matrix3d a_;  // sensor_from_ground rotation.
+
+  // The cluster points used (every stride-th) and, for those in front of the sensor, their
+  // ray slopes (x / z, y / z).
+  std::vector<refine_terms::DataPoint> data_;
+  std::vector<double> data_tx_, data_ty_;
+  std::vector<unsigned char> data_in_front_;
+
+  // The template's points (template frame, structure of arrays).
+  std::vector<float> mx_, my_, mz_;
+
+  // Per pose: the heading's cos and sin, the template's points' sensor-frame depth (z) and
+  // z-buffer bins, their x and y where visible, the nearest point of each bin and the visible
+  // points.
+  double c_ = 1.0, s_ = 0.0;
+  double bin_ = 0.01, inv_bin_ = 100.0;
+  std::vector<double> x_, y_, z_;
+  std::vector<int> bx_, by_;
+  int lo_x_ = 0, lo_y_ = 0, w_ = 0, h_ = 0;
+  std::vector<int> winner_;
+  std::vector<int> visible_;
+};
+
+// The same linearisation computed directly from `model` and `obs` at `pose`, everything
+// recomputed: the reference RefineObjective is tested against (and what
+// RefineOptions::reference_evaluation runs).
+Linearisation LineariseReference(const SurfaceModel& model, const Observation& obs,
+                                 const Pose2D& pose, const RefineOptions& o);
+
+}  // namespace hpose
+
+#endif  // HPOSE_CORE_SEARCH_REFINE_OBJECTIVE_H_
