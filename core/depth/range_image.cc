@@ -52,30 +52,9 @@ bool RangeImage::Covers(const Eigen::Vector3d& p) const {
   return p.z() > 1e-3 && CoversRay(p.x() / p.z(), p.y() / p.z());
 }
 
-bool RangeImage::CoversRay(double tan_x, double tan_y) const {
-  if (depth_.empty()) return false;
-  const double uf = tan_x * focal_ + u0_;
-  const double vf = tan_y * focal_ + v0_;
-  return uf >= 0.0 && vf >= 0.0 && uf < width_ && vf < height_;
-}
-
 float RangeImage::NearestAround(const Eigen::Vector3d& p, int radius) const {
   if (!Covers(p)) return 0.0f;
   return NearestAroundRay(p.x() / p.z(), p.y() / p.z(), radius);
-}
-
-float RangeImage::NearestAroundRay(double tan_x, double tan_y, int radius) const {
-  if (!CoversRay(tan_x, tan_y)) return 0.0f;
-  const int u = static_cast<int>(tan_x * focal_ + u0_);
-  const int v = static_cast<int>(tan_y * focal_ + v0_);
-  float best = 0.0f;
-  for (int y = std::max(0, v - radius); y <= std::min(height_ - 1, v + radius); ++y) {
-    for (int x = std::max(0, u - radius); x <= std::min(width_ - 1, u + radius); ++x) {
-      const float d = depth_[static_cast<size_t>(y) * width_ + x];
-      if (d > 0.0f && (best == 0.0f || d < best)) best = d;
-    }
-  }
-  return best;
 }
 
 float RangeImage::DepthToward(const Eigen::Vector3d& p) const {

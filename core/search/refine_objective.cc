@@ -2,37 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hpose {
-namespace {
-
-// A z-buffer bin is floor(t / bin) of a ray slope t = x / z, divided as the reference does.
-// Here the quotient q is approximated with one division per point (x * (1 / bin / z)), within
-// a few units in the last place of the exact one, so both have the same floor unless q lies
-// within kEdge * (|q| + 1) of an integer: there the exact quotients decide.
-constexpr double kEdge = 1e-9;
-// Bins beyond this are degenerate geometry (a template point almost in the optical plane).
-constexpr double kMaxBin = 1 << 28;
-
-// floor(q) as an int, for |q| < kMaxBin.
-inline int FloorToInt(double q) {
-  const int i = static_cast<int>(q);
-  return i - (q < static_cast<double>(i) ? 1 : 0);
-}
-
-// How far q is inside the bin [f, f + 1) beyond the edge margin (negative: too near an edge to
-// trust the approximation, or f is not floor(q)).
-inline double EdgeClearance(double q, double f) {
-  const double margin = kEdge * (std::abs(q) + 1.0);
-  const double e = q - f;
-  return std::min(e - margin, (1.0 - margin) - e);
-}
-
-// floor(x / z / bin) from q, its approximation.
-inline int BinOf(double q, double x, double z, double bin) {
-  const int b = FloorToInt(q);
-  return EdgeClearance(q, b) < 0.0 ? FloorToInt(x / z / bin) : b;
-}
 
 // Template frame to sensor frame at a pose: rotated about z by (c, s) = (cos, sin) of the
 // heading, translated by (px, py), then through the mount (a, b), in the reference's order of
@@ -61,15 +33,50 @@ struct ViewTransform {
   }
 };
 
+namespace {
+
+// A z-buffer bin is floor(t / bin) of a ray slope t = x / z, divided as the reference does.
+// Here the quotient q is approximated with one division per point (x * (1 / bin / z)), within
+// a few units in the last place of the exact one, so both have the same floor unless q lies
+// within kEdge * (|q| + 1) of an integer: there the exact quotients decide.
+constexpr double kEdge = 1e-9;
+// Bins beyond this are degenerate geometry (a template point almost in the optical plane).
+constexpr double kMaxBin = 1 << 28;
+// A z-buffer with more bins than this is degenerate geometry too: nothing is visible.
+constexpr long kMaxBins = 4000000L;
+
+// floor(q) as an int, for |q| < kMaxBin.
+inline int FloorToInt(double q) {
+  const int i = static_cast<int>(q);
+  return i - (q < static_cast<double>(i) ? 1 : 0);
+}
+
+// How far q is inside the bin [f, f + 1) beyond the edge margin (negative: too near an edge to
+// trust the approximation, or f is not floor(q)).
+inline double EdgeClearance(double q, double f) {
+  const double margin = kEdge * (std::abs(q) + 1.0);
+  const double e = q - f;
+  return std::min(e - margin, (1.0 - margin) - e);
+}
+
+// floor(x / z / bin) from q, its approximation.
+inline int BinOf(double q, double x, double z, double bin) {
+  const int b = FloorToInt(q);
+  return EdgeClearance(q, b) < 0.0 ? FloorToInt(x / z / bin) : b;
+}
+
 // The template's points (mx, my, mz) in the sensor frame (x, y, z), their z-buffer bins from
 // approximate quotients (fx, fy) and the bins' EdgeClearance (clear, the smaller of x and y);
 // meaningless where z <= kMinViewDepth. Branch-free over unaliased arrays, so that it
 // vectorises: the floor is rounding to nearest of q - 1/2 (adding and taking away 1.5 * 2^52),
 // which is floor(q) wherever the clearance is positive.
-void PlaceInView(int n, const float* __restrict mx, const float* __restrict my,
-                 const float* __restrict mz, const ViewTransform& view, double inv_bin,
-                 double* __restrict xs, double* __restrict ys, double* __restrict zs,
-                 double* __restrict fxs, double* __restrict fys, double* __restrict clear) {
+#define HPOSE_PLACE_IN_VIEW_PARAMS                                                             \
+  int n, const float *__restrict mx, const float *__restrict my, const float *__restrict mz,   \
+      const ViewTransform &view, double inv_bin, double *__restrict xs, double *__restrict ys, \
+      double *__restrict zs, double *__restrict fxs, double *__restrict fys,                   \
+      double *__restrict clear
+
+[[gnu::always_inline]] inline void PlaceInViewLoop(HPOSE_PLACE_IN_VIEW_PARAMS) {
   constexpr double kRound = 6755399441055744.0;
   const ViewTransform v = view;
   const double min_z = refine_terms::kMinViewDepth;
@@ -89,8 +96,57 @@ void PlaceInView(int n, const float* __restrict mx, const float* __restrict my,
   }
 }
 
+void PlaceInViewBaseline(HPOSE_PLACE_IN_VIEW_PARAMS) {
+  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, xs, ys, zs, fxs, fys, clear);
+}
+
+// The same loop compiled for AVX2 (twice the lanes) where the compiler can target it and the
+// CPU has it: AVX2 does not fuse multiplies and adds, so the results are the same to the bit.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+[[gnu::target("avx2")]] void PlaceInViewAvx2(HPOSE_PLACE_IN_VIEW_PARAMS) {
+  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, xs, ys, zs, fxs, fys, clear);
+}
+
+bool HasAvx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+#else
+void PlaceInViewAvx2(HPOSE_PLACE_IN_VIEW_PARAMS) {
+  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, xs, ys, zs, fxs, fys, clear);
+}
+bool HasAvx2() { return false; }
+#endif
+
+void PlaceInView(HPOSE_PLACE_IN_VIEW_PARAMS) {
+  (HasAvx2() ? PlaceInViewAvx2 : PlaceInViewBaseline)(n, mx, my, mz, view, inv_bin, xs, ys, zs, fxs,
+                                                      fys, clear);
+}
+
+#undef HPOSE_PLACE_IN_VIEW_PARAMS
+
 // Points per block of the projection: its temporaries stay in the first-level cache.
 constexpr int kBlock = 256;
+
+// Places m (<= kBlock) template points in the sensor frame (depths into zs) and computes their
+// z-buffer bins (bx, by) exactly where they are in front of the sensor (z > kMinViewDepth; the
+// bins of the others are meaningless). False when a bin is out of range (degenerate geometry).
+bool BlockBins(int m, const float* mx, const float* my, const float* mz, const ViewTransform& view,
+               double bin, double inv_bin, double* zs, int* bx, int* by) {
+  double xb[kBlock], yb[kBlock], fxb[kBlock], fyb[kBlock], clearb[kBlock];
+  PlaceInView(m, mx, my, mz, view, inv_bin, xb, yb, zs, fxb, fyb, clearb);
+  for (int j = 0; j < m; ++j) {
+    if (!(zs[j] > refine_terms::kMinViewDepth)) continue;
+    if (!(std::abs(fxb[j]) < kMaxBin && std::abs(fyb[j]) < kMaxBin)) return false;
+    bx[j] = static_cast<int>(fxb[j]);
+    by[j] = static_cast<int>(fyb[j]);
+    if (clearb[j] < 0.0) {
+      bx[j] = FloorToInt(xb[j] / zs[j] / bin);
+      by[j] = FloorToInt(yb[j] / zs[j] / bin);
+    }
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -119,11 +175,15 @@ RefineObjective::RefineObjective(const SurfaceModel& model, const Observation& o
     my_[i] = pts[i].y();
     mz_[i] = pts[i].z();
   }
-  x_.resize(n);
-  y_.resize(n);
   z_.resize(n);
   bx_.resize(n);
   by_.resize(n);
+  box_lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  box_hi_ = -box_lo_;
+  for (const Eigen::Vector3f& p : pts) {
+    box_lo_ = box_lo_.cwiseMin(p.cast<double>());
+    box_hi_ = box_hi_.cwiseMax(p.cast<double>());
+  }
 }
 
 bool RefineObjective::Project(const Pose2D& pose) {
@@ -139,58 +199,101 @@ bool RefineObjective::Project(const Pose2D& pose) {
   inv_bin_ = 1.0 / bin_;
   const ViewTransform view(c_, s_, pose, s_from_g);
 
-  // The template's depths and z-buffer bins (exact where near an edge), block by block, and
-  // their extent over the points in front of the sensor.
-  const double min_z = refine_terms::kMinViewDepth;
+  if (!FillZBuffer(view) && !FillZBufferTwoPasses(view)) return false;
+  // The visible points, in the order of their bins, with their full sensor-frame position; the
+  // z-buffer refers to them from now on.
+  for (int& cell : winner_) {
+    if (cell < 0) continue;
+    VisiblePoint v;
+    v.index = cell;
+    view.Apply(mx_[cell], my_[cell], mz_[cell], &v.x, &v.y, &v.z);
+    cell = static_cast<int>(visible_.size());
+    visible_.push_back(v);
+  }
+  return true;
+}
+
+bool RefineObjective::FillZBuffer(const ViewTransform& view) {
+  // Every template point lies in its bounding box, and a ray slope (x / z) over a box in front
+  // of the sensor is extreme at a corner: the corners bound the bins (one bin of margin for
+  // rounding), so the points go into the z-buffer as they are placed.
+  int lo[2] = {1 << 29, 1 << 29}, hi[2] = {-(1 << 29), -(1 << 29)};
+  for (int corner = 0; corner < 8; ++corner) {
+    double x, y, z;
+    view.Apply(corner & 1 ? box_hi_.x() : box_lo_.x(), corner & 2 ? box_hi_.y() : box_lo_.y(),
+               corner & 4 ? box_hi_.z() : box_lo_.z(), &x, &y, &z);
+    if (!(z > refine_terms::kMinViewDepth + 1e-6)) return false;
+    const double q[2] = {x / z * inv_bin_, y / z * inv_bin_};
+    for (int k = 0; k < 2; ++k) {
+      if (!(std::abs(q[k]) < kMaxBin)) return false;
+      lo[k] = std::min(lo[k], FloorToInt(q[k]) - 1);
+      hi[k] = std::max(hi[k], FloorToInt(q[k]) + 1);
+    }
+  }
+  const int w = hi[0] - lo[0] + 1, h = hi[1] - lo[1] + 1;
+  if (static_cast<long>(w) * h > kMaxBins) return false;
+  winner_.assign(static_cast<size_t>(w) * h, -1);
+  int* winner = winner_.data();
   const int n = static_cast<int>(mx_.size());
-  double xb[kBlock], yb[kBlock], fxb[kBlock], fyb[kBlock], clearb[kBlock];
+  double* zs = z_.data();
+  int bx[kBlock], by[kBlock];
+  for (int i0 = 0; i0 < n; i0 += kBlock) {
+    const int m = std::min(kBlock, n - i0);
+    if (!BlockBins(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, bin_, inv_bin_,
+                   zs + i0, bx, by)) {
+      return false;
+    }
+    for (int j = 0; j < m; ++j) {
+      const int i = i0 + j;
+      if (!(zs[i] > refine_terms::kMinViewDepth)) continue;
+      const int u = bx[j] - lo[0], v = by[j] - lo[1];
+      if (u < 0 || v < 0 || u >= w || v >= h) return false;  // not bounded after all.
+      int& wi = winner[static_cast<size_t>(v) * w + u];
+      if (wi < 0 || zs[i] < zs[wi]) wi = i;
+    }
+  }
+  lo_x_ = lo[0];
+  lo_y_ = lo[1];
+  w_ = w;
+  h_ = h;
+  return true;
+}
+
+bool RefineObjective::FillZBufferTwoPasses(const ViewTransform& view) {
+  // The bins of every point and their extent first, then the z-buffer.
+  const int n = static_cast<int>(mx_.size());
   double* zs = z_.data();
   int* bxs = bx_.data();
   int* bys = by_.data();
-  int lo_x = 1 << 29, lo_y = 1 << 29, hi_x = -(1 << 29), hi_y = -(1 << 29);
   for (int i0 = 0; i0 < n; i0 += kBlock) {
     const int m = std::min(kBlock, n - i0);
-    PlaceInView(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, inv_bin_, xb, yb,
-                zs + i0, fxb, fyb, clearb);
-    for (int j = 0; j < m; ++j) {
-      const int i = i0 + j;
-      if (!(zs[i] > min_z)) continue;
-      if (!(std::abs(fxb[j]) < kMaxBin && std::abs(fyb[j]) < kMaxBin)) return false;
-      int bx = static_cast<int>(fxb[j]), by = static_cast<int>(fyb[j]);
-      if (clearb[j] < 0.0) {
-        bx = FloorToInt(xb[j] / zs[i] / bin_);
-        by = FloorToInt(yb[j] / zs[i] / bin_);
-      }
-      bxs[i] = bx;
-      bys[i] = by;
-      lo_x = std::min(lo_x, bx);
-      lo_y = std::min(lo_y, by);
-      hi_x = std::max(hi_x, bx);
-      hi_y = std::max(hi_y, by);
+    if (!BlockBins(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, bin_, inv_bin_,
+                   zs + i0, bxs + i0, bys + i0)) {
+      return false;
     }
+  }
+  int lo_x = 1 << 29, lo_y = 1 << 29, hi_x = -(1 << 29), hi_y = -(1 << 29);
+  for (int i = 0; i < n; ++i) {
+    if (!(zs[i] > refine_terms::kMinViewDepth)) continue;
+    lo_x = std::min(lo_x, bxs[i]);
+    lo_y = std::min(lo_y, bys[i]);
+    hi_x = std::max(hi_x, bxs[i]);
+    hi_y = std::max(hi_y, bys[i]);
   }
   if (lo_x > hi_x) return false;
   const int w = hi_x - lo_x + 1, h = hi_y - lo_y + 1;
-  if (static_cast<long>(w) * h > 4000000L) return false;  // degenerate geometry.
+  if (static_cast<long>(w) * h > kMaxBins) return false;  // degenerate geometry.
+  winner_.assign(static_cast<size_t>(w) * h, -1);
+  int* winner = winner_.data();
+  for (int i = 0; i < n; ++i) {
+    if (!(zs[i] > refine_terms::kMinViewDepth)) continue;
+    int& wi = winner[static_cast<size_t>(bys[i] - lo_y) * w + (bxs[i] - lo_x)];
+    if (wi < 0 || zs[i] < zs[wi]) wi = i;
+  }
   lo_x_ = lo_x;
   lo_y_ = lo_y;
   w_ = w;
   h_ = h;
-  // Nearest point per bin; the first in order wins a tie.
-  winner_.assign(static_cast<size_t>(w) * h, -1);
-  int* winner = winner_.data();
-  for (int i = 0; i < n; ++i) {
-    if (!(zs[i] > min_z)) continue;
-    int& wi = winner[static_cast<size_t>(bys[i] - lo_y) * w + (bxs[i] - lo_x)];
-    if (wi < 0 || zs[i] < zs[wi]) wi = i;
-  }
-  // The visible points, with their full sensor-frame position.
-  for (int wi : winner_) {
-    if (wi < 0) continue;
-    visible_.push_back(wi);
-    double z;
-    view.Apply(mx_[wi], my_[wi], mz_[wi], &x_[wi], &y_[wi], &z);
-  }
   return true;
 }
 
@@ -204,13 +307,14 @@ int RefineObjective::Associate(size_t k) const {
   double best_d2 = gate * gate;
   for (int y = std::max(0, by - 1); y <= std::min(h_ - 1, by + 1); ++y) {
     for (int x = std::max(0, bx - 1); x <= std::min(w_ - 1, bx + 1); ++x) {
-      const int wi = winner_[static_cast<size_t>(y) * w_ + x];
-      if (wi < 0) continue;
-      const double dx = x_[wi] - p.x(), dy = y_[wi] - p.y(), dz = z_[wi] - p.z();
+      const int slot = winner_[static_cast<size_t>(y) * w_ + x];
+      if (slot < 0) continue;
+      const VisiblePoint& v = visible_[slot];
+      const double dx = v.x - p.x(), dy = v.y - p.y(), dz = v.z - p.z();
       const double d2 = dx * dx + dy * dy + dz * dz;
       if (d2 < best_d2) {
         best_d2 = d2;
-        best = wi;
+        best = slot;
       }
     }
   }
@@ -226,10 +330,11 @@ Linearisation RefineObjective::Linearise(const Pose2D& pose, double stop_above) 
   // Cluster points to the visible template surface (point to plane).
   for (size_t k = 0; k < data_.size(); ++k) {
     ++ev.data_points;
-    const int idx = Associate(k);
-    if (idx < 0) {
+    const int slot = Associate(k);
+    if (slot < 0) {
       ev.cost += data_[k].unexplained_cost;
     } else {
+      const int idx = visible_[slot].index;
       const Eigen::Vector3d m(mx_[idx], my_[idx], mz_[idx]);
       refine_terms::AddDataTerm(data_[k], pose, refine_terms::RotateZ(c_, s_, m),
                                 refine_terms::RotateZ(c_, s_, normals[idx].cast<double>()), a_,
@@ -243,10 +348,11 @@ Linearisation RefineObjective::Linearise(const Pose2D& pose, double stop_above) 
 
   // Visible template points against what the sensor saw along their rays.
   const RangeImage& range = *obs_.range;
-  for (int i : visible_) {
-    const double tx = x_[i] / z_[i], ty = y_[i] / z_[i];
+  for (const VisiblePoint& v : visible_) {
+    const double tx = v.x / v.z, ty = v.y / v.z;
     if (!range.CoversRay(tx, ty)) continue;
-    refine_terms::AddViewTerm(range.NearestAroundRay(tx, ty, 1), z_[i], c_, s_,
+    const int i = v.index;
+    refine_terms::AddViewTerm(range.NearestAroundRay(tx, ty, 1), v.z, c_, s_,
                               Eigen::Vector3d(mx_[i], my_[i], mz_[i]), a_, options_, &lin);
     if (ev.cost > stop_above) {
       lin.complete = false;

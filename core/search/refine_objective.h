@@ -14,6 +14,8 @@
 
 namespace hpose {
 
+struct ViewTransform;  // template frame to sensor frame at a pose (refine_objective.cc).
+
 // The refinement's objective for one template on one observation, prepared once so that each
 // pose only costs what depends on it: the cluster points' sensor-frame positions, noise,
 // association gates and unexplained costs are computed at construction; per pose, one pass
@@ -37,8 +39,14 @@ class RefineObjective {
   // Places the template at `pose` in the sensor's view and fills the z-buffer; false when
   // nothing of it is visible.
   bool Project(const Pose2D& pose);
-  // The visible template point nearest to cluster point k among the bins around its ray,
-  // within its gate, or -1.
+  // The z-buffer in one pass over the template, its extent bounded by the template's box; false
+  // when the box does not bound it (partly behind the sensor, too large), or in two passes
+  // (the bins' extent first); false when nothing is visible. Both set winner_, lo_x_, lo_y_,
+  // w_, h_: the bins of the first may extend beyond the points' (empty bins in the margin).
+  bool FillZBuffer(const ViewTransform& view);
+  bool FillZBufferTwoPasses(const ViewTransform& view);
+  // The visible template point (its slot in visible_) nearest to cluster point k among the bins
+  // around its ray, within its gate, or -1.
   int Associate(size_t k) const;
 
   const SurfaceModel& model_;
@@ -54,17 +62,22 @@ class RefineObjective {
 
   // The template's points (template frame, structure of arrays).
   std::vector<float> mx_, my_, mz_;
+  Eigen::Vector3d box_lo_, box_hi_;  // their bounding box.
 
   // Per pose: the heading's cos and sin, the template's points' sensor-frame depth (z) and
   // z-buffer bins, their x and y where visible, the nearest point of each bin and the visible
   // points.
   double c_ = 1.0, s_ = 0.0;
   double bin_ = 0.01, inv_bin_ = 100.0;
-  std::vector<double> x_, y_, z_;
+  std::vector<double> z_;
   std::vector<int> bx_, by_;
   int lo_x_ = 0, lo_y_ = 0, w_ = 0, h_ = 0;
-  std::vector<int> winner_;
-  std::vector<int> visible_;
+  std::vector<int> winner_;  // per bin: the nearest point's index, then its slot in visible_.
+  struct VisiblePoint {
+    double x, y, z;  // sensor frame.
+    int index;       // in the template's points.
+  };
+  std::vector<VisiblePoint> visible_;
 };
 
 // The same linearisation computed directly from `model` and `obs` at `pose`, everything
