@@ -37,9 +37,11 @@ namespace {
 
 // A z-buffer bin is floor(t / bin) of a ray slope t = x / z, divided as the reference does.
 // Here the quotient q is approximated with one division per point (x * (1 / bin / z)), within
-// a few units in the last place of the exact one, so both have the same floor unless q lies
-// within kEdge * (|q| + 1) of an integer: there the exact quotients decide.
-constexpr double kEdge = 1e-9;
+// a few units in the last place of the exact one (below 1e-9 for |q| < kApproxMaxBin), so both
+// have the same floor unless q lies within kEdge of an integer: there, and beyond
+// kApproxMaxBin, the exact quotients decide.
+constexpr double kEdge = 1e-6;
+constexpr double kApproxMaxBin = 1 << 20;
 // Bins beyond this are degenerate geometry (a template point almost in the optical plane).
 constexpr double kMaxBin = 1 << 28;
 // A z-buffer with more bins than this is degenerate geometry too: nothing is visible.
@@ -51,23 +53,25 @@ inline int FloorToInt(double q) {
   return i - (q < static_cast<double>(i) ? 1 : 0);
 }
 
-// How far q is inside the bin [f, f + 1) beyond the edge margin (negative: too near an edge to
-// trust the approximation, or f is not floor(q)).
-inline double EdgeClearance(double q, double f) {
-  const double margin = kEdge * (std::abs(q) + 1.0);
-  const double e = q - f;
-  return std::min(e - margin, (1.0 - margin) - e);
+// How far e = q - f lies inside [0, 1) beyond the edge margin, for the smaller of two (negative:
+// too near an edge to trust the approximation, or f is not floor(q)).
+inline double EdgeClearance(double ex, double ey) {
+  return std::min(std::min(ex, ey) - kEdge, (1.0 - kEdge) - std::max(ex, ey));
 }
 
 // floor(x / z / bin) from q, its approximation.
 inline int BinOf(double q, double x, double z, double bin) {
-  const int b = FloorToInt(q);
-  return EdgeClearance(q, b) < 0.0 ? FloorToInt(x / z / bin) : b;
+  if (std::abs(q) < kApproxMaxBin) {
+    const int b = FloorToInt(q);
+    const double e = q - b;
+    if (EdgeClearance(e, e) >= 0.0) return b;
+  }
+  return FloorToInt(x / z / bin);
 }
 
 // The template's points (mx, my, mz) in the sensor frame (x, y, z), their z-buffer bins from
-// approximate quotients (fx, fy) and the bins' EdgeClearance (clear, the smaller of x and y);
-// meaningless where z <= kMinViewDepth. Branch-free over unaliased arrays, so that it
+// approximate quotients (fx, fy) and the bins' EdgeClearance (clear); meaningless where
+// z <= kMinViewDepth. Branch-free over unaliased arrays, so that it
 // vectorises: the floor is rounding to nearest of q - 1/2 (adding and taking away 1.5 * 2^52),
 // which is floor(q) wherever the clearance is positive.
 #define HPOSE_PLACE_IN_VIEW_PARAMS                                                             \
@@ -92,7 +96,7 @@ inline int BinOf(double q, double x, double z, double bin) {
     zs[i] = z;
     fxs[i] = fx;
     fys[i] = fy;
-    clear[i] = std::min(EdgeClearance(qx, fx), EdgeClearance(qy, fy));
+    clear[i] = EdgeClearance(qx - fx, qy - fy);
   }
 }
 
@@ -137,13 +141,15 @@ bool BlockBins(int m, const float* mx, const float* my, const float* mz, const V
   PlaceInView(m, mx, my, mz, view, inv_bin, xb, yb, zs, fxb, fyb, clearb);
   for (int j = 0; j < m; ++j) {
     if (!(zs[j] > refine_terms::kMinViewDepth)) continue;
-    if (!(std::abs(fxb[j]) < kMaxBin && std::abs(fyb[j]) < kMaxBin)) return false;
-    bx[j] = static_cast<int>(fxb[j]);
-    by[j] = static_cast<int>(fyb[j]);
-    if (clearb[j] < 0.0) {
-      bx[j] = FloorToInt(xb[j] / zs[j] / bin);
-      by[j] = FloorToInt(yb[j] / zs[j] / bin);
+    if (clearb[j] >= 0.0 && std::abs(fxb[j]) < kApproxMaxBin && std::abs(fyb[j]) < kApproxMaxBin) {
+      bx[j] = static_cast<int>(fxb[j]);
+      by[j] = static_cast<int>(fyb[j]);
+      continue;
     }
+    const double qx = xb[j] / zs[j] / bin, qy = yb[j] / zs[j] / bin;
+    if (!(std::abs(qx) < kMaxBin && std::abs(qy) < kMaxBin)) return false;
+    bx[j] = FloorToInt(qx);
+    by[j] = FloorToInt(qy);
   }
   return true;
 }
