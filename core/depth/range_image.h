@@ -2,6 +2,7 @@
 #define HPOSE_CORE_DEPTH_RANGE_IMAGE_H_
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -42,14 +43,16 @@ class RangeImage {
     if (!CoversRay(tan_x, tan_y)) return 0.0f;
     const int u = static_cast<int>(tan_x * focal_ + u0_);
     const int v = static_cast<int>(tan_y * focal_ + v0_);
-    float best = 0.0f;
+    // Branch-free: empty bins (0) count as infinitely far.
+    constexpr float kFar = std::numeric_limits<float>::infinity();
+    float best = kFar;
     for (int y = std::max(0, v - radius); y <= std::min(height_ - 1, v + radius); ++y) {
       for (int x = std::max(0, u - radius); x <= std::min(width_ - 1, u + radius); ++x) {
         const float d = depth_[static_cast<size_t>(y) * width_ + x];
-        if (d > 0.0f && (best == 0.0f || d < best)) best = d;
+        best = std::min(best, d > 0.0f ? d : kFar);
       }
     }
-    return best;
+    return best == kFar ? 0.0f : best;
   }
 
   // Tangent (y / z, sensor frame: negative is up) of the image's top row.

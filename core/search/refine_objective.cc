@@ -239,7 +239,10 @@ bool RefineObjective::FillZBuffer(const ViewTransform& view) {
   const int w = hi[0] - lo[0] + 1, h = hi[1] - lo[1] + 1;
   if (static_cast<long>(w) * h > kMaxBins) return false;
   winner_.assign(static_cast<size_t>(w) * h, -1);
+  // The depth of each bin's winner beside it (no dependent load per point).
+  winner_z_.assign(winner_.size(), std::numeric_limits<double>::infinity());
   int* winner = winner_.data();
+  double* winner_z = winner_z_.data();
   const int n = static_cast<int>(mx_.size());
   double* zs = z_.data();
   int bx[kBlock], by[kBlock];
@@ -254,8 +257,12 @@ bool RefineObjective::FillZBuffer(const ViewTransform& view) {
       if (!(zs[i] > refine_terms::kMinViewDepth)) continue;
       const int u = bx[j] - lo[0], v = by[j] - lo[1];
       if (u < 0 || v < 0 || u >= w || v >= h) return false;  // not bounded after all.
-      int& wi = winner[static_cast<size_t>(v) * w + u];
-      if (wi < 0 || zs[i] < zs[wi]) wi = i;
+      const size_t cell = static_cast<size_t>(v) * w + u;
+      // As `winner < 0 || z < z of winner`: an empty bin's depth is infinite, z is finite.
+      if (zs[i] < winner_z[cell]) {
+        winner[cell] = i;
+        winner_z[cell] = zs[i];
+      }
     }
   }
   lo_x_ = lo[0];

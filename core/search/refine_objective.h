@@ -17,11 +17,15 @@ namespace hpose {
 struct ViewTransform;  // template frame to sensor frame at a pose (refine_objective.cc).
 
 // The refinement's objective for one template on one observation, prepared once so that each
-// pose only costs what depends on it: the cluster points' sensor-frame positions, noise,
-// association gates and unexplained costs are computed at construction; per pose, one pass
-// places the template's points in the sensor's view and keeps the nearest per z-buffer bin
-// (scratch buffers reused between poses). Same arithmetic, point for point and in the same
-// order, as LineariseReference, so both give the same result.
+// pose only costs what depends on it. At construction: the cluster points' sensor-frame
+// positions, rays, noise, association gates and unexplained costs, and the template's points
+// as float arrays with their bounding box. Per pose: one vectorised pass places the template's
+// points in the sensor's view and bins them (one division per point, the exact quotients
+// wherever a point lies within 1e-6 of a bin edge), straight into a z-buffer whose extent the
+// box bounds; the visible points are then packed with their positions; the terms follow in the
+// reference's order and stop as soon as the cost exceeds the caller's bound. Every decision
+// (bin, winner, association, class of a visible point) and every term is computed with the
+// reference's arithmetic, so the result equals LineariseReference's (to the bit on x86-64).
 //
 // Keeps references to `model` and `obs` (and what it points to): they must outlive it. Not
 // thread-safe (one objective per refinement).
@@ -73,6 +77,7 @@ class RefineObjective {
   std::vector<int> bx_, by_;
   int lo_x_ = 0, lo_y_ = 0, w_ = 0, h_ = 0;
   std::vector<int> winner_;  // per bin: the nearest point's index, then its slot in visible_.
+  std::vector<double> winner_z_;
   struct VisiblePoint {
     double x, y, z;  // sensor frame.
     int index;       // in the template's points.
