@@ -69,16 +69,21 @@ inline int BinOf(double q, double x, double z, double bin) {
   return FloorToInt(x / z / bin);
 }
 
-// The template's points (mx, my, mz) in the sensor frame (x, y, z), their z-buffer bins from
-// approximate quotients (fx, fy) and the bins' EdgeClearance (clear); meaningless where
-// z <= kMinViewDepth. Branch-free over unaliased arrays, so that it
-// vectorises: the floor is rounding to nearest of q - 1/2 (adding and taking away 1.5 * 2^52),
-// which is floor(q) wherever the clearance is positive.
-#define HPOSE_PLACE_IN_VIEW_PARAMS                                                             \
-  int n, const float *__restrict mx, const float *__restrict my, const float *__restrict mz,   \
-      const ViewTransform &view, double inv_bin, double *__restrict xs, double *__restrict ys, \
-      double *__restrict zs, double *__restrict fxs, double *__restrict fys,                   \
-      double *__restrict clear
+// The bins a z-buffer spans (inclusive).
+struct BinWindow {
+  double lo_x, lo_y, hi_x, hi_y;
+};
+
+// The template's points (mx, my, mz) in the sensor frame: their depths (zs) and their z-buffer
+// bins (bx, by) from approximate quotients, which are to be trusted where `ok` is positive: in
+// front of the sensor, clear of a bin edge (EdgeClearance) and within `window`. Elsewhere the
+// bins are meaningless (but defined). Branch-free over unaliased arrays, so that it vectorises:
+// the floor is rounding to nearest of q - 1/2 (adding and taking away 1.5 * 2^52), which is
+// floor(q) wherever the clearance is positive.
+#define HPOSE_PLACE_IN_VIEW_PARAMS                                                           \
+  int n, const float *__restrict mx, const float *__restrict my, const float *__restrict mz, \
+      const ViewTransform &view, double inv_bin, BinWindow window, double *__restrict zs,    \
+      int *__restrict bx, int *__restrict by, double *__restrict ok
 
 [[gnu::always_inline]] inline void PlaceInViewLoop(HPOSE_PLACE_IN_VIEW_PARAMS) {
   constexpr double kRound = 6755399441055744.0;
@@ -91,24 +96,30 @@ inline int BinOf(double q, double x, double z, double bin) {
     const double qx = x * r, qy = y * r;
     const double fx = ((qx - 0.5) + kRound) - kRound;
     const double fy = ((qy - 0.5) + kRound) - kRound;
-    xs[i] = x;
-    ys[i] = y;
+    // Clamped into the window (a NaN to its low end) so that the conversions are defined.
+    const double cx = std::max(window.lo_x, std::min(fx, window.hi_x));
+    const double cy = std::max(window.lo_y, std::min(fy, window.hi_y));
+    const double inside = std::min(std::min(fx - window.lo_x, window.hi_x - fx),
+                                   std::min(fy - window.lo_y, window.hi_y - fy)) +
+                          0.5;
     zs[i] = z;
-    fxs[i] = fx;
-    fys[i] = fy;
-    clear[i] = EdgeClearance(qx - fx, qy - fy);
+    bx[i] = static_cast<int>(cx);
+    by[i] = static_cast<int>(cy);
+    // NaN (from a NaN pose) stays NaN, so not positive.
+    ok[i] = std::min(z - min_z, std::min(EdgeClearance(qx - fx, qy - fy), inside));
   }
 }
 
 void PlaceInViewBaseline(HPOSE_PLACE_IN_VIEW_PARAMS) {
-  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, xs, ys, zs, fxs, fys, clear);
+  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
 }
 
-// The same loop compiled for AVX2 (twice the lanes) where the compiler can target it and the
-// CPU has it: AVX2 does not fuse multiplies and adds, so the results are the same to the bit.
+// The same loop compiled for AVX2 (wider vectors, conversions to int) where the compiler can
+// target it and the CPU has it: AVX2 does not fuse multiplies and adds, so the results are the
+// same to the bit.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 [[gnu::target("avx2")]] void PlaceInViewAvx2(HPOSE_PLACE_IN_VIEW_PARAMS) {
-  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, xs, ys, zs, fxs, fys, clear);
+  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
 }
 
 bool HasAvx2() {
@@ -117,14 +128,14 @@ bool HasAvx2() {
 }
 #else
 void PlaceInViewAvx2(HPOSE_PLACE_IN_VIEW_PARAMS) {
-  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, xs, ys, zs, fxs, fys, clear);
+  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
 }
 bool HasAvx2() { return false; }
 #endif
 
 void PlaceInView(HPOSE_PLACE_IN_VIEW_PARAMS) {
-  (HasAvx2() ? PlaceInViewAvx2 : PlaceInViewBaseline)(n, mx, my, mz, view, inv_bin, xs, ys, zs, fxs,
-                                                      fys, clear);
+  (HasAvx2() ? PlaceInViewAvx2 : PlaceInViewBaseline)(n, mx, my, mz, view, inv_bin, window, zs, bx,
+                                                      by, ok);
 }
 
 #undef HPOSE_PLACE_IN_VIEW_PARAMS
@@ -132,25 +143,16 @@ void PlaceInView(HPOSE_PLACE_IN_VIEW_PARAMS) {
 // Points per block of the projection: its temporaries stay in the first-level cache.
 constexpr int kBlock = 256;
 
-// Places m (<= kBlock) template points in the sensor frame (depths into zs) and computes their
-// z-buffer bins (bx, by) exactly where they are in front of the sensor (z > kMinViewDepth; the
-// bins of the others are meaningless). False when a bin is out of range (degenerate geometry).
-bool BlockBins(int m, const float* mx, const float* my, const float* mz, const ViewTransform& view,
-               double bin, double inv_bin, double* zs, int* bx, int* by) {
-  double xb[kBlock], yb[kBlock], fxb[kBlock], fyb[kBlock], clearb[kBlock];
-  PlaceInView(m, mx, my, mz, view, inv_bin, xb, yb, zs, fxb, fyb, clearb);
-  for (int j = 0; j < m; ++j) {
-    if (!(zs[j] > refine_terms::kMinViewDepth)) continue;
-    if (clearb[j] >= 0.0 && std::abs(fxb[j]) < kApproxMaxBin && std::abs(fyb[j]) < kApproxMaxBin) {
-      bx[j] = static_cast<int>(fxb[j]);
-      by[j] = static_cast<int>(fyb[j]);
-      continue;
-    }
-    const double qx = xb[j] / zs[j] / bin, qy = yb[j] / zs[j] / bin;
-    if (!(std::abs(qx) < kMaxBin && std::abs(qy) < kMaxBin)) return false;
-    bx[j] = FloorToInt(qx);
-    by[j] = FloorToInt(qy);
-  }
+// The bins of a template point in front of the sensor from the exact quotients, as the
+// reference divides; false when out of range (degenerate geometry).
+bool ExactBins(const ViewTransform& view, double bin, double mx, double my, double mz, int* bx,
+               int* by) {
+  double x, y, z;
+  view.Apply(mx, my, mz, &x, &y, &z);
+  const double qx = x / z / bin, qy = y / z / bin;
+  if (!(std::abs(qx) < kMaxBin && std::abs(qy) < kMaxBin)) return false;
+  *bx = FloorToInt(qx);
+  *by = FloorToInt(qy);
   return true;
 }
 
@@ -244,20 +246,25 @@ bool RefineObjective::FillZBuffer(const ViewTransform& view) {
   int* winner = winner_.data();
   double* winner_z = winner_z_.data();
   const int n = static_cast<int>(mx_.size());
+  const BinWindow window{static_cast<double>(lo[0]), static_cast<double>(lo[1]),
+                         static_cast<double>(hi[0]), static_cast<double>(hi[1])};
   double* zs = z_.data();
   int bx[kBlock], by[kBlock];
+  double ok[kBlock];
   for (int i0 = 0; i0 < n; i0 += kBlock) {
     const int m = std::min(kBlock, n - i0);
-    if (!BlockBins(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, bin_, inv_bin_,
-                   zs + i0, bx, by)) {
-      return false;
-    }
+    PlaceInView(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, inv_bin_, window,
+                zs + i0, bx, by, ok);
     for (int j = 0; j < m; ++j) {
       const int i = i0 + j;
-      if (!(zs[i] > refine_terms::kMinViewDepth)) continue;
-      const int u = bx[j] - lo[0], v = by[j] - lo[1];
-      if (u < 0 || v < 0 || u >= w || v >= h) return false;  // not bounded after all.
-      const size_t cell = static_cast<size_t>(v) * w + u;
+      if (!(ok[j] > 0.0)) {
+        if (!(zs[i] > refine_terms::kMinViewDepth)) continue;
+        if (!ExactBins(view, bin_, mx_[i], my_[i], mz_[i], &bx[j], &by[j])) return false;
+        if (bx[j] < lo[0] || by[j] < lo[1] || bx[j] > hi[0] || by[j] > hi[1]) {
+          return false;  // not bounded after all.
+        }
+      }
+      const size_t cell = static_cast<size_t>(by[j] - lo[1]) * w + (bx[j] - lo[0]);
       // As `winner < 0 || z < z of winner`: an empty bin's depth is infinite, z is finite.
       if (zs[i] < winner_z[cell]) {
         winner[cell] = i;
@@ -275,14 +282,19 @@ bool RefineObjective::FillZBuffer(const ViewTransform& view) {
 bool RefineObjective::FillZBufferTwoPasses(const ViewTransform& view) {
   // The bins of every point and their extent first, then the z-buffer.
   const int n = static_cast<int>(mx_.size());
+  const BinWindow window{-kApproxMaxBin, -kApproxMaxBin, kApproxMaxBin, kApproxMaxBin};
   double* zs = z_.data();
   int* bxs = bx_.data();
   int* bys = by_.data();
+  double ok[kBlock];
   for (int i0 = 0; i0 < n; i0 += kBlock) {
     const int m = std::min(kBlock, n - i0);
-    if (!BlockBins(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, bin_, inv_bin_,
-                   zs + i0, bxs + i0, bys + i0)) {
-      return false;
+    PlaceInView(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, inv_bin_, window,
+                zs + i0, bxs + i0, bys + i0, ok);
+    for (int j = 0; j < m; ++j) {
+      const int i = i0 + j;
+      if (ok[j] > 0.0 || !(zs[i] > refine_terms::kMinViewDepth)) continue;
+      if (!ExactBins(view, bin_, mx_[i], my_[i], mz_[i], &bxs[i], &bys[i])) return false;
     }
   }
   int lo_x = 1 << 29, lo_y = 1 << 29, hi_x = -(1 << 29), hi_y = -(1 << 29);
