@@ -10,7 +10,9 @@
 // `default` is today's default (surface-centroid rotations, visibility-aware gates, refinement
 // and refined evidence). Prints Markdown tables: summary per body and mount, bias by distance.;
 // `fast-refine` is the default with the refinement on a 12 mm surface and 500 cluster points (about
-// half its time); `coarse-lattice` is the default searching a 2 degree, 8 mm lattice.
+// half its time); `reference-refine` is the default with the refinement's objective evaluated
+// the direct way (RefineOptions::reference_evaluation: same results, slower); `coarse-lattice`
+// is the default searching a 2 degree, 8 mm lattice.
 //
 // usage: accuracy_bench [--seeds N] [--clutter N] [--threads N] [--bodies a,b] [--noise off]
 //                       [--distances 1,2,3] [--step-deg D] [--variants a,b]
@@ -148,6 +150,9 @@ std::vector<Variant> AllVariants() {
   fast.refine.surface_spacing_m = 0.012;
   fast.refine.max_data_points = 500;
   out.push_back({"fast-refine", fast, true});
+  EstimatorOptions reference = DefaultEstimatorOptions();
+  reference.refine.reference_evaluation = true;
+  out.push_back({"reference-refine", reference, true});
   out.push_back({"default", DefaultEstimatorOptions(), true});
   // The search lattice at 2 degrees and 8 mm (a quarter of the poses of 1 degree and 4 mm), the
   // refinement taking the pose off the lattice as in the default.

@@ -249,6 +249,10 @@ std::vector<Variant> ScatteredVariants() {
                  o->lattice.angle_steps = 180;
                  o->lattice.subdivisions = 2;
                }});
+  v.push_back({"exact search, reference refinement", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->refine.reference_evaluation = true;
+               }});
   v.push_back({"exact search, fast refinement", [](EstimatorOptions* o) {
                  Exact(o);
                  o->refine.surface_spacing_m = 0.012;

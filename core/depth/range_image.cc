@@ -49,24 +49,12 @@ RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
 }
 
 bool RangeImage::Covers(const Eigen::Vector3d& p) const {
-  if (depth_.empty() || !(p.z() > 1e-3)) return false;
-  const double uf = p.x() / p.z() * focal_ + u0_;
-  const double vf = p.y() / p.z() * focal_ + v0_;
-  return uf >= 0.0 && vf >= 0.0 && uf < width_ && vf < height_;
+  return p.z() > 1e-3 && CoversRay(p.x() / p.z(), p.y() / p.z());
 }
 
 float RangeImage::NearestAround(const Eigen::Vector3d& p, int radius) const {
   if (!Covers(p)) return 0.0f;
-  const int u = static_cast<int>(p.x() / p.z() * focal_ + u0_);
-  const int v = static_cast<int>(p.y() / p.z() * focal_ + v0_);
-  float best = 0.0f;
-  for (int y = std::max(0, v - radius); y <= std::min(height_ - 1, v + radius); ++y) {
-    for (int x = std::max(0, u - radius); x <= std::min(width_ - 1, u + radius); ++x) {
-      const float d = depth_[static_cast<size_t>(y) * width_ + x];
-      if (d > 0.0f && (best == 0.0f || d < best)) best = d;
-    }
-  }
-  return best;
+  return NearestAroundRay(p.x() / p.z(), p.y() / p.z(), radius);
 }
 
 float RangeImage::DepthToward(const Eigen::Vector3d& p) const {

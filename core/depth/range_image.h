@@ -1,6 +1,8 @@
 #ifndef HPOSE_CORE_DEPTH_RANGE_IMAGE_H_
 #define HPOSE_CORE_DEPTH_RANGE_IMAGE_H_
 
+#include <algorithm>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,6 +30,30 @@ class RangeImage {
   // Nearest observed depth over the bins within `radius` bins of the ray through `p_sensor`
   // (0 when all are empty or out of view).
   float NearestAround(const Eigen::Vector3d& p_sensor, int radius) const;
+  // Covers() and NearestAround() of the ray given by its slopes (x / z, y / z) of a point in
+  // front of the sensor, for callers that already divided (inline: the refinement asks for
+  // every visible template point).
+  bool CoversRay(double tan_x, double tan_y) const {
+    if (depth_.empty()) return false;
+    const double uf = tan_x * focal_ + u0_;
+    const double vf = tan_y * focal_ + v0_;
+    return uf >= 0.0 && vf >= 0.0 && uf < width_ && vf < height_;
+  }
+  float NearestAroundRay(double tan_x, double tan_y, int radius) const {
+    if (!CoversRay(tan_x, tan_y)) return 0.0f;
+    const int u = static_cast<int>(tan_x * focal_ + u0_);
+    const int v = static_cast<int>(tan_y * focal_ + v0_);
+    // Branch-free: empty bins (0) count as infinitely far.
+    constexpr float kFar = std::numeric_limits<float>::infinity();
+    float best = kFar;
+    for (int y = std::max(0, v - radius); y <= std::min(height_ - 1, v + radius); ++y) {
+      for (int x = std::max(0, u - radius); x <= std::min(width_ - 1, u + radius); ++x) {
+        const float d = depth_[static_cast<size_t>(y) * width_ + x];
+        best = std::min(best, d > 0.0f ? d : kFar);
+      }
+    }
+    return best == kFar ? 0.0f : best;
+  }
 
   // Tangent (y / z, sensor frame: negative is up) of the image's top row.
   double TopTan() const { return -v0_ / focal_; }

@@ -50,6 +50,10 @@ struct RefineOptions {
   // The template surface the refinement fits to is reduced to one point per cell of this edge
   // (SurfaceModel); 0 keeps the template's own surface (8 mm at 16 mm voxels).
   double surface_spacing_m = 0.0;
+  // Evaluate the objective the direct way, everything recomputed at every pose, instead of the
+  // prepared evaluation (RefineObjective). Same result, several times slower: the reference
+  // that tests and benchmarks compare with.
+  bool reference_evaluation = false;
 };
 
 // What a pose explains of the observation and what contradicts it.

@@ -1,11 +1,15 @@
 // The continuous refinement of a lattice pose: it converges to the truth from a perturbed start,
-// never leaves its basin, and its evidence tells the true pose from the flipped one. Frames come
-// from the simulator with the Kinect v1 noise model (or without it, where exactness is asked).
+// never leaves its basin, and its evidence tells the true pose from the flipped one; its prepared
+// objective equals the reference evaluation. Frames come from the simulator with the Kinect v1
+// noise model (or without it, where exactness is asked).
 #include "core/search/pose_refiner.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 
@@ -13,6 +17,7 @@
 #include "core/depth/depth_to_cloud.h"
 #include "core/depth/range_image.h"
 #include "core/search/estimator.h"
+#include "core/search/refine_objective.h"
 #include "core/search/surface_model.h"
 #include "core/sim/frame_simulator.h"
 #include "core/sim/humanoid_model.h"
@@ -38,11 +43,17 @@ struct Scene {
   Observation Obs() const { return Observation{&humanoid.points, &range, sensor_from_ground}; }
 };
 
-Scene MakeScene(const Pose2D& truth, bool noise, std::uint64_t seed = 7) {
+Scene MakeScene(const Pose2D& truth, bool noise, std::uint64_t seed = 7,
+                const std::string& preset = "standing", double sensor_height_m = 0.34,
+                double sensor_pitch_rad = 0.0, int clutter = 0) {
   FrameSpec spec;
   spec.humanoid_pose = truth;
   spec.noise = noise;
   spec.seed = seed;
+  spec.preset = preset;
+  spec.sensor_height_m = sensor_height_m;
+  spec.sensor_pitch_rad = sensor_pitch_rad;
+  spec.clutter = clutter;
   const SimulatedFrame frame = *SimulateFrame(spec);
   Scene s;
   s.truth = truth;
@@ -195,6 +206,147 @@ TEST(PoseRefinerTest, EstimatorReportsRefinedAndLatticePoses) {
   EXPECT_FALSE(r.heading_ambiguous);
   EXPECT_GE(with.timings.refine_ms, 0.0);
   EXPECT_LE(with.timings.refine_ms, with.timings.search_ms);
+}
+
+// |a - b| within `rel` of the larger magnitude (and of 1e-300, for zeros).
+void ExpectClose(double a, double b, double rel, const std::string& what) {
+  EXPECT_LE(std::abs(a - b), rel * std::max({std::abs(a), std::abs(b), 1e-300})) << what;
+}
+
+void ExpectSameLinearisation(const Linearisation& fast, const Linearisation& ref,
+                             const std::string& where) {
+  EXPECT_TRUE(fast.complete) << where;
+  EXPECT_EQ(fast.evidence.data_points, ref.evidence.data_points) << where;
+  EXPECT_EQ(fast.evidence.data_inliers, ref.evidence.data_inliers) << where;
+  EXPECT_EQ(fast.evidence.model_visible, ref.evidence.model_visible) << where;
+  EXPECT_EQ(fast.evidence.model_seen, ref.evidence.model_seen) << where;
+  EXPECT_EQ(fast.evidence.model_free, ref.evidence.model_free) << where;
+  EXPECT_EQ(fast.evidence.model_no_return, ref.evidence.model_no_return) << where;
+  EXPECT_EQ(fast.evidence.model_occluded, ref.evidence.model_occluded) << where;
+  ExpectClose(fast.evidence.cost, ref.evidence.cost, 1e-12, where + " cost");
+  const double h_scale = ref.h.cwiseAbs().maxCoeff();
+  const double g_scale = ref.g.cwiseAbs().maxCoeff();
+  EXPECT_LE((fast.h - ref.h).cwiseAbs().maxCoeff(), 1e-12 * h_scale) << where << " h";
+  EXPECT_LE((fast.g - ref.g).cwiseAbs().maxCoeff(), 1e-12 * g_scale) << where << " g";
+}
+
+// The prepared objective is the reference's arithmetic reorganised: on noisy frames from
+// several mounts, distances and headings, at poses on, near, beside and flipped from the
+// truth, it gives the same evidence and the same normal equations, pose after pose on the
+// same objective (its scratch buffers reused).
+TEST(PoseRefinerTest, PreparedObjectiveEqualsTheReference) {
+  struct Case {
+    std::string preset;
+    Pose2D truth;
+    double height, pitch_deg;
+  };
+  const std::vector<Case> cases = {
+      {"standing", {1.1, 0.05, DegToRad(20.0)}, 0.34, 0.0},
+      {"right_arm_raised", {2.2, -0.3, DegToRad(-135.0)}, 0.34, 0.0},
+      {"standing", {3.3, 0.4, DegToRad(95.0)}, 0.34, 0.0},
+      {"right_arm_raised", {1.6, 0.2, DegToRad(170.0)}, 0.9, 20.0},
+  };
+  int compared = 0;
+  for (const Case& c : cases) {
+    const SurfaceModel model(ModelTemplate(c.preset));
+    const Scene s = MakeScene(c.truth, /*noise=*/true, /*seed=*/11, c.preset, c.height,
+                              DegToRad(c.pitch_deg), /*clutter=*/3);
+    ASSERT_GT(s.humanoid.points.size(), 100u) << c.preset;
+    RefineOptions options;
+    const Observation obs = s.Obs();
+    RefineObjective objective(model, obs, options);
+    const Pose2D& t = c.truth;
+    const std::vector<Pose2D> poses = {
+        t,
+        {t.x + 0.011, t.y - 0.007, t.theta + DegToRad(2.5)},
+        {t.x - 0.023, t.y + 0.019, t.theta - DegToRad(4.9)},
+        {t.x, t.y, NormalizeAngle(t.theta + kPi)},
+        {t.x + 0.004, t.y + 0.35, t.theta},
+        {t.x + 0.6, t.y, t.theta + DegToRad(40.0)},
+    };
+    for (const Pose2D& pose : poses) {
+      const std::string where = c.preset + " at (" + std::to_string(pose.x) + ", " +
+                                std::to_string(pose.y) + ", " + std::to_string(pose.theta) + ")";
+      ExpectSameLinearisation(objective.Linearise(pose),
+                              LineariseReference(model, obs, pose, options), where);
+      ++compared;
+    }
+    // The stride over many cluster points, and a coarser surface.
+    RefineOptions coarse;
+    coarse.max_data_points = 150;
+    const SurfaceModel coarse_model(ModelTemplate(c.preset), 0.012);
+    RefineObjective coarse_objective(coarse_model, obs, coarse);
+    for (const Pose2D& pose : poses) {
+      ExpectSameLinearisation(coarse_objective.Linearise(pose),
+                              LineariseReference(coarse_model, obs, pose, coarse),
+                              c.preset + " coarse");
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 48);
+}
+
+// Every term of the cost is non-negative, so an evaluation that stops once its running cost
+// passes a bound has a cost above the bound and no more than the full one; with a bound at or
+// above the full cost it runs to the end and equals the unbounded evaluation.
+TEST(PoseRefinerTest, PreparedObjectiveStopsOnlyAboveItsBound) {
+  const SurfaceModel model(ModelTemplate("standing"));
+  const Pose2D truth{1.8, -0.1, DegToRad(-60.0)};
+  const Scene s = MakeScene(truth, /*noise=*/true, /*seed=*/5, "standing", 0.34, 0.0, 2);
+  const Observation obs = s.Obs();
+  RefineObjective objective(model, obs, RefineOptions{});
+  for (const Pose2D& pose : {truth, Pose2D{truth.x + 0.02, truth.y, truth.theta + 0.05},
+                             Pose2D{truth.x, truth.y, NormalizeAngle(truth.theta + kPi)}}) {
+    const Linearisation full = objective.Linearise(pose);
+    ASSERT_TRUE(full.complete);
+    ASSERT_GT(full.evidence.cost, 0.0);
+    for (const double fraction : {0.0, 0.1, 0.5, 0.9, 0.999}) {
+      const double bound = fraction * full.evidence.cost;
+      const Linearisation stopped = objective.Linearise(pose, bound);
+      EXPECT_FALSE(stopped.complete) << fraction;
+      EXPECT_GT(stopped.evidence.cost, bound) << fraction;
+      EXPECT_LE(stopped.evidence.cost, full.evidence.cost) << fraction;
+    }
+    const Linearisation at_bound = objective.Linearise(pose, full.evidence.cost);
+    EXPECT_TRUE(at_bound.complete);
+    EXPECT_EQ(at_bound.evidence.cost, full.evidence.cost);
+    EXPECT_EQ(at_bound.h, full.h);
+  }
+}
+
+// Whole refinements agree too: with the prepared evaluation (and its early stops on rejected
+// steps) and with the reference one, the same steps are taken to the same pose, evidence and
+// covariance, from starts near the truth, at the basin's edge and flipped.
+TEST(PoseRefinerTest, RefinementEqualsTheReferenceRefinement) {
+  const SurfaceModel model(ModelTemplate("right_arm_raised"));
+  RefineOptions reference;
+  reference.reference_evaluation = true;
+  int refined = 0;
+  for (const double theta_deg : {10.0, -75.0, 160.0}) {
+    const Pose2D truth{1.4 + 0.5 * refined, 0.1, DegToRad(theta_deg)};
+    const Scene s = MakeScene(truth, /*noise=*/true, /*seed=*/21, "right_arm_raised", 0.34, 0.0,
+                              /*clutter=*/2);
+    for (const Pose2D& start :
+         {Pose2D{truth.x + 0.012, truth.y - 0.010, truth.theta + DegToRad(3.0)},
+          Pose2D{truth.x + 0.05, truth.y, truth.theta - DegToRad(9.0)},
+          Pose2D{truth.x, truth.y, NormalizeAngle(truth.theta + kPi)}}) {
+      const RefinedPose fast = RefinePose(model, s.Obs(), start);
+      const RefinedPose ref = RefinePose(model, s.Obs(), start, reference);
+      EXPECT_EQ(fast.iterations, ref.iterations) << theta_deg;
+      EXPECT_EQ(fast.converged, ref.converged) << theta_deg;
+      EXPECT_EQ(fast.at_basin_limit, ref.at_basin_limit) << theta_deg;
+      EXPECT_NEAR(fast.pose.x, ref.pose.x, 1e-9) << theta_deg;
+      EXPECT_NEAR(fast.pose.y, ref.pose.y, 1e-9) << theta_deg;
+      EXPECT_NEAR(fast.pose.theta, ref.pose.theta, 1e-9) << theta_deg;
+      EXPECT_EQ(fast.evidence.data_inliers, ref.evidence.data_inliers) << theta_deg;
+      EXPECT_EQ(fast.evidence.model_free, ref.evidence.model_free) << theta_deg;
+      ExpectClose(fast.evidence.cost, ref.evidence.cost, 1e-9, "cost");
+      EXPECT_LE((fast.covariance - ref.covariance).cwiseAbs().maxCoeff(),
+                1e-9 * ref.covariance.cwiseAbs().maxCoeff());
+      ++refined;
+    }
+  }
+  EXPECT_EQ(refined, 9);
 }
 
 }  // namespace
