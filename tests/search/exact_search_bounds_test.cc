@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/sanitizer_build.h"
+
 #include "core/scoring/column_occupancy.h"
 #include "core/scoring/fast_scorer.h"
 #include "core/search/exact_search.h"
@@ -62,7 +64,7 @@ Scene MakeScene(unsigned seed, int angle_steps, int subdivisions) {
 // hits of any pose in the block, even where columns collide (dense free space).
 TEST(ColumnOccupancyBoundsTest, FreeSpaceLowerBoundHoldsWithCollidingColumns) {
   std::mt19937 rng(17);
-  for (unsigned seed = 0; seed < 6; ++seed) {
+  for (unsigned seed = 0; seed < (testing::kSanitizerBuild ? 2u : 6u); ++seed) {
     const Scene s = MakeScene(500 + seed, 360, seed % 3 == 2 ? 3 : 4);
     ASSERT_FALSE(s.cluster.cells.empty());
     const ClusterVoxels free = DenseFreeSpace(s.cluster, 14, 45);
@@ -165,7 +167,7 @@ TEST(ColumnOccupancyBoundsTest, CellDisjointMasksAreSubsetsAndPairwiseDisjoint) 
 // With dense free space the exact search still equals brute force over its whole lattice,
 // for the paper's weights and for hits weighted twice, with and without a minimum value.
 TEST(ExactSearchBoundsTest, DenseFreeSpaceEqualsExhaustiveSearch) {
-  for (unsigned seed = 0; seed < 8; ++seed) {
+  for (unsigned seed = 0; seed < (testing::kSanitizerBuild ? 2u : 8u); ++seed) {
     const Scene s = MakeScene(600 + seed, 24, seed % 2 == 0 ? 4 : 2);
     ASSERT_FALSE(s.cluster.cells.empty());
     const ClusterVoxels free = DenseFreeSpace(s.cluster, 12, 45);

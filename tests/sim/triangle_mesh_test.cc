@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/sanitizer_build.h"
+
 #include "core/sim/mesh_bvh.h"
 
 namespace hpose {
@@ -43,7 +45,7 @@ TriangleMesh RandomTriangles(int count, std::uint32_t seed) {
 
 TEST(TriangleMeshTest, VoxelisationHitsEveryVoxelADenseSamplingHits) {
   const double res = 0.016;
-  const TriangleMesh mesh = RandomTriangles(150, 3);
+  const TriangleMesh mesh = RandomTriangles(testing::kSanitizerBuild ? 30 : 150, 3);
   const auto exact = Cells(VoxelizeMeshSurface(mesh, res), res);
   const auto dense = Cells(SampleMeshSurface(mesh, res / 50.0), res);
   for (const auto& c : dense) {

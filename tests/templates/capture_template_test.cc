@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/sanitizer_build.h"
+
 #include "core/depth/depth_to_cloud.h"
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
@@ -63,6 +65,7 @@ Result<CaptureTemplate> CapturedTemplate(const TurntableSpec& spec) {
 }
 
 TEST(CaptureTemplateTest, EstimatesMatchTheGeneratedTemplatesOnFreshFrames) {
+  HPOSE_SKIP_IF_SANITIZED();
   // Twelve noisy captures, robot off the axis, facing the sensor in capture 0, clutter around.
   TurntableSpec spec;
   spec.axis_ground = Eigen::Vector2d(1.25, 0.05);

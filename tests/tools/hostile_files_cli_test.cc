@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/time_scale.h"
+#include "tests/sanitizer_build.h"
 #include "tests/tools/cli_test_util.h"
 
 namespace hpose {

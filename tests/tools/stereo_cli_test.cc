@@ -4,6 +4,8 @@
 // non-zero exit status.
 #include <gtest/gtest.h>
 
+#include "tests/sanitizer_build.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -70,8 +72,11 @@ void PaintOutLandmarks(const std::string& path) {
 
 class StereoCliTest : public ::testing::Test {
  protected:
+  // Simulating the sequence alone takes minutes under the sanitizers; the stereo programs are
+  // checked there by the stereo daemon tests.
   static void SetUpTestSuite() {
     dir_ = new TempDir("stereo_cli");
+    if (testing::kSanitizerBuild) return;
     const CliRun run = RunHpose("simulate stereo --out " + Q(*dir_ / "seq") + " --frames 6", *dir_);
     ASSERT_EQ(run.exit_code, 0) << run.err;
     ASSERT_NE(run.out.find("wrote 6 stereo pairs"), std::string::npos) << run.out;
@@ -80,6 +85,7 @@ class StereoCliTest : public ::testing::Test {
     delete dir_;
     dir_ = nullptr;
   }
+  void SetUp() override { HPOSE_SKIP_IF_SANITIZED(); }
   std::string Seq(const std::string& rel = "") const {
     return rel.empty() ? *dir_ / "seq" : *dir_ / ("seq/" + rel);
   }
