@@ -110,7 +110,40 @@ struct Outcome {
   bool identity_ok = false;  // the humanoid's cluster's detection chose the right template.
   bool template_ambiguous = false;
   double refine_ms = 0.0, total_ms = 0.0;
+  // For the failure listing: the right template's candidate in detail, and what was chosen.
+  double est_theta_deg = 0.0;
+  bool has_runner_up = false;
+  double runner_theta_err_deg = 0.0;  // the runner-up heading's error against the truth.
+  double score = 0.0, runner_score = 0.0;
+  FitSummary fit, runner_fit;
+  std::string chosen_template;
 };
+
+// What went wrong in a frame (the right template's candidate), in the order checked.
+enum class FailureClass {
+  kNone,
+  kNoCandidate,    // the right template produced no posed candidate.
+  kFlipAmbiguous,  // heading off by more than 90 degrees, flagged heading_ambiguous.
+  kFlipConfident,  // ... not flagged.
+  kOff20To90,      // off by 20-90 degrees.
+  kOff3To20,       // off by 3-20 degrees.
+  kWrongTemplate,  // heading within 3 degrees, but the detection chose another template.
+};
+const char* const kFailureClassNames[] = {
+    "ok",         "no candidate", "flip (ambiguous)",   "flip (confident)",
+    "off 20-90°", "off 3-20°",    "wrong template only"};
+constexpr int kFailureClasses = 7;
+
+FailureClass Classify(const Outcome& o) {
+  if (!o.found) return FailureClass::kNoCandidate;
+  const double a = std::abs(o.theta_err_deg);
+  if (a > 90.0)
+    return o.heading_ambiguous ? FailureClass::kFlipAmbiguous : FailureClass::kFlipConfident;
+  if (a > 20.0) return FailureClass::kOff20To90;
+  if (a > 3.0) return FailureClass::kOff3To20;
+  if (!o.identity_ok) return FailureClass::kWrongTemplate;
+  return FailureClass::kNone;
+}
 
 struct Trial {
   int body = 0, mount = 0, shape = 0, seed = 0;
@@ -224,6 +257,7 @@ Outcome Evaluate(const Estimate& e, const Trial& t) {
     if (d.best.cluster_index != cluster) continue;
     o.identity_ok = d.best.template_name == right;
     o.template_ambiguous = d.template_ambiguous;
+    o.chosen_template = d.best.template_name;
   }
   for (const Candidate& c : e.candidates) {
     if (c.cluster_index != cluster || c.template_name != right || c.stopped_below_threshold)
@@ -233,6 +267,14 @@ Outcome Evaluate(const Estimate& e, const Trial& t) {
     o.x_err_mm = 1000.0 * (c.pose.x - t.distance_m);
     o.y_err_mm = 1000.0 * c.pose.y;
     o.heading_ambiguous = c.heading_ambiguous;
+    o.est_theta_deg = c.pose.theta * 180.0 / kPi;
+    o.has_runner_up = c.has_runner_up;
+    o.runner_theta_err_deg =
+        AngleDiff(c.runner_up_pose.theta, t.theta_deg * kPi / 180.0) * 180.0 / kPi;
+    o.score = c.score;
+    o.runner_score = c.runner_up_score;
+    o.fit = c.fit;
+    o.runner_fit = c.runner_up_fit;
   }
   return o;
 }
@@ -269,7 +311,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: accuracy_bench [--seeds N] [--clutter N] [--threads N] [--bodies a,b]\n"
                    "                      [--variants a,b] [--noise on|off] [--distances 1,2]\n"
-                   "                      [--step-deg D]\n");
+                   "                      [--step-deg D] [--failures]\n"
+                   "  --failures: classify the frames each variant got wrong (a table on stdout)\n"
+                   "              and list them one per line on stderr (heading, runner-up,\n"
+                   "              scores and refined fits of both, template chosen)\n");
       return a == "--help" ? 0 : 2;
     }
   }
@@ -431,17 +476,55 @@ int main(int argc, char** argv) {
     }
   }
 
-  // Frames the default variant got wrong, for inspection.
+  // Frames a variant got wrong, classified, and listed one per line (stderr) for inspection.
   if (list_failures) {
+    std::printf(
+        "\nFailures by class (the right template's candidate; a frame counts once, in the first "
+        "class that applies):\n\n| body | mount | variant |");
+    for (int k = 1; k < kFailureClasses; ++k) std::printf(" %s |", kFailureClassNames[k]);
+    std::printf(" runner-up within 3° of truth |\n|---|---|---|");
+    for (int k = 1; k < kFailureClasses; ++k) std::printf("---|");
+    std::printf("---|\n");
+    for (size_t b = 0; b < bodies.size(); ++b) {
+      for (int m = 0; m < 2; ++m) {
+        for (size_t v = 0; v < variants.size(); ++v) {
+          int counts[kFailureClasses] = {};
+          int runner_right = 0;
+          for (const Trial& t : trials) {
+            if (t.body != static_cast<int>(b) || t.mount != m) continue;
+            const Outcome& o = t.by_variant[v];
+            const FailureClass k = Classify(o);
+            ++counts[static_cast<int>(k)];
+            if (k != FailureClass::kNone && o.has_runner_up &&
+                std::abs(o.runner_theta_err_deg) <= 3.0) {
+              ++runner_right;
+            }
+          }
+          std::printf("| %s | %s | %s |", bodies[b].name.c_str(), kMounts[m].name,
+                      variants[v].name.c_str());
+          for (int k = 1; k < kFailureClasses; ++k) std::printf(" %d |", counts[k]);
+          std::printf(" %d |\n", runner_right);
+        }
+      }
+    }
     for (const Trial& t : trials) {
-      const Outcome& o = t.by_variant.back();
-      if (o.found && std::abs(o.theta_err_deg) <= 3.0 && o.identity_ok) continue;
-      std::fprintf(stderr,
-                   "failure: %s %s %s d=%.1f θ=%.0f seed=%d: found=%d θerr=%.1f x=%.1f y=%.1f "
-                   "ambiguous=%d identity=%d template_ambiguous=%d\n",
-                   bodies[t.body].name.c_str(), kMounts[t.mount].name, kShapes[t.shape],
-                   t.distance_m, t.theta_deg, t.seed, o.found, o.theta_err_deg, o.x_err_mm,
-                   o.y_err_mm, o.heading_ambiguous, o.identity_ok, o.template_ambiguous);
+      for (size_t v = 0; v < variants.size(); ++v) {
+        const Outcome& o = t.by_variant[v];
+        const FailureClass k = Classify(o);
+        if (k == FailureClass::kNone) continue;
+        std::fprintf(
+            stderr,
+            "failure [%s] %s | %s | %s | %s | d=%.1f m | true θ=%.0f° | est θ=%.1f° (err %+.1f°) "
+            "x=%+.1f y=%+.1f mm | heading_ambiguous=%d | runner-up err %s%+.1f° | score %.1f vs "
+            "%.1f | fit %.2f±%.2f cost %.1f vs runner-up fit %.2f±%.2f cost %.1f | chose '%s'%s\n",
+            variants[v].name.c_str(), kFailureClassNames[static_cast<int>(k)],
+            bodies[t.body].name.c_str(), kMounts[t.mount].name, kShapes[t.shape], t.distance_m,
+            t.theta_deg, o.est_theta_deg, o.theta_err_deg, o.x_err_mm, o.y_err_mm,
+            o.heading_ambiguous, o.has_runner_up ? "" : "(none) ", o.runner_theta_err_deg, o.score,
+            o.runner_score, o.fit.fit, o.fit.fit_sigma, o.fit.cost, o.runner_fit.fit,
+            o.runner_fit.fit_sigma, o.runner_fit.cost, o.chosen_template.c_str(),
+            o.template_ambiguous ? " (template ambiguous)" : "");
+      }
     }
   }
 
