@@ -114,8 +114,10 @@ struct Outcome {
   double est_theta_deg = 0.0;
   bool has_runner_up = false;
   double runner_theta_err_deg = 0.0;  // the runner-up heading's error against the truth.
+  double runner_x_err_mm = 0.0, runner_y_err_mm = 0.0;
   double score = 0.0, runner_score = 0.0;
   FitSummary fit, runner_fit;
+  double view_llr = 0.0, view_sigma = 0.0;  // the depth images' ratio, pose over runner-up.
   std::string chosen_template;
 };
 
@@ -181,7 +183,18 @@ std::vector<Variant> AllVariants() {
   fast.refine.surface_spacing_m = 0.012;
   fast.refine.max_data_points = 500;
   out.push_back({"fast-refine", fast, true});
+  // The previous round's choice between a heading and its runner-up: the refined fits alone.
+  EstimatorOptions fits_only = DefaultEstimatorOptions();
+  fits_only.heading_views.enabled = false;
+  out.push_back({"fits-only", fits_only, true});
   out.push_back({"default", DefaultEstimatorOptions(), true});
+  EstimatorOptions strict = DefaultEstimatorOptions();
+  strict.heading_views.decisive_sigmas = 4.0;
+  out.push_back({"views-4-sigma", strict, true});
+  // The refinement on up to 2000 cluster points instead of 800 (far clusters have 1000-2000).
+  EstimatorOptions dense = DefaultEstimatorOptions();
+  dense.refine.max_data_points = 2000;
+  out.push_back({"dense-refine", dense, true});
   // The search lattice at 2 degrees and 8 mm (a quarter of the poses of 1 degree and 4 mm), the
   // refinement taking the pose off the lattice as in the default.
   EstimatorOptions coarse = DefaultEstimatorOptions();
@@ -271,10 +284,14 @@ Outcome Evaluate(const Estimate& e, const Trial& t) {
     o.has_runner_up = c.has_runner_up;
     o.runner_theta_err_deg =
         AngleDiff(c.runner_up_pose.theta, t.theta_deg * kPi / 180.0) * 180.0 / kPi;
+    o.runner_x_err_mm = 1000.0 * (c.runner_up_pose.x - t.distance_m);
+    o.runner_y_err_mm = 1000.0 * c.runner_up_pose.y;
     o.score = c.score;
     o.runner_score = c.runner_up_score;
     o.fit = c.fit;
     o.runner_fit = c.runner_up_fit;
+    o.view_llr = c.heading_log_likelihood_ratio;
+    o.view_sigma = c.heading_log_likelihood_sigma;
   }
   return o;
 }
@@ -515,14 +532,18 @@ int main(int argc, char** argv) {
         std::fprintf(
             stderr,
             "failure [%s] %s | %s | %s | %s | d=%.1f m | true θ=%.0f° | est θ=%.1f° (err %+.1f°) "
-            "x=%+.1f y=%+.1f mm | heading_ambiguous=%d | runner-up err %s%+.1f° | score %.1f vs "
-            "%.1f | fit %.2f±%.2f cost %.1f vs runner-up fit %.2f±%.2f cost %.1f | chose '%s'%s\n",
+            "x=%+.1f y=%+.1f mm | heading_ambiguous=%d | runner-up err %s%+.1f° x=%+.1f y=%+.1f mm "
+            "| score %.1f vs "
+            "%.1f | fit %.2f±%.2f cost %.1f vs runner-up fit %.2f±%.2f cost %.1f | views "
+            "%+.1f±%.1f "
+            "nats | chose '%s'%s\n",
             variants[v].name.c_str(), kFailureClassNames[static_cast<int>(k)],
             bodies[t.body].name.c_str(), kMounts[t.mount].name, kShapes[t.shape], t.distance_m,
             t.theta_deg, o.est_theta_deg, o.theta_err_deg, o.x_err_mm, o.y_err_mm,
-            o.heading_ambiguous, o.has_runner_up ? "" : "(none) ", o.runner_theta_err_deg, o.score,
-            o.runner_score, o.fit.fit, o.fit.fit_sigma, o.fit.cost, o.runner_fit.fit,
-            o.runner_fit.fit_sigma, o.runner_fit.cost, o.chosen_template.c_str(),
+            o.heading_ambiguous, o.has_runner_up ? "" : "(none) ", o.runner_theta_err_deg,
+            o.runner_x_err_mm, o.runner_y_err_mm, o.score, o.runner_score, o.fit.fit,
+            o.fit.fit_sigma, o.fit.cost, o.runner_fit.fit, o.runner_fit.fit_sigma,
+            o.runner_fit.cost, o.view_llr, o.view_sigma, o.chosen_template.c_str(),
             o.template_ambiguous ? " (template ambiguous)" : "");
       }
     }
