@@ -188,9 +188,6 @@ std::vector<Variant> AllVariants() {
   fits_only.heading_views.enabled = false;
   out.push_back({"fits-only", fits_only, true});
   out.push_back({"default", DefaultEstimatorOptions(), true});
-  EstimatorOptions strict = DefaultEstimatorOptions();
-  strict.heading_views.decisive_sigmas = 4.0;
-  out.push_back({"views-4-sigma", strict, true});
   // The refinement on up to 2000 cluster points instead of 800 (far clusters have 1000-2000).
   EstimatorOptions dense = DefaultEstimatorOptions();
   dense.refine.max_data_points = 2000;

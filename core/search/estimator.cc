@@ -106,10 +106,11 @@ bool WithinNoise(const FitSummary& a, const FitSummary& b) {
 }
 
 // Refines the candidate's pose and its runner-up's (the best heading more than 30 degrees
-// away) and chooses between them. With the view comparison on, the depth images decide
-// (CompareViews) when their likelihood ratio is decisive, and the heading is ambiguous when it is
-// not (the pose is then the one with the higher refined fit). Off: the higher refined fit wins
-// and the heading is ambiguous when the fits are within two standard errors of each other.
+// away) and chooses between them. With the view comparison on and a runner-up close enough in
+// search score to be refined too, the depth images decide (CompareViews) when their likelihood
+// ratio is decisive, and the heading is ambiguous when it is not (the pose is then the one with
+// the higher refined fit). Otherwise the higher refined fit wins and the heading is ambiguous
+// when the fits are within two standard errors of each other.
 // `rescore` recomputes the search's counts at the lattice pose of a runner-up that wins.
 template <typename Rescore>
 void RefineCandidate(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
@@ -122,7 +123,8 @@ void RefineCandidate(const SurfaceModel& model, const Observation& obs, const Re
   if (!cand->has_runner_up) return;
   const Pose2D other_lattice = cand->runner_up_pose;
   RefinedPose other;
-  if (cand->runner_up_score >= cand->score - o.runner_up_score_window) {
+  const bool close = cand->runner_up_score >= cand->score - o.runner_up_score_window;
+  if (close) {
     other = RefinePose(model, obs, other_lattice, o);
   } else {
     other.pose = other_lattice;
@@ -132,7 +134,7 @@ void RefineCandidate(const SurfaceModel& model, const Observation& obs, const Re
   bool take_other = other_fit.fit > cand->fit.fit;
   bool ambiguous = WithinNoise(cand->fit, other_fit);
   ViewComparison cmp;
-  if (views.enabled) {
+  if (views.enabled && close) {
     cmp = CompareViews(model, obs, cand->pose, other.pose, o, views);
     const bool decisive =
         cmp.sigma > 0.0 && std::abs(cmp.log_likelihood_ratio) >= views.decisive_sigmas * cmp.sigma;
