@@ -17,9 +17,14 @@ double AxialVariance(double z, const RefineOptions& o) {
   return a * a + step * step / 12.0;
 }
 
-// The template's surface at a pose in the sensor frame: points and unit normals.
+// The template's surface at a pose in the sensor frame: its points, and the normal of any of
+// them on demand (only the z-buffer's winners need one).
 struct PlacedSurface {
-  std::vector<Eigen::Vector3d> points, normals;
+  const SurfaceModel* model = nullptr;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // sensor from robot.
+  std::vector<Eigen::Vector3d> points;
+
+  Eigen::Vector3d Normal(int i) const { return rotation * model->normals()[i].cast<double>(); }
 };
 
 PlacedSurface Place(const SurfaceModel& model, const Pose2D& pose,
@@ -28,11 +33,11 @@ PlacedSurface Place(const SurfaceModel& model, const Pose2D& pose,
   const Eigen::Isometry3d sensor_from_robot =
       sensor_from_ground * Eigen::Translation3d(pose.x, pose.y, 0.0) * rot;
   PlacedSurface out;
+  out.model = &model;
+  out.rotation = sensor_from_robot.linear();
   out.points.reserve(model.points().size());
-  out.normals.reserve(model.points().size());
-  for (size_t i = 0; i < model.points().size(); ++i) {
-    out.points.push_back(sensor_from_robot * model.points()[i].cast<double>());
-    out.normals.push_back(sensor_from_robot.linear() * model.normals()[i].cast<double>());
+  for (const Eigen::Vector3f& p : model.points()) {
+    out.points.push_back(sensor_from_robot * p.cast<double>());
   }
   return out;
 }
@@ -94,7 +99,7 @@ class RaySet {
 // the plane is nearly parallel to the ray, and never more than `reach` from it.
 double ExpectedDepth(const PlacedSurface& s, int i, const Eigen::Vector3d& ray, double reach) {
   const Eigen::Vector3d& p = s.points[i];
-  const Eigen::Vector3d& n = s.normals[i];
+  const Eigen::Vector3d n = s.Normal(i);
   const double nq = n.dot(ray);
   if (std::abs(nq) < 0.2 * ray.norm()) return p.z();
   return std::clamp(n.dot(p) / nq, p.z() - reach, p.z() + reach);
