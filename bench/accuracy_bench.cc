@@ -7,13 +7,18 @@
 //
 // Variants: `previous` is the previous round's default (exact search on voxel centres, the
 // height/width gates, no refinement); `paper` is the paper's two-pass search and score;
-// `default` is today's default (surface-centroid rotations, visibility-aware gates, refinement
-// and refined evidence). Prints Markdown tables: summary per body and mount, bias by distance.;
+// `default` is today's default (surface-centroid rotations, visibility-aware gates, refinement,
+// refined evidence between templates and the depth images between a heading and its runner-up).
+// Prints Markdown tables: summary per body and mount, bias by distance, and with --failures the
+// failure classes (and each failing frame on stderr).
 // `fast-refine` is the default with the refinement on a 12 mm surface and 500 cluster points (about
-// half its time); `coarse-lattice` is the default searching a 2 degree, 8 mm lattice.
+// half its time); `coarse-lattice` is the default searching a 2 degree, 8 mm lattice;
+// `fits-only` lets the refined fits alone choose between a heading and its runner-up (no depth
+// image comparison); `quick-views` settles the compared poses in 5 rounds instead of 10;
+// `dense-refine` refines on up to 2000 cluster points.
 //
 // usage: accuracy_bench [--seeds N] [--clutter N] [--threads N] [--bodies a,b] [--noise off]
-//                       [--distances 1,2,3] [--step-deg D] [--variants a,b]
+//                       [--distances 1,2,3] [--step-deg D] [--variants a,b] [--failures]
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -188,6 +193,10 @@ std::vector<Variant> AllVariants() {
   fits_only.heading_views.enabled = false;
   out.push_back({"fits-only", fits_only, true});
   out.push_back({"default", DefaultEstimatorOptions(), true});
+  // The depth images' comparison with a shorter settle (5 rounds of the pattern search).
+  EstimatorOptions quick_views = DefaultEstimatorOptions();
+  quick_views.heading_views.settle_rounds = 5;
+  out.push_back({"quick-views", quick_views, true});
   // The refinement on up to 2000 cluster points instead of 800 (far clusters have 1000-2000).
   EstimatorOptions dense = DefaultEstimatorOptions();
   dense.refine.max_data_points = 2000;
