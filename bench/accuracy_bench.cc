@@ -7,15 +7,20 @@
 //
 // Variants: `previous` is the previous round's default (exact search on voxel centres, the
 // height/width gates, no refinement); `paper` is the paper's two-pass search and score;
-// `default` is today's default (surface-centroid rotations, visibility-aware gates, refinement
-// and refined evidence). Prints Markdown tables: summary per body and mount, bias by distance.;
+// `default` is today's default (surface-centroid rotations, visibility-aware gates, refinement,
+// refined evidence between templates and the depth images between a heading and its runner-up).
+// Prints Markdown tables: summary per body and mount, bias by distance, and with --failures the
+// failure classes (and each failing frame on stderr).
 // `fast-refine` is the default with the refinement on a 12 mm surface and 500 cluster points (about
 // half its time); `reference-refine` is the default with the refinement's objective evaluated
 // the direct way (RefineOptions::reference_evaluation: same results, slower); `coarse-lattice`
-// is the default searching a 2 degree, 8 mm lattice.
+// is the default searching a 2 degree, 8 mm lattice; `fits-only` lets the refined fits alone
+// choose between a heading and its runner-up (no depth image comparison); `quick-views` settles
+// the compared poses in 5 rounds instead of 10; `dense-refine` refines on up to 2000 cluster
+// points.
 //
 // usage: accuracy_bench [--seeds N] [--clutter N] [--threads N] [--bodies a,b] [--noise off]
-//                       [--distances 1,2,3] [--step-deg D] [--variants a,b]
+//                       [--distances 1,2,3] [--step-deg D] [--variants a,b] [--failures]
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -112,7 +117,42 @@ struct Outcome {
   bool identity_ok = false;  // the humanoid's cluster's detection chose the right template.
   bool template_ambiguous = false;
   double refine_ms = 0.0, total_ms = 0.0;
+  // For the failure listing: the right template's candidate in detail, and what was chosen.
+  double est_theta_deg = 0.0;
+  bool has_runner_up = false;
+  double runner_theta_err_deg = 0.0;  // the runner-up heading's error against the truth.
+  double runner_x_err_mm = 0.0, runner_y_err_mm = 0.0;
+  double score = 0.0, runner_score = 0.0;
+  FitSummary fit, runner_fit;
+  double view_llr = 0.0, view_sigma = 0.0;  // the depth images' ratio, pose over runner-up.
+  std::string chosen_template;
 };
+
+// What went wrong in a frame (the right template's candidate), in the order checked.
+enum class FailureClass {
+  kNone,
+  kNoCandidate,    // the right template produced no posed candidate.
+  kFlipAmbiguous,  // heading off by more than 90 degrees, flagged heading_ambiguous.
+  kFlipConfident,  // ... not flagged.
+  kOff20To90,      // off by 20-90 degrees.
+  kOff3To20,       // off by 3-20 degrees.
+  kWrongTemplate,  // heading within 3 degrees, but the detection chose another template.
+};
+const char* const kFailureClassNames[] = {
+    "ok",         "no candidate", "flip (ambiguous)",   "flip (confident)",
+    "off 20-90°", "off 3-20°",    "wrong template only"};
+constexpr int kFailureClasses = 7;
+
+FailureClass Classify(const Outcome& o) {
+  if (!o.found) return FailureClass::kNoCandidate;
+  const double a = std::abs(o.theta_err_deg);
+  if (a > 90.0)
+    return o.heading_ambiguous ? FailureClass::kFlipAmbiguous : FailureClass::kFlipConfident;
+  if (a > 20.0) return FailureClass::kOff20To90;
+  if (a > 3.0) return FailureClass::kOff3To20;
+  if (!o.identity_ok) return FailureClass::kWrongTemplate;
+  return FailureClass::kNone;
+}
 
 struct Trial {
   int body = 0, mount = 0, shape = 0, seed = 0;
@@ -153,7 +193,19 @@ std::vector<Variant> AllVariants() {
   EstimatorOptions reference = DefaultEstimatorOptions();
   reference.refine.reference_evaluation = true;
   out.push_back({"reference-refine", reference, true});
+  // The previous round's choice between a heading and its runner-up: the refined fits alone.
+  EstimatorOptions fits_only = DefaultEstimatorOptions();
+  fits_only.heading_views.enabled = false;
+  out.push_back({"fits-only", fits_only, true});
   out.push_back({"default", DefaultEstimatorOptions(), true});
+  // The depth images' comparison with a shorter settle (5 rounds of the pattern search).
+  EstimatorOptions quick_views = DefaultEstimatorOptions();
+  quick_views.heading_views.settle_rounds = 5;
+  out.push_back({"quick-views", quick_views, true});
+  // The refinement on up to 2000 cluster points instead of 800 (far clusters have 1000-2000).
+  EstimatorOptions dense = DefaultEstimatorOptions();
+  dense.refine.max_data_points = 2000;
+  out.push_back({"dense-refine", dense, true});
   // The search lattice at 2 degrees and 8 mm (a quarter of the poses of 1 degree and 4 mm), the
   // refinement taking the pose off the lattice as in the default.
   EstimatorOptions coarse = DefaultEstimatorOptions();
@@ -229,6 +281,7 @@ Outcome Evaluate(const Estimate& e, const Trial& t) {
     if (d.best.cluster_index != cluster) continue;
     o.identity_ok = d.best.template_name == right;
     o.template_ambiguous = d.template_ambiguous;
+    o.chosen_template = d.best.template_name;
   }
   for (const Candidate& c : e.candidates) {
     if (c.cluster_index != cluster || c.template_name != right || c.stopped_below_threshold)
@@ -238,6 +291,18 @@ Outcome Evaluate(const Estimate& e, const Trial& t) {
     o.x_err_mm = 1000.0 * (c.pose.x - t.distance_m);
     o.y_err_mm = 1000.0 * c.pose.y;
     o.heading_ambiguous = c.heading_ambiguous;
+    o.est_theta_deg = c.pose.theta * 180.0 / kPi;
+    o.has_runner_up = c.has_runner_up;
+    o.runner_theta_err_deg =
+        AngleDiff(c.runner_up_pose.theta, t.theta_deg * kPi / 180.0) * 180.0 / kPi;
+    o.runner_x_err_mm = 1000.0 * (c.runner_up_pose.x - t.distance_m);
+    o.runner_y_err_mm = 1000.0 * c.runner_up_pose.y;
+    o.score = c.score;
+    o.runner_score = c.runner_up_score;
+    o.fit = c.fit;
+    o.runner_fit = c.runner_up_fit;
+    o.view_llr = c.heading_log_likelihood_ratio;
+    o.view_sigma = c.heading_log_likelihood_sigma;
   }
   return o;
 }
@@ -274,7 +339,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: accuracy_bench [--seeds N] [--clutter N] [--threads N] [--bodies a,b]\n"
                    "                      [--variants a,b] [--noise on|off] [--distances 1,2]\n"
-                   "                      [--step-deg D]\n");
+                   "                      [--step-deg D] [--failures]\n"
+                   "  --failures: classify the frames each variant got wrong (a table on stdout)\n"
+                   "              and list them one per line on stderr (heading, runner-up,\n"
+                   "              scores and refined fits of both, template chosen)\n");
       return a == "--help" ? 0 : 2;
     }
   }
@@ -436,17 +504,59 @@ int main(int argc, char** argv) {
     }
   }
 
-  // Frames the default variant got wrong, for inspection.
+  // Frames a variant got wrong, classified, and listed one per line (stderr) for inspection.
   if (list_failures) {
+    std::printf(
+        "\nFailures by class (the right template's candidate; a frame counts once, in the first "
+        "class that applies):\n\n| body | mount | variant |");
+    for (int k = 1; k < kFailureClasses; ++k) std::printf(" %s |", kFailureClassNames[k]);
+    std::printf(" runner-up within 3° of truth |\n|---|---|---|");
+    for (int k = 1; k < kFailureClasses; ++k) std::printf("---|");
+    std::printf("---|\n");
+    for (size_t b = 0; b < bodies.size(); ++b) {
+      for (int m = 0; m < 2; ++m) {
+        for (size_t v = 0; v < variants.size(); ++v) {
+          int counts[kFailureClasses] = {};
+          int runner_right = 0;
+          for (const Trial& t : trials) {
+            if (t.body != static_cast<int>(b) || t.mount != m) continue;
+            const Outcome& o = t.by_variant[v];
+            const FailureClass k = Classify(o);
+            ++counts[static_cast<int>(k)];
+            if (k != FailureClass::kNone && o.has_runner_up &&
+                std::abs(o.runner_theta_err_deg) <= 3.0) {
+              ++runner_right;
+            }
+          }
+          std::printf("| %s | %s | %s |", bodies[b].name.c_str(), kMounts[m].name,
+                      variants[v].name.c_str());
+          for (int k = 1; k < kFailureClasses; ++k) std::printf(" %d |", counts[k]);
+          std::printf(" %d |\n", runner_right);
+        }
+      }
+    }
     for (const Trial& t : trials) {
-      const Outcome& o = t.by_variant.back();
-      if (o.found && std::abs(o.theta_err_deg) <= 3.0 && o.identity_ok) continue;
-      std::fprintf(stderr,
-                   "failure: %s %s %s d=%.1f θ=%.0f seed=%d: found=%d θerr=%.1f x=%.1f y=%.1f "
-                   "ambiguous=%d identity=%d template_ambiguous=%d\n",
-                   bodies[t.body].name.c_str(), kMounts[t.mount].name, kShapes[t.shape],
-                   t.distance_m, t.theta_deg, t.seed, o.found, o.theta_err_deg, o.x_err_mm,
-                   o.y_err_mm, o.heading_ambiguous, o.identity_ok, o.template_ambiguous);
+      for (size_t v = 0; v < variants.size(); ++v) {
+        const Outcome& o = t.by_variant[v];
+        const FailureClass k = Classify(o);
+        if (k == FailureClass::kNone) continue;
+        std::fprintf(
+            stderr,
+            "failure [%s] %s | %s | %s | %s | d=%.1f m | true θ=%.0f° | est θ=%.1f° (err %+.1f°) "
+            "x=%+.1f y=%+.1f mm | heading_ambiguous=%d | runner-up err %s%+.1f° x=%+.1f y=%+.1f mm "
+            "| score %.1f vs "
+            "%.1f | fit %.2f±%.2f cost %.1f vs runner-up fit %.2f±%.2f cost %.1f | views "
+            "%+.1f±%.1f "
+            "nats | chose '%s'%s\n",
+            variants[v].name.c_str(), kFailureClassNames[static_cast<int>(k)],
+            bodies[t.body].name.c_str(), kMounts[t.mount].name, kShapes[t.shape], t.distance_m,
+            t.theta_deg, o.est_theta_deg, o.theta_err_deg, o.x_err_mm, o.y_err_mm,
+            o.heading_ambiguous, o.has_runner_up ? "" : "(none) ", o.runner_theta_err_deg,
+            o.runner_x_err_mm, o.runner_y_err_mm, o.score, o.runner_score, o.fit.fit,
+            o.fit.fit_sigma, o.fit.cost, o.runner_fit.fit, o.runner_fit.fit_sigma,
+            o.runner_fit.cost, o.view_llr, o.view_sigma, o.chosen_template.c_str(),
+            o.template_ambiguous ? " (template ambiguous)" : "");
+      }
     }
   }
 

@@ -258,6 +258,10 @@ std::vector<Variant> ScatteredVariants() {
                  o->refine.surface_spacing_m = 0.012;
                  o->refine.max_data_points = 500;
                }});
+  v.push_back({"exact search, fits only (no view comparison)", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->heading_views.enabled = false;
+               }});
   v.push_back({"exact search, no refinement", [](EstimatorOptions* o) {
                  Exact(o);
                  o->refine.enabled = false;

@@ -50,6 +50,11 @@ struct Candidate {
   // The runner-up's refined evidence is as good as the pose's within noise: the heading is
   // ambiguous (typically front/back at distance); both poses are reported.
   bool heading_ambiguous = false;
+  // The depth images' verdict between `pose` and the runner-up (view_comparison.h): their
+  // log-likelihood ratio (nats, positive favours `pose`) and its standard error; zero when not
+  // compared.
+  double heading_log_likelihood_ratio = 0.0;
+  double heading_log_likelihood_sigma = 0.0;
   std::int64_t poses_evaluated = 0;   // exact score evaluations.
   std::int64_t bounds_evaluated = 0;  // branch-and-bound upper bounds (exact search only).
 };

@@ -11,6 +11,7 @@
 #include "core/depth/cloud_validation.h"
 #include "core/depth/floor_tracker.h"
 #include "core/search/exact_search.h"
+#include "core/search/view_comparison.h"
 
 namespace hpose {
 namespace {
@@ -105,12 +106,15 @@ bool WithinNoise(const FitSummary& a, const FitSummary& b) {
 }
 
 // Refines the candidate's pose and its runner-up's (the best heading more than 30 degrees
-// away); the one with the better refined evidence (higher fit) becomes the pose (`rescore` then
-// recomputes the search's counts at its lattice pose), and the heading is ambiguous when the
-// fits are within two standard errors of each other.
+// away) and chooses between them. With the view comparison on and a runner-up close enough in
+// search score to be refined too, the depth images decide (CompareViews) when their likelihood
+// ratio is decisive, and the heading is ambiguous when it is not (the pose is then the one with
+// the higher refined fit). Otherwise the higher refined fit wins and the heading is ambiguous
+// when the fits are within two standard errors of each other.
+// `rescore` recomputes the search's counts at the lattice pose of a runner-up that wins.
 template <typename Rescore>
 void RefineCandidate(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
-                     const Rescore& rescore, Candidate* cand) {
+                     const ViewComparisonOptions& views, const Rescore& rescore, Candidate* cand) {
   const RefinedPose best = RefinePose(model, obs, cand->lattice_pose, o);
   cand->pose = best.pose;
   cand->refined = true;
@@ -119,14 +123,25 @@ void RefineCandidate(const SurfaceModel& model, const Observation& obs, const Re
   if (!cand->has_runner_up) return;
   const Pose2D other_lattice = cand->runner_up_pose;
   RefinedPose other;
-  if (cand->runner_up_score >= cand->score - o.runner_up_score_window) {
+  const bool close = cand->runner_up_score >= cand->score - o.runner_up_score_window;
+  if (close) {
     other = RefinePose(model, obs, other_lattice, o);
   } else {
     other.pose = other_lattice;
     other.evidence = EvaluatePose(model, obs, other_lattice, o);
   }
   FitSummary other_fit = Summarise(other.evidence);
-  if (other_fit.fit > cand->fit.fit) {
+  bool take_other = other_fit.fit > cand->fit.fit;
+  bool ambiguous = WithinNoise(cand->fit, other_fit);
+  ViewComparison cmp;
+  if (views.enabled && close) {
+    cmp = CompareViews(model, obs, cand->pose, other.pose, o, views);
+    const bool decisive =
+        cmp.sigma > 0.0 && std::abs(cmp.log_likelihood_ratio) >= views.decisive_sigmas * cmp.sigma;
+    if (decisive) take_other = cmp.log_likelihood_ratio < 0.0;
+    ambiguous = !decisive;
+  }
+  if (take_other) {
     cand->runner_up_pose = cand->pose;
     cand->runner_up_fit = cand->fit;
     std::swap(cand->score, cand->runner_up_score);
@@ -134,12 +149,15 @@ void RefineCandidate(const SurfaceModel& model, const Observation& obs, const Re
     cand->lattice_pose = other_lattice;
     cand->covariance = other.covariance;
     cand->fit = other_fit;
+    cmp.log_likelihood_ratio = -cmp.log_likelihood_ratio;
     rescore(cand);
   } else {
     cand->runner_up_pose = other.pose;
     cand->runner_up_fit = other_fit;
   }
-  cand->heading_ambiguous = WithinNoise(cand->fit, cand->runner_up_fit);
+  cand->heading_ambiguous = ambiguous;
+  cand->heading_log_likelihood_ratio = cmp.log_likelihood_ratio;
+  cand->heading_log_likelihood_sigma = cmp.sigma;
 }
 
 // One detection per cluster: among its templates with a pose, the one whose pose the refined
@@ -476,7 +494,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
                                   : 0;
         cd->coverage = n > 0 ? 100.0 * cd->hits / n : 0.0;
       };
-      RefineCandidate(*surfaces_[j], obs, options_.refine, rescore, &cand);
+      RefineCandidate(*surfaces_[j], obs, options_.refine, options_.heading_views, rescore, &cand);
       task.refine_ms = MsSince(t_refine);
     }
   });

@@ -19,6 +19,7 @@
 #include "core/search/exact_search.h"
 #include "core/search/pose_refiner.h"
 #include "core/search/pose_search.h"
+#include "core/search/view_comparison.h"
 #include "core/templates/voxel_template.h"
 
 namespace hpose {
@@ -90,6 +91,9 @@ struct EstimatorOptions {
   // Continuous refinement of each candidate's lattice pose and the refined evidence that
   // chooses between the runner-up heading and between templates (pose_refiner.h).
   RefineOptions refine;
+  // How the depth images decide between a refined heading and its refined runner-up (front /
+  // back): view_comparison.h.
+  ViewComparisonOptions heading_views;
   // Threads for the (cluster, template) searches and refinements of a frame, the calling
   // thread included; 0: one per core. Results do not depend on it.
   int threads = 1;

@@ -1,0 +1,270 @@
+#include "core/search/view_comparison.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace hpose {
+namespace {
+
+// Squared axial sigma of a Kinect depth z: the noise plus the rounding of the disparity step.
+double AxialVariance(double z, const RefineOptions& o) {
+  const double z2 = z * z;
+  const double a = o.axial_coeff * z2;
+  const double step = o.step_coeff * z2;
+  return a * a + step * step / 12.0;
+}
+
+// The template's surface at a pose in the sensor frame: its points, and the normal of any of
+// them on demand (only the z-buffer's winners need one).
+struct PlacedSurface {
+  const SurfaceModel* model = nullptr;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // sensor from robot.
+  std::vector<Eigen::Vector3d> points;
+
+  Eigen::Vector3d Normal(int i) const { return rotation * model->normals()[i].cast<double>(); }
+};
+
+PlacedSurface Place(const SurfaceModel& model, const Pose2D& pose,
+                    const Eigen::Isometry3d& sensor_from_ground) {
+  const Eigen::AngleAxisd rot(pose.theta, Eigen::Vector3d::UnitZ());
+  const Eigen::Isometry3d sensor_from_robot =
+      sensor_from_ground * Eigen::Translation3d(pose.x, pose.y, 0.0) * rot;
+  PlacedSurface out;
+  out.model = &model;
+  out.rotation = sensor_from_robot.linear();
+  out.points.reserve(model.points().size());
+  for (const Eigen::Vector3f& p : model.points()) {
+    out.points.push_back(sensor_from_robot * p.cast<double>());
+  }
+  return out;
+}
+
+// The rays both poses are judged on: a grid of ray slopes (x / z, y / z) over what either pose
+// covers (with a margin for the poses to move), each ray with what the sensor saw along it.
+class RaySet {
+ public:
+  RaySet(double bin, const PlacedSurface& a, const PlacedSurface& b, int margin_bins) : bin_(bin) {
+    Eigen::Vector2i lo(1 << 29, 1 << 29), hi(-(1 << 29), -(1 << 29));
+    for (const PlacedSurface* s : {&a, &b}) {
+      for (const Eigen::Vector3d& p : s->points) {
+        if (!(p.z() > 0.05)) continue;
+        const Eigen::Vector2i c = Bin(p);
+        lo = lo.cwiseMin(c);
+        hi = hi.cwiseMax(c);
+      }
+    }
+    if (lo.x() > hi.x()) return;
+    lo_ = lo - Eigen::Vector2i::Constant(margin_bins);
+    w_ = hi.x() - lo.x() + 1 + 2 * margin_bins;
+    h_ = hi.y() - lo.y() + 1 + 2 * margin_bins;
+    if (static_cast<long>(w_) * h_ > 4000000L) w_ = h_ = 0;  // degenerate: nothing to compare.
+  }
+
+  // Bin of each grid cell's nearest point of `s` (-1: none).
+  std::vector<int> ZBuffer(const PlacedSurface& s) const {
+    std::vector<int> winner(static_cast<size_t>(w_) * h_, -1);
+    for (size_t i = 0; i < s.points.size(); ++i) {
+      const Eigen::Vector3d& p = s.points[i];
+      if (!(p.z() > 0.05)) continue;
+      const Eigen::Vector2i c = Bin(p) - lo_;
+      if (c.x() < 0 || c.y() < 0 || c.x() >= w_ || c.y() >= h_) continue;
+      int& wi = winner[static_cast<size_t>(c.y()) * w_ + c.x()];
+      if (wi < 0 || p.z() < s.points[wi].z()) wi = static_cast<int>(i);
+    }
+    return winner;
+  }
+
+  int size() const { return w_ * h_; }
+  double bin() const { return bin_; }
+  // The ray through cell k's centre, scaled to z = 1.
+  Eigen::Vector3d Ray(int k) const {
+    return Eigen::Vector3d((lo_.x() + k % w_ + 0.5) * bin_, (lo_.y() + k / w_ + 0.5) * bin_, 1.0);
+  }
+
+ private:
+  Eigen::Vector2i Bin(const Eigen::Vector3d& p) const {
+    return Eigen::Vector2i(static_cast<int>(std::floor(p.x() / p.z() / bin_)),
+                           static_cast<int>(std::floor(p.y() / p.z() / bin_)));
+  }
+
+  double bin_;
+  Eigen::Vector2i lo_ = Eigen::Vector2i::Zero();
+  int w_ = 0, h_ = 0;
+};
+
+// Depth (z) where `ray` (z = 1) meets the plane of surface point i; the point's own depth where
+// the plane is nearly parallel to the ray, and never more than `reach` from it.
+double ExpectedDepth(const PlacedSurface& s, int i, const Eigen::Vector3d& ray, double reach) {
+  const Eigen::Vector3d& p = s.points[i];
+  const Eigen::Vector3d n = s.Normal(i);
+  const double nq = n.dot(ray);
+  if (std::abs(nq) < 0.2 * ray.norm()) return p.z();
+  return std::clamp(n.dot(p) / nq, p.z() - reach, p.z() + reach);
+}
+
+// One observed ray: its cell, what the sensor saw along it and whether that return lies on
+// either pose's surface or nearer (foreground) rather than behind both (background).
+struct ObservedRay {
+  int cell = 0;
+  Eigen::Vector3d ray;
+  double depth = 0.0, var = 0.0;
+  bool foreground = false;
+};
+
+// What the rays cost a pose, ray by ray: a truncated Gaussian of the depth residual where the
+// pose covers the ray; where it does not, nothing for a background return and the truncation
+// for a foreground one (a return it does not explain).
+class RayCosts {
+ public:
+  // `bias`: how far the returns lie behind the surface they hit on average, in sigmas (the
+  // range image keeps the nearest of the returns in a bin, which lies nearer than the surface).
+  RayCosts(const SurfaceModel& model, const Observation& obs, const RaySet& grid,
+           std::vector<ObservedRay> rays, double t_max, double bias)
+      : model_(model), obs_(obs), grid_(grid), rays_(std::move(rays)), t_max_(t_max), bias_(bias) {}
+
+  std::vector<double> PerRay(const Pose2D& pose) const {
+    const PlacedSurface s = Place(model_, pose, obs_.sensor_from_ground);
+    const std::vector<int> winner = grid_.ZBuffer(s);
+    std::vector<double> cost(rays_.size());
+    for (size_t k = 0; k < rays_.size(); ++k) {
+      const ObservedRay& r = rays_[k];
+      const int w = winner[r.cell];
+      if (w < 0) {
+        cost[k] = r.foreground ? 0.5 * t_max_ : 0.0;
+        continue;
+      }
+      const double e = r.depth - ExpectedDepth(s, w, r.ray, 3.0 * grid_.bin() * r.depth) -
+                       bias_ * std::sqrt(r.var);
+      cost[k] = 0.5 * std::min(e * e / r.var, t_max_);
+    }
+    return cost;
+  }
+
+  double Total(const Pose2D& pose) const {
+    double sum = 0.0;
+    for (double c : PerRay(pose)) sum += c;
+    return sum;
+  }
+
+  // The pose of least total cost near `start` (pattern search on x, y, theta within the
+  // options' bounds): each pose is judged where it fits the depth image best, so the comparison
+  // tells shapes apart rather than how well two refinements happened to place them.
+  Pose2D Settle(const Pose2D& start, const ViewComparisonOptions& o) const {
+    Pose2D best = start;
+    double best_cost = Total(best);
+    double step_m = 0.5 * o.settle_shift_m, step_rad = 0.5 * o.settle_turn_rad;
+    for (int round = 0; round < o.settle_rounds; ++round) {
+      bool moved = false;
+      for (int dim = 0; dim < 3; ++dim) {
+        for (const double sign : {-1.0, 1.0}) {
+          Pose2D trial = best;
+          if (dim == 0) trial.x += sign * step_m;
+          if (dim == 1) trial.y += sign * step_m;
+          if (dim == 2) trial.theta = NormalizeAngle(trial.theta + sign * step_rad);
+          if (std::hypot(trial.x - start.x, trial.y - start.y) > o.settle_shift_m + 1e-9 ||
+              std::abs(AngleDiff(trial.theta, start.theta)) > o.settle_turn_rad + 1e-9) {
+            continue;
+          }
+          const double c = Total(trial);
+          if (c < best_cost) {
+            best_cost = c;
+            best = trial;
+            moved = true;
+          }
+        }
+      }
+      if (!moved) {
+        step_m *= 0.5;
+        step_rad *= 0.5;
+      }
+    }
+    return best;
+  }
+
+ private:
+  const SurfaceModel& model_;
+  const Observation& obs_;
+  const RaySet& grid_;
+  std::vector<ObservedRay> rays_;
+  double t_max_;
+  double bias_;
+};
+
+}  // namespace
+
+ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, const Pose2D& a,
+                            const Pose2D& b, const RefineOptions& noise,
+                            const ViewComparisonOptions& options) {
+  ViewComparison out;
+  if (obs.range == nullptr || model.points().empty()) return out;
+  const PlacedSurface sa = Place(model, a, obs.sensor_from_ground);
+  const PlacedSurface sb = Place(model, b, obs.sensor_from_ground);
+  const Eigen::Vector3d centre =
+      obs.sensor_from_ground * Eigen::Vector3d(a.x, a.y, model.centre().z());
+  const double bin = 1.5 * model.spacing_m() / std::max(0.3, centre.norm());
+  // Room for the poses to settle: their largest shift seen from the nearest distance.
+  const int margin =
+      2 + static_cast<int>(std::ceil(options.settle_shift_m / (bin * std::max(0.3, centre.z()))));
+  const RaySet grid(bin, sa, sb, margin);
+  if (grid.size() == 0) return out;
+  const std::vector<int> wa = grid.ZBuffer(sa), wb = grid.ZBuffer(sb);
+  const double model_var = noise.model_sigma_m * noise.model_sigma_m;
+  const double k = std::sqrt(options.max_squared_residual);
+  std::vector<ObservedRay> rays;
+  std::vector<double> shared;
+  for (int cell = 0; cell < grid.size(); ++cell) {
+    if (wa[cell] < 0 && wb[cell] < 0) continue;
+    ObservedRay r;
+    r.cell = cell;
+    r.ray = grid.Ray(cell);
+    r.depth = obs.range->DepthToward(r.ray);
+    if (!(r.depth > 0.0)) continue;  // no return: says nothing about either pose.
+    r.var = AxialVariance(r.depth, noise) + model_var;
+    const double reach = 3.0 * bin * r.depth;
+    double deepest = 0.0;
+    if (wa[cell] >= 0) deepest = std::max(deepest, ExpectedDepth(sa, wa[cell], r.ray, reach));
+    if (wb[cell] >= 0) deepest = std::max(deepest, ExpectedDepth(sb, wb[cell], r.ray, reach));
+    r.foreground = r.depth <= deepest + k * std::sqrt(r.var);
+    rays.push_back(r);
+    // Normalised residuals where both poses see the same surface, for the returns' bias.
+    if (wa[cell] >= 0 && wb[cell] >= 0) {
+      for (const double z :
+           {ExpectedDepth(sa, wa[cell], r.ray, reach), ExpectedDepth(sb, wb[cell], r.ray, reach)}) {
+        const double u = (r.depth - z) / std::sqrt(r.var);
+        if (std::abs(u) < k) shared.push_back(u);
+      }
+    }
+  }
+  // The returns' common offset from the surfaces, in sigmas (median): the same for both poses.
+  double bias = 0.0;
+  if (!shared.empty()) {
+    std::nth_element(shared.begin(), shared.begin() + shared.size() / 2, shared.end());
+    bias = shared[shared.size() / 2];
+  }
+  out.rays = static_cast<int>(rays.size());
+  const RayCosts costs(model, obs, grid, std::move(rays), options.max_squared_residual, bias);
+  const Pose2D pa = options.settle_rounds > 0 ? costs.Settle(a, options) : a;
+  const Pose2D pb = options.settle_rounds > 0 ? costs.Settle(b, options) : b;
+  const std::vector<double> ca = costs.PerRay(pa), cb = costs.PerRay(pb);
+  double sum = 0.0, sum2 = 0.0;
+  for (size_t i = 0; i < ca.size(); ++i) {
+    const double diff = cb[i] - ca[i];
+    sum += diff;
+    sum2 += diff * diff;
+  }
+  out.log_likelihood_ratio = sum;
+  if (out.rays > 1) {
+    const double n = out.rays;
+    const double mean = sum / n;
+    const double var_diff = std::max(0.0, (sum2 - n * mean * mean) / (n - 1.0));
+    out.sigma = std::sqrt(n * var_diff);
+  }
+  out.settled_a = pa;
+  out.settled_b = pb;
+  return out;
+}
+
+}  // namespace hpose
