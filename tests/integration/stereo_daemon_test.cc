@@ -30,6 +30,7 @@
 #include "server/stereo_proto_convert.h"
 #include "server/world_frame.h"
 #include "tests/integration/test_util.h"
+#include "tests/sanitizer_build.h"
 
 namespace hpose::server {
 namespace {
@@ -105,9 +106,12 @@ StereoSimSequenceSpec SmallSpec(int frames) {
   return spec;
 }
 
+// Rendering the 45 stereo pairs takes minutes under the sanitizers, and every test pays it in
+// its own process: there the suite is skipped (the stereo estimator's own tests still run).
 class StereoDaemonTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
+    if (testing::kSanitizerBuild) return;
     dir_ = new std::string(tu::MakeTempDir("stereo_daemon"));
     StereoSimSequenceSpec spec;  // rolling ball: kicked at 1.6 s.
     spec.frames = 45;
@@ -145,6 +149,7 @@ class StereoDaemonTest : public ::testing::Test {
   }
 
   void SetUp() override {
+    HPOSE_SKIP_IF_SANITIZED();
     ASSERT_NE(daemon_, nullptr);
     stub_ = Connect(daemon_->port());
   }
