@@ -15,6 +15,13 @@
 namespace hpose {
 
 Result<RgbImage> ReadRgbImage(const std::string& path) {
+  // Only PNG, JPEG and TIFF reach OpenCV: it picks a decoder by content, and some of the others
+  // it links (e.g. GDCM's DICOM reader) abort on damaged files instead of failing.
+  const Result<ImageSize> kind = ReadImageSize(path);
+  if (!kind.ok()) return kind.error();
+  if (!kind->known) {
+    return MakeError(ErrorCode::kDataLoss, path + ": not a PNG, JPEG or TIFF image");
+  }
   const Status size = CheckImageSize(path);  // regular file, sides <= 8192 px, before decoding.
   if (!size.ok()) return size.error();
   cv::Mat raw;

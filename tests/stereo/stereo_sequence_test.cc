@@ -98,6 +98,17 @@ TEST(StereoSequenceTest, BadDirectoriesAndFilesGiveClearErrors) {
   ASSERT_FALSE(img.ok());
   EXPECT_EQ(img.error().code, ErrorCode::kDataLoss);
   EXPECT_EQ(ReadRgbImage(dir + "/missing.png").error().code, ErrorCode::kNotFound);
+  // Formats other than PNG, JPEG and TIFF never reach OpenCV's decoders (a damaged DICOM file
+  // made one of them abort): a BMP header and a DICOM preamble are refused by name.
+  std::ofstream(dir + "/image.bmp") << "BM" << std::string(60, '\0');
+  std::ofstream(dir + "/image.dcm") << std::string(128, '\0') << "DICM" << std::string(64, 'x');
+  for (const char* name : {"/image.bmp", "/image.dcm"}) {
+    auto other = ReadRgbImage(dir + name);
+    ASSERT_FALSE(other.ok()) << name;
+    EXPECT_EQ(other.error().code, ErrorCode::kDataLoss) << name;
+    EXPECT_NE(other.error().message.find("not a PNG, JPEG or TIFF"), std::string::npos)
+        << other.error().message;
+  }
 }
 
 }  // namespace
