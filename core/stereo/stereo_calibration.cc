@@ -10,9 +10,12 @@
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include "core/io/input_file.h"
 
 namespace hpose {
 namespace {
+
+constexpr std::uint64_t kMaxCalibrationFileBytes = std::uint64_t{1} << 20;
 
 bool FileExists(const std::string& path) {
   struct stat st {};
@@ -161,30 +164,13 @@ Status ValidateStereoCalibration(const StereoCalibration& calibration, const std
   return Status::Ok();
 }
 
-Result<StereoCalibration> ReadStereoCalibration(const std::vector<std::string>& paths,
-                                                const StereoCalibrationReadOptions& options) {
-  if (paths.empty()) {
-    return MakeError(ErrorCode::kInvalidArgument, "no stereo calibration file given");
-  }
-  std::string where;
-  std::vector<cv::FileStorage> files;
-  for (const std::string& path : paths) {
-    where += (where.empty() ? "" : "+") + path;
-    if (!FileExists(path)) return MakeError(ErrorCode::kNotFound, path + ": no such file");
-    cv::FileStorage fs;
-    try {
-      fs.open(path, cv::FileStorage::READ);
-    } catch (const std::exception& e) {  // cv::Exception, and std::length_error on some input.
-      return MakeError(ErrorCode::kDataLoss,
-                       path + ": not an OpenCV calibration file (YAML/XML FileStorage)");
-    }
-    if (!fs.isOpened()) {
-      return MakeError(ErrorCode::kDataLoss,
-                       path + ": not an OpenCV calibration file (YAML/XML FileStorage)");
-    }
-    files.push_back(std::move(fs));
-  }
+namespace {
 
+// Reads the entries of the opened files. OpenCV's FileNode accessors throw on some malformed
+// trees (found by fuzzing), so the caller runs this inside a handler.
+Result<StereoCalibration> ParseOpenedCalibration(const std::vector<cv::FileStorage>& files,
+                                                 const std::string& where,
+                                                 const StereoCalibrationReadOptions& options) {
   StereoCalibration cal;
   auto k1 = ReadMatrix(files, {"M1", "K1", "cameraMatrix1", "camera_matrix_left", "cameraMatrixL"},
                        where, true);
@@ -264,6 +250,53 @@ Result<StereoCalibration> ReadStereoCalibration(const std::vector<std::string>& 
   Status valid = ValidateStereoCalibration(cal, where, options);
   if (!valid.ok()) return valid.error();
   return cal;
+}
+
+}  // namespace
+
+Result<StereoCalibration> ReadStereoCalibration(const std::vector<std::string>& paths,
+                                                const StereoCalibrationReadOptions& options) {
+  if (paths.empty()) {
+    return MakeError(ErrorCode::kInvalidArgument, "no stereo calibration file given");
+  }
+  std::string where;
+  std::vector<cv::FileStorage> files;
+  for (const std::string& path : paths) {
+    where += (where.empty() ? "" : "+") + path;
+    if (!FileExists(path)) return MakeError(ErrorCode::kNotFound, path + ": no such file");
+    // Calibration files are a few kilobytes. OpenCV's YAML parser never returns on some
+    // malformed files (found by fuzzing: a "%" directive line after the first line, then a
+    // line starting with "--"); a directive may only open the file, so such files are refused.
+    Result<std::uint64_t> size = CheckInputFile(path, kMaxCalibrationFileBytes);
+    if (!size.ok()) return size.error();
+    Result<std::string> text = ReadFileHead(path, kMaxCalibrationFileBytes);
+    if (!text.ok()) return text.error();
+    if (text->find("\n%") != std::string::npos) {
+      return MakeError(ErrorCode::kDataLoss,
+                       path +
+                           ": a \"%\" directive after the first line; not an OpenCV "
+                           "calibration file (YAML/XML FileStorage)");
+    }
+    cv::FileStorage fs;
+    try {
+      fs.open(path, cv::FileStorage::READ);
+    } catch (const std::exception& e) {  // cv::Exception, and std::length_error on some input.
+      return MakeError(ErrorCode::kDataLoss,
+                       path + ": not an OpenCV calibration file (YAML/XML FileStorage)");
+    }
+    if (!fs.isOpened()) {
+      return MakeError(ErrorCode::kDataLoss,
+                       path + ": not an OpenCV calibration file (YAML/XML FileStorage)");
+    }
+    files.push_back(std::move(fs));
+  }
+
+  try {
+    return ParseOpenedCalibration(files, where, options);
+  } catch (const std::exception& e) {  // cv::Exception from FileNode access on a malformed tree.
+    return MakeError(ErrorCode::kDataLoss, where + ": malformed calibration file (" +
+                                               std::string(e.what()).substr(0, 200) + ")");
+  }
 }
 
 Status WriteStereoCalibration(const StereoCalibration& calibration, const std::string& path,

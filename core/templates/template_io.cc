@@ -69,23 +69,42 @@ Status CheckOctreeNodes(const std::string& bytes, const std::string& path) {
   const auto corrupt = [&](const std::string& why) {
     return Status(MakeError(ErrorCode::kDataLoss, path + ": corrupt OctoMap tree (" + why + ")"));
   };
-  // The header: the first line, then comment lines and "key value" lines up to "data".
-  size_t pos = 0;
-  long long size = -1;
-  bool first = true;
-  for (;;) {
-    const size_t end = bytes.find('\n', pos);
-    if (end == std::string::npos) return corrupt("no data section");
-    std::string line = bytes.substr(pos, end - pos);
-    pos = end + 1;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (first || (!line.empty() && line[0] == '#')) {
-      first = false;
-      continue;
+  // The header, parsed token by token the way OctoMap's own reader does (a "key value" pair may
+  // share a line with "data", a value may sit on the next line), so that the node stream walked
+  // below starts exactly where OctoMap will start reading it.
+  std::istringstream s(bytes);
+  std::string token;
+  std::getline(s, token);  // The first line, checked by the caller.
+  const auto skip_line = [&s] {
+    char c = 0;
+    do {
+      c = static_cast<char>(s.get());
+    } while (s.good() && c != '\n');
+  };
+  unsigned size = 0;
+  bool header_read = false;
+  while (s.good() && !header_read) {
+    s >> token;
+    if (token == "data") {
+      header_read = true;
+      skip_line();
+    } else if (token.compare(0, 1, "#") == 0) {
+      skip_line();
+    } else if (token == "id") {
+      std::string id;
+      s >> id;
+    } else if (token == "res") {
+      double res = 0;
+      s >> res;
+    } else if (token == "size") {
+      s >> size;
+    } else {
+      skip_line();
     }
-    if (line == "data") break;
-    if (line.rfind("size ", 0) == 0) size = std::atoll(line.c_str() + 5);
   }
+  if (!header_read) return corrupt("no data section");
+  const std::streampos data_start = s.tellg();
+  size_t pos = data_start < 0 ? bytes.size() : static_cast<size_t>(data_start);
   if (size == 0) return Status::Ok();
   constexpr size_t kTreeDepth = 16;
   std::vector<int> todo{1};  // nodes still to read at each depth of the current path.
@@ -335,13 +354,27 @@ Result<VoxelTemplate> LoadTemplate(const std::string& bt_path) {
                                                std::to_string(tree.getResolution()) +
                                                " m is outside [0.0001, 10]");
   }
-  tree.expand();
+  // The occupied voxels at full depth. Not tree.expand(): that also expands pruned *free*
+  // leaves, up to 8^15 nodes for one leaf near the root (a fuzzed file ran out of memory there);
+  // the occupied ones were counted above.
   VoxelTemplate tpl;
   tpl.resolution_m = tree.getResolution();
+  const unsigned max_depth = tree.getTreeDepth();
   for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
     if (!tree.isNodeOccupied(*it)) continue;
-    const octomap::point3d c = it.getCoordinate();
-    tpl.voxels.emplace_back(c.x(), c.y(), c.z());
+    const unsigned n = 1u << (max_depth - it.getDepth());
+    const octomap::OcTreeKey corner = it.getIndexKey();
+    for (unsigned i = 0; i < n; ++i) {
+      for (unsigned j = 0; j < n; ++j) {
+        for (unsigned l = 0; l < n; ++l) {
+          const octomap::OcTreeKey key(static_cast<octomap::key_type>(corner[0] + i),
+                                       static_cast<octomap::key_type>(corner[1] + j),
+                                       static_cast<octomap::key_type>(corner[2] + l));
+          const octomap::point3d c = tree.keyToCoord(key);
+          tpl.voxels.emplace_back(c.x(), c.y(), c.z());
+        }
+      }
+    }
   }
   if (tpl.voxels.empty()) {
     return MakeError(ErrorCode::kInvalidArgument, bt_path + ": the tree has no occupied voxels");

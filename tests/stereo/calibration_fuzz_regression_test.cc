@@ -65,5 +65,29 @@ translation_unit: m
   std::remove(path.c_str());
 }
 
+// A file whose top-level node is a sequence opens, but looking an entry up in it makes OpenCV
+// fail an assertion (cv::Exception from FileStorage::operator[]); found by fuzzing.
+TEST(CalibrationFuzzRegressionTest, TopLevelSequenceIsAnError) {
+  const std::string path = WriteYaml("hpose_calib_fuzz3.yaml", "%YAML:1.0\n---\n- 1\n- 2\n");
+  const Result<StereoCalibration> cal = ReadStereoCalibration({path});
+  ASSERT_FALSE(cal.ok());
+  EXPECT_EQ(cal.error().code, ErrorCode::kDataLoss) << cal.error().ToString();
+  EXPECT_NE(cal.error().message.find("malformed"), std::string::npos) << cal.error().message;
+  std::remove(path.c_str());
+}
+
+// OpenCV's YAML parser never returns on this fuzzed file (a "%" directive line in the middle,
+// then "--0"): it is refused before OpenCV reads it.
+TEST(CalibrationFuzzRegressionTest, DirectiveInTheMiddleIsRefusedBeforeOpenCvHangs) {
+  const std::string path =
+      WriteYaml("hpose_calib_fuzz4.yaml",
+                "%YAML:1.%A-: !!\x84opgncv-matr!!op\n   rows: 9983\n   cols: 3\n   \n%\n--0");
+  const Result<StereoCalibration> cal = ReadStereoCalibration({path});
+  ASSERT_FALSE(cal.ok());
+  EXPECT_EQ(cal.error().code, ErrorCode::kDataLoss) << cal.error().ToString();
+  EXPECT_NE(cal.error().message.find("directive"), std::string::npos) << cal.error().message;
+  std::remove(path.c_str());
+}
+
 }  // namespace
 }  // namespace hpose

@@ -112,9 +112,40 @@ TEST_F(TemplateIoTest, NestedOrEndlessNodeDataIsDataLoss) {
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().code, ErrorCode::kDataLoss);
   EXPECT_NE(r.error().message.find("ends early"), std::string::npos) << r.error().message;
+  // Headers OctoMap reads token by token (found by fuzzing): "data" after a value on the same
+  // line, or a value on the line after its key. The deep node stream must be found there too.
+  for (const std::string& odd_header :
+       {std::string("# Octomap OcTree binary file\nid OcTree size 100 res 0.016 data\n"),
+        std::string("# Octomap OcTree binary file\nid\nOcTree\nsize\n100\nres 0.016\n  data\n")}) {
+    {
+      std::ofstream deep(Path("odd.bt"), std::ios::binary | std::ios::trunc);
+      deep << odd_header;
+      for (int i = 0; i < 200000; ++i) deep << '\xff' << '\xff';
+    }
+    r = LoadTemplate(Path("odd.bt"));
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::kDataLoss);
+    EXPECT_NE(r.error().message.find("16 levels"), std::string::npos) << r.error().message;
+  }
   // A real template still loads.
   ASSERT_TRUE(SaveTemplate(RandomTemplate(300, 5), Path("fine.bt")).ok());
   EXPECT_TRUE(LoadTemplate(Path("fine.bt")).ok());
+}
+
+// A pruned *free* leaf near the root stands for 8^15 voxels: loading must not expand it (a
+// fuzzed file ran out of memory there). Root: child 0 an inner node, children 1-7 free leaves;
+// then a chain of inner nodes down to one occupied voxel at depth 16. 24 nodes in all.
+TEST_F(TemplateIoTest, PrunedFreeLeavesAreNotExpanded) {
+  {
+    std::ofstream out(Path("free.bt"), std::ios::binary);
+    out << "# Octomap OcTree binary file\nid OcTree\nsize 24\nres 0.016\ndata\n";
+    out << '\x57' << '\x55';                                           // 11 01 01 01 | 01 01 01 01
+    for (int depth = 1; depth < 15; ++depth) out << '\x03' << '\x00';  // child 0 inner.
+    out << '\x02' << '\x00';                                           // child 0 an occupied voxel.
+  }
+  const Result<VoxelTemplate> r = LoadTemplate(Path("free.bt"));
+  ASSERT_TRUE(r.ok()) << r.error().ToString();
+  EXPECT_EQ(r->voxels.size(), 1u);
 }
 
 TEST_F(TemplateIoTest, SidecarIsValidated) {
