@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """An external CMake project built against the installed package, querying the installed daemon.
 
-usage: external_client_test.py PREFIX PROJECT_DIR CMAKE
+usage: external_client_test.py PREFIX PROJECT_DIR CMAKE [CMAKE_ARG...]
 PREFIX holds the installation (made by the install_tree test), PROJECT_DIR is
-tests/external_client. The project is configured with find_package(hpose) through
+tests/external_client; CMAKE_ARGs are added to the configure command (a sanitizer build passes
+its compiler and sanitizer link flags). The project is configured with find_package(hpose) through
 CMAKE_PREFIX_PATH=PREFIX only, built, and run against PREFIX/bin/hposed serving a looped
 simulated recording made by PREFIX/bin/hpose with the installed templates.
 """
@@ -19,6 +20,7 @@ import daemon_process  # noqa: E402
 
 PREFIX, PROJECT_DIR, CMAKE = (os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2]),
                               sys.argv[3])
+EXTRA_CMAKE_ARGS = sys.argv[4:]
 
 
 class ExternalClientTest(unittest.TestCase):
@@ -29,7 +31,7 @@ class ExternalClientTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as tmp:
             build = os.path.join(tmp, "build")
             subprocess.run([CMAKE, "-S", PROJECT_DIR, "-B", build, "-DCMAKE_PREFIX_PATH=" + PREFIX,
-                            "-DCMAKE_BUILD_TYPE=Release"], check=True, env=env)
+                            "-DCMAKE_BUILD_TYPE=Release"] + EXTRA_CMAKE_ARGS, check=True, env=env)
             # The package came from the prefix, not from anywhere else on the machine.
             with open(os.path.join(build, "CMakeCache.txt")) as f:
                 self.assertIn("hpose_DIR:PATH=%s/" % PREFIX, f.read())

@@ -25,6 +25,7 @@
 #include "server/proto_convert.h"
 #include "tests/integration/hposed_process.h"
 #include "tests/integration/test_util.h"
+#include "tests/sanitizer_build.h"
 
 namespace hpose::server {
 namespace {
@@ -215,7 +216,9 @@ TEST(DaemonFloodTest, FortyConcurrentLargeRequestsStayBounded) {
               exhausted, base_kb, peak_kb);
   ASSERT_TRUE(hposed.alive());
   EXPECT_GT(peak_kb, 0);
-  EXPECT_LE(peak_kb, 1024L * 1024L);
+  // 1 GB in the Release build (the documented figure); AddressSanitizer adds its quarantine of
+  // freed blocks (256 MB by default), red zones and shadow memory on top.
+  EXPECT_LE(peak_kb, (hpose::testing::kSanitizerBuild ? 2048L : 1024L) * 1024L);
 
   // Still serving: an ordinary frame is estimated. Right after the flood gRPC's memory quota
   // may still refuse a call (RESOURCE_EXHAUSTED, as a client is told to retry): a few tries.

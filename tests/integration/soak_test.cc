@@ -8,6 +8,7 @@
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -69,6 +70,7 @@ v1::GetStatusResponse Status(v1::PoseService::Stub* stub) {
 struct ClientLog {
   int sessions = 0;
   int messages = 0;
+  int connect_failures = 0;             // UNAVAILABLE before the stream was set up.
   std::vector<std::string> unexpected;  // statuses no client should get.
 };
 
@@ -102,8 +104,16 @@ void StreamingClient(const std::string& address, int seed, const std::atomic<boo
     const grpc::Status s = reader->Finish();
     const bool expected = s.ok() || s.error_code() == grpc::StatusCode::CANCELLED ||
                           (s.error_code() == grpc::StatusCode::UNAVAILABLE && stop.load());
-    if (!expected)
+    // A connection that could not be made is UNAVAILABLE, which a client retries on a new
+    // channel (seen once in ~2000 sessions on a loaded machine); counted and bounded below.
+    const bool connect_failed = s.error_code() == grpc::StatusCode::UNAVAILABLE && got == 0 &&
+                                s.error_message().find("failed to connect") != std::string::npos;
+    if (connect_failed) {
+      ++log->connect_failures;
+      channel.reset();
+    } else if (!expected) {
       log->unexpected.push_back(std::to_string(s.error_code()) + " " + s.error_message());
+    }
     if (ending == 2) channel.reset();  // the connection goes with the stream.
     std::this_thread::sleep_for(std::chrono::milliseconds(rng() % 300));
   }
@@ -251,13 +261,17 @@ TEST(SoakTest, DaemonsKeepServingThroughClientChurnFileFaultsAndDeviceLoss) {
   ASSERT_TRUE(device.alive());
 
   // Every client was served, and only ever got the statuses of its own doing.
-  int sessions = 0, messages = 0;
+  int sessions = 0, messages = 0, connect_failures = 0;
   for (size_t c = 0; c < logs.size(); ++c) {
     sessions += logs[c].sessions;
     messages += logs[c].messages;
+    connect_failures += logs[c].connect_failures;
     EXPECT_GT(logs[c].messages, 0) << "client " << c << " never got an estimate";
     for (const std::string& u : logs[c].unexpected) ADD_FAILURE() << "client " << c << ": " << u;
   }
+  // Connections that could not be made stay rare (the daemon keeps accepting).
+  EXPECT_LE(connect_failures * 100, std::max(sessions, 100))
+      << connect_failures << " of " << sessions << " sessions could not connect";
 
   // The faults in GetStatus.
   const v1::GetStatusResponse rec = Status(recording_stub.get());
@@ -283,10 +297,12 @@ TEST(SoakTest, DaemonsKeepServingThroughClientChurnFileFaultsAndDeviceLoss) {
 
   // Memory: bounded peak, and no steady growth from the baseline to the end.
   std::printf(
-      "soak %.0f s: %d sessions, %d estimates streamed; recording: %llu failed frames, RSS %ld -> "
+      "soak %.0f s: %d sessions (%d could not connect), %d estimates streamed; recording: %llu "
+      "failed frames, RSS %ld -> "
       "%ld kB (peak %ld kB); device: %llu reconnections, RSS %ld -> %ld kB (peak %ld kB)\n",
-      seconds, sessions, messages, static_cast<unsigned long long>(rec.source().frames_failed()),
-      recording_base_kb, recording_end_kb, recording_peak_kb,
+      seconds, sessions, connect_failures, messages,
+      static_cast<unsigned long long>(rec.source().frames_failed()), recording_base_kb,
+      recording_end_kb, recording_peak_kb,
       static_cast<unsigned long long>(dev.source().reconnects()), device_base_kb, device_end_kb,
       device_peak_kb);
   EXPECT_GT(recording_peak_kb, 0);

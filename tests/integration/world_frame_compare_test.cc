@@ -14,6 +14,7 @@
 #include "core/common/pose2d.h"
 #include "server/daemon.h"
 #include "tests/integration/test_util.h"
+#include "tests/sanitizer_build.h"
 
 namespace hpose::server {
 namespace {
@@ -32,6 +33,7 @@ double NumberAfter(const std::string& text, const std::string& key) {
 }
 
 TEST(WorldFrameCompareTest, CalibratedPlacementMakesBothEstimatorsAgreeInTheDaemon) {
+  HPOSE_SKIP_IF_SANITIZED();  // renders a 90-pair stereo recording, like the stereo daemon suite.
   const std::string dir = tu::MakeTempDir("world_compare");
   ASSERT_FALSE(dir.empty());
   const std::string rec = dir + "/rec";

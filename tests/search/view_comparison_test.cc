@@ -163,8 +163,9 @@ TEST(ViewComparisonTest, DisabledLeavesTheChoiceToTheFits) {
   spec.seed = 4;
   const SimulatedFrame frame = *SimulateFrame(spec);
   const Estimate e = *estimator->EstimateDepth(frame.depth, spec.intrinsics);
-  ASSERT_FALSE(e.Humanoids().empty());
-  const Candidate& c = e.Humanoids().front().best;
+  const std::vector<Detection> humanoids = e.Humanoids();  // a copy: the candidate lives in it.
+  ASSERT_FALSE(humanoids.empty());
+  const Candidate& c = humanoids.front().best;
   EXPECT_EQ(c.heading_log_likelihood_ratio, 0.0);
   EXPECT_EQ(c.heading_log_likelihood_sigma, 0.0);
   EXPECT_LT(std::abs(RadToDeg(AngleDiff(c.pose.theta, spec.humanoid_pose.theta))), 5.0);

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/templates/template_io.h"
+#include "tests/sanitizer_build.h"
 #include "tests/tools/cli_test_util.h"
 
 namespace hpose {
@@ -22,6 +23,7 @@ Eigen::Vector3d Vec(const nlohmann::json& a) {
 }
 
 TEST(TemplateCapturesCliTest, TurntableCapturesGiveATemplateAndAReport) {
+  HPOSE_SKIP_IF_SANITIZED();  // the same registration and template work as CaptureTemplateTest.
   TempDir dir("captures_cli_turntable");
   const std::string captures = dir / "tt";
   const CliRun sim = RunHpose("simulate turntable --out '" + captures +
