@@ -50,9 +50,10 @@ run: build
 demo: build
 	./$(BUILD_DIR)/tools/hpose demo --picture $(BUILD_DIR)/demo.png
 
-# Every test of the Release build. `make test-asan` runs the same suite under the sanitizers
-# with the fuzz runs (not yet part of `make test`: see docs/RELIABILITY.md).
-test: test-release
+# Every test: the Release suite, then the same suite under AddressSanitizer and
+# UndefinedBehaviorSanitizer with every fuzz target run FUZZ_SECONDS (`make test-asan`; its cost
+# is in docs/RELIABILITY.md). Each part ends in CTest's summary; the first failure stops.
+test: test-release test-asan
 
 test-release: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
