@@ -76,9 +76,14 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       openni::OpenNI::addDeviceDisconnectedListener(this);
       listening_ = true;
     } else if (openni::PlaybackControl* playback = device_.getPlaybackControl()) {
-      playback->setRepeatEnabled(options.replay.loop);
-      playback->setSpeed(options.replay.realtime ? 1.0f : -1.0f);
       frame_count_ = playback->getNumberOfFrames(stream_);
+      // OpenNI2's file player, once a recording without repeat reaches its end, spins through
+      // its stream list without the lock that stream destruction takes, so closing it then can
+      // crash in the player's thread. With a known frame count this source ends the recording
+      // itself (Next() counts frames) and the player repeats, which parks its thread waiting
+      // for the next read instead.
+      playback->setRepeatEnabled(options.replay.loop || frame_count_ > 0);
+      playback->setSpeed(options.replay.realtime ? 1.0f : -1.0f);
     }
     if (!IsDepthFormat(stream_.getVideoMode().getPixelFormat())) {
       Close();
