@@ -4,13 +4,16 @@ BUILD_DIR ?= build
 BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 
-PACKAGES := build-essential cmake pkg-config ccache git \
+PACKAGES := build-essential cmake ninja-build pkg-config ccache git \
   libeigen3-dev libpcl-dev liboctomap-dev libopencv-dev libpng-dev libtiff-dev libopenni2-dev \
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc \
   nlohmann-json3-dev libyaml-cpp-dev liburdfdom-dev libassimp-dev libgtest-dev libgmock-dev \
   libbenchmark-dev python3 python3-grpcio python3-protobuf python3-numpy python3-venv \
   python3-setuptools python3-pip opencv-doc openssl systemd \
   libspdlog-dev libcpp-httplib-dev chromium chromium-driver python3-selenium prometheus
+
+# New build directories use Ninja; an existing one keeps the generator it was made with.
+generator = $(if $(wildcard $(1)/CMakeCache.txt),,-G Ninja)
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
@@ -30,7 +33,7 @@ deps:
 	else echo "== system packages present"; fi
 
 configure: deps
-	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) > $(BUILD_DIR).configure.log 2>&1 \
+	@cmake -S . -B $(BUILD_DIR) $(call generator,$(BUILD_DIR)) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) > $(BUILD_DIR).configure.log 2>&1 \
 	  || { cat $(BUILD_DIR).configure.log; exit 1; }
 
 build: configure
@@ -81,9 +84,9 @@ templates: configure
 	./$(BUILD_DIR)/tools/hpose template generate --pose right_arm_raised \
 	  --out templates/right_arm_raised.bt
 
-# The sanitized build: clang with AddressSanitizer, UndefinedBehaviorSanitizer and libFuzzer's
-# coverage over the whole project (tests and fuzz targets; no benchmarks), in $(SAN_DIR). One
-# build serves both `make test-asan` and `make fuzz` (see docs/RELIABILITY.md for its cost).
+# The sanitized build: clang with AddressSanitizer and UndefinedBehaviorSanitizer over the whole
+# project (tests and fuzz targets; no benchmarks) and libFuzzer's coverage over the code fuzzed
+# inputs steer (readers, depth stages, daemon), in $(SAN_DIR). One build serves both `make test-asan` and `make fuzz` (see docs/RELIABILITY.md for its cost).
 SAN_DIR ?= build-san
 FUZZ_SECONDS ?= 60
 SAN_PACKAGES := clang libclang-rt-14-dev
@@ -93,7 +96,7 @@ SAN_ENV := LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers/lsan.supp \
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 san-configure: deps
 	@$(MAKE) --no-print-directory deps EXTRA_PACKAGES="$(SAN_PACKAGES)"
-	@CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	@CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) $(call generator,$(SAN_DIR)) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SAN_FLAGS)" -DCMAKE_C_FLAGS_RELWITHDEBINFO="$(SAN_FLAGS)" \
 	  -DHPOSE_FUZZ=ON -DHPOSE_BUILD_BENCH=OFF -DHPOSE_FUZZ_SECONDS=$(FUZZ_SECONDS) \
 	  > $(SAN_DIR).configure.log 2>&1 || { cat $(SAN_DIR).configure.log; exit 1; }
