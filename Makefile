@@ -4,7 +4,7 @@ BUILD_DIR ?= build
 BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 
-PACKAGES := build-essential cmake ninja-build pkg-config ccache git \
+PACKAGES := build-essential cmake ninja-build lld pkg-config ccache git \
   libeigen3-dev libpcl-dev liboctomap-dev libopencv-dev libpng-dev libtiff-dev libopenni2-dev \
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc \
   nlohmann-json3-dev libyaml-cpp-dev liburdfdom-dev libassimp-dev libgtest-dev libgmock-dev \
