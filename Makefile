@@ -33,7 +33,8 @@ deps:
 	else echo "== system packages present"; fi
 
 configure: deps
-	@cmake -S . -B $(BUILD_DIR) $(call generator,$(BUILD_DIR)) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) > $(BUILD_DIR).configure.log 2>&1 \
+	@cmake -S . -B $(BUILD_DIR) $(call generator,$(BUILD_DIR)) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \
+	  > $(BUILD_DIR).configure.log 2>&1 \
 	  || { cat $(BUILD_DIR).configure.log; exit 1; }
 
 build: configure
@@ -86,7 +87,8 @@ templates: configure
 
 # The sanitized build: clang with AddressSanitizer and UndefinedBehaviorSanitizer over the whole
 # project (tests and fuzz targets; no benchmarks) and libFuzzer's coverage over the code fuzzed
-# inputs steer (readers, depth stages, daemon), in $(SAN_DIR). One build serves both `make test-asan` and `make fuzz` (see docs/RELIABILITY.md for its cost).
+# inputs steer (readers, depth stages, daemon), in $(SAN_DIR). One build serves both
+# `make test-asan` and `make fuzz` (see docs/RELIABILITY.md for its cost).
 SAN_DIR ?= build-san
 FUZZ_SECONDS ?= 60
 SAN_PACKAGES := clang libclang-rt-14-dev
@@ -96,7 +98,8 @@ SAN_ENV := LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers/lsan.supp \
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 san-configure: deps
 	@$(MAKE) --no-print-directory deps EXTRA_PACKAGES="$(SAN_PACKAGES)"
-	@CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) $(call generator,$(SAN_DIR)) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	@CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) $(call generator,$(SAN_DIR)) \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SAN_FLAGS)" -DCMAKE_C_FLAGS_RELWITHDEBINFO="$(SAN_FLAGS)" \
 	  -DHPOSE_FUZZ=ON -DHPOSE_BUILD_BENCH=OFF -DHPOSE_FUZZ_SECONDS=$(FUZZ_SECONDS) \
 	  > $(SAN_DIR).configure.log 2>&1 || { cat $(SAN_DIR).configure.log; exit 1; }
