@@ -6,161 +6,13 @@
 
 namespace hpose {
 
-// Template frame to sensor frame at a pose: rotated about z by (c, s) = (cos, sin) of the
-// heading, translated by (px, py), then through the mount (a, b), in the reference's order of
-// operations so that the results are the same to the last bit.
-struct ViewTransform {
-  double c, s, px, py;
-  double a00, a01, a02, a10, a11, a12, a20, a21, a22, b0, b1, b2;
-
-  ViewTransform(double cos_t, double sin_t, const Pose2D& pose, const Eigen::Isometry3d& s_from_g)
-      : c(cos_t), s(sin_t), px(pose.x), py(pose.y) {
-    const Eigen::Matrix3d a = s_from_g.linear();
-    a00 = a(0, 0), a01 = a(0, 1), a02 = a(0, 2);
-    a10 = a(1, 0), a11 = a(1, 1), a12 = a(1, 2);
-    a20 = a(2, 0), a21 = a(2, 1), a22 = a(2, 2);
-    b0 = s_from_g.translation().x(), b1 = s_from_g.translation().y();
-    b2 = s_from_g.translation().z();
-  }
-
-  void Apply(double mx, double my, double mz, double* x, double* y, double* z) const {
-    const double gx = (c * mx - s * my) + px;
-    const double gy = (s * mx + c * my) + py;
-    const double gz = mz + 0.0;
-    *x = a00 * gx + a01 * gy + a02 * gz + b0;
-    *y = a10 * gx + a11 * gy + a12 * gz + b1;
-    *z = a20 * gx + a21 * gy + a22 * gz + b2;
-  }
-};
-
-namespace {
-
-// A z-buffer bin is floor(t / bin) of a ray slope t = x / z, divided as the reference does.
-// Here the quotient q is approximated with one division per point (x * (1 / bin / z)), within
-// a few units in the last place of the exact one (below 1e-9 for |q| < kApproxMaxBin), so both
-// have the same floor unless q lies within kEdge of an integer: there, and beyond
-// kApproxMaxBin, the exact quotients decide.
-constexpr double kEdge = 1e-6;
-constexpr double kApproxMaxBin = 1 << 20;
-// Bins beyond this are degenerate geometry (a template point almost in the optical plane).
-constexpr double kMaxBin = 1 << 28;
-// A z-buffer with more bins than this is degenerate geometry too: nothing is visible.
-constexpr long kMaxBins = 4000000L;
-
-// floor(q) as an int, for |q| < kMaxBin.
-inline int FloorToInt(double q) {
-  const int i = static_cast<int>(q);
-  return i - (q < static_cast<double>(i) ? 1 : 0);
-}
-
-// How far e = q - f lies inside [0, 1) beyond the edge margin, for the smaller of two (negative:
-// too near an edge to trust the approximation, or f is not floor(q)).
-inline double EdgeClearance(double ex, double ey) {
-  return std::min(std::min(ex, ey) - kEdge, (1.0 - kEdge) - std::max(ex, ey));
-}
-
-// floor(x / z / bin) from q, its approximation.
-inline int BinOf(double q, double x, double z, double bin) {
-  if (std::abs(q) < kApproxMaxBin) {
-    const int b = FloorToInt(q);
-    const double e = q - b;
-    if (EdgeClearance(e, e) >= 0.0) return b;
-  }
-  return FloorToInt(x / z / bin);
-}
-
-// The bins a z-buffer spans (inclusive).
-struct BinWindow {
-  double lo_x, lo_y, hi_x, hi_y;
-};
-
-// The template's points (mx, my, mz) in the sensor frame: their depths (zs) and their z-buffer
-// bins (bx, by) from approximate quotients, which are to be trusted where `ok` is positive: in
-// front of the sensor, clear of a bin edge (EdgeClearance) and within `window`. Elsewhere the
-// bins are meaningless (but defined). Branch-free over unaliased arrays, so that it vectorises:
-// the floor is rounding to nearest of q - 1/2 (adding and taking away 1.5 * 2^52), which is
-// floor(q) wherever the clearance is positive.
-#define HPOSE_PLACE_IN_VIEW_PARAMS                                                           \
-  int n, const float *__restrict mx, const float *__restrict my, const float *__restrict mz, \
-      const ViewTransform &view, double inv_bin, BinWindow window, double *__restrict zs,    \
-      int *__restrict bx, int *__restrict by, double *__restrict ok
-
-[[gnu::always_inline]] inline void PlaceInViewLoop(HPOSE_PLACE_IN_VIEW_PARAMS) {
-  constexpr double kRound = 6755399441055744.0;
-  const ViewTransform v = view;
-  const double min_z = refine_terms::kMinViewDepth;
-  for (int i = 0; i < n; ++i) {
-    double x, y, z;
-    v.Apply(mx[i], my[i], mz[i], &x, &y, &z);
-    const double r = inv_bin / std::max(z, min_z);
-    const double qx = x * r, qy = y * r;
-    const double fx = ((qx - 0.5) + kRound) - kRound;
-    const double fy = ((qy - 0.5) + kRound) - kRound;
-    // Clamped into the window (a NaN to its low end) so that the conversions are defined.
-    const double cx = std::max(window.lo_x, std::min(fx, window.hi_x));
-    const double cy = std::max(window.lo_y, std::min(fy, window.hi_y));
-    const double inside = std::min(std::min(fx - window.lo_x, window.hi_x - fx),
-                                   std::min(fy - window.lo_y, window.hi_y - fy)) +
-                          0.5;
-    zs[i] = z;
-    bx[i] = static_cast<int>(cx);
-    by[i] = static_cast<int>(cy);
-    // NaN (from a NaN pose) stays NaN, so not positive.
-    ok[i] = std::min(z - min_z, std::min(EdgeClearance(qx - fx, qy - fy), inside));
-  }
-}
-
-void PlaceInViewBaseline(HPOSE_PLACE_IN_VIEW_PARAMS) {
-  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
-}
-
-// The same loop compiled for AVX2 (wider vectors, conversions to int) where the compiler can
-// target it and the CPU has it: AVX2 does not fuse multiplies and adds, so the results are the
-// same to the bit.
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-[[gnu::target("avx2")]] void PlaceInViewAvx2(HPOSE_PLACE_IN_VIEW_PARAMS) {
-  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
-}
-
-bool HasAvx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
-}
-#else
-void PlaceInViewAvx2(HPOSE_PLACE_IN_VIEW_PARAMS) {
-  PlaceInViewLoop(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
-}
-bool HasAvx2() { return false; }
-#endif
-
-void PlaceInView(HPOSE_PLACE_IN_VIEW_PARAMS) {
-  (HasAvx2() ? PlaceInViewAvx2 : PlaceInViewBaseline)(n, mx, my, mz, view, inv_bin, window, zs, bx,
-                                                      by, ok);
-}
-
-#undef HPOSE_PLACE_IN_VIEW_PARAMS
-
-// Points per block of the projection: its temporaries stay in the first-level cache.
-constexpr int kBlock = 256;
-
-// The bins of a template point in front of the sensor from the exact quotients, as the
-// reference divides; false when out of range (degenerate geometry).
-bool ExactBins(const ViewTransform& view, double bin, double mx, double my, double mz, int* bx,
-               int* by) {
-  double x, y, z;
-  view.Apply(mx, my, mz, &x, &y, &z);
-  const double qx = x / z / bin, qy = y / z / bin;
-  if (!(std::abs(qx) < kMaxBin && std::abs(qy) < kMaxBin)) return false;
-  *bx = FloorToInt(qx);
-  *by = FloorToInt(qy);
-  return true;
-}
-
-}  // namespace
-
 RefineObjective::RefineObjective(const SurfaceModel& model, const Observation& obs,
                                  const RefineOptions& options)
-    : model_(model), obs_(obs), options_(options), a_(obs.sensor_from_ground.linear()) {
+    : model_(model),
+      obs_(obs),
+      options_(options),
+      a_(obs.sensor_from_ground.linear()),
+      projector_(model) {
   const std::vector<Eigen::Vector3f>& data = *obs.cluster_points;
   const size_t stride = refine_terms::DataStride(data.size(), options_);
   data_.reserve(data.size() / stride + 1);
@@ -172,25 +24,6 @@ RefineObjective::RefineObjective(const SurfaceModel& model, const Observation& o
     data_in_front_.push_back(in_front ? 1 : 0);
     data_tx_.push_back(in_front ? d.ps.x() / d.ps.z() : 0.0);
     data_ty_.push_back(in_front ? d.ps.y() / d.ps.z() : 0.0);
-  }
-  const std::vector<Eigen::Vector3f>& pts = model.points();
-  const size_t n = pts.size();
-  mx_.resize(n);
-  my_.resize(n);
-  mz_.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    mx_[i] = pts[i].x();
-    my_[i] = pts[i].y();
-    mz_[i] = pts[i].z();
-  }
-  z_.resize(n);
-  bx_.resize(n);
-  by_.resize(n);
-  box_lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  box_hi_ = -box_lo_;
-  for (const Eigen::Vector3f& p : pts) {
-    box_lo_ = box_lo_.cwiseMin(p.cast<double>());
-    box_hi_ = box_hi_.cwiseMax(p.cast<double>());
   }
 }
 
@@ -207,132 +40,35 @@ bool RefineObjective::Project(const Pose2D& pose) {
   inv_bin_ = 1.0 / bin_;
   const ViewTransform view(c_, s_, pose, s_from_g);
 
-  if (!FillZBuffer(view) && !FillZBufferTwoPasses(view)) return false;
+  if (!projector_.Project(view, bin_)) return false;
+  lo_x_ = projector_.lo_x();
+  lo_y_ = projector_.lo_y();
+  w_ = projector_.w();
+  h_ = projector_.h();
   // The visible points, in the order of their bins, with their full sensor-frame position; the
   // z-buffer refers to them from now on.
-  for (int& cell : winner_) {
+  for (int& cell : projector_.winner()) {
     if (cell < 0) continue;
     VisiblePoint v;
     v.index = cell;
-    view.Apply(mx_[cell], my_[cell], mz_[cell], &v.x, &v.y, &v.z);
+    view.Apply(projector_.mx(cell), projector_.my(cell), projector_.mz(cell), &v.x, &v.y, &v.z);
     cell = static_cast<int>(visible_.size());
     visible_.push_back(v);
   }
   return true;
 }
 
-bool RefineObjective::FillZBuffer(const ViewTransform& view) {
-  // Every template point lies in its bounding box, and a ray slope (x / z) over a box in front
-  // of the sensor is extreme at a corner: the corners bound the bins (one bin of margin for
-  // rounding), so the points go into the z-buffer as they are placed.
-  int lo[2] = {1 << 29, 1 << 29}, hi[2] = {-(1 << 29), -(1 << 29)};
-  for (int corner = 0; corner < 8; ++corner) {
-    double x, y, z;
-    view.Apply(corner & 1 ? box_hi_.x() : box_lo_.x(), corner & 2 ? box_hi_.y() : box_lo_.y(),
-               corner & 4 ? box_hi_.z() : box_lo_.z(), &x, &y, &z);
-    if (!(z > refine_terms::kMinViewDepth + 1e-6)) return false;
-    const double q[2] = {x / z * inv_bin_, y / z * inv_bin_};
-    for (int k = 0; k < 2; ++k) {
-      if (!(std::abs(q[k]) < kMaxBin)) return false;
-      lo[k] = std::min(lo[k], FloorToInt(q[k]) - 1);
-      hi[k] = std::max(hi[k], FloorToInt(q[k]) + 1);
-    }
-  }
-  const int w = hi[0] - lo[0] + 1, h = hi[1] - lo[1] + 1;
-  if (static_cast<long>(w) * h > kMaxBins) return false;
-  winner_.assign(static_cast<size_t>(w) * h, -1);
-  // The depth of each bin's winner beside it (no dependent load per point).
-  winner_z_.assign(winner_.size(), std::numeric_limits<double>::infinity());
-  int* winner = winner_.data();
-  double* winner_z = winner_z_.data();
-  const int n = static_cast<int>(mx_.size());
-  const BinWindow window{static_cast<double>(lo[0]), static_cast<double>(lo[1]),
-                         static_cast<double>(hi[0]), static_cast<double>(hi[1])};
-  double* zs = z_.data();
-  int bx[kBlock], by[kBlock];
-  double ok[kBlock];
-  for (int i0 = 0; i0 < n; i0 += kBlock) {
-    const int m = std::min(kBlock, n - i0);
-    PlaceInView(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, inv_bin_, window,
-                zs + i0, bx, by, ok);
-    for (int j = 0; j < m; ++j) {
-      const int i = i0 + j;
-      if (!(ok[j] > 0.0)) {
-        if (!(zs[i] > refine_terms::kMinViewDepth)) continue;
-        if (!ExactBins(view, bin_, mx_[i], my_[i], mz_[i], &bx[j], &by[j])) return false;
-        if (bx[j] < lo[0] || by[j] < lo[1] || bx[j] > hi[0] || by[j] > hi[1]) {
-          return false;  // not bounded after all.
-        }
-      }
-      const size_t cell = static_cast<size_t>(by[j] - lo[1]) * w + (bx[j] - lo[0]);
-      // As `winner < 0 || z < z of winner`: an empty bin's depth is infinite, z is finite.
-      if (zs[i] < winner_z[cell]) {
-        winner[cell] = i;
-        winner_z[cell] = zs[i];
-      }
-    }
-  }
-  lo_x_ = lo[0];
-  lo_y_ = lo[1];
-  w_ = w;
-  h_ = h;
-  return true;
-}
-
-bool RefineObjective::FillZBufferTwoPasses(const ViewTransform& view) {
-  // The bins of every point and their extent first, then the z-buffer.
-  const int n = static_cast<int>(mx_.size());
-  const BinWindow window{-kApproxMaxBin, -kApproxMaxBin, kApproxMaxBin, kApproxMaxBin};
-  double* zs = z_.data();
-  int* bxs = bx_.data();
-  int* bys = by_.data();
-  double ok[kBlock];
-  for (int i0 = 0; i0 < n; i0 += kBlock) {
-    const int m = std::min(kBlock, n - i0);
-    PlaceInView(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, inv_bin_, window,
-                zs + i0, bxs + i0, bys + i0, ok);
-    for (int j = 0; j < m; ++j) {
-      const int i = i0 + j;
-      if (ok[j] > 0.0 || !(zs[i] > refine_terms::kMinViewDepth)) continue;
-      if (!ExactBins(view, bin_, mx_[i], my_[i], mz_[i], &bxs[i], &bys[i])) return false;
-    }
-  }
-  int lo_x = 1 << 29, lo_y = 1 << 29, hi_x = -(1 << 29), hi_y = -(1 << 29);
-  for (int i = 0; i < n; ++i) {
-    if (!(zs[i] > refine_terms::kMinViewDepth)) continue;
-    lo_x = std::min(lo_x, bxs[i]);
-    lo_y = std::min(lo_y, bys[i]);
-    hi_x = std::max(hi_x, bxs[i]);
-    hi_y = std::max(hi_y, bys[i]);
-  }
-  if (lo_x > hi_x) return false;
-  const int w = hi_x - lo_x + 1, h = hi_y - lo_y + 1;
-  if (static_cast<long>(w) * h > kMaxBins) return false;  // degenerate geometry.
-  winner_.assign(static_cast<size_t>(w) * h, -1);
-  int* winner = winner_.data();
-  for (int i = 0; i < n; ++i) {
-    if (!(zs[i] > refine_terms::kMinViewDepth)) continue;
-    int& wi = winner[static_cast<size_t>(bys[i] - lo_y) * w + (bxs[i] - lo_x)];
-    if (wi < 0 || zs[i] < zs[wi]) wi = i;
-  }
-  lo_x_ = lo_x;
-  lo_y_ = lo_y;
-  w_ = w;
-  h_ = h;
-  return true;
-}
-
 int RefineObjective::Associate(size_t k) const {
   if (w_ == 0 || !data_in_front_[k]) return -1;
   const Eigen::Vector3d& p = data_[k].ps;
-  const int bx = BinOf(data_tx_[k] * inv_bin_, p.x(), p.z(), bin_) - lo_x_;
-  const int by = BinOf(data_ty_[k] * inv_bin_, p.y(), p.z(), bin_) - lo_y_;
+  const int bx = TemplateProjector::Bin(data_tx_[k] * inv_bin_, p.x(), p.z(), bin_) - lo_x_;
+  const int by = TemplateProjector::Bin(data_ty_[k] * inv_bin_, p.y(), p.z(), bin_) - lo_y_;
   const double gate = data_[k].gate;
   int best = -1;
   double best_d2 = gate * gate;
   for (int y = std::max(0, by - 1); y <= std::min(h_ - 1, by + 1); ++y) {
     for (int x = std::max(0, bx - 1); x <= std::min(w_ - 1, bx + 1); ++x) {
-      const int slot = winner_[static_cast<size_t>(y) * w_ + x];
+      const int slot = projector_.winner()[static_cast<size_t>(y) * w_ + x];
       if (slot < 0) continue;
       const VisiblePoint& v = visible_[slot];
       const double dx = v.x - p.x(), dy = v.y - p.y(), dz = v.z - p.z();
@@ -360,7 +96,7 @@ Linearisation RefineObjective::Linearise(const Pose2D& pose, double stop_above) 
       ev.cost += data_[k].unexplained_cost;
     } else {
       const int idx = visible_[slot].index;
-      const Eigen::Vector3d m(mx_[idx], my_[idx], mz_[idx]);
+      const Eigen::Vector3d m(projector_.mx(idx), projector_.my(idx), projector_.mz(idx));
       refine_terms::AddDataTerm(data_[k], pose, refine_terms::RotateZ(c_, s_, m),
                                 refine_terms::RotateZ(c_, s_, normals[idx].cast<double>()), a_,
                                 options_, &lin);
@@ -378,7 +114,8 @@ Linearisation RefineObjective::Linearise(const Pose2D& pose, double stop_above) 
     if (!range.CoversRay(tx, ty)) continue;
     const int i = v.index;
     refine_terms::AddViewTerm(range.NearestAroundRay(tx, ty, 1), v.z, c_, s_,
-                              Eigen::Vector3d(mx_[i], my_[i], mz_[i]), a_, options_, &lin);
+                              Eigen::Vector3d(projector_.mx(i), projector_.my(i), projector_.mz(i)),
+                              a_, options_, &lin);
     if (ev.cost > stop_above) {
       lin.complete = false;
       return lin;

@@ -11,21 +11,18 @@
 #include "core/search/pose_refiner.h"
 #include "core/search/refine_terms.h"
 #include "core/search/surface_model.h"
+#include "core/search/template_projector.h"
 
 namespace hpose {
-
-struct ViewTransform;  // template frame to sensor frame at a pose (refine_objective.cc).
 
 // The refinement's objective for one template on one observation, prepared once so that each
 // pose only costs what depends on it. At construction: the cluster points' sensor-frame
 // positions, rays, noise, association gates and unexplained costs, and the template's points
-// as float arrays with their bounding box. Per pose: one vectorised pass places the template's
-// points in the sensor's view and bins them (one division per point, the exact quotients
-// wherever a point lies within 1e-6 of a bin edge), straight into a z-buffer whose extent the
-// box bounds; the visible points are then packed with their positions; the terms follow in the
-// reference's order and stop as soon as the cost exceeds the caller's bound. Every decision
-// (bin, winner, association, class of a visible point) and every term is computed with the
-// reference's arithmetic, so the result equals LineariseReference's (to the bit on x86-64).
+// (TemplateProjector). Per pose: the projector's z-buffer, the visible points packed with their
+// positions, then the terms in the reference's order, stopping as soon as the cost exceeds the
+// caller's bound. Every decision (bin, winner, association, class of a visible point) and every
+// term is computed with the reference's arithmetic, so the result equals LineariseReference's
+// (to the bit on x86-64).
 //
 // Keeps references to `model` and `obs` (and what it points to): they must outlive it. Not
 // thread-safe (one objective per refinement).
@@ -43,12 +40,6 @@ class RefineObjective {
   // Places the template at `pose` in the sensor's view and fills the z-buffer; false when
   // nothing of it is visible.
   bool Project(const Pose2D& pose);
-  // The z-buffer in one pass over the template, its extent bounded by the template's box; false
-  // when the box does not bound it (partly behind the sensor, too large), or in two passes
-  // (the bins' extent first); false when nothing is visible. Both set winner_, lo_x_, lo_y_,
-  // w_, h_: the bins of the first may extend beyond the points' (empty bins in the margin).
-  bool FillZBuffer(const ViewTransform& view);
-  bool FillZBufferTwoPasses(const ViewTransform& view);
   // The visible template point (its slot in visible_) nearest to cluster point k among the bins
   // around its ray, within its gate, or -1.
   int Associate(size_t k) const;
@@ -64,20 +55,12 @@ class RefineObjective {
   std::vector<double> data_tx_, data_ty_;
   std::vector<unsigned char> data_in_front_;
 
-  // The template's points (template frame, structure of arrays).
-  std::vector<float> mx_, my_, mz_;
-  Eigen::Vector3d box_lo_, box_hi_;  // their bounding box.
-
-  // Per pose: the heading's cos and sin, the template's points' sensor-frame depth (z) and
-  // z-buffer bins, their x and y where visible, the nearest point of each bin and the visible
-  // points.
+  // Per pose: the heading's cos and sin, the template's z-buffer (its entries rewritten to
+  // slots of visible_) and its extent, and the visible points.
+  TemplateProjector projector_;
   double c_ = 1.0, s_ = 0.0;
   double bin_ = 0.01, inv_bin_ = 100.0;
-  std::vector<double> z_;
-  std::vector<int> bx_, by_;
   int lo_x_ = 0, lo_y_ = 0, w_ = 0, h_ = 0;
-  std::vector<int> winner_;  // per bin: the nearest point's index, then its slot in visible_.
-  std::vector<double> winner_z_;
   struct VisiblePoint {
     double x, y, z;  // sensor frame.
     int index;       // in the template's points.
