@@ -6,6 +6,9 @@
 
 #include <Eigen/Geometry>
 
+#include "core/search/refine_terms.h"
+#include "core/search/template_projector.h"
+
 namespace hpose {
 namespace {
 
@@ -18,26 +21,35 @@ double AxialVariance(double z, const RefineOptions& o) {
 }
 
 // The template's surface at a pose in the sensor frame: its points, and the normal of any of
-// them on demand (only the z-buffer's winners need one).
+// them on demand (only the z-buffer's winners need one). Placed as `sensor_from_ground *
+// (RotateZ(m) + t)`, the arithmetic of ViewTransform (TemplateProjector), so that the reference
+// and the projector's evaluation agree to the bit.
 struct PlacedSurface {
   const SurfaceModel* model = nullptr;
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // sensor from robot.
+  double c = 1.0, s = 0.0;                          // the heading's cos and sin.
+  Eigen::Matrix3d a = Eigen::Matrix3d::Identity();  // sensor_from_ground rotation.
   std::vector<Eigen::Vector3d> points;
 
-  Eigen::Vector3d Normal(int i) const { return rotation * model->normals()[i].cast<double>(); }
+  Eigen::Vector3d Normal(int i) const { return SensorNormal(a, c, s, model->normals()[i]); }
+
+  static Eigen::Vector3d SensorNormal(const Eigen::Matrix3d& a, double c, double s,
+                                      const Eigen::Vector3f& n) {
+    return a * refine_terms::RotateZ(c, s, n.cast<double>());
+  }
 };
 
 PlacedSurface Place(const SurfaceModel& model, const Pose2D& pose,
                     const Eigen::Isometry3d& sensor_from_ground) {
-  const Eigen::AngleAxisd rot(pose.theta, Eigen::Vector3d::UnitZ());
-  const Eigen::Isometry3d sensor_from_robot =
-      sensor_from_ground * Eigen::Translation3d(pose.x, pose.y, 0.0) * rot;
   PlacedSurface out;
   out.model = &model;
-  out.rotation = sensor_from_robot.linear();
+  out.c = std::cos(pose.theta);
+  out.s = std::sin(pose.theta);
+  out.a = sensor_from_ground.linear();
+  const Eigen::Vector3d t(pose.x, pose.y, 0.0);
   out.points.reserve(model.points().size());
   for (const Eigen::Vector3f& p : model.points()) {
-    out.points.push_back(sensor_from_robot * p.cast<double>());
+    out.points.push_back(sensor_from_ground *
+                         (refine_terms::RotateZ(out.c, out.s, p.cast<double>()) + t));
   }
   return out;
 }
@@ -79,6 +91,9 @@ class RaySet {
 
   int size() const { return w_ * h_; }
   double bin() const { return bin_; }
+  // The bin (floor(x / z / bin), floor(y / z / bin)) of cell k.
+  int BinX(int k) const { return lo_.x() + k % w_; }
+  int BinY(int k) const { return lo_.y() + k / w_; }
   // The ray through cell k's centre, scaled to z = 1.
   Eigen::Vector3d Ray(int k) const {
     return Eigen::Vector3d((lo_.x() + k % w_ + 0.5) * bin_, (lo_.y() + k / w_ + 0.5) * bin_, 1.0);
@@ -95,14 +110,17 @@ class RaySet {
   int w_ = 0, h_ = 0;
 };
 
-// Depth (z) where `ray` (z = 1) meets the plane of surface point i; the point's own depth where
+// Depth (z) where `ray` (z = 1) meets the plane through p with normal n; p's own depth where
 // the plane is nearly parallel to the ray, and never more than `reach` from it.
-double ExpectedDepth(const PlacedSurface& s, int i, const Eigen::Vector3d& ray, double reach) {
-  const Eigen::Vector3d& p = s.points[i];
-  const Eigen::Vector3d n = s.Normal(i);
+double ExpectedDepth(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& ray,
+                     double reach) {
   const double nq = n.dot(ray);
   if (std::abs(nq) < 0.2 * ray.norm()) return p.z();
   return std::clamp(n.dot(p) / nq, p.z() - reach, p.z() + reach);
+}
+
+double ExpectedDepth(const PlacedSurface& s, int i, const Eigen::Vector3d& ray, double reach) {
+  return ExpectedDepth(s.points[i], s.Normal(i), ray, reach);
 }
 
 // One observed ray: its cell, what the sensor saw along it and whether that return lies on
@@ -122,30 +140,25 @@ class RayCosts {
   // `bias`: how far the returns lie behind the surface they hit on average, in sigmas (the
   // range image keeps the nearest of the returns in a bin, which lies nearer than the surface).
   RayCosts(const SurfaceModel& model, const Observation& obs, const RaySet& grid,
-           std::vector<ObservedRay> rays, double t_max, double bias)
-      : model_(model), obs_(obs), grid_(grid), rays_(std::move(rays)), t_max_(t_max), bias_(bias) {}
+           std::vector<ObservedRay> rays, double t_max, double bias, bool reference)
+      : model_(model),
+        obs_(obs),
+        grid_(grid),
+        rays_(std::move(rays)),
+        t_max_(t_max),
+        bias_(bias),
+        reference_(reference),
+        projector_(model) {}
 
   std::vector<double> PerRay(const Pose2D& pose) const {
-    const PlacedSurface s = Place(model_, pose, obs_.sensor_from_ground);
-    const std::vector<int> winner = grid_.ZBuffer(s);
     std::vector<double> cost(rays_.size());
-    for (size_t k = 0; k < rays_.size(); ++k) {
-      const ObservedRay& r = rays_[k];
-      const int w = winner[r.cell];
-      if (w < 0) {
-        cost[k] = r.foreground ? 0.5 * t_max_ : 0.0;
-        continue;
-      }
-      const double e = r.depth - ExpectedDepth(s, w, r.ray, 3.0 * grid_.bin() * r.depth) -
-                       bias_ * std::sqrt(r.var);
-      cost[k] = 0.5 * std::min(e * e / r.var, t_max_);
-    }
+    ForEachRay(pose, [&](size_t k, double c) { cost[k] = c; });
     return cost;
   }
 
   double Total(const Pose2D& pose) const {
     double sum = 0.0;
-    for (double c : PerRay(pose)) sum += c;
+    ForEachRay(pose, [&](size_t, double c) { sum += c; });
     return sum;
   }
 
@@ -185,12 +198,60 @@ class RayCosts {
   }
 
  private:
+  // The cost of ray r where the pose's nearest surface point along it is p with normal n.
+  double CoveredCost(const ObservedRay& r, const Eigen::Vector3d& p,
+                     const Eigen::Vector3d& n) const {
+    const double e = r.depth - ExpectedDepth(p, n, r.ray, 3.0 * grid_.bin() * r.depth) -
+                     bias_ * std::sqrt(r.var);
+    return 0.5 * std::min(e * e / r.var, t_max_);
+  }
+  double UncoveredCost(const ObservedRay& r) const { return r.foreground ? 0.5 * t_max_ : 0.0; }
+
+  // Calls f(k, cost of ray k) for every ray in order: from the projector's z-buffer, or with
+  // the reference's placement and z-buffer over the rays' grid (RefineOptions::
+  // reference_evaluation). Both give the same winners and the same arithmetic.
+  template <typename F>
+  void ForEachRay(const Pose2D& pose, F f) const {
+    if (reference_) {
+      const PlacedSurface s = Place(model_, pose, obs_.sensor_from_ground);
+      const std::vector<int> winner = grid_.ZBuffer(s);
+      for (size_t k = 0; k < rays_.size(); ++k) {
+        const ObservedRay& r = rays_[k];
+        const int w = winner[r.cell];
+        f(k, w < 0 ? UncoveredCost(r) : CoveredCost(r, s.points[w], s.Normal(w)));
+      }
+      return;
+    }
+    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    const ViewTransform view(c, s, pose, obs_.sensor_from_ground);
+    projector_.Project(view, grid_.bin());
+    const std::vector<int>& winner = projector_.winner();
+    const int w = projector_.w(), h = projector_.h();
+    const Eigen::Matrix3d a = obs_.sensor_from_ground.linear();
+    for (size_t k = 0; k < rays_.size(); ++k) {
+      const ObservedRay& r = rays_[k];
+      const int bx = grid_.BinX(r.cell) - projector_.lo_x();
+      const int by = grid_.BinY(r.cell) - projector_.lo_y();
+      const int i =
+          bx >= 0 && by >= 0 && bx < w && by < h ? winner[static_cast<size_t>(by) * w + bx] : -1;
+      if (i < 0) {
+        f(k, UncoveredCost(r));
+        continue;
+      }
+      Eigen::Vector3d p;
+      view.Apply(projector_.mx(i), projector_.my(i), projector_.mz(i), &p.x(), &p.y(), &p.z());
+      f(k, CoveredCost(r, p, PlacedSurface::SensorNormal(a, c, s, model_.normals()[i])));
+    }
+  }
+
   const SurfaceModel& model_;
   const Observation& obs_;
   const RaySet& grid_;
   std::vector<ObservedRay> rays_;
   double t_max_;
   double bias_;
+  bool reference_;
+  mutable TemplateProjector projector_;  // scratch of ForEachRay.
 };
 
 }  // namespace
@@ -245,7 +306,8 @@ ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, c
     bias = shared[shared.size() / 2];
   }
   out.rays = static_cast<int>(rays.size());
-  const RayCosts costs(model, obs, grid, std::move(rays), options.max_squared_residual, bias);
+  const RayCosts costs(model, obs, grid, std::move(rays), options.max_squared_residual, bias,
+                       noise.reference_evaluation);
   const Pose2D pa = options.settle_rounds > 0 ? costs.Settle(a, options) : a;
   const Pose2D pb = options.settle_rounds > 0 ? costs.Settle(b, options) : b;
   const std::vector<double> ca = costs.PerRay(pa), cb = costs.PerRay(pb);

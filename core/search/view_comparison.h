@@ -57,7 +57,9 @@ struct ViewComparisonOptions {
 };
 
 // Compares poses `a` and `b` (robot frame in the ground frame, on the floor) of `model` against
-// the observation's range image. The observation's cluster points are not used.
+// the observation's range image. The observation's cluster points are not used. Each pose it
+// tries is z-buffered by TemplateProjector's vectorised pass; with `noise.reference_evaluation`
+// every point is placed and binned directly instead (the reference, same result to the bit).
 ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, const Pose2D& a,
                             const Pose2D& b, const RefineOptions& noise,
                             const ViewComparisonOptions& options = {});

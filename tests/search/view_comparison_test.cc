@@ -105,6 +105,43 @@ TEST(ViewComparisonTest, PrefersTheTruthOverAShiftedPose) {
   }
 }
 
+// Every pose a comparison tries is z-buffered by TemplateProjector; the reference places and
+// bins every point directly. Same rays, same winners, same arithmetic: the same comparison to
+// the bit, on noisy frames at both mounts, near and far, including a pose so near that part of
+// the template lies behind the sensor (the projector's two-pass path).
+TEST(ViewComparisonTest, ProjectedEvaluationEqualsTheReference) {
+  RefineOptions reference;
+  reference.reference_evaluation = true;
+  int compared = 0;
+  for (const std::string body : {"nao", "long_legs"}) {
+    const SurfaceModel model = BodyModel(body);
+    for (const double pitch_deg : {0.0, 20.0}) {
+      for (const double distance : {1.0, 3.5}) {
+        const Pose2D truth{distance, 0.15, DegToRad(distance > 2.0 ? 120.0 : -35.0)};
+        const View v = MakeView(body, truth, pitch_deg > 0.0 ? 0.9 : 0.34, pitch_deg, 21);
+        for (const Pose2D& other :
+             {Flipped(truth), Pose2D{truth.x + 0.012, truth.y - 0.007, truth.theta + 0.05},
+              Pose2D{0.12, 0.0, truth.theta}}) {
+          const ViewComparison fast = CompareViews(model, v.Obs(), truth, other, RefineOptions{});
+          const ViewComparison ref = CompareViews(model, v.Obs(), truth, other, reference);
+          ASSERT_GT(ref.rays, 0);
+          EXPECT_EQ(fast.rays, ref.rays);
+          EXPECT_EQ(fast.log_likelihood_ratio, ref.log_likelihood_ratio) << body << " " << distance;
+          EXPECT_EQ(fast.sigma, ref.sigma);
+          for (const auto& [f, r] : {std::pair{fast.settled_a, ref.settled_a},
+                                     std::pair{fast.settled_b, ref.settled_b}}) {
+            EXPECT_EQ(f.x, r.x);
+            EXPECT_EQ(f.y, r.y);
+            EXPECT_EQ(f.theta, r.theta);
+          }
+          ++compared;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(compared, 24);
+}
+
 }  // namespace
 }  // namespace hpose
 namespace hpose {
