@@ -399,9 +399,13 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
   }
   std::uint32_t sent = 0;
   const std::uint32_t max = request->max_estimates();
+  bool deadline_passed = false;
   while (!context->IsCancelled() && !shutting_down_) {
     const Clock::time_point now = Clock::now();
-    if (now >= deadline) break;
+    if (now >= deadline) {
+      deadline_passed = true;
+      break;
+    }
     const std::uint64_t seen = signal_ != nullptr ? signal_->count() : 0;
     bool wrote = false, done = false;
     if (want_depth) {
@@ -441,6 +445,12 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
   }
   if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "cancelled");
   if (shutting_down_) return grpc::Status(grpc::StatusCode::UNAVAILABLE, "daemon shutting down");
+  // Ended by the caller's deadline: say so, as gRPC would had its own timer fired first (which
+  // of the two sees the deadline first is a race).
+  if (deadline_passed) {
+    return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED,
+                        "stream deadline reached after " + std::to_string(sent) + " estimate(s)");
+  }
   return grpc::Status::OK;
 }
 
