@@ -31,7 +31,6 @@ bool RefineObjective::Project(const Pose2D& pose) {
   c_ = std::cos(pose.theta);
   s_ = std::sin(pose.theta);
   visible_.clear();
-  w_ = h_ = 0;
   const Eigen::Isometry3d& s_from_g = obs_.sensor_from_ground;
   const Eigen::Vector3d t(pose.x, pose.y, 0.0);
   const Eigen::Vector3d centre =
@@ -41,10 +40,6 @@ bool RefineObjective::Project(const Pose2D& pose) {
   const ViewTransform view(c_, s_, pose, s_from_g);
 
   if (!projector_.Project(view, bin_)) return false;
-  lo_x_ = projector_.lo_x();
-  lo_y_ = projector_.lo_y();
-  w_ = projector_.w();
-  h_ = projector_.h();
   // The visible points, in the order of their bins, with their full sensor-frame position; the
   // z-buffer refers to them from now on.
   for (int& cell : projector_.winner()) {
@@ -59,16 +54,20 @@ bool RefineObjective::Project(const Pose2D& pose) {
 }
 
 int RefineObjective::Associate(size_t k) const {
-  if (w_ == 0 || !data_in_front_[k]) return -1;
+  const int w = projector_.w(), h = projector_.h();
+  if (w == 0 || !data_in_front_[k]) return -1;
   const Eigen::Vector3d& p = data_[k].ps;
-  const int bx = TemplateProjector::Bin(data_tx_[k] * inv_bin_, p.x(), p.z(), bin_) - lo_x_;
-  const int by = TemplateProjector::Bin(data_ty_[k] * inv_bin_, p.y(), p.z(), bin_) - lo_y_;
+  const int bx =
+      TemplateProjector::Bin(data_tx_[k] * inv_bin_, p.x(), p.z(), bin_) - projector_.lo_x();
+  const int by =
+      TemplateProjector::Bin(data_ty_[k] * inv_bin_, p.y(), p.z(), bin_) - projector_.lo_y();
   const double gate = data_[k].gate;
   int best = -1;
   double best_d2 = gate * gate;
-  for (int y = std::max(0, by - 1); y <= std::min(h_ - 1, by + 1); ++y) {
-    for (int x = std::max(0, bx - 1); x <= std::min(w_ - 1, bx + 1); ++x) {
-      const int slot = projector_.winner()[static_cast<size_t>(y) * w_ + x];
+  const std::vector<int>& slots = projector_.winner();
+  for (int y = std::max(0, by - 1); y <= std::min(h - 1, by + 1); ++y) {
+    for (int x = std::max(0, bx - 1); x <= std::min(w - 1, bx + 1); ++x) {
+      const int slot = slots[static_cast<size_t>(y) * w + x];
       if (slot < 0) continue;
       const VisiblePoint& v = visible_[slot];
       const double dx = v.x - p.x(), dy = v.y - p.y(), dz = v.z - p.z();

@@ -55,12 +55,11 @@ class RefineObjective {
   std::vector<double> data_tx_, data_ty_;
   std::vector<unsigned char> data_in_front_;
 
-  // Per pose: the heading's cos and sin, the template's z-buffer (its entries rewritten to
-  // slots of visible_) and its extent, and the visible points.
+  // Per pose: the heading's cos and sin, the template's z-buffer and its extent (the entries
+  // rewritten to slots of visible_), and the visible points.
   TemplateProjector projector_;
   double c_ = 1.0, s_ = 0.0;
   double bin_ = 0.01, inv_bin_ = 100.0;
-  int lo_x_ = 0, lo_y_ = 0, w_ = 0, h_ = 0;
   struct VisiblePoint {
     double x, y, z;  // sensor frame.
     int index;       // in the template's points.
