@@ -12,14 +12,6 @@
 namespace hpose {
 namespace {
 
-// Squared axial sigma of a Kinect depth z: the noise plus the rounding of the disparity step.
-double AxialVariance(double z, const RefineOptions& o) {
-  const double z2 = z * z;
-  const double a = o.axial_coeff * z2;
-  const double step = o.step_coeff * z2;
-  return a * a + step * step / 12.0;
-}
-
 // The template's surface at a pose in the sensor frame: its points, and the normal of any of
 // them on demand (only the z-buffer's winners need one). Placed as `sensor_from_ground *
 // (RotateZ(m) + t)`, the arithmetic of ViewTransform (TemplateProjector), so that the reference
@@ -283,7 +275,7 @@ ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, c
     r.ray = grid.Ray(cell);
     r.depth = obs.range->DepthToward(r.ray);
     if (!(r.depth > 0.0)) continue;  // no return: says nothing about either pose.
-    r.var = AxialVariance(r.depth, noise) + model_var;
+    r.var = refine_terms::AxialVariance(r.depth, noise) + model_var;
     const double reach = 3.0 * bin * r.depth;
     double deepest = 0.0;
     if (wa[cell] >= 0) deepest = std::max(deepest, ExpectedDepth(sa, wa[cell], r.ray, reach));
