@@ -18,7 +18,13 @@
 // choose between a heading and its runner-up (no depth image comparison); `quick-views` settles
 // the compared poses in 5 rounds instead of 10; `dense-refine` refines on up to 2000 cluster
 // points; `narrow-basin` holds the refinement within 24 mm and 5 degrees of the lattice pose in
-// up to 8 steps (the default before it became 48 mm, 10 degrees, 20 steps).
+// up to 8 steps (the default before it became 48 mm, 10 degrees, 20 steps);
+// `spatial-association` matches each cluster point with the template point nearest in space,
+// takes the heading's derivative at the cluster point and gives an undecided heading as the
+// refined fits lean (the defaults before noise-aware association, the noise-free arm and
+// following the depth images' ratio); `noisy-arm` is the default with the
+// data term's heading derivative taken at the noisy cluster point (RefineOptions::
+// noise_free_heading_arm off).
 //
 // usage: accuracy_bench [--seeds N] [--clutter N] [--threads N] [--bodies a,b] [--noise off]
 //                       [--distances 1,2,3] [--step-deg D] [--variants a,b] [--failures]
@@ -210,6 +216,19 @@ std::vector<Variant> AllVariants() {
   narrow.refine.max_turn_rad = 5.0 * kPi / 180.0;
   narrow.refine.max_iterations = 8;
   out.push_back({"narrow-basin", narrow, true});
+  // The previous revision's association (each cluster point matched with the template point
+  // nearest in space), heading derivative (its arm at the cluster point) and choice of an
+  // undecided heading (the higher refined fit).
+  EstimatorOptions spatial = DefaultEstimatorOptions();
+  spatial.refine.noise_aware_association = false;
+  spatial.refine.noise_free_heading_arm = false;
+  spatial.heading_views.undecided_follow_ratio = false;
+  out.push_back({"spatial-association", spatial, true});
+  // Noise-aware association, but the heading's moment arm taken from the cluster point (the exact
+  // derivative, whose noise leans the heading).
+  EstimatorOptions noisy_arm = DefaultEstimatorOptions();
+  noisy_arm.refine.noise_free_heading_arm = false;
+  out.push_back({"noisy-arm", noisy_arm, true});
   // The refinement on up to 2000 cluster points instead of 800 (far clusters have 1000-2000).
   EstimatorOptions dense = DefaultEstimatorOptions();
   dense.refine.max_data_points = 2000;

@@ -108,9 +108,10 @@ bool WithinNoise(const FitSummary& a, const FitSummary& b) {
 // Refines the candidate's pose and its runner-up's (the best heading more than 30 degrees
 // away) and chooses between them. With the view comparison on and a runner-up close enough in
 // search score to be refined too, the depth images decide (CompareViews) when their likelihood
-// ratio is decisive, and the heading is ambiguous when it is not (the pose is then the one with
-// the higher refined fit). Otherwise the higher refined fit wins and the heading is ambiguous
-// when the fits are within two standard errors of each other.
+// ratio is decisive, and the heading is ambiguous when it is not (the pose is then the one the
+// ratio leans to, or with undecided_follow_ratio off the one with the higher refined fit).
+// Otherwise the higher refined fit wins and the heading is ambiguous when the fits are within
+// two standard errors of each other.
 // `rescore` recomputes the search's counts at the lattice pose of a runner-up that wins.
 template <typename Rescore>
 void RefineCandidate(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
@@ -138,7 +139,9 @@ void RefineCandidate(const SurfaceModel& model, const Observation& obs, const Re
     cmp = CompareViews(model, obs, cand->pose, other.pose, o, views);
     const bool decisive =
         cmp.sigma > 0.0 && std::abs(cmp.log_likelihood_ratio) >= views.decisive_sigmas * cmp.sigma;
-    if (decisive) take_other = cmp.log_likelihood_ratio < 0.0;
+    if (decisive || (views.undecided_follow_ratio && cmp.sigma > 0.0)) {
+      take_other = cmp.log_likelihood_ratio < 0.0;
+    }
     ambiguous = !decisive;
   }
   if (take_other) {

@@ -49,9 +49,22 @@ struct RefineOptions {
   // The runner-up heading is refined too (to tell front from back) when its search score is
   // within this many points of the best's; a poorer one is only evaluated where it lies.
   double runner_up_score_window = 10.0;
-  // A cluster point is matched with the visible template point nearest to it around its ray,
-  // within this or 4 axial sigmas, whichever is larger; farther points are unexplained.
+  // A cluster point is matched with a visible template point around its ray within this or 4
+  // axial sigmas, whichever is larger; points with none are unexplained.
   double association_gate_m = 0.03;
+  // Which one: the nearest in units of the point's Kinect noise (the offset along its ray over
+  // the axial sigma, across it over the lateral one), or with false the nearest in space. A
+  // Kinect point's error lies along its ray, so matching by distance in space biases the
+  // heading at distance: at 3.5 m, a nao turned 60 degrees came back 2-4 degrees too far
+  // turned (docs/BENCHMARKS.md).
+  bool noise_aware_association = true;
+  // The data term's derivative in the heading takes its moment arm from the matched template
+  // point (true) rather than from the cluster point itself (false, the exact derivative of the
+  // point-to-plane distance). The cluster point carries its depth noise into the arm, which
+  // correlates with the residual: the steps' fixed point then leans toward poses whose surface
+  // is more oblique to the rays (more side-on), +1-3 degrees at 3.5 m. From the template point
+  // the arm is noise-free and the fixed point is not pulled.
+  bool noise_free_heading_arm = true;
   int max_data_points = 800;  // cluster points used (evenly strided).
   // The template surface the refinement fits to is reduced to one point per cell of this edge
   // (SurfaceModel); 0 keeps the template's own surface (8 mm at 16 mm voxels).

@@ -61,9 +61,10 @@ int RefineObjective::Associate(size_t k) const {
       TemplateProjector::Bin(data_tx_[k] * inv_bin_, p.x(), p.z(), bin_) - projector_.lo_x();
   const int by =
       TemplateProjector::Bin(data_ty_[k] * inv_bin_, p.y(), p.z(), bin_) - projector_.lo_y();
-  const double gate = data_[k].gate;
+  const refine_terms::DataPoint& d = data_[k];
+  const double gate2 = d.gate * d.gate;
   int best = -1;
-  double best_d2 = gate * gate;
+  double best_dist = std::numeric_limits<double>::infinity();
   const std::vector<int>& slots = projector_.winner();
   for (int y = std::max(0, by - 1); y <= std::min(h - 1, by + 1); ++y) {
     for (int x = std::max(0, bx - 1); x <= std::min(w - 1, bx + 1); ++x) {
@@ -72,8 +73,10 @@ int RefineObjective::Associate(size_t k) const {
       const VisiblePoint& v = visible_[slot];
       const double dx = v.x - p.x(), dy = v.y - p.y(), dz = v.z - p.z();
       const double d2 = dx * dx + dy * dy + dz * dz;
-      if (d2 < best_d2) {
-        best_d2 = d2;
+      if (!(d2 < gate2)) continue;
+      const double dist = refine_terms::AssociationDistance(d, dx, dy, dz, d2, options_);
+      if (dist < best_dist) {
+        best_dist = dist;
         best = slot;
       }
     }

@@ -2,6 +2,7 @@
 // pose, straight from the template, the cluster and the range image.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "core/search/refine_objective.h"
@@ -54,20 +55,24 @@ class ModelView {
     }
   }
 
-  // The visible template point nearest to `p_sensor` among the bins around its ray, within
-  // `gate` metres, or -1.
-  int Associate(const Eigen::Vector3d& p_sensor, double gate) const {
+  // The visible template point nearest to cluster point `d` (refine_terms::AssociationDistance)
+  // among the bins around its ray, within its gate, or -1.
+  int Associate(const refine_terms::DataPoint& d, const RefineOptions& o) const {
+    const Eigen::Vector3d& p_sensor = d.ps;
     if (w_ == 0 || !(p_sensor.z() > refine_terms::kMinViewDepth)) return -1;
     const Eigen::Vector2i b = Bin(p_sensor) - lo_;
     int best = -1;
-    double best_d2 = gate * gate;
+    double best_dist = std::numeric_limits<double>::infinity();
     for (int y = std::max(0, b.y() - 1); y <= std::min(h_ - 1, b.y() + 1); ++y) {
       for (int x = std::max(0, b.x() - 1); x <= std::min(w_ - 1, b.x() + 1); ++x) {
         const int wi = winner_[static_cast<size_t>(y) * w_ + x];
         if (wi < 0) continue;
-        const double d2 = (in_sensor_[wi] - p_sensor).squaredNorm();
-        if (d2 < best_d2) {
-          best_d2 = d2;
+        const Eigen::Vector3d off = in_sensor_[wi] - p_sensor;
+        const double d2 = off.x() * off.x() + off.y() * off.y() + off.z() * off.z();
+        if (!(d2 < d.gate * d.gate)) continue;
+        const double dist = refine_terms::AssociationDistance(d, off.x(), off.y(), off.z(), d2, o);
+        if (dist < best_dist) {
+          best_dist = dist;
           best = wi;
         }
       }
@@ -121,7 +126,7 @@ Linearisation LineariseReference(const SurfaceModel& model, const Observation& o
     const refine_terms::DataPoint d =
         refine_terms::MakeDataPoint(data[k], obs.sensor_from_ground, o);
     ++ev.data_points;
-    const int idx = view.Associate(d.ps, d.gate);
+    const int idx = view.Associate(d, o);
     if (idx < 0) {
       ev.cost += d.unexplained_cost;
       continue;

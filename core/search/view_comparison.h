@@ -45,6 +45,12 @@ struct ViewComparisonOptions {
   // The depth images decide between two headings when their log-likelihood ratio is at least
   // this many standard errors from zero; closer, the heading is reported ambiguous.
   double decisive_sigmas = 3.0;
+  // When the ratio is not decisive the heading is reported ambiguous, and the pose given is the
+  // one the ratio favours, however slightly (true), or the one with the higher refined fit
+  // (false, as before). The fits of a heading and its flip are often equal to the last digit
+  // on a body whose front and back differ only in its feet; the ratio still leans the right
+  // way more often than not (docs/BENCHMARKS.md).
+  bool undecided_follow_ratio = true;
   // Before comparing, each pose settles where the depth image fits it best within this of where
   // it was given (pattern search, `settle_rounds` rounds): refinements on the cluster place
   // two headings a few millimetres apart, which at 1 m weighs more than a foot pointing the

@@ -177,6 +177,10 @@ TEST(ViewComparisonTest, EstimatorDecidesABodyWithoutPackByItsFeetOrSaysAmbiguou
       if (err > 90.0) {
         EXPECT_TRUE(c.heading_ambiguous) << "theta " << theta_deg << " seed " << seed;
       }
+      if (c.heading_ambiguous && c.heading_log_likelihood_sigma > 0.0) {
+        // Undecided: the pose given is the one the ratio leans to.
+        EXPECT_GE(c.heading_log_likelihood_ratio, 0.0) << "theta " << theta_deg;
+      }
       if (!c.heading_ambiguous) {
         EXPECT_LT(err, 5.0) << "theta " << theta_deg << " seed " << seed;
         // The depth images decided: their ratio favours the pose by the decisive margin.
@@ -188,6 +192,46 @@ TEST(ViewComparisonTest, EstimatorDecidesABodyWithoutPackByItsFeetOrSaysAmbiguou
   }
   // The feet decide most of these frames at 1.5 m (a single frame may stay ambiguous).
   EXPECT_GE(decided, 4);
+}
+
+// With undecided_follow_ratio off, an undecided heading is given as the refined fits lean (the
+// previous behaviour); on, as the depth images' ratio leans. On a body whose front and back differ
+// only in its feet, at 3.5 m, where the ratio is rarely decisive.
+TEST(ViewComparisonTest, AnUndecidedHeadingFollowsTheRatioOrTheFits) {
+  EstimatorOptions by_ratio = DefaultEstimatorOptions();
+  by_ratio.score_threshold = 0.0;
+  EstimatorOptions by_fit = by_ratio;
+  by_fit.heading_views.undecided_follow_ratio = false;
+  const VoxelTemplate t = BodyTemplate("long_legs", "standing");
+  const auto ratio_estimator = std::move(Estimator::Create(by_ratio, {t}).value());
+  const auto fit_estimator = std::move(Estimator::Create(by_fit, {t}).value());
+  int undecided = 0;
+  for (const double theta_deg : {0.0, -30.0, 60.0}) {
+    for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+      FrameSpec spec;
+      spec.body = "long_legs";
+      spec.humanoid_pose = Pose2D{3.5, 0.0, DegToRad(theta_deg)};
+      spec.sensor_height_m = 0.9;
+      spec.sensor_pitch_rad = DegToRad(20.0);
+      spec.seed = seed;
+      const SimulatedFrame frame = *SimulateFrame(spec);
+      const Estimate a = *ratio_estimator->EstimateDepth(frame.depth, spec.intrinsics);
+      const Estimate b = *fit_estimator->EstimateDepth(frame.depth, spec.intrinsics);
+      ASSERT_FALSE(a.Humanoids().empty());
+      ASSERT_FALSE(b.Humanoids().empty());
+      const Candidate ca = a.Humanoids().front().best;
+      const Candidate cb = b.Humanoids().front().best;
+      // The same comparison, only the choice differs.
+      ASSERT_EQ(ca.heading_ambiguous, cb.heading_ambiguous);
+      EXPECT_NEAR(std::abs(ca.heading_log_likelihood_ratio),
+                  std::abs(cb.heading_log_likelihood_ratio), 1e-9);
+      if (!ca.heading_ambiguous || ca.heading_log_likelihood_sigma == 0.0) continue;
+      ++undecided;
+      EXPECT_GE(ca.heading_log_likelihood_ratio, 0.0) << theta_deg << " seed " << seed;
+      EXPECT_GE(cb.fit.fit, cb.runner_up_fit.fit) << theta_deg << " seed " << seed;
+    }
+  }
+  EXPECT_GE(undecided, 2);
 }
 
 TEST(ViewComparisonTest, DisabledLeavesTheChoiceToTheFits) {
