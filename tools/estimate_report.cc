@@ -53,6 +53,7 @@ std::string EstimateToText(const Estimate& e) {
       if (c.refined) os << ", fit " << Fmt("%.1f", c.runner_up_fit.fit);
       os << (c.heading_ambiguous ? " (AMBIGUOUS: as well supported as the pose; trust neither)"
                                  : "")
+         << (c.heading_from_prior ? " (pose kept nearer the previous frame's heading)" : "")
          << "\n";
     }
     if (!d.second_template.empty()) {

@@ -55,6 +55,9 @@ struct Candidate {
   // compared.
   double heading_log_likelihood_ratio = 0.0;
   double heading_log_likelihood_sigma = 0.0;
+  // The heading was ambiguous and the pose given is the one nearer the previous frame's heading
+  // (a tracked stream, FramePrior): continuity decided what this frame alone could not.
+  bool heading_from_prior = false;
   std::int64_t poses_evaluated = 0;   // exact score evaluations.
   std::int64_t bounds_evaluated = 0;  // branch-and-bound upper bounds (exact search only).
 };

@@ -111,11 +111,13 @@ bool WithinNoise(const FitSummary& a, const FitSummary& b) {
 // ratio is decisive, and the heading is ambiguous when it is not (the pose is then the one the
 // ratio leans to, or with undecided_follow_ratio off the one with the higher refined fit).
 // Otherwise the higher refined fit wins and the heading is ambiguous when the fits are within
-// two standard errors of each other.
+// two standard errors of each other. An ambiguous heading with `prior_theta` (the previous
+// frame's heading, when it stood on this cluster) is the one nearer to it.
 // `rescore` recomputes the search's counts at the lattice pose of a runner-up that wins.
 template <typename Rescore>
 void RefineCandidate(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
-                     const ViewComparisonOptions& views, const Rescore& rescore, Candidate* cand) {
+                     const ViewComparisonOptions& views, const double* prior_theta,
+                     const Rescore& rescore, Candidate* cand) {
   const RefinedPose best = RefinePose(model, obs, cand->lattice_pose, o);
   cand->pose = best.pose;
   cand->refined = true;
@@ -143,6 +145,11 @@ void RefineCandidate(const SurfaceModel& model, const Observation& obs, const Re
       take_other = cmp.log_likelihood_ratio < 0.0;
     }
     ambiguous = !decisive;
+  }
+  if (ambiguous && prior_theta != nullptr) {
+    take_other = std::abs(AngleDiff(other.pose.theta, *prior_theta)) <
+                 std::abs(AngleDiff(cand->pose.theta, *prior_theta));
+    cand->heading_from_prior = true;
   }
   if (take_other) {
     cand->runner_up_pose = cand->pose;
@@ -455,6 +462,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     // The prior pose seeds the search of the cluster it stands on (within a hand of its
     // footprint), for every template: the bodies differ little.
     LatticePose incumbent;
+    const double* prior_theta = nullptr;
     constexpr float kFootprintMargin = 0.15f;  // metres.
     if (prior != nullptr && prior->has_pose && prior->pose.x >= c.min.x() - kFootprintMargin &&
         prior->pose.x <= c.max.x() + kFootprintMargin &&
@@ -462,6 +470,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
         prior->pose.y <= c.max.y() + kFootprintMargin) {
       incumbent = NearestLatticePose(options_.lattice, prior->pose);
       problem.incumbent = &incumbent;
+      prior_theta = &prior->pose.theta;
     }
     const SearchResult r = search_->Search(problem);
     task.seeded = r.incumbent_used;
@@ -497,7 +506,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
                                   : 0;
         cd->coverage = n > 0 ? 100.0 * cd->hits / n : 0.0;
       };
-      RefineCandidate(*surfaces_[j], obs, options_.refine, options_.heading_views, rescore, &cand);
+      RefineCandidate(*surfaces_[j], obs, options_.refine, options_.heading_views, prior_theta,
+                      rescore, &cand);
       task.refine_ms = MsSince(t_refine);
     }
   });

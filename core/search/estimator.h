@@ -124,8 +124,9 @@ class Estimator {
   // Fails with kInvalidArgument (bad intrinsics, size mismatch, no valid depth) or
   // kFailedPrecondition (no floor found). "No humanoid" is not a failure: see
   // Estimate::Humanoids().
-  // With `prior`, the cluster holding the prior pose is searched from it first (same result,
-  // see TrackingInfo).
+  // With `prior`, the cluster holding the prior pose is searched from it first (same search
+  // result, see TrackingInfo), and where its heading is ambiguous the one nearer the prior's is
+  // given (Candidate::heading_from_prior).
   Result<Estimate> EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics,
                                  const FramePrior* prior = nullptr) const;
   // `cloud_sensor` in the sensor frame (x right, y down, z forward), metres; NaNs are skipped.

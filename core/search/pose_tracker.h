@@ -10,7 +10,8 @@
 namespace hpose {
 
 // Estimates the frames of one stream in order, each seeded with the humanoid pose of the frame
-// before (Estimator's FramePrior), so the search starts from where the robot was, and with the
+// before (Estimator's FramePrior), so the search starts from where the robot was and a heading
+// the frame cannot tell from its flip keeps to the one before, and with the
 // stream's floor kept while it still fits (FloorTracker). Every frame is still searched
 // globally: a robot that was carried away, or lost and found again, comes back in the same
 // frame. A frame without a humanoid (or an error) drops the pose: the next search starts cold.

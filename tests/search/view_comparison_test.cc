@@ -234,6 +234,65 @@ TEST(ViewComparisonTest, AnUndecidedHeadingFollowsTheRatioOrTheFits) {
   EXPECT_GE(undecided, 2);
 }
 
+// In a tracked stream the previous frame's heading settles what a frame cannot: an ambiguous
+// heading is given as the one nearer the prior (whichever way the prior points), and a decided
+// one is never overridden by a prior pointing the other way.
+TEST(ViewComparisonTest, AnAmbiguousHeadingFollowsThePreviousFrameAndADecidedOneDoesNot) {
+  EstimatorOptions options = DefaultEstimatorOptions();
+  options.score_threshold = 0.0;
+  const auto estimator =
+      std::move(Estimator::Create(options, {BodyTemplate("long_legs", "standing")}).value());
+  struct Frame {
+    double x, theta_deg, height, pitch_deg;
+  };
+  int followed = 0, kept = 0;
+  for (const Frame& f :
+       {Frame{3.5, 0.0, 0.9, 20.0}, Frame{3.5, -30.0, 0.9, 20.0}, Frame{3.5, 60.0, 0.9, 20.0},
+        Frame{1.5, 0.0, 0.34, 0.0}, Frame{1.5, -90.0, 0.34, 0.0}}) {
+    for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+      FrameSpec spec;
+      spec.body = "long_legs";
+      spec.humanoid_pose = Pose2D{f.x, 0.0, DegToRad(f.theta_deg)};
+      spec.sensor_height_m = f.height;
+      spec.sensor_pitch_rad = DegToRad(f.pitch_deg);
+      spec.seed = seed;
+      const SimulatedFrame frame = *SimulateFrame(spec);
+      const std::string where =
+          "x " + std::to_string(f.x) + " theta " + std::to_string(f.theta_deg);
+      const Estimate cold = *estimator->EstimateDepth(frame.depth, spec.intrinsics);
+      ASSERT_FALSE(cold.Humanoids().empty()) << where;
+      const Candidate c = cold.Humanoids().front().best;
+      EXPECT_FALSE(c.heading_from_prior) << where;  // no prior given.
+      for (const double prior_offset_deg : {0.0, 180.0}) {
+        FramePrior prior;
+        prior.has_pose = true;
+        prior.template_name = "standing";
+        prior.pose = spec.humanoid_pose;
+        prior.pose.theta = NormalizeAngle(prior.pose.theta + DegToRad(prior_offset_deg));
+        const Estimate tracked = *estimator->EstimateDepth(frame.depth, spec.intrinsics, &prior);
+        ASSERT_FALSE(tracked.Humanoids().empty()) << where;
+        const Candidate t = tracked.Humanoids().front().best;
+        EXPECT_EQ(t.heading_ambiguous, c.heading_ambiguous) << where;
+        const double to_prior = std::abs(RadToDeg(AngleDiff(t.pose.theta, prior.pose.theta)));
+        const double to_truth =
+            std::abs(RadToDeg(AngleDiff(t.pose.theta, spec.humanoid_pose.theta)));
+        if (c.heading_ambiguous) {
+          EXPECT_TRUE(t.heading_from_prior) << where;
+          EXPECT_LT(to_prior, 10.0) << where << " prior offset " << prior_offset_deg;
+          ++followed;
+        } else {
+          EXPECT_FALSE(t.heading_from_prior) << where;
+          EXPECT_LT(to_truth, 5.0) << where << " prior offset " << prior_offset_deg;
+          ++kept;
+        }
+      }
+    }
+  }
+  // Both kinds of frame occur among these (each counted once per prior).
+  EXPECT_GE(followed, 4);
+  EXPECT_GE(kept, 4);
+}
+
 TEST(ViewComparisonTest, DisabledLeavesTheChoiceToTheFits) {
   EstimatorOptions options = DefaultEstimatorOptions();
   options.heading_views.enabled = false;
