@@ -17,9 +17,15 @@ constexpr SourceState kAllStates[] = {SourceState::kNone,     SourceState::kStar
 std::string Value(double v) {
   if (std::isnan(v)) return "NaN";
   if (std::isinf(v)) return v > 0 ? "+Inf" : "-Inf";
+  char buf[40];
+  // Whole numbers (counters, counts) in full: 10 frames read 10, not the 1e+01 that the
+  // shortest form below would give.
+  if (v == std::trunc(v) && std::abs(v) < 1e15) {
+    std::snprintf(buf, sizeof(buf), "%.0f", v);
+    return buf;
+  }
   // The shortest decimal that reads back as the same double (bucket bounds read 0.512, not
   // 0.51200000000000001).
-  char buf[40];
   for (int precision = 1; precision <= 17; ++precision) {
     std::snprintf(buf, sizeof(buf), "%.*g", precision, v);
     if (std::strtod(buf, nullptr) == v) break;

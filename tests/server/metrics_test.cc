@@ -240,6 +240,32 @@ TEST(MetricsTest, ExpositionParsesAndCountersFollowTheDaemon) {
       Find(e, "hposed_estimate_stage_seconds_bucket", {{"stage", "latency"}, {"le", "0.512"}}), 3);
 }
 
+// Counts are written as whole numbers, whatever their digits: 10 and 100 frames read "10" and
+// "100" (the shortest form that reads back, "1e+01" and "1e+02", is valid exposition text but
+// not what a person or a line-based scraper expects of a counter); fractions stay short.
+TEST(MetricsTest, CountsAreWrittenInFull) {
+  DaemonMetrics metrics;
+  PipelineStatus depth;
+  depth.frames_in = 100;
+  depth.frames_estimated = 10;
+  depth.frames_dropped = 1000000;
+  depth.frames_failed = 0;
+  const std::string text = metrics.Render({{"depth", depth}}, 20.0, "v");
+  EXPECT_NE(text.find("\nhposed_frames_received_total{source=\"depth\"} 100\n"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\nhposed_frames_estimated_total{source=\"depth\"} 10\n"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\nhposed_frames_dropped_total{source=\"depth\"} 1000000\n"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\nhposed_frames_failed_total{source=\"depth\"} 0\n"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\nhposed_uptime_seconds 20\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("e+"), std::string::npos) << text;
+  // A bucket bound keeps its shortest form.
+  EXPECT_NE(text.find("le=\"0.512\""), std::string::npos) << text;
+}
+
 TEST(MetricsTest, ParserRejectsMalformedText) {
   Exposition e;
   // The parser must be able to fail: a sample without a TYPE, and a broken label.
