@@ -236,6 +236,10 @@ std::vector<Variant> ScatteredVariants() {
   std::vector<Variant> v;
   v.push_back({"paper search", [](EstimatorOptions* o) { o->search = SearchKind::kPaper; }});
   v.push_back({"exact search", Exact});
+  v.push_back({"exact search, column bounds (before)", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->exact.swept_bounds = false;
+               }});
   v.push_back({"exact search, 2 threads", [](EstimatorOptions* o) {
                  Exact(o);
                  o->threads = 2;
@@ -277,6 +281,12 @@ std::vector<Variant> SequenceVariants() {
   std::vector<Variant> v;
   v.push_back({"walk, cold", Exact});
   v.push_back({"walk, tracked", Exact, true});
+  v.push_back({"walk, tracked, column bounds (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->exact.swept_bounds = false;
+               },
+               true});
   v.push_back({"walk, tracked, 2 threads",
                [](EstimatorOptions* o) {
                  Exact(o);

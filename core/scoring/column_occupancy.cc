@@ -275,6 +275,17 @@ int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const
                     groups.masks.data(), static_cast<int>(groups.masks.size()));
 }
 
+void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int d,
+                                   int out[4]) const {
+  assert(aligned_);
+  const int mask = lattice_.subdivisions - 1;
+  const Level& lv = levels_[0];
+  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(lv.nx) * 4;
+  SumAligned4(lv.data.data(), AlignedBase(ix & ~mask, iy & ~mask), row, 4 * d, d * row,
+              groups.cxe.data(), groups.cy.data(), groups.masks.data(),
+              static_cast<int>(groups.masks.size()), out);
+}
+
 int ColumnOccupancy::PairBound(const PairBlockTable& table, const std::uint64_t* masks, int a,
                                int b) const {
   assert(aligned_ && levels_.size() > 1);

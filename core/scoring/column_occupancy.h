@@ -68,6 +68,9 @@ class ColumnOccupancy {
   // (TemplateRotations::Groups): equal to Hits, without scratch space, in the aligned layout
   // (aligned() only; the cells of every group must lie in the lookup range).
   int HitsGrouped(const CellGroups& groups, int ix, int iy) const;
+  // HitsGrouped at (ix + i d S, iy + j d S), i, j in {0, 1}, into out[2 i + j] (S = the
+  // subdivisions): one pass over the groups for four translations a whole number of cells apart.
+  void HitsGrouped4(const CellGroups& groups, int ix, int iy, int d, int out[4]) const;
   bool aligned() const { return aligned_; }
   // The bound of a block of 2 steps (level 1) at (a, b), with the rotation's PairBlockTable for
   // the residue of (a, b) and the rotation's masks (or cell-disjoint masks for a lower bound):

@@ -1,6 +1,7 @@
 #include "core/scoring/pose_lattice.h"
 
 #include <algorithm>
+#include <cassert>
 #include <climits>
 #include <cmath>
 #include <map>
@@ -277,6 +278,8 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
   groups_.resize(rotations_.size());
   pair_tables_.resize(rotations_.size());
   groups_once_ = std::make_unique<std::once_flag[]>(rotations_.size());
+  swept_.resize(rotations_.size());
+  swept_once_ = std::make_unique<std::once_flag[]>(rotations_.size());
   bool first = true;
   const auto visit = [&](RotatedTemplate* r) {
     AddCellTables(shift, r);
@@ -352,6 +355,64 @@ const PairBlockTable& TemplateRotations::PairTable(int itheta, int ra, int rb) c
   Groups(itheta, 0, 0);  // makes both on first use.
   const int half = (1 << shift_) / 2;
   return pair_tables_[itheta][static_cast<size_t>(ra / 2) * half + rb / 2];
+}
+
+namespace {
+
+// Residues per axis of blocks of 2^level steps: their first steps are the multiples of
+// min(2^level, s) below s.
+int SweptResidues(int level, int s) { return std::max(1, s >> level); }
+
+}  // namespace
+
+const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, int rb) const {
+  assert(has_cell_groups() && level >= 1 && level <= kSweptLevels);
+  const int s = 1 << shift_;
+  std::call_once(swept_once_[itheta], [&] {
+    const RotatedTemplate& r = rotations_[itheta];
+    std::vector<CellGroups>& out = swept_[itheta];
+    std::vector<std::uint64_t> grid;  // the union of masks per reached cell, x-major.
+    for (int lv = 1; lv <= kSweptLevels; ++lv) {
+      const int size = 1 << lv;
+      const int step = std::min(size, s);
+      const int residues = SweptResidues(lv, s);
+      for (int i = 0; i < residues * residues; ++i) {
+        const int rx = (i / residues) * step, ry = (i % residues) * step;
+        // A column at q reaches the cells of q + r + [0, size) (relative to the block's first).
+        const int x_lo = (r.q_min.x() + rx) >> shift_, y_lo = (r.q_min.y() + ry) >> shift_;
+        const int nx = ((r.q_max.x() + rx + size - 1) >> shift_) - x_lo + 1;
+        const int ny = ((r.q_max.y() + ry + size - 1) >> shift_) - y_lo + 1;
+        grid.assign(static_cast<size_t>(nx) * ny, 0);
+        for (size_t c = 0; c < r.column_q.size(); ++c) {
+          const int qx = r.column_q[c].x() + rx, qy = r.column_q[c].y() + ry;
+          for (int x = (qx >> shift_) - x_lo; x <= ((qx + size - 1) >> shift_) - x_lo; ++x) {
+            for (int y = (qy >> shift_) - y_lo; y <= ((qy + size - 1) >> shift_) - y_lo; ++y) {
+              grid[static_cast<size_t>(x) * ny + y] |= r.column_masks[c];
+            }
+          }
+        }
+        CellGroups g;
+        for (int x = 0; x < nx; ++x) {
+          for (int y = 0; y < ny; ++y) {
+            const std::uint64_t m = grid[static_cast<size_t>(x) * ny + y];
+            if (m == 0) continue;
+            g.cxe.push_back(4 * (x + x_lo));
+            g.cy.push_back(y + y_lo);
+            g.masks.push_back(m);
+          }
+        }
+        out.push_back(std::move(g));
+      }
+    }
+  });
+  size_t index = 0;
+  for (int lv = 1; lv < level; ++lv) {
+    const int n = SweptResidues(lv, s);
+    index += static_cast<size_t>(n) * n;
+  }
+  const int step = std::min(1 << level, s);
+  index += static_cast<size_t>(ra / step) * SweptResidues(level, s) + rb / step;
+  return swept_[itheta][index];
 }
 
 const RotatedTemplate& TemplateRotations::GetBlock(int level, int itheta0) const {

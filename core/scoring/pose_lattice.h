@@ -152,6 +152,17 @@ class TemplateRotations {
   // PairBlockTable of rotation itheta for residue (ra, rb), both even and below S (S >= 4);
   // made on first use with the CellGroups.
   const PairBlockTable& PairTable(int itheta, int ra, int rb) const;
+  // Levels of translation blocks with swept cell groups (SweptGroups): 1 .. kSweptLevels.
+  static constexpr int kSweptLevels = 4;
+  // The cells rotation itheta reaches over a translation block of 2^level steps per side
+  // (level in [1, kSweptLevels]) whose first step has residue (ra, rb) (multiples of
+  // min(2^level, S), below S), as CellGroups relative to the block's first cell: per cell the
+  // union of the masks of every column landing in it at some translation of the block. Summed
+  // over cluster cells (ColumnOccupancy::HitsGrouped), every cluster voxel the template can
+  // cover anywhere in the block counts once: an upper bound of the hits over the block that,
+  // unlike the column bound, never counts a voxel twice. Made on first use (thread-safe), with
+  // the same conditions as Groups.
+  const CellGroups& SweptGroups(int itheta, int level, int ra, int rb) const;
   // CellDisjointMasks of rotation itheta (for free-space lower bounds), made once.
   const std::vector<std::uint64_t>& DisjointMasks(int itheta) const { return disjoint_[itheta]; }
   // The range of column_q over every rotation and block (sub-voxel steps).
@@ -176,6 +187,9 @@ class TemplateRotations {
   mutable std::vector<std::vector<CellGroups>> groups_;
   mutable std::vector<std::vector<PairBlockTable>> pair_tables_;  // (S/2)^2 per rotation.
   mutable std::unique_ptr<std::once_flag[]> groups_once_;
+  // Per rotation: for each level 1 .. kSweptLevels its residues' SweptGroups.
+  mutable std::vector<std::vector<CellGroups>> swept_;
+  mutable std::unique_ptr<std::once_flag[]> swept_once_;
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
 };

@@ -57,14 +57,15 @@ struct BranchAndBoundResult {
 class Evaluator {
  public:
   Evaluator(const ColumnOccupancy* cluster, const ColumnOccupancy* free, int free_weight,
-            int hit_weight, const TemplateRotations& rotations)
+            int hit_weight, const TemplateRotations& rotations, bool swept_bounds)
       : cluster_(cluster),
         free_(free),
         free_weight_(free_weight),
         hit_weight_(hit_weight),
         rotations_(rotations),
         pairs_ok_(cluster->aligned() && (free == nullptr || free->aligned()) &&
-                  rotations.has_cell_groups() && rotations.lattice().subdivisions >= 4) {}
+                  rotations.has_cell_groups() && rotations.lattice().subdivisions >= 4),
+        swept_ok_(swept_bounds && cluster->aligned() && rotations.has_cell_groups()) {}
 
   int Value(const RotatedTemplate& r, int a, int b) const {
     if (cluster_->aligned() && (free_ == nullptr || free_->aligned()) &&
@@ -81,6 +82,11 @@ class Evaluator {
   }
   // The cluster part of a block's bound: with HasFreePart, FreePart is still to be subtracted.
   int ClusterBound(const RotatedTemplate& r, int a, int b, int level) const {
+    if (Swept(r, level)) {
+      const int mask = rotations_.lattice().subdivisions - 1;
+      return hit_weight_ * cluster_->HitsGrouped(
+                               rotations_.SweptGroups(r.itheta, level, a & mask, b & mask), a, b);
+    }
     if (Pairs(r, a, b, level)) {
       return hit_weight_ *
              cluster_->PairBound(PairTable(r.itheta, a, b), r.column_masks.data(), a, b);
@@ -88,9 +94,19 @@ class Evaluator {
     return hit_weight_ * cluster_->Bound(r, a, b, level);
   }
   void ClusterBound4(const RotatedTemplate& r, int a, int b, int level, int out[4]) const {
-    if (Pairs(r, a, b, level)) {
+    const int size = 1 << level;
+    const int s = rotations_.lattice().subdivisions;
+    if (Swept(r, level) && size % s == 0) {  // the four share a residue: one table.
+      cluster_->HitsGrouped4(rotations_.SweptGroups(r.itheta, level, a & (s - 1), b & (s - 1)), a,
+                             b, size / s, out);
+      for (int k = 0; k < 4; ++k) out[k] *= hit_weight_;
+      return;
+    }
+    if (Swept(r, level) || Pairs(r, a, b, level)) {
       for (int i = 0; i < 2; ++i) {
-        for (int j = 0; j < 2; ++j) out[2 * i + j] = ClusterBound(r, a + 2 * i, b + 2 * j, 1);
+        for (int j = 0; j < 2; ++j) {
+          out[2 * i + j] = ClusterBound(r, a + i * size, b + j * size, level);
+        }
       }
       return;
     }
@@ -112,6 +128,13 @@ class Evaluator {
   }
 
  private:
+  // Blocks of 2 .. 2^kSweptLevels steps of a single rotation take the swept bound when asked
+  // for and the layout allows (the lookups of its cells stay within the aligned range, as the
+  // columns' windows do).
+  bool Swept(const RotatedTemplate& r, int level) const {
+    return swept_ok_ && level >= 1 && level <= TemplateRotations::kSweptLevels &&
+           r.column_extent.empty();
+  }
   // Blocks of two steps of a single rotation take the PairBound path when the layouts allow.
   bool Pairs(const RotatedTemplate& r, int a, int b, int level) const {
     return level == 1 && pairs_ok_ && r.column_extent.empty() && ((a | b) & 1) == 0;
@@ -129,6 +152,7 @@ class Evaluator {
   int hit_weight_;
   const TemplateRotations& rotations_;
   const bool pairs_ok_;
+  const bool swept_ok_;
 };
 
 // Best-first branch and bound over thetas and the translation region. Next() returns the
@@ -444,7 +468,8 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
     free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, r0.z_base, r0.z_words,
                                              top, ColumnOccupancy::Filter::kMin, &lookups);
   }
-  Evaluator eval(&occ, free.get(), problem.free_space_weight, problem.hit_weight, rotations);
+  Evaluator eval(&occ, free.get(), problem.free_space_weight, problem.hit_weight, rotations,
+                 options_.swept_bounds);
   const int n_weighted = n * problem.hit_weight;  // the score's denominator.
 
   // A known pose's value (e.g. the previous frame's): nodes whose bound cannot reach it stay

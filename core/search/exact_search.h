@@ -14,6 +14,12 @@ struct ExactSearchOptions {
   double auto_margin_fraction = 0.5;
   // Largest branch-and-bound block: 2^max_level lattice steps per side (6: 64 x 4 mm = 256 mm).
   int max_level = 6;
+  // Bound the cluster hits of blocks of 2 to 2^TemplateRotations::kSweptLevels steps of one
+  // rotation by the cluster voxels the rotation reaches anywhere in the block
+  // (TemplateRotations::SweptGroups: each voxel counted once) instead of the sum over its
+  // columns (which counts a voxel once per column reaching it). Tighter where the block is a
+  // cell or two wide; the same optimum (false: the column bound, as before).
+  bool swept_bounds = true;
 };
 
 // The global optimum of the score over the whole lattice: every theta (angle_steps of them) x

@@ -199,6 +199,77 @@ TEST(ColumnOccupancyTest, AlignedBoundsEqualThePerLevelOnes) {
   }
 }
 
+// A rotation's swept cell groups over a translation block hold exactly the template voxels it
+// places anywhere in the block: summed over the cluster, the cluster voxels some pose of the
+// block covers (so at least the hits of every pose in it), at every level and residue; and the
+// four-block pass equals four single ones.
+TEST(ColumnOccupancyTest, SweptGroupsCountTheVoxelsTheBlockReaches) {
+  std::mt19937 rng(23);
+  for (unsigned scene = 0; scene < 3; ++scene) {
+    PoseLattice lattice;
+    lattice.subdivisions = scene == 2 ? 2 : 4;
+    const int s = lattice.subdivisions;
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(30 + scene), "t", lattice.resolution_m);
+    const Pose2D truth{1.2, 0.1 * scene, DegToRad(-61.0 * scene)};
+    const ClusterVoxels cluster = VoxeliseCluster(
+        testing::VisibleCluster(testing::RandomRobotPoints(30 + scene), truth, 0.004f, scene),
+        lattice.resolution_m);
+    std::set<std::tuple<int, int, int>> occupied;
+    for (const Eigen::Vector3i& c : cluster.cells) occupied.insert({c.x(), c.y(), c.z()});
+    const TemplateRotations rot(tpl, lattice);
+    const LatticePose c = NearestLatticePose(lattice, truth);
+    const int reach = 12 * s;
+    ColumnOccupancy::CellRange range;
+    range.x_lo = FloorDiv(c.ix - reach, s) + FloorDiv(rot.column_q_min().x(), s);
+    range.y_lo = FloorDiv(c.iy - reach, s) + FloorDiv(rot.column_q_min().y(), s);
+    range.x_hi = FloorDiv(c.ix + reach + 64, s) + FloorDiv(rot.column_q_max().x(), s) + 1;
+    range.y_hi = FloorDiv(c.iy + reach + 64, s) + FloorDiv(rot.column_q_max().y(), s) + 1;
+    const ColumnOccupancy occ(cluster, lattice, rot.Get(0).z_base, rot.Get(0).z_words, 6,
+                              ColumnOccupancy::Filter::kMax, &range);
+    ASSERT_TRUE(occ.aligned());
+    std::uniform_int_distribution<int> d(-reach / s, reach / s), th(0, 359),
+        lv(1, TemplateRotations::kSweptLevels);
+    int nonzero = 0;
+    for (int k = 0; k < 60; ++k) {
+      const RotatedTemplate& r = rot.Get(th(rng));
+      const int level = lv(rng), size = 1 << level, step = std::min(size, s);
+      std::uniform_int_distribution<int> res(0, std::max(1, s / step) - 1);
+      const int ra = step * res(rng), rb = step * res(rng);
+      const int a = s * (FloorDiv(c.ix, s) + d(rng)) + ra;
+      const int b = s * (FloorDiv(c.iy, s) + d(rng)) + rb;
+      std::set<std::tuple<int, int, int>> reached;
+      int best_hits = 0;
+      for (int i = 0; i < size; ++i) {
+        for (int j = 0; j < size; ++j) {
+          for (const Eigen::Vector3i& q : r.sub_cells) {
+            const Eigen::Vector3i cell = PlacedCell(q, a + i, b + j, s);
+            if (occupied.count({cell.x(), cell.y(), cell.z()}) != 0) {
+              reached.insert({cell.x(), cell.y(), cell.z()});
+            }
+          }
+          best_hits = std::max(best_hits, occ.Hits(r, a + i, b + j));
+        }
+      }
+      const CellGroups& g = rot.SweptGroups(r.itheta, level, ra, rb);
+      const int swept = occ.HitsGrouped(g, a, b);
+      ASSERT_EQ(swept, static_cast<int>(reached.size()))
+          << "scene " << scene << " level " << level << " residue " << ra << "," << rb;
+      EXPECT_GE(swept, best_hits);
+      nonzero += swept > 0 ? 1 : 0;
+      if (size % s == 0) {
+        int four[4];
+        occ.HitsGrouped4(g, a, b, size / s, four);
+        for (int q = 0; q < 4; ++q) {
+          EXPECT_EQ(four[q], occ.HitsGrouped(g, a + (q / 2) * size, b + (q % 2) * size))
+              << "quarter " << q;
+        }
+      }
+    }
+    EXPECT_GT(nonzero, 10) << "scene " << scene;
+  }
+}
+
 // Under the sanitizers every third scene (still every max_level and both subdivisions): the
 // brute force over the lattice is what takes the time there.
 constexpr unsigned kSceneStep = hpose::testing::kSanitizerBuild ? 3 : 1;
@@ -222,11 +293,14 @@ TEST(ExactSearchTest, EqualsExhaustiveSearchOnRandomScenes) {
     const ExactSearch search(opts);
     SearchProblem problem{&cluster, &scorer, &rot, {truth.x, truth.y}};
     const SearchResult r = search.Search(problem);
+    opts.swept_bounds = false;  // the column bounds alone find the same optimum.
+    const SearchResult by_columns = ExactSearch(opts).Search(problem);
     const ExactSearch::Region region = search.TranslationRegion(cluster, rot);
     std::vector<int> all(lattice.angle_steps);
     for (int t = 0; t < lattice.angle_steps; ++t) all[t] = t;
     const Exhaustive brute = Brute(scorer, rot, region, all);
     ASSERT_EQ(r.hits, brute.best_hits) << "scene " << scene;
+    EXPECT_EQ(by_columns.hits, brute.best_hits) << "scene " << scene;
     EXPECT_EQ(scorer.Hits(rot.Get(r.best.itheta), r.best.ix, r.best.iy), r.hits);
     EXPECT_GE(r.best.ix, region.ix_min);
     EXPECT_LE(r.best.iy, region.iy_max);
@@ -291,6 +365,8 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
               std::max(best, problem.hit_weight * scorer.Hits(rot.Get(t), ix, iy) -
                                  problem.free_space_weight * free_scorer.Hits(rot.Get(t), ix, iy));
     ASSERT_EQ(r.value, best) << "scene " << scene;
+    opts.swept_bounds = false;
+    EXPECT_EQ(ExactSearch(opts).Search(problem).value, best) << "scene " << scene;
     EXPECT_EQ(r.value, problem.hit_weight * r.hits - problem.free_space_weight * r.free_hits);
     EXPECT_NEAR(r.score, 100.0 * r.value / (problem.hit_weight * scorer.cluster_voxels()), 1e-9);
   }
