@@ -209,6 +209,16 @@ std::vector<Variant> AllVariants() {
   EstimatorOptions quick_views = DefaultEstimatorOptions();
   quick_views.heading_views.settle_rounds = 5;
   out.push_back({"quick-views", quick_views, true});
+  // The settle's pattern search run for all its rounds, down to steps of 16 microns (before the
+  // default stopped it at 1 mm steps).
+  EstimatorOptions full_settle = DefaultEstimatorOptions();
+  full_settle.heading_views.settle_min_step_m = 0.0;
+  out.push_back({"full-settle", full_settle, true});
+  // The exact search with the column bounds only (before the swept cell bounds): the same
+  // optimum value, ties possibly resolved to another pose of equal value.
+  EstimatorOptions column_bounds = DefaultEstimatorOptions();
+  column_bounds.exact.swept_bounds = false;
+  out.push_back({"column-bounds", column_bounds, true});
   // The refinement held within one voxel and 5 degrees of the lattice pose (8 steps), as before
   // the default became three voxels and 10 degrees (20 steps).
   EstimatorOptions narrow = DefaultEstimatorOptions();

@@ -266,6 +266,10 @@ std::vector<Variant> ScatteredVariants() {
                  Exact(o);
                  o->heading_views.enabled = false;
                }});
+  v.push_back({"exact search, full settle (before)", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->heading_views.settle_min_step_m = 0.0;
+               }});
   v.push_back({"exact search, no refinement", [](EstimatorOptions* o) {
                  Exact(o);
                  o->refine.enabled = false;

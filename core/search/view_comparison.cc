@@ -148,6 +148,9 @@ class RayCosts {
     return cost;
   }
 
+  // Poses evaluated so far (PerRay and Total calls).
+  int evaluations() const { return evaluations_; }
+
   double Total(const Pose2D& pose) const {
     double sum = 0.0;
     ForEachRay(pose, [&](size_t, double c) { sum += c; });
@@ -184,6 +187,7 @@ class RayCosts {
       if (!moved) {
         step_m *= 0.5;
         step_rad *= 0.5;
+        if (step_m < o.settle_min_step_m) break;  // settled to what the steps can tell.
       }
     }
     return best;
@@ -204,6 +208,7 @@ class RayCosts {
   // reference_evaluation). Both give the same winners and the same arithmetic.
   template <typename F>
   void ForEachRay(const Pose2D& pose, F f) const {
+    ++evaluations_;
     if (reference_) {
       const PlacedSurface s = Place(model_, pose, obs_.sensor_from_ground);
       const std::vector<int> winner = grid_.ZBuffer(s);
@@ -244,6 +249,7 @@ class RayCosts {
   double bias_;
   bool reference_;
   mutable TemplateProjector projector_;  // scratch of ForEachRay.
+  mutable int evaluations_ = 0;
 };
 
 }  // namespace
@@ -318,6 +324,7 @@ ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, c
   }
   out.settled_a = pa;
   out.settled_b = pb;
+  out.evaluations = costs.evaluations();
   return out;
 }
 

@@ -105,6 +105,37 @@ TEST(ViewComparisonTest, PrefersTheTruthOverAShiftedPose) {
   }
 }
 
+// The settle stops once its steps fall below settle_min_step_m: the poses it settles on lie
+// within a few of those steps of where every round would take them, and the verdict is the
+// same, near and far, at both mounts.
+TEST(ViewComparisonTest, ASettleStoppedAtAMillimetreAgreesWithTheFullOne) {
+  const SurfaceModel model = BodyModel("nao");
+  for (const double distance : {1.2, 3.3}) {
+    for (const double pitch_deg : {0.0, 20.0}) {
+      const Pose2D truth{distance, 0.15, DegToRad(-70.0 + 40.0 * distance)};
+      const View v = MakeView("nao", truth, pitch_deg > 0.0 ? 0.9 : 0.34, pitch_deg, 21);
+      // Given a few millimetres and a degree off, as refinements on the cluster leave them.
+      const Pose2D a{truth.x + 0.004, truth.y - 0.003, truth.theta + DegToRad(1.0)};
+      ViewComparisonOptions full;
+      full.settle_min_step_m = 0.0;
+      const ViewComparisonOptions stopped;  // the default: 1 mm.
+      ASSERT_GT(stopped.settle_min_step_m, 0.0);
+      const ViewComparison f = CompareViews(model, v.Obs(), a, Flipped(a), {}, full);
+      const ViewComparison q = CompareViews(model, v.Obs(), a, Flipped(a), {}, stopped);
+      ASSERT_GT(f.rays, 100);
+      for (const auto& [x, y] : {std::pair{f.settled_a, q.settled_a},
+                                 std::pair{f.settled_b, q.settled_b}}) {
+        EXPECT_LT(std::hypot(x.x - y.x, x.y - y.y), 0.003) << "distance " << distance;
+        EXPECT_LT(std::abs(AngleDiff(x.theta, y.theta)), DegToRad(0.75));
+      }
+      EXPECT_GT(f.Z() * q.Z(), 0.0) << "distance " << distance << " pitch " << pitch_deg;
+      EXPECT_NEAR(q.Z(), f.Z(), 0.2 * std::abs(f.Z()) + 0.5);
+      EXPECT_LT(q.evaluations, f.evaluations);
+      EXPECT_GT(q.evaluations, 2);
+    }
+  }
+}
+
 // Every pose a comparison tries is z-buffered by TemplateProjector; the reference places and
 // bins every point directly. Same rays, same winners, same arithmetic: the same comparison to
 // the bit, on noisy frames at both mounts, near and far, including a pose so near that part of
