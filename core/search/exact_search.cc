@@ -227,15 +227,19 @@ class BranchAndBound {
   BranchAndBoundResult Next() {
     BranchAndBoundResult out;
     for (MergeDeferredIfNeeded(); !Empty(); MergeDeferredIfNeeded()) {
-      const Node n = Unpack(Top());
+      Node n = Unpack(Top());
       Pop();
       if (!AnyAllowed(n.itheta, n.tlevel)) continue;
-      if (n.loose) {  // subtract the free-space part now and queue it again.
-        Node tight = n;
-        tight.value -= eval_.FreePart(n.itheta, n.a, n.b, n.level);
-        tight.loose = false;
-        Enqueue(tight);
-        continue;
+      if (n.loose) {  // subtract the free-space part now.
+        n.value -= eval_.FreePart(n.itheta, n.a, n.b, n.level);
+        n.loose = false;
+        // Still ahead of every queued node (deferred ones are below defer_below_): go on with
+        // it rather than push and pop it; the order of expansions is the same.
+        const PackedNode tight = Pack(n);
+        if (n.value < defer_below_ || (!Empty() && PackedLess()(tight, Top()))) {
+          Enqueue(n);
+          continue;
+        }
       }
       if (n.value < min_value_) {  // the best that remains cannot reach min_value.
         out.below_min = true;
@@ -293,6 +297,16 @@ class BranchAndBound {
   }
 
   void Enqueue(const Node& n) {
+    const PackedNode p = Pack(n);
+    if (n.value < defer_below_) {
+      deferred_.push_back(p);
+      return;
+    }
+    queue_.push_back(p);
+    std::push_heap(queue_.begin(), queue_.end(), PackedLess());
+  }
+
+  PackedNode Pack(const Node& n) const {
     const int fine = n.tlevel + n.level;
     const std::uint64_t da = static_cast<std::uint64_t>(n.a - region_.ix_min);
     const std::uint64_t db = static_cast<std::uint64_t>(n.b - region_.iy_min);
@@ -305,12 +319,7 @@ class BranchAndBound {
     p.lo = ((kOffsetMask - da) << 40) | ((kOffsetMask - db) << 16) |
            (static_cast<std::uint64_t>(7 - n.tlevel) << 13) |
            (static_cast<std::uint64_t>(n.level) << 8) | (n.loose ? 1 : 0);
-    if (n.value < defer_below_) {
-      deferred_.push_back(p);
-      return;
-    }
-    queue_.push_back(p);
-    std::push_heap(queue_.begin(), queue_.end(), PackedLess());
+    return p;
   }
 
   bool Empty() const { return queue_.empty(); }

@@ -123,8 +123,8 @@ TEST(ViewComparisonTest, ASettleStoppedAtAMillimetreAgreesWithTheFullOne) {
       const ViewComparison f = CompareViews(model, v.Obs(), a, Flipped(a), {}, full);
       const ViewComparison q = CompareViews(model, v.Obs(), a, Flipped(a), {}, stopped);
       ASSERT_GT(f.rays, 100);
-      for (const auto& [x, y] : {std::pair{f.settled_a, q.settled_a},
-                                 std::pair{f.settled_b, q.settled_b}}) {
+      for (const auto& [x, y] :
+           {std::pair{f.settled_a, q.settled_a}, std::pair{f.settled_b, q.settled_b}}) {
         EXPECT_LT(std::hypot(x.x - y.x, x.y - y.y), 0.003) << "distance " << distance;
         EXPECT_LT(std::abs(AngleDiff(x.theta, y.theta)), DegToRad(0.75));
       }
