@@ -392,8 +392,8 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
           }
         }
         CellGroups g;
-        for (int x = 0; x < nx; ++x) {
-          for (int y = 0; y < ny; ++y) {
+        for (int y = 0; y < ny; ++y) {  // rows in the order of the occupancy's layout.
+          for (int x = 0; x < nx; ++x) {
             const std::uint64_t m = grid[static_cast<size_t>(x) * ny + y];
             if (m == 0) continue;
             g.cxe.push_back(4 * (x + x_lo));
