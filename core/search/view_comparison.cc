@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -161,8 +162,18 @@ class RayCosts {
   // options' bounds): each pose is judged where it fits the depth image best, so the comparison
   // tells shapes apart rather than how well two refinements happened to place them.
   Pose2D Settle(const Pose2D& start, const ViewComparisonOptions& o) const {
+    // Costs of the poses tried so far: a step back to where the search came from (the other
+    // sign of the step it just took) is looked up, not evaluated again.
+    std::vector<std::pair<Pose2D, double>> tried;
+    const auto cost = [&](const Pose2D& p) {
+      for (const auto& [q, c] : tried) {
+        if (q.x == p.x && q.y == p.y && q.theta == p.theta) return c;
+      }
+      tried.emplace_back(p, Total(p));
+      return tried.back().second;
+    };
     Pose2D best = start;
-    double best_cost = Total(best);
+    double best_cost = cost(best);
     double step_m = 0.5 * o.settle_shift_m, step_rad = 0.5 * o.settle_turn_rad;
     for (int round = 0; round < o.settle_rounds; ++round) {
       bool moved = false;
@@ -176,7 +187,7 @@ class RayCosts {
               std::abs(AngleDiff(trial.theta, start.theta)) > o.settle_turn_rad + 1e-9) {
             continue;
           }
-          const double c = Total(trial);
+          const double c = cost(trial);
           if (c < best_cost) {
             best_cost = c;
             best = trial;
