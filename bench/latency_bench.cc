@@ -208,7 +208,7 @@ std::vector<int> ParseIntList(const std::string& text) {
   while (std::getline(in, item, ',')) {
     const int v = std::atoi(item.c_str());
     if (v < 1 || v > 64) {
-      std::fprintf(stderr, "latency_bench: --threads wants integers in [1, 64], got '%s'\n",
+      std::fprintf(stderr, "latency_bench: thread counts are integers in [1, 64], got '%s'\n",
                    item.c_str());
       std::exit(2);
     }
@@ -227,6 +227,7 @@ int main(int argc, char** argv) {
   bool pipeline_only = false;
   bool no_search = false;
   std::vector<int> threads = {1, 2};
+  int search_threads = 1;
   std::string hpose = HPOSE_PROGRAM;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
@@ -243,6 +244,9 @@ int main(int argc, char** argv) {
       pipeline_frames = std::atoi(argv[++i]);
     } else if (flag == "--threads" && has_value) {
       threads = ParseIntList(argv[++i]);
+    } else if (flag == "--search-threads" && has_value) {
+      const std::vector<int> one = ParseIntList(argv[++i]);
+      search_threads = one.empty() ? 1 : one.front();
     } else if (flag == "--hpose" && has_value) {
       hpose = argv[++i];
     } else if (flag == "--no-search") {
@@ -251,12 +255,15 @@ int main(int argc, char** argv) {
       std::printf(
           "usage: latency_bench [--calls N] [--seconds S] [--hpose PATH] [--pipeline-only]\n"
           "                     [--pipeline-seconds S] [--pipeline-frames N] [--threads 1,2]\n"
+          "                     [--search-threads N]\n"
           "  --calls N             Estimate round trips to time (100)\n"
           "  --seconds S           StreamPoses throughput window (10)\n"
           "  --pipeline-only       only the pose pipeline section\n"
           "  --pipeline-seconds S  measurement window of each pipeline run (10)\n"
           "  --pipeline-frames N   640x480 frames rendered for the pipeline runs (30)\n"
           "  --threads LIST        source.estimate_threads values to compare (1,2)\n"
+          "  --search-threads N    search.threads of every run: threads inside one estimate\n"
+          "                        (its clusters x templates searched at once; default 1)\n"
           "  --hpose PATH          the hpose program that renders the frames\n"
           "  --no-search           pipeline runs without the pose search (no cluster is\n"
           "                        large enough): the cost of everything else\n"
@@ -276,6 +283,7 @@ int main(int argc, char** argv) {
   config.templates = {std::string(HPOSE_TEMPLATE_DIR) + "/standing.bt",
                       std::string(HPOSE_TEMPLATE_DIR) + "/right_arm_raised.bt"};
   config.grpc.max_concurrent_estimates = 1;
+  config.estimator.threads = search_threads;
   if (no_search) {
     // No cluster reaches this size: every frame is decoded, turned into a cloud, its floor
     // fitted and clustered, and an estimate without detections is published.
@@ -283,7 +291,8 @@ int main(int argc, char** argv) {
     config.estimator.clusters.max_points = 100000000;
   }
   std::printf("# hposed latency benchmark%s\n", no_search ? " (--no-search: no pose search)" : "");
-  std::printf("machine: %u cores, %s\n\n", std::thread::hardware_concurrency(), CpuModel().c_str());
+  std::printf("machine: %u cores, %s; search.threads %d\n\n", std::thread::hardware_concurrency(),
+              CpuModel().c_str(), search_threads);
   if (pipeline_only) {
     const int rc =
         PipelineSection(config, hpose, dir + "_640", threads, pipeline_frames, pipeline_seconds);
