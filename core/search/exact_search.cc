@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/scoring/column_occupancy.h"
+#include "core/search/search_queue.h"
 
 namespace hpose {
 namespace {
@@ -24,21 +25,6 @@ struct Node {
   // Not part of the order: a loose value is >= the node's bound, so popping loose nodes first
   // and tightening them expands the same nodes in the same order as tight values would.
   bool loose;
-};
-
-// The queue's order: highest value first; among equal values finer nodes first (exact poses
-// before bounds), then lower itheta, a, b, tlevel: a strict order, so results never depend on
-// the heap's layout. Nodes are queued packed into 128 bits whose unsigned order is that order
-// (16 bytes instead of 28, one or two integer compares per heap step).
-struct PackedNode {
-  std::uint64_t hi;  // value (biased) | 31 - fine | 0xFFFF - itheta.
-  std::uint64_t lo;  // 2^24-1 - (a - a0) | 2^24-1 - (b - b0) | 7 - tlevel | level | loose.
-};
-
-struct PackedLess {
-  bool operator()(const PackedNode& x, const PackedNode& y) const {
-    return x.hi != y.hi ? x.hi < y.hi : x.lo < y.lo;
-  }
 };
 
 constexpr std::uint64_t kOffsetMask = (std::uint64_t{1} << 24) - 1;
@@ -302,8 +288,7 @@ class BranchAndBound {
       deferred_.push_back(p);
       return;
     }
-    queue_.push_back(p);
-    std::push_heap(queue_.begin(), queue_.end(), PackedLess());
+    queue_.push(p);
   }
 
   PackedNode Pack(const Node& n) const {
@@ -323,24 +308,18 @@ class BranchAndBound {
   }
 
   bool Empty() const { return queue_.empty(); }
-  const PackedNode& Top() const { return queue_.front(); }
-  void Pop() {
-    std::pop_heap(queue_.begin(), queue_.end(), PackedLess());
-    queue_.pop_back();
-  }
+  const PackedNode& Top() const { return queue_.top(); }
+  void Pop() { queue_.pop(); }
   // Brings the deferred nodes in when the heap's best no longer beats them: the pop order is
   // then the order without deferral.
   void MergeDeferredIfNeeded() {
     if (deferred_.empty()) return;
-    if (!queue_.empty() && UnpackValue(queue_.front()) >= defer_below_) return;
-    queue_.insert(queue_.end(), deferred_.begin(), deferred_.end());
+    if (!queue_.empty() && UnpackValue(queue_.top()) >= defer_below_) return;
+    for (const PackedNode& p : deferred_) queue_.push(p);
     deferred_.clear();
-    std::make_heap(queue_.begin(), queue_.end(), PackedLess());
     defer_below_ = std::numeric_limits<int>::min();
   }
-  static int UnpackValue(const PackedNode& p) {
-    return static_cast<int>(static_cast<std::uint32_t>(p.hi >> 32) ^ 0x80000000u);
-  }
+  static int UnpackValue(const PackedNode& p) { return SearchQueue::Value(p); }
 
   Node Unpack(const PackedNode& p) const {
     Node n;
@@ -382,9 +361,9 @@ class BranchAndBound {
   const int steps_;
   std::vector<bool> allowed_;
   bool all_allowed_ = true;
-  // A binary heap (std::push_heap order), plus nodes kept out of it while they cannot beat the
-  // incumbent: they join the heap, in one make_heap, once its best falls below defer_below_.
-  std::vector<PackedNode> queue_;
+  // The queue, plus nodes kept out of it while they cannot beat the incumbent: they join it
+  // once its best falls below defer_below_.
+  SearchQueue queue_;
   std::vector<PackedNode> deferred_;
   int defer_below_;
   BranchAndBoundResult best_exact_;  // the best exactly evaluated pose so far.
