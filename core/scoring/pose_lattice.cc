@@ -371,7 +371,9 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
   std::call_once(swept_once_[itheta], [&] {
     const RotatedTemplate& r = rotations_[itheta];
     std::vector<CellGroups>& out = swept_[itheta];
-    std::vector<std::uint64_t> grid;  // the union of masks per reached cell, x-major.
+    // The union of masks per reached cell, row by row; all zero between tables (the scan that
+    // lists a table's cells clears them).
+    std::vector<std::uint64_t> grid;
     for (int lv = 1; lv <= kSweptLevels; ++lv) {
       const int size = 1 << lv;
       const int step = std::min(size, s);
@@ -382,19 +384,22 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
         const int x_lo = (r.q_min.x() + rx) >> shift_, y_lo = (r.q_min.y() + ry) >> shift_;
         const int nx = ((r.q_max.x() + rx + size - 1) >> shift_) - x_lo + 1;
         const int ny = ((r.q_max.y() + ry + size - 1) >> shift_) - y_lo + 1;
-        grid.assign(static_cast<size_t>(nx) * ny, 0);
+        if (grid.size() < static_cast<size_t>(nx) * ny)
+          grid.resize(static_cast<size_t>(nx) * ny, 0);
         for (size_t c = 0; c < r.column_q.size(); ++c) {
           const int qx = r.column_q[c].x() + rx, qy = r.column_q[c].y() + ry;
-          for (int x = (qx >> shift_) - x_lo; x <= ((qx + size - 1) >> shift_) - x_lo; ++x) {
-            for (int y = (qy >> shift_) - y_lo; y <= ((qy + size - 1) >> shift_) - y_lo; ++y) {
-              grid[static_cast<size_t>(x) * ny + y] |= r.column_masks[c];
+          for (int y = (qy >> shift_) - y_lo; y <= ((qy + size - 1) >> shift_) - y_lo; ++y) {
+            for (int x = (qx >> shift_) - x_lo; x <= ((qx + size - 1) >> shift_) - x_lo; ++x) {
+              grid[static_cast<size_t>(y) * nx + x] |= r.column_masks[c];
             }
           }
         }
         CellGroups g;
         for (int y = 0; y < ny; ++y) {  // rows in the order of the occupancy's layout.
           for (int x = 0; x < nx; ++x) {
-            const std::uint64_t m = grid[static_cast<size_t>(x) * ny + y];
+            std::uint64_t& cell = grid[static_cast<size_t>(y) * nx + x];
+            const std::uint64_t m = cell;
+            cell = 0;
             if (m == 0) continue;
             g.cxe.push_back(4 * (x + x_lo));
             g.cy.push_back(y + y_lo);
