@@ -246,7 +246,12 @@ int main(int argc, char** argv) {
       threads = ParseIntList(argv[++i]);
     } else if (flag == "--search-threads" && has_value) {
       const std::vector<int> one = ParseIntList(argv[++i]);
-      search_threads = one.empty() ? 1 : one.front();
+      if (one.size() != 1) {
+        std::fprintf(stderr, "latency_bench: --search-threads wants one integer, got '%s'\n",
+                     argv[i]);
+        return 2;
+      }
+      search_threads = one.front();
     } else if (flag == "--hpose" && has_value) {
       hpose = argv[++i];
     } else if (flag == "--no-search") {
