@@ -11,6 +11,7 @@
 #include "core/io/pclzf_reader.h"
 #include "core/stereo/rgb_image_io.h"
 #include "core/stereo/stereo_calibration.h"
+#include "core/stereo/stereo_marker_options.h"
 #include "core/templates/template_io.h"
 #include "fuzz/fuzz_input_file.h"
 #include "server/daemon_config.h"
@@ -33,7 +34,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 #elif HPOSE_FUZZ_READER == 7
   (void)server::ParseDaemonConfig(text, "fuzz", "");
 #elif HPOSE_FUZZ_READER == 8
-  (void)ReadStereoCalibration({fuzz::WriteInput(data, size, "yaml")});
+  // Both readers of OpenCV FileStorage text files (one parser under them).
+  const std::string path = fuzz::WriteInput(data, size, "yaml");
+  (void)ReadStereoCalibration({path});
+  (void)LoadStereoMarkerOptions(path);
 #elif HPOSE_FUZZ_READER == 9
   (void)ReadDepthFrame(fuzz::WriteInput(data, size, "tiff"));
 #elif HPOSE_FUZZ_READER == 10

@@ -46,6 +46,12 @@ if [ ! -f "$seeds/.done" ]; then
   cp "$src/templates/standing.bt" "$seeds/template/"
   cp "$src/server/hposed.example.yaml" "$seeds/daemon_config/"
   cp "$seeds/stereo/calibration.yaml" "$seeds/stereo_calibration/"
+  printf '<?xml version="1.0"?>\n<opencv_storage>\n<T type_id="opencv-matrix">\n  <rows>3</rows>\n  <cols>1</cols>\n  <dt>d</dt>\n  <data>\n    -9.0e-02 1.0e-03 0.</data></T>\n<imageSize>\n  640 480</imageSize>\n<!-- c -->\n<s>"x &amp; y"</s>\n<q><_>1</_><_>2</_></q>\n</opencv_storage>\n' \
+    > "$seeds/stereo_calibration/small.xml"
+  printf '{\n    "M1": {\n        "type_id": "opencv-matrix",\n        "rows": 1,\n        "cols": 2,\n        "dt": "d",\n        "data": [ 1.0, .Nan ]\n    },\n    "imageSize": [ 640, 480 ]\n}\n' \
+    > "$seeds/stereo_calibration/small.json"
+  printf '%%YAML:1.0\n---\nlandmark_color: [ 0, 30, 0.5, 1, 0.3, 1 ]\nmethod: svd\nmp:\n   a: 1\n   b: "x y"\nsq:\n   - 1\n   - two\n' \
+    > "$seeds/stereo_calibration/options.yaml"
   PYTHONPATH="$build/python" /usr/bin/python3 - "$seeds/frame" "$seeds/estimate_request" <<'PY'
 import json, struct, sys, zlib
 from hpose.v1 import pose_service_pb2 as pb

@@ -1,7 +1,5 @@
 #include "core/stereo/stereo_calibration.h"
 
-#include <sys/stat.h>
-
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -10,31 +8,26 @@
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
-#include "core/io/input_file.h"
+#include "core/io/storage_reader.h"
 
 namespace hpose {
 namespace {
 
 constexpr std::uint64_t kMaxCalibrationFileBytes = std::uint64_t{1} << 20;
 
-bool FileExists(const std::string& path) {
-  struct stat st {};
-  return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-
-// Finds the first of `names` present in any of the open files.
-cv::FileNode FindNode(const std::vector<cv::FileStorage>& files,
-                      std::initializer_list<const char*> names, std::string* found_name) {
+// Finds the first of `names` present in any of the files.
+const StorageNode* FindNode(const std::vector<StorageNode>& files,
+                            std::initializer_list<const char*> names, std::string* found_name) {
   for (const char* name : names) {
-    for (const cv::FileStorage& fs : files) {
-      cv::FileNode node = fs[name];
-      if (!node.empty() && !node.isNone()) {
+    for (const StorageNode& file : files) {
+      const StorageNode* node = file.Find(name);
+      if (node != nullptr && node->kind != StorageNode::Kind::kNone) {
         *found_name = name;
         return node;
       }
     }
   }
-  return cv::FileNode();
+  return nullptr;
 }
 
 std::string JoinNames(std::initializer_list<const char*> names) {
@@ -43,83 +36,50 @@ std::string JoinNames(std::initializer_list<const char*> names) {
   return out;
 }
 
-// Reads a matrix node into a double matrix, or explains why not.
-Result<cv::Mat> ReadMatrix(const std::vector<cv::FileStorage>& files,
-                           std::initializer_list<const char*> names, const std::string& where,
-                           bool required) {
+// Reads a matrix entry (calibration matrices are 3x3, 3x1 or 1x14 at most), or explains why
+// not; an empty matrix when an optional entry is absent.
+Result<Eigen::MatrixXd> ReadMatrix(const std::vector<StorageNode>& files,
+                                   std::initializer_list<const char*> names,
+                                   const std::string& where, bool required) {
   std::string name;
-  cv::FileNode node = FindNode(files, names, &name);
-  if (node.empty()) {
-    if (!required) return cv::Mat();
+  const StorageNode* node = FindNode(files, names, &name);
+  if (node == nullptr) {
+    if (!required) return Eigen::MatrixXd();
     return MakeError(ErrorCode::kInvalidArgument, where + ": missing entry " + JoinNames(names));
   }
-  cv::Mat m;
-  try {
-    if (node.isSeq()) {
-      std::vector<double> values;
-      node >> values;
-      m = cv::Mat(values, true).reshape(1, 1);
-    } else {
-      // OpenCV allocates rows x cols before reading the data: bound them first (calibration
-      // matrices are 3x3, 3x1 or 1x14 at most).
-      const cv::FileNode rows = node["rows"], cols = node["cols"], data = node["data"];
-      const int nr = rows.isInt() ? static_cast<int>(rows) : 0;
-      const int nc = cols.isInt() ? static_cast<int>(cols) : 0;
-      if (!node.isMap() || nr < 1 || nc < 1 || nr > 64 || nc > 64 || nr * nc > 64 ||
-          !data.isSeq() || data.size() != static_cast<size_t>(nr * nc)) {
-        return MakeError(
-            ErrorCode::kInvalidArgument,
-            where + ": entry " + name + " is not a matrix of at most 64 values (rows, cols, data)");
-      }
-      node >> m;
-    }
-  } catch (const std::exception& e) {
-    return MakeError(ErrorCode::kInvalidArgument, where + ": entry " + name + " is not a matrix");
+  Result<Eigen::MatrixXd> m = StorageMatrix(*node, where, name, 64);
+  if (!m.ok()) return m.error();
+  if (!m->allFinite()) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     where + ": entry " + name + " holds a non-finite value");
   }
-  if (m.empty()) {
-    return MakeError(ErrorCode::kInvalidArgument, where + ": entry " + name + " is empty");
-  }
-  cv::Mat d;
-  m.convertTo(d, CV_64F);
-  for (int r = 0; r < d.rows; ++r) {
-    for (int c = 0; c < d.cols; ++c) {
-      if (!std::isfinite(d.at<double>(r, c))) {
-        return MakeError(ErrorCode::kInvalidArgument,
-                         where + ": entry " + name + " holds a non-finite value");
-      }
-    }
-  }
-  return d;
+  return m;
 }
 
-Result<Eigen::Matrix3d> ToMatrix3(const cv::Mat& m, const std::string& what,
+Result<Eigen::Matrix3d> ToMatrix3(const Eigen::MatrixXd& m, const std::string& what,
                                   const std::string& where) {
-  if (m.rows != 3 || m.cols != 3) {
+  if (m.rows() != 3 || m.cols() != 3) {
     return MakeError(ErrorCode::kInvalidArgument, where + ": " + what + " must be 3x3, got " +
-                                                      std::to_string(m.rows) + "x" +
-                                                      std::to_string(m.cols));
+                                                      std::to_string(m.rows()) + "x" +
+                                                      std::to_string(m.cols()));
   }
-  Eigen::Matrix3d out;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) out(r, c) = m.at<double>(r, c);
-  return out;
+  return Eigen::Matrix3d(m);
 }
 
-Result<std::vector<double>> ToVector(const cv::Mat& m, const std::string& what,
+Result<std::vector<double>> ToVector(const Eigen::MatrixXd& m, const std::string& what,
                                      const std::string& where) {
   std::vector<double> out;
-  if (m.empty()) return out;
-  if (m.rows != 1 && m.cols != 1) {
+  if (m.size() == 0) return out;
+  if (m.rows() != 1 && m.cols() != 1) {
     return MakeError(ErrorCode::kInvalidArgument, where + ": " + what + " must be a vector");
   }
-  const int n = static_cast<int>(m.total());
+  const int n = static_cast<int>(m.size());
   if (n != 4 && n != 5 && n != 8 && n != 12 && n != 14) {
     return MakeError(ErrorCode::kInvalidArgument,
                      where + ": " + what + " has " + std::to_string(n) +
                          " coefficients (OpenCV uses 4, 5, 8, 12 or 14)");
   }
-  const cv::Mat flat = m.reshape(1, 1);
-  for (int i = 0; i < n; ++i) out.push_back(flat.at<double>(0, i));
+  for (int i = 0; i < n; ++i) out.push_back(m(i));
   return out;
 }
 
@@ -166,11 +126,10 @@ Status ValidateStereoCalibration(const StereoCalibration& calibration, const std
 
 namespace {
 
-// Reads the entries of the opened files. OpenCV's FileNode accessors throw on some malformed
-// trees (found by fuzzing), so the caller runs this inside a handler.
-Result<StereoCalibration> ParseOpenedCalibration(const std::vector<cv::FileStorage>& files,
-                                                 const std::string& where,
-                                                 const StereoCalibrationReadOptions& options) {
+// Reads the entries of the parsed files.
+Result<StereoCalibration> ParseCalibration(const std::vector<StorageNode>& files,
+                                           const std::string& where,
+                                           const StereoCalibrationReadOptions& options) {
   StereoCalibration cal;
   auto k1 = ReadMatrix(files, {"M1", "K1", "cameraMatrix1", "camera_matrix_left", "cameraMatrixL"},
                        where, true);
@@ -198,8 +157,8 @@ Result<StereoCalibration> ParseOpenedCalibration(const std::vector<cv::FileStora
   auto dv2 = ToVector(*d2, "right distortion", where);
   if (!dv2.ok()) return dv2.error();
   Result<Eigen::Matrix3d> rm = MakeError(ErrorCode::kInvalidArgument, "");
-  if (r->total() == 3) {  // A rotation vector (Rodrigues), as some tools write.
-    const Eigen::Vector3d rv(r->at<double>(0), r->at<double>(1), r->at<double>(2));
+  if (r->size() == 3) {  // A rotation vector (Rodrigues), as some tools write.
+    const Eigen::Vector3d rv((*r)(0), (*r)(1), (*r)(2));
     const double angle = rv.norm();
     rm = angle < 1e-15 ? Eigen::Matrix3d::Identity()
                        : Eigen::AngleAxisd(angle, rv / angle).toRotationMatrix();
@@ -207,16 +166,16 @@ Result<StereoCalibration> ParseOpenedCalibration(const std::vector<cv::FileStora
     rm = ToMatrix3(*r, "R", where);
   }
   if (!rm.ok()) return rm.error();
-  if (t->total() != 3) {
+  if (t->size() != 3) {
     return MakeError(ErrorCode::kInvalidArgument,
-                     where + ": T must have 3 elements, got " + std::to_string(t->total()));
+                     where + ": T must have 3 elements, got " + std::to_string(t->size()));
   }
 
   double unit_m = options.translation_unit_m;
   std::string unit_name;
-  cv::FileNode unit_node = FindNode(files, {"translation_unit"}, &unit_name);
-  if (!unit_node.empty()) {
-    const std::string unit = unit_node.isString() ? static_cast<std::string>(unit_node) : "";
+  const StorageNode* unit_node = FindNode(files, {"translation_unit"}, &unit_name);
+  if (unit_node != nullptr) {
+    const std::string unit = unit_node->IsString() ? unit_node->text : "";
     if (unit == "m") {
       unit_m = 1.0;
     } else if (unit == "mm") {
@@ -232,21 +191,30 @@ Result<StereoCalibration> ParseOpenedCalibration(const std::vector<cv::FileStora
   cal.left.distortion = *dv1;
   cal.right.distortion = *dv2;
   cal.right_R_left = *rm;
-  cal.right_t_left = Eigen::Vector3d(t->at<double>(0), t->at<double>(1), t->at<double>(2)) * unit_m;
+  cal.right_t_left = Eigen::Vector3d((*t)(0), (*t)(1), (*t)(2)) * unit_m;
 
   std::string size_name;
-  cv::FileNode w = FindNode(files, {"image_width"}, &size_name);
-  cv::FileNode h = FindNode(files, {"image_height"}, &size_name);
-  if (!w.empty() && !h.empty() && w.isInt() && h.isInt()) {
-    cal.image_width = static_cast<int>(w);
-    cal.image_height = static_cast<int>(h);
+  const StorageNode* w = FindNode(files, {"image_width"}, &size_name);
+  const StorageNode* h = FindNode(files, {"image_height"}, &size_name);
+  long long width = 0, height = 0;
+  auto in_range = [](long long v) { return v >= 0 && v <= 1000000; };
+  if (w != nullptr && h != nullptr && w->AsInt(&width) && h->AsInt(&height)) {
+    if (!in_range(width) || !in_range(height)) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       where + ": image_width and image_height must be in [0, 1000000]");
+    }
   } else {
-    cv::FileNode sz = FindNode(files, {"imageSize", "image_size"}, &size_name);
-    if (!sz.empty() && sz.isSeq() && sz.size() == 2) {
-      cal.image_width = static_cast<int>(sz[0]);
-      cal.image_height = static_cast<int>(sz[1]);
+    const StorageNode* sz = FindNode(files, {"imageSize", "image_size"}, &size_name);
+    if (sz != nullptr && sz->IsSeq() && sz->items.size() == 2) {
+      if (!sz->items[0].AsInt(&width) || !sz->items[1].AsInt(&height) || !in_range(width) ||
+          !in_range(height)) {
+        return MakeError(ErrorCode::kInvalidArgument,
+                         where + ": " + size_name + " must be [width, height] in [0, 1000000]");
+      }
     }
   }
+  cal.image_width = static_cast<int>(width);
+  cal.image_height = static_cast<int>(height);
   Status valid = ValidateStereoCalibration(cal, where, options);
   if (!valid.ok()) return valid.error();
   return cal;
@@ -260,43 +228,20 @@ Result<StereoCalibration> ReadStereoCalibration(const std::vector<std::string>& 
     return MakeError(ErrorCode::kInvalidArgument, "no stereo calibration file given");
   }
   std::string where;
-  std::vector<cv::FileStorage> files;
+  std::vector<StorageNode> files;
   for (const std::string& path : paths) {
     where += (where.empty() ? "" : "+") + path;
-    if (!FileExists(path)) return MakeError(ErrorCode::kNotFound, path + ": no such file");
-    // Calibration files are a few kilobytes. OpenCV's YAML parser never returns on some
-    // malformed files (found by fuzzing: a "%" directive line after the first line, then a
-    // line starting with "--"); a directive may only open the file, so such files are refused.
-    Result<std::uint64_t> size = CheckInputFile(path, kMaxCalibrationFileBytes);
-    if (!size.ok()) return size.error();
-    Result<std::string> text = ReadFileHead(path, kMaxCalibrationFileBytes);
-    if (!text.ok()) return text.error();
-    if (text->find("\n%") != std::string::npos) {
+    // Calibration files are a few kilobytes. They are parsed by hpose's own reader: OpenCV's
+    // parsers hang or allocate without bound on some malformed files (found by fuzzing).
+    Result<StorageNode> file = ReadStorageFile(path, kMaxCalibrationFileBytes);
+    if (!file.ok()) return file.error();
+    if (!file->IsMap()) {
       return MakeError(ErrorCode::kDataLoss,
-                       path +
-                           ": a \"%\" directive after the first line; not an OpenCV "
-                           "calibration file (YAML/XML FileStorage)");
+                       path + ": malformed calibration file: it holds no named entries");
     }
-    cv::FileStorage fs;
-    try {
-      fs.open(path, cv::FileStorage::READ);
-    } catch (const std::exception& e) {  // cv::Exception, and std::length_error on some input.
-      return MakeError(ErrorCode::kDataLoss,
-                       path + ": not an OpenCV calibration file (YAML/XML FileStorage)");
-    }
-    if (!fs.isOpened()) {
-      return MakeError(ErrorCode::kDataLoss,
-                       path + ": not an OpenCV calibration file (YAML/XML FileStorage)");
-    }
-    files.push_back(std::move(fs));
+    files.push_back(std::move(*file));
   }
-
-  try {
-    return ParseOpenedCalibration(files, where, options);
-  } catch (const std::exception& e) {  // cv::Exception from FileNode access on a malformed tree.
-    return MakeError(ErrorCode::kDataLoss, where + ": malformed calibration file (" +
-                                               std::string(e.what()).substr(0, 200) + ")");
-  }
+  return ParseCalibration(files, where, options);
 }
 
 Status WriteStereoCalibration(const StereoCalibration& calibration, const std::string& path,

@@ -42,7 +42,7 @@ struct StereoCalibrationReadOptions {
   double max_baseline_m = 2.0;
 };
 
-// Reads an OpenCV stereo calibration written with cv::FileStorage (YAML or XML, as the
+// Reads an OpenCV stereo calibration written with cv::FileStorage (YAML, XML or JSON, as the
 // stereo_calib sample and most calibration tools produce). `paths` may hold one file with
 // everything or two (intrinsics + extrinsics) that are merged. Accepted names:
 //   left camera matrix  M1 | K1 | cameraMatrix1 | camera_matrix_left | cameraMatrixL

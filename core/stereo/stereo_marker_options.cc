@@ -1,12 +1,10 @@
 #include "core/stereo/stereo_marker_options.h"
 
-#include <sys/stat.h>
-
 #include <cmath>
+#include <limits>
 #include <set>
 
-#include <opencv2/core.hpp>
-
+#include "core/io/storage_reader.h"
 #include "core/stereo/rigid_fit.h"
 
 namespace hpose {
@@ -84,87 +82,94 @@ Status ValidateStereoMarkerOptions(const StereoMarkerOptions& o) {
   return Status::Ok();
 }
 
+namespace {
+
+Result<StereoMarkerOptions> ValidatedOrError(const StereoMarkerOptions& o,
+                                             const std::string& path) {
+  Status s = ValidateStereoMarkerOptions(o);
+  if (!s.ok()) return MakeError(s.error().code, path + ": " + s.error().message);
+  return o;
+}
+
+}  // namespace
+
 Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path) {
-  struct stat st {};
-  if (stat(path.c_str(), &st) != 0) return MakeError(ErrorCode::kNotFound, path + ": no such file");
-  cv::FileStorage fs;
-  try {
-    fs.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception&) {
-  }
-  if (!fs.isOpened()) {
-    return MakeError(ErrorCode::kDataLoss, path + ": not a YAML/XML (OpenCV FileStorage) file");
+  Result<StorageNode> file = ReadStorageFile(path, std::uint64_t{1} << 20);
+  if (!file.ok()) return file.error();
+  if (file->kind == StorageNode::Kind::kNone) return ValidatedOrError(StereoMarkerOptions{}, path);
+  if (!file->IsMap()) {
+    return MakeError(ErrorCode::kDataLoss, path + ": holds no named options (key: value)");
   }
   StereoMarkerOptions o;
   auto fail = [&](const std::string& key, const std::string& what) {
     return MakeError(ErrorCode::kInvalidArgument, path + ": " + key + ": " + what);
   };
-  auto number = [](const cv::FileNode& n, double* out) {
-    if (!n.isReal() && !n.isInt()) return false;
-    *out = static_cast<double>(n);
-    return std::isfinite(*out);
+  auto number = [](const StorageNode& n, double* out) {
+    return n.AsNumber(out) && std::isfinite(*out);
   };
-  auto color = [&](const cv::FileNode& n, HsvRange* out) {
-    if (!n.isSeq() || n.size() != 6) return false;
+  auto integer = [](const StorageNode& n, int* out) {
+    long long v = 0;
+    if (!n.AsInt(&v) || v < std::numeric_limits<int>::min() ||
+        v > std::numeric_limits<int>::max()) {
+      return false;
+    }
+    *out = static_cast<int>(v);
+    return true;
+  };
+  auto color = [&](const StorageNode& n, HsvRange* out) {
+    if (!n.IsSeq() || n.items.size() != 6) return false;
     double v[6];
     for (int i = 0; i < 6; ++i) {
-      if (!number(n[i], &v[i])) return false;
+      if (!number(n.items[i], &v[i])) return false;
     }
     *out = HsvRange{v[0], v[1], v[2], v[3], v[4], v[5]};
     return true;
   };
-  const cv::FileNode root = fs.root();
-  for (const cv::FileNode& node : root) {
-    const std::string key = node.name();
+  for (const auto& [key, node] : file->members) {
     double v = 0;
     if (key == "landmarks_world_m") {
-      cv::Mat m;
-      try {
-        node >> m;
-      } catch (const cv::Exception&) {
+      Result<Eigen::MatrixXd> m = StorageMatrix(node, path, key, 9);
+      if (!m.ok() || m->rows() != 3 || m->cols() != 3 || !m->allFinite()) {
+        return fail(key, "must be a 3x3 matrix of finite numbers, one row per landmark");
       }
-      if (m.rows != 3 || m.cols != 3)
-        return fail(key, "must be a 3x3 matrix, one row per landmark");
-      m.convertTo(m, CV_64F);
-      for (int r = 0; r < 3; ++r) {
-        o.landmarks_world_m[r] =
-            Eigen::Vector3d(m.at<double>(r, 0), m.at<double>(r, 1), m.at<double>(r, 2));
-      }
+      for (int r = 0; r < 3; ++r) o.landmarks_world_m[r] = m->row(r).transpose();
     } else if (key == "landmark_color") {
       if (!color(node, &o.landmark_color)) return fail(key, "must be a list of 6 numbers");
     } else if (key == "object_color") {
       if (!color(node, &o.object_color)) return fail(key, "must be a list of 6 numbers");
     } else if (key == "method") {
-      auto m = ParseRigidFitMethod(node.isString() ? static_cast<std::string>(node) : "");
+      auto m = ParseRigidFitMethod(node.IsString() ? node.text : "");
       if (!m.ok()) return fail(key, m.error().message);
       o.method = *m;
     } else if (key == "depth_weighted_fit") {
-      if (!node.isInt()) return fail(key, "must be 0 or 1");
-      o.depth_weighted_fit = static_cast<int>(node) != 0;
+      int flag = 0;
+      if (!integer(node, &flag) || (flag != 0 && flag != 1)) return fail(key, "must be 0 or 1");
+      o.depth_weighted_fit = flag != 0;
     } else if (key == "robot_region_m") {
-      HsvRange unused;
-      if (!node.isSeq() || node.size() != 4)
+      if (!node.IsSeq() || node.items.size() != 4)
         return fail(key, "must be [x_min, x_max, y_min, y_max]");
       double v4[4];
       for (int i = 0; i < 4; ++i) {
-        if (!number(node[i], &v4[i])) return fail(key, "must hold 4 finite numbers");
+        if (!number(node.items[i], &v4[i])) return fail(key, "must hold 4 finite numbers");
       }
-      (void)unused;
       o.robot_region_x_min_m = v4[0];
       o.robot_region_x_max_m = v4[1];
       o.robot_region_y_min_m = v4[2];
       o.robot_region_y_max_m = v4[3];
     } else if (key == "head_to_reference_m") {
-      if (!node.isSeq() || node.size() != 2 || !number(node[0], &o.head_to_reference_m.x()) ||
-          !number(node[1], &o.head_to_reference_m.y())) {
+      if (!node.IsSeq() || node.items.size() != 2 ||
+          !number(node.items[0], &o.head_to_reference_m.x()) ||
+          !number(node.items[1], &o.head_to_reference_m.y())) {
         return fail(key, "must be [x, y] in metres");
       }
     } else if (key == "min_blob_area_px") {
-      if (!node.isInt()) return fail(key, "must be an integer");
-      o.segmentation.min_blob_area_px = static_cast<int>(node);
+      if (!integer(node, &o.segmentation.min_blob_area_px)) {
+        return fail(key, "must be an integer");
+      }
     } else {
       double* target = key == "max_epipolar_error_px"     ? &o.max_epipolar_error_px
                        : key == "max_fit_rms_m"           ? &o.max_fit_rms_m
+                       : key == "fit_rms_sigmas"          ? &o.fit_rms_sigmas
                        : key == "ambiguity_ratio"         ? &o.ambiguity_ratio
                        : key == "min_triangle_sine"       ? &o.min_triangle_sine
                        : key == "min_camera_height_m"     ? &o.min_camera_height_m
@@ -180,6 +185,7 @@ Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path) {
                        : key == "max_landmark_area_ratio" ? &o.max_landmark_area_ratio
                        : key == "max_ball_area_factor"    ? &o.max_ball_area_factor
                        : key == "min_ball_fill"           ? &o.min_ball_fill
+                       : key == "max_ball_aspect"         ? &o.max_ball_aspect
                        : key == "max_ball_height_error_m" ? &o.max_ball_height_error_m
                                                           : nullptr;
       if (target == nullptr) return fail(key, "unknown key");
@@ -187,9 +193,7 @@ Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path) {
       *target = v;
     }
   }
-  Status s = ValidateStereoMarkerOptions(o);
-  if (!s.ok()) return MakeError(s.error().code, path + ": " + s.error().message);
-  return o;
+  return ValidatedOrError(o, path);
 }
 
 }  // namespace hpose

@@ -264,6 +264,75 @@ TEST(StereoMarkerOptionsTest, LandmarkAreaRatioFromTheOptionsFile) {
   std::filesystem::remove(path);
 }
 
+// Every kind of key, in YAML and in XML as OpenCV writes them, and a clear error for each
+// kind of wrong value.
+TEST(StereoMarkerOptionsTest, EveryKeyKindReadsFromYamlAndXml) {
+  const std::string base = (std::filesystem::temp_directory_path() /
+                            ("hpose_marker_options_" + std::to_string(::getpid())))
+                               .string();
+  const std::string yaml = base + ".yaml", xml = base + ".xml";
+  std::ofstream(yaml) << "%YAML:1.0\n---\n"
+                         "landmarks_world_m: !!opencv-matrix\n   rows: 3\n   cols: 3\n"
+                         "   dt: d\n   data: [ 0., 0., 0., 0.5, 0.9, 0., -0.5, 0.9, 0. ]\n"
+                         "landmark_color: [ 340, 20, 0.5, 1, 0.3, 1 ]\n"
+                         "method: closed_form\n"
+                         "depth_weighted_fit: 0\n"
+                         "robot_region_m: [ -2, 2, -3, 0.1 ]\n"
+                         "head_to_reference_m: [ 0.01, -0.02 ]\n"
+                         "min_blob_area_px: 12\n"
+                         "fit_rms_sigmas: 1.5\n"
+                         "max_ball_aspect: 1.6\n";
+  std::ofstream(xml) << "<?xml version=\"1.0\"?>\n<opencv_storage>\n"
+                        "<landmarks_world_m type_id=\"opencv-matrix\">\n  <rows>3</rows>\n"
+                        "  <cols>3</cols>\n  <dt>d</dt>\n  <data>\n"
+                        "    0. 0. 0. 0.5 0.9 0. -0.5 0.9 0.</data></landmarks_world_m>\n"
+                        "<landmark_color>\n  340 20 0.5 1 0.3 1</landmark_color>\n"
+                        "<method>closed_form</method>\n<depth_weighted_fit>0</depth_weighted_fit>\n"
+                        "<robot_region_m>\n  -2 2 -3 0.1</robot_region_m>\n"
+                        "<head_to_reference_m>\n  0.01 -0.02</head_to_reference_m>\n"
+                        "<min_blob_area_px>12</min_blob_area_px>\n"
+                        "<fit_rms_sigmas>1.5</fit_rms_sigmas>\n"
+                        "<max_ball_aspect>1.6</max_ball_aspect>\n</opencv_storage>\n";
+  for (const std::string& path : {yaml, xml}) {
+    Result<StereoMarkerOptions> o = LoadStereoMarkerOptions(path);
+    ASSERT_TRUE(o.ok()) << o.error().ToString();
+    EXPECT_EQ(o->landmarks_world_m[1], Eigen::Vector3d(0.5, 0.9, 0.0)) << path;
+    EXPECT_EQ(o->landmarks_world_m[2], Eigen::Vector3d(-0.5, 0.9, 0.0)) << path;
+    EXPECT_EQ(o->landmark_color.hue_min_deg, 340);
+    EXPECT_EQ(o->landmark_color.val_min, 0.3);
+    EXPECT_EQ(o->method, RigidFitMethod::kClosedForm);
+    EXPECT_FALSE(o->depth_weighted_fit);
+    EXPECT_EQ(o->robot_region_y_max_m, 0.1);
+    EXPECT_EQ(o->head_to_reference_m.y(), -0.02);
+    EXPECT_EQ(o->segmentation.min_blob_area_px, 12);
+    EXPECT_EQ(o->fit_rms_sigmas, 1.5);
+    EXPECT_EQ(o->max_ball_aspect, 1.6);
+  }
+  const std::pair<const char*, const char*> bad[] = {
+      {"landmark_color: [ 1, 2, 3 ]\n", "landmark_color: must be a list of 6 numbers"},
+      {"method: 3\n", "method:"},
+      {"depth_weighted_fit: 2\n", "depth_weighted_fit: must be 0 or 1"},
+      {"min_blob_area_px: 99999999999\n", "min_blob_area_px: must be an integer"},
+      {"landmarks_world_m: [ 1, 2, 3 ]\n", "landmarks_world_m: must be a 3x3 matrix"},
+      {"max_ball_aspect: .nan\n", "max_ball_aspect: must be a finite number"},
+      {"max_ball_aspect: \"2\"\n", "max_ball_aspect: must be a finite number"},
+      {"no_such_key: 1\n", "no_such_key: unknown key"},
+  };
+  for (const auto& [text, says] : bad) {
+    std::ofstream(yaml) << "%YAML:1.0\n" << text;
+    Result<StereoMarkerOptions> o = LoadStereoMarkerOptions(yaml);
+    ASSERT_FALSE(o.ok()) << text;
+    EXPECT_EQ(o.error().code, ErrorCode::kInvalidArgument) << text;
+    EXPECT_NE(o.error().message.find(says), std::string::npos) << o.error().message;
+  }
+  std::ofstream(yaml) << "%YAML:1.0\n- 1\n";
+  Result<StereoMarkerOptions> seq = LoadStereoMarkerOptions(yaml);
+  ASSERT_FALSE(seq.ok());
+  EXPECT_EQ(seq.error().code, ErrorCode::kDataLoss);
+  std::filesystem::remove(yaml);
+  std::filesystem::remove(xml);
+}
+
 TEST_F(StereoEstimatorTest, RejectsCollinearLandmarks) {
   // Discs laid out on a line, while the estimator expects the triangle.
   SimScene line = Scene(false);
