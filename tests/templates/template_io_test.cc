@@ -135,6 +135,40 @@ TEST_F(TemplateIoTest, NestedOrEndlessNodeDataIsDataLoss) {
 // A pruned *free* leaf near the root stands for 8^15 voxels: loading must not expand it (a
 // fuzzed file ran out of memory there). Root: child 0 an inner node, children 1-7 free leaves;
 // then a chain of inner nodes down to one occupied voxel at depth 16. 24 nodes in all.
+// One pruned occupied leaf at `depth` stands for 8^(16 - depth) voxels of 16 mm.
+std::string OnePrunedOccupiedLeaf(int depth) {
+  std::string out = "# Octomap OcTree binary file\nid OcTree\nsize " + std::to_string(depth + 1) +
+                    "\nres 0.016\ndata\n";
+  for (int d = 0; d < depth - 1; ++d) out += std::string("\x03\x00", 2);  // child 0 inner.
+  out += std::string("\x02\x00", 2);  // child 0 an occupied leaf.
+  return out;
+}
+
+// A fuzzed file held a leaf of two million voxels, and loading it took a minute under the
+// sanitizers; a million is the limit now, and what loads comes back in coordinate order.
+TEST_F(TemplateIoTest, LargePrunedLeavesLoadInOrderUpToTheLimit) {
+  std::ofstream(Path("two_million.bt"), std::ios::binary) << OnePrunedOccupiedLeaf(9);
+  const Result<VoxelTemplate> over = LoadTemplate(Path("two_million.bt"));
+  ASSERT_FALSE(over.ok());
+  EXPECT_EQ(over.error().code, ErrorCode::kOutOfRange);
+  EXPECT_NE(over.error().message.find("expands to 2097152 occupied voxels, more than the 1000000"),
+            std::string::npos)
+      << over.error().message;
+
+  std::ofstream(Path("block.bt"), std::ios::binary) << OnePrunedOccupiedLeaf(10);
+  const Result<VoxelTemplate> block = LoadTemplate(Path("block.bt"));
+  ASSERT_TRUE(block.ok()) << block.error().ToString();
+  ASSERT_EQ(block->voxels.size(), 262144u);  // 64^3
+  for (size_t i = 1; i < block->voxels.size(); ++i) {
+    const Eigen::Vector3f& a = block->voxels[i - 1];
+    const Eigen::Vector3f& b = block->voxels[i];
+    ASSERT_LT(std::tie(a.x(), a.y(), a.z()), std::tie(b.x(), b.y(), b.z())) << i;
+  }
+  const Eigen::Vector3f extent = block->voxels.back() - block->voxels.front();
+  EXPECT_NEAR(extent.x(), 63 * 0.016, 1e-4);
+  EXPECT_NEAR(extent.z(), 63 * 0.016, 1e-4);
+}
+
 TEST_F(TemplateIoTest, PrunedFreeLeavesAreNotExpanded) {
   {
     std::ofstream out(Path("free.bt"), std::ios::binary);
