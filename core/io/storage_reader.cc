@@ -224,17 +224,21 @@ class YamlParser {
     return key;
   }
 
+  // A tag such as "!!opencv-matrix" at pos_, without its "!"s; empty when there is none.
+  std::string ParseTag() {
+    if (Peek() != '!') return "";
+    const std::size_t begin = pos_;
+    while (!EndsToken(Peek())) ++pos_;
+    std::string tag(s_.substr(begin, pos_ - begin));
+    tag.erase(0, tag.find_first_not_of('!'));
+    return tag;
+  }
+
   // The value after "key:" or "- ": on the same line, or a block on the following lines.
   StorageNode ParseValueAfterIndicator(int indent, bool in_map, int depth) {
     while (IsSpace(Peek())) ++pos_;
-    std::string tag;
-    if (Peek() == '!') {
-      const std::size_t begin = pos_;
-      while (!EndsToken(Peek())) ++pos_;
-      tag = std::string(s_.substr(begin, pos_ - begin));
-      tag.erase(0, tag.find_first_not_of('!'));
-      while (IsSpace(Peek())) ++pos_;
-    }
+    const std::string tag = ParseTag();
+    while (IsSpace(Peek())) ++pos_;
     StorageNode node;
     if (AtEnd() || Peek() == '\n' || Peek() == '#') {
       const int line = lines_.LineOf(pos_);
@@ -386,14 +390,8 @@ class YamlParser {
 
   StorageNode ParseFlowValue(int depth) {
     SkipFlowSpace();
-    std::string tag;
-    if (Peek() == '!') {
-      const std::size_t begin = pos_;
-      while (!EndsToken(Peek())) ++pos_;
-      tag = std::string(s_.substr(begin, pos_ - begin));
-      tag.erase(0, tag.find_first_not_of('!'));
-      SkipFlowSpace();
-    }
+    const std::string tag = ParseTag();
+    SkipFlowSpace();
     StorageNode node;
     const char c = Peek();
     if (c == '[' || c == '{') {
