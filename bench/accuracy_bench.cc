@@ -219,6 +219,11 @@ std::vector<Variant> AllVariants() {
   EstimatorOptions column_bounds = DefaultEstimatorOptions();
   column_bounds.exact.swept_bounds = false;
   out.push_back({"column-bounds", column_bounds, true});
+  // Every proposed refinement step evaluated, however small (before the default stopped at a
+  // step below the convergence threshold).
+  EstimatorOptions tiny_steps = DefaultEstimatorOptions();
+  tiny_steps.refine.stop_at_tiny_step = false;
+  out.push_back({"tiny-steps", tiny_steps, true});
   // The refinement held within one voxel and 5 degrees of the lattice pose (8 steps), as before
   // the default became three voxels and 10 degrees (20 steps).
   EstimatorOptions narrow = DefaultEstimatorOptions();

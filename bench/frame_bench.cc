@@ -270,6 +270,10 @@ std::vector<Variant> ScatteredVariants() {
                  Exact(o);
                  o->heading_views.settle_min_step_m = 0.0;
                }});
+  v.push_back({"exact search, tiny steps evaluated (before)", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->refine.stop_at_tiny_step = false;
+               }});
   v.push_back({"exact search, no refinement", [](EstimatorOptions* o) {
                  Exact(o);
                  o->refine.enabled = false;

@@ -60,6 +60,7 @@ RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const 
   out.pose = start;
   Evaluator evaluate(model, obs, o);
   Linearisation lin = evaluate.At(start);
+  out.evaluations = 1;
   if (!o.enabled) {
     out.evidence = lin.evidence;
     return out;
@@ -71,6 +72,11 @@ RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const 
     for (int k = 0; k < 3; ++k) damped(k, k) += lambda * std::max(lin.h(k, k), 1e-9) + 1e-12;
     const Eigen::Vector3d step = damped.ldlt().solve(-lin.g);
     if (!step.allFinite()) break;
+    if (o.stop_at_tiny_step && std::hypot(step.x(), step.y()) < o.converged_shift_m &&
+        std::abs(step.z()) < o.converged_turn_rad) {
+      out.converged = true;
+      break;
+    }
     Pose2D next{out.pose.x + step.x(), out.pose.y + step.y(), out.pose.theta + step.z()};
     // Stay in the basin of the lattice optimum.
     Eigen::Vector2d shift(next.x - start.x, next.y - start.y);
@@ -88,6 +94,7 @@ RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const 
     // A trial costing more than this is rejected: its evaluation may stop as soon as it does.
     const double accept_below = lin.evidence.cost + 1e-9;
     Linearisation trial = evaluate.At(next, accept_below);
+    ++out.evaluations;
     if (trial.complete && trial.evidence.cost <= accept_below) {
       const double moved = std::hypot(next.x - out.pose.x, next.y - out.pose.y);
       const double turned = std::abs(AngleDiff(next.theta, out.pose.theta));
@@ -95,7 +102,7 @@ RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const 
       out.at_basin_limit = limited;
       lin = std::move(trial);
       lambda = std::max(1e-6, lambda * 0.3);
-      if (moved < 2e-4 && turned < 3.5e-4) {
+      if (moved < o.converged_shift_m && turned < o.converged_turn_rad) {
         out.converged = true;
         break;
       }

@@ -19,6 +19,14 @@ struct RefineOptions {
   // Damped Gauss-Newton steps at most (most refinements converge in 4-8; a start far from the
   // optimum takes up to ~15).
   int max_iterations = 20;
+  // Converged once an accepted step moves the pose by less than this (both).
+  double converged_shift_m = 2e-4;
+  double converged_turn_rad = 3.5e-4;
+  // A proposed step smaller than that ends the refinement without being evaluated (converged).
+  // Near the minimum the cost's noise rejects most full steps, and each rejection tried the
+  // pose again with ten times the damping, up to 10 evaluations whose steps shrank below a
+  // micrometre. false: every step is evaluated (before).
+  bool stop_at_tiny_step = true;
   // The refined pose stays within this of the lattice pose it starts from. Every accepted step
   // lowers the cost, so the refinement stays in the basin it starts in; the bound keeps it well
   // away from the runner-up heading (more than 30 degrees off). Three voxels and 10 degrees: at
@@ -103,6 +111,7 @@ struct RefinedPose {
   // Covariance of (x, y, theta) from the Gauss-Newton information matrix (m^2, rad^2).
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   int iterations = 0;
+  int evaluations = 0;  // of the objective: the start's and every trial step's.
   bool converged = false;
   bool at_basin_limit = false;  // it stopped at the max_shift_m / max_turn_rad bound.
   PoseEvidence evidence;        // at `pose`.

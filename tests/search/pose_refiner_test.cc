@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -431,6 +432,38 @@ TEST(PoseRefinerTest, RefinementEqualsTheReferenceRefinement) {
     }
   }
   EXPECT_EQ(refined, 9);
+}
+
+// Stopping at a step below the convergence threshold, instead of evaluating it (and, rejected,
+// evaluating ever more damped versions of it), lands within that threshold of where every step
+// evaluated lands, with fewer evaluations.
+TEST(PoseRefinerTest, StoppingAtATinyStepAgreesWithEvaluatingIt) {
+  const SurfaceModel model(ModelTemplate("standing"));
+  RefineOptions every_step;
+  every_step.stop_at_tiny_step = false;
+  int stopped = 0, evaluated = 0;
+  for (const double distance : {1.2, 2.4, 3.3}) {
+    for (const double theta_deg : {20.0, -120.0}) {
+      const Pose2D truth{distance, -0.05, DegToRad(theta_deg)};
+      const Scene s = MakeScene(truth, /*noise=*/true, /*seed=*/5, "standing", 0.34, 0.0, 2);
+      for (const Pose2D& start :
+           {Pose2D{truth.x + 0.012, truth.y - 0.010, truth.theta + DegToRad(3.0)},
+            Pose2D{truth.x - 0.03, truth.y + 0.02, truth.theta - DegToRad(6.0)}}) {
+        const RefinedPose fast = RefinePose(model, s.Obs(), start);
+        const RefinedPose full = RefinePose(model, s.Obs(), start, every_step);
+        EXPECT_TRUE(fast.converged) << distance << " " << theta_deg;
+        EXPECT_LT(PositionError(fast.pose, full.pose), 0.001) << distance << " " << theta_deg;
+        EXPECT_LT(ThetaErrorDeg(fast.pose, full.pose), 0.1) << distance << " " << theta_deg;
+        EXPECT_LE(fast.evaluations, full.evaluations) << distance << " " << theta_deg;
+        EXPECT_GE(fast.evaluations, 2);
+        stopped += fast.evaluations;
+        evaluated += full.evaluations;
+      }
+    }
+  }
+  std::cout << "objective evaluations: " << stopped << " stopping at a tiny step, " << evaluated
+            << " evaluating every step\n";
+  EXPECT_LT(stopped, evaluated);
 }
 
 }  // namespace
