@@ -155,6 +155,21 @@ class WebViewTest(unittest.TestCase):
         self.assertGreaterEqual(len(thetas), 2, "the heading shown never changed: %s" % thetas)
         self.assertGreater(max(thetas) - min(thetas), 20.0, sorted(thetas))
 
+        # Finished reading is not finished estimating: under the sanitizers the last frames are
+        # still being estimated when the source reports FINISHED, and the latest estimate then
+        # changes while the page is read. Wait until every frame read was published or dropped.
+        def settled():
+            with urllib.request.urlopen(self.http + "/metrics", timeout=10) as reply:
+                text = reply.read().decode()
+            count = {}
+            for name in ("received", "estimated", "dropped", "failed"):
+                found = re.search(r'^hposed_frames_%s_total\{source="depth"\} (\d+)$' % name,
+                                  text, re.MULTILINE)
+                count[name] = int(found.group(1)) if found else -1
+            return count["received"] == 12 and (
+                count["estimated"] + count["dropped"] + count["failed"] >= count["received"])
+        self.wait_for("every frame read to be estimated or dropped", settled, 120)
+
         # Finished: the last estimate stays; page, web JSON and GetLatest must agree on it.
         latest = grpc_latest(self.grpc)
         best = latest["depth_template"]["best"]["best"]
