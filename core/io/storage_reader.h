@@ -31,9 +31,13 @@ constexpr int kMaxStorageDepth = 32;
 // line and what is wrong.
 Result<StorageNode> ParseStorageText(std::string_view text, const std::string& origin);
 
+// Calibration and option files are a few kilobytes; this is the default limit of what is read.
+constexpr std::uint64_t kMaxStorageFileBytes = std::uint64_t{1} << 20;
+
 // Reads and parses a file of at most `max_bytes` (CheckInputFile's errors for a missing,
 // special or oversized file).
-Result<StorageNode> ReadStorageFile(const std::string& path, std::uint64_t max_bytes);
+Result<StorageNode> ReadStorageFile(const std::string& path,
+                                    std::uint64_t max_bytes = kMaxStorageFileBytes);
 
 // A matrix entry: an opencv-matrix map (rows, cols, dt, data with rows x cols numbers, one
 // channel) or a plain sequence of numbers, read as one row. At most `max_values` values; they

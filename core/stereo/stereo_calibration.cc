@@ -1,8 +1,6 @@
 #include "core/stereo/stereo_calibration.h"
 
 #include <cmath>
-#include <cstdio>
-#include <exception>
 #include <initializer_list>
 #include <sstream>
 
@@ -12,8 +10,6 @@
 
 namespace hpose {
 namespace {
-
-constexpr std::uint64_t kMaxCalibrationFileBytes = std::uint64_t{1} << 20;
 
 // Finds the first of `names` present in any of the files.
 const StorageNode* FindNode(const std::vector<StorageNode>& files,
@@ -233,7 +229,7 @@ Result<StereoCalibration> ReadStereoCalibration(const std::vector<std::string>& 
     where += (where.empty() ? "" : "+") + path;
     // Calibration files are a few kilobytes. They are parsed by hpose's own reader: OpenCV's
     // parsers hang or allocate without bound on some malformed files (found by fuzzing).
-    Result<StorageNode> file = ReadStorageFile(path, kMaxCalibrationFileBytes);
+    Result<StorageNode> file = ReadStorageFile(path);
     if (!file.ok()) return file.error();
     if (!file->IsMap()) {
       return MakeError(ErrorCode::kDataLoss,

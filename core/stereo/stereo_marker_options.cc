@@ -94,7 +94,7 @@ Result<StereoMarkerOptions> ValidatedOrError(const StereoMarkerOptions& o,
 }  // namespace
 
 Result<StereoMarkerOptions> LoadStereoMarkerOptions(const std::string& path) {
-  Result<StorageNode> file = ReadStorageFile(path, std::uint64_t{1} << 20);
+  Result<StorageNode> file = ReadStorageFile(path);
   if (!file.ok()) return file.error();
   if (file->kind == StorageNode::Kind::kNone) return ValidatedOrError(StereoMarkerOptions{}, path);
   if (!file->IsMap()) {
