@@ -15,10 +15,14 @@
 // half its time); `reference-refine` is the default with the refinement's objective evaluated
 // the direct way (RefineOptions::reference_evaluation: same results, slower); `coarse-lattice`
 // is the default searching a 2 degree, 8 mm lattice; `fits-only` lets the refined fits alone
-// choose between a heading and its runner-up (no depth image comparison); `quick-views` settles
-// the compared poses in 5 rounds instead of 10; `dense-refine` refines on up to 2000 cluster
-// points; `narrow-basin` holds the refinement within 24 mm and 5 degrees of the lattice pose in
-// up to 8 steps (the default before it became 48 mm, 10 degrees, 20 steps);
+// choose between a heading and its runner-up (no depth image comparison); `pattern-settle`
+// settles the compared poses by the pattern search instead of Gauss-Newton steps (before);
+// `polished-settle` follows the Gauss-Newton steps with the pattern search's 1 mm steps;
+// `tenfold-retry` retries a rejected refinement step at ten times the damping, however small
+// (before); `settle-retry-before` is both (the default before either changed);
+// `quick-views` settles them in 5 rounds of the pattern search; `dense-refine` refines on up to
+// 2000 cluster points; `narrow-basin` holds the refinement within 24 mm and 5 degrees of the
+// lattice pose in up to 8 steps (the default before it became 48 mm, 10 degrees, 20 steps);
 // `spatial-association` matches each cluster point with the template point nearest in space,
 // takes the heading's derivative at the cluster point and gives an undecided heading as the
 // refined fits lean (the defaults before noise-aware association, the noise-free arm and
@@ -207,11 +211,23 @@ std::vector<Variant> AllVariants() {
   out.push_back({"default", DefaultEstimatorOptions(), true});
   // The depth images' comparison with a shorter settle (5 rounds of the pattern search).
   EstimatorOptions quick_views = DefaultEstimatorOptions();
+  quick_views.heading_views.settle_by_gauss_newton = false;
   quick_views.heading_views.settle_rounds = 5;
   out.push_back({"quick-views", quick_views, true});
-  // The settle's pattern search run for all its rounds, down to steps of 16 microns (before the
-  // default stopped it at 1 mm steps).
+  // The compared poses settled by the pattern search (before the default settled them by
+  // Gauss-Newton steps).
+  EstimatorOptions pattern_settle = DefaultEstimatorOptions();
+  pattern_settle.heading_views.settle_by_gauss_newton = false;
+  out.push_back({"pattern-settle", pattern_settle, true});
+  // The compared poses settled by Gauss-Newton steps, then polished by the pattern search's
+  // 1 mm steps.
+  EstimatorOptions polished = DefaultEstimatorOptions();
+  polished.heading_views.settle_polish_step_m = 0.001;
+  out.push_back({"polished-settle", polished, true});
+  // The settle's pattern search run for all its rounds, down to steps of 16 microns (before it
+  // stopped at 1 mm steps).
   EstimatorOptions full_settle = DefaultEstimatorOptions();
+  full_settle.heading_views.settle_by_gauss_newton = false;
   full_settle.heading_views.settle_min_step_m = 0.0;
   out.push_back({"full-settle", full_settle, true});
   // The exact search with the column bounds only (before the swept cell bounds): the same
@@ -224,6 +240,15 @@ std::vector<Variant> AllVariants() {
   EstimatorOptions tiny_steps = DefaultEstimatorOptions();
   tiny_steps.refine.stop_at_tiny_step = false;
   out.push_back({"tiny-steps", tiny_steps, true});
+  // A rejected refinement step retried at ten times the damping however small it was (before
+  // the retries started where the step is about halved).
+  EstimatorOptions tenfold = DefaultEstimatorOptions();
+  tenfold.refine.min_retry_damping = 0.0;
+  out.push_back({"tenfold-retry", tenfold, true});
+  // Both of the above as before: the pattern search's settle and tenfold retries.
+  EstimatorOptions settle_retry = pattern_settle;
+  settle_retry.refine.min_retry_damping = 0.0;
+  out.push_back({"settle-retry-before", settle_retry, true});
   // The refinement held within one voxel and 5 degrees of the lattice pose (8 steps), as before
   // the default became three voxels and 10 degrees (20 steps).
   EstimatorOptions narrow = DefaultEstimatorOptions();

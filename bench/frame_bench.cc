@@ -266,13 +266,27 @@ std::vector<Variant> ScatteredVariants() {
                  Exact(o);
                  o->heading_views.enabled = false;
                }});
-  v.push_back({"exact search, full settle (before)", [](EstimatorOptions* o) {
+  v.push_back({"exact search, pattern-search settle (before)", [](EstimatorOptions* o) {
                  Exact(o);
+                 o->heading_views.settle_by_gauss_newton = false;
+               }});
+  v.push_back({"exact search, full settle", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->heading_views.settle_by_gauss_newton = false;
                  o->heading_views.settle_min_step_m = 0.0;
                }});
   v.push_back({"exact search, tiny steps evaluated (before)", [](EstimatorOptions* o) {
                  Exact(o);
                  o->refine.stop_at_tiny_step = false;
+               }});
+  v.push_back({"exact search, tenfold retries (before)", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->refine.min_retry_damping = 0.0;
+               }});
+  v.push_back({"exact search, both before", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->refine.min_retry_damping = 0.0;
+                 o->heading_views.settle_by_gauss_newton = false;
                }});
   v.push_back({"exact search, no refinement", [](EstimatorOptions* o) {
                  Exact(o);

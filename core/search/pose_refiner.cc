@@ -107,7 +107,9 @@ RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const 
         break;
       }
     } else {
-      lambda *= 10.0;
+      // At a small damping ten times as much proposes almost the same step again (rejected
+      // again): start the retries where the step is about halved.
+      lambda = std::max(lambda * 10.0, o.min_retry_damping);
       if (lambda > 1e4) {
         out.converged = true;  // no descent left: a minimum within the basin.
         break;

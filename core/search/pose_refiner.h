@@ -27,6 +27,11 @@ struct RefineOptions {
   // pose again with ten times the damping, up to 10 evaluations whose steps shrank below a
   // micrometre. false: every step is evaluated (before).
   bool stop_at_tiny_step = true;
+  // A rejected step is tried again with ten times the damping, and at least this much: 1 about
+  // halves the step (the damping adds that multiple of the information's diagonal). At the
+  // damping of an accepted step (1e-3 and less) ten times as much proposed almost the same step
+  // again, rejected again: a third of all evaluations. 0: ten times, whatever it was (before).
+  double min_retry_damping = 1.0;
   // The refined pose stays within this of the lattice pose it starts from. Every accepted step
   // lowers the cost, so the refinement stays in the basin it starts in; the bound keeps it well
   // away from the runner-up heading (more than 30 degrees off). Three voxels and 10 degrees: at

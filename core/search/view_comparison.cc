@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -112,6 +113,19 @@ double ExpectedDepth(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const E
   return std::clamp(n.dot(p) / nq, p.z() - reach, p.z() + reach);
 }
 
+// The derivative of ExpectedDepth(p, n, ray, reach) with respect to the pose (x, y, theta), given
+// those of p and n (columns: x, y, theta), by the same cases.
+Eigen::Vector3d ExpectedDepthGradient(const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                                      const Eigen::Matrix3d& dp, const Eigen::Matrix3d& dn,
+                                      const Eigen::Vector3d& ray, double reach) {
+  const double nq = n.dot(ray);
+  if (std::abs(nq) < 0.2 * ray.norm()) return dp.row(2).transpose();
+  const double z = n.dot(p) / nq;
+  if (z < p.z() - reach || z > p.z() + reach) return dp.row(2).transpose();  // clamped.
+  const Eigen::Vector3d dnp = dn.transpose() * p + dp.transpose() * n;
+  return (dnp - z * (dn.transpose() * ray)) / nq;
+}
+
 double ExpectedDepth(const PlacedSurface& s, int i, const Eigen::Vector3d& ray, double reach) {
   return ExpectedDepth(s.points[i], s.Normal(i), ray, reach);
 }
@@ -123,6 +137,20 @@ struct ObservedRay {
   Eigen::Vector3d ray;
   double depth = 0.0, var = 0.0;
   bool foreground = false;
+};
+
+// A ray's covering point at a pose: its index in the template, its position and normal (sensor
+// frame) and the ray's depth residual there.
+struct CoveredRay {
+  int index = -1;
+  Eigen::Vector3d p, n;
+  double residual = 0.0;
+};
+
+// Gauss-Newton normal equations of (x, y, theta).
+struct NormalEquations {
+  Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
 };
 
 // What the rays cost a pose, ray by ray: a truncated Gaussian of the depth residual where the
@@ -145,26 +173,78 @@ class RayCosts {
 
   std::vector<double> PerRay(const Pose2D& pose) const {
     std::vector<double> cost(rays_.size());
-    ForEachRay(pose, [&](size_t k, double c) { cost[k] = c; });
+    ForEachRay(pose, [&](size_t k, double c, const CoveredRay*) { cost[k] = c; });
     return cost;
   }
 
   // Poses evaluated so far (PerRay and Total calls).
   int evaluations() const { return evaluations_; }
 
-  double Total(const Pose2D& pose) const {
+  // The total cost at `pose`; with `lin`, also its Gauss-Newton normal equations.
+  double Total(const Pose2D& pose, NormalEquations* lin = nullptr) const {
     double sum = 0.0;
-    ForEachRay(pose, [&](size_t, double c) { sum += c; });
+    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    ForEachRay(pose, [&](size_t k, double cost, const CoveredRay* hit) {
+      sum += cost;
+      if (lin != nullptr && hit != nullptr) AddTerm(rays_[k], *hit, c, s, lin);
+    });
     return sum;
   }
 
+  // The pose of least total cost near `start` by Gauss-Newton steps on the depth residuals
+  // (their derivatives through the expected depth of each covered ray), each kept within the
+  // options' bounds around `start` and taken only when it lowers the cost. A step that does not
+  // is halved; a second refusal ends the settle: the z-buffer makes the cost piecewise, and
+  // below a millimetre its steps are noise.
+  std::pair<Pose2D, double> SettleByGaussNewton(const Pose2D& start,
+                                                const ViewComparisonOptions& o) const {
+    NormalEquations lin;
+    double cost = Total(start, &lin);
+    Pose2D pose = start;
+    int refused = 0;
+    double scale = 1.0;
+    for (int it = 0; it < o.settle_rounds && refused < 2; ++it) {
+      Eigen::Matrix3d damped = lin.h;
+      for (int k = 0; k < 3; ++k) damped(k, k) += 1e-3 * std::max(lin.h(k, k), 1e-9) + 1e-12;
+      const Eigen::Vector3d step = scale * damped.ldlt().solve(-lin.g);
+      if (!step.allFinite()) break;
+      if (std::hypot(step.x(), step.y()) < o.settle_converged_m &&
+          std::abs(step.z()) < o.settle_converged_rad) {
+        break;
+      }
+      Eigen::Vector2d shift(pose.x + step.x() - start.x, pose.y + step.y() - start.y);
+      if (shift.norm() > o.settle_shift_m) shift *= o.settle_shift_m / shift.norm();
+      const double turn = std::clamp(AngleDiff(pose.theta + step.z(), start.theta),
+                                     -o.settle_turn_rad, o.settle_turn_rad);
+      const Pose2D next{start.x + shift.x(), start.y + shift.y(),
+                        NormalizeAngle(start.theta + turn)};
+      NormalEquations trial;
+      const double trial_cost = Total(next, &trial);
+      if (trial_cost < cost) {
+        pose = next;
+        cost = trial_cost;
+        lin = trial;
+        refused = 0;
+        scale = 1.0;
+      } else {
+        ++refused;
+        scale *= 0.5;
+      }
+    }
+    return {pose, cost};
+  }
+
   // The pose of least total cost near `start` (pattern search on x, y, theta within the
-  // options' bounds): each pose is judged where it fits the depth image best, so the comparison
-  // tells shapes apart rather than how well two refinements happened to place them.
-  Pose2D Settle(const Pose2D& start, const ViewComparisonOptions& o) const {
+  // options' bounds around `start`): each pose is judged where it fits the depth image best, so
+  // the comparison tells shapes apart rather than how well two refinements happened to place
+  // them. The search begins at `from` (cost `from_cost` when known, else NaN) with shift steps
+  // of `first_step_m` (the turn steps in proportion).
+  Pose2D SettleByPatternSearch(const Pose2D& start, const Pose2D& from, double from_cost,
+                               double first_step_m, const ViewComparisonOptions& o) const {
     // Costs of the poses tried so far: a step back to where the search came from (the other
     // sign of the step it just took) is looked up, not evaluated again.
     std::vector<std::pair<Pose2D, double>> tried;
+    if (!std::isnan(from_cost)) tried.emplace_back(from, from_cost);
     const auto cost = [&](const Pose2D& p) {
       for (const auto& [q, c] : tried) {
         if (q.x == p.x && q.y == p.y && q.theta == p.theta) return c;
@@ -172,9 +252,9 @@ class RayCosts {
       tried.emplace_back(p, Total(p));
       return tried.back().second;
     };
-    Pose2D best = start;
+    Pose2D best = from;
     double best_cost = cost(best);
-    double step_m = 0.5 * o.settle_shift_m, step_rad = 0.5 * o.settle_turn_rad;
+    double step_m = first_step_m, step_rad = first_step_m * o.settle_turn_rad / o.settle_shift_m;
     for (int round = 0; round < o.settle_rounds; ++round) {
       bool moved = false;
       for (int dim = 0; dim < 3; ++dim) {
@@ -205,18 +285,43 @@ class RayCosts {
   }
 
  private:
-  // The cost of ray r where the pose's nearest surface point along it is p with normal n.
-  double CoveredCost(const ObservedRay& r, const Eigen::Vector3d& p,
-                     const Eigen::Vector3d& n) const {
-    const double e = r.depth - ExpectedDepth(p, n, r.ray, 3.0 * grid_.bin() * r.depth) -
-                     bias_ * std::sqrt(r.var);
+  // The depth residual of ray r where the pose's nearest surface point along it is p with
+  // normal n (the return's depth less the expected one and the returns' bias), and its cost.
+  double Residual(const ObservedRay& r, const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
+    return r.depth - ExpectedDepth(p, n, r.ray, 3.0 * grid_.bin() * r.depth) -
+           bias_ * std::sqrt(r.var);
+  }
+  double CoveredCost(const ObservedRay& r, double e) const {
     return 0.5 * std::min(e * e / r.var, t_max_);
   }
   double UncoveredCost(const ObservedRay& r) const { return r.foreground ? 0.5 * t_max_ : 0.0; }
 
-  // Calls f(k, cost of ray k) for every ray in order: from the projector's z-buffer, or with
-  // the reference's placement and z-buffer over the rays' grid (RefineOptions::
-  // reference_evaluation). Both give the same winners and the same arithmetic.
+  // Adds covered ray r's term to the Gauss-Newton normal equations of the pose (c, s): cos and
+  // sin of its heading) where it is not truncated (beyond, the cost is flat).
+  void AddTerm(const ObservedRay& r, const CoveredRay& hit, double c, double s,
+               NormalEquations* lin) const {
+    if (!(hit.residual * hit.residual < t_max_ * r.var)) return;
+    const Eigen::Matrix3d a = obs_.sensor_from_ground.linear();
+    const Eigen::Vector3d m_rot =
+        refine_terms::RotateZ(c, s,
+                              Eigen::Vector3d(projector_.mx(hit.index), projector_.my(hit.index),
+                                              projector_.mz(hit.index)));
+    const Eigen::Vector3d n_rot =
+        refine_terms::RotateZ(c, s, model_.normals()[hit.index].cast<double>());
+    Eigen::Matrix3d dp, dn;
+    dp << a.col(0), a.col(1), a * Eigen::Vector3d(-m_rot.y(), m_rot.x(), 0.0);
+    dn << Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+        a * Eigen::Vector3d(-n_rot.y(), n_rot.x(), 0.0);
+    // d(residual) = -d(expected depth).
+    const Eigen::Vector3d j =
+        -ExpectedDepthGradient(hit.p, hit.n, dp, dn, r.ray, 3.0 * grid_.bin() * r.depth);
+    lin->h += j * j.transpose() / r.var;
+    lin->g += j * hit.residual / r.var;
+  }
+
+  // Calls f(k, cost of ray k, its covering point or nullptr) for every ray in order: from the
+  // projector's z-buffer, or with the reference's placement and z-buffer over the rays' grid
+  // (RefineOptions::reference_evaluation). Both give the same winners and the same arithmetic.
   template <typename F>
   void ForEachRay(const Pose2D& pose, F f) const {
     ++evaluations_;
@@ -226,7 +331,13 @@ class RayCosts {
       for (size_t k = 0; k < rays_.size(); ++k) {
         const ObservedRay& r = rays_[k];
         const int w = winner[r.cell];
-        f(k, w < 0 ? UncoveredCost(r) : CoveredCost(r, s.points[w], s.Normal(w)));
+        if (w < 0) {
+          f(k, UncoveredCost(r), nullptr);
+          continue;
+        }
+        CoveredRay hit{w, s.points[w], s.Normal(w), 0.0};
+        hit.residual = Residual(r, hit.p, hit.n);
+        f(k, CoveredCost(r, hit.residual), &hit);
       }
       return;
     }
@@ -243,12 +354,15 @@ class RayCosts {
       const int i =
           bx >= 0 && by >= 0 && bx < w && by < h ? winner[static_cast<size_t>(by) * w + bx] : -1;
       if (i < 0) {
-        f(k, UncoveredCost(r));
+        f(k, UncoveredCost(r), nullptr);
         continue;
       }
-      Eigen::Vector3d p;
-      view.Apply(projector_.mx(i), projector_.my(i), projector_.mz(i), &p.x(), &p.y(), &p.z());
-      f(k, CoveredCost(r, p, PlacedSurface::SensorNormal(a, c, s, model_.normals()[i])));
+      CoveredRay hit{i, Eigen::Vector3d::Zero(),
+                     PlacedSurface::SensorNormal(a, c, s, model_.normals()[i]), 0.0};
+      view.Apply(projector_.mx(i), projector_.my(i), projector_.mz(i), &hit.p.x(), &hit.p.y(),
+                 &hit.p.z());
+      hit.residual = Residual(r, hit.p, hit.n);
+      f(k, CoveredCost(r, hit.residual), &hit);
     }
   }
 
@@ -317,11 +431,23 @@ ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, c
   out.rays = static_cast<int>(rays.size());
   const RayCosts costs(model, obs, grid, std::move(rays), options.max_squared_residual, bias,
                        noise.reference_evaluation);
-  const Pose2D pa = options.settle_rounds > 0 ? costs.Settle(a, options) : a;
-  const Pose2D pb = options.settle_rounds > 0 ? costs.Settle(b, options) : b;
+  const auto settle = [&](const Pose2D& p) {
+    if (options.settle_rounds <= 0) return p;
+    if (!options.settle_by_gauss_newton) {
+      return costs.SettleByPatternSearch(p, p, std::numeric_limits<double>::quiet_NaN(),
+                                         0.5 * options.settle_shift_m, options);
+    }
+    const auto [pose, cost] = costs.SettleByGaussNewton(p, options);
+    if (!(options.settle_polish_step_m > 0.0)) return pose;
+    return costs.SettleByPatternSearch(p, pose, cost, options.settle_polish_step_m, options);
+  };
+  const Pose2D pa = settle(a);
+  const Pose2D pb = settle(b);
   const std::vector<double> ca = costs.PerRay(pa), cb = costs.PerRay(pb);
   double sum = 0.0, sum2 = 0.0;
   for (size_t i = 0; i < ca.size(); ++i) {
+    out.cost_a += ca[i];
+    out.cost_b += cb[i];
     const double diff = cb[i] - ca[i];
     sum += diff;
     sum2 += diff * diff;

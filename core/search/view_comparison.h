@@ -31,8 +31,10 @@ struct ViewComparison {
   double log_likelihood_ratio = 0.0;
   // Standard error of that sum, from the paired per-ray differences (nats).
   double sigma = 0.0;
-  // Where each pose fits the depth image best near where it was given (the poses compared).
+  // Where each pose fits the depth image best near where it was given (the poses compared),
+  // and what the rays cost each there (nats).
   Pose2D settled_a, settled_b;
+  double cost_a = 0.0, cost_b = 0.0;
   // Expected depth images computed: the settles' trials and the two compared.
   int evaluations = 0;
 
@@ -54,12 +56,25 @@ struct ViewComparisonOptions {
   // way more often than not (docs/BENCHMARKS.md).
   bool undecided_follow_ratio = true;
   // Before comparing, each pose settles where the depth image fits it best within this of where
-  // it was given (pattern search, `settle_rounds` rounds): refinements on the cluster place
+  // it was given (`settle_rounds` steps or rounds at most): refinements on the cluster place
   // two headings a few millimetres apart, which at 1 m weighs more than a foot pointing the
   // other way. 0 rounds: compared where given.
   double settle_shift_m = 0.008;
   double settle_turn_rad = 2.0 * kPi / 180.0;
   int settle_rounds = 10;
+  // How: damped Gauss-Newton steps on the rays' depth residuals (true), each taken only when it
+  // lowers the cost, until a proposed step is below settle_converged_m and
+  // settle_converged_rad; or a pattern search over x, y and theta (false, before: about 27
+  // expected depth images per pose against 4-6).
+  bool settle_by_gauss_newton = true;
+  double settle_converged_m = 2.5e-4;
+  double settle_converged_rad = 1e-3;
+  // After the Gauss-Newton steps, a pattern search from where they ended with shift steps of
+  // this (turn steps in proportion), down to settle_min_step_m: it also weighs the returns a
+  // pose leaves uncovered, which the steps do not follow. 0: none (the default; with 1 mm it
+  // cost three times the expected depth images for no measurable gain in front/back decisions,
+  // docs/BENCHMARKS.md).
+  double settle_polish_step_m = 0.0;
   // The pattern search halves its steps after a round without a move and stops once the shift
   // step falls below this (the turn step halves with it: 1 mm with 0.25 deg by default). Finer
   // steps moved a pose by less than a millimetre, a tenth of the Kinect's depth noise at 1 m,
