@@ -2,7 +2,8 @@
 """Per-stage profile of an hpose benchmark from `perf script` output.
 
 Each sample is charged to the innermost estimator stage on its call stack (depth to cloud,
-floor fit, clustering, range image, cluster voxels, free-space cells, pose search, refinement);
+floor fit, clustering, range image, cluster voxels, free-space cells, pose search, refinement,
+the view comparison of the refinement);
 within a stage the leaf functions are ranked by samples. Usage:
 
   perf record -F 2000 --call-graph dwarf,16384 -o frame.data -- \
@@ -25,6 +26,7 @@ STAGES = [
     ("cluster voxels", re.compile(r"^hpose::VoxeliseCluster\b")),
     ("free-space cells", re.compile(r"^hpose::FreeSpaceCells\b")),
     ("refinement", re.compile(r"^hpose::(RefinePose|EvaluatePose)\b")),
+    ("view comparison (refinement)", re.compile(r"^hpose::CompareViews\b")),
     ("pose search", re.compile(r"^hpose::\w+Search::Search\b")),
     ("scorer setup", re.compile(r"^hpose::MakePoseScorer\b")),
     ("frame simulation (bench setup)", re.compile(r"^hpose::SimulateFrame\b")),
