@@ -20,11 +20,11 @@
 // `polished-settle` follows the Gauss-Newton steps with the pattern search's 1 mm steps;
 // `tenfold-retry` retries a rejected refinement step at ten times the damping, however small
 // (before); `settle-retry-before` is both (the default before either changed);
-// `quick-views` settles them in 5 rounds of the pattern search; `dense-refine` refines on up to
-// 2000 cluster points; `narrow-basin` holds the refinement within 24 mm and 5 degrees of the
-// lattice pose in up to 8 steps (the default before it became 48 mm, 10 degrees, 20 steps);
-// `spatial-association` matches each cluster point with the template point nearest in space,
-// takes the heading's derivative at the cluster point and gives an undecided heading as the
+// `quick-views` settles the compared poses in 5 rounds of the pattern search; `dense-refine`
+// refines on up to 2000 cluster points; `narrow-basin` holds the refinement within 24 mm and 5
+// degrees of the lattice pose in up to 8 steps (the default before it became 48 mm, 10 degrees, 20
+// steps); `spatial-association` matches each cluster point with the template point nearest in
+// space, takes the heading's derivative at the cluster point and gives an undecided heading as the
 // refined fits lean (the defaults before noise-aware association, the noise-free arm and
 // following the depth images' ratio); `noisy-arm` is the default with the
 // data term's heading derivative taken at the noisy cluster point (RefineOptions::

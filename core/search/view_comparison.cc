@@ -296,8 +296,8 @@ class RayCosts {
   }
   double UncoveredCost(const ObservedRay& r) const { return r.foreground ? 0.5 * t_max_ : 0.0; }
 
-  // Adds covered ray r's term to the Gauss-Newton normal equations of the pose (c, s): cos and
-  // sin of its heading) where it is not truncated (beyond, the cost is flat).
+  // Adds covered ray r's term to the Gauss-Newton normal equations of the pose whose heading
+  // has cos c and sin s, where the term is not truncated (beyond, the cost is flat).
   void AddTerm(const ObservedRay& r, const CoveredRay& hit, double c, double s,
                NormalEquations* lin) const {
     if (!(hit.residual * hit.residual < t_max_ * r.var)) return;

@@ -142,9 +142,8 @@ TEST(ViewComparisonTest, ASettleStoppedAtAMillimetreAgreesWithTheFullOne) {
 // The settle by Gauss-Newton steps lands where the pattern search does (within a few
 // millimetres, and a degree and a half where the depth noise flattens the heading at 3.3 m),
 // fits the depth image about as well (its cost at most 5% higher; the flip of a nao at 3.3 m,
-// 4.7%)
-// and gives the same verdict, in far fewer expected depth images; near and far, both mounts, two
-// bodies, a flip and a pose given off by a few millimetres and a degree.
+// 4.7%) and gives the same verdict, in far fewer expected depth images; near and far, both
+// mounts, two bodies, a flip and a pose given off by a few millimetres and a degree.
 TEST(ViewComparisonTest, AGaussNewtonSettleAgreesWithThePatternSearch) {
   int compared = 0, gn_evaluations = 0, pattern_evaluations = 0;
   for (const std::string body : {"nao", "long_legs"}) {
