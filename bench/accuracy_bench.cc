@@ -28,7 +28,10 @@
 // refined fits lean (the defaults before noise-aware association, the noise-free arm and
 // following the depth images' ratio); `noisy-arm` is the default with the
 // data term's heading derivative taken at the noisy cluster point (RefineOptions::
-// noise_free_heading_arm off).
+// noise_free_heading_arm off). `all-runner-ups` refines and compares the runner-up heading of
+// every template, however far behind the cluster's best its fit is; `short-steps` evaluates the
+// refinement's steps shorter than a standard error; `short-settle` those of the view
+// comparison's settle; `refine-stop-before` is all three (the default before they changed).
 //
 // usage: accuracy_bench [--seeds N] [--clutter N] [--threads N] [--bodies a,b] [--noise off]
 //                       [--distances 1,2,3] [--step-deg D] [--variants a,b] [--failures]
@@ -249,6 +252,26 @@ std::vector<Variant> AllVariants() {
   EstimatorOptions settle_retry = pattern_settle;
   settle_retry.refine.min_retry_damping = 0.0;
   out.push_back({"settle-retry-before", settle_retry, true});
+  // The runner-up heading of every template refined and compared, however far its template's
+  // fit is behind the cluster's best (before RefineOptions::runner_up_fit_sigmas).
+  EstimatorOptions all_runner_ups = DefaultEstimatorOptions();
+  all_runner_ups.refine.runner_up_fit_sigmas = 0.0;
+  out.push_back({"all-runner-ups", all_runner_ups, true});
+  // The refinement's steps shorter than a standard error evaluated too (before
+  // RefineOptions::converged_sigmas).
+  EstimatorOptions short_steps = DefaultEstimatorOptions();
+  short_steps.refine.converged_sigmas = 0.0;
+  out.push_back({"short-steps", short_steps, true});
+  // The view comparison's settle evaluating its steps shorter than a standard error too (before
+  // ViewComparisonOptions::settle_converged_sigmas).
+  EstimatorOptions short_settle = DefaultEstimatorOptions();
+  short_settle.heading_views.settle_converged_sigmas = 0.0;
+  out.push_back({"short-settle", short_settle, true});
+  // All three as before.
+  EstimatorOptions stop_before = all_runner_ups;
+  stop_before.refine.converged_sigmas = 0.0;
+  stop_before.heading_views.settle_converged_sigmas = 0.0;
+  out.push_back({"refine-stop-before", stop_before, true});
   // The refinement held within one voxel and 5 degrees of the lattice pose (8 steps), as before
   // the default became three voxels and 10 degrees (20 steps).
   EstimatorOptions narrow = DefaultEstimatorOptions();

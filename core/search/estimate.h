@@ -44,8 +44,11 @@ struct Candidate {
   int hits = 0;
   int cluster_voxels = 0;
   bool has_runner_up = false;  // best pose with theta more than 30 deg away.
-  Pose2D runner_up_pose;       // refined like `pose`.
+  // Refined like `pose`, unless it or its template is far behind (RefineOptions::
+  // runner_up_score_window, runner_up_fit_sigmas): then where the search left it.
+  Pose2D runner_up_pose;
   double runner_up_score = 0.0;
+  double refine_ms = 0.0;  // what refining `pose` and the runner-up took (wall time).
   FitSummary runner_up_fit;
   // The runner-up's refined evidence is as good as the pose's within noise: the heading is
   // ambiguous (typically front/back at distance); both poses are reported.

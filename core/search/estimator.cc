@@ -105,28 +105,42 @@ bool WithinNoise(const FitSummary& a, const FitSummary& b) {
   return std::abs(a.fit - b.fit) <= 2.0 * std::hypot(a.fit_sigma, b.fit_sigma);
 }
 
-// Refines the candidate's pose and its runner-up's (the best heading more than 30 degrees
-// away) and chooses between them. With the view comparison on and a runner-up close enough in
-// search score to be refined too, the depth images decide (CompareViews) when their likelihood
-// ratio is decisive, and the heading is ambiguous when it is not (the pose is then the one the
-// ratio leans to, or with undecided_follow_ratio off the one with the higher refined fit).
-// Otherwise the higher refined fit wins and the heading is ambiguous when the fits are within
-// two standard errors of each other. An ambiguous heading with `prior_theta` (the previous
-// frame's heading, when it stood on this cluster) is the one nearer to it.
-// `rescore` recomputes the search's counts at the lattice pose of a runner-up that wins.
-template <typename Rescore>
-void RefineCandidate(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
-                     const ViewComparisonOptions& views, const double* prior_theta,
-                     const Rescore& rescore, Candidate* cand) {
+// Refines the candidate's pose (the search's optimum); RefineRunnerUp then decides its heading.
+void RefineBest(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
+                Candidate* cand) {
   const RefinedPose best = RefinePose(model, obs, cand->lattice_pose, o);
   cand->pose = best.pose;
   cand->refined = true;
   cand->covariance = best.covariance;
   cand->fit = Summarise(best.evidence);
+}
+
+// Whether a candidate's fit is within `sigmas` standard errors of the best fit of its cluster
+// (always with sigmas <= 0).
+bool Contends(const FitSummary& fit, const FitSummary& leader, double sigmas) {
+  if (!(sigmas > 0.0)) return true;
+  return leader.fit - fit.fit <= sigmas * std::hypot(leader.fit_sigma, fit.fit_sigma);
+}
+
+// Refines the runner-up of a candidate refined by RefineBest (the best heading more than 30
+// degrees away) and chooses between them. With the view comparison on and a runner-up close
+// enough in search score to be refined too, the depth images decide (CompareViews) when their
+// likelihood ratio is decisive, and the heading is ambiguous when it is not (the pose is then the
+// one the ratio leans to, or with undecided_follow_ratio off the one with the higher refined
+// fit). Otherwise the higher refined fit wins and the heading is ambiguous when the fits are
+// within two standard errors of each other. A candidate that does not `contend` (its template's
+// fit is far behind another template's on the cluster) has its runner-up only evaluated where
+// it lies, like a runner-up far behind in score. An ambiguous heading with `prior_theta` (the
+// previous frame's heading, when it stood on this cluster) is the one nearer to it. `rescore`
+// recomputes the search's counts at the lattice pose of a runner-up that wins.
+template <typename Rescore>
+void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
+                    const ViewComparisonOptions& views, const double* prior_theta, bool contend,
+                    const Rescore& rescore, Candidate* cand) {
   if (!cand->has_runner_up) return;
   const Pose2D other_lattice = cand->runner_up_pose;
   RefinedPose other;
-  const bool close = cand->runner_up_score >= cand->score - o.runner_up_score_window;
+  const bool close = contend && cand->runner_up_score >= cand->score - o.runner_up_score_window;
   if (close) {
     other = RefinePose(model, obs, other_lattice, o);
   } else {
@@ -368,6 +382,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     bool kept = false;    // passed the voxel-count bound.
     bool seeded = false;  // the prior pose lay in its search region.
     Candidate cand;
+    bool has_prior = false;  // the previous frame's pose stood on this cluster.
+    double prior_theta = 0.0;
     double refine_ms = 0.0;
   };
   const int cluster_count = static_cast<int>(clusters->size());
@@ -493,27 +509,64 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     cand.bounds_evaluated = r.bounds_evaluated;
     if (refine && !r.below_min_value) {
       const Clock::time_point t_refine = Clock::now();
-      const Observation obs{&c.points, &range, sensor_from_ground};
-      // What the pose's search scores would be at another lattice pose (when the refined
-      // runner-up replaces the search's optimum).
-      const auto rescore = [&](Candidate* cd) {
-        const LatticePose lp = NearestLatticePose(options_.lattice, cd->lattice_pose);
-        const RotatedTemplate& rt = rot.Get(lp.itheta);
-        cd->hits = scorer->Hits(rt, lp.ix, lp.iy);
-        cd->free_space_hits = use_free_space
-                                  ? MakePoseScorer(ScorerKind::kFast, w.free, options_.lattice)
-                                        ->Hits(rt, lp.ix, lp.iy)
-                                  : 0;
-        cd->coverage = n > 0 ? 100.0 * cd->hits / n : 0.0;
-      };
-      RefineCandidate(*surfaces_[j], obs, options_.refine, options_.heading_views, prior_theta,
-                      rescore, &cand);
+      RefineBest(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground}, options_.refine,
+                 &cand);
       task.refine_ms = MsSince(t_refine);
     }
+    if (prior_theta != nullptr) {
+      task.has_prior = true;
+      task.prior_theta = *prior_theta;
+    }
+  });
+
+  // The runner-up headings, once every template of a cluster has its refined fit: a template
+  // whose fit is far behind the cluster's best has its runner-up only evaluated.
+  // (Copies: the runner-ups may change the candidates' fits meanwhile.)
+  std::vector<FitSummary> leader(cluster_count);
+  std::vector<bool> has_leader(cluster_count, false);
+  for (const Task& task : tasks) {
+    if (!task.cand.refined) continue;
+    if (!has_leader[task.cluster] || task.cand.fit.fit > leader[task.cluster].fit) {
+      leader[task.cluster] = task.cand.fit;
+      has_leader[task.cluster] = true;
+    }
+  }
+  std::vector<int> refined_tasks;
+  for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
+    if (tasks[k].cand.refined && tasks[k].cand.has_runner_up) refined_tasks.push_back(k);
+  }
+  pool_->ParallelFor(static_cast<int>(refined_tasks.size()), [&](int i) {
+    Task& task = tasks[refined_tasks[i]];
+    const Clock::time_point t_refine = Clock::now();
+    const Cluster& c = (*clusters)[task.cluster];
+    const ClusterWork& w = work[task.cluster];
+    const int j = task.tpl;
+    const TemplateRotations& rot = *rotations_[j];
+    const int n = w.n;
+    // What the pose's search scores would be at another lattice pose (when the refined
+    // runner-up replaces the search's optimum).
+    const auto rescore = [&](Candidate* cd) {
+      const LatticePose lp = NearestLatticePose(options_.lattice, cd->lattice_pose);
+      const RotatedTemplate& rt = rot.Get(lp.itheta);
+      cd->hits =
+          MakePoseScorer(options_.scorer, w.voxels, options_.lattice)->Hits(rt, lp.ix, lp.iy);
+      cd->free_space_hits =
+          use_free_space
+              ? MakePoseScorer(ScorerKind::kFast, w.free, options_.lattice)->Hits(rt, lp.ix, lp.iy)
+              : 0;
+      cd->coverage = n > 0 ? 100.0 * cd->hits / n : 0.0;
+    };
+    const bool contend =
+        Contends(task.cand.fit, leader[task.cluster], options_.refine.runner_up_fit_sigmas);
+    RefineRunnerUp(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground},
+                   options_.refine, options_.heading_views,
+                   task.has_prior ? &task.prior_theta : nullptr, contend, rescore, &task.cand);
+    task.refine_ms += MsSince(t_refine);
   });
   double refine_ms = 0.0;  // summed over the candidates (CPU time, whatever the threads).
-  for (const Task& task : tasks) {
+  for (Task& task : tasks) {
     if (!task.kept) continue;
+    task.cand.refine_ms = task.refine_ms;
     est.candidates.push_back(task.cand);
     est.clusters[task.cluster].searched = true;
     refine_ms += task.refine_ms;

@@ -72,8 +72,9 @@ RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const 
     for (int k = 0; k < 3; ++k) damped(k, k) += lambda * std::max(lin.h(k, k), 1e-9) + 1e-12;
     const Eigen::Vector3d step = damped.ldlt().solve(-lin.g);
     if (!step.allFinite()) break;
-    if (o.stop_at_tiny_step && std::hypot(step.x(), step.y()) < o.converged_shift_m &&
-        std::abs(step.z()) < o.converged_turn_rad) {
+    const bool tiny = o.stop_at_tiny_step && std::hypot(step.x(), step.y()) < o.converged_shift_m &&
+                      std::abs(step.z()) < o.converged_turn_rad;
+    if (tiny || step.dot(lin.h * step) < o.converged_sigmas * o.converged_sigmas) {
       out.converged = true;
       break;
     }

@@ -78,6 +78,16 @@ SurfaceModel::SurfaceModel(const VoxelTemplate& tpl, double spacing_m)
   normals_ = PlaneNormals(points_, static_cast<float>(2.5 * spacing_));
   for (const Eigen::Vector3f& p : points_) centre_ += p;
   if (!points_.empty()) centre_ /= static_cast<float>(points_.size());
+  xs_.reserve(points_.size());
+  ys_.reserve(points_.size());
+  zs_.reserve(points_.size());
+  for (const Eigen::Vector3f& p : points_) {
+    xs_.push_back(p.x());
+    ys_.push_back(p.y());
+    zs_.push_back(p.z());
+    box_lo_ = box_lo_.cwiseMin(p.cast<double>());
+    box_hi_ = box_hi_.cwiseMax(p.cast<double>());
+  }
 }
 
 }  // namespace hpose

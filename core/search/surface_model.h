@@ -1,6 +1,7 @@
 #ifndef HPOSE_CORE_SEARCH_SURFACE_MODEL_H_
 #define HPOSE_CORE_SEARCH_SURFACE_MODEL_H_
 
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -25,12 +26,22 @@ class SurfaceModel {
   double spacing_m() const { return spacing_; }
   // Centre of the points (template frame).
   const Eigen::Vector3f& centre() const { return centre_; }
+  // The points' coordinates as arrays (structure of arrays, for vectorised passes) and their
+  // bounding box (inverted, +inf to -inf, without points).
+  const std::vector<float>& xs() const { return xs_; }
+  const std::vector<float>& ys() const { return ys_; }
+  const std::vector<float>& zs() const { return zs_; }
+  const Eigen::Vector3d& box_lo() const { return box_lo_; }
+  const Eigen::Vector3d& box_hi() const { return box_hi_; }
 
  private:
   std::vector<Eigen::Vector3f> points_;
   std::vector<Eigen::Vector3f> normals_;
   double spacing_ = 0.008;
   Eigen::Vector3f centre_ = Eigen::Vector3f::Zero();
+  std::vector<float> xs_, ys_, zs_;
+  Eigen::Vector3d box_lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d box_hi_ = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
 };
 
 }  // namespace hpose

@@ -145,27 +145,14 @@ int TemplateProjector::Bin(double q, double x, double z, double bin) {
   return FloorToInt(x / z / bin);
 }
 
-TemplateProjector::TemplateProjector(const SurfaceModel& model) {
-  const std::vector<Eigen::Vector3f>& pts = model.points();
-  const size_t n = pts.size();
-  mx_.resize(n);
-  my_.resize(n);
-  mz_.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    mx_[i] = pts[i].x();
-    my_[i] = pts[i].y();
-    mz_[i] = pts[i].z();
-  }
-  z_.resize(n);
-  bx_.resize(n);
-  by_.resize(n);
-  box_lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  box_hi_ = -box_lo_;
-  for (const Eigen::Vector3f& p : pts) {
-    box_lo_ = box_lo_.cwiseMin(p.cast<double>());
-    box_hi_ = box_hi_.cwiseMax(p.cast<double>());
-  }
-}
+TemplateProjector::TemplateProjector(const SurfaceModel& model)
+    : mx_(model.xs().data()),
+      my_(model.ys().data()),
+      mz_(model.zs().data()),
+      n_(static_cast<int>(model.xs().size())),
+      box_lo_(model.box_lo()),
+      box_hi_(model.box_hi()),
+      z_(model.xs().size()) {}
 
 bool TemplateProjector::Project(const ViewTransform& view, double bin) {
   bin_ = bin;
@@ -201,7 +188,7 @@ bool TemplateProjector::FillBounded(const ViewTransform& view) {
   winner_z_.assign(winner_.size(), std::numeric_limits<double>::infinity());
   int* winner = winner_.data();
   double* winner_z = winner_z_.data();
-  const int n = static_cast<int>(mx_.size());
+  const int n = n_;
   const BinWindow window{static_cast<double>(lo[0]), static_cast<double>(lo[1]),
                          static_cast<double>(hi[0]), static_cast<double>(hi[1])};
   double* zs = z_.data();
@@ -209,8 +196,7 @@ bool TemplateProjector::FillBounded(const ViewTransform& view) {
   double ok[kBlock];
   for (int i0 = 0; i0 < n; i0 += kBlock) {
     const int m = std::min(kBlock, n - i0);
-    PlaceInView(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, inv_bin_, window,
-                zs + i0, bx, by, ok);
+    PlaceInView(m, mx_ + i0, my_ + i0, mz_ + i0, view, inv_bin_, window, zs + i0, bx, by, ok);
     for (int j = 0; j < m; ++j) {
       const int i = i0 + j;
       if (!(ok[j] > 0.0)) {
@@ -237,7 +223,9 @@ bool TemplateProjector::FillBounded(const ViewTransform& view) {
 
 bool TemplateProjector::FillTwoPasses(const ViewTransform& view) {
   // The bins of every point and their extent first, then the z-buffer.
-  const int n = static_cast<int>(mx_.size());
+  const int n = n_;
+  bx_.resize(n);
+  by_.resize(n);
   const BinWindow window{-kApproxMaxBin, -kApproxMaxBin, kApproxMaxBin, kApproxMaxBin};
   double* zs = z_.data();
   int* bxs = bx_.data();
@@ -245,8 +233,8 @@ bool TemplateProjector::FillTwoPasses(const ViewTransform& view) {
   double ok[kBlock];
   for (int i0 = 0; i0 < n; i0 += kBlock) {
     const int m = std::min(kBlock, n - i0);
-    PlaceInView(m, mx_.data() + i0, my_.data() + i0, mz_.data() + i0, view, inv_bin_, window,
-                zs + i0, bxs + i0, bys + i0, ok);
+    PlaceInView(m, mx_ + i0, my_ + i0, mz_ + i0, view, inv_bin_, window, zs + i0, bxs + i0,
+                bys + i0, ok);
     for (int j = 0; j < m; ++j) {
       const int i = i0 + j;
       if (ok[j] > 0.0 || !(zs[i] > kMinViewDepth)) continue;

@@ -39,7 +39,7 @@ struct ViewTransform {
 // passes where the box does not bound it. The bins and winners equal those of dividing each
 // point's x and y by its z and by `bin` and keeping the nearest (to the bit on x86-64).
 //
-// Keeps a reference to `model`: it must outlive the projector. Not thread-safe.
+// Keeps a reference to `model` (its points): it must outlive the projector. Not thread-safe.
 class TemplateProjector {
  public:
   explicit TemplateProjector(const SurfaceModel& model);
@@ -71,10 +71,14 @@ class TemplateProjector {
   bool FillBounded(const ViewTransform& view);
   bool FillTwoPasses(const ViewTransform& view);
 
-  std::vector<float> mx_, my_, mz_;  // the template's points (structure of arrays).
-  Eigen::Vector3d box_lo_, box_hi_;  // their bounding box.
+  // The model's points (structure of arrays, the model's own) and their bounding box.
+  const float* mx_;
+  const float* my_;
+  const float* mz_;
+  int n_;
+  Eigen::Vector3d box_lo_, box_hi_;
   double bin_ = 0.01, inv_bin_ = 100.0;
-  std::vector<double> z_;  // per point: sensor-frame depth and bins.
+  std::vector<double> z_;  // per point: sensor-frame depth and (two passes only) bins.
   std::vector<int> bx_, by_;
   int lo_x_ = 0, lo_y_ = 0, w_ = 0, h_ = 0;
   std::vector<int> winner_;

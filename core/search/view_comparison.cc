@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -48,25 +50,59 @@ PlacedSurface Place(const SurfaceModel& model, const Pose2D& pose,
   return out;
 }
 
+// A pose's z-buffer as the projector made it (its winners over its window) and the extent of the
+// bins its points fall in (empty: lo > hi).
+struct ProjectedWinners {
+  std::vector<int> winner;
+  int lo_x = 0, lo_y = 0, w = 0, h = 0;
+  Eigen::Vector2i lo = Eigen::Vector2i::Constant(1 << 29);
+  Eigen::Vector2i hi = Eigen::Vector2i::Constant(-(1 << 29));
+};
+
+ProjectedWinners ProjectWinners(TemplateProjector* projector, const ViewTransform& view,
+                                double bin) {
+  ProjectedWinners out;
+  if (!projector->Project(view, bin)) return out;
+  out.winner = projector->winner();
+  out.lo_x = projector->lo_x();
+  out.lo_y = projector->lo_y();
+  out.w = projector->w();
+  out.h = projector->h();
+  // Every point in front of the sensor lands in a bin, and every bin with a point has a winner.
+  for (int j = 0; j < out.h; ++j) {
+    for (int i = 0; i < out.w; ++i) {
+      if (out.winner[static_cast<size_t>(j) * out.w + i] < 0) continue;
+      const Eigen::Vector2i c(out.lo_x + i, out.lo_y + j);
+      out.lo = out.lo.cwiseMin(c);
+      out.hi = out.hi.cwiseMax(c);
+    }
+  }
+  return out;
+}
+
 // The rays both poses are judged on: a grid of ray slopes (x / z, y / z) over what either pose
 // covers (with a margin for the poses to move), each ray with what the sensor saw along it.
 class RaySet {
  public:
-  RaySet(double bin, const PlacedSurface& a, const PlacedSurface& b, int margin_bins) : bin_(bin) {
-    Eigen::Vector2i lo(1 << 29, 1 << 29), hi(-(1 << 29), -(1 << 29));
-    for (const PlacedSurface* s : {&a, &b}) {
-      for (const Eigen::Vector3d& p : s->points) {
-        if (!(p.z() > 0.05)) continue;
-        const Eigen::Vector2i c = Bin(p);
-        lo = lo.cwiseMin(c);
-        hi = hi.cwiseMax(c);
-      }
-    }
-    if (lo.x() > hi.x()) return;
+  // Over the bins [lo, hi] (inclusive) grown by `margin_bins` on every side; empty when lo > hi
+  // or the grid would be degenerate (millions of bins).
+  RaySet(double bin, const Eigen::Vector2i& lo, const Eigen::Vector2i& hi, int margin_bins)
+      : bin_(bin) {
+    if (lo.x() > hi.x() || lo.y() > hi.y()) return;
     lo_ = lo - Eigen::Vector2i::Constant(margin_bins);
     w_ = hi.x() - lo.x() + 1 + 2 * margin_bins;
     h_ = hi.y() - lo.y() + 1 + 2 * margin_bins;
     if (static_cast<long>(w_) * h_ > 4000000L) w_ = h_ = 0;  // degenerate: nothing to compare.
+  }
+
+  // The bins of a placed surface's points in front of the sensor: grows [lo, hi] to them.
+  static void Extend(double bin, const PlacedSurface& s, Eigen::Vector2i* lo, Eigen::Vector2i* hi) {
+    for (const Eigen::Vector3d& p : s.points) {
+      if (!(p.z() > 0.05)) continue;
+      const Eigen::Vector2i c = Bin(p, bin);
+      *lo = lo->cwiseMin(c);
+      *hi = hi->cwiseMax(c);
+    }
   }
 
   // Bin of each grid cell's nearest point of `s` (-1: none).
@@ -75,10 +111,22 @@ class RaySet {
     for (size_t i = 0; i < s.points.size(); ++i) {
       const Eigen::Vector3d& p = s.points[i];
       if (!(p.z() > 0.05)) continue;
-      const Eigen::Vector2i c = Bin(p) - lo_;
+      const Eigen::Vector2i c = Bin(p, bin_) - lo_;
       if (c.x() < 0 || c.y() < 0 || c.x() >= w_ || c.y() >= h_) continue;
       int& wi = winner[static_cast<size_t>(c.y()) * w_ + c.x()];
       if (wi < 0 || p.z() < s.points[wi].z()) wi = static_cast<int>(i);
+    }
+    return winner;
+  }
+
+  // The same from a projector's z-buffer (the same bins and winners).
+  std::vector<int> ZBuffer(const ProjectedWinners& p) const {
+    std::vector<int> winner(static_cast<size_t>(w_) * h_, -1);
+    for (int k = 0; k < size(); ++k) {
+      const int bx = BinX(k) - p.lo_x, by = BinY(k) - p.lo_y;
+      if (bx >= 0 && by >= 0 && bx < p.w && by < p.h) {
+        winner[k] = p.winner[static_cast<size_t>(by) * p.w + bx];
+      }
     }
     return winner;
   }
@@ -94,9 +142,9 @@ class RaySet {
   }
 
  private:
-  Eigen::Vector2i Bin(const Eigen::Vector3d& p) const {
-    return Eigen::Vector2i(static_cast<int>(std::floor(p.x() / p.z() / bin_)),
-                           static_cast<int>(std::floor(p.y() / p.z() / bin_)));
+  static Eigen::Vector2i Bin(const Eigen::Vector3d& p, double bin) {
+    return Eigen::Vector2i(static_cast<int>(std::floor(p.x() / p.z() / bin)),
+                           static_cast<int>(std::floor(p.y() / p.z() / bin)));
   }
 
   double bin_;
@@ -124,10 +172,6 @@ Eigen::Vector3d ExpectedDepthGradient(const Eigen::Vector3d& p, const Eigen::Vec
   if (z < p.z() - reach || z > p.z() + reach) return dp.row(2).transpose();  // clamped.
   const Eigen::Vector3d dnp = dn.transpose() * p + dp.transpose() * n;
   return (dnp - z * (dn.transpose() * ray)) / nq;
-}
-
-double ExpectedDepth(const PlacedSurface& s, int i, const Eigen::Vector3d& ray, double reach) {
-  return ExpectedDepth(s.points[i], s.Normal(i), ray, reach);
 }
 
 // One observed ray: its cell, what the sensor saw along it and whether that return lies on
@@ -161,7 +205,8 @@ class RayCosts {
   // `bias`: how far the returns lie behind the surface they hit on average, in sigmas (the
   // range image keeps the nearest of the returns in a bin, which lies nearer than the surface).
   RayCosts(const SurfaceModel& model, const Observation& obs, const RaySet& grid,
-           std::vector<ObservedRay> rays, double t_max, double bias, bool reference)
+           std::vector<ObservedRay> rays, double t_max, double bias, bool reference,
+           TemplateProjector projector)
       : model_(model),
         obs_(obs),
         grid_(grid),
@@ -169,7 +214,7 @@ class RayCosts {
         t_max_(t_max),
         bias_(bias),
         reference_(reference),
-        projector_(model) {}
+        projector_(std::move(projector)) {}
 
   std::vector<double> PerRay(const Pose2D& pose) const {
     std::vector<double> cost(rays_.size());
@@ -181,11 +226,15 @@ class RayCosts {
   int evaluations() const { return evaluations_; }
 
   // The total cost at `pose`; with `lin`, also its Gauss-Newton normal equations.
-  double Total(const Pose2D& pose, NormalEquations* lin = nullptr) const {
+  // With `per_ray`, also each ray's cost (as PerRay).
+  double Total(const Pose2D& pose, NormalEquations* lin = nullptr,
+               std::vector<double>* per_ray = nullptr) const {
     double sum = 0.0;
     const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    if (per_ray != nullptr) per_ray->assign(rays_.size(), 0.0);
     ForEachRay(pose, [&](size_t k, double cost, const CoveredRay* hit) {
       sum += cost;
+      if (per_ray != nullptr) (*per_ray)[k] = cost;
       if (lin != nullptr && hit != nullptr) AddTerm(rays_[k], *hit, c, s, lin);
     });
     return sum;
@@ -196,20 +245,24 @@ class RayCosts {
   // options' bounds around `start` and taken only when it lowers the cost. A step that does not
   // is halved; a second refusal ends the settle: the z-buffer makes the cost piecewise, and
   // below a millimetre its steps are noise.
-  std::pair<Pose2D, double> SettleByGaussNewton(const Pose2D& start,
-                                                const ViewComparisonOptions& o) const {
+  // `per_ray` receives the rays' costs at the pose returned (as PerRay), from the evaluation
+  // that accepted it.
+  std::pair<Pose2D, double> SettleByGaussNewton(const Pose2D& start, const ViewComparisonOptions& o,
+                                                std::vector<double>* per_ray) const {
     NormalEquations lin;
-    double cost = Total(start, &lin);
+    double cost = Total(start, &lin, per_ray);
     Pose2D pose = start;
     int refused = 0;
     double scale = 1.0;
+    std::vector<double> trial_per_ray;
     for (int it = 0; it < o.settle_rounds && refused < 2; ++it) {
       Eigen::Matrix3d damped = lin.h;
       for (int k = 0; k < 3; ++k) damped(k, k) += 1e-3 * std::max(lin.h(k, k), 1e-9) + 1e-12;
       const Eigen::Vector3d step = scale * damped.ldlt().solve(-lin.g);
       if (!step.allFinite()) break;
-      if (std::hypot(step.x(), step.y()) < o.settle_converged_m &&
-          std::abs(step.z()) < o.settle_converged_rad) {
+      if ((std::hypot(step.x(), step.y()) < o.settle_converged_m &&
+           std::abs(step.z()) < o.settle_converged_rad) ||
+          step.dot(lin.h * step) < o.settle_converged_sigmas * o.settle_converged_sigmas) {
         break;
       }
       Eigen::Vector2d shift(pose.x + step.x() - start.x, pose.y + step.y() - start.y);
@@ -219,11 +272,12 @@ class RayCosts {
       const Pose2D next{start.x + shift.x(), start.y + shift.y(),
                         NormalizeAngle(start.theta + turn)};
       NormalEquations trial;
-      const double trial_cost = Total(next, &trial);
+      const double trial_cost = Total(next, &trial, &trial_per_ray);
       if (trial_cost < cost) {
         pose = next;
         cost = trial_cost;
         lin = trial;
+        per_ray->swap(trial_per_ray);
         refused = 0;
         scale = 1.0;
       } else {
@@ -384,17 +438,49 @@ ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, c
                             const ViewComparisonOptions& options) {
   ViewComparison out;
   if (obs.range == nullptr || model.points().empty()) return out;
-  const PlacedSurface sa = Place(model, a, obs.sensor_from_ground);
-  const PlacedSurface sb = Place(model, b, obs.sensor_from_ground);
   const Eigen::Vector3d centre =
       obs.sensor_from_ground * Eigen::Vector3d(a.x, a.y, model.centre().z());
   const double bin = 1.5 * model.spacing_m() / std::max(0.3, centre.norm());
   // Room for the poses to settle: their largest shift seen from the nearest distance.
   const int margin =
       2 + static_cast<int>(std::ceil(options.settle_shift_m / (bin * std::max(0.3, centre.z()))));
-  const RaySet grid(bin, sa, sb, margin);
+  // The grid over both poses' bins and their z-buffers on it: with the reference, every point
+  // placed and binned directly; else from the projector, which gives the same bins and winners.
+  const double cos_a = std::cos(a.theta), sin_a = std::sin(a.theta);
+  const double cos_b = std::cos(b.theta), sin_b = std::sin(b.theta);
+  const ViewTransform view_a(cos_a, sin_a, a, obs.sensor_from_ground);
+  const ViewTransform view_b(cos_b, sin_b, b, obs.sensor_from_ground);
+  TemplateProjector projector(model);
+  std::optional<RaySet> grid_storage;
+  std::vector<int> wa, wb;
+  if (noise.reference_evaluation) {
+    const PlacedSurface pa = Place(model, a, obs.sensor_from_ground);
+    const PlacedSurface pb = Place(model, b, obs.sensor_from_ground);
+    Eigen::Vector2i lo = Eigen::Vector2i::Constant(1 << 29);
+    Eigen::Vector2i hi = Eigen::Vector2i::Constant(-(1 << 29));
+    RaySet::Extend(bin, pa, &lo, &hi);
+    RaySet::Extend(bin, pb, &lo, &hi);
+    grid_storage.emplace(bin, lo, hi, margin);
+    wa = grid_storage->ZBuffer(pa);
+    wb = grid_storage->ZBuffer(pb);
+  } else {
+    const ProjectedWinners za = ProjectWinners(&projector, view_a, bin);
+    const ProjectedWinners zb = ProjectWinners(&projector, view_b, bin);
+    grid_storage.emplace(bin, za.lo.cwiseMin(zb.lo), za.hi.cwiseMax(zb.hi), margin);
+    wa = grid_storage->ZBuffer(za);
+    wb = grid_storage->ZBuffer(zb);
+  }
+  const RaySet& grid = *grid_storage;
   if (grid.size() == 0) return out;
-  const std::vector<int> wa = grid.ZBuffer(sa), wb = grid.ZBuffer(sb);
+  const Eigen::Matrix3d rot = obs.sensor_from_ground.linear();
+  // Where ray `ray` meets the surface of template point i at a pose (its position placed as
+  // Place does, to the bit).
+  const auto expected = [&](const ViewTransform& view, double c, double s, int i,
+                            const Eigen::Vector3d& ray, double reach) {
+    Eigen::Vector3d p;
+    view.Apply(projector.mx(i), projector.my(i), projector.mz(i), &p.x(), &p.y(), &p.z());
+    return ExpectedDepth(p, PlacedSurface::SensorNormal(rot, c, s, model.normals()[i]), ray, reach);
+  };
   const double model_var = noise.model_sigma_m * noise.model_sigma_m;
   const double k = std::sqrt(options.max_squared_residual);
   std::vector<ObservedRay> rays;
@@ -408,15 +494,13 @@ ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, c
     if (!(r.depth > 0.0)) continue;  // no return: says nothing about either pose.
     r.var = refine_terms::AxialVariance(r.depth, noise) + model_var;
     const double reach = 3.0 * bin * r.depth;
-    double deepest = 0.0;
-    if (wa[cell] >= 0) deepest = std::max(deepest, ExpectedDepth(sa, wa[cell], r.ray, reach));
-    if (wb[cell] >= 0) deepest = std::max(deepest, ExpectedDepth(sb, wb[cell], r.ray, reach));
-    r.foreground = r.depth <= deepest + k * std::sqrt(r.var);
+    const double za = wa[cell] >= 0 ? expected(view_a, cos_a, sin_a, wa[cell], r.ray, reach) : 0.0;
+    const double zb = wb[cell] >= 0 ? expected(view_b, cos_b, sin_b, wb[cell], r.ray, reach) : 0.0;
+    r.foreground = r.depth <= std::max({0.0, za, zb}) + k * std::sqrt(r.var);
     rays.push_back(r);
     // Normalised residuals where both poses see the same surface, for the returns' bias.
     if (wa[cell] >= 0 && wb[cell] >= 0) {
-      for (const double z :
-           {ExpectedDepth(sa, wa[cell], r.ray, reach), ExpectedDepth(sb, wb[cell], r.ray, reach)}) {
+      for (const double z : {za, zb}) {
         const double u = (r.depth - z) / std::sqrt(r.var);
         if (std::abs(u) < k) shared.push_back(u);
       }
@@ -430,20 +514,26 @@ ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, c
   }
   out.rays = static_cast<int>(rays.size());
   const RayCosts costs(model, obs, grid, std::move(rays), options.max_squared_residual, bias,
-                       noise.reference_evaluation);
-  const auto settle = [&](const Pose2D& p) {
-    if (options.settle_rounds <= 0) return p;
-    if (!options.settle_by_gauss_newton) {
-      return costs.SettleByPatternSearch(p, p, std::numeric_limits<double>::quiet_NaN(),
-                                         0.5 * options.settle_shift_m, options);
+                       noise.reference_evaluation, std::move(projector));
+  // Settles a pose; its rays' costs there in `per_ray`.
+  const auto settle = [&](const Pose2D& p, std::vector<double>* per_ray) {
+    Pose2D settled = p;
+    if (options.settle_rounds > 0 && options.settle_by_gauss_newton) {
+      double cost = 0.0;
+      std::tie(settled, cost) = costs.SettleByGaussNewton(p, options, per_ray);
+      if (!(options.settle_polish_step_m > 0.0)) return settled;
+      settled =
+          costs.SettleByPatternSearch(p, settled, cost, options.settle_polish_step_m, options);
+    } else if (options.settle_rounds > 0) {
+      settled = costs.SettleByPatternSearch(p, p, std::numeric_limits<double>::quiet_NaN(),
+                                            0.5 * options.settle_shift_m, options);
     }
-    const auto [pose, cost] = costs.SettleByGaussNewton(p, options);
-    if (!(options.settle_polish_step_m > 0.0)) return pose;
-    return costs.SettleByPatternSearch(p, pose, cost, options.settle_polish_step_m, options);
+    *per_ray = costs.PerRay(settled);
+    return settled;
   };
-  const Pose2D pa = settle(a);
-  const Pose2D pb = settle(b);
-  const std::vector<double> ca = costs.PerRay(pa), cb = costs.PerRay(pb);
+  std::vector<double> ca, cb;
+  const Pose2D pa = settle(a, &ca);
+  const Pose2D pb = settle(b, &cb);
   double sum = 0.0, sum2 = 0.0;
   for (size_t i = 0; i < ca.size(); ++i) {
     out.cost_a += ca[i];

@@ -69,6 +69,11 @@ struct ViewComparisonOptions {
   bool settle_by_gauss_newton = true;
   double settle_converged_m = 2.5e-4;
   double settle_converged_rad = 1e-3;
+  // ... or below this many standard errors of the pose by the rays' information (sqrt(d' H d),
+  // as RefineOptions::converged_sigmas): the cost would fall by about half its square in nats,
+  // against a ratio that decides at 3 standard errors of a sum over hundreds of rays. 0: off
+  // (before).
+  double settle_converged_sigmas = 1.0;
   // After the Gauss-Newton steps, a pattern search from where they ended with shift steps of
   // this (turn steps in proportion), down to settle_min_step_m: it also weighs the returns a
   // pose leaves uncovered, which the steps do not follow. 0: none (the default; with 1 mm it

@@ -200,6 +200,50 @@ TEST(ViewComparisonTest, AGaussNewtonSettleAgreesWithThePatternSearch) {
               gn_evaluations / 12.0, pattern_evaluations / 12.0);
 }
 
+// The settle ends once a proposed step is shorter than a standard error: the same decisions,
+// ratios within a few percent, settled poses within a millimetre and a quarter of a degree (half
+// a degree at 3.3 m, where the refinement's standard error of the heading is about 0.6 degrees),
+// in fewer expected depth images than settling down to the step thresholds.
+TEST(ViewComparisonTest, ASettleStoppedBelowAStandardErrorAgreesWithTheLongerOne) {
+  int stopped = 0, longer = 0;
+  for (const std::string body : {"nao", "long_legs"}) {
+    const SurfaceModel model = BodyModel(body);
+    for (const double distance : {1.2, 2.2, 3.3}) {
+      for (const double pitch_deg : {0.0, 20.0}) {
+        const Pose2D truth{distance, 0.05, DegToRad(40.0 - 30.0 * distance)};
+        const View v = MakeView(body, truth, pitch_deg > 0.0 ? 0.9 : 0.34, pitch_deg, 41);
+        const Pose2D a{truth.x + 0.004, truth.y - 0.003, truth.theta + DegToRad(1.0)};
+        const ViewComparisonOptions now;  // the default.
+        ASSERT_EQ(now.settle_converged_sigmas, 1.0);
+        ViewComparisonOptions before;
+        before.settle_converged_sigmas = 0.0;
+        const ViewComparison n = CompareViews(model, v.Obs(), a, Flipped(a), {}, now);
+        const ViewComparison b = CompareViews(model, v.Obs(), a, Flipped(a), {}, before);
+        const std::string where =
+            body + " at " + std::to_string(distance) + " m, pitch " + std::to_string(pitch_deg);
+        ASSERT_GT(b.rays, 100) << where;
+        for (const auto& [x, y] :
+             {std::pair{n.settled_a, b.settled_a}, std::pair{n.settled_b, b.settled_b}}) {
+          EXPECT_LT(std::hypot(x.x - y.x, x.y - y.y), 0.001) << where;
+          EXPECT_LT(std::abs(AngleDiff(x.theta, y.theta)), DegToRad(distance > 3.0 ? 0.5 : 0.25))
+              << where;
+        }
+        EXPECT_GT(n.Z(), 0.0) << where;
+        EXPECT_EQ(n.Z() >= 3.0, b.Z() >= 3.0) << where;
+        EXPECT_NEAR(n.log_likelihood_ratio, b.log_likelihood_ratio,
+                    0.05 * std::abs(b.log_likelihood_ratio) + 1.0)
+            << where;
+        EXPECT_LE(n.evaluations, b.evaluations) << where;
+        stopped += n.evaluations;
+        longer += b.evaluations;
+      }
+    }
+  }
+  std::printf("expected depth images: %d stopping below a standard error, %d settling longer\n",
+              stopped, longer);
+  EXPECT_LT(stopped, longer);
+}
+
 // Every pose a comparison tries is z-buffered by TemplateProjector; the reference places and
 // bins every point directly. Same rays, same winners, same arithmetic: the same comparison to
 // the bit, on noisy frames at both mounts, near and far, including a pose so near that part of
