@@ -5,12 +5,15 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
+#include <optional>
 #include <set>
 
 #include "core/common/task_pool.h"
 #include "core/depth/cloud_validation.h"
 #include "core/depth/floor_tracker.h"
 #include "core/search/exact_search.h"
+#include "core/search/prepared_cluster.h"
 #include "core/search/view_comparison.h"
 
 namespace hpose {
@@ -375,6 +378,9 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     ClusterVoxels voxels;
     ClusterVoxels free;
     int n = 0;  // cluster voxels (the score's denominator).
+    // The refinement's cluster side, made by the first of its templates to need it.
+    std::once_flag prepare_once;
+    std::optional<PreparedCluster> prepared;
   };
   struct Task {
     int cluster = 0;
@@ -450,7 +456,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   pool_->ParallelFor(static_cast<int>(tasks.size()), [&](int k) {
     Task& task = tasks[k];
     const Cluster& c = (*clusters)[task.cluster];
-    const ClusterWork& w = work[task.cluster];
+    ClusterWork& w = work[task.cluster];
     const int j = task.tpl;
     const TemplateRotations& rot = *rotations_[j];
     // A bound, not a heuristic: a placed template covers at most as many cluster voxels as it
@@ -509,8 +515,10 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     cand.bounds_evaluated = r.bounds_evaluated;
     if (refine && !r.below_min_value) {
       const Clock::time_point t_refine = Clock::now();
-      RefineBest(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground}, options_.refine,
-                 &cand);
+      std::call_once(w.prepare_once,
+                     [&] { w.prepared.emplace(c.points, sensor_from_ground, options_.refine); });
+      RefineBest(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground, &*w.prepared},
+                 options_.refine, &cand);
       task.refine_ms = MsSince(t_refine);
     }
     if (prior_theta != nullptr) {
@@ -558,7 +566,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     };
     const bool contend =
         Contends(task.cand.fit, leader[task.cluster], options_.refine.runner_up_fit_sigmas);
-    RefineRunnerUp(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground},
+    RefineRunnerUp(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground, &*w.prepared},
                    options_.refine, options_.heading_views,
                    task.has_prior ? &task.prior_theta : nullptr, contend, rescore, &task.cand);
     task.refine_ms += MsSince(t_refine);

@@ -12,6 +12,8 @@
 
 namespace hpose {
 
+class PreparedCluster;
+
 // Continuous refinement of a lattice pose and the evidence that decides between poses and
 // templates. Units: metres, radians; poses are the robot frame in the ground frame.
 struct RefineOptions {
@@ -142,6 +144,10 @@ struct Observation {
   const std::vector<Eigen::Vector3f>* cluster_points = nullptr;
   const RangeImage* range = nullptr;
   Eigen::Isometry3d sensor_from_ground = Eigen::Isometry3d::Identity();
+  // Optional: the cluster's side of the objective made once (PreparedCluster, from these points
+  // and mount), shared by the refinements of every template of a cluster. Used when it was made
+  // with the same options; otherwise each refinement prepares its own (the same result).
+  const PreparedCluster* prepared = nullptr;
 };
 
 // Refines `start` (x, y, theta; z fixed on the floor) by robust, noise-weighted Gauss-Newton on

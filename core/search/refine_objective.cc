@@ -13,17 +13,12 @@ RefineObjective::RefineObjective(const SurfaceModel& model, const Observation& o
       options_(options),
       a_(obs.sensor_from_ground.linear()),
       projector_(model) {
-  const std::vector<Eigen::Vector3f>& data = *obs.cluster_points;
-  const size_t stride = refine_terms::DataStride(data.size(), options_);
-  data_.reserve(data.size() / stride + 1);
-  for (size_t k = 0; k < data.size(); k += stride) {
-    const refine_terms::DataPoint d =
-        refine_terms::MakeDataPoint(data[k], obs.sensor_from_ground, options_);
-    const bool in_front = d.ps.z() > refine_terms::kMinViewDepth;
-    data_.push_back(d);
-    data_in_front_.push_back(in_front ? 1 : 0);
-    data_tx_.push_back(in_front ? d.ps.x() / d.ps.z() : 0.0);
-    data_ty_.push_back(in_front ? d.ps.y() / d.ps.z() : 0.0);
+  const std::vector<Eigen::Vector3f>& points = *obs.cluster_points;
+  if (obs.prepared != nullptr && obs.prepared->Matches(points, obs.sensor_from_ground, options_)) {
+    cluster_ = obs.prepared;
+  } else {
+    own_cluster_.emplace(points, obs.sensor_from_ground, options_);
+    cluster_ = &*own_cluster_;
   }
 }
 
@@ -55,13 +50,13 @@ bool RefineObjective::Project(const Pose2D& pose) {
 
 int RefineObjective::Associate(size_t k) const {
   const int w = projector_.w(), h = projector_.h();
-  if (w == 0 || !data_in_front_[k]) return -1;
-  const Eigen::Vector3d& p = data_[k].ps;
+  if (w == 0 || !cluster_->in_front(k)) return -1;
+  const refine_terms::DataPoint& d = cluster_->point(k);
+  const Eigen::Vector3d& p = d.ps;
   const int bx =
-      TemplateProjector::Bin(data_tx_[k] * inv_bin_, p.x(), p.z(), bin_) - projector_.lo_x();
+      TemplateProjector::Bin(cluster_->tx(k) * inv_bin_, p.x(), p.z(), bin_) - projector_.lo_x();
   const int by =
-      TemplateProjector::Bin(data_ty_[k] * inv_bin_, p.y(), p.z(), bin_) - projector_.lo_y();
-  const refine_terms::DataPoint& d = data_[k];
+      TemplateProjector::Bin(cluster_->ty(k) * inv_bin_, p.y(), p.z(), bin_) - projector_.lo_y();
   const double gate2 = d.gate * d.gate;
   int best = -1;
   double best_dist = std::numeric_limits<double>::infinity();
@@ -90,16 +85,28 @@ Linearisation RefineObjective::Linearise(const Pose2D& pose, double stop_above) 
   Project(pose);
   const std::vector<Eigen::Vector3f>& normals = model_.normals();
 
-  // Cluster points to the visible template surface (point to plane).
-  for (size_t k = 0; k < data_.size(); ++k) {
+  // Cluster points to the visible template surface (point to plane). Each point's match is found
+  // one point ahead of its term, and its template point and normal fetched meanwhile (they lie
+  // at scattered indices, mostly beyond the first-level cache); the terms are added in order.
+  const size_t n = cluster_->size();
+  int slot = n > 0 ? Associate(0) : -1;
+  for (size_t k = 0; k < n; ++k) {
+    const int next = k + 1 < n ? Associate(k + 1) : -1;
+    if (next >= 0) {
+      const int j = visible_[next].index;
+      __builtin_prefetch(&normals[j]);
+      __builtin_prefetch(model_.xs().data() + j);
+      __builtin_prefetch(model_.ys().data() + j);
+      __builtin_prefetch(model_.zs().data() + j);
+    }
     ++ev.data_points;
-    const int slot = Associate(k);
+    const refine_terms::DataPoint& d = cluster_->point(k);
     if (slot < 0) {
-      ev.cost += data_[k].unexplained_cost;
+      ev.cost += d.unexplained_cost;
     } else {
       const int idx = visible_[slot].index;
       const Eigen::Vector3d m(projector_.mx(idx), projector_.my(idx), projector_.mz(idx));
-      refine_terms::AddDataTerm(data_[k], pose, refine_terms::RotateZ(c_, s_, m),
+      refine_terms::AddDataTerm(d, pose, refine_terms::RotateZ(c_, s_, m),
                                 refine_terms::RotateZ(c_, s_, normals[idx].cast<double>()), a_,
                                 options_, &lin);
     }
@@ -107,11 +114,20 @@ Linearisation RefineObjective::Linearise(const Pose2D& pose, double stop_above) 
       lin.complete = false;
       return lin;
     }
+    slot = next;
   }
 
   // Visible template points against what the sensor saw along their rays.
   const RangeImage& range = *obs_.range;
-  for (const VisiblePoint& v : visible_) {
+  constexpr size_t kAhead = 4;  // visible points whose template point is fetched ahead.
+  for (size_t slot = 0; slot < visible_.size(); ++slot) {
+    if (slot + kAhead < visible_.size()) {
+      const int j = visible_[slot + kAhead].index;
+      __builtin_prefetch(model_.xs().data() + j);
+      __builtin_prefetch(model_.ys().data() + j);
+      __builtin_prefetch(model_.zs().data() + j);
+    }
+    const VisiblePoint& v = visible_[slot];
     const double tx = v.x / v.z, ty = v.y / v.z;
     if (!range.CoversRay(tx, ty)) continue;
     const int i = v.index;

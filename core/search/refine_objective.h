@@ -2,6 +2,7 @@
 #define HPOSE_CORE_SEARCH_REFINE_OBJECTIVE_H_
 
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -9,6 +10,7 @@
 
 #include "core/common/pose2d.h"
 #include "core/search/pose_refiner.h"
+#include "core/search/prepared_cluster.h"
 #include "core/search/refine_terms.h"
 #include "core/search/surface_model.h"
 #include "core/search/template_projector.h"
@@ -16,13 +18,13 @@
 namespace hpose {
 
 // The refinement's objective for one template on one observation, prepared once so that each
-// pose only costs what depends on it. At construction: the cluster points' sensor-frame
-// positions, rays, noise, association gates and unexplained costs, and the template's points
-// (TemplateProjector). Per pose: the projector's z-buffer, the visible points packed with their
-// positions, then the terms in the reference's order, stopping as soon as the cost exceeds the
-// caller's bound. Every decision (bin, winner, association, class of a visible point) and every
-// term is computed with the reference's arithmetic, so the result equals LineariseReference's
-// (to the bit on x86-64).
+// pose only costs what depends on it. At construction: the cluster's side (PreparedCluster:
+// the points' sensor-frame positions, rays, noise, association gates and unexplained costs),
+// unless the observation brings it, and the template's points (TemplateProjector). Per pose: the
+// projector's z-buffer, the visible points packed with their positions, then the terms in the
+// reference's order, stopping as soon as the cost exceeds the caller's bound. Every decision (bin,
+// winner, association, class of a visible point) and every term is computed with the reference's
+// arithmetic, so the result equals LineariseReference's (to the bit on x86-64).
 //
 // Keeps references to `model` and `obs` (and what it points to): they must outlive it. Not
 // thread-safe (one objective per refinement).
@@ -49,11 +51,9 @@ class RefineObjective {
   RefineOptions options_;
   Eigen::Matrix3d a_;  // sensor_from_ground rotation.
 
-  // The cluster points used (every stride-th) and, for those in front of the sensor, their
-  // ray slopes (x / z, y / z).
-  std::vector<refine_terms::DataPoint> data_;
-  std::vector<double> data_tx_, data_ty_;
-  std::vector<unsigned char> data_in_front_;
+  // The cluster's side: the observation's own when it matches the options, else made here.
+  std::optional<PreparedCluster> own_cluster_;
+  const PreparedCluster* cluster_;
 
   // Per pose: the heading's cos and sin, the template's z-buffer and its extent (the entries
   // rewritten to slots of visible_), and the visible points.

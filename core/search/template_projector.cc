@@ -151,8 +151,7 @@ TemplateProjector::TemplateProjector(const SurfaceModel& model)
       mz_(model.zs().data()),
       n_(static_cast<int>(model.xs().size())),
       box_lo_(model.box_lo()),
-      box_hi_(model.box_hi()),
-      z_(model.xs().size()) {}
+      box_hi_(model.box_hi()) {}
 
 bool TemplateProjector::Project(const ViewTransform& view, double bin) {
   bin_ = bin;
@@ -191,16 +190,17 @@ bool TemplateProjector::FillBounded(const ViewTransform& view) {
   const int n = n_;
   const BinWindow window{static_cast<double>(lo[0]), static_cast<double>(lo[1]),
                          static_cast<double>(hi[0]), static_cast<double>(hi[1])};
-  double* zs = z_.data();
+  // The block's depths stay in the first-level cache (a whole template's would not).
+  double zs[kBlock];
   int bx[kBlock], by[kBlock];
   double ok[kBlock];
   for (int i0 = 0; i0 < n; i0 += kBlock) {
     const int m = std::min(kBlock, n - i0);
-    PlaceInView(m, mx_ + i0, my_ + i0, mz_ + i0, view, inv_bin_, window, zs + i0, bx, by, ok);
+    PlaceInView(m, mx_ + i0, my_ + i0, mz_ + i0, view, inv_bin_, window, zs, bx, by, ok);
     for (int j = 0; j < m; ++j) {
       const int i = i0 + j;
       if (!(ok[j] > 0.0)) {
-        if (!(zs[i] > kMinViewDepth)) continue;
+        if (!(zs[j] > kMinViewDepth)) continue;
         if (!ExactBins(view, bin_, mx_[i], my_[i], mz_[i], &bx[j], &by[j])) return false;
         if (bx[j] < lo[0] || by[j] < lo[1] || bx[j] > hi[0] || by[j] > hi[1]) {
           return false;  // not bounded after all.
@@ -208,9 +208,9 @@ bool TemplateProjector::FillBounded(const ViewTransform& view) {
       }
       const size_t cell = static_cast<size_t>(by[j] - lo[1]) * w + (bx[j] - lo[0]);
       // As `winner < 0 || z < z of winner`: an empty bin's depth is infinite, z is finite.
-      if (zs[i] < winner_z[cell]) {
+      if (zs[j] < winner_z[cell]) {
         winner[cell] = i;
-        winner_z[cell] = zs[i];
+        winner_z[cell] = zs[j];
       }
     }
   }
@@ -224,6 +224,7 @@ bool TemplateProjector::FillBounded(const ViewTransform& view) {
 bool TemplateProjector::FillTwoPasses(const ViewTransform& view) {
   // The bins of every point and their extent first, then the z-buffer.
   const int n = n_;
+  z_.resize(n);
   bx_.resize(n);
   by_.resize(n);
   const BinWindow window{-kApproxMaxBin, -kApproxMaxBin, kApproxMaxBin, kApproxMaxBin};

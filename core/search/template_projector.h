@@ -78,7 +78,8 @@ class TemplateProjector {
   int n_;
   Eigen::Vector3d box_lo_, box_hi_;
   double bin_ = 0.01, inv_bin_ = 100.0;
-  std::vector<double> z_;  // per point: sensor-frame depth and (two passes only) bins.
+  // Two passes only: per point, its sensor-frame depth and bins.
+  std::vector<double> z_;
   std::vector<int> bx_, by_;
   int lo_x_ = 0, lo_y_ = 0, w_ = 0, h_ = 0;
   std::vector<int> winner_;

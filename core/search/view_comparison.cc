@@ -204,9 +204,11 @@ class RayCosts {
  public:
   // `bias`: how far the returns lie behind the surface they hit on average, in sigmas (the
   // range image keeps the nearest of the returns in a bin, which lies nearer than the surface).
+  // `projected`: z-buffers the projector already made (at their poses, with the grid's bin),
+  // used instead of projecting those poses again.
   RayCosts(const SurfaceModel& model, const Observation& obs, const RaySet& grid,
            std::vector<ObservedRay> rays, double t_max, double bias, bool reference,
-           TemplateProjector projector)
+           TemplateProjector projector, std::vector<std::pair<Pose2D, ProjectedWinners>> projected)
       : model_(model),
         obs_(obs),
         grid_(grid),
@@ -214,7 +216,8 @@ class RayCosts {
         t_max_(t_max),
         bias_(bias),
         reference_(reference),
-        projector_(std::move(projector)) {}
+        projector_(std::move(projector)),
+        projected_(std::move(projected)) {}
 
   std::vector<double> PerRay(const Pose2D& pose) const {
     std::vector<double> cost(rays_.size());
@@ -397,14 +400,20 @@ class RayCosts {
     }
     const double c = std::cos(pose.theta), s = std::sin(pose.theta);
     const ViewTransform view(c, s, pose, obs_.sensor_from_ground);
-    projector_.Project(view, grid_.bin());
-    const std::vector<int>& winner = projector_.winner();
-    const int w = projector_.w(), h = projector_.h();
+    const ProjectedWinners* known = nullptr;
+    for (const auto& [at, z] : projected_) {
+      if (at.x == pose.x && at.y == pose.y && at.theta == pose.theta) known = &z;
+    }
+    if (known == nullptr) projector_.Project(view, grid_.bin());
+    const std::vector<int>& winner = known ? known->winner : projector_.winner();
+    const int w = known ? known->w : projector_.w(), h = known ? known->h : projector_.h();
+    const int lo_x = known ? known->lo_x : projector_.lo_x();
+    const int lo_y = known ? known->lo_y : projector_.lo_y();
     const Eigen::Matrix3d a = obs_.sensor_from_ground.linear();
     for (size_t k = 0; k < rays_.size(); ++k) {
       const ObservedRay& r = rays_[k];
-      const int bx = grid_.BinX(r.cell) - projector_.lo_x();
-      const int by = grid_.BinY(r.cell) - projector_.lo_y();
+      const int bx = grid_.BinX(r.cell) - lo_x;
+      const int by = grid_.BinY(r.cell) - lo_y;
       const int i =
           bx >= 0 && by >= 0 && bx < w && by < h ? winner[static_cast<size_t>(by) * w + bx] : -1;
       if (i < 0) {
@@ -428,6 +437,7 @@ class RayCosts {
   double bias_;
   bool reference_;
   mutable TemplateProjector projector_;  // scratch of ForEachRay.
+  std::vector<std::pair<Pose2D, ProjectedWinners>> projected_;
   mutable int evaluations_ = 0;
 };
 
@@ -453,6 +463,8 @@ ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, c
   TemplateProjector projector(model);
   std::optional<RaySet> grid_storage;
   std::vector<int> wa, wb;
+  // Both poses' z-buffers: the settles begin at them.
+  std::vector<std::pair<Pose2D, ProjectedWinners>> projected;
   if (noise.reference_evaluation) {
     const PlacedSurface pa = Place(model, a, obs.sensor_from_ground);
     const PlacedSurface pb = Place(model, b, obs.sensor_from_ground);
@@ -464,8 +476,10 @@ ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, c
     wa = grid_storage->ZBuffer(pa);
     wb = grid_storage->ZBuffer(pb);
   } else {
-    const ProjectedWinners za = ProjectWinners(&projector, view_a, bin);
-    const ProjectedWinners zb = ProjectWinners(&projector, view_b, bin);
+    projected.emplace_back(a, ProjectWinners(&projector, view_a, bin));
+    projected.emplace_back(b, ProjectWinners(&projector, view_b, bin));
+    const ProjectedWinners& za = projected[0].second;
+    const ProjectedWinners& zb = projected[1].second;
     grid_storage.emplace(bin, za.lo.cwiseMin(zb.lo), za.hi.cwiseMax(zb.hi), margin);
     wa = grid_storage->ZBuffer(za);
     wb = grid_storage->ZBuffer(zb);
@@ -514,7 +528,7 @@ ViewComparison CompareViews(const SurfaceModel& model, const Observation& obs, c
   }
   out.rays = static_cast<int>(rays.size());
   const RayCosts costs(model, obs, grid, std::move(rays), options.max_squared_residual, bias,
-                       noise.reference_evaluation, std::move(projector));
+                       noise.reference_evaluation, std::move(projector), std::move(projected));
   // Settles a pose; its rays' costs there in `per_ray`.
   const auto settle = [&](const Pose2D& p, std::vector<double>* per_ray) {
     Pose2D settled = p;

@@ -20,6 +20,7 @@
 #include "core/depth/depth_to_cloud.h"
 #include "core/depth/range_image.h"
 #include "core/search/estimator.h"
+#include "core/search/prepared_cluster.h"
 #include "core/search/refine_objective.h"
 #include "core/search/surface_model.h"
 #include "core/sim/frame_simulator.h"
@@ -436,6 +437,60 @@ TEST(PoseRefinerTest, PreparedObjectiveEqualsTheReference) {
     }
   }
   EXPECT_EQ(compared, 48);
+}
+
+// The cluster's side prepared once and shared (as the estimator shares it among the templates of
+// a cluster) gives the same refinements to the bit; one prepared from other points, another
+// mount or other noise options is not used, and the evaluation still equals the reference.
+TEST(PoseRefinerTest, ASharedPreparedClusterGivesTheSameRefinements) {
+  const Pose2D truth{2.1, 0.1, DegToRad(35.0)};
+  const Scene s = MakeScene(truth, /*noise=*/true, /*seed=*/13, "standing", 0.34, 0.0, 2);
+  const RefineOptions options;
+  const PreparedCluster prepared(s.humanoid.points, s.sensor_from_ground, options);
+  EXPECT_EQ(prepared.size(), (s.humanoid.points.size() +
+                              refine_terms::DataStride(s.humanoid.points.size(), options) - 1) /
+                                 refine_terms::DataStride(s.humanoid.points.size(), options));
+  Observation shared = s.Obs();
+  shared.prepared = &prepared;
+  for (const std::string preset : {"standing", "right_arm_raised"}) {
+    const SurfaceModel model(ModelTemplate(preset));
+    for (const Pose2D& start : {Pose2D{truth.x + 0.012, truth.y - 0.010, truth.theta + 0.05},
+                                Pose2D{truth.x, truth.y, NormalizeAngle(truth.theta + kPi)}}) {
+      const RefinedPose own = RefinePose(model, s.Obs(), start, options);
+      const RefinedPose with = RefinePose(model, shared, start, options);
+      EXPECT_EQ(with.pose.x, own.pose.x) << preset;
+      EXPECT_EQ(with.pose.y, own.pose.y) << preset;
+      EXPECT_EQ(with.pose.theta, own.pose.theta) << preset;
+      EXPECT_EQ(with.evaluations, own.evaluations) << preset;
+      EXPECT_EQ(with.evidence.cost, own.evidence.cost) << preset;
+      EXPECT_EQ(with.covariance, own.covariance) << preset;
+    }
+  }
+
+  EXPECT_TRUE(prepared.Matches(s.humanoid.points, s.sensor_from_ground, options));
+  const std::vector<Eigen::Vector3f> copy = s.humanoid.points;
+  EXPECT_FALSE(prepared.Matches(copy, s.sensor_from_ground, options));
+  Eigen::Isometry3d moved = s.sensor_from_ground;
+  moved.translation().z() += 0.01;
+  EXPECT_FALSE(prepared.Matches(s.humanoid.points, moved, options));
+  RefineOptions strided = options;
+  strided.max_data_points = 150;
+  EXPECT_FALSE(prepared.Matches(s.humanoid.points, s.sensor_from_ground, strided));
+  RefineOptions noisier = options;
+  noisier.axial_coeff *= 2.0;
+  EXPECT_FALSE(prepared.Matches(s.humanoid.points, s.sensor_from_ground, noisier));
+  // Options the cluster's side does not depend on still match.
+  RefineOptions other_stop = options;
+  other_stop.converged_sigmas = 2.0;
+  EXPECT_TRUE(prepared.Matches(s.humanoid.points, s.sensor_from_ground, other_stop));
+
+  const SurfaceModel model(ModelTemplate("standing"));
+  for (const RefineOptions& o : {strided, noisier}) {
+    RefineObjective objective(model, shared, o);
+    ExpectSameLinearisation(objective.Linearise(truth),
+                            LineariseReference(model, s.Obs(), truth, o),
+                            "prepared for other options");
+  }
 }
 
 // Every term of the cost is non-negative, so an evaluation that stops once its running cost
