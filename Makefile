@@ -55,8 +55,8 @@ demo: build
 	./$(BUILD_DIR)/tools/hpose demo --picture $(BUILD_DIR)/demo.png
 
 # Every test: the Release suite, then the same suite under AddressSanitizer and
-# UndefinedBehaviorSanitizer with every fuzz target run FUZZ_SECONDS (`make test-asan`; its cost
-# is in docs/RELIABILITY.md). Each part ends in CTest's summary; the first failure stops.
+# UndefinedBehaviorSanitizer with every fuzz target run TEST_FUZZ_SECONDS (`make test-asan`; its
+# cost is in docs/RELIABILITY.md). Each part ends in CTest's summary; the first failure stops.
 test: test-release test-asan
 
 test-release: build
@@ -110,10 +110,13 @@ fuzz: san-configure
 	cmake --build $(SAN_DIR) -j $(JOBS) --target fuzz_targets hpose hpose_proto_python
 	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -L fuzz
 
-# The whole test suite under the sanitizers, and every fuzz target for FUZZ_SECONDS.
+# The whole test suite under the sanitizers, and every fuzz target for TEST_FUZZ_SECONDS (a
+# short run with the suite, seeded as `make fuzz` seeds; `make fuzz` runs longer).
+TEST_FUZZ_SECONDS ?= 20
 test-asan: san-configure
 	cmake --build $(SAN_DIR) -j $(JOBS)
-	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS)
+	cd $(SAN_DIR) && $(SAN_ENV) HPOSE_FUZZ_SECONDS=$(TEST_FUZZ_SECONDS) \
+	  ctest --output-on-failure -j $(JOBS)
 
 format:
 	clang-format -i $$(git ls-files '*.cc' '*.h')

@@ -85,9 +85,11 @@ double CpuMs() {
   return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
 }
 
-std::string Cell(const std::vector<double>& v) {
+// "median / p90" with `decimals` digits after the point.
+std::string Cell(const std::vector<double>& v, int decimals = 1) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1f / %.1f", Median(v), Percentile(v, 90.0));
+  std::snprintf(buf, sizeof buf, "%.*f / %.*f", decimals, Median(v), decimals,
+                Percentile(v, 90.0));
   return buf;
 }
 
@@ -212,7 +214,7 @@ void PrintTable(const std::vector<Variant>& variants) {
     std::printf(
         "| %s | %s | %s | %s | %s | %s | %s | %s | %.1f | %s | %s | %d | %d / %d | %016llx |\n",
         v.name.c_str(), Cell(v.cloud).c_str(), Cell(v.floor).c_str(), Cell(v.cluster).c_str(),
-        Cell(v.search).c_str(), Cell(v.refine).c_str(), Cell(v.refine_humanoid).c_str(),
+        Cell(v.search).c_str(), Cell(v.refine, 2).c_str(), Cell(v.refine_humanoid, 2).c_str(),
         Cell(v.total).c_str(), Percentile(v.total, 99.0), Cell(v.cpu).c_str(),
         Cell(v.bounds).c_str(), v.tracked, v.found, v.frames,
         static_cast<unsigned long long>(v.digest));

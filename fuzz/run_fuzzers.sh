@@ -10,7 +10,9 @@
 set -eu
 build=$1
 fuzz=$2
-seconds=$3
+# HPOSE_FUZZ_SECONDS in the environment, when set, overrides SECONDS (`make test-asan` runs the
+# CTest fuzz tests shorter than the build configured them).
+seconds=${HPOSE_FUZZ_SECONDS:-$3}
 shift 3
 all_targets="depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template daemon_config
              stereo_calibration estimate_request depth_tiff depth_pclzf"
