@@ -566,7 +566,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     };
     const bool contend =
         Contends(task.cand.fit, leader[task.cluster], options_.refine.runner_up_fit_sigmas);
-    RefineRunnerUp(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground, &*w.prepared},
+    const PreparedCluster* prepared = w.prepared ? &*w.prepared : nullptr;
+    RefineRunnerUp(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground, prepared},
                    options_.refine, options_.heading_views,
                    task.has_prior ? &task.prior_theta : nullptr, contend, rescore, &task.cand);
     task.refine_ms += MsSince(t_refine);
