@@ -88,8 +88,7 @@ double CpuMs() {
 // "median / p90" with `decimals` digits after the point.
 std::string Cell(const std::vector<double>& v, int decimals = 1) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f / %.*f", decimals, Median(v), decimals,
-                Percentile(v, 90.0));
+  std::snprintf(buf, sizeof buf, "%.*f / %.*f", decimals, Median(v), decimals, Percentile(v, 90.0));
   return buf;
 }
 

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <utility>
 
 #include "core/common/task_pool.h"
 #include "core/depth/cloud_validation.h"
@@ -391,6 +392,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     bool has_prior = false;  // the previous frame's pose stood on this cluster.
     double prior_theta = 0.0;
     double refine_ms = 0.0;
+    // The search's scorer, kept for the rescore of a runner-up that wins.
+    std::unique_ptr<PoseScorer> scorer;
   };
   const int cluster_count = static_cast<int>(clusters->size());
   std::vector<ClusterWork> work(cluster_count);
@@ -424,7 +427,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
       Task task;
       task.cluster = i;
       task.tpl = static_cast<int>(j);
-      tasks.push_back(task);
+      tasks.push_back(std::move(task));
     }
     if (tasks.size() > before) searched_clusters.push_back(i);
   }
@@ -467,11 +470,10 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
       return;
     }
     task.kept = true;
-    const std::unique_ptr<PoseScorer> scorer =
-        MakePoseScorer(options_.scorer, w.voxels, options_.lattice);
+    task.scorer = MakePoseScorer(options_.scorer, w.voxels, options_.lattice);
     SearchProblem problem;
     problem.cluster = &w.voxels;
-    problem.scorer = scorer.get();
+    problem.scorer = task.scorer.get();
     problem.rotations = &rot;
     problem.centre_ground = c.centroid.head<2>().cast<double>();
     problem.free_space = use_free_space ? &w.free : nullptr;
@@ -556,8 +558,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     const auto rescore = [&](Candidate* cd) {
       const LatticePose lp = NearestLatticePose(options_.lattice, cd->lattice_pose);
       const RotatedTemplate& rt = rot.Get(lp.itheta);
-      cd->hits =
-          MakePoseScorer(options_.scorer, w.voxels, options_.lattice)->Hits(rt, lp.ix, lp.iy);
+      cd->hits = task.scorer->Hits(rt, lp.ix, lp.iy);
       cd->free_space_hits =
           use_free_space
               ? MakePoseScorer(ScorerKind::kFast, w.free, options_.lattice)->Hits(rt, lp.ix, lp.iy)
