@@ -4,16 +4,8 @@
 #include <cassert>
 #include <numeric>
 
-// The bound loops are popcount-bound. Without -mpopcnt, __builtin_popcountll is a call into
-// libgcc; on x86-64 compile a POPCNT clone too, chosen at load time (ifunc) where the CPU has it.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__POPCNT__) && defined(__has_attribute)
-#if __has_attribute(target_clones) && defined(__gnu_linux__)
-#define HPOSE_POPCNT_CLONES __attribute__((target_clones("popcnt", "default")))
-#endif
-#endif
-#ifndef HPOSE_POPCNT_CLONES
-#define HPOSE_POPCNT_CLONES
-#endif
+#include "core/scoring/gather_sums.h"
+#include "core/scoring/popcount_clones.h"
 
 namespace hpose {
 namespace {
@@ -134,35 +126,6 @@ int SumGeneric(const std::uint64_t* data, int x0, int y0, int nx, int ny, int s,
   return sum;
 }
 
-// The bound sums of the aligned path: per column one lookup at base + cy * row + cxe.
-HPOSE_POPCNT_CLONES
-int SumAligned(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
-               const std::int32_t* cxe, const std::int32_t* cy, const std::uint64_t* masks, int n) {
-  int sum = 0;
-  for (int c = 0; c < n; ++c) sum += Popcount(masks[c] & data[base + cy[c] * row + cxe[c]]);
-  return sum;
-}
-
-// The four blocks d cells apart (Bound4), aligned.
-HPOSE_POPCNT_CLONES
-void SumAligned4(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
-                 std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* cxe,
-                 const std::int32_t* cy, const std::uint64_t* masks, int n, int out[4]) {
-  int s00 = 0, s01 = 0, s10 = 0, s11 = 0;
-  for (int c = 0; c < n; ++c) {
-    const std::uint64_t* p = data + base + cy[c] * row + cxe[c];
-    const std::uint64_t m = masks[c];
-    s00 += Popcount(m & p[0]);
-    s01 += Popcount(m & p[dy]);
-    s10 += Popcount(m & p[dx]);
-    s11 += Popcount(m & p[dx + dy]);
-  }
-  out[0] = s00;
-  out[1] = s01;
-  out[2] = s10;
-  out[3] = s11;
-}
-
 // Theta blocks, aligned: column c reads the level levels[c] points at (null: all its voxels
 // count).
 HPOSE_POPCNT_CLONES
@@ -270,9 +233,10 @@ int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = levels_[0];  // windows of one cell (entry 0): the cell's own voxels.
-  return SumAligned(lv.data.data(), AlignedBase(ix & ~mask, iy & ~mask),
-                    static_cast<std::ptrdiff_t>(lv.nx) * 4, groups.cxe.data(), groups.cy.data(),
-                    groups.masks.data(), static_cast<int>(groups.masks.size()));
+  return GatherPopcountSum(lv.data.data(), AlignedBase(ix & ~mask, iy & ~mask),
+                           static_cast<std::ptrdiff_t>(lv.nx) * 4, groups.cxe.data(),
+                           groups.cy.data(), groups.masks.data(),
+                           static_cast<int>(groups.masks.size()));
 }
 
 void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int d,
@@ -281,9 +245,9 @@ void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = levels_[0];
   const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(lv.nx) * 4;
-  SumAligned4(lv.data.data(), AlignedBase(ix & ~mask, iy & ~mask), row, 4 * d, d * row,
-              groups.cxe.data(), groups.cy.data(), groups.masks.data(),
-              static_cast<int>(groups.masks.size()), out);
+  GatherPopcountSum4(lv.data.data(), AlignedBase(ix & ~mask, iy & ~mask), row, 4 * d, d * row,
+                     groups.cxe.data(), groups.cy.data(), groups.masks.data(),
+                     static_cast<int>(groups.masks.size()), out);
 }
 
 int ColumnOccupancy::PairBound(const PairBlockTable& table, const std::uint64_t* masks, int a,
@@ -291,9 +255,9 @@ int ColumnOccupancy::PairBound(const PairBlockTable& table, const std::uint64_t*
   assert(aligned_ && levels_.size() > 1);
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = levels_[1];
-  return SumAligned(lv.data.data(), AlignedBase(a & ~mask, b & ~mask),
-                    static_cast<std::ptrdiff_t>(lv.nx) * 4, table.cxe.data(), table.cy.data(),
-                    masks, static_cast<int>(table.cxe.size()));
+  return GatherPopcountSum(lv.data.data(), AlignedBase(a & ~mask, b & ~mask),
+                           static_cast<std::ptrdiff_t>(lv.nx) * 4, table.cxe.data(),
+                           table.cy.data(), masks, static_cast<int>(table.cxe.size()));
 }
 
 std::ptrdiff_t ColumnOccupancy::AlignedBase(int a, int b) const {
@@ -456,9 +420,10 @@ int ColumnOccupancy::LowerBound(const RotatedTemplate& rotated, const std::uint6
   assert(rotated.column_extent.empty());  // single rotations only.
   const Level& lv = levels_[level];
   if (Aligned(rotated, a, b, level)) {
-    return SumAligned(lv.data.data(), AlignedBase(a, b), static_cast<std::ptrdiff_t>(lv.nx) * 4,
-                      rotated.column_cxe.data(), rotated.column_cy.data(), masks,
-                      static_cast<int>(rotated.column_q.size()));
+    return GatherPopcountSum(lv.data.data(), AlignedBase(a, b),
+                             static_cast<std::ptrdiff_t>(lv.nx) * 4, rotated.column_cxe.data(),
+                             rotated.column_cy.data(), masks,
+                             static_cast<int>(rotated.column_q.size()));
   }
   const int span = (1 << level) - 1;
   const int n = static_cast<int>(rotated.column_q.size());
@@ -490,9 +455,9 @@ void ColumnOccupancy::Bound4(const RotatedTemplate& rotated, int a, int b, int l
   if (Aligned(rotated, a, b, level)) {
     const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(lv.nx) * 4;
     const std::ptrdiff_t d = size >> shift_;
-    SumAligned4(lv.data.data(), AlignedBase(a, b), row, 4 * d, d * row, rotated.column_cxe.data(),
-                rotated.column_cy.data(), rotated.column_masks.data(),
-                static_cast<int>(rotated.column_q.size()), out);
+    GatherPopcountSum4(lv.data.data(), AlignedBase(a, b), row, 4 * d, d * row,
+                       rotated.column_cxe.data(), rotated.column_cy.data(),
+                       rotated.column_masks.data(), static_cast<int>(rotated.column_q.size()), out);
     return;
   }
   SumOneWordPow2x4(lv.data.data(), lv.x0, lv.y0, lv.nx, lv.ny, shift_, lv.min_len - 1,

@@ -1,0 +1,147 @@
+#include "core/scoring/gather_sums.h"
+
+#include <cassert>
+
+#include "core/scoring/popcount_clones.h"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define HPOSE_GATHER_AVX512 1
+#endif
+
+namespace hpose {
+
+HPOSE_POPCNT_CLONES
+int GatherPopcountSumScalar(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
+                            const std::int32_t* cxe, const std::int32_t* cy,
+                            const std::uint64_t* masks, int n) {
+  int sum = 0;
+  for (int c = 0; c < n; ++c)
+    sum += __builtin_popcountll(masks[c] & data[base + cy[c] * row + cxe[c]]);
+  return sum;
+}
+
+HPOSE_POPCNT_CLONES
+void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
+                              std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* cxe,
+                              const std::int32_t* cy, const std::uint64_t* masks, int n,
+                              int out[4]) {
+  int s00 = 0, s01 = 0, s10 = 0, s11 = 0;
+  for (int c = 0; c < n; ++c) {
+    const std::uint64_t* p = data + base + cy[c] * row + cxe[c];
+    const std::uint64_t m = masks[c];
+    s00 += __builtin_popcountll(m & p[0]);
+    s01 += __builtin_popcountll(m & p[dy]);
+    s10 += __builtin_popcountll(m & p[dx]);
+    s11 += __builtin_popcountll(m & p[dx + dy]);
+  }
+  out[0] = s00;
+  out[1] = s01;
+  out[2] = s10;
+  out[3] = s11;
+}
+
+#ifdef HPOSE_GATHER_AVX512
+namespace {
+
+// The sum of the eight 64-bit lanes.
+[[gnu::target("avx512f")]] int SumLanes(__m512i v) {
+  alignas(64) std::int64_t lanes[8];
+  _mm512_store_si512(lanes, v);
+  int sum = 0;
+  for (const std::int64_t x : lanes) sum += static_cast<int>(x);
+  return sum;
+}
+
+// Eight columns a step: their offsets cy * row + cxe as 32-bit lanes, one gather of the eight
+// words, AND with the eight masks, per-lane popcounts summed in 64-bit lanes; the remaining
+// columns by the scalar loop.
+[[gnu::target("avx2,avx512f,avx512vpopcntdq")]] int GatherPopcountSumAvx512(
+    const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row, const std::int32_t* cxe,
+    const std::int32_t* cy, const std::uint64_t* masks, int n) {
+  assert(row <= INT32_MAX);
+  const std::uint64_t* p = data + base;
+  const __m256i rows = _mm256_set1_epi32(static_cast<int>(row));
+  const __m512i zero = _mm512_setzero_si512();
+  __m512i acc = zero;
+  int c = 0;
+  for (; c + 8 <= n; c += 8) {
+    const __m256i y = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cy + c));
+    const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cxe + c));
+    const __m256i offsets = _mm256_add_epi32(_mm256_mullo_epi32(y, rows), x);
+    const __m512i words = _mm512_mask_i32gather_epi64(zero, 0xFF, offsets, p, 8);
+    const __m512i m = _mm512_loadu_si512(masks + c);
+    acc = _mm512_add_epi64(acc, _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
+  }
+  int sum = SumLanes(acc);
+  for (; c < n; ++c) sum += __builtin_popcountll(masks[c] & p[cy[c] * row + cxe[c]]);
+  return sum;
+}
+
+[[gnu::target("avx2,avx512f,avx512vpopcntdq")]] void GatherPopcountSum4Avx512(
+    const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row, std::ptrdiff_t dx,
+    std::ptrdiff_t dy, const std::int32_t* cxe, const std::int32_t* cy, const std::uint64_t* masks,
+    int n, int out[4]) {
+  const std::uint64_t* p = data + base;
+  const __m256i rows = _mm256_set1_epi32(static_cast<int>(row));
+  const __m512i zero = _mm512_setzero_si512();
+  __m512i acc[4] = {zero, zero, zero, zero};
+  const std::uint64_t* const at[4] = {p, p + dy, p + dx, p + dx + dy};
+  int c = 0;
+  for (; c + 8 <= n; c += 8) {
+    const __m256i y = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cy + c));
+    const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cxe + c));
+    const __m256i offsets = _mm256_add_epi32(_mm256_mullo_epi32(y, rows), x);
+    const __m512i m = _mm512_loadu_si512(masks + c);
+    for (int k = 0; k < 4; ++k) {
+      const __m512i words = _mm512_mask_i32gather_epi64(zero, 0xFF, offsets, at[k], 8);
+      acc[k] = _mm512_add_epi64(acc[k], _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
+    }
+  }
+  for (int k = 0; k < 4; ++k) out[k] = SumLanes(acc[k]);
+  for (; c < n; ++c) {
+    const std::ptrdiff_t o = cy[c] * row + cxe[c];
+    for (int k = 0; k < 4; ++k) out[k] += __builtin_popcountll(masks[c] & at[k][o]);
+  }
+}
+
+bool HasAvx512Popcount() {
+  static const bool has = __builtin_cpu_supports("avx512f") &&
+                          __builtin_cpu_supports("avx512vpopcntdq") &&
+                          __builtin_cpu_supports("avx2");
+  return has;
+}
+
+}  // namespace
+
+bool GatherPopcountSumVectorised() { return HasAvx512Popcount(); }
+
+int GatherPopcountSum(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
+                      const std::int32_t* cxe, const std::int32_t* cy, const std::uint64_t* masks,
+                      int n) {
+  return HasAvx512Popcount() ? GatherPopcountSumAvx512(data, base, row, cxe, cy, masks, n)
+                             : GatherPopcountSumScalar(data, base, row, cxe, cy, masks, n);
+}
+void GatherPopcountSum4(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
+                        std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* cxe,
+                        const std::int32_t* cy, const std::uint64_t* masks, int n, int out[4]) {
+  (HasAvx512Popcount() ? GatherPopcountSum4Avx512 : GatherPopcountSum4Scalar)(
+      data, base, row, dx, dy, cxe, cy, masks, n, out);
+}
+#else
+bool GatherPopcountSumVectorised() { return false; }
+
+void GatherPopcountSum4(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
+                        std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* cxe,
+                        const std::int32_t* cy, const std::uint64_t* masks, int n, int out[4]) {
+  GatherPopcountSum4Scalar(data, base, row, dx, dy, cxe, cy, masks, n, out);
+}
+
+int GatherPopcountSum(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
+                      const std::int32_t* cxe, const std::int32_t* cy, const std::uint64_t* masks,
+                      int n) {
+  return GatherPopcountSumScalar(data, base, row, cxe, cy, masks, n);
+}
+#endif
+
+}  // namespace hpose

@@ -1,0 +1,95 @@
+#include "core/scoring/gather_sums.h"
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace hpose {
+namespace {
+
+// A box of cells, four words a cell as in ColumnOccupancy's aligned layout, and random lookups
+// around a base in its middle (negative offsets too), n not always a multiple of eight.
+struct Lookups {
+  std::vector<std::uint64_t> data;
+  std::ptrdiff_t base = 0;
+  std::ptrdiff_t row = 0;
+  std::vector<std::int32_t> cxe, cy;
+  std::vector<std::uint64_t> masks;
+};
+
+Lookups RandomLookups(std::mt19937_64* rng, int n) {
+  Lookups l;
+  const int nx = 40, ny = 36;
+  l.row = nx * 4;
+  l.data.resize(static_cast<size_t>(nx) * ny * 4);
+  for (std::uint64_t& w : l.data) w = (*rng)() & (*rng)();
+  l.base = (18 * nx + 20) * 4;
+  std::uniform_int_distribution<int> dx(-8, 8), dy(-8, 8), entry(0, 3);
+  for (int c = 0; c < n; ++c) {
+    l.cxe.push_back(4 * dx(*rng) + entry(*rng));
+    l.cy.push_back(dy(*rng));
+    l.masks.push_back(c % 5 == 0 ? ~std::uint64_t{0} : (*rng)());
+  }
+  return l;
+}
+
+// The sum bit by bit, without popcount instructions.
+int CountBits(const Lookups& l, std::ptrdiff_t shift) {
+  int sum = 0;
+  for (size_t c = 0; c < l.masks.size(); ++c) {
+    const std::uint64_t w = l.masks[c] & l.data[l.base + shift + l.cy[c] * l.row + l.cxe[c]];
+    for (int b = 0; b < 64; ++b) sum += static_cast<int>((w >> b) & 1);
+  }
+  return sum;
+}
+
+TEST(GatherSumsTest, TheScalarSumsCountTheMaskedBits) {
+  std::mt19937_64 rng(5);
+  for (int n = 0; n < 40; ++n) {
+    const Lookups l = RandomLookups(&rng, n);
+    ASSERT_EQ(GatherPopcountSumScalar(l.data.data(), l.base, l.row, l.cxe.data(), l.cy.data(),
+                                      l.masks.data(), n),
+              CountBits(l, 0))
+        << "n " << n;
+    const std::ptrdiff_t dx = 8, dy = 2 * l.row;
+    int four[4];
+    GatherPopcountSum4Scalar(l.data.data(), l.base, l.row, dx, dy, l.cxe.data(), l.cy.data(),
+                             l.masks.data(), n, four);
+    EXPECT_EQ(four[0], CountBits(l, 0));
+    EXPECT_EQ(four[1], CountBits(l, dy));
+    EXPECT_EQ(four[2], CountBits(l, dx));
+    EXPECT_EQ(four[3], CountBits(l, dx + dy));
+  }
+}
+
+TEST(GatherSumsTest, TheDispatchedSumsEqualTheScalarOnes) {
+  if (!GatherPopcountSumVectorised()) {
+    GTEST_SKIP() << "this CPU has no AVX-512 VPOPCNTDQ: the dispatched sums are the scalar ones";
+  }
+  std::mt19937_64 rng(9);
+  int nonzero = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int n = trial % 70;
+    const Lookups l = RandomLookups(&rng, n);
+    const int scalar = GatherPopcountSumScalar(l.data.data(), l.base, l.row, l.cxe.data(),
+                                               l.cy.data(), l.masks.data(), n);
+    ASSERT_EQ(GatherPopcountSum(l.data.data(), l.base, l.row, l.cxe.data(), l.cy.data(),
+                                l.masks.data(), n),
+              scalar)
+        << "n " << n;
+    nonzero += scalar > 0 ? 1 : 0;
+    const std::ptrdiff_t dx = 4 * (1 + trial % 3), dy = (1 + trial % 2) * l.row;
+    int fast[4], ref[4];
+    GatherPopcountSum4(l.data.data(), l.base, l.row, dx, dy, l.cxe.data(), l.cy.data(),
+                       l.masks.data(), n, fast);
+    GatherPopcountSum4Scalar(l.data.data(), l.base, l.row, dx, dy, l.cxe.data(), l.cy.data(),
+                             l.masks.data(), n, ref);
+    for (int k = 0; k < 4; ++k) ASSERT_EQ(fast[k], ref[k]) << "n " << n << " block " << k;
+  }
+  EXPECT_GT(nonzero, 150);
+}
+
+}  // namespace
+}  // namespace hpose
