@@ -227,16 +227,20 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
     }
     levels_.push_back(Filtered(k, filter == Filter::kMax, box));
   }
+  if (aligned_) {
+    const Level& lv = levels_[0];
+    plane_.resize(static_cast<size_t>(lv.nx) * lv.ny);
+    for (size_t i = 0; i < plane_.size(); ++i) plane_[i] = lv.data[4 * i];
+  }
 }
 
 int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const {
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
-  const Level& lv = levels_[0];  // windows of one cell (entry 0): the cell's own voxels.
-  return GatherPopcountSum(lv.data.data(), AlignedBase(ix & ~mask, iy & ~mask),
-                           static_cast<std::ptrdiff_t>(lv.nx) * 4, groups.cxe.data(),
-                           groups.cy.data(), groups.masks.data(),
-                           static_cast<int>(groups.masks.size()));
+  const Level& lv = levels_[0];  // the plane: level 0's one-cell windows, the cells' own voxels.
+  return RunPopcountSum(plane_.data(), AlignedBase(ix & ~mask, iy & ~mask) / 4, lv.nx,
+                        groups.run_cx.data(), groups.run_cy.data(), groups.run_len.data(),
+                        groups.run_masks.data(), static_cast<int>(groups.run_len.size()));
 }
 
 void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int d,
@@ -244,10 +248,10 @@ void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = levels_[0];
-  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(lv.nx) * 4;
-  GatherPopcountSum4(lv.data.data(), AlignedBase(ix & ~mask, iy & ~mask), row, 4 * d, d * row,
-                     groups.cxe.data(), groups.cy.data(), groups.masks.data(),
-                     static_cast<int>(groups.masks.size()), out);
+  RunPopcountSum4(plane_.data(), AlignedBase(ix & ~mask, iy & ~mask) / 4, lv.nx, d,
+                  static_cast<std::ptrdiff_t>(d) * lv.nx, groups.run_cx.data(),
+                  groups.run_cy.data(), groups.run_len.data(), groups.run_masks.data(),
+                  static_cast<int>(groups.run_len.size()), out);
 }
 
 int ColumnOccupancy::PairBound(const PairBlockTable& table, const std::uint64_t* masks, int a,

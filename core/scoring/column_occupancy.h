@@ -111,6 +111,9 @@ class ColumnOccupancy {
   Grid base_;
   std::vector<Level> levels_;
   bool aligned_ = false;  // every level shares the layout of levels_[0] over the lookup range.
+  // Aligned only: level 0's own cells (entry 0) as one word per cell, same box, row by row: the
+  // plane HitsGrouped reads runs of cells from.
+  std::vector<std::uint64_t> plane_;
   mutable std::vector<std::uint32_t> stamp_;
   mutable std::vector<std::uint64_t> acc_;
   mutable std::vector<int> touched_;

@@ -32,6 +32,26 @@ void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, st
                               int out[4]);
 bool GatherPopcountSumVectorised();
 
+// The same sum over runs of consecutive words: run r adds popcount(masks[k] & words[i]) for
+// the run_len[r] (at most 8) words from plane + base + run_cy[r] * row + run_cx[r], k counting
+// on through `masks` run after run (CellGroups' runs over a plane of one word per cell). With
+// AVX-512 a run is one masked load; the scalar loop is the reference.
+int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
+                   const std::int32_t* run_cx, const std::int32_t* run_cy,
+                   const std::int32_t* run_len, const std::uint64_t* masks, int runs);
+int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
+                         const std::int32_t* run_cx, const std::int32_t* run_cy,
+                         const std::int32_t* run_len, const std::uint64_t* masks, int runs);
+// RunPopcountSum at base, base + dy, base + dx and base + dx + dy into out[0 .. 3].
+void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
+                     std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* run_cx,
+                     const std::int32_t* run_cy, const std::int32_t* run_len,
+                     const std::uint64_t* masks, int runs, int out[4]);
+void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
+                           std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* run_cx,
+                           const std::int32_t* run_cy, const std::int32_t* run_len,
+                           const std::uint64_t* masks, int runs, int out[4]);
+
 }  // namespace hpose
 
 #endif  // HPOSE_CORE_SCORING_GATHER_SUMS_H_

@@ -298,6 +298,34 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
   }
 }
 
+void MakeCellRuns(CellGroups* groups) {
+  CellGroups& g = *groups;
+  std::vector<size_t> order(g.masks.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&g](size_t a, size_t b) {
+    return g.cy[a] != g.cy[b] ? g.cy[a] < g.cy[b] : g.cxe[a] < g.cxe[b];
+  });
+  g.run_cx.clear();
+  g.run_cy.clear();
+  g.run_len.clear();
+  g.run_masks.clear();
+  for (size_t k = 0; k < order.size(); ++k) {
+    const size_t i = order[k];
+    const int cx = g.cxe[i] / 4;
+    const bool extends = !g.run_len.empty() && g.run_cy.back() == g.cy[i] &&
+                         g.run_cx.back() + g.run_len.back() == cx &&
+                         g.run_len.back() < CellGroups::kMaxRun;
+    if (extends) {
+      ++g.run_len.back();
+    } else {
+      g.run_cx.push_back(cx);
+      g.run_cy.push_back(g.cy[i]);
+      g.run_len.push_back(1);
+    }
+    g.run_masks.push_back(g.masks[i]);
+  }
+}
+
 const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
   const int s = 1 << shift_;
   std::call_once(groups_once_[itheta], [&] {
@@ -328,6 +356,7 @@ const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
           }
           g.masks.back() |= r.column_masks[c];
         }
+        MakeCellRuns(&g);
       }
     }
     // Blocks of two steps at even residues: the window starts at the cell of q + residue and
@@ -406,6 +435,7 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
             g.masks.push_back(m);
           }
         }
+        MakeCellRuns(&g);
         out.push_back(std::move(g));
       }
     }

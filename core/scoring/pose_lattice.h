@@ -112,7 +112,18 @@ struct CellGroups {
   std::vector<std::int32_t> cxe;  // 4 cx.
   std::vector<std::int32_t> cy;
   std::vector<std::uint64_t> masks;  // one word per group.
+  // The same groups in runs of at most kMaxRun cells of one row (cy) with consecutive cx: run r
+  // covers cells (run_cx[r] + i, run_cy[r]) for i < run_len[r], their masks run_masks in the
+  // order of the runs (ColumnOccupancy::HitsGrouped reads a run as consecutive words).
+  static constexpr int kMaxRun = 8;
+  std::vector<std::int32_t> run_cx;
+  std::vector<std::int32_t> run_cy;
+  std::vector<std::int32_t> run_len;
+  std::vector<std::uint64_t> run_masks;
 };
+
+// Fills the runs of `groups` from its cells (any order, each cell once).
+void MakeCellRuns(CellGroups* groups);
 
 // A rotation's columns (same order as column_q) for translation blocks of 2 steps starting at
 // residue (ra, rb) (even, below S): per column 4 cx + 2 ex + ey and cy, the window's first
