@@ -227,7 +227,7 @@ int main(int argc, char** argv) {
   bool pipeline_only = false;
   bool no_search = false;
   std::vector<int> threads = {1, 2};
-  int search_threads = 1;
+  int search_threads = DaemonConfig().estimator.threads;  // hposed's default.
   std::string hpose = HPOSE_PROGRAM;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
@@ -268,7 +268,8 @@ int main(int argc, char** argv) {
           "  --pipeline-frames N   640x480 frames rendered for the pipeline runs (30)\n"
           "  --threads LIST        source.estimate_threads values to compare (1,2)\n"
           "  --search-threads N    search.threads of every run: threads inside one estimate\n"
-          "                        (its clusters x templates searched at once; default 1)\n"
+          "                        (its clusters x templates searched at once; default:\n"
+          "                        hposed's, 0 = one per core the process may use)\n"
           "  --hpose PATH          the hpose program that renders the frames\n"
           "  --no-search           pipeline runs without the pose search (no cluster is\n"
           "                        large enough): the cost of everything else\n"

@@ -112,8 +112,12 @@ struct WorldFrameConfig {
   double yaw_rad = 0.0;
 };
 
+// DefaultEstimatorOptions() with a frame's searches on every usable core (search.threads 0):
+// on two cores that keeps the arrival-to-published latency within two frame periods.
+EstimatorOptions DefaultDaemonEstimatorOptions();
+
 // Everything hposed runs with. Defaults in one place: the member initialisers and
-// DefaultEstimatorOptions().
+// DefaultDaemonEstimatorOptions().
 struct DaemonConfig {
   GrpcConfig grpc;
   HttpConfig http;
@@ -121,7 +125,7 @@ struct DaemonConfig {
   SourceConfig source;
   std::vector<std::string> templates;  // .bt files.
   FloorConfig floor;
-  EstimatorOptions estimator = DefaultEstimatorOptions();
+  EstimatorOptions estimator = DefaultDaemonEstimatorOptions();
   StereoConfig stereo;
   WorldFrameConfig world_from_ground;
 };

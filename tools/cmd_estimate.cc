@@ -27,6 +27,7 @@ int RunEstimate(int argc, char** argv) {
   std::vector<std::string> template_paths;
   bool json = false;
   EstimatorOptions options = DefaultEstimatorOptions();
+  options.threads = 0;  // every usable core: one frame, as soon as possible.
   std::string search = SearchKindName(options.search);
   std::string score = ScoreKindName(options.score);
   double floor_height = -1.0, floor_pitch_deg = 0.0, floor_roll_deg = 0.0;
@@ -77,6 +78,10 @@ int RunEstimate(int argc, char** argv) {
   flags.AddDouble("floor-roll-deg", &floor_roll_deg, "with --floor-height: roll, degrees", "DEG");
   flags.AddString("picture", &picture, "also draw the match (top and front views) to a PNG",
                   "OUT.png");
+  flags.AddInt("threads", &options.threads,
+               "threads for the frame's (cluster, template) searches, 0 = one per core this "
+               "process may use; the result does not depend on it",
+               "N");
   flags.AddBool("json", &json, "print one JSON object instead of text");
   flags.SetEpilog(
       "exit status: 0 humanoid found, 3 no humanoid passed the threshold, 4 no floor found,\n"
@@ -98,6 +103,10 @@ int RunEstimate(int argc, char** argv) {
   }
   if (stride < 1 || stride > 16) {
     std::cerr << "hpose estimate: --stride must be within [1, 16]\n";
+    return kExitUsage;
+  }
+  if (options.threads < 0 || options.threads > 256) {
+    std::cerr << "hpose estimate: --threads must be within [0, 256] (0: one per core)\n";
     return kExitUsage;
   }
   if (!picture.empty()) {  // before the work: a picture that cannot be written is an error.

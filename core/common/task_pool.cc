@@ -2,6 +2,10 @@
 
 #include <algorithm>
 
+#if defined(__linux__)
+#include <sched.h>
+#endif
+
 namespace hpose {
 
 TaskPool::TaskPool(int threads) {
@@ -19,6 +23,17 @@ TaskPool::~TaskPool() {
 
 int TaskPool::Resolve(int requested) {
   if (requested > 0) return requested;
+  return UsableCores();
+}
+
+int TaskPool::UsableCores() {
+#if defined(__linux__)
+  // The CPUs this process may run on (taskset, cpusets), not every CPU of the machine: more
+  // threads than that only take turns on the same cores.
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) == 0) return std::max(1, CPU_COUNT(&set));
+#endif
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 

@@ -24,8 +24,10 @@ class TaskPool {
   void ParallelFor(int n, const std::function<void(int)>& fn);
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
 
-  // `requested` threads, or one per core when 0 (at least 1).
+  // `requested` threads, or one per usable core when 0 (at least 1).
   static int Resolve(int requested);
+  // The cores this process may run on (its CPU affinity on Linux), at least 1.
+  static int UsableCores();
 
  private:
   void WorkerLoop();

@@ -7,6 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#if defined(__linux__)
+#include <sched.h>
+#endif
+
 namespace hpose {
 namespace {
 
@@ -56,8 +60,31 @@ TEST(TaskPoolTest, ConcurrentLoopsTakeTurns) {
 
 TEST(TaskPoolTest, ResolveZeroMeansOnePerCore) {
   EXPECT_GE(TaskPool::Resolve(0), 1);
+  EXPECT_EQ(TaskPool::Resolve(0), TaskPool::UsableCores());
   EXPECT_EQ(TaskPool::Resolve(3), 3);
 }
+
+#if defined(__linux__)
+// One core per usable core counts the cores the thread may run on (as taskset restricts them),
+// not every core of the machine: a thread pinned to one core resolves 0 to one thread.
+TEST(TaskPoolTest, UsableCoresFollowTheAffinity) {
+  cpu_set_t all;
+  CPU_ZERO(&all);
+  ASSERT_EQ(sched_getaffinity(0, sizeof(all), &all), 0);
+  EXPECT_EQ(TaskPool::UsableCores(), CPU_COUNT(&all));
+  int first = 0;
+  while (!CPU_ISSET(first, &all)) ++first;
+  int pinned = -1;
+  std::thread t([&] {
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(first, &one);
+    if (sched_setaffinity(0, sizeof(one), &one) == 0) pinned = TaskPool::Resolve(0);
+  });
+  t.join();
+  EXPECT_EQ(pinned, 1);
+}
+#endif
 
 }  // namespace
 }  // namespace hpose

@@ -36,6 +36,19 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_TRUE(ValidateDaemonConfig(*c).ok());
 }
 
+// A frame's searches run on every usable core unless the config says otherwise; the
+// estimator library's own default stays one thread.
+TEST(DaemonConfigTest, SearchThreadsDefaultToOnePerCore) {
+  EXPECT_EQ(DaemonConfig().estimator.threads, 0);
+  EXPECT_EQ(DefaultEstimatorOptions().threads, 1);
+  Result<DaemonConfig> c = ParseDaemonConfig("search: {threads: 2}", "x", "/base");
+  ASSERT_TRUE(c.ok()) << c.error().ToString();
+  EXPECT_EQ(c->estimator.threads, 2);
+  Result<DaemonConfig> d = ParseDaemonConfig("templates: [standing]", "x", "/base");
+  ASSERT_TRUE(d.ok()) << d.error().ToString();
+  EXPECT_EQ(d->estimator.threads, 0);
+}
+
 TEST(DaemonConfigTest, DeviceSpecIsNotResolved) {
   Result<DaemonConfig> c = ParseDaemonConfig("source: {path: 'openni2://'}", "x", "/base");
   ASSERT_TRUE(c.ok());
