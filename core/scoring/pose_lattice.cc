@@ -302,9 +302,13 @@ void MakeCellRuns(CellGroups* groups) {
   CellGroups& g = *groups;
   std::vector<size_t> order(g.masks.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::sort(order.begin(), order.end(), [&g](size_t a, size_t b) {
+  const auto row_major = [&g](size_t a, size_t b) {
     return g.cy[a] != g.cy[b] ? g.cy[a] < g.cy[b] : g.cxe[a] < g.cxe[b];
-  });
+  };
+  // Groups and swept groups are made row by row already.
+  if (!std::is_sorted(order.begin(), order.end(), row_major)) {
+    std::sort(order.begin(), order.end(), row_major);
+  }
   g.run_cx.clear();
   g.run_cy.clear();
   g.run_len.clear();
@@ -339,8 +343,8 @@ const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
         for (size_t c = 0; c < r.column_q.size(); ++c) {
           const std::int64_t cx = (r.column_q[c].x() + x) >> shift_;
           const std::int64_t cy = (r.column_q[c].y() + y) >> shift_;
-          // Multiplied, not shifted: cx may be negative.
-          keyed.emplace_back(cx * (std::int64_t{1} << 32) + (cy + (std::int64_t{1} << 31)),
+          // Row by row (the runs' order). Multiplied, not shifted: cy may be negative.
+          keyed.emplace_back(cy * (std::int64_t{1} << 32) + (cx + (std::int64_t{1} << 31)),
                              static_cast<int>(c));
         }
         std::sort(keyed.begin(), keyed.end());
