@@ -12,12 +12,6 @@
 
 namespace hpose::server {
 
-EstimatorOptions DefaultDaemonEstimatorOptions() {
-  EstimatorOptions o = DefaultEstimatorOptions();
-  o.threads = 0;
-  return o;
-}
-
 namespace {
 
 namespace fs = std::filesystem;

@@ -114,7 +114,12 @@ struct WorldFrameConfig {
 
 // DefaultEstimatorOptions() with a frame's searches on every usable core (search.threads 0):
 // on two cores that keeps the arrival-to-published latency within two frame periods.
-EstimatorOptions DefaultDaemonEstimatorOptions();
+// Inline: the CLI front end reads this default without linking the config parser.
+inline EstimatorOptions DefaultDaemonEstimatorOptions() {
+  EstimatorOptions o = DefaultEstimatorOptions();
+  o.threads = 0;
+  return o;
+}
 
 // Everything hposed runs with. Defaults in one place: the member initialisers and
 // DefaultDaemonEstimatorOptions().
