@@ -240,7 +240,7 @@ int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const
   const Level& lv = levels_[0];  // the plane: level 0's one-cell windows, the cells' own voxels.
   return RunPopcountSum(plane_.data(), AlignedBase(ix & ~mask, iy & ~mask) / 4, lv.nx,
                         groups.run_cx.data(), groups.run_cy.data(), groups.run_len.data(),
-                        groups.run_masks.data(), static_cast<int>(groups.run_len.size()));
+                        groups.masks.data(), static_cast<int>(groups.run_len.size()));
 }
 
 void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int d,
@@ -250,7 +250,7 @@ void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int
   const Level& lv = levels_[0];
   RunPopcountSum4(plane_.data(), AlignedBase(ix & ~mask, iy & ~mask) / 4, lv.nx, d,
                   static_cast<std::ptrdiff_t>(d) * lv.nx, groups.run_cx.data(),
-                  groups.run_cy.data(), groups.run_len.data(), groups.run_masks.data(),
+                  groups.run_cy.data(), groups.run_len.data(), groups.masks.data(),
                   static_cast<int>(groups.run_len.size()), out);
 }
 

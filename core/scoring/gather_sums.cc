@@ -92,7 +92,7 @@ namespace {
 // Eight columns a step: their offsets cy * row + cxe as 32-bit lanes, one gather of the eight
 // words, AND with the eight masks, per-lane popcounts summed in 64-bit lanes; the remaining
 // columns by the scalar loop.
-[[gnu::target("avx2,avx512f,avx512vpopcntdq")]] int GatherPopcountSumAvx512(
+[[gnu::target("avx2,avx512f,avx512vpopcntdq,popcnt")]] int GatherPopcountSumAvx512(
     const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row, const std::int32_t* cxe,
     const std::int32_t* cy, const std::uint64_t* masks, int n) {
   assert(row <= INT32_MAX);
@@ -114,7 +114,7 @@ namespace {
   return sum;
 }
 
-[[gnu::target("avx2,avx512f,avx512vpopcntdq")]] void GatherPopcountSum4Avx512(
+[[gnu::target("avx2,avx512f,avx512vpopcntdq,popcnt")]] void GatherPopcountSum4Avx512(
     const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row, std::ptrdiff_t dx,
     std::ptrdiff_t dy, const std::int32_t* cxe, const std::int32_t* cy, const std::uint64_t* masks,
     int n, int out[4]) {
@@ -143,7 +143,7 @@ namespace {
 
 // A run is one masked load of its words and one of its masks (lanes past the run read
 // nothing and count 0).
-[[gnu::target("avx512f,avx512vpopcntdq")]] int RunPopcountSumAvx512(
+[[gnu::target("avx512f,avx512vpopcntdq,popcnt")]] int RunPopcountSumAvx512(
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, const std::int32_t* run_cx,
     const std::int32_t* run_cy, const std::int32_t* run_len, const std::uint64_t* masks, int runs) {
   __m512i acc = _mm512_setzero_si512();
@@ -158,7 +158,7 @@ namespace {
   return SumLanes(acc);
 }
 
-[[gnu::target("avx512f,avx512vpopcntdq")]] void RunPopcountSum4Avx512(
+[[gnu::target("avx512f,avx512vpopcntdq,popcnt")]] void RunPopcountSum4Avx512(
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, std::ptrdiff_t dx,
     std::ptrdiff_t dy, const std::int32_t* run_cx, const std::int32_t* run_cy,
     const std::int32_t* run_len, const std::uint64_t* masks, int runs, int out[4]) {
@@ -181,7 +181,7 @@ namespace {
 bool HasAvx512Popcount() {
   static const bool has = __builtin_cpu_supports("avx512f") &&
                           __builtin_cpu_supports("avx512vpopcntdq") &&
-                          __builtin_cpu_supports("avx2");
+                          __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
   return has;
 }
 

@@ -298,36 +298,17 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
   }
 }
 
-void MakeCellRuns(CellGroups* groups) {
-  CellGroups& g = *groups;
-  std::vector<size_t> order(g.masks.size());
-  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-  const auto row_major = [&g](size_t a, size_t b) {
-    return g.cy[a] != g.cy[b] ? g.cy[a] < g.cy[b] : g.cxe[a] < g.cxe[b];
-  };
-  // Groups and swept groups are made row by row already.
-  if (!std::is_sorted(order.begin(), order.end(), row_major)) {
-    std::sort(order.begin(), order.end(), row_major);
+void CellGroups::Append(int cx, int cy, std::uint64_t mask) {
+  const bool extends = !run_len.empty() && run_cy.back() == cy &&
+                       run_cx.back() + run_len.back() == cx && run_len.back() < kMaxRun;
+  if (extends) {
+    ++run_len.back();
+  } else {
+    run_cx.push_back(cx);
+    run_cy.push_back(cy);
+    run_len.push_back(1);
   }
-  g.run_cx.clear();
-  g.run_cy.clear();
-  g.run_len.clear();
-  g.run_masks.clear();
-  for (size_t k = 0; k < order.size(); ++k) {
-    const size_t i = order[k];
-    const int cx = g.cxe[i] / 4;
-    const bool extends = !g.run_len.empty() && g.run_cy.back() == g.cy[i] &&
-                         g.run_cx.back() + g.run_len.back() == cx &&
-                         g.run_len.back() < CellGroups::kMaxRun;
-    if (extends) {
-      ++g.run_len.back();
-    } else {
-      g.run_cx.push_back(cx);
-      g.run_cy.push_back(g.cy[i]);
-      g.run_len.push_back(1);
-    }
-    g.run_masks.push_back(g.masks[i]);
-  }
+  masks.push_back(mask);
 }
 
 const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
@@ -349,18 +330,16 @@ const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
         }
         std::sort(keyed.begin(), keyed.end());
         CellGroups& g = out[static_cast<size_t>(x) * s + y];
-        std::int64_t last = 0;
-        for (size_t k = 0; k < keyed.size(); ++k) {
+        for (size_t k = 0; k < keyed.size();) {  // one cell per key, its columns' masks united.
           const int c = keyed[k].second;
-          if (k == 0 || keyed[k].first != last) {
-            g.cxe.push_back(4 * ((r.column_q[c].x() + x) >> shift_));
-            g.cy.push_back((r.column_q[c].y() + y) >> shift_);
-            g.masks.push_back(0);
-            last = keyed[k].first;
+          std::uint64_t mask = 0;
+          size_t end = k;
+          for (; end < keyed.size() && keyed[end].first == keyed[k].first; ++end) {
+            mask |= r.column_masks[keyed[end].second];
           }
-          g.masks.back() |= r.column_masks[c];
+          g.Append((r.column_q[c].x() + x) >> shift_, (r.column_q[c].y() + y) >> shift_, mask);
+          k = end;
         }
-        MakeCellRuns(&g);
       }
     }
     // Blocks of two steps at even residues: the window starts at the cell of q + residue and
@@ -434,12 +413,9 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
             const std::uint64_t m = cell;
             cell = 0;
             if (m == 0) continue;
-            g.cxe.push_back(4 * (x + x_lo));
-            g.cy.push_back(y + y_lo);
-            g.masks.push_back(m);
+            g.Append(x + x_lo, y + y_lo, m);
           }
         }
-        MakeCellRuns(&g);
         out.push_back(std::move(g));
       }
     }

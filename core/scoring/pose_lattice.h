@@ -104,26 +104,25 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
 }
 
 // A rotation's columns grouped by the cell they land in at translations with one residue
-// (ix mod S, iy mod S), S a power of two: per group the cell offset (4 cx, cy; added to the
+// (ix mod S, iy mod S), S a power of two: per group the cell offset (cx, cy; added to the
 // translation's cell (ix >> log2 S, iy >> log2 S) minus the residue's) and the union of the
 // group's masks. Each cell appears once, so summing a group's voxels in its cell counts every
-// covered voxel exactly once: the exact hits (ColumnOccupancy::HitsGrouped).
+// covered voxel exactly once: the exact hits (ColumnOccupancy::HitsGrouped). The cells are kept
+// row by row in runs of at most kMaxRun consecutive cells of one row: run r covers cells
+// (run_cx[r] + i, run_cy[r]) for i < run_len[r], and `masks` holds one word per cell, run after
+// run (HitsGrouped reads a run as consecutive words).
 struct CellGroups {
-  std::vector<std::int32_t> cxe;  // 4 cx.
-  std::vector<std::int32_t> cy;
-  std::vector<std::uint64_t> masks;  // one word per group.
-  // The same groups in runs of at most kMaxRun cells of one row (cy) with consecutive cx: run r
-  // covers cells (run_cx[r] + i, run_cy[r]) for i < run_len[r], their masks run_masks in the
-  // order of the runs (ColumnOccupancy::HitsGrouped reads a run as consecutive words).
   static constexpr int kMaxRun = 8;
   std::vector<std::int32_t> run_cx;
   std::vector<std::int32_t> run_cy;
   std::vector<std::int32_t> run_len;
-  std::vector<std::uint64_t> run_masks;
-};
+  std::vector<std::uint64_t> masks;
 
-// Fills the runs of `groups` from its cells (any order, each cell once).
-void MakeCellRuns(CellGroups* groups);
+  // Appends cell (cx, cy) with its mask. Cells come row by row (cy, then cx, ascending), each
+  // once: a cell right after the previous one in its row extends its run.
+  void Append(int cx, int cy, std::uint64_t mask);
+  int cells() const { return static_cast<int>(masks.size()); }
+};
 
 // A rotation's columns (same order as column_q) for translation blocks of 2 steps starting at
 // residue (ra, rb) (even, below S): per column 4 cx + 2 ex + ey and cy, the window's first

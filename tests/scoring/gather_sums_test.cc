@@ -91,5 +91,59 @@ TEST(GatherSumsTest, TheDispatchedSumsEqualTheScalarOnes) {
   EXPECT_GT(nonzero, 150);
 }
 
+// Runs of consecutive cells on a plane of one word per cell: random runs of 1..8 cells around
+// the middle, each summed by the dispatched and the scalar loop, both checked bit by bit.
+TEST(GatherSumsTest, RunSumsCountTheMaskedBitsOfEveryRun) {
+  std::mt19937_64 rng(13);
+  const int nx = 50, ny = 40;
+  std::vector<std::uint64_t> plane(static_cast<size_t>(nx) * ny);
+  for (std::uint64_t& w : plane) w = rng() & rng();
+  const std::ptrdiff_t base = 20 * nx + 20;
+  std::uniform_int_distribution<int> off(-10, 10), len(1, 8);
+  int nonzero = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<std::int32_t> run_cx, run_cy, run_len;
+    std::vector<std::uint64_t> masks;
+    const int runs = trial % 25;
+    for (int r = 0; r < runs; ++r) {
+      run_cx.push_back(off(rng));
+      run_cy.push_back(off(rng));
+      run_len.push_back(len(rng));
+      for (int i = 0; i < run_len.back(); ++i) masks.push_back(r % 4 == 0 ? ~0ull : rng());
+    }
+    const std::ptrdiff_t dx = 1 + trial % 4, dy = (1 + trial % 3) * nx;
+    const std::ptrdiff_t shifts[4] = {0, dy, dx, dx + dy};
+    int bits[4] = {0, 0, 0, 0};
+    for (int q = 0; q < 4; ++q) {
+      size_t k = 0;
+      for (int r = 0; r < runs; ++r) {
+        for (int i = 0; i < run_len[r]; ++i, ++k) {
+          const std::uint64_t w =
+              masks[k] & plane[base + shifts[q] + run_cy[r] * nx + run_cx[r] + i];
+          for (int b = 0; b < 64; ++b) bits[q] += static_cast<int>((w >> b) & 1);
+        }
+      }
+    }
+    ASSERT_EQ(RunPopcountSumScalar(plane.data(), base, nx, run_cx.data(), run_cy.data(),
+                                   run_len.data(), masks.data(), runs),
+              bits[0]);
+    ASSERT_EQ(RunPopcountSum(plane.data(), base, nx, run_cx.data(), run_cy.data(), run_len.data(),
+                             masks.data(), runs),
+              bits[0])
+        << "runs " << runs;
+    int fast[4], ref[4];
+    RunPopcountSum4(plane.data(), base, nx, dx, dy, run_cx.data(), run_cy.data(), run_len.data(),
+                    masks.data(), runs, fast);
+    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, run_cx.data(), run_cy.data(),
+                          run_len.data(), masks.data(), runs, ref);
+    for (int q = 0; q < 4; ++q) {
+      ASSERT_EQ(ref[q], bits[q]) << "block " << q;
+      ASSERT_EQ(fast[q], bits[q]) << "block " << q;
+    }
+    nonzero += bits[0] > 0 ? 1 : 0;
+  }
+  EXPECT_GT(nonzero, 150);
+}
+
 }  // namespace
 }  // namespace hpose
