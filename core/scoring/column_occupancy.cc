@@ -238,7 +238,7 @@ int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = levels_[0];  // the plane: level 0's one-cell windows, the cells' own voxels.
-  return RunPopcountSum(plane_.data(), AlignedBase(ix & ~mask, iy & ~mask) / 4, lv.nx,
+  return RunPopcountSum(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx,
                         groups.run_cx.data(), groups.run_cy.data(), groups.run_len.data(),
                         groups.masks.data(), static_cast<int>(groups.run_len.size()));
 }
@@ -248,7 +248,7 @@ void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = levels_[0];
-  RunPopcountSum4(plane_.data(), AlignedBase(ix & ~mask, iy & ~mask) / 4, lv.nx, d,
+  RunPopcountSum4(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx, d,
                   static_cast<std::ptrdiff_t>(d) * lv.nx, groups.run_cx.data(),
                   groups.run_cy.data(), groups.run_len.data(), groups.masks.data(),
                   static_cast<int>(groups.run_len.size()), out);
@@ -264,10 +264,12 @@ int ColumnOccupancy::PairBound(const PairBlockTable& table, const std::uint64_t*
                            table.cy.data(), masks, static_cast<int>(table.cxe.size()));
 }
 
-std::ptrdiff_t ColumnOccupancy::AlignedBase(int a, int b) const {
+std::ptrdiff_t ColumnOccupancy::PlaneBase(int a, int b) const {
   const Level& lv = levels_[0];
-  return (static_cast<std::ptrdiff_t>((b >> shift_) - lv.y0) * lv.nx + ((a >> shift_) - lv.x0)) * 4;
+  return static_cast<std::ptrdiff_t>((b >> shift_) - lv.y0) * lv.nx + ((a >> shift_) - lv.x0);
 }
+
+std::ptrdiff_t ColumnOccupancy::AlignedBase(int a, int b) const { return 4 * PlaneBase(a, b); }
 
 ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
                                                  const CellRange& box) const {

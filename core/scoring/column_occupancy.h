@@ -100,6 +100,8 @@ class ColumnOccupancy {
   }
   // Index of the cell holding the windows of cell offset (0, 0) for a block at (a, b).
   std::ptrdiff_t AlignedBase(int a, int b) const;
+  // The same cell's index in plane_.
+  std::ptrdiff_t PlaneBase(int a, int b) const;
   // Bound (blocks 1: out[0]) or Bound4 (blocks 2) of a theta block's columns.
   void ArcBounds(const RotatedTemplate& rotated, int a, int b, int level, int blocks,
                  int out[4]) const;

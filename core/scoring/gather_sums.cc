@@ -186,21 +186,35 @@ bool HasAvx512Popcount() {
 }
 
 }  // namespace
+#else
+namespace {
+
+// No vector paths here: the dispatch below always takes the scalar loops.
+bool HasAvx512Popcount() { return false; }
+constexpr auto* GatherPopcountSumAvx512 = &GatherPopcountSumScalar;
+constexpr auto* GatherPopcountSum4Avx512 = &GatherPopcountSum4Scalar;
+constexpr auto* RunPopcountSumAvx512 = &RunPopcountSumScalar;
+constexpr auto* RunPopcountSum4Avx512 = &RunPopcountSum4Scalar;
+
+}  // namespace
+#endif
 
 bool GatherPopcountSumVectorised() { return HasAvx512Popcount(); }
 
 int GatherPopcountSum(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
                       const std::int32_t* cxe, const std::int32_t* cy, const std::uint64_t* masks,
                       int n) {
-  return HasAvx512Popcount() ? GatherPopcountSumAvx512(data, base, row, cxe, cy, masks, n)
-                             : GatherPopcountSumScalar(data, base, row, cxe, cy, masks, n);
+  return (HasAvx512Popcount() ? GatherPopcountSumAvx512 : GatherPopcountSumScalar)(
+      data, base, row, cxe, cy, masks, n);
 }
+
 void GatherPopcountSum4(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
                         std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* cxe,
                         const std::int32_t* cy, const std::uint64_t* masks, int n, int out[4]) {
   (HasAvx512Popcount() ? GatherPopcountSum4Avx512 : GatherPopcountSum4Scalar)(
       data, base, row, dx, dy, cxe, cy, masks, n, out);
 }
+
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                    const std::int32_t* run_cx, const std::int32_t* run_cy,
                    const std::int32_t* run_len, const std::uint64_t* masks, int runs) {
@@ -215,33 +229,5 @@ void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdi
   (HasAvx512Popcount() ? RunPopcountSum4Avx512 : RunPopcountSum4Scalar)(
       plane, base, row, dx, dy, run_cx, run_cy, run_len, masks, runs, out);
 }
-#else
-bool GatherPopcountSumVectorised() { return false; }
-
-int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                   const std::int32_t* run_cx, const std::int32_t* run_cy,
-                   const std::int32_t* run_len, const std::uint64_t* masks, int runs) {
-  return RunPopcountSumScalar(plane, base, row, run_cx, run_cy, run_len, masks, runs);
-}
-
-void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                     std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* run_cx,
-                     const std::int32_t* run_cy, const std::int32_t* run_len,
-                     const std::uint64_t* masks, int runs, int out[4]) {
-  RunPopcountSum4Scalar(plane, base, row, dx, dy, run_cx, run_cy, run_len, masks, runs, out);
-}
-
-void GatherPopcountSum4(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
-                        std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* cxe,
-                        const std::int32_t* cy, const std::uint64_t* masks, int n, int out[4]) {
-  GatherPopcountSum4Scalar(data, base, row, dx, dy, cxe, cy, masks, n, out);
-}
-
-int GatherPopcountSum(const std::uint64_t* data, std::ptrdiff_t base, std::ptrdiff_t row,
-                      const std::int32_t* cxe, const std::int32_t* cy, const std::uint64_t* masks,
-                      int n) {
-  return GatherPopcountSumScalar(data, base, row, cxe, cy, masks, n);
-}
-#endif
 
 }  // namespace hpose
