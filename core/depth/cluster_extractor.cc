@@ -6,6 +6,7 @@
 #include "core/depth/cluster_extractor.h"
 
 #include "core/depth/cluster_merge.h"
+#include "core/depth/occluded_piece_merge.h"
 
 #include <algorithm>
 #include <cmath>
@@ -57,6 +58,11 @@ Status ValidateOptions(const ClusterOptions& o) {
   if (!std::isfinite(o.veil_max_angle_rad) || o.veil_max_angle_rad < 0.0 ||
       o.veil_max_angle_rad >= M_PI / 2.0) {
     return bad("veil_max_angle_rad must be in [0, pi/2)");
+  }
+  if (!std::isfinite(o.merge_hidden_max_depth_gap_m) || o.merge_hidden_max_depth_gap_m < 0.0 ||
+      !std::isfinite(o.merge_hidden_max_fraction) || o.merge_hidden_max_fraction < 0.0) {
+    return bad(
+        "merge_hidden_max_depth_gap_m and merge_hidden_max_fraction must be finite and >= 0");
   }
   if (!std::isfinite(o.split_min_top_separation_m) || o.split_min_top_separation_m < 0.0) {
     return bad("split_min_top_separation_m must be finite and >= 0");
@@ -344,6 +350,12 @@ Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
   // 3b. One object split by a depth edge inside it (an arm in front of a torso, its mixed pixels
   // removed by the veil filter) leaves pieces stacked over one footprint: merge them.
   MergePiecesAlongSight(options.merge_min_bearing_overlap, options.merge_max_range_gap_m, &raw);
+  // 3c. A limb behind the body's silhouette (its joint hidden): merge it with the body.
+  OccludedPieceOptions hidden;
+  hidden.max_depth_gap_m = options.merge_hidden_max_depth_gap_m;
+  hidden.max_point_fraction = options.merge_hidden_max_fraction;
+  hidden.leaf_m = options.downsample_leaf_m;
+  MergeOccludedPieces(floor.ground_from_sensor.translation().cast<float>(), hidden, &raw);
 
   // 4. Objects in contact (people side by side, a robot touching a box) share one Euclidean
   // cluster; split those with several well separated tops.

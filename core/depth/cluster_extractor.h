@@ -51,6 +51,13 @@ struct ClusterOptions {
   double merge_min_bearing_overlap = 0.5;
   // ... whose horizontal range intervals are less than this apart.
   double merge_max_range_gap_m = 0.08;
+  // A limb whose joint the body hides (an arm raised on the far side of a robot seen side-on)
+  // is a piece behind the body's silhouette in the image: merged when it has at most
+  // merge_hidden_max_fraction of the body's points and lies less than
+  // merge_hidden_max_depth_gap_m behind it at their common edge (MergeOccludedPieces; 0
+  // disables). 0.3 m: the width of a 1.5 m person's shoulders, more than a small robot's.
+  double merge_hidden_max_depth_gap_m = 0.30;
+  double merge_hidden_max_fraction = 0.5;
 };
 
 // Transforms the cloud to the ground frame, keeps points above the floor, downsamples and

@@ -605,7 +605,7 @@ TEST(PoseRefinerTest, StoppingAtATinyStepAgreesWithEvaluatingIt) {
 
 // A rejected step is retried with at least the damping that about halves it, rather than ten
 // times a small damping (the same step again): the refinement lands where it did within a
-// fraction of a millimetre and a tenth of a degree, with no higher cost, in fewer evaluations.
+// fraction of a millimetre and a few tenths of a degree, with no higher cost, in fewer evaluations.
 TEST(PoseRefinerTest, RetryingARejectedStepShorterAgreesWithTenfoldDamping) {
   const SurfaceModel model(ModelTemplate("standing"));
   RefineOptions halving;
@@ -620,9 +620,10 @@ TEST(PoseRefinerTest, RetryingARejectedStepShorterAgreesWithTenfoldDamping) {
         const RefinedPose old = RefinePose(model, s.Obs(), start, tenfold);
         EXPECT_TRUE(now.converged) << where;
         EXPECT_LT(PositionError(now.pose, old.pose), 0.002) << where;
-        EXPECT_LT(ThetaErrorDeg(now.pose, old.pose), 0.25) << where;
-        // Both end at a minimum of the same basin: costs within a nat or so of each other.
-        EXPECT_LT(now.evidence.cost, old.evidence.cost + 0.01 * old.evidence.cost) << where;
+        EXPECT_LT(ThetaErrorDeg(now.pose, old.pose), 0.3) << where;
+        // Both end at a minimum of the same basin: costs within a few nats of each other (the
+        // cost is jagged at that scale; see the test below).
+        EXPECT_LT(now.evidence.cost, old.evidence.cost + 0.015 * old.evidence.cost) << where;
         halved += now.evaluations;
         before += old.evaluations;
       });

@@ -145,6 +145,43 @@ TEST(RobotCliTest, SimulateRobotFramesAreFoundWithTheRobotsTemplate) {
   EXPECT_EQ(mixed.exit_code, 2);
 }
 
+// Seen side-on with its far arm raised, the Darwin-OP shows the arm above its shoulder while the
+// arm's joint is hidden behind the body: one humanoid, identified by the arm it raises (not a
+// standing robot plus a second "humanoid" made of the arm alone).
+TEST(RobotCliTest, AFarArmRaisedBehindTheBodyStaysWithIt) {
+  SKIP_WITHOUT_DARWIN();
+  TempDir dir("robot_cli_far_arm");
+  const std::string joints = std::string(HPOSE_SOURCE_DIR) + "/docs/examples/darwin_op_joints.yaml";
+  const CliRun tpl = RunHpose(
+      "template from-urdf '" + kDarwinUrdf + "' --allow-missing --joints '" + joints +
+          "' --joint-set standing --joint-set right_arm_raised --out '" + (dir / "tpl") + "'",
+      dir);
+  ASSERT_EQ(tpl.exit_code, 0) << tpl.err;
+  const CliRun sim =
+      RunHpose("simulate --robot '" + kDarwinUrdf + "' --allow-missing --joints '" + joints +
+                   "' --joint-set right_arm_raised --out '" + (dir / "sim") +
+                   "' --x 1.0 --theta-deg 90 --clutter 3 --seed 1 --no-cloud",
+               dir);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const CliRun est = RunHpose("estimate --depth '" + (dir / "sim/depth.png") + "' --template '" +
+                                  (dir / "tpl/standing.bt") + "' --template '" +
+                                  (dir / "tpl/right_arm_raised.bt") + "' --json",
+                              dir);
+  ASSERT_EQ(est.exit_code, 0) << est.err;
+  const nlohmann::json j = nlohmann::json::parse(est.out);
+  int near_truth = 0;
+  for (const nlohmann::json& d : j.at("depth_template").at("detections")) {
+    if (!d.at("is_humanoid").get<bool>()) continue;
+    const nlohmann::json& p = d.at("best").at("pose");
+    if (std::hypot(p.at("x").get<double>() - 1.0, p.at("y").get<double>()) > 0.3) continue;
+    ++near_truth;
+    EXPECT_EQ(d.at("best").at("template_name"), "right_arm_raised") << est.out;
+    EXPECT_FALSE(d.at("template_ambiguous").get<bool>()) << est.out;
+    EXPECT_NEAR(p.at("theta").get<double>(), M_PI / 2.0, 3.0 * M_PI / 180.0);
+  }
+  EXPECT_EQ(near_truth, 1) << est.out;
+}
+
 TEST(RobotCliTest, SimulateRobotWithAJointSet) {
   SKIP_WITHOUT_DARWIN();
   TempDir dir("robot_cli_sim_set");

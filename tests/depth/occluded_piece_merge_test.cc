@@ -1,0 +1,89 @@
+#include "core/depth/occluded_piece_merge.h"
+
+#include <gtest/gtest.h>
+
+namespace hpose {
+namespace {
+
+// The sensor 0.34 m above the ground origin, looking along +x.
+const Eigen::Vector3f kSensor(0.0f, 0.0f, 0.34f);
+
+// A vertical slab of points facing the sensor.
+Cluster Slab(float x, float y_lo, float y_hi, float z_lo, float z_hi) {
+  Cluster c;
+  for (float y = y_lo; y <= y_hi + 1e-4f; y += 0.01f)
+    for (float z = z_lo; z <= z_hi + 1e-4f; z += 0.01f) c.points.emplace_back(x, y, z);
+  return c;
+}
+
+// A body 1 m away, its top 0.40 m high (0.06 rad above the sensor's horizon), and an arm raised
+// behind it at distance x: the part of the arm the sensor sees starts just above the body's top
+// edge in the image (the rest is hidden behind the body).
+Cluster ArmBehind(float x, float y_lo = -0.02f, float y_hi = 0.02f) {
+  const float z_visible = 0.34f + x * 0.0605f;
+  return Slab(x, y_lo, y_hi, z_visible, z_visible + 0.09f);
+}
+
+Cluster Body() { return Slab(1.0f, -0.07f, 0.07f, 0.05f, 0.40f); }
+
+TEST(MergeOccludedPiecesTest, MergesALimbBehindTheBodysSilhouette) {
+  std::vector<Cluster> clusters = {Body(), ArmBehind(1.15f)};
+  const size_t total = clusters[0].points.size() + clusters[1].points.size();
+  MergeOccludedPieces(kSensor, {}, &clusters);
+  ASSERT_EQ(clusters.size(), 1u);
+  EXPECT_EQ(clusters[0].points.size(), total);
+  // The order of the pieces does not matter: the body keeps its place and takes the arm.
+  std::vector<Cluster> reversed = {ArmBehind(1.15f), Body(), Slab(2.0f, 0.5f, 0.7f, 0.05f, 0.3f)};
+  MergeOccludedPieces(kSensor, {}, &reversed);
+  ASSERT_EQ(reversed.size(), 2u);
+  EXPECT_EQ(reversed[0].points.size(), total);
+}
+
+TEST(MergeOccludedPiecesTest, KeepsPiecesFarBehindApartInTheImageOrInFrontOrLarge) {
+  // 45 cm behind: farther than a body is deep.
+  std::vector<Cluster> far = {Body(), ArmBehind(1.45f)};
+  MergeOccludedPieces(kSensor, {}, &far);
+  EXPECT_EQ(far.size(), 2u);
+  // Behind, but beside the body in the image (0.17 rad of bearing away).
+  std::vector<Cluster> beside = {Body(), ArmBehind(1.15f, 0.18f, 0.22f)};
+  MergeOccludedPieces(kSensor, {}, &beside);
+  EXPECT_EQ(beside.size(), 2u);
+  // A piece in front of the cluster does not hide behind it.
+  std::vector<Cluster> in_front = {Slab(1.15f, -0.07f, 0.07f, 0.05f, 0.40f),
+                                   Slab(1.0f, -0.02f, 0.02f, 0.41f, 0.50f)};
+  MergeOccludedPieces(kSensor, {}, &in_front);
+  EXPECT_EQ(in_front.size(), 2u);
+  // A second object behind the first, with more than half its points: not a limb.
+  std::vector<Cluster> large = {Body(), ArmBehind(1.15f, -0.07f, 0.07f)};
+  large[1].points.insert(large[1].points.end(), large[0].points.begin(), large[0].points.end());
+  for (size_t i = large[1].points.size() / 2; i < large[1].points.size(); ++i)
+    large[1].points[i].x() = 1.3f;
+  MergeOccludedPieces(kSensor, {}, &large);
+  EXPECT_EQ(large.size(), 2u);
+  // Disabled.
+  OccludedPieceOptions off;
+  off.max_depth_gap_m = 0.0;
+  std::vector<Cluster> arm = {Body(), ArmBehind(1.15f)};
+  MergeOccludedPieces(kSensor, off, &arm);
+  EXPECT_EQ(arm.size(), 2u);
+}
+
+TEST(MergeOccludedPiecesTest, MergesChainsAndIgnoresEmptyOrDegenerateInput) {
+  // A hand behind the arm behind the body: both join the body.
+  Cluster hand =
+      Slab(1.25f, -0.01f, 0.01f, 0.34f + 1.25f * 0.1345f, 0.34f + 1.25f * 0.1345f + 0.03f);
+  std::vector<Cluster> chain = {Body(), ArmBehind(1.15f), hand};
+  MergeOccludedPieces(kSensor, {}, &chain);
+  EXPECT_EQ(chain.size(), 1u);
+  std::vector<Cluster> none;
+  MergeOccludedPieces(kSensor, {}, &none);
+  EXPECT_TRUE(none.empty());
+  // A point at the sensor itself has no direction: skipped, nothing else changes.
+  std::vector<Cluster> odd = {Body(), Cluster{}};
+  odd[1].points.push_back(kSensor);
+  MergeOccludedPieces(kSensor, {}, &odd);
+  EXPECT_EQ(odd.size(), 2u);
+}
+
+}  // namespace
+}  // namespace hpose
