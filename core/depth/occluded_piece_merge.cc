@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <numeric>
 
@@ -15,10 +14,6 @@ struct Seen {
   float distance;
   int cluster;
 };
-
-std::int64_t CellKey(int a, int b) {
-  return (static_cast<std::int64_t>(a) << 32) ^ static_cast<std::uint32_t>(b);
-}
 
 int Find(std::vector<int>* parent, int i) {
   while ((*parent)[i] != i) i = (*parent)[i] = (*parent)[(*parent)[i]];
@@ -43,35 +38,49 @@ void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptio
     }
   }
   if (seen.empty()) return;
-  // Directions binned by bearing and elevation, in cells of the largest neighbour angle: a
-  // point's neighbours lie in its own or the eight surrounding cells.
+  // Directions binned by their y and z components, in cells of the largest neighbour angle (a
+  // dense grid, counting-sorted): two directions less than that angle apart differ by less
+  // than a cell in each component, so a point's neighbours lie in the 3 x 3 cells around it.
+  // (At least 4 mrad: at most 500 x 500 cells whatever the options.)
   const double cell =
-      std::max(options.max_angle_rad, 2.0 * options.leaf_m / static_cast<double>(nearest));
-  std::vector<std::pair<std::int64_t, int>> keyed(seen.size());
-  auto cell_of = [&](const Eigen::Vector3f& dir, int* a, int* b) {
-    *a = static_cast<int>(std::floor(std::atan2(dir.y(), dir.x()) / cell));
-    *b = static_cast<int>(std::floor(std::asin(std::clamp(dir.z(), -1.0f, 1.0f)) / cell));
-  };
+      std::max({options.max_angle_rad, 2.0 * options.leaf_m / static_cast<double>(nearest), 0.004});
+  std::vector<int> col(seen.size()), row(seen.size());
+  int col_lo = std::numeric_limits<int>::max(), col_hi = std::numeric_limits<int>::min();
+  int row_lo = col_lo, row_hi = col_hi;
   for (size_t i = 0; i < seen.size(); ++i) {
-    int a = 0, b = 0;
-    cell_of(seen[i].dir, &a, &b);
-    keyed[i] = {CellKey(a, b), static_cast<int>(i)};
+    const Eigen::Vector3f& dir = seen[i].dir;
+    col[i] = static_cast<int>(std::floor(dir.y() / cell));
+    row[i] = static_cast<int>(std::floor(dir.z() / cell));
+    col_lo = std::min(col_lo, col[i]);
+    col_hi = std::max(col_hi, col[i]);
+    row_lo = std::min(row_lo, row[i]);
+    row_hi = std::max(row_hi, row[i]);
   }
-  std::sort(keyed.begin(), keyed.end());
+  const int cols = col_hi - col_lo + 1, rows = row_hi - row_lo + 1;
+  std::vector<int> start(static_cast<size_t>(cols) * rows + 1, 0);
+  auto bin = [&](int c, int r) { return static_cast<size_t>(r - row_lo) * cols + (c - col_lo); };
+  for (size_t i = 0; i < seen.size(); ++i) ++start[bin(col[i], row[i]) + 1];
+  for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+  std::vector<int> sorted(seen.size());
+  {
+    std::vector<int> next(start.begin(), start.end() - 1);
+    for (size_t i = 0; i < seen.size(); ++i)
+      sorted[next[bin(col[i], row[i])]++] = static_cast<int>(i);
+  }
+  size_t largest = 0;
+  for (const Cluster& c : *clusters) largest = std::max(largest, c.points.size());
 
   // hidden_by[b]: the largest cluster that hides piece b, if any.
   std::vector<int> hidden_by(n, -1);
   for (size_t i = 0; i < seen.size(); ++i) {
     const Seen& far = seen[i];
     const size_t far_size = (*clusters)[far.cluster].points.size();
-    int a = 0, b = 0;
-    cell_of(far.dir, &a, &b);
-    for (int da = -1; da <= 1; ++da) {
-      for (int db = -1; db <= 1; ++db) {
-        const std::int64_t key = CellKey(a + da, b + db);
-        auto it = std::lower_bound(keyed.begin(), keyed.end(), std::make_pair(key, -1));
-        for (; it != keyed.end() && it->first == key; ++it) {
-          const Seen& near = seen[it->second];
+    if (static_cast<double>(far_size) > options.max_point_fraction * largest) continue;
+    for (int r = std::max(row_lo, row[i] - 1); r <= std::min(row_hi, row[i] + 1); ++r) {
+      for (int c = std::max(col_lo, col[i] - 1); c <= std::min(col_hi, col[i] + 1); ++c) {
+        const size_t k = bin(c, r);
+        for (int s = start[k]; s < start[k + 1]; ++s) {
+          const Seen& near = seen[sorted[s]];
           if (near.cluster == far.cluster) continue;
           const size_t near_size = (*clusters)[near.cluster].points.size();
           if (static_cast<double>(far_size) > options.max_point_fraction * near_size) continue;
