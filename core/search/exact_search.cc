@@ -43,7 +43,8 @@ struct BranchAndBoundResult {
 class Evaluator {
  public:
   Evaluator(const ColumnOccupancy* cluster, const ColumnOccupancy* free, int free_weight,
-            int hit_weight, const TemplateRotations& rotations, bool swept_bounds)
+            int hit_weight, const TemplateRotations& rotations, bool swept_bounds,
+            int free_bound_max_level)
       : cluster_(cluster),
         free_(free),
         free_weight_(free_weight),
@@ -51,7 +52,8 @@ class Evaluator {
         rotations_(rotations),
         pairs_ok_(cluster->aligned() && (free == nullptr || free->aligned()) &&
                   rotations.has_cell_groups() && rotations.lattice().subdivisions >= 4),
-        swept_ok_(swept_bounds && cluster->aligned() && rotations.has_cell_groups()) {}
+        swept_ok_(swept_bounds && cluster->aligned() && rotations.has_cell_groups()),
+        free_bound_max_level_(free_bound_max_level) {}
 
   int Value(const RotatedTemplate& r, int a, int b) const {
     if (cluster_->aligned() && (free_ == nullptr || free_->aligned()) &&
@@ -100,7 +102,7 @@ class Evaluator {
     for (int k = 0; k < 4; ++k) out[k] *= hit_weight_;
   }
   bool HasFreePart(int tlevel, int level) const {
-    return free_ != nullptr && tlevel == 0 && level > 0;
+    return free_ != nullptr && tlevel == 0 && level > 0 && level <= free_bound_max_level_;
   }
   // Weighted lower bound of the free hits of rotation itheta over the block.
   int FreePart(int itheta, int a, int b, int level) const {
@@ -139,6 +141,7 @@ class Evaluator {
   const TemplateRotations& rotations_;
   const bool pairs_ok_;
   const bool swept_ok_;
+  const int free_bound_max_level_;
 };
 
 // Best-first branch and bound over thetas and the translation region. Next() returns the
@@ -149,7 +152,7 @@ class BranchAndBound {
  public:
   BranchAndBound(Evaluator* eval, const TemplateRotations& rotations,
                  const ExactSearch::Region& region, int top_level, int min_value, int defer_below,
-                 SearchResult* counters)
+                 int theta_split_lead, SearchResult* counters)
       : eval_(*eval),
         rotations_(rotations),
         region_(region),
@@ -157,7 +160,8 @@ class BranchAndBound {
         counters_(counters),
         steps_(rotations.lattice().angle_steps),
         allowed_(steps_, true),
-        defer_below_(defer_below) {
+        defer_below_(defer_below),
+        theta_split_lead_(theta_split_lead) {
     int top_tlevel = TemplateRotations::kThetaLevels - 1;
     while (top_tlevel > 0 && (1 << top_tlevel) > steps_) --top_tlevel;
     const int block = 1 << top_level;
@@ -184,7 +188,7 @@ class BranchAndBound {
         // Descend best first until a pose is evaluated.
         while (!best_exact_.found && (n.tlevel > 0 || n.level > 0)) {
           const auto size_before = queue_.size();
-          if (n.tlevel > 0 && (n.level == 0 || n.tlevel + 4 >= n.level)) {
+          if (SplitTheta(n)) {
             const int half = 1 << (n.tlevel - 1);
             Push(n.tlevel - 1, n.itheta, n.level, n.a, n.b);
             Push(n.tlevel - 1, n.itheta + half, n.level, n.a, n.b);
@@ -238,8 +242,8 @@ class BranchAndBound {
         out.value = n.value;
         return out;
       }
-      // Split the rotation first while its sweep is comparable to the translation block.
-      if (n.tlevel > 0 && (n.level == 0 || n.tlevel + 4 >= n.level)) {
+      // Split the rotation first while SplitTheta says so.
+      if (SplitTheta(n)) {
         const int half = 1 << (n.tlevel - 1);
         Push(n.tlevel - 1, n.itheta, n.level, n.a, n.b);
         Push(n.tlevel - 1, n.itheta + half, n.level, n.a, n.b);
@@ -255,6 +259,11 @@ class BranchAndBound {
   }
 
  private:
+  // Whether the node is split in theta (else in translation).
+  bool SplitTheta(const Node& n) const {
+    return n.tlevel > 0 && (n.level == 0 || n.tlevel + theta_split_lead_ >= n.level);
+  }
+
   // Whether any allowed theta lies in [itheta, itheta + 2^tlevel).
   bool AnyAllowed(int itheta, int tlevel) const {
     if (all_allowed_) return true;
@@ -366,6 +375,7 @@ class BranchAndBound {
   SearchQueue queue_;
   std::vector<PackedNode> deferred_;
   int defer_below_;
+  const int theta_split_lead_;
   BranchAndBoundResult best_exact_;  // the best exactly evaluated pose so far.
 };
 
@@ -457,7 +467,7 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
                                              top, ColumnOccupancy::Filter::kMin, &lookups);
   }
   Evaluator eval(&occ, free.get(), problem.free_space_weight, problem.hit_weight, rotations,
-                 options_.swept_bounds);
+                 options_.swept_bounds, options_.free_bound_max_level);
   const int n_weighted = n * problem.hit_weight;  // the score's denominator.
 
   // A known pose's value (e.g. the previous frame's): nodes whose bound cannot reach it stay
@@ -474,7 +484,8 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
       defer_below = std::max(defer_below, result.incumbent_value);
     }
   }
-  BranchAndBound bnb(&eval, rotations, region, top, problem.min_value, defer_below, &result);
+  BranchAndBound bnb(&eval, rotations, region, top, problem.min_value, defer_below,
+                     options_.theta_split_lead, &result);
   const BranchAndBoundResult best = bnb.Next();
   if (best.below_min) {
     result.below_min_value = true;

@@ -20,6 +20,18 @@ struct ExactSearchOptions {
   // columns (which counts a voxel once per column reaching it). Tighter where the block is a
   // cell or two wide; the same optimum (false: the column bound, as before).
   bool swept_bounds = true;
+  // The free-space part of a block's bound (a lower bound of its free hits, subtracted when the
+  // block leaves the queue) for single-rotation blocks of 2 .. 2^k steps only; larger blocks are
+  // bounded by their cluster hits alone, still an upper bound (free hits are never negative).
+  // The part costs a pass over the template's columns and seldom moves a block of several cells
+  // below the optimum: 2 (blocks up to one 16 mm cell) does the least work on the real-time
+  // protocol's frames with every result unchanged. 0: never; max_level or more: every block.
+  int free_bound_max_level = 2;
+  // A block of 2^t headings and 2^L steps is split in theta first while t + theta_split_lead
+  // >= L, in translation otherwise. Split first, a heading's translation blocks take the single
+  // rotation's bounds (the swept and free-space ones), which theta blocks lack. 6 (with the
+  // default max_level): theta blocks only at the top level.
+  int theta_split_lead = 6;
 };
 
 // The global optimum of the score over the whole lattice: every theta (angle_steps of them) x

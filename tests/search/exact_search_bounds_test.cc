@@ -5,6 +5,7 @@
 #include <climits>
 #include <set>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -195,6 +196,15 @@ TEST(ExactSearchBoundsTest, DenseFreeSpaceEqualsExhaustiveSearch) {
     const SearchResult r = search.Search(problem);
     ASSERT_EQ(r.value, best) << "seed " << seed;
     EXPECT_EQ(r.value, problem.hit_weight * r.hits - r.free_hits);
+    // Dense free space makes the free-space part count: the same optimum with it at every level
+    // and at none, theta blocks split first or last.
+    for (const auto& [free_levels, lead] : {std::pair{31, 4}, {0, -10}}) {
+      ExactSearchOptions other = opts;
+      other.free_bound_max_level = free_levels;
+      other.theta_split_lead = lead;
+      EXPECT_EQ(ExactSearch(other).Search(problem).value, best)
+          << "seed " << seed << ", free part up to level " << free_levels;
+    }
     // A minimum just above and just below the optimum.
     problem.min_value = best + 1;
     const SearchResult above = search.Search(problem);

@@ -6,6 +6,7 @@
 #include <random>
 #include <set>
 #include <tuple>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -367,6 +368,16 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
     ASSERT_EQ(r.value, best) << "scene " << scene;
     opts.swept_bounds = false;
     EXPECT_EQ(ExactSearch(opts).Search(problem).value, best) << "scene " << scene;
+    // The free-space part at no level, at every level, below one cell; theta split first always,
+    // never, or while the rotation's sweep is comparable to the block: the same optimum.
+    opts.swept_bounds = true;
+    for (const auto& [free_levels, lead] : {std::pair{0, 0}, {31, 4}, {1, -10}, {2, 31}}) {
+      opts.free_bound_max_level = free_levels;
+      opts.theta_split_lead = lead;
+      EXPECT_EQ(ExactSearch(opts).Search(problem).value, best)
+          << "scene " << scene << ", free part up to level " << free_levels << ", theta lead "
+          << lead;
+    }
     EXPECT_EQ(r.value, problem.hit_weight * r.hits - problem.free_space_weight * r.free_hits);
     EXPECT_NEAR(r.score, 100.0 * r.value / (problem.hit_weight * scorer.cluster_voxels()), 1e-9);
   }
