@@ -260,6 +260,13 @@ std::vector<Variant> Only(std::vector<Variant> variants, const std::vector<std::
 }
 
 void Exact(EstimatorOptions* o) { o->search = SearchKind::kExact; }
+// The exact search as before free_bound_max_level and theta_split_lead: the free-space part of
+// every block's bound, theta blocks split first only while below 2^4 times their width.
+void ExactBoundsBefore(EstimatorOptions* o) {
+  Exact(o);
+  o->exact.free_bound_max_level = 31;
+  o->exact.theta_split_lead = 4;
+}
 
 std::vector<Variant> ScatteredVariants() {
   std::vector<Variant> v;
@@ -269,6 +276,7 @@ std::vector<Variant> ScatteredVariants() {
                  Exact(o);
                  o->exact.swept_bounds = false;
                }});
+  v.push_back({"exact search, free part of every block (before)", ExactBoundsBefore});
   v.push_back({"exact search, 2 threads", [](EstimatorOptions* o) {
                  Exact(o);
                  o->threads = 2;
@@ -350,6 +358,7 @@ std::vector<Variant> SequenceVariants() {
   std::vector<Variant> v;
   v.push_back({"walk, cold", Exact});
   v.push_back({"walk, tracked", Exact, true});
+  v.push_back({"walk, tracked, free part of every block (before)", ExactBoundsBefore, true});
   v.push_back({"walk, tracked, column bounds (before)",
                [](EstimatorOptions* o) {
                  Exact(o);
