@@ -242,7 +242,8 @@ class BranchAndBound {
         out.value = n.value;
         return out;
       }
-      // Split the rotation first while SplitTheta says so.
+      // Headings first while SplitTheta says so (single rotations take the tighter bounds), then
+      // single poses, else the four translation quarters.
       if (SplitTheta(n)) {
         const int half = 1 << (n.tlevel - 1);
         Push(n.tlevel - 1, n.itheta, n.level, n.a, n.b);
