@@ -218,17 +218,29 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
     common.x_hi = std::max(aligned_lookups->x_hi, base_.x0 + base_.nx - 1);
     common.y_hi = std::max(aligned_lookups->y_hi, base_.y0 + base_.ny - 1);
   }
+  // A level depends on k only through its shortest window: levels of equal windows share one
+  // copy, and (aligned: one box for all) a level of doubled windows comes from the one below.
   for (int k = 0; k <= max_level; ++k) {
-    CellRange box = common;
-    if (!aligned_) {
-      const int min_len = ((1 << k) - 1) / lattice_.subdivisions + 1;
-      box = CellRange{base_.x0 - min_len, base_.x0 + base_.nx - 1, base_.y0 - min_len,
-                      base_.y0 + base_.ny - 1};
+    const int min_len = ((1 << k) - 1) / lattice_.subdivisions + 1;
+    const Level* below = k > 0 ? &LevelAt(k - 1) : nullptr;
+    if (below != nullptr && below->min_len == min_len) {
+      level_slot_.push_back(level_slot_.back());
+      continue;
     }
-    levels_.push_back(Filtered(k, filter == Filter::kMax, box));
+    if (below != nullptr && aligned_ && below->min_len * 2 == min_len) {
+      unique_levels_.push_back(Doubled(*below, filter == Filter::kMax));
+    } else {
+      CellRange box = common;
+      if (!aligned_) {
+        box = CellRange{base_.x0 - min_len, base_.x0 + base_.nx - 1, base_.y0 - min_len,
+                        base_.y0 + base_.ny - 1};
+      }
+      unique_levels_.push_back(Filtered(k, filter == Filter::kMax, box));
+    }
+    level_slot_.push_back(static_cast<int>(unique_levels_.size()) - 1);
   }
   if (aligned_) {
-    const Level& lv = levels_[0];
+    const Level& lv = LevelAt(0);
     plane_.resize(static_cast<size_t>(lv.nx) * lv.ny);
     for (size_t i = 0; i < plane_.size(); ++i) plane_[i] = lv.data[4 * i];
   }
@@ -237,7 +249,7 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
 int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const {
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
-  const Level& lv = levels_[0];  // the plane: level 0's one-cell windows, the cells' own voxels.
+  const Level& lv = LevelAt(0);  // the plane: level 0's one-cell windows, the cells' own voxels.
   return RunPopcountSum(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx,
                         groups.run_cx.data(), groups.run_cy.data(), groups.run_len.data(),
                         groups.masks.data(), static_cast<int>(groups.run_len.size()));
@@ -247,7 +259,7 @@ void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int
                                    int out[4]) const {
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
-  const Level& lv = levels_[0];
+  const Level& lv = LevelAt(0);
   RunPopcountSum4(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx, d,
                   static_cast<std::ptrdiff_t>(d) * lv.nx, groups.run_cx.data(),
                   groups.run_cy.data(), groups.run_len.data(), groups.masks.data(),
@@ -256,16 +268,16 @@ void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int
 
 int ColumnOccupancy::PairBound(const PairBlockTable& table, const std::uint64_t* masks, int a,
                                int b) const {
-  assert(aligned_ && levels_.size() > 1);
+  assert(aligned_ && levels() > 1);
   const int mask = lattice_.subdivisions - 1;
-  const Level& lv = levels_[1];
+  const Level& lv = LevelAt(1);
   return GatherPopcountSum(lv.data.data(), AlignedBase(a & ~mask, b & ~mask),
                            static_cast<std::ptrdiff_t>(lv.nx) * 4, table.cxe.data(),
                            table.cy.data(), masks, static_cast<int>(table.cxe.size()));
 }
 
 std::ptrdiff_t ColumnOccupancy::PlaneBase(int a, int b) const {
-  const Level& lv = levels_[0];
+  const Level& lv = LevelAt(0);
   return static_cast<std::ptrdiff_t>((b >> shift_) - lv.y0) * lv.nx + ((a >> shift_) - lv.x0);
 }
 
@@ -307,6 +319,40 @@ ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
                    static_cast<std::ptrdiff_t>(lv.nx) * words, lv.y0 - g0.y0, lv.min_len + ey,
                    max_filter, &lv.data[(static_cast<size_t>(x) * 4 + 2 * ex + ey) * words + w],
                    lv.ny, static_cast<std::ptrdiff_t>(lv.nx) * 4 * words, &scratch);
+        }
+      }
+    }
+  }
+  return lv;
+}
+
+ColumnOccupancy::Level ColumnOccupancy::Doubled(const Level& below, bool max_filter) const {
+  assert(words_ == 1);
+  const int len = below.min_len;
+  Level lv;
+  lv.min_len = 2 * len;
+  lv.x0 = below.x0;
+  lv.y0 = below.y0;
+  lv.nx = below.nx;
+  lv.ny = below.ny;
+  lv.data.resize(below.data.size());
+  const int nx = lv.nx, ny = lv.ny;
+  const std::uint64_t* in = below.data.data();
+  // Windows starting past the box lie past the voxels: empty (kMax) or reaching outside (kMin),
+  // 0 either way.
+  const auto at = [&](int x, int y, int e) -> std::uint64_t {
+    return x < nx && y < ny ? in[(static_cast<size_t>(y) * nx + x) * 4 + e] : 0;
+  };
+  // Window 2 len + e = window len + e at x, then window len at x + len + e (per axis).
+  for (int y = 0; y < ny; ++y) {
+    for (int x = 0; x < nx; ++x) {
+      std::uint64_t* out = &lv.data[(static_cast<size_t>(y) * nx + x) * 4];
+      for (int ex = 0; ex < 2; ++ex) {
+        for (int ey = 0; ey < 2; ++ey) {
+          const int x1 = x + len + ex, y1 = y + len + ey;
+          const std::uint64_t a = at(x, y, 2 * ex + ey), b = at(x1, y, ey);
+          const std::uint64_t c = at(x, y1, 2 * ex), d = at(x1, y1, 0);
+          out[2 * ex + ey] = max_filter ? (a | b | c | d) : (a & b & c & d);
         }
       }
     }
@@ -373,16 +419,16 @@ int ColumnOccupancy::Bound(const RotatedTemplate& rotated, int a, int b, int lev
 void ColumnOccupancy::ArcBounds(const RotatedTemplate& rotated, int a, int b, int level, int blocks,
                                 int out[4]) const {
   const int n = static_cast<int>(rotated.column_q.size());
-  const int top = static_cast<int>(levels_.size()) - 1;
+  const int top = levels() - 1;
   const int d = blocks == 2 ? (1 << level) / lattice_.subdivisions : 0;
   if (Aligned(rotated, a, b, level)) {
     thread_local std::vector<const std::uint64_t*> column_levels;
     column_levels.resize(static_cast<size_t>(n));
     for (int c = 0; c < n; ++c) {
       const int lvl = LevelSweeping((1 << level) - 1 + rotated.column_extent[c]);
-      column_levels[c] = lvl > top ? nullptr : levels_[lvl].data.data();
+      column_levels[c] = lvl > top ? nullptr : LevelAt(lvl).data.data();
     }
-    const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(levels_[0].nx) * 4;
+    const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(LevelAt(0).nx) * 4;
     SumArcsAligned(column_levels.data(), AlignedBase(a, b), row, 4 * d, d * row, blocks,
                    rotated.column_cxe.data(), rotated.column_cy.data(), rotated.column_masks.data(),
                    n, out);
@@ -397,7 +443,7 @@ void ColumnOccupancy::ArcBounds(const RotatedTemplate& rotated, int a, int b, in
       for (int k = 0; k < 4; ++k) sums[k] += all;
       continue;
     }
-    const Level& lv = levels_[lvl];
+    const Level& lv = LevelAt(lvl);
     const int span = (1 << lvl) - 1;
     const int qa = rotated.column_q[c].x() + a;
     const int qb = rotated.column_q[c].y() + b;
@@ -421,10 +467,10 @@ void ColumnOccupancy::ArcBounds(const RotatedTemplate& rotated, int a, int b, in
 
 int ColumnOccupancy::LowerBound(const RotatedTemplate& rotated, const std::uint64_t* masks, int a,
                                 int b, int level) const {
-  assert(level >= 0 && level < static_cast<int>(levels_.size()));
+  assert(level >= 0 && level < levels());
   assert(rotated.z_words == words_);
   assert(rotated.column_extent.empty());  // single rotations only.
-  const Level& lv = levels_[level];
+  const Level& lv = LevelAt(level);
   if (Aligned(rotated, a, b, level)) {
     return GatherPopcountSum(lv.data.data(), AlignedBase(a, b),
                              static_cast<std::ptrdiff_t>(lv.nx) * 4, rotated.column_cxe.data(),
@@ -443,7 +489,7 @@ int ColumnOccupancy::LowerBound(const RotatedTemplate& rotated, const std::uint6
 
 void ColumnOccupancy::Bound4(const RotatedTemplate& rotated, int a, int b, int level,
                              int out[4]) const {
-  assert(level >= 0 && level < static_cast<int>(levels_.size()));
+  assert(level >= 0 && level < levels());
   const int size = 1 << level;
   if (!rotated.column_extent.empty() && size % lattice_.subdivisions == 0) {
     ArcBounds(rotated, a, b, level, 2, out);
@@ -457,7 +503,7 @@ void ColumnOccupancy::Bound4(const RotatedTemplate& rotated, int a, int b, int l
     return;
   }
   assert(rotated.z_words == words_);
-  const Level& lv = levels_[level];
+  const Level& lv = LevelAt(level);
   if (Aligned(rotated, a, b, level)) {
     const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(lv.nx) * 4;
     const std::ptrdiff_t d = size >> shift_;

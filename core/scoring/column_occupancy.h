@@ -77,7 +77,7 @@ class ColumnOccupancy {
   // equal to Bound / LowerBound at level 1, in the aligned layout (aligned(), S >= 4).
   int PairBound(const PairBlockTable& table, const std::uint64_t* masks, int a, int b) const;
 
-  int max_level() const { return static_cast<int>(levels_.size()) - 1; }
+  int max_level() const { return levels() - 1; }
 
  private:
   // Level k: every cell (x, y) of the level's box holds four masks, the kMax/kMin combination
@@ -93,6 +93,10 @@ class ColumnOccupancy {
     std::vector<std::uint64_t> masks;  // nx * ny * words.
   };
   Level Filtered(int level, bool max_filter, const CellRange& box) const;
+  // The level of windows twice as long as `below`'s, from `below` (same box; one word per cell).
+  Level Doubled(const Level& below, bool max_filter) const;
+  const Level& LevelAt(int k) const { return unique_levels_[level_slot_[k]]; }
+  int levels() const { return static_cast<int>(level_slot_.size()); }
   // Whether a block of 2^level steps at (a, b) can take the aligned path with `rotated`.
   bool Aligned(const RotatedTemplate& rotated, int a, int b, int level) const {
     return aligned_ && level >= shift_ && ((a | b) & (lattice_.subdivisions - 1)) == 0 &&
@@ -111,8 +115,9 @@ class ColumnOccupancy {
   int shift_ = -1;  // log2(subdivisions) when a power of two.
   int words_ = 1;
   Grid base_;
-  std::vector<Level> levels_;
-  bool aligned_ = false;  // every level shares the layout of levels_[0] over the lookup range.
+  std::vector<Level> unique_levels_;
+  std::vector<int> level_slot_;  // level k is unique_levels_[level_slot_[k]].
+  bool aligned_ = false;         // every level shares the layout of level 0 over the lookup range.
   // Aligned only: level 0's own cells (entry 0) as one word per cell, same box, row by row: the
   // plane HitsGrouped reads runs of cells from.
   std::vector<std::uint64_t> plane_;

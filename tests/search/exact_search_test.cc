@@ -157,7 +157,7 @@ TEST(ColumnOccupancyTest, AlignedBoundsEqualThePerLevelOnes) {
                                     ColumnOccupancy::Filter::kMin);
     const ColumnOccupancy aligned_min(cluster, lattice, z_base, z_words, 7,
                                       ColumnOccupancy::Filter::kMin, &range);
-    std::uniform_int_distribution<int> d(-reach / 4, reach / 4), th(0, 359), tl(0, 4), lv(2, 5);
+    std::uniform_int_distribution<int> d(-reach / 4, reach / 4), th(0, 359), tl(0, 4), lv(2, 6);
     for (int k = 0; k < 300; ++k) {
       const int tlevel = tl(rng);
       const RotatedTemplate& r = rot.GetBlock(tlevel, (th(rng) >> tlevel) << tlevel);
