@@ -464,8 +464,10 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
                             ColumnOccupancy::Filter::kMax, &lookups);
   std::unique_ptr<ColumnOccupancy> free;
   if (problem.free_space != nullptr) {
+    // Free-space lower bounds are taken up to free_bound_max_level only (PairBound: level 1).
+    const int free_top = std::max(1, std::min(top, options_.free_bound_max_level));
     free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, r0.z_base, r0.z_words,
-                                             top, ColumnOccupancy::Filter::kMin, &lookups);
+                                             free_top, ColumnOccupancy::Filter::kMin, &lookups);
   }
   Evaluator eval(&occ, free.get(), problem.free_space_weight, problem.hit_weight, rotations,
                  options_.swept_bounds, options_.free_bound_max_level);
