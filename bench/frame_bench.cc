@@ -260,10 +260,16 @@ std::vector<Variant> Only(std::vector<Variant> variants, const std::vector<std::
 }
 
 void Exact(EstimatorOptions* o) { o->search = SearchKind::kExact; }
-// The exact search as before free_bound_max_level and theta_split_lead: the free-space part of
-// every block's bound, theta blocks split first only while below 2^4 times their width.
-void ExactBoundsBefore(EstimatorOptions* o) {
+// The exact search before top_theta_level: blocks of 16 headings at the top.
+void ExactThetaBlocksBefore(EstimatorOptions* o) {
   Exact(o);
+  o->exact.top_theta_level = 4;
+}
+// The exact search as before free_bound_max_level and theta_split_lead: the free-space part of
+// every block's bound, theta blocks (of 16 headings at the top) split first only while below 2^4
+// times their width.
+void ExactBoundsBefore(EstimatorOptions* o) {
+  ExactThetaBlocksBefore(o);
   o->exact.free_bound_max_level = 31;
   o->exact.theta_split_lead = 4;
 }
@@ -277,6 +283,7 @@ std::vector<Variant> ScatteredVariants() {
                  o->exact.swept_bounds = false;
                }});
   v.push_back({"exact search, free part of every block (before)", ExactBoundsBefore});
+  v.push_back({"exact search, theta blocks at the top (before)", ExactThetaBlocksBefore});
   v.push_back({"exact search, 2 threads", [](EstimatorOptions* o) {
                  Exact(o);
                  o->threads = 2;
@@ -359,6 +366,7 @@ std::vector<Variant> SequenceVariants() {
   v.push_back({"walk, cold", Exact});
   v.push_back({"walk, tracked", Exact, true});
   v.push_back({"walk, tracked, free part of every block (before)", ExactBoundsBefore, true});
+  v.push_back({"walk, tracked, theta blocks at the top (before)", ExactThetaBlocksBefore, true});
   v.push_back({"walk, tracked, column bounds (before)",
                [](EstimatorOptions* o) {
                  Exact(o);

@@ -151,8 +151,8 @@ class Evaluator {
 class BranchAndBound {
  public:
   BranchAndBound(Evaluator* eval, const TemplateRotations& rotations,
-                 const ExactSearch::Region& region, int top_level, int min_value, int defer_below,
-                 int theta_split_lead, SearchResult* counters)
+                 const ExactSearch::Region& region, int top_level, int top_tlevel, int min_value,
+                 int defer_below, int theta_split_lead, SearchResult* counters)
       : eval_(*eval),
         rotations_(rotations),
         region_(region),
@@ -162,7 +162,7 @@ class BranchAndBound {
         allowed_(steps_, true),
         defer_below_(defer_below),
         theta_split_lead_(theta_split_lead) {
-    int top_tlevel = TemplateRotations::kThetaLevels - 1;
+    top_tlevel = std::clamp(top_tlevel, 0, TemplateRotations::kThetaLevels - 1);
     while (top_tlevel > 0 && (1 << top_tlevel) > steps_) --top_tlevel;
     const int block = 1 << top_level;
     for (int itheta = 0; itheta < steps_; itheta += 1 << top_tlevel) {
@@ -446,10 +446,13 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   int top = 0;
   while (top < options_.max_level && (1 << top) < span) ++top;
   const RotatedTemplate& r0 = rotations.Get(0);
-  // Theta blocks' columns sweep their arcs too: levels up to the one sweeping the top block
-  // plus the widest arc.
+  // Theta blocks' columns sweep their arcs too: with theta blocks, levels up to the one sweeping
+  // the top block plus the widest arc.
   int arc_top = top;
-  while ((1 << arc_top) - 1 < (1 << top) - 1 + rotations.max_block_extent()) ++arc_top;
+  while (options_.top_theta_level > 0 &&
+         (1 << arc_top) - 1 < (1 << top) - 1 + rotations.max_block_extent()) {
+    ++arc_top;
+  }
   // Where bound windows start: any column's cell plus any block's (quarters of the last block
   // reach one top block past the region; exact hits' cell groups one cell more).
   const int s = lattice.subdivisions;
@@ -487,8 +490,8 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
       defer_below = std::max(defer_below, result.incumbent_value);
     }
   }
-  BranchAndBound bnb(&eval, rotations, region, top, problem.min_value, defer_below,
-                     options_.theta_split_lead, &result);
+  BranchAndBound bnb(&eval, rotations, region, top, options_.top_theta_level, problem.min_value,
+                     defer_below, options_.theta_split_lead, &result);
   const BranchAndBoundResult best = bnb.Next();
   if (best.below_min) {
     result.below_min_value = true;

@@ -32,6 +32,12 @@ struct ExactSearchOptions {
   // rotation's bounds (the swept and free-space ones), which theta blocks lack. 6 (with the
   // default max_level): theta blocks only at the top level.
   int theta_split_lead = 6;
+  // The queue starts with blocks of 2^top_theta_level headings (at most
+  // TemplateRotations::kThetaLevels - 1) at every top translation block. Their arc bounds
+  // (every rotation's columns swept over the block's arc) rule out few whole groups of headings
+  // on real frames and cost more than a single heading's bound: 0 (the default) starts from
+  // single headings, with fewer bounds and the same results.
+  int top_theta_level = 0;
 };
 
 // The global optimum of the score over the whole lattice: every theta (angle_steps of them) x

@@ -197,9 +197,10 @@ TEST(ExactSearchBoundsTest, DenseFreeSpaceEqualsExhaustiveSearch) {
     ASSERT_EQ(r.value, best) << "seed " << seed;
     EXPECT_EQ(r.value, problem.hit_weight * r.hits - r.free_hits);
     // Dense free space makes the free-space part count: the same optimum with it at every level
-    // and at none, theta blocks split first or last.
+    // and at none, blocks of 16 headings at the top split first or last.
     for (const auto& [free_levels, lead] : {std::pair{31, 4}, {0, -10}}) {
       ExactSearchOptions other = opts;
+      other.top_theta_level = 4;
       other.free_bound_max_level = free_levels;
       other.theta_split_lead = lead;
       EXPECT_EQ(ExactSearch(other).Search(problem).value, best)

@@ -368,9 +368,11 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
     ASSERT_EQ(r.value, best) << "scene " << scene;
     opts.swept_bounds = false;
     EXPECT_EQ(ExactSearch(opts).Search(problem).value, best) << "scene " << scene;
-    // The free-space part at no level, at every level, below one cell; theta split first always,
-    // never, or while the rotation's sweep is comparable to the block: the same optimum.
+    // The free-space part at no level, at every level, below one cell; blocks of 16 headings at
+    // the top, split first always, never, or while the rotation's sweep is comparable to the
+    // block: the same optimum.
     opts.swept_bounds = true;
+    opts.top_theta_level = 4;
     for (const auto& [free_levels, lead] : {std::pair{0, 0}, {31, 4}, {1, -10}, {2, 31}}) {
       opts.free_bound_max_level = free_levels;
       opts.theta_split_lead = lead;
