@@ -30,7 +30,8 @@ struct ExactSearchOptions {
   // A block of 2^t headings and 2^L steps is split in theta first while t + theta_split_lead
   // >= L, in translation otherwise. Split first, a heading's translation blocks take the single
   // rotation's bounds (the swept and free-space ones), which theta blocks lack. 6 (with the
-  // default max_level): theta blocks only at the top level.
+  // default max_level): theta blocks only at the top level. Only with top_theta_level > 0 (the
+  // default starts from single headings, so nothing is split in theta).
   int theta_split_lead = 6;
   // The queue starts with blocks of 2^top_theta_level headings (at most
   // TemplateRotations::kThetaLevels - 1) at every top translation block. Their arc bounds
