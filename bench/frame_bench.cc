@@ -10,8 +10,10 @@
 //
 // Per variant: median / p90 (and p99 of the total) wall time of each stage, CPU time per frame
 // (all threads), branch-and-bound bounds per frame, how many frames found the humanoid within 5
-// cm and 10 degrees, and a digest of every candidate (template, cluster, pose, scores): equal
-// digests mean equal results. Pin it to one core for the documented numbers:
+// cm and 10 degrees, and a digest of every candidate's optimum and runner-up (template, cluster,
+// pose, scores; see MixEstimate): equal digests mean equal results. Every variant makes its
+// search tables at start (make_tables_at_start, as the daemon does) unless its name says
+// otherwise. Pin it to one core for the documented numbers:
 //   taskset -c 0 frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]
 //                            [--repeat N] [--only VARIANT] [--frames-detail] [--dump]
 #include <time.h>
@@ -27,6 +29,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bench/bench_frames.h"
@@ -59,18 +62,33 @@ void Mix(std::uint64_t* h, const void* data, size_t n) {
   }
 }
 
+// What the search defines: every candidate's optimum and runner-up, not what depends on the
+// order in which blocks were bounded (the bound a search stopped below the threshold with, the
+// best pose it had evaluated by then, the bound of a runner-up that reaches no threshold), in
+// the order of clusters and templates (candidates come sorted by score, which a stopped
+// search's best evaluated pose takes part in).
 void MixEstimate(std::uint64_t* h, const Estimate& e) {
-  for (const Candidate& c : e.candidates) {
+  std::vector<const Candidate*> sorted;
+  for (const Candidate& c : e.candidates) sorted.push_back(&c);
+  std::sort(sorted.begin(), sorted.end(), [](const Candidate* a, const Candidate* b) {
+    return std::tie(a->cluster_index, a->template_name) <
+           std::tie(b->cluster_index, b->template_name);
+  });
+  for (const Candidate* cp : sorted) {
+    const Candidate& c = *cp;
     Mix(h, c.template_name.data(), c.template_name.size());
-    const double values[] = {
-        c.pose.x,         c.pose.y,           c.pose.theta,       c.score,
-        c.coverage,       c.runner_up_pose.x, c.runner_up_pose.y, c.runner_up_pose.theta,
-        c.runner_up_score};
-    Mix(h, values, sizeof values);
-    const int ints[] = {c.cluster_index,         c.hits,
-                        c.free_space_hits,       c.cluster_voxels,
-                        c.has_runner_up ? 1 : 0, c.stopped_below_threshold ? 1 : 0};
+    const int ints[] = {c.cluster_index, c.cluster_voxels, c.stopped_below_threshold ? 1 : 0,
+                        c.has_runner_up ? 1 : 0};
     Mix(h, ints, sizeof ints);
+    if (c.stopped_below_threshold) continue;
+    const double values[] = {c.pose.x, c.pose.y, c.pose.theta, c.score, c.coverage};
+    Mix(h, values, sizeof values);
+    const int hits[] = {c.hits, c.free_space_hits};
+    Mix(h, hits, sizeof hits);
+    if (!c.has_runner_up) continue;
+    const double runner[] = {c.runner_up_pose.x, c.runner_up_pose.y, c.runner_up_pose.theta,
+                             c.runner_up_score};
+    Mix(h, runner, sizeof runner);
   }
   for (const ClusterSummary& s : e.clusters) {
     const int ints[] = {s.index, s.points, s.searched ? 1 : 0};
@@ -240,6 +258,7 @@ void PrintByDistance(const std::vector<Variant>& variants) {
 Status Prepare(const std::vector<VoxelTemplate>& templates, std::vector<Variant>* variants) {
   for (Variant& v : *variants) {
     EstimatorOptions o = DefaultEstimatorOptions();
+    o.make_tables_at_start = true;  // the daemon's setting: what serving frames costs.
     v.configure(&o);
     Result<std::unique_ptr<Estimator>> e = Estimator::Create(o, templates);
     if (!e.ok()) return e.error();
@@ -260,10 +279,17 @@ std::vector<Variant> Only(std::vector<Variant> variants, const std::vector<std::
 }
 
 void Exact(EstimatorOptions* o) { o->search = SearchKind::kExact; }
-// The exact search before top_theta_level: blocks of 16 headings at the top.
+// The exact search before theta_split_ratio: single headings from the top.
+void ExactSingleHeadingsBefore(EstimatorOptions* o) {
+  Exact(o);
+  o->exact.top_theta_level = 0;
+}
+// The exact search before top_theta_level: blocks of 16 headings at the top, split in theta
+// before translation.
 void ExactThetaBlocksBefore(EstimatorOptions* o) {
   Exact(o);
   o->exact.top_theta_level = 4;
+  o->exact.theta_split_ratio = 0.0;
 }
 // The exact search as before free_bound_max_level and theta_split_lead: the free-space part of
 // every block's bound, theta blocks (of 16 headings at the top) split first only while below 2^4
@@ -278,6 +304,11 @@ std::vector<Variant> ScatteredVariants() {
   std::vector<Variant> v;
   v.push_back({"paper search", [](EstimatorOptions* o) { o->search = SearchKind::kPaper; }});
   v.push_back({"exact search", Exact});
+  v.push_back({"exact search, single headings from the top (before)", ExactSingleHeadingsBefore});
+  v.push_back({"exact search, tables made on first use", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->make_tables_at_start = false;
+               }});
   v.push_back({"exact search, column bounds (before)", [](EstimatorOptions* o) {
                  Exact(o);
                  o->exact.swept_bounds = false;
@@ -365,6 +396,8 @@ std::vector<Variant> SequenceVariants() {
   std::vector<Variant> v;
   v.push_back({"walk, cold", Exact});
   v.push_back({"walk, tracked", Exact, true});
+  v.push_back(
+      {"walk, tracked, single headings from the top (before)", ExactSingleHeadingsBefore, true});
   v.push_back({"walk, tracked, free part of every block (before)", ExactBoundsBefore, true});
   v.push_back({"walk, tracked, theta blocks at the top (before)", ExactThetaBlocksBefore, true});
   v.push_back({"walk, tracked, column bounds (before)",

@@ -165,6 +165,7 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     templates.push_back(std::move(*t));
   }
   EstimatorOptions options = EffectiveEstimatorOptions(config);
+  options.make_tables_at_start = true;  // a daemon serves many frames: none pays for tables.
 
   auto impl = std::make_unique<Impl>();
   Result<std::unique_ptr<EstimatorPool>> pool =

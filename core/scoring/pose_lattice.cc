@@ -256,8 +256,10 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
         }
       }
       std::vector<int> extent(g.xy.size());
+      if (level_extent_.size() < static_cast<size_t>(level)) level_extent_.push_back(0);
       for (size_t c = 0; c < g.xy.size(); ++c) {
         extent[c] = (next_hi.back()[c] - next_lo.back()[c]).maxCoeff();
+        level_extent_[level - 1] = std::max(level_extent_[level - 1], extent[c]);
         max_block_extent_ = std::max(max_block_extent_, extent[c]);
       }
       RotatedTemplate block;
@@ -280,6 +282,11 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
   groups_once_ = std::make_unique<std::once_flag[]>(rotations_.size());
   swept_.resize(rotations_.size());
   swept_once_ = std::make_unique<std::once_flag[]>(rotations_.size());
+  for (int t = 1; t < kThetaLevels; ++t) {
+    const size_t blocks = (rotations_.size() + (size_t{1} << t) - 1) >> t;
+    swept_blocks_.emplace_back(blocks);
+    swept_blocks_once_.push_back(std::make_unique<std::once_flag[]>(blocks));
+  }
   bool first = true;
   const auto visit = [&](RotatedTemplate* r) {
     AddCellTables(shift, r);
@@ -375,7 +382,98 @@ namespace {
 // min(2^level, s) below s.
 int SweptResidues(int level, int s) { return std::max(1, s >> level); }
 
+// Where SweptGroups(level, ra, rb) lies in a rotation's list of tables.
+size_t SweptIndex(int level, int ra, int rb, int s) {
+  size_t index = 0;
+  for (int lv = 1; lv < level; ++lv) {
+    const int n = SweptResidues(lv, s);
+    index += static_cast<size_t>(n) * n;
+  }
+  const int step = std::min(1 << level, s);
+  return index + static_cast<size_t>(ra / step) * SweptResidues(level, s) + rb / step;
+}
+
+// SweptIndex with the S^2 residues of level 0 (single translations: Groups) first.
+size_t BlockSweptIndex(int level, int ra, int rb, int s) {
+  if (level == 0) return static_cast<size_t>(ra) * s + rb;
+  return static_cast<size_t>(s) * s + SweptIndex(level, ra, rb, s);
+}
+
+// The cells of a and b (each listed row by row, once), masks of a cell in both united.
+CellGroups UniteCellGroups(const CellGroups& a, const CellGroups& b) {
+  struct Cell {
+    std::int32_t cy, cx;
+    std::uint64_t mask;
+  };
+  const auto cells = [](const CellGroups& g) {
+    std::vector<Cell> out;
+    out.reserve(g.masks.size());
+    size_t k = 0;
+    for (size_t r = 0; r < g.run_len.size(); ++r) {
+      for (int i = 0; i < g.run_len[r]; ++i)
+        out.push_back({g.run_cy[r], g.run_cx[r] + i, g.masks[k++]});
+    }
+    return out;
+  };
+  const std::vector<Cell> ca = cells(a), cb = cells(b);
+  CellGroups out;
+  size_t i = 0, j = 0;
+  while (i < ca.size() || j < cb.size()) {
+    const bool take_a = j == cb.size() || (i < ca.size() && std::make_pair(ca[i].cy, ca[i].cx) <=
+                                                                std::make_pair(cb[j].cy, cb[j].cx));
+    const bool take_b = i == ca.size() || (j < cb.size() && std::make_pair(cb[j].cy, cb[j].cx) <=
+                                                                std::make_pair(ca[i].cy, ca[i].cx));
+    const Cell& c = take_a ? ca[i] : cb[j];
+    std::uint64_t mask = 0;
+    if (take_a) mask |= ca[i++].mask;
+    if (take_b) mask |= cb[j++].mask;
+    out.Append(c.cx, c.cy, mask);
+  }
+  return out;
+}
+
 }  // namespace
+
+const CellGroups& TemplateRotations::SweptBlockGroups(int tlevel, int itheta0, int level, int ra,
+                                                      int rb) const {
+  if (tlevel == 0)
+    return level == 0 ? Groups(itheta0, ra, rb) : SweptGroups(itheta0, level, ra, rb);
+  assert(tlevel < kThetaLevels && (itheta0 & ((1 << tlevel) - 1)) == 0);
+  const int s = 1 << shift_;
+  const size_t block = static_cast<size_t>(itheta0) >> tlevel;
+  std::call_once(swept_blocks_once_[tlevel - 1][block], [&] {
+    std::vector<CellGroups>& out = swept_blocks_[tlevel - 1][block];
+    const int half = 1 << (tlevel - 1);
+    const bool two = itheta0 + half < static_cast<int>(rotations_.size());
+    for (int lv = 0; lv <= kSweptLevels; ++lv) {
+      const int step = std::min(1 << lv, s);
+      const int residues = SweptResidues(lv, s);
+      for (int i = 0; i < residues * residues; ++i) {
+        const int rx = (i / residues) * step, ry = (i % residues) * step;
+        const CellGroups& first = SweptBlockGroups(tlevel - 1, itheta0, lv, rx, ry);
+        out.push_back(
+            two ? UniteCellGroups(first, SweptBlockGroups(tlevel - 1, itheta0 + half, lv, rx, ry))
+                : first);
+      }
+    }
+  });
+  return swept_blocks_[tlevel - 1][block][BlockSweptIndex(level, ra, rb, s)];
+}
+
+void TemplateRotations::MakeTables(int max_tlevel, int begin, int end) const {
+  if (!has_cell_groups()) return;
+  const int steps = static_cast<int>(rotations_.size());
+  max_tlevel = std::min(max_tlevel, kThetaLevels - 1);
+  for (int i = std::max(0, begin); i < std::min(end, steps); ++i) {
+    Groups(i, 0, 0);
+    SweptGroups(i, 1, 0, 0);
+    // Theta blocks whose last rotation is i: their halves are made by then.
+    for (int t = 1; t <= max_tlevel; ++t) {
+      const int first = i & ~((1 << t) - 1);
+      if (i == std::min(steps, first + (1 << t)) - 1) SweptBlockGroups(t, first, 0, 0, 0);
+    }
+  }
+}
 
 const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, int rb) const {
   assert(has_cell_groups() && level >= 1 && level <= kSweptLevels);
@@ -420,14 +518,7 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
       }
     }
   });
-  size_t index = 0;
-  for (int lv = 1; lv < level; ++lv) {
-    const int n = SweptResidues(lv, s);
-    index += static_cast<size_t>(n) * n;
-  }
-  const int step = std::min(1 << level, s);
-  index += static_cast<size_t>(ra / step) * SweptResidues(level, s) + rb / step;
-  return swept_[itheta][index];
+  return swept_[itheta][SweptIndex(level, ra, rb, s)];
 }
 
 const RotatedTemplate& TemplateRotations::GetBlock(int level, int itheta0) const {

@@ -154,6 +154,13 @@ class TemplateRotations {
   const RotatedTemplate& GetBlock(int level, int itheta0) const;
   // The largest column_extent of any theta block (0 without blocks).
   int max_block_extent() const { return max_block_extent_; }
+  // The largest column_extent of the theta blocks of level tlevel (0 for tlevel 0): how far the
+  // template's rim moves over 2^tlevel headings, in sub-voxel steps.
+  int block_extent(int tlevel) const {
+    return tlevel <= 0 || level_extent_.empty()
+               ? 0
+               : level_extent_[std::min<size_t>(tlevel, level_extent_.size()) - 1];
+  }
   // CellGroups of rotation itheta for translations of residue (rx, ry), made on first use
   // (thread-safe); only for a power-of-two subdivision and one-word columns
   // (has_cell_groups()).
@@ -173,6 +180,18 @@ class TemplateRotations {
   // unlike the column bound, never counts a voxel twice. Made on first use (thread-safe), with
   // the same conditions as Groups.
   const CellGroups& SweptGroups(int itheta, int level, int ra, int rb) const;
+  // SweptGroups of the theta block (tlevel, itheta0) of GetBlock (tlevel below kThetaLevels,
+  // itheta0 a multiple of 2^tlevel): per cell the union of the masks of its rotations' tables,
+  // so an upper bound of the hits of every pose of the block's rotations and translations that
+  // counts each cluster voxel once. Level 0 (single translations; residues (ra, rb) below S)
+  // unites the rotations' Groups. tlevel 0 is SweptGroups (Groups at level 0). Made on first
+  // use (thread-safe).
+  const CellGroups& SweptBlockGroups(int tlevel, int itheta0, int level, int ra, int rb) const;
+  // Makes now every table the getters above make on first use (Groups, PairTable, SweptGroups
+  // and SweptBlockGroups of theta levels up to max_tlevel), so that no search pays for them;
+  // a no-op without cell groups. Thread-safe; rotations [begin, end) only, so that threads can
+  // share the work.
+  void MakeTables(int max_tlevel, int begin, int end) const;
   // CellDisjointMasks of rotation itheta (for free-space lower bounds), made once.
   const std::vector<std::uint64_t>& DisjointMasks(int itheta) const { return disjoint_[itheta]; }
   // The range of column_q over every rotation and block (sub-voxel steps).
@@ -190,6 +209,7 @@ class TemplateRotations {
   // blocks_[level - 1][itheta0 >> level] for level in [1, kThetaLevels).
   std::vector<std::vector<RotatedTemplate>> blocks_;
   int max_block_extent_ = 0;
+  std::vector<int> level_extent_;                     // block_extent per theta level from 1.
   std::vector<std::vector<std::uint64_t>> disjoint_;  // per rotation.
   int shift_ = -1;                                    // log2(subdivisions) when a power of two.
   int z_words_ = 0;                                   // words per column.
@@ -200,6 +220,10 @@ class TemplateRotations {
   // Per rotation: for each level 1 .. kSweptLevels its residues' SweptGroups.
   mutable std::vector<std::vector<CellGroups>> swept_;
   mutable std::unique_ptr<std::once_flag[]> swept_once_;
+  // Per theta level t in [1, kThetaLevels) and block itheta0 >> t: SweptBlockGroups, level 0's
+  // residues first, then in the order of swept_.
+  mutable std::vector<std::vector<std::vector<CellGroups>>> swept_blocks_;
+  mutable std::vector<std::unique_ptr<std::once_flag[]>> swept_blocks_once_;
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
 };

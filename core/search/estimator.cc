@@ -253,6 +253,16 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
   }
   search_ = MakeSearch(options_);
   pool_ = std::make_unique<TaskPool>(TaskPool::Resolve(options_.threads));
+  if (options_.make_tables_at_start && options_.search == SearchKind::kExact) {
+    // Runs of rotations a whole number of the largest theta blocks long, for the threads.
+    constexpr int kRun = 1 << (TemplateRotations::kThetaLevels - 1);
+    const int steps = options_.lattice.angle_steps;
+    const int runs = (steps + kRun - 1) / kRun;
+    pool_->ParallelFor(static_cast<int>(rotations_.size()) * runs, [&](int k) {
+      const int begin = (k % runs) * kRun;
+      rotations_[k / runs]->MakeTables(options_.exact.top_theta_level, begin, begin + kRun);
+    });
+  }
 }
 
 Estimator::~Estimator() = default;

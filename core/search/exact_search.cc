@@ -69,11 +69,12 @@ class Evaluator {
     return v;
   }
   // The cluster part of a block's bound: with HasFreePart, FreePart is still to be subtracted.
-  int ClusterBound(const RotatedTemplate& r, int a, int b, int level) const {
-    if (Swept(r, level)) {
+  int ClusterBound(int tlevel, const RotatedTemplate& r, int a, int b, int level) const {
+    if (Swept(level) || (level == 0 && swept_ok_)) {
       const int mask = rotations_.lattice().subdivisions - 1;
-      return hit_weight_ * cluster_->HitsGrouped(
-                               rotations_.SweptGroups(r.itheta, level, a & mask, b & mask), a, b);
+      return hit_weight_ *
+             cluster_->HitsGrouped(
+                 rotations_.SweptBlockGroups(tlevel, r.itheta, level, a & mask, b & mask), a, b);
     }
     if (Pairs(r, a, b, level)) {
       return hit_weight_ *
@@ -81,19 +82,21 @@ class Evaluator {
     }
     return hit_weight_ * cluster_->Bound(r, a, b, level);
   }
-  void ClusterBound4(const RotatedTemplate& r, int a, int b, int level, int out[4]) const {
+  void ClusterBound4(int tlevel, const RotatedTemplate& r, int a, int b, int level,
+                     int out[4]) const {
     const int size = 1 << level;
     const int s = rotations_.lattice().subdivisions;
-    if (Swept(r, level) && size % s == 0) {  // the four share a residue: one table.
-      cluster_->HitsGrouped4(rotations_.SweptGroups(r.itheta, level, a & (s - 1), b & (s - 1)), a,
-                             b, size / s, out);
+    if (Swept(level) && size % s == 0) {  // the four share a residue: one table.
+      cluster_->HitsGrouped4(
+          rotations_.SweptBlockGroups(tlevel, r.itheta, level, a & (s - 1), b & (s - 1)), a, b,
+          size / s, out);
       for (int k = 0; k < 4; ++k) out[k] *= hit_weight_;
       return;
     }
-    if (Swept(r, level) || Pairs(r, a, b, level)) {
+    if (Swept(level) || (level == 0 && swept_ok_) || Pairs(r, a, b, level)) {
       for (int i = 0; i < 2; ++i) {
         for (int j = 0; j < 2; ++j) {
-          out[2 * i + j] = ClusterBound(r, a + i * size, b + j * size, level);
+          out[2 * i + j] = ClusterBound(tlevel, r, a + i * size, b + j * size, level);
         }
       }
       return;
@@ -116,12 +119,11 @@ class Evaluator {
   }
 
  private:
-  // Blocks of 2 .. 2^kSweptLevels steps of a single rotation take the swept bound when asked
-  // for and the layout allows (the lookups of its cells stay within the aligned range, as the
-  // columns' windows do).
-  bool Swept(const RotatedTemplate& r, int level) const {
-    return swept_ok_ && level >= 1 && level <= TemplateRotations::kSweptLevels &&
-           r.column_extent.empty();
+  // Blocks of 2 .. 2^kSweptLevels steps take the swept bound of their rotations when asked for
+  // and the layout allows (the lookups of its cells stay within the aligned range, as the
+  // columns' windows do); so do theta blocks at single translations (level 0).
+  bool Swept(int level) const {
+    return swept_ok_ && level >= 1 && level <= TemplateRotations::kSweptLevels;
   }
   // Blocks of two steps of a single rotation take the PairBound path when the layouts allow.
   bool Pairs(const RotatedTemplate& r, int a, int b, int level) const {
@@ -152,7 +154,8 @@ class BranchAndBound {
  public:
   BranchAndBound(Evaluator* eval, const TemplateRotations& rotations,
                  const ExactSearch::Region& region, int top_level, int top_tlevel, int min_value,
-                 int defer_below, int theta_split_lead, SearchResult* counters)
+                 int defer_below, int theta_split_lead, double theta_split_ratio,
+                 SearchResult* counters)
       : eval_(*eval),
         rotations_(rotations),
         region_(region),
@@ -161,7 +164,8 @@ class BranchAndBound {
         steps_(rotations.lattice().angle_steps),
         allowed_(steps_, true),
         defer_below_(defer_below),
-        theta_split_lead_(theta_split_lead) {
+        theta_split_lead_(theta_split_lead),
+        theta_split_ratio_(theta_split_ratio) {
     top_tlevel = std::clamp(top_tlevel, 0, TemplateRotations::kThetaLevels - 1);
     while (top_tlevel > 0 && (1 << top_tlevel) > steps_) --top_tlevel;
     const int block = 1 << top_level;
@@ -262,7 +266,12 @@ class BranchAndBound {
  private:
   // Whether the node is split in theta (else in translation).
   bool SplitTheta(const Node& n) const {
-    return n.tlevel > 0 && (n.level == 0 || n.tlevel + theta_split_lead_ >= n.level);
+    if (n.tlevel == 0) return false;
+    if (n.level == 0) return true;
+    if (theta_split_ratio_ > 0.0) {
+      return rotations_.block_extent(n.tlevel) >= theta_split_ratio_ * (1 << n.level);
+    }
+    return n.tlevel + theta_split_lead_ >= n.level;
   }
 
   // Whether any allowed theta lies in [itheta, itheta + 2^tlevel).
@@ -280,7 +289,8 @@ class BranchAndBound {
     const int level = n.level - 1;
     const int half = 1 << level;
     int cluster_bounds[4];
-    eval_.ClusterBound4(rotations_.GetBlock(n.tlevel, n.itheta), n.a, n.b, level, cluster_bounds);
+    eval_.ClusterBound4(n.tlevel, rotations_.GetBlock(n.tlevel, n.itheta), n.a, n.b, level,
+                        cluster_bounds);
     const bool loose = eval_.HasFreePart(n.tlevel, level);
     for (int i = 0; i < 2; ++i) {
       for (int j = 0; j < 2; ++j) {
@@ -358,7 +368,7 @@ class BranchAndBound {
     } else {
       ++counters_->bounds_evaluated;
       const RotatedTemplate& rot = rotations_.GetBlock(tlevel, itheta);
-      Enqueue({eval_.ClusterBound(rot, a, b, level), tlevel, level, itheta, a, b,
+      Enqueue({eval_.ClusterBound(tlevel, rot, a, b, level), tlevel, level, itheta, a, b,
                eval_.HasFreePart(tlevel, level)});
     }
   }
@@ -377,6 +387,7 @@ class BranchAndBound {
   std::vector<PackedNode> deferred_;
   int defer_below_;
   const int theta_split_lead_;
+  const double theta_split_ratio_;
   BranchAndBoundResult best_exact_;  // the best exactly evaluated pose so far.
 };
 
@@ -491,7 +502,7 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
     }
   }
   BranchAndBound bnb(&eval, rotations, region, top, options_.top_theta_level, problem.min_value,
-                     defer_below, options_.theta_split_lead, &result);
+                     defer_below, options_.theta_split_lead, options_.theta_split_ratio, &result);
   const BranchAndBoundResult best = bnb.Next();
   if (best.below_min) {
     result.below_min_value = true;

@@ -27,18 +27,25 @@ struct ExactSearchOptions {
   // below the optimum: 2 (blocks up to one 16 mm cell) does the least work on the real-time
   // protocol's frames with every result unchanged. 0: never; max_level or more: every block.
   int free_bound_max_level = 2;
-  // A block of 2^t headings and 2^L steps is split in theta first while t + theta_split_lead
-  // >= L, in translation otherwise. Split first, a heading's translation blocks take the single
-  // rotation's bounds (the swept and free-space ones), which theta blocks lack. 6 (with the
-  // default max_level): theta blocks only at the top level. Only with top_theta_level > 0 (the
-  // default starts from single headings, so nothing is split in theta).
+  // A block of 2^t headings (t > 0) and 2^L steps is split in theta while the widest arc its
+  // template columns sweep over its headings (TemplateRotations::block_extent(t), in lattice
+  // steps) is at least theta_split_ratio x 2^L, in translation otherwise; always in theta at
+  // single translations. Single headings barely tighten a block's bound while its arc is not
+  // several times wider than its side (the arc is a column's at the template's rim; most lie
+  // nearer its axis), and each split in theta doubles the bounds: 4 does the least work on the
+  // real-time protocol's frames. 0: the rule of theta_split_lead below instead.
+  double theta_split_ratio = 4.0;
+  // With theta_split_ratio 0: split in theta while t + theta_split_lead >= L (6, with the
+  // default max_level: theta blocks only at the top level, as before theta_split_ratio).
   int theta_split_lead = 6;
   // The queue starts with blocks of 2^top_theta_level headings (at most
-  // TemplateRotations::kThetaLevels - 1) at every top translation block. Their arc bounds
-  // (every rotation's columns swept over the block's arc) rule out few whole groups of headings
-  // on real frames and cost more than a single heading's bound: 0 (the default) starts from
-  // single headings, with fewer bounds and the same results.
-  int top_theta_level = 0;
+  // TemplateRotations::kThetaLevels - 1) at every top translation block. Blocks of 2 ..
+  // 2^kSweptLevels steps take the swept bound of their headings together
+  // (TemplateRotations::SweptBlockGroups), single translations the union of their headings'
+  // cells; larger blocks the arc bound (every rotation's columns swept over the block's arc).
+  // Theta blocks carry no free-space part. 0 starts from single headings (the default before
+  // theta_split_ratio, with 2.6x the bounds on the real-time protocol's frames).
+  int top_theta_level = 4;
 };
 
 // The global optimum of the score over the whole lattice: every theta (angle_steps of them) x

@@ -197,14 +197,19 @@ TEST(ExactSearchBoundsTest, DenseFreeSpaceEqualsExhaustiveSearch) {
     ASSERT_EQ(r.value, best) << "seed " << seed;
     EXPECT_EQ(r.value, problem.hit_weight * r.hits - r.free_hits);
     // Dense free space makes the free-space part count: the same optimum with it at every level
-    // and at none, blocks of 16 headings at the top split first or last.
+    // and at none, blocks of 16 headings at the top split first or last, single headings from
+    // the top.
     for (const auto& [free_levels, lead] : {std::pair{31, 4}, {0, -10}}) {
       ExactSearchOptions other = opts;
       other.top_theta_level = 4;
       other.free_bound_max_level = free_levels;
+      other.theta_split_ratio = 0.0;
       other.theta_split_lead = lead;
       EXPECT_EQ(ExactSearch(other).Search(problem).value, best)
           << "seed " << seed << ", free part up to level " << free_levels;
+      other.top_theta_level = 0;
+      EXPECT_EQ(ExactSearch(other).Search(problem).value, best)
+          << "seed " << seed << ", free part up to level " << free_levels << ", single headings";
     }
     // A minimum just above and just below the optimum.
     problem.min_value = best + 1;

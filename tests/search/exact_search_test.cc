@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <map>
 #include <random>
 #include <set>
 #include <tuple>
@@ -271,6 +272,67 @@ TEST(ColumnOccupancyTest, SweptGroupsCountTheVoxelsTheBlockReaches) {
   }
 }
 
+// A theta block's swept cell groups hold, cell by cell, the union of its rotations' groups
+// (their swept groups over translation blocks, their exact groups at single translations): so
+// its bound is at least every pose's hits in the block. Tables made ahead (MakeTables) equal
+// those made on first use.
+TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
+  PoseLattice lattice;
+  lattice.angle_steps = 90;  // blocks of 16 at the end hold only the 10 headings left.
+  const int s = lattice.subdivisions;
+  const VoxelTemplate tpl =
+      *MakeTemplateFromPoints(testing::RandomRobotPoints(77), "t", lattice.resolution_m);
+  const TemplateRotations lazy(tpl, lattice);
+  const TemplateRotations ahead(tpl, lattice);
+  ahead.MakeTables(TemplateRotations::kThetaLevels - 1, 0, 50);
+  ahead.MakeTables(TemplateRotations::kThetaLevels - 1, 50, lattice.angle_steps);
+  using Cells = std::map<std::pair<int, int>, std::uint64_t>;
+  const auto cells_of = [](const CellGroups& g) {
+    Cells out;
+    size_t k = 0;
+    for (size_t r = 0; r < g.run_len.size(); ++r) {
+      for (int i = 0; i < g.run_len[r]; ++i) {
+        EXPECT_TRUE(out.emplace(std::pair{g.run_cx[r] + i, g.run_cy[r]}, g.masks[k++]).second)
+            << "a cell listed twice";
+      }
+    }
+    return out;
+  };
+  int checked = 0;
+  for (int t = 1; t < TemplateRotations::kThetaLevels; ++t) {
+    for (int first = 0; first < lattice.angle_steps; first += 1 << t) {
+      if (first % 7 != 0 && first + (1 << t) < lattice.angle_steps) continue;  // a sample.
+      for (int level = 0; level <= TemplateRotations::kSweptLevels; ++level) {
+        const int step = level == 0 ? 1 : std::min(1 << level, s);
+        for (int ra = 0; ra < s; ra += step) {
+          for (int rb = 0; rb < s; rb += step) {
+            Cells expected;
+            for (int i = first; i < std::min(first + (1 << t), lattice.angle_steps); ++i) {
+              const CellGroups& g =
+                  level == 0 ? lazy.Groups(i, ra, rb) : lazy.SweptGroups(i, level, ra, rb);
+              for (const auto& [cell, mask] : cells_of(g)) expected[cell] |= mask;
+            }
+            const CellGroups& block = lazy.SweptBlockGroups(t, first, level, ra, rb);
+            ASSERT_EQ(cells_of(block), expected)
+                << "theta level " << t << " block " << first << " level " << level << " residue "
+                << ra << "," << rb;
+            const CellGroups& made = ahead.SweptBlockGroups(t, first, level, ra, rb);
+            EXPECT_EQ(made.run_cx, block.run_cx);
+            EXPECT_EQ(made.run_cy, block.run_cy);
+            EXPECT_EQ(made.run_len, block.run_len);
+            EXPECT_EQ(made.masks, block.masks);
+            ++checked;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 300);
+  EXPECT_GT(lazy.block_extent(4), lazy.block_extent(1));
+  EXPECT_GT(lazy.block_extent(1), 0);
+  EXPECT_EQ(lazy.block_extent(0), 0);
+}
+
 // Under the sanitizers every third scene (still every max_level and both subdivisions): the
 // brute force over the lattice is what takes the time there.
 constexpr unsigned kSceneStep = hpose::testing::kSanitizerBuild ? 3 : 1;
@@ -296,12 +358,16 @@ TEST(ExactSearchTest, EqualsExhaustiveSearchOnRandomScenes) {
     const SearchResult r = search.Search(problem);
     opts.swept_bounds = false;  // the column bounds alone find the same optimum.
     const SearchResult by_columns = ExactSearch(opts).Search(problem);
+    opts.swept_bounds = true;
+    opts.top_theta_level = 0;  // so do single headings from the top.
+    const SearchResult single = ExactSearch(opts).Search(problem);
     const ExactSearch::Region region = search.TranslationRegion(cluster, rot);
     std::vector<int> all(lattice.angle_steps);
     for (int t = 0; t < lattice.angle_steps; ++t) all[t] = t;
     const Exhaustive brute = Brute(scorer, rot, region, all);
     ASSERT_EQ(r.hits, brute.best_hits) << "scene " << scene;
     EXPECT_EQ(by_columns.hits, brute.best_hits) << "scene " << scene;
+    EXPECT_EQ(single.hits, brute.best_hits) << "scene " << scene;
     EXPECT_EQ(scorer.Hits(rot.Get(r.best.itheta), r.best.ix, r.best.iy), r.hits);
     EXPECT_GE(r.best.ix, region.ix_min);
     EXPECT_LE(r.best.iy, region.iy_max);
@@ -316,6 +382,7 @@ TEST(ExactSearchTest, EqualsExhaustiveSearchOnRandomScenes) {
     const Exhaustive brute_far = Brute(scorer, rot, region, far);
     ASSERT_TRUE(r.has_runner_up);
     EXPECT_NEAR(r.runner_up_score, 100.0 * brute_far.best_hits / scorer.cluster_voxels(), 1e-9);
+    EXPECT_NEAR(single.runner_up_score, r.runner_up_score, 1e-9) << "scene " << scene;
     EXPECT_GT(std::abs(AngleDiff(r.runner_up_pose.theta, r.pose.theta)), DegToRad(30));
     EXPECT_LT(r.poses_evaluated + r.bounds_evaluated, brute.poses);
   }
@@ -373,12 +440,25 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
     // block: the same optimum.
     opts.swept_bounds = true;
     opts.top_theta_level = 4;
+    opts.theta_split_ratio = 0.0;
     for (const auto& [free_levels, lead] : {std::pair{0, 0}, {31, 4}, {1, -10}, {2, 31}}) {
       opts.free_bound_max_level = free_levels;
       opts.theta_split_lead = lead;
       EXPECT_EQ(ExactSearch(opts).Search(problem).value, best)
           << "scene " << scene << ", free part up to level " << free_levels << ", theta lead "
           << lead;
+    }
+    // Theta blocks split as soon as their arc passes a lattice step, at the default ratio, or
+    // only at single translations; from blocks of 2, 16 headings or single ones: the same
+    // optimum.
+    opts.free_bound_max_level = 2;
+    for (const int top : {0, 1, 4}) {
+      for (const double ratio : {0.25, 4.0, 1e9}) {
+        opts.top_theta_level = top;
+        opts.theta_split_ratio = ratio;
+        EXPECT_EQ(ExactSearch(opts).Search(problem).value, best)
+            << "scene " << scene << ", top theta level " << top << ", ratio " << ratio;
+      }
     }
     EXPECT_EQ(r.value, problem.hit_weight * r.hits - problem.free_space_weight * r.free_hits);
     EXPECT_NEAR(r.score, 100.0 * r.value / (problem.hit_weight * scorer.cluster_voxels()), 1e-9);
