@@ -284,6 +284,11 @@ void ExactSingleHeadingsBefore(EstimatorOptions* o) {
   Exact(o);
   o->exact.top_theta_level = 0;
 }
+// The exact search before theta_block_free_part.
+void ExactNoThetaBlockFreePart(EstimatorOptions* o) {
+  Exact(o);
+  o->exact.theta_block_free_part = false;
+}
 // The exact search before top_theta_level: blocks of 16 headings at the top, split in theta
 // before translation.
 void ExactThetaBlocksBefore(EstimatorOptions* o) {
@@ -305,6 +310,8 @@ std::vector<Variant> ScatteredVariants() {
   v.push_back({"paper search", [](EstimatorOptions* o) { o->search = SearchKind::kPaper; }});
   v.push_back({"exact search", Exact});
   v.push_back({"exact search, single headings from the top (before)", ExactSingleHeadingsBefore});
+  v.push_back(
+      {"exact search, theta blocks without a free-space part (before)", ExactNoThetaBlockFreePart});
   v.push_back({"exact search, tables made on first use", [](EstimatorOptions* o) {
                  Exact(o);
                  o->make_tables_at_start = false;
@@ -398,6 +405,8 @@ std::vector<Variant> SequenceVariants() {
   v.push_back({"walk, tracked", Exact, true});
   v.push_back(
       {"walk, tracked, single headings from the top (before)", ExactSingleHeadingsBefore, true});
+  v.push_back({"walk, tracked, theta blocks without a free-space part (before)",
+               ExactNoThetaBlockFreePart, true});
   v.push_back({"walk, tracked, free part of every block (before)", ExactBoundsBefore, true});
   v.push_back({"walk, tracked, theta blocks at the top (before)", ExactThetaBlocksBefore, true});
   v.push_back({"walk, tracked, column bounds (before)",

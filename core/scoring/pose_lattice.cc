@@ -432,7 +432,37 @@ CellGroups UniteCellGroups(const CellGroups& a, const CellGroups& b) {
   return out;
 }
 
+// The cells of both a and b, with the z bits both set there (cells with none left out).
+CellGroups CommonCellGroups(const CellGroups& a, const CellGroups& b) {
+  std::map<std::pair<int, int>, std::uint64_t> in_b;
+  size_t k = 0;
+  for (size_t r = 0; r < b.run_len.size(); ++r) {
+    for (int i = 0; i < b.run_len[r]; ++i) in_b[{b.run_cy[r], b.run_cx[r] + i}] = b.masks[k++];
+  }
+  CellGroups out;
+  k = 0;
+  for (size_t r = 0; r < a.run_len.size(); ++r) {
+    for (int i = 0; i < a.run_len[r]; ++i) {
+      const std::uint64_t mask = a.masks[k++];
+      const auto it = in_b.find({a.run_cy[r], a.run_cx[r] + i});
+      if (it != in_b.end() && (mask & it->second) != 0) {
+        out.Append(a.run_cx[r] + i, a.run_cy[r], mask & it->second);
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
+
+const CellGroups& TemplateRotations::CommonBlockGroups(int tlevel, int itheta0, int ra,
+                                                       int rb) const {
+  assert(tlevel >= 1);
+  const int s = 1 << shift_;
+  SweptBlockGroups(tlevel, itheta0, 0, ra, rb);  // makes them.
+  const std::vector<CellGroups>& tables = swept_blocks_[tlevel - 1][itheta0 >> tlevel];
+  return tables[tables.size() - static_cast<size_t>(s) * s + static_cast<size_t>(ra) * s + rb];
+}
 
 const CellGroups& TemplateRotations::SweptBlockGroups(int tlevel, int itheta0, int level, int ra,
                                                       int rb) const {
@@ -454,6 +484,19 @@ const CellGroups& TemplateRotations::SweptBlockGroups(int tlevel, int itheta0, i
         out.push_back(
             two ? UniteCellGroups(first, SweptBlockGroups(tlevel - 1, itheta0 + half, lv, rx, ry))
                 : first);
+      }
+    }
+    for (int rx = 0; rx < s; ++rx) {
+      for (int ry = 0; ry < s; ++ry) {
+        const CellGroups& first =
+            tlevel == 1 ? Groups(itheta0, rx, ry) : CommonBlockGroups(tlevel - 1, itheta0, rx, ry);
+        if (!two) {
+          out.push_back(first);
+        } else {
+          out.push_back(CommonCellGroups(
+              first, tlevel == 1 ? Groups(itheta0 + half, rx, ry)
+                                 : CommonBlockGroups(tlevel - 1, itheta0 + half, rx, ry)));
+        }
       }
     }
   });

@@ -187,6 +187,11 @@ class TemplateRotations {
   // unites the rotations' Groups. tlevel 0 is SweptGroups (Groups at level 0). Made on first
   // use (thread-safe).
   const CellGroups& SweptBlockGroups(int tlevel, int itheta0, int level, int ra, int rb) const;
+  // The cells every rotation of the theta block (tlevel >= 1) covers at a translation of residue
+  // (ra, rb) (below S), each with the z bits all of them set there (CellGroups, as Groups):
+  // voxels every pose of the block at that translation places, so their free-space hits are a
+  // lower bound of each pose's. Made with SweptBlockGroups.
+  const CellGroups& CommonBlockGroups(int tlevel, int itheta0, int ra, int rb) const;
   // Makes now every table the getters above make on first use (Groups, PairTable, SweptGroups
   // and SweptBlockGroups of theta levels up to max_tlevel), so that no search pays for them;
   // a no-op without cell groups. Thread-safe; rotations [begin, end) only, so that threads can
@@ -221,7 +226,7 @@ class TemplateRotations {
   mutable std::vector<std::vector<CellGroups>> swept_;
   mutable std::unique_ptr<std::once_flag[]> swept_once_;
   // Per theta level t in [1, kThetaLevels) and block itheta0 >> t: SweptBlockGroups, level 0's
-  // residues first, then in the order of swept_.
+  // residues first, then in the order of swept_; then CommonBlockGroups per residue.
   mutable std::vector<std::vector<std::vector<CellGroups>>> swept_blocks_;
   mutable std::vector<std::unique_ptr<std::once_flag[]>> swept_blocks_once_;
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();

@@ -44,7 +44,7 @@ class Evaluator {
  public:
   Evaluator(const ColumnOccupancy* cluster, const ColumnOccupancy* free, int free_weight,
             int hit_weight, const TemplateRotations& rotations, bool swept_bounds,
-            int free_bound_max_level)
+            int free_bound_max_level, bool common_free_part)
       : cluster_(cluster),
         free_(free),
         free_weight_(free_weight),
@@ -53,6 +53,7 @@ class Evaluator {
         pairs_ok_(cluster->aligned() && (free == nullptr || free->aligned()) &&
                   rotations.has_cell_groups() && rotations.lattice().subdivisions >= 4),
         swept_ok_(swept_bounds && cluster->aligned() && rotations.has_cell_groups()),
+        common_ok_(swept_ok_ && free != nullptr && free->aligned() && common_free_part),
         free_bound_max_level_(free_bound_max_level) {}
 
   int Value(const RotatedTemplate& r, int a, int b) const {
@@ -104,11 +105,21 @@ class Evaluator {
     cluster_->Bound4(r, a, b, level, out);
     for (int k = 0; k < 4; ++k) out[k] *= hit_weight_;
   }
+  // Single rotations over blocks of 2 .. 2^free_bound_max_level steps; theta blocks at single
+  // translations (with their common cells) when the layouts allow.
   bool HasFreePart(int tlevel, int level) const {
-    return free_ != nullptr && tlevel == 0 && level > 0 && level <= free_bound_max_level_;
+    if (free_ == nullptr) return false;
+    if (tlevel > 0) return level == 0 && common_ok_;
+    return level > 0 && level <= free_bound_max_level_;
   }
-  // Weighted lower bound of the free hits of rotation itheta over the block.
-  int FreePart(int itheta, int a, int b, int level) const {
+  // Weighted lower bound of the free hits of the block's poses.
+  int FreePart(int tlevel, int itheta, int a, int b, int level) const {
+    if (tlevel > 0) {  // the voxels every rotation of the block places at (a, b).
+      const int mask = rotations_.lattice().subdivisions - 1;
+      return free_weight_ *
+             free_->HitsGrouped(rotations_.CommonBlockGroups(tlevel, itheta, a & mask, b & mask), a,
+                                b);
+    }
     const RotatedTemplate& r = rotations_.Get(itheta);
     if (Pairs(r, a, b, level)) {
       return free_weight_ * free_->PairBound(PairTable(itheta, a, b),
@@ -143,6 +154,7 @@ class Evaluator {
   const TemplateRotations& rotations_;
   const bool pairs_ok_;
   const bool swept_ok_;
+  const bool common_ok_;
   const int free_bound_max_level_;
 };
 
@@ -205,7 +217,7 @@ class BranchAndBound {
           if (best_exact_.found || queue_.size() == size_before) break;
           n = Unpack(Top());
           Pop();
-          if (n.loose) n.value -= eval_.FreePart(n.itheta, n.a, n.b, n.level);
+          if (n.loose) n.value -= eval_.FreePart(n.tlevel, n.itheta, n.a, n.b, n.level);
         }
         if (best_exact_.found) break;
       }
@@ -225,7 +237,7 @@ class BranchAndBound {
       Pop();
       if (!AnyAllowed(n.itheta, n.tlevel)) continue;
       if (n.loose) {  // subtract the free-space part now.
-        n.value -= eval_.FreePart(n.itheta, n.a, n.b, n.level);
+        n.value -= eval_.FreePart(n.tlevel, n.itheta, n.a, n.b, n.level);
         n.loose = false;
         // Still ahead of every queued node (deferred ones are below defer_below_): go on with
         // it rather than push and pop it; the order of expansions is the same.
@@ -319,8 +331,7 @@ class BranchAndBound {
     assert(n.tlevel < 8 && n.level < 32);
     PackedNode p;
     p.hi = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(n.value) ^ 0x80000000u) << 32) |
-           (static_cast<std::uint64_t>(31 - fine) << 16) |
-           static_cast<std::uint64_t>(0xFFFF - n.itheta);
+           (static_cast<std::uint64_t>(fine) << 16) | static_cast<std::uint64_t>(0xFFFF - n.itheta);
     p.lo = ((kOffsetMask - da) << 40) | ((kOffsetMask - db) << 16) |
            (static_cast<std::uint64_t>(7 - n.tlevel) << 13) |
            (static_cast<std::uint64_t>(n.level) << 8) | (n.loose ? 1 : 0);
@@ -484,7 +495,8 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
                                              free_top, ColumnOccupancy::Filter::kMin, &lookups);
   }
   Evaluator eval(&occ, free.get(), problem.free_space_weight, problem.hit_weight, rotations,
-                 options_.swept_bounds, options_.free_bound_max_level);
+                 options_.swept_bounds, options_.free_bound_max_level,
+                 options_.theta_block_free_part);
   const int n_weighted = n * problem.hit_weight;  // the score's denominator.
 
   // A known pose's value (e.g. the previous frame's): nodes whose bound cannot reach it stay

@@ -27,6 +27,9 @@ struct ExactSearchOptions {
   // below the optimum: 2 (blocks up to one 16 mm cell) does the least work on the real-time
   // protocol's frames with every result unchanged. 0: never; max_level or more: every block.
   int free_bound_max_level = 2;
+  // A free-space part for theta blocks at single translations: the free cells that every
+  // heading of the block places a voxel in (TemplateRotations::CommonBlockGroups).
+  bool theta_block_free_part = true;
   // A block of 2^t headings (t > 0) and 2^L steps is split in theta while the widest arc its
   // template columns sweep over its headings (TemplateRotations::block_extent(t), in lattice
   // steps) is at least theta_split_ratio x 2^L, in translation otherwise; always in theta at
@@ -54,8 +57,10 @@ struct ExactSearchOptions {
 // (ColumnOccupancy: the correlative scan matching idea applied to voxel columns) and, with
 // free-space evidence, AND-min-filtered free space; a block is split only while its bound can
 // still beat the best exact value, and single poses are evaluated exactly. The result's value
-// equals exhaustive evaluation of the same lattice (ties may pick a different pose of equal
-// value). The runner-up is the exact best with theta more than 30 degrees from the best.
+// equals exhaustive evaluation of the same lattice, and of the poses of that value it is the
+// one with the lowest (itheta, ix, iy) (SearchQueue's order), whatever the bounding options.
+// The runner-up is the exact best with theta more than 30 degrees from the best (the same rule
+// among ties).
 class ExactSearch final : public PoseSearch {
  public:
   explicit ExactSearch(ExactSearchOptions options = {}) : options_(options) {}

@@ -8,13 +8,17 @@
 
 namespace hpose {
 
-// The queue's order: highest value first; among equal values finer nodes first (exact poses
-// before bounds), then lower itheta, a, b, tlevel: a strict order, so results never depend on
-// the heap's layout. Nodes are queued packed into 128 bits whose unsigned order is that order
-// (16 bytes instead of 28, one or two integer compares per heap step). The value sits in
-// the top 32 bits of `hi`, biased by 2^31.
+// The queue's order: highest value first; among equal values coarser nodes first (bounds
+// before exact poses), then lower itheta, a, b, tlevel: a strict order, so results never depend
+// on the heap's layout. Coarser first, every block bounded at the optimum's value is split
+// before a pose of that value leaves the queue: the optimum found is the one with the lowest
+// (itheta, a, b) among the poses of the highest value, whatever the bounds (before, finer
+// first, which pose of equal value came out depended on how the blocks above it were bounded).
+// Nodes are queued packed into 128 bits whose unsigned order is that order (16 bytes instead of 28,
+// one or two integer compares per heap step). The value sits in the top 32 bits of `hi`, biased by
+// 2^31.
 struct PackedNode {
-  std::uint64_t hi;  // value (biased) | 31 - fine | 0xFFFF - itheta.
+  std::uint64_t hi;  // value (biased) | fine | 0xFFFF - itheta.
   std::uint64_t lo;  // 2^24-1 - (a - a0) | 2^24-1 - (b - b0) | 7 - tlevel | level | loose.
 };
 

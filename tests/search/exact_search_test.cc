@@ -274,8 +274,9 @@ TEST(ColumnOccupancyTest, SweptGroupsCountTheVoxelsTheBlockReaches) {
 
 // A theta block's swept cell groups hold, cell by cell, the union of its rotations' groups
 // (their swept groups over translation blocks, their exact groups at single translations): so
-// its bound is at least every pose's hits in the block. Tables made ahead (MakeTables) equal
-// those made on first use.
+// its bound is at least every pose's hits in the block; its common groups the cells and bits
+// all its rotations share at a translation. Tables made ahead (MakeTables) equal those made on
+// first use.
 TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
   PoseLattice lattice;
   lattice.angle_steps = 90;  // blocks of 16 at the end hold only the 10 headings left.
@@ -298,7 +299,7 @@ TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
     }
     return out;
   };
-  int checked = 0;
+  int checked = 0, common_cells = 0;
   for (int t = 1; t < TemplateRotations::kThetaLevels; ++t) {
     for (int first = 0; first < lattice.angle_steps; first += 1 << t) {
       if (first % 7 != 0 && first + (1 << t) < lattice.angle_steps) continue;  // a sample.
@@ -316,6 +317,29 @@ TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
             ASSERT_EQ(cells_of(block), expected)
                 << "theta level " << t << " block " << first << " level " << level << " residue "
                 << ra << "," << rb;
+            if (level == 0) {  // the common cells: in every rotation, the bits all set.
+              Cells common;
+              bool first_rotation = true;
+              for (int i = first; i < std::min(first + (1 << t), lattice.angle_steps); ++i) {
+                const Cells own = cells_of(lazy.Groups(i, ra, rb));
+                if (first_rotation) {
+                  common = own;
+                  first_rotation = false;
+                  continue;
+                }
+                Cells kept;
+                for (const auto& [cell, mask] : common) {
+                  const auto it = own.find(cell);
+                  if (it != own.end() && (mask & it->second) != 0) kept[cell] = mask & it->second;
+                }
+                common = kept;
+              }
+              EXPECT_EQ(cells_of(lazy.CommonBlockGroups(t, first, ra, rb)), common)
+                  << "theta level " << t << " block " << first << " residue " << ra << "," << rb;
+              EXPECT_EQ(ahead.CommonBlockGroups(t, first, ra, rb).masks,
+                        lazy.CommonBlockGroups(t, first, ra, rb).masks);
+              common_cells += static_cast<int>(common.size());
+            }
             const CellGroups& made = ahead.SweptBlockGroups(t, first, level, ra, rb);
             EXPECT_EQ(made.run_cx, block.run_cx);
             EXPECT_EQ(made.run_cy, block.run_cy);
@@ -328,6 +352,7 @@ TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
     }
   }
   EXPECT_GT(checked, 300);
+  EXPECT_GT(common_cells, 100);
   EXPECT_GT(lazy.block_extent(4), lazy.block_extent(1));
   EXPECT_GT(lazy.block_extent(1), 0);
   EXPECT_EQ(lazy.block_extent(0), 0);
@@ -425,14 +450,28 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
     problem.hit_weight = 1 + scene % 3;
     const SearchResult r = search.Search(problem);
     const ExactSearch::Region region = search.TranslationRegion(cluster, rot);
+    // The optimum and, among the poses of its value, the first in (itheta, ix, iy) order: the
+    // one the search returns, whatever its options.
     int best = INT_MIN;
-    for (int t = 0; t < lattice.angle_steps; ++t)
-      for (int ix = region.ix_min; ix <= region.ix_max; ++ix)
-        for (int iy = region.iy_min; iy <= region.iy_max; ++iy)
-          best =
-              std::max(best, problem.hit_weight * scorer.Hits(rot.Get(t), ix, iy) -
-                                 problem.free_space_weight * free_scorer.Hits(rot.Get(t), ix, iy));
+    LatticePose first_best;
+    for (int t = 0; t < lattice.angle_steps; ++t) {
+      for (int ix = region.ix_min; ix <= region.ix_max; ++ix) {
+        for (int iy = region.iy_min; iy <= region.iy_max; ++iy) {
+          const int v = problem.hit_weight * scorer.Hits(rot.Get(t), ix, iy) -
+                        problem.free_space_weight * free_scorer.Hits(rot.Get(t), ix, iy);
+          if (v > best) {
+            best = v;
+            first_best = LatticePose{ix, iy, t};
+          }
+        }
+      }
+    }
+    const auto same_pose = [&](const SearchResult& x) {
+      return x.best.ix == first_best.ix && x.best.iy == first_best.iy &&
+             x.best.itheta == first_best.itheta;
+    };
     ASSERT_EQ(r.value, best) << "scene " << scene;
+    EXPECT_TRUE(same_pose(r)) << "scene " << scene;
     opts.swept_bounds = false;
     EXPECT_EQ(ExactSearch(opts).Search(problem).value, best) << "scene " << scene;
     // The free-space part at no level, at every level, below one cell; blocks of 16 headings at
@@ -444,9 +483,10 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
     for (const auto& [free_levels, lead] : {std::pair{0, 0}, {31, 4}, {1, -10}, {2, 31}}) {
       opts.free_bound_max_level = free_levels;
       opts.theta_split_lead = lead;
-      EXPECT_EQ(ExactSearch(opts).Search(problem).value, best)
-          << "scene " << scene << ", free part up to level " << free_levels << ", theta lead "
-          << lead;
+      const SearchResult other = ExactSearch(opts).Search(problem);
+      EXPECT_EQ(other.value, best) << "scene " << scene << ", free part up to level " << free_levels
+                                   << ", theta lead " << lead;
+      EXPECT_TRUE(same_pose(other)) << "scene " << scene << ", theta lead " << lead;
     }
     // Theta blocks split as soon as their arc passes a lattice step, at the default ratio, or
     // only at single translations; from blocks of 2, 16 headings or single ones: the same
@@ -456,8 +496,13 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
       for (const double ratio : {0.25, 4.0, 1e9}) {
         opts.top_theta_level = top;
         opts.theta_split_ratio = ratio;
-        EXPECT_EQ(ExactSearch(opts).Search(problem).value, best)
-            << "scene " << scene << ", top theta level " << top << ", ratio " << ratio;
+        for (const bool common : {false, true}) {
+          opts.theta_block_free_part = common;
+          const SearchResult other = ExactSearch(opts).Search(problem);
+          EXPECT_EQ(other.value, best) << "scene " << scene << ", top theta level " << top
+                                       << ", ratio " << ratio << ", common cells " << common;
+          EXPECT_TRUE(same_pose(other)) << "scene " << scene << ", top theta level " << top;
+        }
       }
     }
     EXPECT_EQ(r.value, problem.hit_weight * r.hits - problem.free_space_weight * r.free_hits);
@@ -481,6 +526,58 @@ TEST(ExactSearchTest, FindsThePlantedPoseOnTheFullLattice) {
     EXPECT_GE(r.hits, scorer.Hits(rot.Get(t.itheta), t.ix, t.iy));
     EXPECT_LT(std::hypot(r.pose.x - truth.x, r.pose.y - truth.y), 0.03) << scene;
     EXPECT_LT(std::abs(AngleDiff(r.pose.theta, truth.theta)), DegToRad(8)) << scene;
+  }
+}
+
+// A cluster of three voxels: a great many poses cover all three. Of those the search returns
+// the lowest (itheta, ix, iy), whatever the options that shape its bounds (which blocks it
+// splits, in which order), and so does the runner-up among its headings.
+TEST(ExactSearchTest, TiesGoToTheLowestHeadingAndTranslation) {
+  PoseLattice lattice;
+  lattice.angle_steps = 24;
+  const VoxelTemplate tpl =
+      *MakeTemplateFromPoints(testing::RandomRobotPoints(5), "t", lattice.resolution_m);
+  ClusterVoxels cluster;
+  cluster.resolution_m = lattice.resolution_m;
+  cluster.cells = {{60, 3, 10}, {60, 3, 11}, {61, 3, 20}};
+  const TemplateRotations rot(tpl, lattice);
+  const FastScorer scorer(cluster, lattice);
+  ExactSearchOptions opts;
+  opts.margin_m = 0.08;
+  const ExactSearch::Region region = ExactSearch(opts).TranslationRegion(cluster, rot);
+  int best = -1, ties = 0;
+  LatticePose first_best;
+  for (int t = 0; t < lattice.angle_steps; ++t) {
+    for (int ix = region.ix_min; ix <= region.ix_max; ++ix) {
+      for (int iy = region.iy_min; iy <= region.iy_max; ++iy) {
+        const int v = scorer.Hits(rot.Get(t), ix, iy);
+        if (v > best) {
+          best = v;
+          first_best = LatticePose{ix, iy, t};
+          ties = 0;
+        }
+        ties += v == best ? 1 : 0;
+      }
+    }
+  }
+  ASSERT_GT(ties, 10) << "the scene should have many optima";
+  SearchProblem problem{&cluster, &scorer, &rot, {0.97, 0.05}};
+  for (const int top : {0, 2, 4}) {
+    for (const double ratio : {0.0, 0.25, 4.0, 1e9}) {
+      for (const bool swept : {false, true}) {
+        opts.top_theta_level = top;
+        opts.theta_split_ratio = ratio;
+        opts.swept_bounds = swept;
+        const SearchResult r = ExactSearch(opts).Search(problem);
+        ASSERT_EQ(r.hits, best);
+        EXPECT_EQ(r.best.itheta, first_best.itheta)
+            << "top " << top << " ratio " << ratio << " swept " << swept;
+        EXPECT_EQ(r.best.ix, first_best.ix)
+            << "top " << top << " ratio " << ratio << " swept " << swept;
+        EXPECT_EQ(r.best.iy, first_best.iy)
+            << "top " << top << " ratio " << ratio << " swept " << swept;
+      }
+    }
   }
 }
 
