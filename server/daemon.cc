@@ -165,7 +165,6 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     templates.push_back(std::move(*t));
   }
   EstimatorOptions options = EffectiveEstimatorOptions(config);
-  options.make_tables_at_start = true;  // a daemon serves many frames: none pays for tables.
 
   auto impl = std::make_unique<Impl>();
   Result<std::unique_ptr<EstimatorPool>> pool =
@@ -189,8 +188,12 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     Result<std::unique_ptr<FrameSource>> made = MakeFrameSource(config.source.path, replay);
     if (!made.ok()) return made.error();
     source = std::move(*made);
+    // The stream's estimators serve every frame: none of them pays for the search's tables
+    // (made at start; the gRPC pool's, for occasional requests, make them as they go).
+    EstimatorOptions stream_options = options;
+    stream_options.make_tables_at_start = true;
     for (int i = 0; i < config.source.estimate_threads; ++i) {
-      Result<std::unique_ptr<Estimator>> e = Estimator::Create(options, templates);
+      Result<std::unique_ptr<Estimator>> e = Estimator::Create(stream_options, templates);
       if (!e.ok()) return e.error();
       estimators.push_back(std::move(*e));
     }

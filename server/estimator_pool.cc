@@ -55,11 +55,8 @@ Result<Estimate> EstimatorPool::Run(const std::vector<std::string>& names,
   }
   const bool pooled = subset.empty();
   if (!estimator) {
-    EstimatorOptions options = options_;
-    // An estimator of a template subset serves one request: only the tables it uses.
-    if (!pooled) options.make_tables_at_start = false;
     Result<std::unique_ptr<Estimator>> made =
-        Estimator::Create(options, pooled ? templates_ : subset);
+        Estimator::Create(options_, pooled ? templates_ : subset);
     if (!made.ok()) {
       std::lock_guard<std::mutex> lock(mu_);
       --in_use_;

@@ -399,23 +399,28 @@ size_t BlockSweptIndex(int level, int ra, int rb, int s) {
   return static_cast<size_t>(s) * s + SweptIndex(level, ra, rb, s);
 }
 
-// The cells of a and b (each listed row by row, once), masks of a cell in both united.
-CellGroups UniteCellGroups(const CellGroups& a, const CellGroups& b) {
-  struct Cell {
-    std::int32_t cy, cx;
-    std::uint64_t mask;
-  };
-  const auto cells = [](const CellGroups& g) {
-    std::vector<Cell> out;
-    out.reserve(g.masks.size());
-    size_t k = 0;
-    for (size_t r = 0; r < g.run_len.size(); ++r) {
-      for (int i = 0; i < g.run_len[r]; ++i)
-        out.push_back({g.run_cy[r], g.run_cx[r] + i, g.masks[k++]});
-    }
-    return out;
-  };
-  const std::vector<Cell> ca = cells(a), cb = cells(b);
+struct GroupCell {
+  std::int32_t cy, cx;
+  std::uint64_t mask;
+};
+
+// A CellGroups' cells one by one, row by row.
+std::vector<GroupCell> CellsOf(const CellGroups& g) {
+  std::vector<GroupCell> out;
+  out.reserve(g.masks.size());
+  size_t k = 0;
+  for (size_t r = 0; r < g.run_len.size(); ++r) {
+    for (int i = 0; i < g.run_len[r]; ++i)
+      out.push_back({g.run_cy[r], g.run_cx[r] + i, g.masks[k++]});
+  }
+  return out;
+}
+
+// Merges the cells of a and b (each listed row by row, once). unite: every cell of either, the
+// masks of a cell in both united; else the cells of both, with the bits both set (cells with
+// none left out).
+CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite) {
+  const std::vector<GroupCell> ca = CellsOf(a), cb = CellsOf(b);
   CellGroups out;
   size_t i = 0, j = 0;
   while (i < ca.size() || j < cb.size()) {
@@ -423,31 +428,12 @@ CellGroups UniteCellGroups(const CellGroups& a, const CellGroups& b) {
                                                                 std::make_pair(cb[j].cy, cb[j].cx));
     const bool take_b = i == ca.size() || (j < cb.size() && std::make_pair(cb[j].cy, cb[j].cx) <=
                                                                 std::make_pair(ca[i].cy, ca[i].cx));
-    const Cell& c = take_a ? ca[i] : cb[j];
-    std::uint64_t mask = 0;
-    if (take_a) mask |= ca[i++].mask;
-    if (take_b) mask |= cb[j++].mask;
-    out.Append(c.cx, c.cy, mask);
-  }
-  return out;
-}
-
-// The cells of both a and b, with the z bits both set there (cells with none left out).
-CellGroups CommonCellGroups(const CellGroups& a, const CellGroups& b) {
-  std::map<std::pair<int, int>, std::uint64_t> in_b;
-  size_t k = 0;
-  for (size_t r = 0; r < b.run_len.size(); ++r) {
-    for (int i = 0; i < b.run_len[r]; ++i) in_b[{b.run_cy[r], b.run_cx[r] + i}] = b.masks[k++];
-  }
-  CellGroups out;
-  k = 0;
-  for (size_t r = 0; r < a.run_len.size(); ++r) {
-    for (int i = 0; i < a.run_len[r]; ++i) {
-      const std::uint64_t mask = a.masks[k++];
-      const auto it = in_b.find({a.run_cy[r], a.run_cx[r] + i});
-      if (it != in_b.end() && (mask & it->second) != 0) {
-        out.Append(a.run_cx[r] + i, a.run_cy[r], mask & it->second);
-      }
+    const GroupCell c = take_a ? ca[i] : cb[j];
+    const std::uint64_t mask_a = take_a ? ca[i++].mask : 0, mask_b = take_b ? cb[j++].mask : 0;
+    if (unite) {
+      out.Append(c.cx, c.cy, mask_a | mask_b);
+    } else if ((mask_a & mask_b) != 0) {
+      out.Append(c.cx, c.cy, mask_a & mask_b);
     }
   }
   return out;
@@ -482,7 +468,8 @@ const CellGroups& TemplateRotations::SweptBlockGroups(int tlevel, int itheta0, i
         const int rx = (i / residues) * step, ry = (i % residues) * step;
         const CellGroups& first = SweptBlockGroups(tlevel - 1, itheta0, lv, rx, ry);
         out.push_back(
-            two ? UniteCellGroups(first, SweptBlockGroups(tlevel - 1, itheta0 + half, lv, rx, ry))
+            two ? MergeCellGroups(first, SweptBlockGroups(tlevel - 1, itheta0 + half, lv, rx, ry),
+                                  true)
                 : first);
       }
     }
@@ -493,9 +480,11 @@ const CellGroups& TemplateRotations::SweptBlockGroups(int tlevel, int itheta0, i
         if (!two) {
           out.push_back(first);
         } else {
-          out.push_back(CommonCellGroups(
-              first, tlevel == 1 ? Groups(itheta0 + half, rx, ry)
-                                 : CommonBlockGroups(tlevel - 1, itheta0 + half, rx, ry)));
+          out.push_back(MergeCellGroups(first,
+                                        tlevel == 1
+                                            ? Groups(itheta0 + half, rx, ry)
+                                            : CommonBlockGroups(tlevel - 1, itheta0 + half, rx, ry),
+                                        false));
         }
       }
     }

@@ -74,9 +74,10 @@ struct EstimatorOptions {
   // optimum is computed, however low (slower on clutter).
   bool stop_below_threshold = true;
   // Make at construction every search table the exact search otherwise makes on first use
-  // (per template about 80 ms on one core, spread over `threads`, and about 15 MB), so that the
-  // first frames take no longer than the later ones: for estimators that serve many frames
-  // (the daemon). One-off estimates are quicker without (they make only what they use).
+  // (per shipped template about 110 ms on one core, spread over `threads`, and about 55 MB), so
+  // that the first frames take no longer than the later ones: for estimators that serve a
+  // stream of frames (the daemon's). One-off estimates are quicker without (they make only
+  // what they use).
   bool make_tables_at_start = false;
   // A cluster is searched with a template only when its height is within this fraction of the
   // height the template would show there (0.25: 0.75x to 1.25x): the template's height, or,
