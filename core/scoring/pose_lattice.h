@@ -192,10 +192,10 @@ class TemplateRotations {
   // voxels every pose of the block at that translation places, so their free-space hits are a
   // lower bound of each pose's. Made with SweptBlockGroups.
   const CellGroups& CommonBlockGroups(int tlevel, int itheta0, int ra, int rb) const;
-  // Makes now every table the getters above make on first use (Groups, PairTable, SweptGroups
-  // and SweptBlockGroups of theta levels up to max_tlevel), so that no search pays for them;
-  // a no-op without cell groups. Thread-safe; rotations [begin, end) only, so that threads can
-  // share the work.
+  // Makes now every table the getters above make on first use (Groups, PairTable, SweptGroups,
+  // and SweptBlockGroups and CommonBlockGroups of theta levels up to max_tlevel), so that no
+  // search pays for them; a no-op without cell groups. Thread-safe; rotations [begin, end)
+  // only, so that threads can share the work.
   void MakeTables(int max_tlevel, int begin, int end) const;
   // CellDisjointMasks of rotation itheta (for free-space lower bounds), made once.
   const std::vector<std::uint64_t>& DisjointMasks(int itheta) const { return disjoint_[itheta]; }

@@ -46,8 +46,9 @@ struct ExactSearchOptions {
   // 2^kSweptLevels steps take the swept bound of their headings together
   // (TemplateRotations::SweptBlockGroups), single translations the union of their headings'
   // cells; larger blocks the arc bound (every rotation's columns swept over the block's arc).
-  // Theta blocks carry no free-space part. 0 starts from single headings (the default before
-  // theta_split_ratio, with 2.6x the bounds on the real-time protocol's frames).
+  // Theta blocks carry a free-space part at single translations only (theta_block_free_part).
+  // 0 starts from single headings (the default before theta_split_ratio, with 4.2x the bounds
+  // on the real-time protocol's frames).
   int top_theta_level = 4;
 };
 
