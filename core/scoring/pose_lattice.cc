@@ -443,7 +443,7 @@ CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite)
 
 const CellGroups& TemplateRotations::CommonBlockGroups(int tlevel, int itheta0, int ra,
                                                        int rb) const {
-  assert(tlevel >= 1);
+  if (tlevel == 0) return Groups(itheta0, ra, rb);
   const int s = 1 << shift_;
   SweptBlockGroups(tlevel, itheta0, 0, ra, rb);  // makes them.
   const std::vector<CellGroups>& tables = swept_blocks_[tlevel - 1][itheta0 >> tlevel];
@@ -475,17 +475,10 @@ const CellGroups& TemplateRotations::SweptBlockGroups(int tlevel, int itheta0, i
     }
     for (int rx = 0; rx < s; ++rx) {
       for (int ry = 0; ry < s; ++ry) {
-        const CellGroups& first =
-            tlevel == 1 ? Groups(itheta0, rx, ry) : CommonBlockGroups(tlevel - 1, itheta0, rx, ry);
-        if (!two) {
-          out.push_back(first);
-        } else {
-          out.push_back(MergeCellGroups(first,
-                                        tlevel == 1
-                                            ? Groups(itheta0 + half, rx, ry)
-                                            : CommonBlockGroups(tlevel - 1, itheta0 + half, rx, ry),
-                                        false));
-        }
+        const CellGroups& first = CommonBlockGroups(tlevel - 1, itheta0, rx, ry);
+        out.push_back(two ? MergeCellGroups(
+                                first, CommonBlockGroups(tlevel - 1, itheta0 + half, rx, ry), false)
+                          : first);
       }
     }
   });

@@ -187,10 +187,10 @@ class TemplateRotations {
   // unites the rotations' Groups. tlevel 0 is SweptGroups (Groups at level 0). Made on first
   // use (thread-safe).
   const CellGroups& SweptBlockGroups(int tlevel, int itheta0, int level, int ra, int rb) const;
-  // The cells every rotation of the theta block (tlevel >= 1) covers at a translation of residue
-  // (ra, rb) (below S), each with the z bits all of them set there (CellGroups, as Groups):
-  // voxels every pose of the block at that translation places, so their free-space hits are a
-  // lower bound of each pose's. Made with SweptBlockGroups.
+  // The cells every rotation of the theta block covers at a translation of residue (ra, rb)
+  // (below S), each with the z bits all of them set there (CellGroups, as Groups): voxels every
+  // pose of the block at that translation places, so their free-space hits are a lower bound of
+  // each pose's. tlevel 0 is Groups. Made with SweptBlockGroups.
   const CellGroups& CommonBlockGroups(int tlevel, int itheta0, int ra, int rb) const;
   // Makes now every table the getters above make on first use (Groups, PairTable, SweptGroups,
   // and SweptBlockGroups and CommonBlockGroups of theta levels up to max_tlevel), so that no

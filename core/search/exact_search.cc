@@ -71,7 +71,7 @@ class Evaluator {
   }
   // The cluster part of a block's bound: with HasFreePart, FreePart is still to be subtracted.
   int ClusterBound(int tlevel, const RotatedTemplate& r, int a, int b, int level) const {
-    if (Swept(level) || (level == 0 && swept_ok_)) {
+    if (Swept(level)) {
       const int mask = rotations_.lattice().subdivisions - 1;
       return hit_weight_ *
              cluster_->HitsGrouped(
@@ -94,7 +94,7 @@ class Evaluator {
       for (int k = 0; k < 4; ++k) out[k] *= hit_weight_;
       return;
     }
-    if (Swept(level) || (level == 0 && swept_ok_) || Pairs(r, a, b, level)) {
+    if (Swept(level) || Pairs(r, a, b, level)) {
       for (int i = 0; i < 2; ++i) {
         for (int j = 0; j < 2; ++j) {
           out[2 * i + j] = ClusterBound(tlevel, r, a + i * size, b + j * size, level);
@@ -130,11 +130,12 @@ class Evaluator {
   }
 
  private:
-  // Blocks of 2 .. 2^kSweptLevels steps take the swept bound of their rotations when asked for
+  // Blocks of 1 .. 2^kSweptLevels steps take the swept bound of their rotations when asked for
   // and the layout allows (the lookups of its cells stay within the aligned range, as the
-  // columns' windows do); so do theta blocks at single translations (level 0).
+  // columns' windows do). Single translations are bounded so only as theta blocks (single poses
+  // are evaluated).
   bool Swept(int level) const {
-    return swept_ok_ && level >= 1 && level <= TemplateRotations::kSweptLevels;
+    return swept_ok_ && level >= 0 && level <= TemplateRotations::kSweptLevels;
   }
   // Blocks of two steps of a single rotation take the PairBound path when the layouts allow.
   bool Pairs(const RotatedTemplate& r, int a, int b, int level) const {
