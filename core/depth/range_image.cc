@@ -57,12 +57,4 @@ float RangeImage::NearestAround(const Eigen::Vector3d& p, int radius) const {
   return NearestAroundRay(p.x() / p.z(), p.y() / p.z(), radius);
 }
 
-float RangeImage::DepthToward(const Eigen::Vector3d& p) const {
-  if (depth_.empty() || !(p.z() > 1e-3)) return 0.0f;
-  const double uf = p.x() / p.z() * focal_ + u0_;
-  const double vf = p.y() / p.z() * focal_ + v0_;
-  if (!(uf >= 0.0 && vf >= 0.0 && uf < width_ && vf < height_)) return 0.0f;
-  return depth_[static_cast<size_t>(vf) * width_ + static_cast<size_t>(uf)];
-}
-
 }  // namespace hpose

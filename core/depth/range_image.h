@@ -23,7 +23,13 @@ class RangeImage {
 
   // Nearest observed depth (m) along the ray through `p_sensor`, or 0 when unknown (no point
   // in that bin, or p_sensor not in front of the sensor).
-  float DepthToward(const Eigen::Vector3d& p_sensor) const;
+  float DepthToward(const Eigen::Vector3d& p_sensor) const {
+    if (depth_.empty() || !(p_sensor.z() > 1e-3)) return 0.0f;
+    const double uf = p_sensor.x() / p_sensor.z() * focal_ + u0_;
+    const double vf = p_sensor.y() / p_sensor.z() * focal_ + v0_;
+    if (!(uf >= 0.0 && vf >= 0.0 && uf < width_ && vf < height_)) return 0.0f;
+    return depth_[static_cast<size_t>(vf) * width_ + static_cast<size_t>(uf)];
+  }
   // True when the ray through `p_sensor` lies within the cloud's field of view (the image), so
   // an empty bin there means the sensor got no return, not that it did not look.
   bool Covers(const Eigen::Vector3d& p_sensor) const;
@@ -54,6 +60,14 @@ class RangeImage {
     }
     return best == kFar ? 0.0f : best;
   }
+
+  // The binning, for callers that bin many rays themselves: the bin of a ray of slopes (tx, ty)
+  // is (floor(tx * focal() + u0()), floor(ty * focal() + v0())) when within the image, and
+  // depth_data()[v * width() + u] its depth (0: unknown).
+  double focal() const { return focal_; }
+  double u0() const { return u0_; }
+  double v0() const { return v0_; }
+  const float* depth_data() const { return depth_.data(); }
 
   // Tangent (y / z, sensor frame: negative is up) of the image's top row.
   double TopTan() const { return -v0_ / focal_; }

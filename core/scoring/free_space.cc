@@ -1,17 +1,99 @@
 #include "core/scoring/free_space.h"
 
-namespace hpose {
+#include <cstddef>
+#include <cstring>
+#include <vector>
 
-ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
-                             const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
-                             double resolution_m, const FreeSpaceOptions& options) {
+namespace hpose {
+namespace {
+
+// Four cells of a column at once: the same operations, in the same order, as the reference's
+// per-cell matrix product and RangeImage::DepthToward, so the same cells (IEEE operations round
+// alike lane by lane; no fused multiply-adds at this target).
+typedef double Double4 __attribute__((vector_size(32)));
+typedef long long Long4 __attribute__((vector_size(32)));
+typedef int Int4 __attribute__((vector_size(16)));
+
+Double4 Load4(const double* p) {
+  Double4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+}  // namespace
+
+__attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCells(
+    const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground, const Eigen::Vector3i& lo,
+    const Eigen::Vector3i& hi, double resolution_m, const FreeSpaceOptions& options) {
+  ClusterVoxels free;
+  free.resolution_m = resolution_m;
+  if (hi.x() < lo.x() || hi.y() < lo.y() || hi.z() < lo.z()) return free;
+  if (range.width() == 0 || range.height() == 0) return free;
+  const Eigen::Matrix3d r = sensor_from_ground.linear();
+  const Eigen::Vector3d t = sensor_from_ground.translation();
+  // r * centre + t sums its terms in this order: ((r0 cx + r1 cy) + r2 cz) + t; the x and y
+  // terms once per column, the z terms once per height (heights padded to whole groups of 4).
+  const int nz = hi.z() - lo.z() + 1;
+  const int groups = (nz + 3) / 4;
+  std::vector<double> rz0(4 * groups), rz1(4 * groups), rz2(4 * groups);
+  for (int k = 0; k < 4 * groups; ++k) {
+    const double cz = (lo.z() + k + 0.5) * resolution_m;
+    rz0[k] = r(0, 2) * cz;
+    rz1[k] = r(1, 2) * cz;
+    rz2[k] = r(2, 2) * cz;
+  }
+  const double focal = range.focal(), u0 = range.u0(), v0 = range.v0();
+  const double width = range.width(), height = range.height();
+  const size_t row = static_cast<size_t>(range.width());
+  const float* depth = range.depth_data();
+  std::vector<Eigen::Vector3i> column(4 * groups);  // one column's free cells.
+  for (int x = lo.x(); x <= hi.x(); ++x) {
+    const double cx = (x + 0.5) * resolution_m;
+    for (int y = lo.y(); y <= hi.y(); ++y) {
+      const double cy = (y + 0.5) * resolution_m;
+      const double a0 = r(0, 0) * cx + r(0, 1) * cy;
+      const double a1 = r(1, 0) * cx + r(1, 1) * cy;
+      const double a2 = r(2, 0) * cx + r(2, 1) * cy;
+      int count = 0;
+      for (int g = 0; g < groups; ++g) {
+        const Double4 sx = (a0 + Load4(&rz0[4 * g])) + t.x();
+        const Double4 sy = (a1 + Load4(&rz1[4 * g])) + t.y();
+        const Double4 sz = (a2 + Load4(&rz2[4 * g])) + t.z();
+        const Double4 uf = sx / sz * focal + u0;
+        const Double4 vf = sy / sz * focal + v0;
+        const Long4 inside = (sz > 1e-3) & (uf >= 0.0) & (vf >= 0.0) & (uf < width) & (vf < height);
+        // Within the image the truncation is the floor, and fits an int.
+        const Int4 iu = __builtin_convertvector(uf, Int4);
+        const Int4 iv = __builtin_convertvector(vf, Int4);
+        for (int lane = 0; lane < 4; ++lane) {
+          // Branch-free: out-of-view cells read bin 0 and are dropped by `keep`.
+          const bool in = inside[lane] != 0 && 4 * g + lane < nz;
+          const size_t bin = in ? static_cast<size_t>(iv[lane]) * row + iu[lane] : 0;
+          const double seen = depth[bin];
+          const bool keep =
+              in && seen > 0.0 &&
+              seen > sz[lane] + options.margin_m + options.sigma_factor * (1.425e-3 * seen * seen);
+          // Cells are sorted (x, y, z) as VoxeliseCluster sorts them.
+          column[count] = Eigen::Vector3i(x, y, lo.z() + 4 * g + lane);
+          count += keep ? 1 : 0;
+        }
+      }
+      free.cells.insert(free.cells.end(), column.begin(), column.begin() + count);
+    }
+  }
+  return free;
+}
+
+ClusterVoxels FreeSpaceCellsReference(const RangeImage& range,
+                                      const Eigen::Isometry3d& sensor_from_ground,
+                                      const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
+                                      double resolution_m, const FreeSpaceOptions& options) {
   ClusterVoxels free;
   free.resolution_m = resolution_m;
   const Eigen::Matrix3d r = sensor_from_ground.linear();
   const Eigen::Vector3d t = sensor_from_ground.translation();
   for (int x = lo.x(); x <= hi.x(); ++x) {
     for (int y = lo.y(); y <= hi.y(); ++y) {
-      // Walk the column; cells are sorted (x, y, z) as VoxeliseCluster sorts them.
       for (int z = lo.z(); z <= hi.z(); ++z) {
         const Eigen::Vector3d centre((x + 0.5) * resolution_m, (y + 0.5) * resolution_m,
                                      (z + 0.5) * resolution_m);

@@ -21,6 +21,12 @@ struct FreeSpaceOptions {
 ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
                              const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
                              double resolution_m, const FreeSpaceOptions& options = {});
+// The same cells, one matrix product per cell (the straightforward form the above is tested
+// against).
+ClusterVoxels FreeSpaceCellsReference(const RangeImage& range,
+                                      const Eigen::Isometry3d& sensor_from_ground,
+                                      const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
+                                      double resolution_m, const FreeSpaceOptions& options = {});
 
 }  // namespace hpose
 

@@ -252,6 +252,16 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
     silhouette_widths_.push_back(SilhouetteWidths(t, options_.clusters.min_height_above_floor_m));
   }
   search_ = MakeSearch(options_);
+  for (size_t j = 0; j < templates_.size() && search_ != nullptr; ++j) {
+    double reach = 0.0;  // how far the template reaches from its origin.
+    for (const Eigen::Vector3f& v : templates_[j].voxels) {
+      reach = std::max(reach, static_cast<double>(v.head<2>().norm()));
+      top_cell_ = std::max(top_cell_, CellOf(v, options_.lattice.resolution_m).z());
+    }
+    // Plus a voxel's diagonal and the rounding of rotated voxels to the lattice.
+    reach += 2.0 * options_.lattice.resolution_m;
+    free_reach_m_ = std::max(free_reach_m_, search_->OriginMargin(*rotations_[j]) + reach);
+  }
   pool_ = std::make_unique<TaskPool>(TaskPool::Resolve(options_.threads));
   if (options_.make_tables_at_start && options_.search == SearchKind::kExact) {
     // Runs of rotations a whole number of the largest theta blocks long, for the threads.
@@ -373,17 +383,6 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     range = RangeImage::FromCloud(cloud, options_.range_image_focal_px);
   }
   const TopOfView top_of_view = TopOfViewOf(range, est.floor);
-  double reach = 0.0;  // how far any template reaches from its origin, plus a voxel.
-  int top_cell = 0;    // highest template voxel cell.
-  if (use_free_space) {
-    for (const VoxelTemplate& tpl : templates_) {
-      for (const Eigen::Vector3f& v : tpl.voxels) {
-        reach = std::max(reach, static_cast<double>(v.head<2>().norm()));
-        top_cell = std::max(top_cell, CellOf(v, options_.lattice.resolution_m).z());
-      }
-    }
-    reach += 2.0 * options_.lattice.resolution_m;
-  }
   // What each cluster shares between its templates' searches.
   struct ClusterWork {
     ClusterVoxels voxels;
@@ -451,14 +450,20 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     ClusterWork& w = work[i];
     w.voxels = VoxeliseCluster(c.points, res);
     w.n = static_cast<int>(w.voxels.cells.size());  // what every scorer counts.
-    if (use_free_space) {
-      // Wherever a template placed in the search region can reach (the search region grows
-      // the cluster by one template reach, the template reaches one more).
-      const Eigen::Vector3f lo(c.min.x() - 2 * reach, c.min.y() - 2 * reach, 0.0f);
-      const Eigen::Vector3f hi(c.max.x() + 2 * reach, c.max.y() + 2 * reach, 0.0f);
-      Eigen::Vector3i cell_lo = CellOf(lo, res), cell_hi = CellOf(hi, res);
+    if (use_free_space && !w.voxels.cells.empty()) {
+      // Wherever a template placed by the searches can reach.
+      Eigen::Vector3i cell_lo = w.voxels.cells.front(), cell_hi = cell_lo;
+      for (const Eigen::Vector3i& v : w.voxels.cells) {
+        cell_lo = cell_lo.cwiseMin(v);
+        cell_hi = cell_hi.cwiseMax(v);
+      }
+      const int grow = static_cast<int>(std::ceil(free_reach_m_ / res));
+      cell_lo.x() -= grow;
+      cell_lo.y() -= grow;
+      cell_hi.x() += grow;
+      cell_hi.y() += grow;
       cell_lo.z() = 0;
-      cell_hi.z() = top_cell;
+      cell_hi.z() = top_cell_;
       w.free =
           FreeSpaceCells(range, sensor_from_ground, cell_lo, cell_hi, res, options_.free_space);
     }

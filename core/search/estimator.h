@@ -158,6 +158,11 @@ class Estimator {
   std::vector<std::unique_ptr<SurfaceModel>> surfaces_;  // one per template, for refinement.
   std::unique_ptr<PoseSearch> search_;
   std::unique_ptr<TaskPool> pool_;
+  // The free space a cluster's searches read: within free_reach_m_ of the box of its cells
+  // (the search's origin margin plus the template's reach, the largest over the templates),
+  // heights 0 .. top_cell_ (the highest template cell).
+  double free_reach_m_ = 0.0;
+  int top_cell_ = 0;
 };
 
 }  // namespace hpose

@@ -419,6 +419,25 @@ void SetPose(const BranchAndBoundResult& found, const ColumnOccupancy& occ,
 
 }  // namespace
 
+double ExactSearch::Margin(const TemplateRotations& rotations) const {
+  if (options_.margin_m >= 0.0) return options_.margin_m;
+  // Horizontal radius of the template from its rotation at theta = 0.
+  const PoseLattice& lattice = rotations.lattice();
+  const RotatedTemplate& r0 = rotations.Get(0);
+  const double q_to_m = lattice.resolution_m / lattice.subdivisions;
+  double radius = 0.0;
+  for (const Eigen::Vector3i& q : r0.sub_cells) {
+    radius = std::max(radius, std::hypot((q.x() + 1.0) * q_to_m, (q.y() + 1.0) * q_to_m));
+    radius = std::max(radius, std::hypot(q.x() * q_to_m, q.y() * q_to_m));
+  }
+  return options_.auto_margin_fraction * radius + lattice.resolution_m;
+}
+
+double ExactSearch::OriginMargin(const TemplateRotations& rotations) const {
+  // The region's low ends are rounded down to whole cells, its high ends up to a step.
+  return Margin(rotations) + rotations.lattice().resolution_m + rotations.lattice().step_m();
+}
+
 ExactSearch::Region ExactSearch::TranslationRegion(const ClusterVoxels& cluster,
                                                    const TemplateRotations& rotations) const {
   Region r;
@@ -432,18 +451,7 @@ ExactSearch::Region ExactSearch::TranslationRegion(const ClusterVoxels& cluster,
     y_lo = std::min(y_lo, c.y());
     y_hi = std::max(y_hi, c.y());
   }
-  double margin = options_.margin_m;
-  if (margin < 0.0) {
-    // Horizontal radius of the template from its rotation at theta = 0.
-    const RotatedTemplate& r0 = rotations.Get(0);
-    const double q_to_m = lattice.resolution_m / lattice.subdivisions;
-    double radius = 0.0;
-    for (const Eigen::Vector3i& q : r0.sub_cells) {
-      radius = std::max(radius, std::hypot((q.x() + 1.0) * q_to_m, (q.y() + 1.0) * q_to_m));
-      radius = std::max(radius, std::hypot(q.x() * q_to_m, q.y() * q_to_m));
-    }
-    margin = options_.auto_margin_fraction * radius + lattice.resolution_m;
-  }
+  const double margin = Margin(rotations);
   const double res = lattice.resolution_m;
   const double step = lattice.step_m();
   // Starting at a multiple of the subdivisions, every block of at least that many steps does

@@ -66,6 +66,7 @@ class ExactSearch final : public PoseSearch {
  public:
   explicit ExactSearch(ExactSearchOptions options = {}) : options_(options) {}
   SearchResult Search(const SearchProblem& problem) const override;
+  double OriginMargin(const TemplateRotations& rotations) const override;
 
   // The translation region (inclusive lattice indices) that Search covers for this cluster and
   // template; exhaustive checks iterate the same region.
@@ -75,6 +76,9 @@ class ExactSearch final : public PoseSearch {
   Region TranslationRegion(const ClusterVoxels& cluster, const TemplateRotations& rotations) const;
 
  private:
+  // The margin of TranslationRegion (metres).
+  double Margin(const TemplateRotations& rotations) const;
+
   ExactSearchOptions options_;
 };
 

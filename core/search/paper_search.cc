@@ -13,6 +13,18 @@ int RoundSteps(double value, double step) { return static_cast<int>(std::lround(
 
 }  // namespace
 
+double PaperSearch::OriginMargin(const TemplateRotations& rotations) const {
+  // Pass 1 is centred on the centroid (within the cluster's box, rounded to a step); each pass
+  // moves the centre by at most its translation range.
+  const double step = rotations.lattice().step_m();
+  double margin = step;
+  for (const SearchPass& pass : options_.passes) {
+    const int t_step = std::max(1, RoundSteps(pass.translation_step_m, step));
+    margin += RoundSteps(pass.translation_range_m, step) / t_step * t_step * step;
+  }
+  return margin;
+}
+
 SearchResult PaperSearch::Search(const SearchProblem& problem) const {
   const PoseScorer& scorer = *problem.scorer;
   const TemplateRotations& rotations = *problem.rotations;

@@ -61,6 +61,9 @@ class PoseSearch {
  public:
   virtual ~PoseSearch() = default;
   virtual SearchResult Search(const SearchProblem& problem) const = 0;
+  // How far outside the box of the cluster's voxel cells the search may place the template's
+  // origin (metres): what it reads lies within this plus the template's own reach.
+  virtual double OriginMargin(const TemplateRotations& rotations) const = 0;
 };
 
 // The paper's two-pass search on the lattice: each pass's steps and ranges are rounded to
@@ -70,6 +73,7 @@ class PaperSearch final : public PoseSearch {
  public:
   explicit PaperSearch(PaperSearchOptions options = {}) : options_(std::move(options)) {}
   SearchResult Search(const SearchProblem& problem) const override;
+  double OriginMargin(const TemplateRotations& rotations) const override;
 
  private:
   PaperSearchOptions options_;

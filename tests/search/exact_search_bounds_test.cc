@@ -3,6 +3,7 @@
 // bound that counted such a cell twice would prune the optimum away.
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <set>
 #include <tuple>
 #include <utility>
@@ -15,6 +16,7 @@
 #include "core/scoring/column_occupancy.h"
 #include "core/scoring/fast_scorer.h"
 #include "core/search/exact_search.h"
+#include "core/search/pose_search.h"
 #include "tests/search/search_test_scenes.h"
 
 namespace hpose {
@@ -59,6 +61,79 @@ Scene MakeScene(unsigned seed, int angle_steps, int subdivisions) {
   s.cluster = VoxeliseCluster(testing::VisibleCluster(robot, s.truth, 0.004f, seed),
                               s.lattice.resolution_m);
   return s;
+}
+
+// What the estimator computes free space for (core/search/estimator.cc): the box of the
+// cluster's cells grown by the search's origin margin plus the template's reach (its farthest
+// voxel, plus two voxels). No pose a search may place (every pose of the exact search's region;
+// for the paper's search every pose within its margin of the centroid) reaches a cell outside;
+// and the box is not grown by much more than that (a ring six cells inside it is reached).
+TEST(ExactSearchBoundsTest, SearchesReadFreeSpaceWithinTheirOriginMarginAndReach) {
+  for (unsigned seed = 0; seed < (testing::kSanitizerBuild ? 2u : 4u); ++seed) {
+    const Scene s = MakeScene(700 + seed, 24, seed % 2 == 0 ? 4 : 2);
+    ASSERT_FALSE(s.cluster.cells.empty());
+    const TemplateRotations rot(s.tpl, s.lattice);
+    double reach = 0.0;
+    for (const Eigen::Vector3f& v : s.tpl.voxels) {
+      reach = std::max(reach, static_cast<double>(v.head<2>().norm()));
+    }
+    reach += 2.0 * s.lattice.resolution_m;
+    Eigen::Vector3i lo = s.cluster.cells.front(), hi = lo;
+    for (const Eigen::Vector3i& c : s.cluster.cells) {
+      lo = lo.cwiseMin(c);
+      hi = hi.cwiseMax(c);
+    }
+    // Cells outside the box grown by `grow` cells, within 12 more.
+    const auto ring = [&](int grow) {
+      ClusterVoxels out;
+      out.resolution_m = s.lattice.resolution_m;
+      for (int x = lo.x() - grow - 12; x <= hi.x() + grow + 12; ++x) {
+        for (int y = lo.y() - grow - 12; y <= hi.y() + grow + 12; ++y) {
+          if (x >= lo.x() - grow && x <= hi.x() + grow && y >= lo.y() - grow &&
+              y <= hi.y() + grow) {
+            continue;
+          }
+          for (int z = 0; z <= 45; ++z) out.cells.emplace_back(x, y, z);
+        }
+      }
+      return out;
+    };
+    // The most cells of `free` any pose within the inclusive index box covers.
+    const auto most_hits = [&](const ClusterVoxels& free, int ix0, int ix1, int iy0, int iy1) {
+      const FastScorer scorer(free, s.lattice);
+      int most = 0;
+      for (int t = 0; t < s.lattice.angle_steps; ++t) {
+        for (int ix = ix0; ix <= ix1; ++ix) {
+          for (int iy = iy0; iy <= iy1; ++iy)
+            most = std::max(most, scorer.Hits(rot.Get(t), ix, iy));
+        }
+      }
+      return most;
+    };
+    ExactSearchOptions exact_options;
+    exact_options.auto_margin_fraction = 0.25 * (seed % 3 + 1);
+    const ExactSearch exact(exact_options);
+    const PaperSearch paper;
+    for (const PoseSearch* search :
+         {static_cast<const PoseSearch*>(&exact), static_cast<const PoseSearch*>(&paper)}) {
+      const int grow =
+          static_cast<int>(std::ceil((search->OriginMargin(rot) + reach) / s.lattice.resolution_m));
+      int ix0, ix1, iy0, iy1;
+      if (search == &exact) {
+        const ExactSearch::Region region = exact.TranslationRegion(s.cluster, rot);
+        ix0 = region.ix_min, ix1 = region.ix_max, iy0 = region.iy_min, iy1 = region.iy_max;
+      } else {  // the centroid lies within the cells' box.
+        const int m = static_cast<int>(std::ceil(paper.OriginMargin(rot) / s.lattice.step_m()));
+        const int q = s.lattice.subdivisions;
+        ix0 = lo.x() * q - m, ix1 = (hi.x() + 1) * q + m, iy0 = lo.y() * q - m,
+        iy1 = (hi.y() + 1) * q + m;
+      }
+      EXPECT_EQ(most_hits(ring(grow), ix0, ix1, iy0, iy1), 0)
+          << "seed " << seed << (search == &exact ? ", exact" : ", paper");
+      EXPECT_GT(most_hits(ring(grow - 6), ix0, ix1, iy0, iy1), 0)
+          << "seed " << seed << (search == &exact ? ", exact" : ", paper");
+    }
+  }
 }
 
 // The lower bound of free-space hits over a translation block never exceeds the exact free
