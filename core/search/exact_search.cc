@@ -192,35 +192,22 @@ class BranchAndBound {
   }
 
   // After Next() stopped below min_value: the best pose whose exact value was computed, or
-  // (when none was) the leaf reached by following the highest bound down from the best
+  // (when none was) the pose reached by following the highest child bound down from the best
   // remaining node, evaluated exactly. Always a real pose of the lattice with its exact value.
   BranchAndBoundResult BestEvaluated() {
-    if (!best_exact_.found) {
-      defer_below_ = std::numeric_limits<int>::min();  // nothing is deferred from here on.
-      MergeDeferredIfNeeded();
-      while (!Empty()) {
-        Node n = Unpack(Top());
-        Pop();
-        if (!AnyAllowed(n.itheta, n.tlevel)) continue;
-        // Descend best first until a pose is evaluated.
-        while (!best_exact_.found && (n.tlevel > 0 || n.level > 0)) {
-          const auto size_before = queue_.size();
-          if (SplitTheta(n)) {
-            const int half = 1 << (n.tlevel - 1);
-            Push(n.tlevel - 1, n.itheta, n.level, n.a, n.b);
-            Push(n.tlevel - 1, n.itheta + half, n.level, n.a, n.b);
-          } else {
-            const int half = 1 << (n.level - 1);
-            for (int da : {0, half}) {
-              for (int db : {0, half}) Push(n.tlevel, n.itheta, n.level - 1, n.a + da, n.b + db);
-            }
-          }
-          if (best_exact_.found || queue_.size() == size_before) break;
-          n = Unpack(Top());
-          Pop();
-          if (n.loose) n.value -= eval_.FreePart(n.tlevel, n.itheta, n.a, n.b, n.level);
-        }
-        if (best_exact_.found) break;
+    if (best_exact_.found) return best_exact_;
+    defer_below_ = std::numeric_limits<int>::min();  // nothing is deferred from here on.
+    MergeDeferredIfNeeded();
+    while (!best_exact_.found && !Empty()) {
+      Node n = Unpack(Top());
+      Pop();
+      if (!AnyAllowed(n.itheta, n.tlevel)) continue;
+      while (n.tlevel > 0 || n.level > 0) {  // one child a level, the highest bound's.
+        Node children[4];
+        const int count = Children(n, children);
+        if (count == 0) break;
+        n = *std::max_element(children, children + count,
+                              [](const Node& x, const Node& y) { return x.value < y.value; });
       }
     }
     return best_exact_;
@@ -366,8 +353,16 @@ class BranchAndBound {
   }
 
   void Push(int tlevel, int itheta, int level, int a, int b) {
-    if (a > region_.ix_max || b > region_.iy_max || itheta >= steps_) return;
-    if (!AnyAllowed(itheta, tlevel)) return;
+    Node n;
+    if (MakeNode(tlevel, itheta, level, a, b, &n)) Enqueue(n);
+  }
+
+  // The node of the block with its bound (a single pose: its exact value, which it also offers
+  // as the best evaluated), or false when the block lies outside the region or the allowed
+  // thetas.
+  bool MakeNode(int tlevel, int itheta, int level, int a, int b, Node* out) {
+    if (a > region_.ix_max || b > region_.iy_max || itheta >= steps_) return false;
+    if (!AnyAllowed(itheta, tlevel)) return false;
     if (tlevel == 0 && level == 0) {
       ++counters_->poses_evaluated;
       const int value = eval_.Value(rotations_.Get(itheta), a, b);
@@ -376,13 +371,47 @@ class BranchAndBound {
         best_exact_.value = value;
         best_exact_.best = LatticePose{a, b, itheta};
       }
-      Enqueue({value, 0, 0, itheta, a, b, false});
+      *out = {value, 0, 0, itheta, a, b, false};
     } else {
       ++counters_->bounds_evaluated;
       const RotatedTemplate& rot = rotations_.GetBlock(tlevel, itheta);
-      Enqueue({eval_.ClusterBound(tlevel, rot, a, b, level), tlevel, level, itheta, a, b,
-               eval_.HasFreePart(tlevel, level)});
+      *out = {eval_.ClusterBound(tlevel, rot, a, b, level),
+              tlevel,
+              level,
+              itheta,
+              a,
+              b,
+              eval_.HasFreePart(tlevel, level)};
     }
+    return true;
+  }
+
+  // The halves in theta or the quarters in translation of a node (as Next splits it), with
+  // their free-space parts subtracted; returns how many lie within the region and the allowed
+  // thetas.
+  int Children(const Node& n, Node out[4]) {
+    int count = 0;
+    if (SplitTheta(n)) {
+      const int half = 1 << (n.tlevel - 1);
+      for (int t : {0, half}) {
+        count += MakeNode(n.tlevel - 1, n.itheta + t, n.level, n.a, n.b, &out[count]) ? 1 : 0;
+      }
+    } else {
+      const int half = 1 << (n.level - 1);
+      for (int da : {0, half}) {
+        for (int db : {0, half}) {
+          count +=
+              MakeNode(n.tlevel, n.itheta, n.level - 1, n.a + da, n.b + db, &out[count]) ? 1 : 0;
+        }
+      }
+    }
+    for (int k = 0; k < count; ++k) {
+      if (!out[k].loose) continue;
+      out[k].value -=
+          eval_.FreePart(out[k].tlevel, out[k].itheta, out[k].a, out[k].b, out[k].level);
+      out[k].loose = false;
+    }
+    return count;
   }
 
   Evaluator& eval_;

@@ -300,6 +300,11 @@ TEST(ExactSearchBoundsTest, DenseFreeSpaceEqualsExhaustiveSearch) {
         << "seed " << seed;
     EXPECT_LE(above.value, best);
     EXPECT_GT(above.poses_evaluated, 0);
+    // It gets there by one descent (four quarters or two halves a level), not by searching on:
+    // it expands no more than the full search does before its optimum.
+    EXPECT_LE(above.bounds_evaluated,
+              r.bounds_evaluated + 4 * (opts.max_level + TemplateRotations::kThetaLevels))
+        << "seed " << seed;
     EXPECT_FALSE(above.has_runner_up);
     problem.min_value = best;
     const SearchResult at = search.Search(problem);
