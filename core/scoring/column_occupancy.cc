@@ -251,8 +251,7 @@ int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = LevelAt(0);  // the plane: level 0's one-cell windows, the cells' own voxels.
   return RunPopcountSum(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx,
-                        groups.run_cx.data(), groups.run_cy.data(), groups.run_len.data(),
-                        groups.masks.data(), static_cast<int>(groups.run_len.size()));
+                        groups.words.data(), groups.runs);
 }
 
 void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int d,
@@ -261,9 +260,7 @@ void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = LevelAt(0);
   RunPopcountSum4(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx, d,
-                  static_cast<std::ptrdiff_t>(d) * lv.nx, groups.run_cx.data(),
-                  groups.run_cy.data(), groups.run_len.data(), groups.masks.data(),
-                  static_cast<int>(groups.run_len.size()), out);
+                  static_cast<std::ptrdiff_t>(d) * lv.nx, groups.words.data(), groups.runs, out);
 }
 
 int ColumnOccupancy::PairBound(const PairBlockTable& table, const std::uint64_t* masks, int a,

@@ -43,33 +43,37 @@ void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, st
 
 HPOSE_POPCNT_CLONES
 int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                         const std::int32_t* run_cx, const std::int32_t* run_cy,
-                         const std::int32_t* run_len, const std::uint64_t* masks, int runs) {
+                         const std::uint64_t* runs, int run_count) {
   int sum = 0;
-  for (int r = 0; r < runs; ++r) {
-    const std::uint64_t* p = plane + base + run_cy[r] * row + run_cx[r];
-    for (int i = 0; i < run_len[r]; ++i) sum += __builtin_popcountll(masks[i] & p[i]);
-    masks += run_len[r];
+  const std::uint64_t* masks = runs + run_count;
+  for (int r = 0; r < run_count; ++r) {
+    const std::uint64_t h = runs[r];
+    const std::uint64_t* p = plane + base + RunHeaderY(h) * row + RunHeaderX(h);
+    const int len = RunHeaderLength(h);
+    for (int i = 0; i < len; ++i) sum += __builtin_popcountll(masks[i] & p[i]);
+    masks += len;
   }
   return sum;
 }
 
 HPOSE_POPCNT_CLONES
 void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                           std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* run_cx,
-                           const std::int32_t* run_cy, const std::int32_t* run_len,
-                           const std::uint64_t* masks, int runs, int out[4]) {
+                           std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
+                           int run_count, int out[4]) {
   int s00 = 0, s01 = 0, s10 = 0, s11 = 0;
-  for (int r = 0; r < runs; ++r) {
-    const std::uint64_t* p = plane + base + run_cy[r] * row + run_cx[r];
-    for (int i = 0; i < run_len[r]; ++i) {
+  const std::uint64_t* masks = runs + run_count;
+  for (int r = 0; r < run_count; ++r) {
+    const std::uint64_t h = runs[r];
+    const std::uint64_t* p = plane + base + RunHeaderY(h) * row + RunHeaderX(h);
+    const int len = RunHeaderLength(h);
+    for (int i = 0; i < len; ++i) {
       const std::uint64_t m = masks[i];
       s00 += __builtin_popcountll(m & p[i]);
       s01 += __builtin_popcountll(m & p[i + dy]);
       s10 += __builtin_popcountll(m & p[i + dx]);
       s11 += __builtin_popcountll(m & p[i + dx + dy]);
     }
-    masks += run_len[r];
+    masks += len;
   }
   out[0] = s00;
   out[1] = s01;
@@ -144,36 +148,41 @@ namespace {
 // A run is one masked load of its words and one of its masks (lanes past the run read
 // nothing and count 0).
 [[gnu::target("avx512f,avx512vpopcntdq,popcnt")]] int RunPopcountSumAvx512(
-    const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, const std::int32_t* run_cx,
-    const std::int32_t* run_cy, const std::int32_t* run_len, const std::uint64_t* masks, int runs) {
+    const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, const std::uint64_t* runs,
+    int run_count) {
   __m512i acc = _mm512_setzero_si512();
-  for (int r = 0; r < runs; ++r) {
-    const std::uint64_t* p = plane + base + run_cy[r] * row + run_cx[r];
-    const __mmask8 k = static_cast<__mmask8>((1u << run_len[r]) - 1u);
+  const std::uint64_t* masks = runs + run_count;
+  for (int r = 0; r < run_count; ++r) {
+    const std::uint64_t h = runs[r];
+    const std::uint64_t* p = plane + base + RunHeaderY(h) * row + RunHeaderX(h);
+    const int len = RunHeaderLength(h);
+    const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
     const __m512i words = _mm512_maskz_loadu_epi64(k, p);
     const __m512i m = _mm512_maskz_loadu_epi64(k, masks);
     acc = _mm512_add_epi64(acc, _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
-    masks += run_len[r];
+    masks += len;
   }
   return SumLanes(acc);
 }
 
 [[gnu::target("avx512f,avx512vpopcntdq,popcnt")]] void RunPopcountSum4Avx512(
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, std::ptrdiff_t dx,
-    std::ptrdiff_t dy, const std::int32_t* run_cx, const std::int32_t* run_cy,
-    const std::int32_t* run_len, const std::uint64_t* masks, int runs, int out[4]) {
+    std::ptrdiff_t dy, const std::uint64_t* runs, int run_count, int out[4]) {
   const __m512i zero = _mm512_setzero_si512();
   __m512i acc[4] = {zero, zero, zero, zero};
   const std::ptrdiff_t offset[4] = {0, dy, dx, dx + dy};
-  for (int r = 0; r < runs; ++r) {
-    const std::uint64_t* p = plane + base + run_cy[r] * row + run_cx[r];
-    const __mmask8 k = static_cast<__mmask8>((1u << run_len[r]) - 1u);
+  const std::uint64_t* masks = runs + run_count;
+  for (int r = 0; r < run_count; ++r) {
+    const std::uint64_t h = runs[r];
+    const std::uint64_t* p = plane + base + RunHeaderY(h) * row + RunHeaderX(h);
+    const int len = RunHeaderLength(h);
+    const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
     const __m512i m = _mm512_maskz_loadu_epi64(k, masks);
     for (int q = 0; q < 4; ++q) {
       const __m512i words = _mm512_maskz_loadu_epi64(k, p + offset[q]);
       acc[q] = _mm512_add_epi64(acc[q], _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
     }
-    masks += run_len[r];
+    masks += len;
   }
   for (int q = 0; q < 4; ++q) out[q] = SumLanes(acc[q]);
 }
@@ -216,18 +225,16 @@ void GatherPopcountSum4(const std::uint64_t* data, std::ptrdiff_t base, std::ptr
 }
 
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                   const std::int32_t* run_cx, const std::int32_t* run_cy,
-                   const std::int32_t* run_len, const std::uint64_t* masks, int runs) {
-  return (HasAvx512Popcount() ? RunPopcountSumAvx512 : RunPopcountSumScalar)(
-      plane, base, row, run_cx, run_cy, run_len, masks, runs);
+                   const std::uint64_t* runs, int run_count) {
+  return (HasAvx512Popcount() ? RunPopcountSumAvx512 : RunPopcountSumScalar)(plane, base, row, runs,
+                                                                             run_count);
 }
 
 void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                     std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* run_cx,
-                     const std::int32_t* run_cy, const std::int32_t* run_len,
-                     const std::uint64_t* masks, int runs, int out[4]) {
-  (HasAvx512Popcount() ? RunPopcountSum4Avx512 : RunPopcountSum4Scalar)(
-      plane, base, row, dx, dy, run_cx, run_cy, run_len, masks, runs, out);
+                     std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs, int run_count,
+                     int out[4]) {
+  (HasAvx512Popcount() ? RunPopcountSum4Avx512 : RunPopcountSum4Scalar)(plane, base, row, dx, dy,
+                                                                        runs, run_count, out);
 }
 
 }  // namespace hpose

@@ -32,25 +32,34 @@ void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, st
                               int out[4]);
 bool GatherPopcountSumVectorised();
 
-// The same sum over runs of consecutive words: run r adds popcount(masks[k] & words[i]) for
-// the run_len[r] (at most 8) words from plane + base + run_cy[r] * row + run_cx[r], k counting
-// on through `masks` run after run (CellGroups' runs over a plane of one word per cell). With
-// AVX-512 a run is one masked load; the scalar loop is the reference.
+// Runs of consecutive cells in one array of words (CellGroups): a header word per run (its
+// first cell, cx and cy as 16-bit two's complement in bits 0-15 and 16-31, and its length, 1
+// to 8, in bits 32-35), then the masks of every run's cells, run after run. One array read
+// front to back: a table costs the cache lines it fills, not a miss per field.
+inline std::uint64_t RunHeader(int cx, int cy, int len) {
+  return static_cast<std::uint64_t>(static_cast<std::uint16_t>(cx)) |
+         (static_cast<std::uint64_t>(static_cast<std::uint16_t>(cy)) << 16) |
+         (static_cast<std::uint64_t>(len) << 32);
+}
+inline int RunHeaderX(std::uint64_t h) { return static_cast<std::int16_t>(h & 0xFFFF); }
+inline int RunHeaderY(std::uint64_t h) { return static_cast<std::int16_t>((h >> 16) & 0xFFFF); }
+inline int RunHeaderLength(std::uint64_t h) { return static_cast<int>((h >> 32) & 0xF); }
+
+// The same sum over such runs (`runs`: the array, run_count headers then the masks): run r adds
+// popcount(mask & word) for its masks and the words from plane + base + cy * row + cx on. With
+// AVX-512 a run is one masked load of its words and one of its masks; the scalar loop is the
+// reference.
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                   const std::int32_t* run_cx, const std::int32_t* run_cy,
-                   const std::int32_t* run_len, const std::uint64_t* masks, int runs);
+                   const std::uint64_t* runs, int run_count);
 int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                         const std::int32_t* run_cx, const std::int32_t* run_cy,
-                         const std::int32_t* run_len, const std::uint64_t* masks, int runs);
+                         const std::uint64_t* runs, int run_count);
 // RunPopcountSum at base, base + dy, base + dx and base + dx + dy into out[0 .. 3].
 void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                     std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* run_cx,
-                     const std::int32_t* run_cy, const std::int32_t* run_len,
-                     const std::uint64_t* masks, int runs, int out[4]);
+                     std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs, int run_count,
+                     int out[4]);
 void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                           std::ptrdiff_t dx, std::ptrdiff_t dy, const std::int32_t* run_cx,
-                           const std::int32_t* run_cy, const std::int32_t* run_len,
-                           const std::uint64_t* masks, int runs, int out[4]);
+                           std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
+                           int run_count, int out[4]);
 
 }  // namespace hpose
 

@@ -306,16 +306,25 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
 }
 
 void CellGroups::Append(int cx, int cy, std::uint64_t mask) {
-  const bool extends = !run_len.empty() && run_cy.back() == cy &&
-                       run_cx.back() + run_len.back() == cx && run_len.back() < kMaxRun;
-  if (extends) {
-    ++run_len.back();
-  } else {
-    run_cx.push_back(cx);
-    run_cy.push_back(cy);
-    run_len.push_back(1);
+  assert(cx >= INT16_MIN && cx <= INT16_MAX && cy >= INT16_MIN && cy <= INT16_MAX);
+  masks_.push_back(mask);
+  if (!words.empty()) {  // the headers so far.
+    std::uint64_t& h = words.back();
+    const int len = RunHeaderLength(h);
+    if (RunHeaderY(h) == cy && RunHeaderX(h) + len == cx && len < kMaxRun) {
+      h = RunHeader(cx - len, cy, len + 1);
+      return;
+    }
   }
-  masks.push_back(mask);
+  words.push_back(RunHeader(cx, cy, 1));
+}
+
+void CellGroups::Finish() {
+  runs = static_cast<int>(words.size());
+  words.insert(words.end(), masks_.begin(), masks_.end());
+  words.shrink_to_fit();
+  masks_.clear();
+  masks_.shrink_to_fit();
 }
 
 const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
@@ -347,6 +356,7 @@ const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
           g.Append((r.column_q[c].x() + x) >> shift_, (r.column_q[c].y() + y) >> shift_, mask);
           k = end;
         }
+        g.Finish();
       }
     }
     // Blocks of two steps at even residues: the window starts at the cell of q + residue and
@@ -407,12 +417,8 @@ struct GroupCell {
 // A CellGroups' cells one by one, row by row.
 std::vector<GroupCell> CellsOf(const CellGroups& g) {
   std::vector<GroupCell> out;
-  out.reserve(g.masks.size());
-  size_t k = 0;
-  for (size_t r = 0; r < g.run_len.size(); ++r) {
-    for (int i = 0; i < g.run_len[r]; ++i)
-      out.push_back({g.run_cy[r], g.run_cx[r] + i, g.masks[k++]});
-  }
+  out.reserve(g.cells());
+  g.ForEachCell([&](int cx, int cy, std::uint64_t mask) { out.push_back({cy, cx, mask}); });
   return out;
 }
 
@@ -436,6 +442,7 @@ CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite)
       out.Append(c.cx, c.cy, mask_a & mask_b);
     }
   }
+  out.Finish();
   return out;
 }
 
@@ -539,6 +546,7 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
             g.Append(x + x_lo, y + y_lo, m);
           }
         }
+        g.Finish();
         out.push_back(std::move(g));
       }
     }

@@ -11,6 +11,7 @@
 
 #include "core/common/pose2d.h"
 #include "core/common/status.h"
+#include "core/scoring/gather_sums.h"
 #include "core/templates/voxel_template.h"
 
 namespace hpose {
@@ -113,15 +114,31 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
 // run (HitsGrouped reads a run as consecutive words).
 struct CellGroups {
   static constexpr int kMaxRun = 8;
-  std::vector<std::int32_t> run_cx;
-  std::vector<std::int32_t> run_cy;
-  std::vector<std::int32_t> run_len;
-  std::vector<std::uint64_t> masks;
+  // The runs' header words (RunHeader, gather_sums.h), then every cell's mask, run after run:
+  // one array whose headers load independently of each other.
+  std::vector<std::uint64_t> words;
+  int runs = 0;
 
   // Appends cell (cx, cy) with its mask. Cells come row by row (cy, then cx, ascending), each
-  // once: a cell right after the previous one in its row extends its run.
+  // once: a cell right after the previous one in its row extends its run. Cell coordinates
+  // must fit 16 bits (tables hold cells within a template's reach of its origin). Finish()
+  // once the last cell is in: it lays out `words`.
   void Append(int cx, int cy, std::uint64_t mask);
-  int cells() const { return static_cast<int>(masks.size()); }
+  void Finish();
+  int cells() const { return static_cast<int>(words.size()) - runs; }
+  // Calls f(cx, cy, mask) for every cell, in order (after Finish).
+  template <typename F>
+  void ForEachCell(F&& f) const {
+    size_t k = static_cast<size_t>(runs);
+    for (int r = 0; r < runs; ++r) {
+      const std::uint64_t h = words[r];
+      const int cx = RunHeaderX(h), cy = RunHeaderY(h), len = RunHeaderLength(h);
+      for (int i = 0; i < len; ++i) f(cx + i, cy, words[k++]);
+    }
+  }
+
+ private:
+  std::vector<std::uint64_t> masks_;  // while appending.
 };
 
 // A rotation's columns (same order as column_q) for translation blocks of 2 steps starting at

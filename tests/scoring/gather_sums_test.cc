@@ -92,7 +92,8 @@ TEST(GatherSumsTest, TheDispatchedSumsEqualTheScalarOnes) {
 }
 
 // Runs of consecutive cells on a plane of one word per cell: random runs of 1..8 cells around
-// the middle, each summed by the dispatched and the scalar loop, both checked bit by bit.
+// the middle (negative offsets too), each summed by the dispatched and the scalar loop, both
+// checked bit by bit.
 TEST(GatherSumsTest, RunSumsCountTheMaskedBitsOfEveryRun) {
   std::mt19937_64 rng(13);
   const int nx = 50, ny = 40;
@@ -103,14 +104,16 @@ TEST(GatherSumsTest, RunSumsCountTheMaskedBitsOfEveryRun) {
   int nonzero = 0;
   for (int trial = 0; trial < 200; ++trial) {
     std::vector<std::int32_t> run_cx, run_cy, run_len;
-    std::vector<std::uint64_t> masks;
+    std::vector<std::uint64_t> masks, words;  // words: the runs as RunPopcountSum reads them.
     const int runs = trial % 25;
     for (int r = 0; r < runs; ++r) {
       run_cx.push_back(off(rng));
       run_cy.push_back(off(rng));
       run_len.push_back(len(rng));
+      words.push_back(RunHeader(run_cx.back(), run_cy.back(), run_len.back()));
       for (int i = 0; i < run_len.back(); ++i) masks.push_back(r % 4 == 0 ? ~0ull : rng());
     }
+    words.insert(words.end(), masks.begin(), masks.end());
     const std::ptrdiff_t dx = 1 + trial % 4, dy = (1 + trial % 3) * nx;
     const std::ptrdiff_t shifts[4] = {0, dy, dx, dx + dy};
     int bits[4] = {0, 0, 0, 0};
@@ -124,18 +127,12 @@ TEST(GatherSumsTest, RunSumsCountTheMaskedBitsOfEveryRun) {
         }
       }
     }
-    ASSERT_EQ(RunPopcountSumScalar(plane.data(), base, nx, run_cx.data(), run_cy.data(),
-                                   run_len.data(), masks.data(), runs),
-              bits[0]);
-    ASSERT_EQ(RunPopcountSum(plane.data(), base, nx, run_cx.data(), run_cy.data(), run_len.data(),
-                             masks.data(), runs),
-              bits[0])
+    ASSERT_EQ(RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs), bits[0]);
+    ASSERT_EQ(RunPopcountSum(plane.data(), base, nx, words.data(), runs), bits[0])
         << "runs " << runs;
     int fast[4], ref[4];
-    RunPopcountSum4(plane.data(), base, nx, dx, dy, run_cx.data(), run_cy.data(), run_len.data(),
-                    masks.data(), runs, fast);
-    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, run_cx.data(), run_cy.data(),
-                          run_len.data(), masks.data(), runs, ref);
+    RunPopcountSum4(plane.data(), base, nx, dx, dy, words.data(), runs, fast);
+    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, ref);
     for (int q = 0; q < 4; ++q) {
       ASSERT_EQ(ref[q], bits[q]) << "block " << q;
       ASSERT_EQ(fast[q], bits[q]) << "block " << q;

@@ -290,13 +290,9 @@ TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
   using Cells = std::map<std::pair<int, int>, std::uint64_t>;
   const auto cells_of = [](const CellGroups& g) {
     Cells out;
-    size_t k = 0;
-    for (size_t r = 0; r < g.run_len.size(); ++r) {
-      for (int i = 0; i < g.run_len[r]; ++i) {
-        EXPECT_TRUE(out.emplace(std::pair{g.run_cx[r] + i, g.run_cy[r]}, g.masks[k++]).second)
-            << "a cell listed twice";
-      }
-    }
+    g.ForEachCell([&](int cx, int cy, std::uint64_t mask) {
+      EXPECT_TRUE(out.emplace(std::pair{cx, cy}, mask).second) << "a cell listed twice";
+    });
     return out;
   };
   int checked = 0, common_cells = 0;
@@ -336,15 +332,13 @@ TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
               }
               EXPECT_EQ(cells_of(lazy.CommonBlockGroups(t, first, ra, rb)), common)
                   << "theta level " << t << " block " << first << " residue " << ra << "," << rb;
-              EXPECT_EQ(ahead.CommonBlockGroups(t, first, ra, rb).masks,
-                        lazy.CommonBlockGroups(t, first, ra, rb).masks);
+              EXPECT_EQ(ahead.CommonBlockGroups(t, first, ra, rb).words,
+                        lazy.CommonBlockGroups(t, first, ra, rb).words);
               common_cells += static_cast<int>(common.size());
             }
             const CellGroups& made = ahead.SweptBlockGroups(t, first, level, ra, rb);
-            EXPECT_EQ(made.run_cx, block.run_cx);
-            EXPECT_EQ(made.run_cy, block.run_cy);
-            EXPECT_EQ(made.run_len, block.run_len);
-            EXPECT_EQ(made.masks, block.masks);
+            EXPECT_EQ(made.words, block.words);
+            EXPECT_EQ(made.runs, block.runs);
             ++checked;
           }
         }
