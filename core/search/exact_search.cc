@@ -173,6 +173,18 @@ class Evaluator {
   const int free_bound_max_level_;
 };
 
+SearchQueue& ThreadQueue() {
+  thread_local SearchQueue queue;
+  queue.clear();
+  return queue;
+}
+
+std::vector<PackedNode>& ThreadDeferred() {
+  thread_local std::vector<PackedNode> deferred;
+  deferred.clear();
+  return deferred;
+}
+
 // Best-first branch and bound over thetas and the translation region. Next() returns the
 // best remaining pose among the currently allowed thetas; calling it again with fewer thetas
 // allowed continues from the same queue (the runner-up search reuses every bound computed for
@@ -449,8 +461,10 @@ class BranchAndBound {
   bool all_allowed_ = true;
   // The queue, plus nodes kept out of it while they cannot beat the incumbent: they join it
   // once its best falls below defer_below_.
-  SearchQueue queue_;
-  std::vector<PackedNode> deferred_;
+  // The queue and the deferred nodes: one pair per thread, reused search after search (their
+  // memory stays allocated), since a search pushes tens of thousands of nodes.
+  SearchQueue& queue_ = ThreadQueue();
+  std::vector<PackedNode>& deferred_ = ThreadDeferred();
   int defer_below_;
   const int theta_split_lead_;
   const double theta_split_ratio_;

@@ -34,14 +34,16 @@ struct PackedLess {
 class SearchQueue {
  public:
   bool empty() const { return size_ == 0; }
+  size_t bucket_count() const { return buckets_.size(); }
   size_t size() const { return size_; }
   const PackedNode& top() const { return buckets_[top_].front(); }
   void push(const PackedNode& p) {
     const int v = Value(p);
-    if (buckets_.empty()) {
-      base_ = v;
-      buckets_.resize(64);
+    if (fresh_) {  // the first node: buckets around its value (values fall as a search goes).
+      if (buckets_.size() < 64) buckets_.resize(64);
+      base_ = v - static_cast<int>(buckets_.size()) * 3 / 4;
       top_ = 0;
+      fresh_ = false;
     }
     if (v < base_) {  // grow downwards: shift the buckets up.
       const int extra = std::max(base_ - v, static_cast<int>(buckets_.size()) / 2);
@@ -66,6 +68,15 @@ class SearchQueue {
     while (buckets_[top_].empty()) --top_;
   }
 
+  // Empties the queue, keeping its buckets' memory for the next search (buckets for about as
+  // many values as the widest search so far spanned, a few times over).
+  void clear() {
+    for (std::vector<PackedNode>& b : buckets_) b.clear();
+    size_ = 0;
+    top_ = 0;
+    fresh_ = true;
+  }
+
   static int Value(const PackedNode& p) {
     return static_cast<int>(static_cast<std::uint32_t>(p.hi >> 32) ^ 0x80000000u);
   }
@@ -75,6 +86,7 @@ class SearchQueue {
   int base_ = 0;
   int top_ = 0;  // the highest non-empty bucket (when size_ > 0).
   size_t size_ = 0;
+  bool fresh_ = true;  // no node pushed since construction or clear(): base_ is still free.
 };
 
 }  // namespace hpose
