@@ -20,6 +20,12 @@ Double4 Load4(const double* p) {
   return v;
 }
 
+Long4 Load4(const long long* p) {
+  Long4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
 }  // namespace
 
 __attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCells(
@@ -44,7 +50,10 @@ __attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCells(
   }
   const double focal = range.focal(), u0 = range.u0(), v0 = range.v0();
   const double width = range.width(), height = range.height();
-  const size_t row = static_cast<size_t>(range.width());
+  const int row = range.width();
+  const double margin = options.margin_m, sigma_factor = options.sigma_factor;
+  std::vector<long long> valid(4 * groups);  // the lanes of real heights (not the padding).
+  for (int k = 0; k < 4 * groups; ++k) valid[k] = k < nz ? -1 : 0;
   const float* depth = range.depth_data();
   std::vector<Eigen::Vector3i> column(4 * groups);  // one column's free cells.
   for (int x = lo.x(); x <= hi.x(); ++x) {
@@ -61,21 +70,22 @@ __attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCells(
         const Double4 sz = (a2 + Load4(&rz2[4 * g])) + t.z();
         const Double4 uf = sx / sz * focal + u0;
         const Double4 vf = sy / sz * focal + v0;
-        const Long4 inside = (sz > 1e-3) & (uf >= 0.0) & (vf >= 0.0) & (uf < width) & (vf < height);
-        // Within the image the truncation is the floor, and fits an int.
-        const Int4 iu = __builtin_convertvector(uf, Int4);
-        const Int4 iv = __builtin_convertvector(vf, Int4);
+        const Long4 inside = (sz > 1e-3) & (uf >= 0.0) & (vf >= 0.0) & (uf < width) &
+                             (vf < height) & Load4(&valid[4 * g]);
+        // Within the image the truncation is the floor, and fits an int; out-of-view cells read
+        // bin 0 and are dropped by `keep`.
+        const Int4 bin =
+            __builtin_convertvector(inside, Int4) &
+            (__builtin_convertvector(vf, Int4) * row + __builtin_convertvector(uf, Int4));
+        Double4 seen;
+        for (int lane = 0; lane < 4; ++lane) seen[lane] = depth[bin[lane]];
+        const Double4 needed = (sz + margin) + sigma_factor * ((1.425e-3 * seen) * seen);
+        const Long4 keep = inside & (seen > 0.0) & (seen > needed);
+        if ((keep[0] | keep[1] | keep[2] | keep[3]) == 0) continue;
         for (int lane = 0; lane < 4; ++lane) {
-          // Branch-free: out-of-view cells read bin 0 and are dropped by `keep`.
-          const bool in = inside[lane] != 0 && 4 * g + lane < nz;
-          const size_t bin = in ? static_cast<size_t>(iv[lane]) * row + iu[lane] : 0;
-          const double seen = depth[bin];
-          const bool keep =
-              in && seen > 0.0 &&
-              seen > sz[lane] + options.margin_m + options.sigma_factor * (1.425e-3 * seen * seen);
           // Cells are sorted (x, y, z) as VoxeliseCluster sorts them.
           column[count] = Eigen::Vector3i(x, y, lo.z() + 4 * g + lane);
-          count += keep ? 1 : 0;
+          count += static_cast<int>(keep[lane] & 1);
         }
       }
       free.cells.insert(free.cells.end(), column.begin(), column.begin() + count);
