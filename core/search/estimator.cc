@@ -388,6 +388,9 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     ClusterVoxels voxels;
     ClusterVoxels free;
     int n = 0;  // cluster voxels (the score's denominator).
+    // What the searches of its templates share (the search's occupancy grids), if anything.
+    std::vector<const TemplateRotations*> searched_with;
+    std::shared_ptr<const SearchGrids> grids;
     // The refinement's cluster side, made by the first of its templates to need it.
     std::once_flag prepare_once;
     std::optional<PreparedCluster> prepared;
@@ -441,6 +444,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     if (tasks.size() > before) searched_clusters.push_back(i);
   }
 
+  for (const Task& task : tasks)
+    work[task.cluster].searched_with.push_back(rotations_[task.tpl].get());
   // Voxels and free space of every cluster that has a template to search, one cluster per
   // thread.
   const double res = options_.lattice.resolution_m;
@@ -467,6 +472,9 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
       w.free =
           FreeSpaceCells(range, sensor_from_ground, cell_lo, cell_hi, res, options_.free_space);
     }
+    if (w.searched_with.size() > 1) {
+      w.grids = search_->MakeGrids(w.voxels, use_free_space ? &w.free : nullptr, w.searched_with);
+    }
   });
 
   // Every (cluster, template) search and its refinement, one per thread; each task has its own
@@ -492,6 +500,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     problem.rotations = &rot;
     problem.centre_ground = c.centroid.head<2>().cast<double>();
     problem.free_space = use_free_space ? &w.free : nullptr;
+    problem.grids = w.grids.get();
     problem.free_space_weight = options_.free_space_weight;
     problem.hit_weight = options_.hit_weight;
     if (options_.stop_below_threshold) {

@@ -479,8 +479,17 @@ void SetPose(const BranchAndBoundResult& found, const ColumnOccupancy& occ,
   result->best = found.best;
   result->pose = ToPose(rotations.lattice(), found.best);
   result->value = found.value;
-  result->hits = occ.Hits(r, found.best.ix, found.best.iy);
-  result->free_hits = free != nullptr ? free->Hits(r, found.best.ix, found.best.iy) : 0;
+  const int ix = found.best.ix, iy = found.best.iy;
+  if (occ.aligned() && (free == nullptr || free->aligned()) && rotations.has_cell_groups()) {
+    // The same counts without the occupancies' scratch space (they may be shared).
+    const int mask = rotations.lattice().subdivisions - 1;
+    const CellGroups& g = rotations.Groups(found.best.itheta, ix & mask, iy & mask);
+    result->hits = occ.HitsGrouped(g, ix, iy);
+    result->free_hits = free != nullptr ? free->HitsGrouped(g, ix, iy) : 0;
+  } else {
+    result->hits = occ.Hits(r, ix, iy);
+    result->free_hits = free != nullptr ? free->Hits(r, ix, iy) : 0;
+  }
   result->score = 100.0 * found.value / n_weighted;
   result->coverage = 100.0 * result->hits / n;
 }
@@ -532,46 +541,141 @@ ExactSearch::Region ExactSearch::TranslationRegion(const ClusterVoxels& cluster,
   return r;
 }
 
-SearchResult ExactSearch::Search(const SearchProblem& problem) const {
-  SearchResult result;
-  const ClusterVoxels& cluster = *problem.cluster;
-  const TemplateRotations& rotations = *problem.rotations;
-  const PoseLattice& lattice = rotations.lattice();
-  const Region region = TranslationRegion(cluster, rotations);
-  const int n = problem.scorer->cluster_voxels();
-  if (region.ix_max < region.ix_min || n == 0) return result;
+struct ExactSearch::GridNeeds {
+  Region region;
+  int top = 0;      // the top translation level.
+  int arc_top = 0;  // the highest occupancy level the bounds read.
+  int free_top = 0;
+  int z_base = 0, z_words = 0;
+  ColumnOccupancy::CellRange lookups;
+};
 
+ExactSearch::GridNeeds ExactSearch::Needs(const ClusterVoxels& cluster,
+                                          const TemplateRotations& rotations) const {
+  GridNeeds needs;
+  const Region& region = needs.region = TranslationRegion(cluster, rotations);
   const int span = std::max(region.ix_max - region.ix_min, region.iy_max - region.iy_min) + 1;
-  int top = 0;
+  int& top = needs.top;
   while (top < options_.max_level && (1 << top) < span) ++top;
   const RotatedTemplate& r0 = rotations.Get(0);
+  needs.z_base = r0.z_base;
+  needs.z_words = r0.z_words;
   // Theta blocks' columns sweep their arcs too: with theta blocks, levels up to the one sweeping
   // the top block plus the widest arc.
-  int arc_top = top;
+  needs.arc_top = top;
   while (options_.top_theta_level > 0 &&
-         (1 << arc_top) - 1 < (1 << top) - 1 + rotations.max_block_extent()) {
-    ++arc_top;
+         (1 << needs.arc_top) - 1 < (1 << top) - 1 + rotations.max_block_extent()) {
+    ++needs.arc_top;
   }
+  // Free-space lower bounds are taken up to free_bound_max_level only (PairBound: level 1).
+  needs.free_top = std::max(1, std::min(top, options_.free_bound_max_level));
   // Where bound windows start: any column's cell plus any block's (quarters of the last block
   // reach one top block past the region; exact hits' cell groups one cell more).
-  const int s = lattice.subdivisions;
-  ColumnOccupancy::CellRange lookups;
+  const int s = rotations.lattice().subdivisions;
+  ColumnOccupancy::CellRange& lookups = needs.lookups;
   lookups.x_lo = FloorDiv(region.ix_min, s) + FloorDiv(rotations.column_q_min().x(), s);
   lookups.y_lo = FloorDiv(region.iy_min, s) + FloorDiv(rotations.column_q_min().y(), s);
   lookups.x_hi =
       FloorDiv(region.ix_max + (1 << top), s) + FloorDiv(rotations.column_q_max().x(), s) + 1;
   lookups.y_hi =
       FloorDiv(region.iy_max + (1 << top), s) + FloorDiv(rotations.column_q_max().y(), s) + 1;
-  const ColumnOccupancy occ(cluster, lattice, r0.z_base, r0.z_words, arc_top,
-                            ColumnOccupancy::Filter::kMax, &lookups);
-  std::unique_ptr<ColumnOccupancy> free;
-  if (problem.free_space != nullptr) {
-    // Free-space lower bounds are taken up to free_bound_max_level only (PairBound: level 1).
-    const int free_top = std::max(1, std::min(top, options_.free_bound_max_level));
-    free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, r0.z_base, r0.z_words,
-                                             free_top, ColumnOccupancy::Filter::kMin, &lookups);
+  return needs;
+}
+
+// One cluster's occupancies for the searches of several templates: levels and lookup range
+// enough for each (more of either changes no bound: the same cells, the same windows).
+struct SearchGrids {
+  int z_base = 0, z_words = 0, levels = 0, free_levels = 0;
+  ColumnOccupancy::CellRange lookups;
+  std::unique_ptr<ColumnOccupancy> occ;
+  std::unique_ptr<ColumnOccupancy> free;  // null without free space.
+
+  bool Serves(int z_base_, int z_words_, int arc_top, int free_top, bool with_free,
+              const ColumnOccupancy::CellRange& r) const {
+    return z_base_ == z_base && z_words_ == z_words && arc_top <= levels &&
+           (free == nullptr || free_top <= free_levels) && with_free == (free != nullptr) &&
+           r.x_lo >= lookups.x_lo && r.x_hi <= lookups.x_hi && r.y_lo >= lookups.y_lo &&
+           r.y_hi <= lookups.y_hi;
   }
-  Evaluator eval(&occ, free.get(), problem.free_space_weight, problem.hit_weight, rotations,
+};
+
+std::shared_ptr<const SearchGrids> ExactSearch::MakeGrids(
+    const ClusterVoxels& cluster, const ClusterVoxels* free_space,
+    const std::vector<const TemplateRotations*>& rotations) const {
+  if (rotations.empty() || cluster.cells.empty()) return nullptr;
+  auto grids = std::make_shared<SearchGrids>();
+  for (size_t i = 0; i < rotations.size(); ++i) {
+    const TemplateRotations& rot = *rotations[i];
+    if (!rot.has_cell_groups()) return nullptr;  // its exact values would read Hits' scratch.
+    const GridNeeds needs = Needs(cluster, rot);
+    if (needs.region.ix_max < needs.region.ix_min) return nullptr;
+    if (i == 0) {
+      grids->z_base = needs.z_base;
+      grids->z_words = needs.z_words;
+      grids->lookups = needs.lookups;
+    } else if (needs.z_base != grids->z_base || needs.z_words != grids->z_words ||
+               rot.lattice().resolution_m != rotations[0]->lattice().resolution_m ||
+               rot.lattice().subdivisions != rotations[0]->lattice().subdivisions) {
+      return nullptr;
+    }
+    grids->levels = std::max(grids->levels, needs.arc_top);
+    grids->free_levels = std::max(grids->free_levels, needs.free_top);
+    ColumnOccupancy::CellRange& l = grids->lookups;
+    l.x_lo = std::min(l.x_lo, needs.lookups.x_lo);
+    l.y_lo = std::min(l.y_lo, needs.lookups.y_lo);
+    l.x_hi = std::max(l.x_hi, needs.lookups.x_hi);
+    l.y_hi = std::max(l.y_hi, needs.lookups.y_hi);
+  }
+  const PoseLattice& lattice = rotations[0]->lattice();
+  grids->occ = std::make_unique<ColumnOccupancy>(cluster, lattice, grids->z_base, grids->z_words,
+                                                 grids->levels, ColumnOccupancy::Filter::kMax,
+                                                 &grids->lookups);
+  if (free_space != nullptr) {
+    grids->free = std::make_unique<ColumnOccupancy>(*free_space, lattice, grids->z_base,
+                                                    grids->z_words, grids->free_levels,
+                                                    ColumnOccupancy::Filter::kMin, &grids->lookups);
+  }
+  if (!grids->occ->aligned() || (grids->free != nullptr && !grids->free->aligned())) {
+    return nullptr;
+  }
+  return grids;
+}
+
+SearchResult ExactSearch::Search(const SearchProblem& problem) const {
+  SearchResult result;
+  const ClusterVoxels& cluster = *problem.cluster;
+  const TemplateRotations& rotations = *problem.rotations;
+  const PoseLattice& lattice = rotations.lattice();
+  const int n = problem.scorer->cluster_voxels();
+  const GridNeeds needs = Needs(cluster, rotations);
+  const Region& region = needs.region;
+  if (region.ix_max < region.ix_min || n == 0) return result;
+  const int top = needs.top;
+
+  // The cluster's occupancy and its free space's: the shared ones when they serve this
+  // template, else made here.
+  const bool with_free = problem.free_space != nullptr;
+  std::unique_ptr<ColumnOccupancy> own_occ, own_free;
+  const ColumnOccupancy* occ_ptr = nullptr;
+  const ColumnOccupancy* free_ptr = nullptr;
+  if (problem.grids != nullptr && problem.grids->Serves(needs.z_base, needs.z_words, needs.arc_top,
+                                                        needs.free_top, with_free, needs.lookups)) {
+    occ_ptr = problem.grids->occ.get();
+    free_ptr = problem.grids->free.get();
+  } else {
+    own_occ = std::make_unique<ColumnOccupancy>(cluster, lattice, needs.z_base, needs.z_words,
+                                                needs.arc_top, ColumnOccupancy::Filter::kMax,
+                                                &needs.lookups);
+    occ_ptr = own_occ.get();
+    if (with_free) {
+      own_free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, needs.z_base,
+                                                   needs.z_words, needs.free_top,
+                                                   ColumnOccupancy::Filter::kMin, &needs.lookups);
+      free_ptr = own_free.get();
+    }
+  }
+  const ColumnOccupancy& occ = *occ_ptr;
+  Evaluator eval(&occ, free_ptr, problem.free_space_weight, problem.hit_weight, rotations,
                  options_.swept_bounds, options_.free_bound_max_level,
                  options_.theta_block_free_part);
   const int n_weighted = n * problem.hit_weight;  // the score's denominator.
@@ -600,7 +704,7 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   }
   const BranchAndBoundResult found = best.below_min ? bnb.BestEvaluated() : best;
   if (!found.found) return result;
-  SetPose(found, occ, free.get(), rotations, n, n_weighted, &result);
+  SetPose(found, occ, free_ptr, rotations, n, n_weighted, &result);
   if (best.below_min) return result;
 
   std::vector<bool> others(lattice.angle_steps, false);

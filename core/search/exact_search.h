@@ -67,6 +67,12 @@ class ExactSearch final : public PoseSearch {
   explicit ExactSearch(ExactSearchOptions options = {}) : options_(options) {}
   SearchResult Search(const SearchProblem& problem) const override;
   double OriginMargin(const TemplateRotations& rotations) const override;
+  // The cluster's occupancy grid and its free space's, with the levels and extent every given
+  // template's search reads (null when the templates' z layouts differ or the grids would not
+  // take the aligned layout, whose reads need no scratch space).
+  std::shared_ptr<const SearchGrids> MakeGrids(
+      const ClusterVoxels& cluster, const ClusterVoxels* free_space,
+      const std::vector<const TemplateRotations*>& rotations) const override;
 
   // The translation region (inclusive lattice indices) that Search covers for this cluster and
   // template; exhaustive checks iterate the same region.
@@ -78,6 +84,9 @@ class ExactSearch final : public PoseSearch {
  private:
   // The margin of TranslationRegion (metres).
   double Margin(const TemplateRotations& rotations) const;
+  // What a search of the cluster with the template reads of the grids.
+  struct GridNeeds;
+  GridNeeds Needs(const ClusterVoxels& cluster, const TemplateRotations& rotations) const;
 
   ExactSearchOptions options_;
 };

@@ -32,6 +32,10 @@ struct PaperSearchOptions {
 // Minimum theta separation for the runner-up (front/back ambiguity report).
 constexpr double kRunnerUpMinSeparationRad = 30.0 * kPi / 180.0;
 
+// What a search may share with the other searches of the same cluster (made by
+// PoseSearch::MakeGrids; opaque here).
+struct SearchGrids;
+
 // What a search works on: one template against one cluster.
 struct SearchProblem {
   const ClusterVoxels* cluster = nullptr;                   // required.
@@ -54,6 +58,9 @@ struct SearchProblem {
   // evaluates it first and uses its value to order work; the result is the same with or without
   // it (the global optimum is still proved).
   const LatticePose* incumbent = nullptr;
+  // Optional: this cluster's grids from MakeGrids (with the same free space), for every template
+  // it was made for; the search makes its own without them (same result).
+  const SearchGrids* grids = nullptr;
 };
 
 // Finds the pose of highest value of one template over one cluster.
@@ -64,6 +71,14 @@ class PoseSearch {
   // How far outside the box of the cluster's voxel cells the search may place the template's
   // origin (metres): what it reads lies within this plus the template's own reach.
   virtual double OriginMargin(const TemplateRotations& rotations) const = 0;
+  // What every search of `cluster` (with `free_space`, may be null) with these templates can
+  // share, made once, or null when this search shares nothing. Read-only once made: searches
+  // on several threads may share it.
+  virtual std::shared_ptr<const SearchGrids> MakeGrids(
+      const ClusterVoxels& /*cluster*/, const ClusterVoxels* /*free_space*/,
+      const std::vector<const TemplateRotations*>& /*rotations*/) const {
+    return nullptr;
+  }
 };
 
 // The paper's two-pass search on the lattice: each pass's steps and ranges are rounded to

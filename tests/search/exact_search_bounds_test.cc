@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <memory>
 #include <set>
+#include <string>
+#include <thread>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -133,6 +136,73 @@ TEST(ExactSearchBoundsTest, SearchesReadFreeSpaceWithinTheirOriginMarginAndReach
       EXPECT_GT(most_hits(ring(grow - 6), ix0, ix1, iy0, iy1), 0)
           << "seed " << seed << (search == &exact ? ", exact" : ", paper");
     }
+  }
+}
+
+// Grids made once for a cluster and shared by the searches of several templates (the estimator
+// makes them per cluster) change nothing: every result and count equals the search's own
+// grids', with and without free space, with a minimum value, and with the searches of two
+// templates running at once on two threads.
+TEST(ExactSearchBoundsTest, SharedGridsGiveTheSameSearches) {
+  for (unsigned seed = 0; seed < (testing::kSanitizerBuild ? 2u : 4u); ++seed) {
+    const Scene a = MakeScene(800 + seed, 36, 4), b = MakeScene(900 + seed, 36, 4);
+    const TemplateRotations rot_a(a.tpl, a.lattice), rot_b(b.tpl, b.lattice);
+    const ClusterVoxels free = DenseFreeSpace(a.cluster, 10, 45);
+    const FastScorer scorer(a.cluster, a.lattice);
+    const ExactSearch search;
+    for (const bool with_free : {false, true}) {
+      const ClusterVoxels* f = with_free ? &free : nullptr;
+      const std::shared_ptr<const SearchGrids> grids =
+          search.MakeGrids(a.cluster, f, {&rot_a, &rot_b});
+      ASSERT_NE(grids, nullptr);
+      for (const int min_value : {INT_MIN, 40}) {
+        SearchResult own[2], shared[2];
+        const TemplateRotations* rots[2] = {&rot_a, &rot_b};
+        for (int k = 0; k < 2; ++k) {
+          SearchProblem problem{&a.cluster, &scorer, rots[k], {a.truth.x, a.truth.y}};
+          problem.free_space = f;
+          problem.hit_weight = 2;
+          problem.min_value = min_value;
+          own[k] = search.Search(problem);
+        }
+        std::thread other([&] {
+          SearchProblem problem{&a.cluster, &scorer, rots[1], {a.truth.x, a.truth.y}};
+          problem.free_space = f;
+          problem.hit_weight = 2;
+          problem.min_value = min_value;
+          problem.grids = grids.get();
+          shared[1] = search.Search(problem);
+        });
+        {
+          SearchProblem problem{&a.cluster, &scorer, rots[0], {a.truth.x, a.truth.y}};
+          problem.free_space = f;
+          problem.hit_weight = 2;
+          problem.min_value = min_value;
+          problem.grids = grids.get();
+          shared[0] = search.Search(problem);
+        }
+        other.join();
+        for (int k = 0; k < 2; ++k) {
+          const std::string where = "seed " + std::to_string(seed) + " template " +
+                                    std::to_string(k) + (with_free ? " with free space" : "") +
+                                    " min " + std::to_string(min_value);
+          EXPECT_EQ(shared[k].value, own[k].value) << where;
+          EXPECT_EQ(shared[k].best, own[k].best) << where;
+          EXPECT_EQ(shared[k].hits, own[k].hits) << where;
+          EXPECT_EQ(shared[k].free_hits, own[k].free_hits) << where;
+          EXPECT_EQ(shared[k].below_min_value, own[k].below_min_value) << where;
+          EXPECT_EQ(shared[k].has_runner_up, own[k].has_runner_up) << where;
+          EXPECT_EQ(shared[k].runner_up_score, own[k].runner_up_score) << where;
+          EXPECT_EQ(shared[k].bounds_evaluated, own[k].bounds_evaluated) << where;
+          EXPECT_EQ(shared[k].poses_evaluated, own[k].poses_evaluated) << where;
+        }
+      }
+    }
+    // Templates of different lattices cannot share.
+    PoseLattice other_lattice = a.lattice;
+    other_lattice.subdivisions = 2;
+    const TemplateRotations rot_c(b.tpl, other_lattice);
+    EXPECT_EQ(search.MakeGrids(a.cluster, &free, {&rot_a, &rot_c}), nullptr);
   }
 }
 
