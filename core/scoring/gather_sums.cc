@@ -48,7 +48,7 @@ int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::p
   const std::uint64_t* masks = runs + run_count;
   for (int r = 0; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
-    const std::uint64_t* p = plane + base + RunHeaderY(h) * row + RunHeaderX(h);
+    const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
     for (int i = 0; i < len; ++i) sum += __builtin_popcountll(masks[i] & p[i]);
     masks += len;
@@ -64,7 +64,7 @@ void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std:
   const std::uint64_t* masks = runs + run_count;
   for (int r = 0; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
-    const std::uint64_t* p = plane + base + RunHeaderY(h) * row + RunHeaderX(h);
+    const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
     for (int i = 0; i < len; ++i) {
       const std::uint64_t m = masks[i];
@@ -154,7 +154,7 @@ namespace {
   const std::uint64_t* masks = runs + run_count;
   for (int r = 0; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
-    const std::uint64_t* p = plane + base + RunHeaderY(h) * row + RunHeaderX(h);
+    const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
     const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
     const __m512i words = _mm512_maskz_loadu_epi64(k, p);
@@ -174,7 +174,7 @@ namespace {
   const std::uint64_t* masks = runs + run_count;
   for (int r = 0; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
-    const std::uint64_t* p = plane + base + RunHeaderY(h) * row + RunHeaderX(h);
+    const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
     const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
     const __m512i m = _mm512_maskz_loadu_epi64(k, masks);

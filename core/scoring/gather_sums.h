@@ -44,6 +44,11 @@ inline std::uint64_t RunHeader(int cx, int cy, int len) {
 inline int RunHeaderX(std::uint64_t h) { return static_cast<std::int16_t>(h & 0xFFFF); }
 inline int RunHeaderY(std::uint64_t h) { return static_cast<std::int16_t>((h >> 16) & 0xFFFF); }
 inline int RunHeaderLength(std::uint64_t h) { return static_cast<int>((h >> 32) & 0xF); }
+// The first word of the run of header h on a plane of `row` words a row, relative to `base`.
+inline const std::uint64_t* RunStart(const std::uint64_t* plane, std::ptrdiff_t base,
+                                     std::ptrdiff_t row, std::uint64_t h) {
+  return plane + base + RunHeaderY(h) * row + RunHeaderX(h);
+}
 
 // The same sum over such runs (`runs`: the array, run_count headers then the masks): run r adds
 // popcount(mask & word) for its masks and the words from plane + base + cy * row + cx on. With

@@ -156,31 +156,19 @@ TEST(ExactSearchBoundsTest, SharedGridsGiveTheSameSearches) {
           search.MakeGrids(a.cluster, f, {&rot_a, &rot_b});
       ASSERT_NE(grids, nullptr);
       for (const int min_value : {INT_MIN, 40}) {
-        SearchResult own[2], shared[2];
         const TemplateRotations* rots[2] = {&rot_a, &rot_b};
-        for (int k = 0; k < 2; ++k) {
+        const auto search_with = [&](int k, const SearchGrids* g) {
           SearchProblem problem{&a.cluster, &scorer, rots[k], {a.truth.x, a.truth.y}};
           problem.free_space = f;
           problem.hit_weight = 2;
           problem.min_value = min_value;
-          own[k] = search.Search(problem);
-        }
-        std::thread other([&] {
-          SearchProblem problem{&a.cluster, &scorer, rots[1], {a.truth.x, a.truth.y}};
-          problem.free_space = f;
-          problem.hit_weight = 2;
-          problem.min_value = min_value;
-          problem.grids = grids.get();
-          shared[1] = search.Search(problem);
-        });
-        {
-          SearchProblem problem{&a.cluster, &scorer, rots[0], {a.truth.x, a.truth.y}};
-          problem.free_space = f;
-          problem.hit_weight = 2;
-          problem.min_value = min_value;
-          problem.grids = grids.get();
-          shared[0] = search.Search(problem);
-        }
+          problem.grids = g;
+          return search.Search(problem);
+        };
+        SearchResult own[2], shared[2];
+        for (int k = 0; k < 2; ++k) own[k] = search_with(k, nullptr);
+        std::thread other([&] { shared[1] = search_with(1, grids.get()); });
+        shared[0] = search_with(0, grids.get());
         other.join();
         for (int k = 0; k < 2; ++k) {
           const std::string where = "seed " + std::to_string(seed) + " template " +
