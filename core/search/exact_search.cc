@@ -173,6 +173,9 @@ class Evaluator {
   const int free_bound_max_level_;
 };
 
+// The queue and the deferred nodes of this thread's search, emptied: a search pushes tens of
+// thousands of nodes, and reusing their memory saves allocating it anew every search. One
+// BranchAndBound at a time per thread (a search never starts another).
 SearchQueue& ThreadQueue() {
   thread_local SearchQueue queue;
   queue.clear();
@@ -460,9 +463,8 @@ class BranchAndBound {
   std::vector<bool> allowed_;
   bool all_allowed_ = true;
   // The queue, plus nodes kept out of it while they cannot beat the incumbent: they join it
-  // once its best falls below defer_below_.
-  // The queue and the deferred nodes: one pair per thread, reused search after search (their
-  // memory stays allocated), since a search pushes tens of thousands of nodes.
+  // once its best falls below defer_below_. One pair per thread (ThreadQueue), reused search
+  // after search.
   SearchQueue& queue_ = ThreadQueue();
   std::vector<PackedNode>& deferred_ = ThreadDeferred();
   int defer_below_;
