@@ -14,18 +14,6 @@ typedef double Double4 __attribute__((vector_size(32)));
 typedef long long Long4 __attribute__((vector_size(32)));
 typedef int Int4 __attribute__((vector_size(16)));
 
-Double4 Load4(const double* p) {
-  Double4 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
-Long4 Load4(const long long* p) {
-  Long4 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
 }  // namespace
 
 __attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCells(
@@ -65,13 +53,21 @@ __attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCells(
       const double a2 = r(2, 0) * cx + r(2, 1) * cy;
       int count = 0;
       for (int g = 0; g < groups; ++g) {
-        const Double4 sx = (a0 + Load4(&rz0[4 * g])) + t.x();
-        const Double4 sy = (a1 + Load4(&rz1[4 * g])) + t.y();
-        const Double4 sz = (a2 + Load4(&rz2[4 * g])) + t.z();
+        // Loaded by memcpy (the arrays hold plain doubles), never passed by value: a 256-bit
+        // vector argument would change the calling convention between the clones.
+        Double4 z0, z1, z2;
+        Long4 real;
+        std::memcpy(&z0, &rz0[4 * g], sizeof z0);
+        std::memcpy(&z1, &rz1[4 * g], sizeof z1);
+        std::memcpy(&z2, &rz2[4 * g], sizeof z2);
+        std::memcpy(&real, &valid[4 * g], sizeof real);
+        const Double4 sx = (a0 + z0) + t.x();
+        const Double4 sy = (a1 + z1) + t.y();
+        const Double4 sz = (a2 + z2) + t.z();
         const Double4 uf = sx / sz * focal + u0;
         const Double4 vf = sy / sz * focal + v0;
-        const Long4 inside = (sz > 1e-3) & (uf >= 0.0) & (vf >= 0.0) & (uf < width) &
-                             (vf < height) & Load4(&valid[4 * g]);
+        const Long4 inside =
+            (sz > 1e-3) & (uf >= 0.0) & (vf >= 0.0) & (uf < width) & (vf < height) & real;
         // Within the image the truncation is the floor, and fits an int; out-of-view cells read
         // bin 0 and are dropped by `keep`.
         const Int4 bin =
