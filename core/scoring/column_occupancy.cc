@@ -243,6 +243,16 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
     const Level& lv = LevelAt(0);
     plane_.resize(static_cast<size_t>(lv.nx) * lv.ny);
     for (size_t i = 0; i < plane_.size(); ++i) plane_[i] = lv.data[4 * i];
+    // The rows holding any voxel (an empty plane: none, lo above hi).
+    plane_row_lo_ = lv.ny;
+    plane_row_hi_ = -1;
+    for (int y = 0; y < lv.ny; ++y) {
+      const std::uint64_t* r = &plane_[static_cast<size_t>(y) * lv.nx];
+      if (std::any_of(r, r + lv.nx, [](std::uint64_t w) { return w != 0; })) {
+        plane_row_lo_ = std::min(plane_row_lo_, y);
+        plane_row_hi_ = y;
+      }
+    }
   }
 }
 
@@ -250,8 +260,11 @@ int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = LevelAt(0);  // the plane: level 0's one-cell windows, the cells' own voxels.
+  // The runs' rows that can meet a cluster row (relative to the translation's cell row).
+  const int row0 = ((iy & ~mask) >> shift_) - lv.y0;
   return RunPopcountSum(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx,
-                        groups.words.data(), groups.runs);
+                        groups.words.data(), groups.runs, plane_row_lo_ - row0,
+                        plane_row_hi_ - row0);
 }
 
 void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int d,
@@ -259,8 +272,10 @@ void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = LevelAt(0);
+  const int row0 = ((iy & ~mask) >> shift_) - lv.y0;
   RunPopcountSum4(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx, d,
-                  static_cast<std::ptrdiff_t>(d) * lv.nx, groups.words.data(), groups.runs, out);
+                  static_cast<std::ptrdiff_t>(d) * lv.nx, groups.words.data(), groups.runs,
+                  plane_row_lo_ - row0 - d, plane_row_hi_ - row0, out);
 }
 
 int ColumnOccupancy::PairBound(const PairBlockTable& table, const std::uint64_t* masks, int a,

@@ -121,6 +121,8 @@ class ColumnOccupancy {
   // Aligned only: level 0's own cells (entry 0) as one word per cell, same box, row by row: the
   // plane HitsGrouped reads runs of cells from.
   std::vector<std::uint64_t> plane_;
+  // The first and last row of plane_ with a non-zero word: runs of cells outside them add 0.
+  int plane_row_lo_ = 0, plane_row_hi_ = -1;
   mutable std::vector<std::uint32_t> stamp_;
   mutable std::vector<std::uint64_t> acc_;
   mutable std::vector<int> touched_;

@@ -43,14 +43,18 @@ void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, st
 
 HPOSE_POPCNT_CLONES
 int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                         const std::uint64_t* runs, int run_count) {
+                         const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi) {
   int sum = 0;
   const std::uint64_t* masks = runs + run_count;
   for (int r = 0; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
-    const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
-    for (int i = 0; i < len; ++i) sum += __builtin_popcountll(masks[i] & p[i]);
+    const int cy = RunHeaderY(h);
+    if (cy > cy_hi) break;
+    if (cy >= cy_lo) {
+      const std::uint64_t* p = RunStart(plane, base, row, h);
+      for (int i = 0; i < len; ++i) sum += __builtin_popcountll(masks[i] & p[i]);
+    }
     masks += len;
   }
   return sum;
@@ -59,13 +63,19 @@ int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::p
 HPOSE_POPCNT_CLONES
 void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                            std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
-                           int run_count, int out[4]) {
+                           int run_count, int cy_lo, int cy_hi, int out[4]) {
   int s00 = 0, s01 = 0, s10 = 0, s11 = 0;
   const std::uint64_t* masks = runs + run_count;
   for (int r = 0; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
-    const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
+    const int cy = RunHeaderY(h);
+    if (cy > cy_hi) break;
+    if (cy < cy_lo) {
+      masks += len;
+      continue;
+    }
+    const std::uint64_t* p = RunStart(plane, base, row, h);
     for (int i = 0; i < len; ++i) {
       const std::uint64_t m = masks[i];
       s00 += __builtin_popcountll(m & p[i]);
@@ -149,13 +159,19 @@ namespace {
 // nothing and count 0).
 [[gnu::target("avx512f,avx512vpopcntdq,popcnt")]] int RunPopcountSumAvx512(
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, const std::uint64_t* runs,
-    int run_count) {
+    int run_count, int cy_lo, int cy_hi) {
   __m512i acc = _mm512_setzero_si512();
   const std::uint64_t* masks = runs + run_count;
   for (int r = 0; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
-    const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
+    const int cy = RunHeaderY(h);
+    if (cy > cy_hi) break;
+    if (cy < cy_lo) {
+      masks += len;
+      continue;
+    }
+    const std::uint64_t* p = RunStart(plane, base, row, h);
     const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
     const __m512i words = _mm512_maskz_loadu_epi64(k, p);
     const __m512i m = _mm512_maskz_loadu_epi64(k, masks);
@@ -167,15 +183,21 @@ namespace {
 
 [[gnu::target("avx512f,avx512vpopcntdq,popcnt")]] void RunPopcountSum4Avx512(
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, std::ptrdiff_t dx,
-    std::ptrdiff_t dy, const std::uint64_t* runs, int run_count, int out[4]) {
+    std::ptrdiff_t dy, const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi, int out[4]) {
   const __m512i zero = _mm512_setzero_si512();
   __m512i acc[4] = {zero, zero, zero, zero};
   const std::ptrdiff_t offset[4] = {0, dy, dx, dx + dy};
   const std::uint64_t* masks = runs + run_count;
   for (int r = 0; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
-    const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
+    const int cy = RunHeaderY(h);
+    if (cy > cy_hi) break;
+    if (cy < cy_lo) {
+      masks += len;
+      continue;
+    }
+    const std::uint64_t* p = RunStart(plane, base, row, h);
     const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
     const __m512i m = _mm512_maskz_loadu_epi64(k, masks);
     for (int q = 0; q < 4; ++q) {
@@ -225,16 +247,16 @@ void GatherPopcountSum4(const std::uint64_t* data, std::ptrdiff_t base, std::ptr
 }
 
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                   const std::uint64_t* runs, int run_count) {
-  return (HasAvx512Popcount() ? RunPopcountSumAvx512 : RunPopcountSumScalar)(plane, base, row, runs,
-                                                                             run_count);
+                   const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi) {
+  return (HasAvx512Popcount() ? RunPopcountSumAvx512 : RunPopcountSumScalar)(
+      plane, base, row, runs, run_count, cy_lo, cy_hi);
 }
 
 void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                      std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs, int run_count,
-                     int out[4]) {
-  (HasAvx512Popcount() ? RunPopcountSum4Avx512 : RunPopcountSum4Scalar)(plane, base, row, dx, dy,
-                                                                        runs, run_count, out);
+                     int cy_lo, int cy_hi, int out[4]) {
+  (HasAvx512Popcount() ? RunPopcountSum4Avx512 : RunPopcountSum4Scalar)(
+      plane, base, row, dx, dy, runs, run_count, cy_lo, cy_hi, out);
 }
 
 }  // namespace hpose

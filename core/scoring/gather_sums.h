@@ -51,20 +51,23 @@ inline const std::uint64_t* RunStart(const std::uint64_t* plane, std::ptrdiff_t 
 }
 
 // The same sum over such runs (`runs`: the array, run_count headers then the masks): run r adds
-// popcount(mask & word) for its masks and the words from plane + base + cy * row + cx on. With
-// AVX-512 a run is one masked load of its words and one of its masks; the scalar loop is the
-// reference.
+// popcount(mask & word) for its masks and the words from plane + base + cy * row + cx on. Runs
+// are in ascending cy (CellGroups' order), and those whose cy lies outside [cy_lo, cy_hi] are
+// left out: the caller passes the rows where the plane may be non-zero (INT_MIN and INT_MAX for
+// all), so a small cluster's sum skips the runs that would only read zeros. With AVX-512 a run
+// is one masked load of its words and one of its masks; the scalar loop is the reference.
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                   const std::uint64_t* runs, int run_count);
+                   const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi);
 int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                         const std::uint64_t* runs, int run_count);
-// RunPopcountSum at base, base + dy, base + dx and base + dx + dy into out[0 .. 3].
+                         const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi);
+// RunPopcountSum at base, base + dy, base + dx and base + dx + dy into out[0 .. 3]; runs whose
+// cy lies outside [cy_lo, cy_hi] are left out of all four.
 void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                      std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs, int run_count,
-                     int out[4]);
+                     int cy_lo, int cy_hi, int out[4]);
 void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                            std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
-                           int run_count, int out[4]);
+                           int run_count, int cy_lo, int cy_hi, int out[4]);
 
 }  // namespace hpose
 

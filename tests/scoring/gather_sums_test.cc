@@ -1,5 +1,7 @@
 #include "core/scoring/gather_sums.h"
 
+#include <algorithm>
+#include <climits>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -91,6 +93,11 @@ TEST(GatherSumsTest, TheDispatchedSumsEqualTheScalarOnes) {
   EXPECT_GT(nonzero, 150);
 }
 
+struct Rows {
+  int lo, hi;
+};
+constexpr Rows kAll = {INT_MIN, INT_MAX};
+
 // Runs of consecutive cells on a plane of one word per cell: random runs of 1..8 cells around
 // the middle (negative offsets too), each summed by the dispatched and the scalar loop, both
 // checked bit by bit.
@@ -127,12 +134,14 @@ TEST(GatherSumsTest, RunSumsCountTheMaskedBitsOfEveryRun) {
         }
       }
     }
-    ASSERT_EQ(RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs), bits[0]);
-    ASSERT_EQ(RunPopcountSum(plane.data(), base, nx, words.data(), runs), bits[0])
+    ASSERT_EQ(RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs, kAll.lo, kAll.hi),
+              bits[0]);
+    ASSERT_EQ(RunPopcountSum(plane.data(), base, nx, words.data(), runs, kAll.lo, kAll.hi), bits[0])
         << "runs " << runs;
     int fast[4], ref[4];
-    RunPopcountSum4(plane.data(), base, nx, dx, dy, words.data(), runs, fast);
-    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, ref);
+    RunPopcountSum4(plane.data(), base, nx, dx, dy, words.data(), runs, kAll.lo, kAll.hi, fast);
+    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, kAll.lo, kAll.hi,
+                          ref);
     for (int q = 0; q < 4; ++q) {
       ASSERT_EQ(ref[q], bits[q]) << "block " << q;
       ASSERT_EQ(fast[q], bits[q]) << "block " << q;
@@ -140,6 +149,64 @@ TEST(GatherSumsTest, RunSumsCountTheMaskedBitsOfEveryRun) {
     nonzero += bits[0] > 0 ? 1 : 0;
   }
   EXPECT_GT(nonzero, 150);
+}
+
+// A plane that is zero outside some rows (a small cluster): runs in CellGroups' order (rows
+// ascending) summed with those rows as limits equal the sums over every run, for one block and
+// for four (whose second row of blocks reads d rows further down).
+TEST(GatherSumsTest, RunSumsSkipOnlyRowsOfZeros) {
+  std::mt19937_64 rng(17);
+  const int nx = 50, ny = 60;
+  const std::ptrdiff_t base = 25 * nx + 20;
+  std::uniform_int_distribution<int> off(-12, 12), len(1, 8);
+  int skipped_nonzero = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    // Rows [lo, hi] of the plane (absolute) hold voxels; the others are zero.
+    const int lo = 14 + trial % 9, hi = lo + trial % 13;
+    std::vector<std::uint64_t> plane(static_cast<size_t>(nx) * ny, 0);
+    for (int y = lo; y <= hi; ++y) {
+      for (int x = 0; x < nx; ++x) plane[static_cast<size_t>(y) * nx + x] = rng() & rng();
+    }
+    // Runs sorted by (cy, cx), each once.
+    std::vector<std::pair<int, int>> starts;
+    for (int r = 0; r < 30; ++r) starts.emplace_back(off(rng), off(rng));
+    std::sort(starts.begin(), starts.end());
+    std::vector<std::uint64_t> headers, masks;
+    for (const auto& [cy, cx] : starts) {
+      const int n = len(rng);
+      headers.push_back(RunHeader(cx, cy, n));
+      for (int i = 0; i < n; ++i) masks.push_back(rng());
+    }
+    const int runs = static_cast<int>(headers.size());
+    std::vector<std::uint64_t> words = headers;
+    words.insert(words.end(), masks.begin(), masks.end());
+    const int row0 = static_cast<int>(base / nx);  // the plane row of cy = 0.
+    const int d = 1 + trial % 3;
+    const std::ptrdiff_t dx = d, dy = d * nx;
+    const int all =
+        RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs, kAll.lo, kAll.hi);
+    ASSERT_EQ(RunPopcountSum(plane.data(), base, nx, words.data(), runs, lo - row0, hi - row0),
+              all);
+    ASSERT_EQ(
+        RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs, lo - row0, hi - row0),
+        all);
+    int full[4], limited[4], limited_ref[4];
+    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, kAll.lo, kAll.hi,
+                          full);
+    RunPopcountSum4(plane.data(), base, nx, dx, dy, words.data(), runs, lo - row0 - d, hi - row0,
+                    limited);
+    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, lo - row0 - d,
+                          hi - row0, limited_ref);
+    for (int q = 0; q < 4; ++q) {
+      ASSERT_EQ(limited[q], full[q]) << "block " << q;
+      ASSERT_EQ(limited_ref[q], full[q]) << "block " << q;
+    }
+    // A limit one row too tight loses the sum of a non-zero row whenever a run reads it.
+    const int tight =
+        RunPopcountSum(plane.data(), base, nx, words.data(), runs, lo - row0 + 1, hi - row0);
+    skipped_nonzero += tight < all ? 1 : 0;
+  }
+  EXPECT_GT(skipped_nonzero, 20);  // the limits do leave runs out.
 }
 
 }  // namespace
