@@ -69,6 +69,14 @@ void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptio
   }
   size_t largest = 0;
   for (const Cluster& c : *clusters) largest = std::max(largest, c.points.size());
+  // Per bin, the one cluster all its points belong to (kEmpty without points, kMixed with
+  // several): a point whose 3 x 3 bins hold only its own cluster has no neighbour to test.
+  constexpr int kEmpty = -1, kMixed = -2;
+  std::vector<int> bin_cluster(static_cast<size_t>(cols) * rows, kEmpty);
+  for (size_t i = 0; i < seen.size(); ++i) {
+    int& b = bin_cluster[bin(col[i], row[i])];
+    b = b == kEmpty || b == seen[i].cluster ? seen[i].cluster : kMixed;
+  }
 
   // hidden_by[b]: the largest cluster that hides piece b, if any.
   std::vector<int> hidden_by(n, -1);
@@ -76,8 +84,21 @@ void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptio
     const Seen& far = seen[i];
     const size_t far_size = (*clusters)[far.cluster].points.size();
     if (static_cast<double>(far_size) > options.max_point_fraction * largest) continue;
-    for (int r = std::max(row_lo, row[i] - 1); r <= std::min(row_hi, row[i] + 1); ++r) {
-      for (int c = std::max(col_lo, col[i] - 1); c <= std::min(col_hi, col[i] + 1); ++c) {
+    const int r_lo = std::max(row_lo, row[i] - 1), r_hi = std::min(row_hi, row[i] + 1);
+    const int c_lo = std::max(col_lo, col[i] - 1), c_hi = std::min(col_hi, col[i] + 1);
+    bool others = false;
+    for (int r = r_lo; r <= r_hi && !others; ++r) {
+      for (int c = c_lo; c <= c_hi; ++c) {
+        const int b = bin_cluster[bin(c, r)];
+        if (b != kEmpty && b != far.cluster) {
+          others = true;
+          break;
+        }
+      }
+    }
+    if (!others) continue;
+    for (int r = r_lo; r <= r_hi; ++r) {
+      for (int c = c_lo; c <= c_hi; ++c) {
         const size_t k = bin(c, r);
         for (int s = start[k]; s < start[k + 1]; ++s) {
           const Seen& near = seen[sorted[s]];
