@@ -7,33 +7,56 @@
 namespace hpose {
 namespace {
 
-// A cluster as seen from the sensor: bearing and horizontal range intervals.
-struct SightExtent {
-  double bearing_lo = std::numeric_limits<double>::max();
-  double bearing_hi = std::numeric_limits<double>::lowest();
-  double range_lo = std::numeric_limits<double>::max();
-  double range_hi = std::numeric_limits<double>::lowest();
+// A key of a direction that increases with its bearing over (-pi, pi], as std::atan2 orders
+// them (signed zeros included): 1 - x / (|x| + |y|) with the sign of y, in [-2, 2].
+double BearingKey(double x, double y) {
+  const double s = std::abs(x) + std::abs(y);
+  if (s == 0.0) return std::copysign(std::signbit(x) ? 2.0 : 0.0, y);
+  return std::copysign(1.0 - x / s, y);
+}
 
-  void Extend(const SightExtent& o) {
-    bearing_lo = std::min(bearing_lo, o.bearing_lo);
-    bearing_hi = std::max(bearing_hi, o.bearing_hi);
-    range_lo = std::min(range_lo, o.range_lo);
-    range_hi = std::max(range_hi, o.range_hi);
-  }
-};
+}  // namespace
 
-SightExtent ExtentOf(const Cluster& c) {
+void SightExtent::Extend(const SightExtent& o) {
+  bearing_lo = std::min(bearing_lo, o.bearing_lo);
+  bearing_hi = std::max(bearing_hi, o.bearing_hi);
+  range_lo = std::min(range_lo, o.range_lo);
+  range_hi = std::max(range_hi, o.range_hi);
+}
+
+// The bearings and ranges of the extreme points only: one atan2 and one sqrt each instead of
+// per point (a cluster has thousands of points).
+SightExtent SightExtentOf(const Cluster& c) {
   SightExtent e;
+  if (c.points.empty()) return e;
+  double key_lo = std::numeric_limits<double>::max(),
+         key_hi = std::numeric_limits<double>::lowest();
+  double r2_lo = key_lo, r2_hi = key_hi;
+  Eigen::Vector2d at_lo = Eigen::Vector2d::Zero(), at_hi = at_lo;
   for (const Eigen::Vector3f& p : c.points) {
-    const double bearing = std::atan2(p.y(), p.x());
-    const double range = std::hypot(p.x(), p.y());
-    e.bearing_lo = std::min(e.bearing_lo, bearing);
-    e.bearing_hi = std::max(e.bearing_hi, bearing);
-    e.range_lo = std::min(e.range_lo, range);
-    e.range_hi = std::max(e.range_hi, range);
+    const double x = p.x(), y = p.y();
+    const double key = BearingKey(x, y);
+    if (key < key_lo) {
+      key_lo = key;
+      at_lo = {x, y};
+    }
+    if (key > key_hi) {
+      key_hi = key;
+      at_hi = {x, y};
+    }
+    const double r2 = x * x + y * y;  // exact: squares of floats fit a double.
+    r2_lo = std::min(r2_lo, r2);
+    r2_hi = std::max(r2_hi, r2);
   }
+  // In float, as the points are: their atan2 and hypot.
+  e.bearing_lo = std::atan2(static_cast<float>(at_lo.y()), static_cast<float>(at_lo.x()));
+  e.bearing_hi = std::atan2(static_cast<float>(at_hi.y()), static_cast<float>(at_hi.x()));
+  e.range_lo = static_cast<float>(std::sqrt(r2_lo));
+  e.range_hi = static_cast<float>(std::sqrt(r2_hi));
   return e;
 }
+
+namespace {
 
 bool SameObject(const SightExtent& a, const SightExtent& b, double min_overlap, double max_gap) {
   const double overlap =
@@ -51,7 +74,7 @@ void MergePiecesAlongSight(double min_bearing_overlap, double max_range_gap_m,
   if (min_bearing_overlap <= 0.0 || clusters->size() < 2) return;
   std::vector<SightExtent> extents;
   extents.reserve(clusters->size());
-  for (const Cluster& c : *clusters) extents.push_back(ExtentOf(c));
+  for (const Cluster& c : *clusters) extents.push_back(SightExtentOf(c));
   bool merged = true;
   while (merged) {
     merged = false;

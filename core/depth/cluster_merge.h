@@ -18,6 +18,17 @@ namespace hpose {
 void MergePiecesAlongSight(double min_bearing_overlap, double max_range_gap_m,
                            std::vector<Cluster>* clusters);
 
+// A cluster as the sensor sees it: the least and greatest std::atan2(y, x) and std::hypot(x, y)
+// of its points (in float, as the points are), computed for the extreme points only (to within
+// a float rounding of the per-point functions). An empty cluster has lo above hi.
+struct SightExtent {
+  double bearing_lo = 1e300, bearing_hi = -1e300;
+  double range_lo = 1e300, range_hi = -1e300;
+
+  void Extend(const SightExtent& o);
+};
+SightExtent SightExtentOf(const Cluster& c);
+
 }  // namespace hpose
 
 #endif  // HPOSE_CORE_DEPTH_CLUSTER_MERGE_H_
