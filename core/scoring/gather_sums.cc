@@ -41,20 +41,40 @@ void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, st
   out[3] = s11;
 }
 
+namespace {
+
+// The runs whose row lies in [cy_lo, cy_hi] (runs come in ascending rows): [first, end), and
+// where the first one's masks start.
+struct RowRuns {
+  int first = 0, end = 0;
+  const std::uint64_t* masks = nullptr;
+};
+
+RowRuns RunsOfRows(const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi) {
+  RowRuns out;
+  out.masks = runs + run_count;
+  while (out.first < run_count && RunHeaderY(runs[out.first]) < cy_lo) {
+    out.masks += RunHeaderLength(runs[out.first]);
+    ++out.first;
+  }
+  out.end = out.first;
+  while (out.end < run_count && RunHeaderY(runs[out.end]) <= cy_hi) ++out.end;
+  return out;
+}
+
+}  // namespace
+
 HPOSE_POPCNT_CLONES
 int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                          const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi) {
   int sum = 0;
-  const std::uint64_t* masks = runs + run_count;
-  for (int r = 0; r < run_count; ++r) {
+  const RowRuns rr = RunsOfRows(runs, run_count, cy_lo, cy_hi);
+  const std::uint64_t* masks = rr.masks;
+  for (int r = rr.first; r < rr.end; ++r) {
     const std::uint64_t h = runs[r];
+    const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
-    const int cy = RunHeaderY(h);
-    if (cy > cy_hi) break;
-    if (cy >= cy_lo) {
-      const std::uint64_t* p = RunStart(plane, base, row, h);
-      for (int i = 0; i < len; ++i) sum += __builtin_popcountll(masks[i] & p[i]);
-    }
+    for (int i = 0; i < len; ++i) sum += __builtin_popcountll(masks[i] & p[i]);
     masks += len;
   }
   return sum;
@@ -65,16 +85,11 @@ void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std:
                            std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
                            int run_count, int cy_lo, int cy_hi, int out[4]) {
   int s00 = 0, s01 = 0, s10 = 0, s11 = 0;
-  const std::uint64_t* masks = runs + run_count;
-  for (int r = 0; r < run_count; ++r) {
+  const RowRuns rr = RunsOfRows(runs, run_count, cy_lo, cy_hi);
+  const std::uint64_t* masks = rr.masks;
+  for (int r = rr.first; r < rr.end; ++r) {
     const std::uint64_t h = runs[r];
     const int len = RunHeaderLength(h);
-    const int cy = RunHeaderY(h);
-    if (cy > cy_hi) break;
-    if (cy < cy_lo) {
-      masks += len;
-      continue;
-    }
     const std::uint64_t* p = RunStart(plane, base, row, h);
     for (int i = 0; i < len; ++i) {
       const std::uint64_t m = masks[i];
@@ -161,16 +176,11 @@ namespace {
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, const std::uint64_t* runs,
     int run_count, int cy_lo, int cy_hi) {
   __m512i acc = _mm512_setzero_si512();
-  const std::uint64_t* masks = runs + run_count;
-  for (int r = 0; r < run_count; ++r) {
+  const RowRuns rr = RunsOfRows(runs, run_count, cy_lo, cy_hi);
+  const std::uint64_t* masks = rr.masks;
+  for (int r = rr.first; r < rr.end; ++r) {
     const std::uint64_t h = runs[r];
     const int len = RunHeaderLength(h);
-    const int cy = RunHeaderY(h);
-    if (cy > cy_hi) break;
-    if (cy < cy_lo) {
-      masks += len;
-      continue;
-    }
     const std::uint64_t* p = RunStart(plane, base, row, h);
     const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
     const __m512i words = _mm512_maskz_loadu_epi64(k, p);
@@ -187,16 +197,11 @@ namespace {
   const __m512i zero = _mm512_setzero_si512();
   __m512i acc[4] = {zero, zero, zero, zero};
   const std::ptrdiff_t offset[4] = {0, dy, dx, dx + dy};
-  const std::uint64_t* masks = runs + run_count;
-  for (int r = 0; r < run_count; ++r) {
+  const RowRuns rr = RunsOfRows(runs, run_count, cy_lo, cy_hi);
+  const std::uint64_t* masks = rr.masks;
+  for (int r = rr.first; r < rr.end; ++r) {
     const std::uint64_t h = runs[r];
     const int len = RunHeaderLength(h);
-    const int cy = RunHeaderY(h);
-    if (cy > cy_hi) break;
-    if (cy < cy_lo) {
-      masks += len;
-      continue;
-    }
     const std::uint64_t* p = RunStart(plane, base, row, h);
     const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
     const __m512i m = _mm512_maskz_loadu_epi64(k, masks);
