@@ -1,6 +1,10 @@
 // The fast scorer must give exactly the reference (OctoMap) scorer's hit count for any cluster,
 // template and pose.
+#include <cmath>
+#include <limits>
 #include <random>
+#include <set>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -26,6 +30,32 @@ std::vector<Eigen::Vector3f> RandomBlob(std::mt19937& rng, int n, float spread) 
     pts.emplace_back(c.x() + g(rng), c.y() + g(rng), std::max(0.0f, c.z() + g(rng)));
   }
   return pts;
+}
+
+// VoxeliseCluster (cells packed into words to sort them) against a set of CellOf's cells, in
+// (x, y, z) order: around the origin (negative cells), with NaNs skipped, and with one point
+// kilometres away (cells the packing cannot hold: the axis-by-axis sort).
+TEST(ScorerEquivalenceTest, VoxeliseClusterEqualsTheSortedDistinctCells) {
+  std::mt19937 rng(77);
+  for (int trial = 0; trial < 30; ++trial) {
+    std::vector<Eigen::Vector3f> pts = RandomBlob(rng, 500 + 100 * trial, 0.5f);
+    if (trial % 3 == 1) pts.emplace_back(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.1f);
+    if (trial % 3 == 2) pts.emplace_back(-20000.0f, 30000.0f, 0.2f);  // cell -1 250 000.
+    const double res = trial % 2 == 0 ? 0.016 : 0.01;
+    std::set<std::tuple<int, int, int>> expected;
+    for (const Eigen::Vector3f& p : pts) {
+      if (!p.allFinite()) continue;
+      const Eigen::Vector3i c = CellOf(p, res);
+      expected.insert({c.x(), c.y(), c.z()});
+    }
+    const ClusterVoxels v = VoxeliseCluster(pts, res);
+    ASSERT_EQ(v.cells.size(), expected.size()) << "trial " << trial;
+    size_t i = 0;
+    for (const auto& [x, y, z] : expected) {
+      ASSERT_EQ(v.cells[i], Eigen::Vector3i(x, y, z)) << "trial " << trial << " cell " << i;
+      ++i;
+    }
+  }
 }
 
 TEST(ScorerEquivalenceTest, FastEqualsReferenceOnRandomScenes) {
