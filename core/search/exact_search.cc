@@ -256,10 +256,12 @@ class BranchAndBound {
       if (n.loose) {  // subtract the free-space part now.
         n.value -= eval_.FreePart(n.tlevel, n.itheta, n.a, n.b, n.level);
         n.loose = false;
-        // Still ahead of every queued node (deferred ones are below defer_below_): go on with
-        // it rather than push and pop it; the order of expansions is the same.
+        // Still of the queue's highest value (deferred ones are below defer_below_): go on with
+        // it rather than push and pop it (it would leave first: the last block pushed of a value
+        // leaves first); the blocks expanded are the same.
         const PackedNode tight = Pack(n);
-        if (n.value < defer_below_ || (!Empty() && PackedLess()(tight, Top()))) {
+        if (n.value < defer_below_ ||
+            (!Empty() && SearchQueue::Value(tight) < SearchQueue::Value(Top()))) {
           Enqueue(n);
           continue;
         }

@@ -8,15 +8,15 @@
 
 namespace hpose {
 
-// The queue's order: highest value first; among equal values coarser nodes first (bounds
-// before exact poses), then lower itheta, a, b, tlevel: a strict order, so results never depend
-// on the heap's layout. Coarser first, every block bounded at the optimum's value is split
-// before a pose of that value leaves the queue: the optimum found is the one with the lowest
-// (itheta, a, b) among the poses of the highest value, whatever the bounds (before, finer
-// first, which pose of equal value came out depended on how the blocks above it were bounded).
-// Nodes are queued packed into 128 bits whose unsigned order is that order (16 bytes instead of 28,
-// one or two integer compares per heap step). The value sits in the top 32 bits of `hi`, biased by
-// 2^31.
+// The queue's order: highest value first; among equal values blocks (bounds) before exact poses,
+// and exact poses by lower itheta, a, b. Blocks of one value leave in any order (the queue takes
+// the last one pushed): every block of the highest value is split before a pose of that value
+// leaves, whatever their order, so the optimum found is the one with the lowest (itheta, a, b)
+// among the poses of the highest value, whatever the bounds, and the blocks split are the same
+// (before, finer first, which pose of equal value came out depended on how the blocks above it
+// were bounded). Nodes are queued packed into 128 bits whose unsigned order is that of the
+// poses (16 bytes instead of 28, one or two integer compares per heap step). The value sits in
+// the top 32 bits of `hi`, biased by 2^31; a pose's `fine` field (bits 16-20 of `hi`) is 0.
 struct PackedNode {
   std::uint64_t hi;  // value (biased) | fine | 0xFFFF - itheta.
   std::uint64_t lo;  // 2^24-1 - (a - a0) | 2^24-1 - (b - b0) | 7 - tlevel | level | loose.
@@ -28,15 +28,18 @@ struct PackedLess {
   }
 };
 
-// The queue of nodes: one binary heap per value (a node's value is a small integer), so that a
-// push or a pop sifts through the nodes of one value only. Pops in exactly the order of one heap
-// over all the nodes (PackedLess).
+// The queue of nodes: one bucket per value (a node's value is a small integer), each a stack of
+// blocks and a binary heap of poses, so that a block's push or pop touches the end of one array
+// (the one the search just used, mostly) and a pose's sifts through the poses of one value only.
 class SearchQueue {
  public:
   bool empty() const { return size_ == 0; }
   size_t bucket_count() const { return buckets_.size(); }
   size_t size() const { return size_; }
-  const PackedNode& top() const { return buckets_[top_].front(); }
+  const PackedNode& top() const {
+    const Bucket& b = buckets_[top_];
+    return b.blocks.empty() ? b.poses.front() : b.blocks.back();
+  }
   void push(const PackedNode& p) {
     const int v = Value(p);
     if (fresh_) {  // the first node: buckets around its value (values fall as a search goes).
@@ -47,22 +50,30 @@ class SearchQueue {
     }
     if (v < base_) {  // grow downwards: shift the buckets up.
       const int extra = std::max(base_ - v, static_cast<int>(buckets_.size()) / 2);
-      buckets_.insert(buckets_.begin(), static_cast<size_t>(extra), std::vector<PackedNode>());
+      buckets_.insert(buckets_.begin(), static_cast<size_t>(extra), Bucket());
       base_ -= extra;
       top_ += extra;
     }
     const size_t k = static_cast<size_t>(v - base_);
     if (k >= buckets_.size()) buckets_.resize(std::max(k + 1, 2 * buckets_.size()));
-    std::vector<PackedNode>& b = buckets_[k];
-    b.push_back(p);
-    std::push_heap(b.begin(), b.end(), PackedLess());
+    Bucket& b = buckets_[k];
+    if (IsPose(p)) {
+      b.poses.push_back(p);
+      std::push_heap(b.poses.begin(), b.poses.end(), PackedLess());
+    } else {
+      b.blocks.push_back(p);
+    }
     if (size_ == 0 || static_cast<int>(k) > top_) top_ = static_cast<int>(k);
     ++size_;
   }
   void pop() {
-    std::vector<PackedNode>& b = buckets_[top_];
-    std::pop_heap(b.begin(), b.end(), PackedLess());
-    b.pop_back();
+    Bucket& b = buckets_[top_];
+    if (!b.blocks.empty()) {
+      b.blocks.pop_back();
+    } else {
+      std::pop_heap(b.poses.begin(), b.poses.end(), PackedLess());
+      b.poses.pop_back();
+    }
     --size_;
     if (size_ == 0) return;
     while (buckets_[top_].empty()) --top_;
@@ -71,7 +82,10 @@ class SearchQueue {
   // Empties the queue, keeping its buckets' memory for the next search (buckets for about as
   // many values as the widest search so far spanned, a few times over).
   void clear() {
-    for (std::vector<PackedNode>& b : buckets_) b.clear();
+    for (Bucket& b : buckets_) {
+      b.blocks.clear();
+      b.poses.clear();
+    }
     size_ = 0;
     top_ = 0;
     fresh_ = true;
@@ -80,9 +94,16 @@ class SearchQueue {
   static int Value(const PackedNode& p) {
     return static_cast<int>(static_cast<std::uint32_t>(p.hi >> 32) ^ 0x80000000u);
   }
+  // An exact pose (a single theta and translation), not a block.
+  static bool IsPose(const PackedNode& p) { return ((p.hi >> 16) & 0x1F) == 0; }
 
  private:
-  std::vector<std::vector<PackedNode>> buckets_;  // bucket k: nodes of value base_ + k.
+  struct Bucket {
+    std::vector<PackedNode> blocks;  // in the order pushed; the last leaves first.
+    std::vector<PackedNode> poses;   // a heap (PackedLess).
+    bool empty() const { return blocks.empty() && poses.empty(); }
+  };
+  std::vector<Bucket> buckets_;  // bucket k: nodes of value base_ + k.
   int base_ = 0;
   int top_ = 0;  // the highest non-empty bucket (when size_ > 0).
   size_t size_ = 0;

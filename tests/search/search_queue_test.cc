@@ -1,9 +1,11 @@
-// The branch and bound's queue (one heap per value) pops nodes in exactly the order one binary
-// heap over all of them would: the exact search's results do not depend on which it uses.
+// The branch and bound's queue (a stack of blocks and a heap of poses per value) pops the
+// highest value first; within a value the block pushed last, else the pose a binary heap would
+// (PackedLess). The exact search's optimum depends only on the poses' order (tests in
+// exact_search_test.cc and exact_search_bounds_test.cc compare it with brute force).
 #include "core/search/search_queue.h"
 
+#include <algorithm>
 #include <limits>
-#include <queue>
 #include <random>
 #include <vector>
 
@@ -20,32 +22,57 @@ PackedNode Node(int value, std::uint64_t rest_hi, std::uint64_t lo) {
   return p;
 }
 
-TEST(SearchQueueTest, PopsInTheOrderOfOneHeap) {
+// A node of the given value: a pose when `fine` is 0, else a block.
+PackedNode Node(int value, int fine, std::uint64_t rest_hi, std::uint64_t lo) {
+  return Node(value, (static_cast<std::uint64_t>(fine) << 16) | (rest_hi & 0xFFFF), lo);
+}
+
+// What the queue must pop, by looking at every queued node (in the order pushed): the highest
+// value; of it the last block pushed, else the largest pose by PackedLess.
+size_t Expected(const std::vector<PackedNode>& pushed) {
+  int best_value = std::numeric_limits<int>::min();
+  for (const PackedNode& p : pushed) best_value = std::max(best_value, SearchQueue::Value(p));
+  constexpr size_t kNone = std::numeric_limits<size_t>::max();
+  size_t last_block = kNone, best_pose = kNone;
+  for (size_t i = 0; i < pushed.size(); ++i) {
+    const PackedNode& p = pushed[i];
+    if (SearchQueue::Value(p) != best_value) continue;
+    if (!SearchQueue::IsPose(p)) {
+      last_block = i;
+    } else if (best_pose == kNone || PackedLess()(pushed[best_pose], p)) {
+      best_pose = i;
+    }
+  }
+  return last_block != kNone ? last_block : best_pose;
+}
+
+TEST(SearchQueueTest, PopsBlocksLastInFirstOutThenPosesInHeapOrder) {
   std::mt19937_64 rng(5);
   SearchQueue reused;
   for (int round = 0; round < 20; ++round) {
     // Values around a first one that is not the largest, negative ones included, so the
     // buckets grow both ways; few distinct keys besides the value, so ties within a bucket
-    // are decided by the rest of the key.
+    // are decided by the rest of the key; blocks and poses mixed.
     std::uniform_int_distribution<int> value(-300 - 50 * round, 400 + 30 * round);
-    std::uniform_int_distribution<int> small(0, 3), op(0, 2);
+    std::uniform_int_distribution<int> small(0, 3), op(0, 2), fine(0, 2);
     SearchQueue fresh;
     // Every other round reuses the queue of the last (cleared, nodes left in it or not).
     SearchQueue& q = round % 2 == 0 ? fresh : reused;
     q.clear();
-    std::priority_queue<PackedNode, std::vector<PackedNode>, PackedLess> ref;
-    int pops = 0;
-    for (int step = 0; step < 4000; ++step) {
+    std::vector<PackedNode> ref;  // in the order pushed.
+    int pops = 0, block_pops = 0, pose_pops = 0;
+    for (int step = 0; step < 2000; ++step) {
       if (op(rng) < 2 || ref.empty()) {
-        const PackedNode p = Node(value(rng), small(rng), small(rng));
+        const PackedNode p = Node(value(rng), fine(rng), small(rng), small(rng));
         q.push(p);
-        ref.push(p);
+        ref.push_back(p);
       } else {
-        ASSERT_EQ(q.top().hi, ref.top().hi) << "round " << round << " step " << step;
-        ASSERT_EQ(q.top().lo, ref.top().lo);
-        EXPECT_EQ(SearchQueue::Value(q.top()), SearchQueue::Value(ref.top()));
+        const size_t e = Expected(ref);
+        ASSERT_EQ(q.top().hi, ref[e].hi) << "round " << round << " step " << step;
+        ASSERT_EQ(q.top().lo, ref[e].lo);
+        (SearchQueue::IsPose(ref[e]) ? pose_pops : block_pops) += 1;
         q.pop();
-        ref.pop();
+        ref.erase(ref.begin() + static_cast<std::ptrdiff_t>(e));
         ++pops;
       }
       ASSERT_EQ(q.size(), ref.size());
@@ -53,13 +80,16 @@ TEST(SearchQueueTest, PopsInTheOrderOfOneHeap) {
     }
     if (round % 4 == 1) continue;  // left full for the next clear().
     while (!ref.empty()) {
-      ASSERT_EQ(q.top().hi, ref.top().hi);
-      ASSERT_EQ(q.top().lo, ref.top().lo);
+      const size_t e = Expected(ref);
+      ASSERT_EQ(q.top().hi, ref[e].hi);
+      ASSERT_EQ(q.top().lo, ref[e].lo);
       q.pop();
-      ref.pop();
+      ref.erase(ref.begin() + static_cast<std::ptrdiff_t>(e));
     }
     EXPECT_TRUE(q.empty());
-    EXPECT_GT(pops, 500);
+    EXPECT_GT(pops, 300);
+    EXPECT_GT(block_pops, 50);
+    EXPECT_GT(pose_pops, 50);
   }
 }
 
