@@ -11,7 +11,8 @@ namespace hpose {
 namespace {
 
 // A cloud in front of the sensor: random points over a +-40 degree view at 0.5-5 m, some NaN,
-// some behind the sensor, a few almost in the optical centre's plane.
+// some behind the sensor, a few almost in the optical centre's plane (slopes up to infinite),
+// a few with one infinite coordinate.
 PointCloud RandomCloud(unsigned seed, int n) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> tan(-0.8f, 0.8f), depth(0.5f, 5.0f);
@@ -24,6 +25,10 @@ PointCloud RandomCloud(unsigned seed, int n) {
       cloud.points.emplace_back(tan(rng), tan(rng), -z);
     } else if (i % 113 == 0) {
       cloud.points.emplace_back(tan(rng), tan(rng), 1e-7f);
+    } else if (i % 211 == 0) {  // slopes of 1e35 and more, mostly +-inf.
+      cloud.points.emplace_back(tan(rng), tan(rng), 1e-40f);
+    } else if (i % 307 == 0) {  // one coordinate infinite, the others finite.
+      cloud.points.emplace_back(tan(rng), INFINITY, z);
     } else {
       cloud.points.emplace_back(tan(rng) * z, tan(rng) * z, z);
     }
