@@ -259,9 +259,7 @@ class BranchAndBound {
         // Still of the queue's highest value (deferred ones are below defer_below_): go on with
         // it rather than push and pop it (it would leave first: the last block pushed of a value
         // leaves first); the blocks expanded are the same.
-        const PackedNode tight = Pack(n);
-        if (n.value < defer_below_ ||
-            (!Empty() && SearchQueue::Value(tight) < SearchQueue::Value(Top()))) {
+        if (n.value < defer_below_ || (!Empty() && n.value < SearchQueue::Value(Top()))) {
           Enqueue(n);
           continue;
         }
@@ -361,7 +359,8 @@ class BranchAndBound {
     assert(n.tlevel < 8 && n.level < 32);
     PackedNode p;
     p.hi = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(n.value) ^ 0x80000000u) << 32) |
-           (static_cast<std::uint64_t>(fine) << 16) | static_cast<std::uint64_t>(0xFFFF - n.itheta);
+           (static_cast<std::uint64_t>(fine) << PackedNode::kFineShift) |
+           static_cast<std::uint64_t>(0xFFFF - n.itheta);
     p.lo = ((kOffsetMask - da) << 40) | ((kOffsetMask - db) << 16) |
            (static_cast<std::uint64_t>(7 - n.tlevel) << 13) |
            (static_cast<std::uint64_t>(n.level) << 8) | (n.loose ? 1 : 0);

@@ -20,6 +20,9 @@ namespace hpose {
 struct PackedNode {
   std::uint64_t hi;  // value (biased) | fine | 0xFFFF - itheta.
   std::uint64_t lo;  // 2^24-1 - (a - a0) | 2^24-1 - (b - b0) | 7 - tlevel | level | loose.
+  // Where `fine` (tlevel + level: 0 for an exact pose) sits in `hi`.
+  static constexpr int kFineShift = 16;
+  static constexpr std::uint64_t kFineMask = 0x1F;
 };
 
 struct PackedLess {
@@ -95,7 +98,9 @@ class SearchQueue {
     return static_cast<int>(static_cast<std::uint32_t>(p.hi >> 32) ^ 0x80000000u);
   }
   // An exact pose (a single theta and translation), not a block.
-  static bool IsPose(const PackedNode& p) { return ((p.hi >> 16) & 0x1F) == 0; }
+  static bool IsPose(const PackedNode& p) {
+    return ((p.hi >> PackedNode::kFineShift) & PackedNode::kFineMask) == 0;
+  }
 
  private:
   struct Bucket {

@@ -24,7 +24,8 @@ PackedNode Node(int value, std::uint64_t rest_hi, std::uint64_t lo) {
 
 // A node of the given value: a pose when `fine` is 0, else a block.
 PackedNode Node(int value, int fine, std::uint64_t rest_hi, std::uint64_t lo) {
-  return Node(value, (static_cast<std::uint64_t>(fine) << 16) | (rest_hi & 0xFFFF), lo);
+  return Node(
+      value, (static_cast<std::uint64_t>(fine) << PackedNode::kFineShift) | (rest_hi & 0xFFFF), lo);
 }
 
 // What the queue must pop, by looking at every queued node (in the order pushed): the highest
