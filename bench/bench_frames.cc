@@ -8,6 +8,7 @@
 #include "core/depth/floor_fitter.h"
 #include "core/depth/range_image.h"
 #include "core/scoring/free_space.h"
+#include "core/sim/humanoid_model.h"
 #include "core/templates/template_io.h"
 
 namespace hpose::bench {
@@ -16,6 +17,22 @@ Result<std::vector<VoxelTemplate>> LoadShippedTemplates(const std::string& dir) 
   std::vector<VoxelTemplate> templates;
   for (const char* name : {"standing", "right_arm_raised"}) {
     Result<VoxelTemplate> t = LoadTemplate(dir + "/" + name + ".bt");
+    if (!t.ok()) return t.error();
+    templates.push_back(std::move(*t));
+  }
+  return templates;
+}
+
+Result<std::vector<VoxelTemplate>> BodyTemplates(const std::string& body) {
+  Result<HumanoidDimensions> dimensions = HumanoidDimensions::Variant(body);
+  if (!dimensions.ok()) return dimensions.error();
+  std::vector<VoxelTemplate> templates;
+  for (const char* name : {"standing", "right_arm_raised"}) {
+    Result<HumanoidModel> model = HumanoidModel::FromPreset(name, *dimensions);
+    if (!model.ok()) return model.error();
+    Result<std::vector<Eigen::Vector3f>> points = model->SampleSurface(0.004);
+    if (!points.ok()) return points.error();
+    Result<VoxelTemplate> t = MakeTemplateFromPoints(*points, name, 0.016, name, "bench " + body);
     if (!t.ok()) return t.error();
     templates.push_back(std::move(*t));
   }

@@ -20,6 +20,9 @@ namespace hpose::bench {
 
 // Loads standing.bt and right_arm_raised.bt from `dir`.
 Result<std::vector<VoxelTemplate>> LoadShippedTemplates(const std::string& dir);
+// The same two templates made from the parametric humanoid with the proportions `body`
+// (HumanoidDimensions::Variant), as `hpose template generate --body` makes them.
+Result<std::vector<VoxelTemplate>> BodyTemplates(const std::string& body);
 
 // `count` frame specs: both presets, headings spread over the circle (77 degree strides),
 // 0.9-`max_distance_m` away in 12 steps, `clutter` clutter objects, seeds 1..count.

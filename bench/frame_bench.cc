@@ -16,6 +16,9 @@
 // otherwise. Pin it to one core for the documented numbers:
 //   taskset -c 0 frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]
 //                            [--repeat N] [--only VARIANT] [--frames-detail] [--dump]
+//                            [--body NAME] [--sensor-height M] [--pitch-deg D]
+// With --body other than nao the humanoid has those proportions and the two templates are made
+// from them (BodyTemplates) instead of the shipped ones.
 #include <time.h>
 
 #include <algorithm>
@@ -322,6 +325,10 @@ std::vector<Variant> ScatteredVariants() {
                }});
   v.push_back({"exact search, free part of every block (before)", ExactBoundsBefore});
   v.push_back({"exact search, theta blocks at the top (before)", ExactThetaBlocksBefore});
+  v.push_back({"exact search, two-word columns (before slabs)", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->exact.slabs = false;
+               }});
   v.push_back({"exact search, 2 threads", [](EstimatorOptions* o) {
                  Exact(o);
                  o->threads = 2;
@@ -415,6 +422,12 @@ std::vector<Variant> SequenceVariants() {
                  o->exact.swept_bounds = false;
                },
                true});
+  v.push_back({"walk, tracked, two-word columns (before slabs)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->exact.slabs = false;
+               },
+               true});
   v.push_back({"walk, tracked, 2 threads",
                [](EstimatorOptions* o) {
                  Exact(o);
@@ -428,6 +441,7 @@ int Usage(FILE* out) {
   std::fprintf(out,
                "usage: frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]\n"
                "                   [--repeat N] [--only VARIANT] [--frames-detail] [--dump]\n"
+               "                   [--body NAME] [--sensor-height M] [--pitch-deg D]\n"
                "  --frames N        scattered frames, every variant cold (default 30; 0: none)\n"
                "  --sequence N      frames of the walk, cold and tracked (default 30; 0: none)\n"
                "  --clutter N       clutter objects per frame (default 4)\n"
@@ -435,7 +449,12 @@ int Usage(FILE* out) {
                "  --repeat N        run every frame N times (times of all runs, results of the "
                "first)\n"
                "  --only VARIANT    run this variant (by its name in the tables); repeat the flag\n"
-               "                    for several, which then run side by side\n");
+               "                    for several, which then run side by side\n"
+               "  --body NAME       humanoid proportions (nao, long_legs, tall); other than nao,\n"
+               "                    the templates are made from the body (default nao: the\n"
+               "                    shipped templates)\n"
+               "  --sensor-height M optical centre above the floor, metres (0.34)\n"
+               "  --pitch-deg D     sensor pitch, degrees, + looks down (0)\n");
   return out == stdout ? 0 : 2;
 }
 
@@ -444,6 +463,8 @@ int Run(int argc, char** argv) {
   int sequence = 30;
   int clutter = 4;
   double max_distance = 3.5;
+  std::string body = "nao";
+  double sensor_height = 0.34, pitch_deg = 0.0;
   RunFlags flags;
   std::vector<std::string> only;
   for (int i = 1; i < argc; ++i) {
@@ -467,6 +488,12 @@ int Run(int argc, char** argv) {
       max_distance = std::atof(argv[++i]);
     } else if (a == "--repeat") {
       flags.repeat = std::atoi(argv[++i]);
+    } else if (a == "--body") {
+      body = argv[++i];
+    } else if (a == "--sensor-height") {
+      sensor_height = std::atof(argv[++i]);
+    } else if (a == "--pitch-deg") {
+      pitch_deg = std::atof(argv[++i]);
     } else if (a == "--only") {
       only.push_back(argv[++i]);
     } else {
@@ -481,7 +508,13 @@ int Run(int argc, char** argv) {
                  "1, --max-distance within [0.9, 8] m\n");
     return 2;
   }
-  Result<std::vector<VoxelTemplate>> templates = LoadShippedTemplates(HPOSE_TEMPLATE_DIR);
+  if (!(sensor_height > 0.0 && sensor_height <= 3.0) || !(std::abs(pitch_deg) <= 60.0)) {
+    std::fprintf(stderr,
+                 "frame_bench: --sensor-height must be in (0, 3] m, --pitch-deg in [-60, 60]\n");
+    return 2;
+  }
+  Result<std::vector<VoxelTemplate>> templates =
+      body == "nao" ? LoadShippedTemplates(HPOSE_TEMPLATE_DIR) : BodyTemplates(body);
   if (!templates.ok()) {
     std::fprintf(stderr, "frame_bench: %s\n", templates.error().message.c_str());
     return 1;
@@ -506,6 +539,11 @@ int Run(int argc, char** argv) {
   }
   // Renders one set of frames and runs its variants; false (after saying why) on an error.
   const auto run_set = [&](std::vector<FrameSpec> specs, std::vector<Variant>* set) {
+    for (FrameSpec& spec : specs) {
+      spec.body = body;
+      spec.sensor_height_m = sensor_height;
+      spec.sensor_pitch_rad = DegToRad(pitch_deg);
+    }
     Result<Frames> f = Render(std::move(specs));
     const Status st = f.ok() ? RunAll(*f, flags, set) : Status(f.error());
     if (!st.ok()) std::fprintf(stderr, "frame_bench: %s\n", st.error().message.c_str());
@@ -514,18 +552,20 @@ int Run(int argc, char** argv) {
   if (!scattered.empty()) {
     if (!run_set(BenchFrameSpecs(frames, clutter, max_distance), &scattered)) return 1;
     std::printf(
-        "\n%d scattered simulated 640x480 frames (humanoid 0.9-%.1f m away, %d clutter objects, "
-        "2 templates), %d run(s) each; median / p90 in ms\n\n",
-        frames, max_distance, clutter, flags.repeat);
+        "\n%d scattered simulated 640x480 frames (humanoid '%s' 0.9-%.1f m away, sensor %.2f m "
+        "high pitched %.0f deg, %d clutter objects, 2 templates), %d run(s) each; median / p90 "
+        "in ms\n\n",
+        frames, body.c_str(), max_distance, sensor_height, pitch_deg, clutter, flags.repeat);
     PrintTable(scattered);
     PrintByDistance(scattered);
   }
   if (!walk.empty()) {
     if (!run_set(BenchSequenceSpecs(sequence, clutter), &walk)) return 1;
     std::printf(
-        "\nA walk of %d consecutive frames (1.4-3.0 m away, 2.5 degrees of turn a frame, %d "
-        "clutter objects), %d run(s) each; median / p90 in ms\n\n",
-        sequence, clutter, flags.repeat);
+        "\nA walk of %d consecutive frames (humanoid '%s' 1.4-3.0 m away, 2.5 degrees of turn a "
+        "frame, sensor %.2f m high pitched %.0f deg, %d clutter objects), %d run(s) each; median / "
+        "p90 in ms\n\n",
+        sequence, body.c_str(), sensor_height, pitch_deg, clutter, flags.repeat);
     PrintTable(walk);
   }
   std::printf(

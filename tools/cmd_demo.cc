@@ -43,7 +43,7 @@ int RunDemo(int argc, char** argv) {
   flags.AddDouble("theta-deg", &theta_deg, "humanoid heading, degrees (0 = facing away)", "DEG");
   flags.AddString("pose", &spec.preset, "humanoid joint preset: standing or right_arm_raised",
                   "NAME");
-  flags.AddString("body", &spec.body, "humanoid proportions: nao or long_legs", "NAME");
+  flags.AddString("body", &spec.body, "humanoid proportions: nao, long_legs or tall", "NAME");
   flags.AddString("robot", &robot_urdf,
                   "simulate and look for this URDF robot (template made from it, 16 mm voxels)",
                   "ROBOT.urdf");

@@ -42,7 +42,7 @@ int Generate(int argc, char** argv) {
       "primitives in the template frame (origin on the floor below the torso centre, x forward,\n"
       "y left, z up) and voxelises it. Writes FILE.bt (OctoMap) and its FILE.json sidecar.");
   flags.AddString("pose", &pose, "joint preset: standing or right_arm_raised", "NAME");
-  flags.AddString("body", &body, "proportions: nao or long_legs", "NAME");
+  flags.AddString("body", &body, "proportions: nao, long_legs or tall", "NAME");
   flags.AddString("out", &out, "template file to write (.bt)", "FILE.bt");
   flags.AddDouble("resolution", &resolution, "voxel edge, metres", "M");
   flags.AddString("name", &name, "template name [default: the pose]", "N");

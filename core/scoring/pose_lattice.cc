@@ -5,6 +5,7 @@
 #include <climits>
 #include <cmath>
 #include <map>
+#include <utility>
 
 #include "core/scoring/column_occupancy.h"
 
@@ -233,8 +234,13 @@ void AddCellTables(int shift, RotatedTemplate* r) {
 }  // namespace
 
 TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice)
-    : name_(tpl.name), height_m_(tpl.Height()), lattice_(lattice) {
-  const PointColumns g = GroupPoints(tpl.VoxelSurfaceCentroids(), lattice.resolution_m);
+    : TemplateRotations(tpl.name, tpl.Height(), tpl.VoxelSurfaceCentroids(), lattice) {}
+
+TemplateRotations::TemplateRotations(std::string name, double height_m,
+                                     const std::vector<Eigen::Vector3f>& points,
+                                     const PoseLattice& lattice)
+    : name_(std::move(name)), height_m_(height_m), lattice_(lattice) {
+  const PointColumns g = GroupPoints(points, lattice.resolution_m);
   rotations_.reserve(lattice.angle_steps);
   // Per column and block, the square its sub-voxel coordinates sweep: [lo, hi].
   std::vector<std::vector<Eigen::Vector2i>> lo, hi;
@@ -302,6 +308,17 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
   }
   for (std::vector<RotatedTemplate>& level : blocks_) {
     for (RotatedTemplate& r : level) visit(&r);
+  }
+  if (z_words_ > 1 && shift_ >= 0) {
+    std::vector<std::vector<Eigen::Vector3f>> cut(z_words_);
+    for (size_t i = 0; i < points.size(); ++i) {
+      cut[(g.point_z[i] - g.z_base) / 64].push_back(points[i]);
+    }
+    for (const std::vector<Eigen::Vector3f>& slab : cut) {
+      if (slab.empty()) continue;  // a gap of 64 cells or more.
+      slabs_.push_back(std::unique_ptr<TemplateRotations>(
+          new TemplateRotations(name_, height_m_, slab, lattice)));
+    }
   }
 }
 
@@ -493,6 +510,9 @@ const CellGroups& TemplateRotations::SweptBlockGroups(int tlevel, int itheta0, i
 }
 
 void TemplateRotations::MakeTables(int max_tlevel, int begin, int end) const {
+  for (const std::unique_ptr<TemplateRotations>& slab : slabs_) {
+    slab->MakeTables(max_tlevel, begin, end);
+  }
   if (!has_cell_groups()) return;
   const int steps = static_cast<int>(rotations_.size());
   max_tlevel = std::min(max_tlevel, kThetaLevels - 1);

@@ -164,6 +164,9 @@ class TemplateRotations {
   static constexpr int kThetaLevels = 5;  // blocks of up to 16 angle steps.
 
   TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice);
+  // The same for the template points `points` (VoxelSurfaceCentroids of a template).
+  TemplateRotations(std::string name, double height_m, const std::vector<Eigen::Vector3f>& points,
+                    const PoseLattice& lattice);
   // itheta in [0, angle_steps).
   const RotatedTemplate& Get(int itheta) const { return rotations_[itheta]; }
   // The columns of the theta block (level, itheta0); level 0 is Get(itheta0). Only the column
@@ -214,6 +217,13 @@ class TemplateRotations {
   // search pays for them; a no-op without cell groups. Thread-safe; rotations [begin, end)
   // only, so that threads can share the work.
   void MakeTables(int max_tlevel, int begin, int end) const;
+  // A template taller than 64 z cells (z_words() > 1) has none of the cell tables above; its
+  // slabs do: its points cut at every 64th z cell from its lowest, each run of 64 cells a
+  // TemplateRotations of its own (one-word columns, the same columns' (x, y)). The slabs' cells
+  // are disjoint, so a pose's hits are the sum of its slabs' hits, and a sum of their bounds
+  // bounds it. Empty for one-word templates and without a power-of-two subdivision.
+  const std::vector<std::unique_ptr<TemplateRotations>>& slabs() const { return slabs_; }
+  int z_words() const { return z_words_; }
   // CellDisjointMasks of rotation itheta (for free-space lower bounds), made once.
   const std::vector<std::uint64_t>& DisjointMasks(int itheta) const { return disjoint_[itheta]; }
   // The range of column_q over every rotation and block (sub-voxel steps).
@@ -248,6 +258,7 @@ class TemplateRotations {
   mutable std::vector<std::unique_ptr<std::once_flag[]>> swept_blocks_once_;
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
+  std::vector<std::unique_ptr<TemplateRotations>> slabs_;
 };
 
 }  // namespace hpose

@@ -37,83 +37,88 @@ struct BranchAndBoundResult {
   int upper_bound = 0;     // with below_min: no pose's value exceeds this.
 };
 
-// The value of poses and its bounds: weighted cluster hits (OR pyramid: an upper bound) minus
-// weighted free-space hits (AND pyramid over cell-disjoint column masks: a lower bound of the
-// free hits of a single rotation; theta blocks bound the free hits by 0).
-class Evaluator {
+// The value of poses and its bounds for one template (or one slab of a tall one): weighted
+// cluster hits (OR pyramid: an upper bound) minus weighted free-space hits (AND pyramid over
+// cell-disjoint column masks: a lower bound of the free hits of a single rotation; theta blocks
+// bound the free hits by 0).
+class PartEvaluator {
  public:
   static constexpr int kPrefetchWords = 64;  // 8 cache lines; the hardware streams the rest.
 
-  Evaluator(const ColumnOccupancy* cluster, const ColumnOccupancy* free, int free_weight,
-            int hit_weight, const TemplateRotations& rotations, bool swept_bounds,
-            int free_bound_max_level, bool common_free_part)
+  PartEvaluator(const ColumnOccupancy* cluster, const ColumnOccupancy* free, int free_weight,
+                int hit_weight, const TemplateRotations& rotations, bool swept_bounds,
+                int free_bound_max_level, bool common_free_part)
       : cluster_(cluster),
         free_(free),
         free_weight_(free_weight),
         hit_weight_(hit_weight),
-        rotations_(rotations),
-        pairs_ok_(cluster->aligned() && (free == nullptr || free->aligned()) &&
-                  rotations.has_cell_groups() && rotations.lattice().subdivisions >= 4),
+        rotations_(&rotations),
+        grouped_(cluster->aligned() && (free == nullptr || free->aligned()) &&
+                 rotations.has_cell_groups()),
+        pairs_ok_(grouped_ && rotations.lattice().subdivisions >= 4),
         swept_ok_(swept_bounds && cluster->aligned() && rotations.has_cell_groups()),
         common_ok_(swept_ok_ && free != nullptr && free->aligned() && common_free_part),
         free_bound_max_level_(free_bound_max_level) {}
 
-  int Value(const RotatedTemplate& r, int a, int b) const {
-    if (cluster_->aligned() && (free_ == nullptr || free_->aligned()) &&
-        rotations_.has_cell_groups()) {
-      const int mask = rotations_.lattice().subdivisions - 1;
-      const CellGroups& g = rotations_.Groups(r.itheta, a & mask, b & mask);
+  int Value(int itheta, int a, int b) const {
+    if (grouped_) {
+      const int mask = rotations_->lattice().subdivisions - 1;
+      const CellGroups& g = rotations_->Groups(itheta, a & mask, b & mask);
       int v = hit_weight_ * cluster_->HitsGrouped(g, a, b);
       if (free_ != nullptr) v -= free_weight_ * free_->HitsGrouped(g, a, b);
       return v;
     }
+    const RotatedTemplate& r = rotations_->Get(itheta);
     int v = hit_weight_ * cluster_->Hits(r, a, b);
     if (free_ != nullptr) v -= free_weight_ * free_->Hits(r, a, b);
     return v;
   }
   // The cluster part of a block's bound: with HasFreePart, FreePart is still to be subtracted.
-  int ClusterBound(int tlevel, const RotatedTemplate& r, int a, int b, int level) const {
+  int ClusterBound(int tlevel, int itheta, int a, int b, int level) const {
     if (Swept(level)) {
-      const int mask = rotations_.lattice().subdivisions - 1;
+      const int mask = rotations_->lattice().subdivisions - 1;
       return hit_weight_ *
              cluster_->HitsGrouped(
-                 rotations_.SweptBlockGroups(tlevel, r.itheta, level, a & mask, b & mask), a, b);
+                 rotations_->SweptBlockGroups(tlevel, itheta, level, a & mask, b & mask), a, b);
     }
+    const RotatedTemplate& r = rotations_->GetBlock(tlevel, itheta);
     if (Pairs(r, a, b, level)) {
       return hit_weight_ *
-             cluster_->PairBound(PairTable(r.itheta, a, b), r.column_masks.data(), a, b);
+             cluster_->PairBound(PairTable(itheta, a, b), r.column_masks.data(), a, b);
     }
     return hit_weight_ * cluster_->Bound(r, a, b, level);
   }
-  void ClusterBound4(int tlevel, const RotatedTemplate& r, int a, int b, int level,
-                     int out[4]) const {
+  // The four translation quarters' ClusterBound, added to out[].
+  void AddClusterBound4(int tlevel, int itheta, int a, int b, int level, int out[4]) const {
     const int size = 1 << level;
-    const int s = rotations_.lattice().subdivisions;
+    const int s = rotations_->lattice().subdivisions;
+    int part[4];
     if (Swept(level) && size % s == 0) {  // the four share a residue: one table.
       cluster_->HitsGrouped4(
-          rotations_.SweptBlockGroups(tlevel, r.itheta, level, a & (s - 1), b & (s - 1)), a, b,
-          size / s, out);
-      for (int k = 0; k < 4; ++k) out[k] *= hit_weight_;
+          rotations_->SweptBlockGroups(tlevel, itheta, level, a & (s - 1), b & (s - 1)), a, b,
+          size / s, part);
+      for (int k = 0; k < 4; ++k) out[k] += hit_weight_ * part[k];
       return;
     }
+    const RotatedTemplate& r = rotations_->GetBlock(tlevel, itheta);
     if (Swept(level) || Pairs(r, a, b, level)) {
       for (int i = 0; i < 2; ++i) {
         for (int j = 0; j < 2; ++j) {
-          out[2 * i + j] = ClusterBound(tlevel, r, a + i * size, b + j * size, level);
+          out[2 * i + j] += ClusterBound(tlevel, itheta, a + i * size, b + j * size, level);
         }
       }
       return;
     }
-    cluster_->Bound4(r, a, b, level, out);
-    for (int k = 0; k < 4; ++k) out[k] *= hit_weight_;
+    cluster_->Bound4(r, a, b, level, part);
+    for (int k = 0; k < 4; ++k) out[k] += hit_weight_ * part[k];
   }
   // Asks the caches for the start of the table the bound (or, at a single pose, the value) of
   // the block will read, so that the tables of a node's children load side by side instead of
   // one miss after another (they are scattered over tens of MB).
   void Prefetch(int tlevel, int itheta, int a, int b, int level) const {
     if (!swept_ok_ || level > TemplateRotations::kSweptLevels) return;
-    const int mask = rotations_.lattice().subdivisions - 1;
-    const CellGroups& g = rotations_.SweptBlockGroups(tlevel, itheta, level, a & mask, b & mask);
+    const int mask = rotations_->lattice().subdivisions - 1;
+    const CellGroups& g = rotations_->SweptBlockGroups(tlevel, itheta, level, a & mask, b & mask);
     const std::uint64_t* w = g.words.data();
     const int n = std::min(static_cast<int>(g.words.size()), kPrefetchWords);
     for (int i = 0; i < n; i += 8) __builtin_prefetch(w + i);
@@ -126,21 +131,34 @@ class Evaluator {
     if (tlevel > 0) return level == 0 && common_ok_;
     return level > 0 && level <= free_bound_max_level_;
   }
-  // Weighted lower bound of the free hits of the block's poses.
+  // Weighted lower bound of the free hits of the block's poses (with HasFreePart).
   int FreePart(int tlevel, int itheta, int a, int b, int level) const {
     if (tlevel > 0) {  // the voxels every rotation of the block places at (a, b).
-      const int mask = rotations_.lattice().subdivisions - 1;
+      const int mask = rotations_->lattice().subdivisions - 1;
       return free_weight_ *
-             free_->HitsGrouped(rotations_.CommonBlockGroups(tlevel, itheta, a & mask, b & mask), a,
-                                b);
+             free_->HitsGrouped(rotations_->CommonBlockGroups(tlevel, itheta, a & mask, b & mask),
+                                a, b);
     }
-    const RotatedTemplate& r = rotations_.Get(itheta);
+    const RotatedTemplate& r = rotations_->Get(itheta);
     if (Pairs(r, a, b, level)) {
       return free_weight_ * free_->PairBound(PairTable(itheta, a, b),
-                                             rotations_.DisjointMasks(itheta).data(), a, b);
+                                             rotations_->DisjointMasks(itheta).data(), a, b);
     }
     return free_weight_ *
-           free_->LowerBound(r, rotations_.DisjointMasks(itheta).data(), a, b, level);
+           free_->LowerBound(r, rotations_->DisjointMasks(itheta).data(), a, b, level);
+  }
+  // The pose's hits and free hits (the occupancies' scratch space untouched when grouped).
+  void Counts(int itheta, int a, int b, int* hits, int* free_hits) const {
+    if (grouped_) {
+      const int mask = rotations_->lattice().subdivisions - 1;
+      const CellGroups& g = rotations_->Groups(itheta, a & mask, b & mask);
+      *hits += cluster_->HitsGrouped(g, a, b);
+      *free_hits += free_ != nullptr ? free_->HitsGrouped(g, a, b) : 0;
+      return;
+    }
+    const RotatedTemplate& r = rotations_->Get(itheta);
+    *hits += cluster_->Hits(r, a, b);
+    *free_hits += free_ != nullptr ? free_->Hits(r, a, b) : 0;
   }
 
  private:
@@ -156,21 +174,66 @@ class Evaluator {
     return level == 1 && pairs_ok_ && r.column_extent.empty() && ((a | b) & 1) == 0;
   }
   const PairBlockTable& PairTable(int itheta, int a, int b) const {
-    const int mask = rotations_.lattice().subdivisions - 1;
-    return rotations_.PairTable(itheta, a & mask, b & mask);
+    const int mask = rotations_->lattice().subdivisions - 1;
+    return rotations_->PairTable(itheta, a & mask, b & mask);
   }
 
- public:
- private:
   const ColumnOccupancy* cluster_;
   const ColumnOccupancy* free_;  // may be null.
   int free_weight_;
   int hit_weight_;
-  const TemplateRotations& rotations_;
-  const bool pairs_ok_;
-  const bool swept_ok_;
-  const bool common_ok_;
-  const int free_bound_max_level_;
+  const TemplateRotations* rotations_;
+  bool grouped_;  // exact values from the cell groups.
+  bool pairs_ok_;
+  bool swept_ok_;
+  bool common_ok_;
+  int free_bound_max_level_;
+};
+
+// The value and bounds of a template: its one PartEvaluator, or the sum over a tall template's
+// slabs (TemplateRotations::slabs: disjoint z cells, so hits, free hits and their bounds add).
+class Evaluator {
+ public:
+  explicit Evaluator(std::vector<PartEvaluator> parts) : parts_(std::move(parts)) {}
+
+  int Value(int itheta, int a, int b) const {
+    int v = 0;
+    for (const PartEvaluator& p : parts_) v += p.Value(itheta, a, b);
+    return v;
+  }
+  int ClusterBound(int tlevel, int itheta, int a, int b, int level) const {
+    int v = 0;
+    for (const PartEvaluator& p : parts_) v += p.ClusterBound(tlevel, itheta, a, b, level);
+    return v;
+  }
+  void ClusterBound4(int tlevel, int itheta, int a, int b, int level, int out[4]) const {
+    for (int k = 0; k < 4; ++k) out[k] = 0;
+    for (const PartEvaluator& p : parts_) p.AddClusterBound4(tlevel, itheta, a, b, level, out);
+  }
+  void Prefetch(int tlevel, int itheta, int a, int b, int level) const {
+    for (const PartEvaluator& p : parts_) p.Prefetch(tlevel, itheta, a, b, level);
+  }
+  bool HasFreePart(int tlevel, int level) const {
+    for (const PartEvaluator& p : parts_) {
+      if (p.HasFreePart(tlevel, level)) return true;
+    }
+    return false;
+  }
+  int FreePart(int tlevel, int itheta, int a, int b, int level) const {
+    int v = 0;
+    for (const PartEvaluator& p : parts_) {
+      if (p.HasFreePart(tlevel, level)) v += p.FreePart(tlevel, itheta, a, b, level);
+    }
+    return v;
+  }
+  void Counts(int itheta, int a, int b, int* hits, int* free_hits) const {
+    *hits = 0;
+    *free_hits = 0;
+    for (const PartEvaluator& p : parts_) p.Counts(itheta, a, b, hits, free_hits);
+  }
+
+ private:
+  std::vector<PartEvaluator> parts_;
 };
 
 // The queue and the deferred nodes of this thread's search, emptied: a search pushes tens of
@@ -194,7 +257,7 @@ std::vector<PackedNode>& ThreadDeferred() {
 // the best).
 class BranchAndBound {
  public:
-  BranchAndBound(Evaluator* eval, const TemplateRotations& rotations,
+  BranchAndBound(const Evaluator* eval, const TemplateRotations& rotations,
                  const ExactSearch::Region& region, int top_level, int top_tlevel, int min_value,
                  int defer_below, int theta_split_lead, double theta_split_ratio,
                  SearchResult* counters)
@@ -329,8 +392,7 @@ class BranchAndBound {
       }
     }
     int cluster_bounds[4];
-    eval_.ClusterBound4(n.tlevel, rotations_.GetBlock(n.tlevel, n.itheta), n.a, n.b, level,
-                        cluster_bounds);
+    eval_.ClusterBound4(n.tlevel, n.itheta, n.a, n.b, level, cluster_bounds);
     const bool loose = eval_.HasFreePart(n.tlevel, level);
     for (int i = 0; i < 2; ++i) {
       for (int j = 0; j < 2; ++j) {
@@ -406,7 +468,7 @@ class BranchAndBound {
     if (!AnyAllowed(itheta, tlevel)) return false;
     if (tlevel == 0 && level == 0) {
       ++counters_->poses_evaluated;
-      const int value = eval_.Value(rotations_.Get(itheta), a, b);
+      const int value = eval_.Value(itheta, a, b);
       if (!best_exact_.found || value > best_exact_.value) {
         best_exact_.found = true;
         best_exact_.value = value;
@@ -415,8 +477,7 @@ class BranchAndBound {
       *out = {value, 0, 0, itheta, a, b, false};
     } else {
       ++counters_->bounds_evaluated;
-      const RotatedTemplate& rot = rotations_.GetBlock(tlevel, itheta);
-      *out = {eval_.ClusterBound(tlevel, rot, a, b, level),
+      *out = {eval_.ClusterBound(tlevel, itheta, a, b, level),
               tlevel,
               level,
               itheta,
@@ -455,7 +516,7 @@ class BranchAndBound {
     return count;
   }
 
-  Evaluator& eval_;
+  const Evaluator& eval_;
   const TemplateRotations& rotations_;
   const ExactSearch::Region region_;
   const int min_value_;
@@ -475,24 +536,12 @@ class BranchAndBound {
 };
 
 // Fills the result's pose, value, hits and scores from a found lattice pose.
-void SetPose(const BranchAndBoundResult& found, const ColumnOccupancy& occ,
-             const ColumnOccupancy* free, const TemplateRotations& rotations, int n, int n_weighted,
-             SearchResult* result) {
-  const RotatedTemplate& r = rotations.Get(found.best.itheta);
+void SetPose(const BranchAndBoundResult& found, const Evaluator& eval, const PoseLattice& lattice,
+             int n, int n_weighted, SearchResult* result) {
   result->best = found.best;
-  result->pose = ToPose(rotations.lattice(), found.best);
+  result->pose = ToPose(lattice, found.best);
   result->value = found.value;
-  const int ix = found.best.ix, iy = found.best.iy;
-  if (occ.aligned() && (free == nullptr || free->aligned()) && rotations.has_cell_groups()) {
-    // The same counts without the occupancies' scratch space (they may be shared).
-    const int mask = rotations.lattice().subdivisions - 1;
-    const CellGroups& g = rotations.Groups(found.best.itheta, ix & mask, iy & mask);
-    result->hits = occ.HitsGrouped(g, ix, iy);
-    result->free_hits = free != nullptr ? free->HitsGrouped(g, ix, iy) : 0;
-  } else {
-    result->hits = occ.Hits(r, ix, iy);
-    result->free_hits = free != nullptr ? free->Hits(r, ix, iy) : 0;
-  }
+  eval.Counts(found.best.itheta, found.best.ix, found.best.iy, &result->hits, &result->free_hits);
   result->score = 100.0 * found.value / n_weighted;
   result->coverage = 100.0 * result->hits / n;
 }
@@ -553,10 +602,10 @@ struct ExactSearch::GridNeeds {
   ColumnOccupancy::CellRange lookups;
 };
 
-ExactSearch::GridNeeds ExactSearch::Needs(const ClusterVoxels& cluster,
+ExactSearch::GridNeeds ExactSearch::Needs(const Region& region,
                                           const TemplateRotations& rotations) const {
   GridNeeds needs;
-  const Region& region = needs.region = TranslationRegion(cluster, rotations);
+  needs.region = region;
   const int span = std::max(region.ix_max - region.ix_min, region.iy_max - region.iy_min) + 1;
   int& top = needs.top;
   while (top < options_.max_level && (1 << top) < span) ++top;
@@ -610,7 +659,7 @@ std::shared_ptr<const SearchGrids> ExactSearch::MakeGrids(
   for (size_t i = 0; i < rotations.size(); ++i) {
     const TemplateRotations& rot = *rotations[i];
     if (!rot.has_cell_groups()) return nullptr;  // its exact values would read Hits' scratch.
-    const GridNeeds needs = Needs(cluster, rot);
+    const GridNeeds needs = Needs(TranslationRegion(cluster, rot), rot);
     if (needs.region.ix_max < needs.region.ix_min) return nullptr;
     if (i == 0) {
       grids->z_base = needs.z_base;
@@ -650,37 +699,51 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   const TemplateRotations& rotations = *problem.rotations;
   const PoseLattice& lattice = rotations.lattice();
   const int n = problem.scorer->cluster_voxels();
-  const GridNeeds needs = Needs(cluster, rotations);
-  const Region& region = needs.region;
+  // The region is the whole template's; a tall template is evaluated slab by slab, each with
+  // its own grids (levels, z frame and lookups).
+  const Region region = TranslationRegion(cluster, rotations);
   if (region.ix_max < region.ix_min || n == 0) return result;
-  const int top = needs.top;
-
-  // The cluster's occupancy and its free space's: the shared ones when they serve this
-  // template, else made here.
-  const bool with_free = problem.free_space != nullptr;
-  std::unique_ptr<ColumnOccupancy> own_occ, own_free;
-  const ColumnOccupancy* occ_ptr = nullptr;
-  const ColumnOccupancy* free_ptr = nullptr;
-  if (problem.grids != nullptr && problem.grids->Serves(needs.z_base, needs.z_words, needs.arc_top,
-                                                        needs.free_top, with_free, needs.lookups)) {
-    occ_ptr = problem.grids->occ.get();
-    free_ptr = problem.grids->free.get();
+  std::vector<const TemplateRotations*> parts;
+  if (!rotations.has_cell_groups() && !rotations.slabs().empty() && options_.slabs) {
+    for (const std::unique_ptr<TemplateRotations>& slab : rotations.slabs())
+      parts.push_back(slab.get());
   } else {
-    own_occ = std::make_unique<ColumnOccupancy>(cluster, lattice, needs.z_base, needs.z_words,
-                                                needs.arc_top, ColumnOccupancy::Filter::kMax,
-                                                &needs.lookups);
-    occ_ptr = own_occ.get();
-    if (with_free) {
-      own_free = std::make_unique<ColumnOccupancy>(*problem.free_space, lattice, needs.z_base,
-                                                   needs.z_words, needs.free_top,
-                                                   ColumnOccupancy::Filter::kMin, &needs.lookups);
-      free_ptr = own_free.get();
-    }
+    parts.push_back(&rotations);
   }
-  const ColumnOccupancy& occ = *occ_ptr;
-  Evaluator eval(&occ, free_ptr, problem.free_space_weight, problem.hit_weight, rotations,
-                 options_.swept_bounds, options_.free_bound_max_level,
-                 options_.theta_block_free_part);
+  int top = 0;
+
+  // Each part's cluster occupancy and its free space's: the shared ones when they serve it,
+  // else made here.
+  const bool with_free = problem.free_space != nullptr;
+  std::vector<std::unique_ptr<ColumnOccupancy>> own;
+  std::vector<PartEvaluator> part_evaluators;
+  for (const TemplateRotations* part : parts) {
+    const GridNeeds needs = Needs(region, *part);
+    top = needs.top;  // the region's: the same for every part.
+    const ColumnOccupancy* occ_ptr = nullptr;
+    const ColumnOccupancy* free_ptr = nullptr;
+    if (problem.grids != nullptr &&
+        problem.grids->Serves(needs.z_base, needs.z_words, needs.arc_top, needs.free_top, with_free,
+                              needs.lookups)) {
+      occ_ptr = problem.grids->occ.get();
+      free_ptr = problem.grids->free.get();
+    } else {
+      own.push_back(std::make_unique<ColumnOccupancy>(cluster, lattice, needs.z_base, needs.z_words,
+                                                      needs.arc_top, ColumnOccupancy::Filter::kMax,
+                                                      &needs.lookups));
+      occ_ptr = own.back().get();
+      if (with_free) {
+        own.push_back(std::make_unique<ColumnOccupancy>(
+            *problem.free_space, lattice, needs.z_base, needs.z_words, needs.free_top,
+            ColumnOccupancy::Filter::kMin, &needs.lookups));
+        free_ptr = own.back().get();
+      }
+    }
+    part_evaluators.emplace_back(occ_ptr, free_ptr, problem.free_space_weight, problem.hit_weight,
+                                 *part, options_.swept_bounds, options_.free_bound_max_level,
+                                 options_.theta_block_free_part);
+  }
+  const Evaluator eval(std::move(part_evaluators));
   const int n_weighted = n * problem.hit_weight;  // the score's denominator.
 
   // A known pose's value (e.g. the previous frame's): nodes whose bound cannot reach it stay
@@ -692,7 +755,7 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
     if (p.ix >= region.ix_min && p.ix <= region.ix_max && p.iy >= region.iy_min &&
         p.iy <= region.iy_max && p.itheta >= 0 && p.itheta < lattice.angle_steps) {
       ++result.poses_evaluated;
-      result.incumbent_value = eval.Value(rotations.Get(p.itheta), p.ix, p.iy);
+      result.incumbent_value = eval.Value(p.itheta, p.ix, p.iy);
       result.incumbent_used = true;
       defer_below = std::max(defer_below, result.incumbent_value);
     }
@@ -707,7 +770,7 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   }
   const BranchAndBoundResult found = best.below_min ? bnb.BestEvaluated() : best;
   if (!found.found) return result;
-  SetPose(found, occ, free_ptr, rotations, n, n_weighted, &result);
+  SetPose(found, eval, lattice, n, n_weighted, &result);
   if (best.below_min) return result;
 
   std::vector<bool> others(lattice.angle_steps, false);

@@ -50,6 +50,10 @@ struct ExactSearchOptions {
   // 0 starts from single headings (the default before theta_split_ratio, with 4.2x the bounds
   // on the real-time protocol's frames).
   int top_theta_level = 4;
+  // A template taller than 64 z cells is searched as the sum of its slabs of 64 cells
+  // (TemplateRotations::slabs), each with the cell tables and bounds above; false: with its
+  // two-word columns, which take none of them (the column bounds only, as before slabs).
+  bool slabs = true;
 };
 
 // The global optimum of the score over the whole lattice: every theta (angle_steps of them) x
@@ -86,7 +90,7 @@ class ExactSearch final : public PoseSearch {
   double Margin(const TemplateRotations& rotations) const;
   // What a search of the cluster with the template reads of the grids.
   struct GridNeeds;
-  GridNeeds Needs(const ClusterVoxels& cluster, const TemplateRotations& rotations) const;
+  GridNeeds Needs(const Region& region, const TemplateRotations& rotations) const;
 
   ExactSearchOptions options_;
 };

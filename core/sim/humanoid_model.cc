@@ -69,7 +69,7 @@ const std::pair<const char*, double HumanoidJoints::*> kJointFields[] = {
 
 }  // namespace
 
-std::vector<std::string> HumanoidDimensions::VariantNames() { return {"nao", "long_legs"}; }
+std::vector<std::string> HumanoidDimensions::VariantNames() { return {"nao", "long_legs", "tall"}; }
 
 Result<HumanoidDimensions> HumanoidDimensions::Variant(const std::string& name) {
   HumanoidDimensions d;
@@ -81,6 +81,15 @@ Result<HumanoidDimensions> HumanoidDimensions::Variant(const std::string& name) 
     d.torso_width_m = 0.190;
     d.shoulder_offset_y_m = 0.128;
     d.battery_pack = false;
+    return d;
+  }
+  if (name == "tall") {
+    constexpr double kScale = 2.1;  // 0.58 m -> 1.23 m.
+    for (const auto& [field_name, field] : kDimensionFields) d.*field *= kScale;
+    for (double* v : {&d.foot_forward_offset_m, &d.torso_bottom_m, &d.pack_centre_z_m,
+                      &d.shoulder_offset_z_m, &d.head_centre_above_neck_m}) {
+      *v *= kScale;
+    }
     return d;
   }
   std::string known;

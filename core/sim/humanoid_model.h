@@ -59,8 +59,9 @@ struct HumanoidDimensions {
   Status Validate() const;
 
   // Named bodies, so accuracy is not only measured on one set of proportions: "nao" (the
-  // defaults above) and "long_legs" (about 0.73 m tall: thighs and shanks 60% longer, wider
-  // torso and shoulders, no battery pack). kInvalidArgument for another name, listing the
+  // defaults above), "long_legs" (about 0.73 m tall: thighs and shanks 60% longer, wider
+  // torso and shoulders, no battery pack) and "tall" (every length of the Nao's 2.1 times:
+  // 1.23 m, taller than 64 voxels of 16 mm). kInvalidArgument for another name, listing the
   // known ones.
   static Result<HumanoidDimensions> Variant(const std::string& name);
   static std::vector<std::string> VariantNames();

@@ -504,6 +504,112 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
   }
 }
 
+// A template taller than 64 z cells (two-word columns) is searched as the sum of its slabs of
+// 64 cells: the slabs split its voxels without changing any pose's counts, and the search
+// over them equals exhaustive evaluation of the whole template, as does the two-word path.
+TEST(ExactSearchTest, TallTemplateSearchedBySlabsEqualsExhaustiveSearch) {
+  std::mt19937 rng(29);
+  for (unsigned scene = 0; scene < 6; scene += kSceneStep) {
+    PoseLattice lattice;
+    lattice.angle_steps = 24;
+    // Stretched upwards: 3 times (even scenes: 1.1-2.3 m, two or three slabs), or to 1.1 m
+    // (odd ones: a second slab of a few cells).
+    std::vector<Eigen::Vector3f> points = testing::RandomRobotPoints(700 + scene);
+    float height = 0.0f;
+    for (const Eigen::Vector3f& p : points) height = std::max(height, p.z());
+    const float stretch = scene % 2 == 0 ? 3.0f : 1.1f / height;
+    for (Eigen::Vector3f& p : points) p.z() *= stretch;
+    const VoxelTemplate tpl = *MakeTemplateFromPoints(points, "tall", lattice.resolution_m);
+    const TemplateRotations rot(tpl, lattice);
+    ASSERT_GT(rot.z_words(), 1) << "scene " << scene;
+    ASSERT_FALSE(rot.has_cell_groups());
+    ASSERT_EQ(rot.slabs().size(), static_cast<size_t>(rot.z_words())) << "scene " << scene;
+    size_t slab_voxels = 0;
+    for (const std::unique_ptr<TemplateRotations>& slab : rot.slabs()) {
+      EXPECT_EQ(slab->z_words(), 1);
+      EXPECT_TRUE(slab->has_cell_groups());
+      slab_voxels += slab->Get(0).sub_cells.size();
+    }
+    EXPECT_EQ(slab_voxels, rot.Get(0).sub_cells.size());
+
+    const Pose2D truth{1.2, -0.1, DegToRad(-160.0 + 61.0 * scene)};
+    const ClusterVoxels cluster = VoxeliseCluster(
+        testing::VisibleCluster(points, truth, 0.004f, scene), lattice.resolution_m);
+    ClusterVoxels free;  // random free cells around the cluster, up to its top.
+    ASSERT_FALSE(cluster.cells.empty());
+    const Eigen::Vector3i c0 = cluster.cells[cluster.cells.size() / 2];
+    std::set<std::tuple<int, int, int>> occupied, free_set;
+    int top = 0;
+    for (const Eigen::Vector3i& c : cluster.cells) {
+      occupied.insert({c.x(), c.y(), c.z()});
+      top = std::max(top, c.z());
+    }
+    std::uniform_int_distribution<int> dx(-20, 20), dz(0, top + 2);
+    for (int k = 0; k < 6000; ++k) {
+      const std::tuple<int, int, int> c{c0.x() + dx(rng), c0.y() + dx(rng), dz(rng)};
+      if (occupied.count(c) == 0) free_set.insert(c);
+    }
+    for (const auto& [x, y, z] : free_set) free.cells.emplace_back(x, y, z);
+    const FastScorer scorer(cluster, lattice);
+    const FastScorer free_scorer(free, lattice);
+
+    // Every slab's counts add up to the whole template's, pose by pose.
+    std::uniform_int_distribution<int> it(0, lattice.angle_steps - 1), off(-40, 40);
+    const int ix0 = static_cast<int>(std::lround(truth.x / lattice.step_m()));
+    const int iy0 = static_cast<int>(std::lround(truth.y / lattice.step_m()));
+    for (int k = 0; k < 50; ++k) {
+      const int t = it(rng), ix = ix0 + off(rng), iy = iy0 + off(rng);
+      int hits = 0, free_hits = 0;
+      for (const std::unique_ptr<TemplateRotations>& slab : rot.slabs()) {
+        hits += scorer.Hits(slab->Get(t), ix, iy);
+        free_hits += free_scorer.Hits(slab->Get(t), ix, iy);
+      }
+      EXPECT_EQ(hits, scorer.Hits(rot.Get(t), ix, iy)) << "scene " << scene;
+      EXPECT_EQ(free_hits, free_scorer.Hits(rot.Get(t), ix, iy)) << "scene " << scene;
+    }
+
+    ExactSearchOptions opts;
+    opts.margin_m = 0.05;
+    opts.max_level = 2 + scene % 4;
+    const ExactSearch search(opts);
+    SearchProblem problem{&cluster, &scorer, &rot, {truth.x, truth.y}};
+    problem.free_space = &free;
+    problem.free_space_weight = 1 + scene % 2;
+    problem.hit_weight = 2;
+    const SearchResult r = search.Search(problem);
+    opts.slabs = false;
+    const SearchResult two_words = ExactSearch(opts).Search(problem);
+    const ExactSearch::Region region = search.TranslationRegion(cluster, rot);
+    int best = INT_MIN;
+    LatticePose first_best;
+    for (int t = 0; t < lattice.angle_steps; ++t) {
+      for (int ix = region.ix_min; ix <= region.ix_max; ++ix) {
+        for (int iy = region.iy_min; iy <= region.iy_max; ++iy) {
+          const int v = problem.hit_weight * scorer.Hits(rot.Get(t), ix, iy) -
+                        problem.free_space_weight * free_scorer.Hits(rot.Get(t), ix, iy);
+          if (v > best) {
+            best = v;
+            first_best = LatticePose{ix, iy, t};
+          }
+        }
+      }
+    }
+    ASSERT_EQ(r.value, best) << "scene " << scene;
+    EXPECT_EQ(r.best.ix, first_best.ix) << "scene " << scene;
+    EXPECT_EQ(r.best.iy, first_best.iy) << "scene " << scene;
+    EXPECT_EQ(r.best.itheta, first_best.itheta) << "scene " << scene;
+    EXPECT_EQ(r.hits, scorer.Hits(rot.Get(r.best.itheta), r.best.ix, r.best.iy));
+    EXPECT_EQ(r.free_hits, free_scorer.Hits(rot.Get(r.best.itheta), r.best.ix, r.best.iy));
+    EXPECT_EQ(r.value, problem.hit_weight * r.hits - problem.free_space_weight * r.free_hits);
+    EXPECT_EQ(two_words.value, best) << "scene " << scene;
+    EXPECT_EQ(two_words.best.itheta, r.best.itheta) << "scene " << scene;
+    EXPECT_EQ(two_words.best.ix, r.best.ix) << "scene " << scene;
+    EXPECT_EQ(two_words.best.iy, r.best.iy) << "scene " << scene;
+    EXPECT_EQ(two_words.has_runner_up, r.has_runner_up) << "scene " << scene;
+    EXPECT_NEAR(two_words.runner_up_score, r.runner_up_score, 1e-9) << "scene " << scene;
+  }
+}
+
 TEST(ExactSearchTest, FindsThePlantedPoseOnTheFullLattice) {
   for (unsigned scene = 0; scene < 4; ++scene) {
     const PoseLattice lattice;  // 1 deg x 4 mm.
