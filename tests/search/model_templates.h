@@ -11,9 +11,11 @@
 
 namespace hpose::testing {
 
-// The template of a humanoid joint preset ("standing", "right_arm_raised"), 16 mm voxels.
-inline VoxelTemplate ModelTemplate(const std::string& preset) {
-  const HumanoidModel model = *HumanoidModel::FromPreset(preset);
+// The template of a humanoid joint preset ("standing", "right_arm_raised"), 16 mm voxels, of the
+// proportions `body` (HumanoidDimensions::Variant).
+inline VoxelTemplate ModelTemplate(const std::string& preset, const std::string& body = "nao") {
+  const HumanoidModel model =
+      *HumanoidModel::FromPreset(preset, *HumanoidDimensions::Variant(body));
   const std::vector<Eigen::Vector3f> pts = *model.SampleSurface(0.004);
   return *MakeTemplateFromPoints(pts, preset, 0.016, preset, "test");
 }

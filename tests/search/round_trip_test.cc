@@ -1,6 +1,8 @@
 // End to end: simulate a humanoid at a known pose, estimate it, and the pose comes back within
 // the paper's accuracy (SPEC §1: standing, theta -3..+6 deg, x -30..-14 mm, y -7..+19 mm; we ask
 // for |theta| <= 6 deg and position within 30 mm).
+#include <cstdint>
+
 #include <gtest/gtest.h>
 
 #include "core/search/estimator.h"
@@ -108,6 +110,55 @@ TEST(EstimatorTest, ThreadsGiveTheSameCandidates) {
   EstimatorOptions bad = one;
   bad.threads = -1;
   EXPECT_FALSE(Estimator::Create(bad, tpls).ok());
+}
+
+// A humanoid taller than 64 voxels (1.23 m) is searched slab by slab: found where it stands, with
+// the same candidates as the search of its two-word columns (slabs off), and its tables made
+// at start as the daemon makes them.
+TEST(RoundTripTest, TallHumanoidIsFoundSlabBySlabAsWithoutSlabs) {
+  const std::vector<VoxelTemplate> tpls = {ModelTemplate("standing", "tall"),
+                                           ModelTemplate("right_arm_raised", "tall")};
+  EstimatorOptions options = DefaultEstimatorOptions();
+  options.make_tables_at_start = true;
+  options.threads = 2;
+  EstimatorOptions no_slabs = DefaultEstimatorOptions();
+  no_slabs.exact.slabs = false;
+  auto slabs = std::move(Estimator::Create(options, tpls).value());
+  auto columns = std::move(Estimator::Create(no_slabs, tpls).value());
+  FrameSpec spec;
+  spec.body = "tall";
+  spec.preset = "right_arm_raised";
+  spec.humanoid_pose = Pose2D{1.6, 0.1, DegToRad(40.0)};
+  spec.sensor_height_m = 0.9;
+  spec.sensor_pitch_rad = DegToRad(20.0);
+  spec.clutter = 2;
+  spec.seed = 5;
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  const Estimate a = *slabs->EstimateDepth(frame.depth, spec.intrinsics);
+  const Estimate b = *columns->EstimateDepth(frame.depth, spec.intrinsics);
+  const std::vector<Detection> humans = a.Humanoids();
+  ASSERT_FALSE(humans.empty());
+  const Candidate& c = humans.front().best;
+  EXPECT_EQ(c.template_name, "right_arm_raised");
+  EXPECT_LT(std::abs(RadToDeg(AngleDiff(c.pose.theta, spec.humanoid_pose.theta))), 3.0);
+  EXPECT_LT(std::hypot(c.pose.x - spec.humanoid_pose.x, c.pose.y - spec.humanoid_pose.y), 0.02);
+  ASSERT_EQ(a.candidates.size(), b.candidates.size());
+  std::int64_t bounds_a = 0, bounds_b = 0;
+  for (size_t i = 0; i < a.candidates.size(); ++i) {
+    const Candidate& x = a.candidates[i];
+    const Candidate& y = b.candidates[i];
+    EXPECT_EQ(x.template_name, y.template_name) << i;
+    EXPECT_EQ(x.lattice_pose.x, y.lattice_pose.x) << i;
+    EXPECT_EQ(x.lattice_pose.y, y.lattice_pose.y) << i;
+    EXPECT_EQ(x.lattice_pose.theta, y.lattice_pose.theta) << i;
+    EXPECT_EQ(x.score, y.score) << i;
+    EXPECT_EQ(x.runner_up_score, y.runner_up_score) << i;
+    EXPECT_EQ(x.pose.x, y.pose.x) << i;
+    bounds_a += x.bounds_evaluated;
+    bounds_b += y.bounds_evaluated;
+  }
+  // The slabs' cell tables and swept bounds are what make them pay.
+  EXPECT_LT(bounds_a, bounds_b);
 }
 
 TEST(RoundTripTest, EmptyFloorHasNoHumanoid) {
