@@ -331,6 +331,10 @@ std::vector<Variant> ScatteredVariants() {
                }});
   v.push_back({"exact search, free part of every block (before)", ExactBoundsBefore});
   v.push_back({"exact search, theta blocks at the top (before)", ExactThetaBlocksBefore});
+  v.push_back({"exact search, the score alone decides (before)", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->min_humanoid_fit = 0.0;
+               }});
   v.push_back({"exact search, two-word columns (before slabs)", [](EstimatorOptions* o) {
                  Exact(o);
                  o->exact.slabs = false;
@@ -426,6 +430,12 @@ std::vector<Variant> SequenceVariants() {
                [](EstimatorOptions* o) {
                  Exact(o);
                  o->exact.swept_bounds = false;
+               },
+               true});
+  v.push_back({"walk, tracked, the score alone decides (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->min_humanoid_fit = 0.0;
                },
                true});
   v.push_back({"walk, tracked, two-word columns (before slabs)",

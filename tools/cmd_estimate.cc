@@ -67,6 +67,10 @@ int RunEstimate(int argc, char** argv) {
                   "KIND");
   flags.AddDouble("threshold", &options.score_threshold,
                   "score (0-100) a cluster needs to count as the humanoid");
+  flags.AddDouble("min-fit", &options.min_humanoid_fit,
+                  "refined fit (0-100) a cluster's pose also needs to count as the humanoid: the "
+                  "share of its points on the template times the share of the template not seen "
+                  "through (0: the score alone)");
   flags.AddInt("stride", &stride,
                "use every N-th depth pixel (2: 640x480 -> 320x240 like the paper)");
   flags.AddDouble("floor-height", &floor_height,

@@ -114,11 +114,12 @@ struct Estimate {
   int cloud_points = 0;
   std::vector<ClusterSummary> clusters;
   std::vector<Candidate> candidates;  // every (cluster, template), best score first.
-  std::vector<Detection> detections;  // one per searched cluster, best score first.
+  // One per searched cluster: the humanoids (is_humanoid) first, each part by score.
+  std::vector<Detection> detections;
   StageTimings timings;
   TrackingInfo tracking;
 
-  // Detections that pass the score threshold (is_humanoid), best first.
+  // Detections that pass the thresholds (is_humanoid), best score first.
   std::vector<Detection> Humanoids() const;
 };
 

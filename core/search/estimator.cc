@@ -189,9 +189,10 @@ void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const Ref
 }
 
 // One detection per cluster: among its templates with a pose, the one whose pose the refined
-// evidence supports best (highest fit; the search score when not refined); sorted by search
-// score.
-std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates, double threshold) {
+// evidence supports best (highest fit; the search score when not refined); humanoids first,
+// then by search score.
+std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates, double threshold,
+                                       double min_fit) {
   std::map<int, std::vector<const Candidate*>> by_cluster;
   for (const Candidate& c : candidates) by_cluster[c.cluster_index].push_back(&c);
   std::vector<Detection> out;
@@ -205,7 +206,8 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
     });
     Detection d;
     d.best = *cands.front();
-    d.is_humanoid = !d.best.stopped_below_threshold && d.best.score >= threshold;
+    d.is_humanoid = !d.best.stopped_below_threshold && d.best.score >= threshold &&
+                    (!d.best.refined || d.best.fit.fit >= min_fit);
     if (cands.size() > 1) {
       const Candidate& second = *cands[1];
       d.second_template = second.template_name;
@@ -220,7 +222,10 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
     }
     out.push_back(d);
   }
+  // Humanoids first (a clutter cluster may outscore the humanoid and fail the fit), then by
+  // score.
   std::stable_sort(out.begin(), out.end(), [](const Detection& a, const Detection& b) {
+    if (a.is_humanoid != b.is_humanoid) return a.is_humanoid;
     return a.best.score > b.best.score;
   });
   return out;
@@ -307,6 +312,9 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
   }
   if (!(options.score_threshold >= 0.0 && options.score_threshold <= 100.0)) {
     return MakeError(ErrorCode::kInvalidArgument, "score_threshold must be within [0, 100]");
+  }
+  if (!(options.min_humanoid_fit >= 0.0 && options.min_humanoid_fit <= 100.0)) {
+    return MakeError(ErrorCode::kInvalidArgument, "min_humanoid_fit must be within [0, 100]");
   }
   std::unique_ptr<Estimator> e(new Estimator(std::move(options), std::move(templates)));
   if (e->search_ == nullptr) {
@@ -611,7 +619,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
 
   std::stable_sort(est.candidates.begin(), est.candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-  est.detections = ChooseTemplates(est.candidates, options_.score_threshold);
+  est.detections =
+      ChooseTemplates(est.candidates, options_.score_threshold, options_.min_humanoid_fit);
   est.timings.total_ms = cloud_ms + MsSince(t_start);
   return est;
 }

@@ -68,6 +68,12 @@ struct EstimatorOptions {
   // A cluster is the humanoid when its best score passes this. On simulated frames humanoids
   // score 60-77 at 1-2 m and clutter of similar height up to about 45 (docs/BENCHMARKS.md).
   double score_threshold = 50.0;
+  // ... and, when its pose was refined, a refined fit (FitSummary::fit: the share of its points
+  // on the template's surface times the share of the template's visible surface not seen
+  // through) of at least this. Clutter that reaches the score threshold fits poorly where the
+  // sensor sees through the template (simulated frames: humanoids 82-100, such clutter 26-53;
+  // docs/BENCHMARKS.md). 0: the score alone decides (before).
+  double min_humanoid_fit = 60.0;
   // true: the exact search stops proving a cluster below the threshold as soon as it has (its
   // candidate then carries the best pose it evaluated and the bound, stopped_below_threshold).
   // false: every candidate's exact

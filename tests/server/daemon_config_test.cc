@@ -12,7 +12,7 @@ grpc: {max_receive_message_bytes: 2048, max_concurrent_estimates: 3}
 source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
          estimate_threads: 2, stale_after_s: 0.5}
 templates: [t/standing.bt, /abs/arm.bt]
-search: {score_threshold: 55, scorer: reference}
+search: {score_threshold: 55, min_humanoid_fit: 70, scorer: reference}
 floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
 )";
   Result<DaemonConfig> c = ParseDaemonConfig(yaml, "test.yaml", "/etc/hpose");
@@ -30,6 +30,7 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_EQ(c->templates[0], "/etc/hpose/t/standing.bt");
   EXPECT_EQ(c->templates[1], "/abs/arm.bt");
   EXPECT_DOUBLE_EQ(c->estimator.score_threshold, 55.0);
+  EXPECT_DOUBLE_EQ(c->estimator.min_humanoid_fit, 70.0);
   EXPECT_EQ(c->estimator.scorer, ScorerKind::kOctomapReference);
   EXPECT_TRUE(c->floor.fixed);
   EXPECT_DOUBLE_EQ(c->floor.height_m, 0.5);
@@ -97,6 +98,10 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   bad = c;
   bad.source.estimate_threads = 0;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.estimate_threads"),
+            std::string::npos);
+  bad = c;
+  bad.estimator.min_humanoid_fit = -1.0;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.min_humanoid_fit"),
             std::string::npos);
   bad = c;
   bad.source.reconnect_max_backoff_s = 0.1;

@@ -72,7 +72,7 @@ struct PoseEstimate {
   std::uint64_t skipped = 0;     // estimates of a stream skipped before this one (slow reader).
 
   // Depth template.
-  bool humanoid_found = false;   // the best match scores above the daemon's threshold.
+  bool humanoid_found = false;   // the best match passes the daemon's thresholds.
   bool has_match = false;        // a cluster was matched (pose, score... below are valid).
   std::string template_name;     // the best-matching template.
   Pose2D pose;                   // robot frame in the ground frame.
