@@ -39,6 +39,50 @@ Exhaustive Brute(const PoseScorer& scorer, const TemplateRotations& rot,
   return e;
 }
 
+// Random free cells around the cluster (not on it), as a sensor might see them: `count` draws
+// within 20 cells across of its middle cell and in [0, z_max] up.
+ClusterVoxels RandomFreeCells(const ClusterVoxels& cluster, int count, int z_max,
+                              std::mt19937* rng) {
+  ClusterVoxels free;
+  std::uniform_int_distribution<int> dx(-20, 20), dz(0, z_max);
+  const Eigen::Vector3i c0 = cluster.cells[cluster.cells.size() / 2];
+  std::set<std::tuple<int, int, int>> occupied, free_set;
+  for (const Eigen::Vector3i& c : cluster.cells) occupied.insert({c.x(), c.y(), c.z()});
+  for (int k = 0; k < count; ++k) {
+    const std::tuple<int, int, int> c{c0.x() + dx(*rng), c0.y() + dx(*rng), dz(*rng)};
+    if (occupied.count(c) == 0) free_set.insert(c);
+  }
+  for (const auto& [x, y, z] : free_set) free.cells.emplace_back(x, y, z);
+  return free;
+}
+
+// The optimum of hit_weight * hits - free_weight * free hits over every heading and the region,
+// and among the poses of its value the first in (itheta, ix, iy) order: the one the search
+// returns, whatever its options.
+struct WeightedOptimum {
+  int value = INT_MIN;
+  LatticePose first;
+};
+
+WeightedOptimum BruteWeighted(const PoseScorer& scorer, const PoseScorer& free_scorer,
+                              const TemplateRotations& rot, const ExactSearch::Region& region,
+                              int hit_weight, int free_weight) {
+  WeightedOptimum o;
+  for (int t = 0; t < rot.lattice().angle_steps; ++t) {
+    for (int ix = region.ix_min; ix <= region.ix_max; ++ix) {
+      for (int iy = region.iy_min; iy <= region.iy_max; ++iy) {
+        const int v = hit_weight * scorer.Hits(rot.Get(t), ix, iy) -
+                      free_weight * free_scorer.Hits(rot.Get(t), ix, iy);
+        if (v > o.value) {
+          o.value = v;
+          o.first = LatticePose{ix, iy, t};
+        }
+      }
+    }
+  }
+  return o;
+}
+
 TEST(ColumnOccupancyTest, HitsEqualReferenceAndBoundsAreUpperBounds) {
   std::mt19937 rng(5);
   for (unsigned scene = 0; scene < 12; ++scene) {
@@ -419,18 +463,8 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
     const ClusterVoxels cluster = VoxeliseCluster(
         testing::VisibleCluster(testing::RandomRobotPoints(400 + scene), truth, 0.004f, scene),
         lattice.resolution_m);
-    // Random free cells around the cluster (not on it), as a sensor might see them.
-    ClusterVoxels free;
-    std::uniform_int_distribution<int> dx(-20, 20), dz(0, 40);
     ASSERT_FALSE(cluster.cells.empty()) << "scene " << scene;
-    const Eigen::Vector3i c0 = cluster.cells[cluster.cells.size() / 2];
-    std::set<std::tuple<int, int, int>> occupied, free_set;
-    for (const Eigen::Vector3i& c : cluster.cells) occupied.insert({c.x(), c.y(), c.z()});
-    for (int k = 0; k < 3000; ++k) {
-      const std::tuple<int, int, int> c{c0.x() + dx(rng), c0.y() + dx(rng), dz(rng)};
-      if (occupied.count(c) == 0) free_set.insert(c);
-    }
-    for (const auto& [x, y, z] : free_set) free.cells.emplace_back(x, y, z);
+    const ClusterVoxels free = RandomFreeCells(cluster, 3000, 40, &rng);
     const TemplateRotations rot(tpl, lattice);
     const FastScorer scorer(cluster, lattice);
     const FastScorer free_scorer(free, lattice);
@@ -443,23 +477,11 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
     problem.free_space_weight = 1 + scene % 2;
     problem.hit_weight = 1 + scene % 3;
     const SearchResult r = search.Search(problem);
-    const ExactSearch::Region region = search.TranslationRegion(cluster, rot);
-    // The optimum and, among the poses of its value, the first in (itheta, ix, iy) order: the
-    // one the search returns, whatever its options.
-    int best = INT_MIN;
-    LatticePose first_best;
-    for (int t = 0; t < lattice.angle_steps; ++t) {
-      for (int ix = region.ix_min; ix <= region.ix_max; ++ix) {
-        for (int iy = region.iy_min; iy <= region.iy_max; ++iy) {
-          const int v = problem.hit_weight * scorer.Hits(rot.Get(t), ix, iy) -
-                        problem.free_space_weight * free_scorer.Hits(rot.Get(t), ix, iy);
-          if (v > best) {
-            best = v;
-            first_best = LatticePose{ix, iy, t};
-          }
-        }
-      }
-    }
+    const WeightedOptimum brute =
+        BruteWeighted(scorer, free_scorer, rot, search.TranslationRegion(cluster, rot),
+                      problem.hit_weight, problem.free_space_weight);
+    const int best = brute.value;
+    const LatticePose& first_best = brute.first;
     const auto same_pose = [&](const SearchResult& x) {
       return x.best.ix == first_best.ix && x.best.iy == first_best.iy &&
              x.best.itheta == first_best.itheta;
@@ -535,21 +557,10 @@ TEST(ExactSearchTest, TallTemplateSearchedBySlabsEqualsExhaustiveSearch) {
     const Pose2D truth{1.2, -0.1, DegToRad(-160.0 + 61.0 * scene)};
     const ClusterVoxels cluster = VoxeliseCluster(
         testing::VisibleCluster(points, truth, 0.004f, scene), lattice.resolution_m);
-    ClusterVoxels free;  // random free cells around the cluster, up to its top.
     ASSERT_FALSE(cluster.cells.empty());
-    const Eigen::Vector3i c0 = cluster.cells[cluster.cells.size() / 2];
-    std::set<std::tuple<int, int, int>> occupied, free_set;
     int top = 0;
-    for (const Eigen::Vector3i& c : cluster.cells) {
-      occupied.insert({c.x(), c.y(), c.z()});
-      top = std::max(top, c.z());
-    }
-    std::uniform_int_distribution<int> dx(-20, 20), dz(0, top + 2);
-    for (int k = 0; k < 6000; ++k) {
-      const std::tuple<int, int, int> c{c0.x() + dx(rng), c0.y() + dx(rng), dz(rng)};
-      if (occupied.count(c) == 0) free_set.insert(c);
-    }
-    for (const auto& [x, y, z] : free_set) free.cells.emplace_back(x, y, z);
+    for (const Eigen::Vector3i& c : cluster.cells) top = std::max(top, c.z());
+    const ClusterVoxels free = RandomFreeCells(cluster, 6000, top + 2, &rng);  // up to its top.
     const FastScorer scorer(cluster, lattice);
     const FastScorer free_scorer(free, lattice);
 
@@ -579,21 +590,11 @@ TEST(ExactSearchTest, TallTemplateSearchedBySlabsEqualsExhaustiveSearch) {
     const SearchResult r = search.Search(problem);
     opts.slabs = false;
     const SearchResult two_words = ExactSearch(opts).Search(problem);
-    const ExactSearch::Region region = search.TranslationRegion(cluster, rot);
-    int best = INT_MIN;
-    LatticePose first_best;
-    for (int t = 0; t < lattice.angle_steps; ++t) {
-      for (int ix = region.ix_min; ix <= region.ix_max; ++ix) {
-        for (int iy = region.iy_min; iy <= region.iy_max; ++iy) {
-          const int v = problem.hit_weight * scorer.Hits(rot.Get(t), ix, iy) -
-                        problem.free_space_weight * free_scorer.Hits(rot.Get(t), ix, iy);
-          if (v > best) {
-            best = v;
-            first_best = LatticePose{ix, iy, t};
-          }
-        }
-      }
-    }
+    const WeightedOptimum brute =
+        BruteWeighted(scorer, free_scorer, rot, search.TranslationRegion(cluster, rot),
+                      problem.hit_weight, problem.free_space_weight);
+    const int best = brute.value;
+    const LatticePose& first_best = brute.first;
     ASSERT_EQ(r.value, best) << "scene " << scene;
     EXPECT_EQ(r.best.ix, first_best.ix) << "scene " << scene;
     EXPECT_EQ(r.best.iy, first_best.iy) << "scene " << scene;

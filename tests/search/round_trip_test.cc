@@ -15,6 +15,22 @@ namespace {
 
 using testing::ModelTemplate;
 
+// Two estimators' i-th candidates are the same: template, cluster, lattice and refined pose,
+// scores and fit.
+void ExpectSameCandidate(const Candidate& x, const Candidate& y, size_t i) {
+  EXPECT_EQ(x.template_name, y.template_name) << i;
+  EXPECT_EQ(x.cluster_index, y.cluster_index) << i;
+  EXPECT_EQ(x.lattice_pose.x, y.lattice_pose.x) << i;
+  EXPECT_EQ(x.lattice_pose.y, y.lattice_pose.y) << i;
+  EXPECT_EQ(x.lattice_pose.theta, y.lattice_pose.theta) << i;
+  EXPECT_EQ(x.pose.x, y.pose.x) << i;
+  EXPECT_EQ(x.pose.y, y.pose.y) << i;
+  EXPECT_EQ(x.pose.theta, y.pose.theta) << i;
+  EXPECT_EQ(x.score, y.score) << i;
+  EXPECT_EQ(x.runner_up_score, y.runner_up_score) << i;
+  EXPECT_EQ(x.fit.fit, y.fit.fit) << i;
+}
+
 class RoundTripTest : public ::testing::TestWithParam<std::tuple<SearchKind, double, double>> {};
 
 TEST_P(RoundTripTest, PoseComesBackWithinThePapersAccuracy) {
@@ -92,16 +108,7 @@ TEST(EstimatorTest, ThreadsGiveTheSameCandidates) {
   ASSERT_GE(a.candidates.size(), 2u);
   ASSERT_EQ(a.candidates.size(), b.candidates.size());
   for (size_t i = 0; i < a.candidates.size(); ++i) {
-    const Candidate& x = a.candidates[i];
-    const Candidate& y = b.candidates[i];
-    EXPECT_EQ(x.template_name, y.template_name) << i;
-    EXPECT_EQ(x.cluster_index, y.cluster_index) << i;
-    EXPECT_EQ(x.pose.x, y.pose.x) << i;
-    EXPECT_EQ(x.pose.y, y.pose.y) << i;
-    EXPECT_EQ(x.pose.theta, y.pose.theta) << i;
-    EXPECT_EQ(x.score, y.score) << i;
-    EXPECT_EQ(x.runner_up_score, y.runner_up_score) << i;
-    EXPECT_EQ(x.fit.fit, y.fit.fit) << i;
+    ExpectSameCandidate(a.candidates[i], b.candidates[i], i);
   }
   ASSERT_EQ(a.clusters.size(), b.clusters.size());
   for (size_t i = 0; i < a.clusters.size(); ++i) {
@@ -145,17 +152,9 @@ TEST(RoundTripTest, TallHumanoidIsFoundSlabBySlabAsWithoutSlabs) {
   ASSERT_EQ(a.candidates.size(), b.candidates.size());
   std::int64_t bounds_a = 0, bounds_b = 0;
   for (size_t i = 0; i < a.candidates.size(); ++i) {
-    const Candidate& x = a.candidates[i];
-    const Candidate& y = b.candidates[i];
-    EXPECT_EQ(x.template_name, y.template_name) << i;
-    EXPECT_EQ(x.lattice_pose.x, y.lattice_pose.x) << i;
-    EXPECT_EQ(x.lattice_pose.y, y.lattice_pose.y) << i;
-    EXPECT_EQ(x.lattice_pose.theta, y.lattice_pose.theta) << i;
-    EXPECT_EQ(x.score, y.score) << i;
-    EXPECT_EQ(x.runner_up_score, y.runner_up_score) << i;
-    EXPECT_EQ(x.pose.x, y.pose.x) << i;
-    bounds_a += x.bounds_evaluated;
-    bounds_b += y.bounds_evaluated;
+    ExpectSameCandidate(a.candidates[i], b.candidates[i], i);
+    bounds_a += a.candidates[i].bounds_evaluated;
+    bounds_b += b.candidates[i].bounds_evaluated;
   }
   // The slabs' cell tables and swept bounds are what make them pay.
   EXPECT_LT(bounds_a, bounds_b);
