@@ -641,6 +641,9 @@ struct SearchGrids {
   ColumnOccupancy::CellRange lookups;
   std::unique_ptr<ColumnOccupancy> occ;
   std::unique_ptr<ColumnOccupancy> free;  // null without free space.
+  // Tall templates instead: per slab index, the grids of the templates' slabs (null entries:
+  // none shared); occ and free are then null.
+  std::vector<std::shared_ptr<const SearchGrids>> slabs;
 
   bool Serves(int z_base_, int z_words_, int arc_top, int free_top, bool with_free,
               const ColumnOccupancy::CellRange& r) const {
@@ -655,11 +658,36 @@ std::shared_ptr<const SearchGrids> ExactSearch::MakeGrids(
     const ClusterVoxels& cluster, const ClusterVoxels* free_space,
     const std::vector<const TemplateRotations*>& rotations) const {
   if (rotations.empty() || cluster.cells.empty()) return nullptr;
+  std::vector<Region> regions;
+  for (const TemplateRotations* rot : rotations)
+    regions.push_back(TranslationRegion(cluster, *rot));
+  const std::vector<std::unique_ptr<TemplateRotations>>& first_slabs = rotations[0]->slabs();
+  if (!options_.slabs || rotations[0]->has_cell_groups() || first_slabs.empty()) {
+    return MakeGridsIn(cluster, free_space, rotations, regions);
+  }
+  // Tall templates: the grids of their k-th slabs shared, each slab searched over its whole
+  // template's region (null where the slabs' z layouts differ: those searches make their own).
+  auto grids = std::make_shared<SearchGrids>();
+  for (size_t k = 0; k < first_slabs.size(); ++k) {
+    std::vector<const TemplateRotations*> slab_k;
+    for (const TemplateRotations* rot : rotations) {
+      if (rot->has_cell_groups() || rot->slabs().size() != first_slabs.size()) return nullptr;
+      slab_k.push_back(rot->slabs()[k].get());
+    }
+    grids->slabs.push_back(MakeGridsIn(cluster, free_space, slab_k, regions));
+  }
+  return grids;
+}
+
+std::shared_ptr<const SearchGrids> ExactSearch::MakeGridsIn(
+    const ClusterVoxels& cluster, const ClusterVoxels* free_space,
+    const std::vector<const TemplateRotations*>& rotations,
+    const std::vector<Region>& regions) const {
   auto grids = std::make_shared<SearchGrids>();
   for (size_t i = 0; i < rotations.size(); ++i) {
     const TemplateRotations& rot = *rotations[i];
     if (!rot.has_cell_groups()) return nullptr;  // its exact values would read Hits' scratch.
-    const GridNeeds needs = Needs(TranslationRegion(cluster, rot), rot);
+    const GridNeeds needs = Needs(regions[i], rot);
     if (needs.region.ix_max < needs.region.ix_min) return nullptr;
     if (i == 0) {
       grids->z_base = needs.z_base;
@@ -717,16 +745,21 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   const bool with_free = problem.free_space != nullptr;
   std::vector<std::unique_ptr<ColumnOccupancy>> own;
   std::vector<PartEvaluator> part_evaluators;
-  for (const TemplateRotations* part : parts) {
+  for (size_t k = 0; k < parts.size(); ++k) {
+    const TemplateRotations* part = parts[k];
     const GridNeeds needs = Needs(region, *part);
     top = needs.top;  // the region's: the same for every part.
     const ColumnOccupancy* occ_ptr = nullptr;
     const ColumnOccupancy* free_ptr = nullptr;
-    if (problem.grids != nullptr &&
-        problem.grids->Serves(needs.z_base, needs.z_words, needs.arc_top, needs.free_top, with_free,
-                              needs.lookups)) {
-      occ_ptr = problem.grids->occ.get();
-      free_ptr = problem.grids->free.get();
+    const SearchGrids* shared = problem.grids;
+    if (part != &rotations && shared != nullptr) {  // a slab: its index's grids, if any.
+      shared = k < shared->slabs.size() ? shared->slabs[k].get() : nullptr;
+    }
+    if (shared != nullptr && shared->occ != nullptr &&
+        shared->Serves(needs.z_base, needs.z_words, needs.arc_top, needs.free_top, with_free,
+                       needs.lookups)) {
+      occ_ptr = shared->occ.get();
+      free_ptr = shared->free.get();
     } else {
       own.push_back(std::make_unique<ColumnOccupancy>(cluster, lattice, needs.z_base, needs.z_words,
                                                       needs.arc_top, ColumnOccupancy::Filter::kMax,

@@ -91,6 +91,11 @@ class ExactSearch final : public PoseSearch {
   // What a search of the cluster with the template reads of the grids.
   struct GridNeeds;
   GridNeeds Needs(const Region& region, const TemplateRotations& rotations) const;
+  // MakeGrids for templates searched over the given regions (one each).
+  std::shared_ptr<const SearchGrids> MakeGridsIn(
+      const ClusterVoxels& cluster, const ClusterVoxels* free_space,
+      const std::vector<const TemplateRotations*>& rotations,
+      const std::vector<Region>& regions) const;
 
   ExactSearchOptions options_;
 };
