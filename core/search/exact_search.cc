@@ -61,17 +61,9 @@ class PartEvaluator {
         free_bound_max_level_(free_bound_max_level) {}
 
   int Value(int itheta, int a, int b) const {
-    if (grouped_) {
-      const int mask = rotations_->lattice().subdivisions - 1;
-      const CellGroups& g = rotations_->Groups(itheta, a & mask, b & mask);
-      int v = hit_weight_ * cluster_->HitsGrouped(g, a, b);
-      if (free_ != nullptr) v -= free_weight_ * free_->HitsGrouped(g, a, b);
-      return v;
-    }
-    const RotatedTemplate& r = rotations_->Get(itheta);
-    int v = hit_weight_ * cluster_->Hits(r, a, b);
-    if (free_ != nullptr) v -= free_weight_ * free_->Hits(r, a, b);
-    return v;
+    int hits = 0, free_hits = 0;
+    AddCounts(itheta, a, b, &hits, &free_hits);
+    return hit_weight_ * hits - free_weight_ * free_hits;
   }
   // The cluster part of a block's bound: with HasFreePart, FreePart is still to be subtracted.
   int ClusterBound(int tlevel, int itheta, int a, int b, int level) const {
@@ -147,8 +139,8 @@ class PartEvaluator {
     return free_weight_ *
            free_->LowerBound(r, rotations_->DisjointMasks(itheta).data(), a, b, level);
   }
-  // The pose's hits and free hits (the occupancies' scratch space untouched when grouped).
-  void Counts(int itheta, int a, int b, int* hits, int* free_hits) const {
+  // Adds the pose's hits and free hits (the occupancies' scratch space untouched when grouped).
+  void AddCounts(int itheta, int a, int b, int* hits, int* free_hits) const {
     if (grouped_) {
       const int mask = rotations_->lattice().subdivisions - 1;
       const CellGroups& g = rotations_->Groups(itheta, a & mask, b & mask);
@@ -229,7 +221,7 @@ class Evaluator {
   void Counts(int itheta, int a, int b, int* hits, int* free_hits) const {
     *hits = 0;
     *free_hits = 0;
-    for (const PartEvaluator& p : parts_) p.Counts(itheta, a, b, hits, free_hits);
+    for (const PartEvaluator& p : parts_) p.AddCounts(itheta, a, b, hits, free_hits);
   }
 
  private:
@@ -548,6 +540,10 @@ void SetPose(const BranchAndBoundResult& found, const Evaluator& eval, const Pos
 
 }  // namespace
 
+bool ExactSearch::BySlabs(const TemplateRotations& rotations) const {
+  return options_.slabs && !rotations.has_cell_groups() && !rotations.slabs().empty();
+}
+
 double ExactSearch::Margin(const TemplateRotations& rotations) const {
   if (options_.margin_m >= 0.0) return options_.margin_m;
   // Horizontal radius of the template from its rotation at theta = 0.
@@ -661,17 +657,15 @@ std::shared_ptr<const SearchGrids> ExactSearch::MakeGrids(
   std::vector<Region> regions;
   for (const TemplateRotations* rot : rotations)
     regions.push_back(TranslationRegion(cluster, *rot));
+  if (!BySlabs(*rotations[0])) return MakeGridsIn(cluster, free_space, rotations, regions);
   const std::vector<std::unique_ptr<TemplateRotations>>& first_slabs = rotations[0]->slabs();
-  if (!options_.slabs || rotations[0]->has_cell_groups() || first_slabs.empty()) {
-    return MakeGridsIn(cluster, free_space, rotations, regions);
-  }
   // Tall templates: the grids of their k-th slabs shared, each slab searched over its whole
   // template's region (null where the slabs' z layouts differ: those searches make their own).
   auto grids = std::make_shared<SearchGrids>();
   for (size_t k = 0; k < first_slabs.size(); ++k) {
     std::vector<const TemplateRotations*> slab_k;
     for (const TemplateRotations* rot : rotations) {
-      if (rot->has_cell_groups() || rot->slabs().size() != first_slabs.size()) return nullptr;
+      if (!BySlabs(*rot) || rot->slabs().size() != first_slabs.size()) return nullptr;
       slab_k.push_back(rot->slabs()[k].get());
     }
     grids->slabs.push_back(MakeGridsIn(cluster, free_space, slab_k, regions));
@@ -727,12 +721,12 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   const TemplateRotations& rotations = *problem.rotations;
   const PoseLattice& lattice = rotations.lattice();
   const int n = problem.scorer->cluster_voxels();
-  // The region is the whole template's; a tall template is evaluated slab by slab, each with
-  // its own grids (levels, z frame and lookups).
+  // The region is the whole template's; a tall template is evaluated slab by slab, each slab
+  // with grids of its own z frame, levels and lookups.
   const Region region = TranslationRegion(cluster, rotations);
   if (region.ix_max < region.ix_min || n == 0) return result;
   std::vector<const TemplateRotations*> parts;
-  if (!rotations.has_cell_groups() && !rotations.slabs().empty() && options_.slabs) {
+  if (BySlabs(rotations)) {
     for (const std::unique_ptr<TemplateRotations>& slab : rotations.slabs())
       parts.push_back(slab.get());
   } else {

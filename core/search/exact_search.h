@@ -86,6 +86,8 @@ class ExactSearch final : public PoseSearch {
   Region TranslationRegion(const ClusterVoxels& cluster, const TemplateRotations& rotations) const;
 
  private:
+  // Whether the template is searched as the sum of its slabs (ExactSearchOptions::slabs).
+  bool BySlabs(const TemplateRotations& rotations) const;
   // The margin of TranslationRegion (metres).
   double Margin(const TemplateRotations& rotations) const;
   // What a search of the cluster with the template reads of the grids.
