@@ -55,16 +55,19 @@ std::vector<FrameSpec> BenchFrameSpecs(int count, int clutter, double max_distan
   return specs;
 }
 
-std::vector<FrameSpec> BenchSequenceSpecs(int count, int clutter) {
+std::vector<FrameSpec> BenchSequenceSpecs(int count, int clutter, double far_m) {
+  constexpr double kNear = 1.4;  // metres.
+  const double centre = 0.5 * (kNear + far_m), radius = 0.5 * (far_m - kNear);
   std::vector<FrameSpec> specs;
   for (int i = 0; i < count; ++i) {
     FrameSpec s;
     s.preset = (i / 15) % 2 == 0 ? "standing" : "right_arm_raised";
-    // Walking a circle of 0.8 m radius around (2.2, 0) m, 2.5 degrees of arc a frame (about
-    // 3.5 cm), facing along the path: 1.4-3.0 m from the sensor, every heading in 144 frames.
+    // Walking a circle around (centre, 0) from its nearest point, 2.5 degrees of arc a frame
+    // (about 3.5 cm with the default 0.8 m radius), facing along the path: the farthest point
+    // after 72 frames, every heading in 144.
     const double phi = kPi + DegToRad(2.5 * i);
-    s.humanoid_pose =
-        Pose2D{2.2 + 0.8 * std::cos(phi), 0.8 * std::sin(phi), NormalizeAngle(phi + 0.5 * kPi)};
+    s.humanoid_pose = Pose2D{centre + radius * std::cos(phi), radius * std::sin(phi),
+                             NormalizeAngle(phi + 0.5 * kPi)};
     s.clutter = clutter;
     s.seed = 1;  // the same clutter in every frame.
     specs.push_back(s);

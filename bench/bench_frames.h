@@ -28,9 +28,10 @@ Result<std::vector<VoxelTemplate>> BodyTemplates(const std::string& body);
 // 0.9-`max_distance_m` away in 12 steps, `clutter` clutter objects, seeds 1..count.
 // Deterministic.
 std::vector<FrameSpec> BenchFrameSpecs(int count, int clutter = 4, double max_distance_m = 2.0);
-// A walk: `count` consecutive frames of one humanoid walking a circle (1.4-3.0 m away, turning
-// 2.5 degrees a frame, switching preset every 15 frames) among the same `clutter` objects.
-std::vector<FrameSpec> BenchSequenceSpecs(int count, int clutter = 4);
+// A walk: `count` consecutive frames of one humanoid walking a circle (1.4-`far_m` m away, from
+// its nearest point, 2.5 degrees of arc a frame, facing along the path, switching preset every 15
+// frames) among the same `clutter` objects.
+std::vector<FrameSpec> BenchSequenceSpecs(int count, int clutter = 4, double far_m = 3.0);
 
 // One (cluster, template) search as the estimator sets it up (free-space score, threshold).
 struct BenchProblem {
