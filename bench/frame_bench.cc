@@ -16,7 +16,7 @@
 // otherwise. Pin it to one core for the documented numbers:
 //   taskset -c 0 frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]
 //                            [--repeat N] [--only VARIANT] [--frames-detail] [--dump]
-//                            [--body NAME] [--sensor-height M] [--pitch-deg D]
+//                            [--body NAME] [--sensor-height M] [--pitch-deg D] [--walk-far M]
 // With --body other than nao the humanoid has those proportions and the two templates are made
 // from them (BodyTemplates) instead of the shipped ones.
 #include <time.h>
@@ -51,6 +51,7 @@ struct Variant {
   std::vector<double> cloud, floor, cluster, search, refine, total, cpu, bounds;
   std::vector<double> refine_humanoid;  // the refinement of the humanoid's cluster alone.
   std::map<int, std::vector<double>> total_by_distance;  // decimetres -> total ms.
+  std::map<int, std::pair<int, int>> found_by_distance;  // half metres -> (found, frames).
   int found = 0;
   int false_humanoids = 0;  // humanoid detections more than 0.3 m from the truth.
   int frames = 0;
@@ -217,10 +218,14 @@ Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>*
                std::abs(AngleDiff(p.theta, truth.theta)) < DegToRad(10.0);
         }
         v.found += ok ? 1 : 0;
+        const double distance = std::hypot(truth.x, truth.y);
+        auto& [found_here, frames_here] = v.found_by_distance[static_cast<int>(2.0 * distance)];
+        found_here += ok ? 1 : 0;
+        ++frames_here;
         if (flags.detail) {
-          std::printf("frame %2zu %-16s %-34s clusters %zu searches %zu total %.1f ms%s%s\n", f,
-                      spec.preset.c_str(), v.name.c_str(), e->clusters.size(), e->candidates.size(),
-                      t.total_ms, e->tracking.tracked ? "  (tracked)" : "",
+          std::printf("frame %2zu %-16s %-34s %.2f m clusters %zu searches %zu total %.1f ms%s%s\n",
+                      f, spec.preset.c_str(), v.name.c_str(), distance, e->clusters.size(),
+                      e->candidates.size(), t.total_ms, e->tracking.tracked ? "  (tracked)" : "",
                       ok ? "" : "  (humanoid missed)");
         }
       }
@@ -259,6 +264,25 @@ void PrintByDistance(const std::vector<Variant>& variants) {
     for (const Variant& v : variants) {
       const auto it = v.total_by_distance.find(dm);
       std::printf(" %.1f |", it == v.total_by_distance.end() ? 0.0 : Median(it->second));
+    }
+    std::printf("\n");
+  }
+}
+
+// Humanoids found per half metre of distance, one column per variant.
+void PrintFoundByDistance(const std::vector<Variant>& variants) {
+  std::printf(
+      "\nHumanoid found / frames by distance of the humanoid from the sensor:\n\n| distance |");
+  for (const Variant& v : variants) std::printf(" %s |", v.name.c_str());
+  std::printf("\n|---|");
+  for (size_t i = 0; i < variants.size(); ++i) std::printf("---|");
+  std::printf("\n");
+  for (const auto& [half_metres, unused] : variants.front().found_by_distance) {
+    std::printf("| %.1f-%.1f m |", half_metres / 2.0, (half_metres + 1) / 2.0);
+    for (const Variant& v : variants) {
+      const auto it = v.found_by_distance.find(half_metres);
+      const auto [found, count] = it == v.found_by_distance.end() ? std::pair{0, 0} : it->second;
+      std::printf(" %d / %d |", found, count);
     }
     std::printf("\n");
   }
@@ -438,6 +462,12 @@ std::vector<Variant> SequenceVariants() {
                  o->min_humanoid_fit = 0.0;
                },
                true});
+  v.push_back({"walk, tracked, one score threshold (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->tracked_score_threshold = o->score_threshold;
+               },
+               true});
   v.push_back({"walk, tracked, two-word columns (before slabs)",
                [](EstimatorOptions* o) {
                  Exact(o);
@@ -458,6 +488,7 @@ int Usage(FILE* out) {
                "usage: frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]\n"
                "                   [--repeat N] [--only VARIANT] [--frames-detail] [--dump]\n"
                "                   [--body NAME] [--sensor-height M] [--pitch-deg D]\n"
+               "                   [--walk-far M]\n"
                "  --frames N        scattered frames, every variant cold (default 30; 0: none)\n"
                "  --sequence N      frames of the walk, cold and tracked (default 30; 0: none)\n"
                "  --clutter N       clutter objects per frame (default 4)\n"
@@ -470,7 +501,9 @@ int Usage(FILE* out) {
                "                    the templates are made from the body (default nao: the\n"
                "                    shipped templates)\n"
                "  --sensor-height M optical centre above the floor, metres (0.34)\n"
-               "  --pitch-deg D     sensor pitch, degrees, + looks down (0)\n");
+               "  --pitch-deg D     sensor pitch, degrees, + looks down (0)\n"
+               "  --walk-far M      farthest point of the walk's circle, metres (3.0; it starts\n"
+               "                    at 1.4 m and gets there after 72 frames)\n");
   return out == stdout ? 0 : 2;
 }
 
@@ -479,6 +512,7 @@ int Run(int argc, char** argv) {
   int sequence = 30;
   int clutter = 4;
   double max_distance = 3.5;
+  double walk_far = 3.0;
   std::string body = "nao";
   double sensor_height = 0.34, pitch_deg = 0.0;
   RunFlags flags;
@@ -502,6 +536,8 @@ int Run(int argc, char** argv) {
       clutter = std::atoi(argv[++i]);
     } else if (a == "--max-distance") {
       max_distance = std::atof(argv[++i]);
+    } else if (a == "--walk-far") {
+      walk_far = std::atof(argv[++i]);
     } else if (a == "--repeat") {
       flags.repeat = std::atoi(argv[++i]);
     } else if (a == "--body") {
@@ -518,10 +554,10 @@ int Run(int argc, char** argv) {
     }
   }
   if (frames < 0 || sequence < 0 || clutter < 0 || flags.repeat < 1 ||
-      !(max_distance >= 0.9 && max_distance <= 8.0)) {
+      !(max_distance >= 0.9 && max_distance <= 8.0) || !(walk_far >= 1.6 && walk_far <= 8.0)) {
     std::fprintf(stderr,
                  "frame_bench: --frames and --sequence must be >= 0, --clutter >= 0, --repeat >= "
-                 "1, --max-distance within [0.9, 8] m\n");
+                 "1, --max-distance within [0.9, 8] m, --walk-far within [1.6, 8] m\n");
     return 2;
   }
   if (!(sensor_height > 0.0 && sensor_height <= 3.0) || !(std::abs(pitch_deg) <= 60.0)) {
@@ -574,15 +610,17 @@ int Run(int argc, char** argv) {
         frames, body.c_str(), max_distance, sensor_height, pitch_deg, clutter, flags.repeat);
     PrintTable(scattered);
     PrintByDistance(scattered);
+    PrintFoundByDistance(scattered);
   }
   if (!walk.empty()) {
-    if (!run_set(BenchSequenceSpecs(sequence, clutter), &walk)) return 1;
+    if (!run_set(BenchSequenceSpecs(sequence, clutter, walk_far), &walk)) return 1;
     std::printf(
-        "\nA walk of %d consecutive frames (humanoid '%s' 1.4-3.0 m away, 2.5 degrees of turn a "
-        "frame, sensor %.2f m high pitched %.0f deg, %d clutter objects), %d run(s) each; median / "
-        "p90 in ms\n\n",
-        sequence, body.c_str(), sensor_height, pitch_deg, clutter, flags.repeat);
+        "\nA walk of %d consecutive frames (humanoid '%s' on a circle 1.4-%.1f m away, from its "
+        "nearest point, 2.5 degrees of turn a frame, sensor %.2f m high pitched %.0f deg, %d "
+        "clutter objects), %d run(s) each; median / p90 in ms\n\n",
+        sequence, body.c_str(), walk_far, sensor_height, pitch_deg, clutter, flags.repeat);
     PrintTable(walk);
+    PrintFoundByDistance(walk);
   }
   std::printf(
       "\nCPU per frame: process CPU time of the call, all threads. tracked: frames whose search "

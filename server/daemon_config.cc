@@ -224,6 +224,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     }
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("score_threshold", &e.score_threshold));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_humanoid_fit", &e.min_humanoid_fit));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("tracked_score_threshold", &e.tracked_score_threshold));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("max_height_ratio_error", &e.max_height_ratio_error));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("resolution_m", &e.lattice.resolution_m));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_range_m", &e.cloud.min_range_m));
@@ -426,6 +427,10 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (!(c.estimator.min_humanoid_fit >= 0.0 && c.estimator.min_humanoid_fit <= 100.0)) {
     return fail("search.min_humanoid_fit", "must be in [0, 100]");
   }
+  if (!(c.estimator.tracked_score_threshold >= 0.0 &&
+        c.estimator.tracked_score_threshold <= 100.0)) {
+    return fail("search.tracked_score_threshold", "must be in [0, 100]");
+  }
   if (c.floor.fixed) {
     if (!(c.floor.height_m > 0.0 && c.floor.height_m < 10.0)) {
       return fail("floor.height_m", "must be in (0, 10) metres");
@@ -504,6 +509,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "scorer" << YAML::Value << ScorerName(e.scorer);
   out << YAML::Key << "score_threshold" << YAML::Value << e.score_threshold;
   out << YAML::Key << "min_humanoid_fit" << YAML::Value << e.min_humanoid_fit;
+  out << YAML::Key << "tracked_score_threshold" << YAML::Value << e.tracked_score_threshold;
   out << YAML::Key << "max_height_ratio_error" << YAML::Value << e.max_height_ratio_error;
   out << YAML::Key << "resolution_m" << YAML::Value << e.lattice.resolution_m;
   out << YAML::Key << "min_range_m" << YAML::Value << e.cloud.min_range_m;

@@ -79,6 +79,7 @@ void DetectionToProto(const Detection& d, v1::Detection* out) {
   out->set_template_margin(d.template_margin);
   out->set_is_humanoid(d.is_humanoid);
   out->set_template_ambiguous(d.template_ambiguous);
+  out->set_score_threshold(d.score_threshold);
 }
 
 Error Invalid(const std::string& message) {

@@ -76,7 +76,10 @@ struct Detection {
   double template_margin = 0.0;
   // The margin is within what noise explains (two standard errors of the fits).
   bool template_ambiguous = false;
-  bool is_humanoid = false;  // best.score >= the score threshold.
+  bool is_humanoid = false;  // best.score >= score_threshold and, refined, the fit threshold.
+  // The score threshold this cluster was held to: EstimatorOptions::tracked_score_threshold on
+  // the cluster the previous frame's humanoid stood on, else score_threshold.
+  double score_threshold = 0.0;
 };
 
 struct ClusterSummary {

@@ -191,8 +191,8 @@ void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const Ref
 // One detection per cluster: among its templates with a pose, the one whose pose the refined
 // evidence supports best (highest fit; the search score when not refined); humanoids first,
 // then by search score.
-std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates, double threshold,
-                                       double min_fit) {
+std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
+                                       const std::vector<double>& thresholds, double min_fit) {
   std::map<int, std::vector<const Candidate*>> by_cluster;
   for (const Candidate& c : candidates) by_cluster[c.cluster_index].push_back(&c);
   std::vector<Detection> out;
@@ -206,7 +206,8 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
     });
     Detection d;
     d.best = *cands.front();
-    d.is_humanoid = !d.best.stopped_below_threshold && d.best.score >= threshold &&
+    d.score_threshold = thresholds[cluster];
+    d.is_humanoid = !d.best.stopped_below_threshold && d.best.score >= d.score_threshold &&
                     (!d.best.refined || d.best.fit.fit >= min_fit);
     if (cands.size() > 1) {
       const Candidate& second = *cands[1];
@@ -229,6 +230,32 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
     return a.best.score > b.best.score;
   });
   return out;
+}
+
+// Whether a pose (e.g. the previous frame's) stands on the cluster: within a hand of its
+// footprint.
+bool StandsOn(const Cluster& c, const Pose2D& pose) {
+  constexpr float kFootprintMargin = 0.15f;  // metres.
+  return pose.x >= c.min.x() - kFootprintMargin && pose.x <= c.max.x() + kFootprintMargin &&
+         pose.y >= c.min.y() - kFootprintMargin && pose.y <= c.max.y() + kFootprintMargin;
+}
+
+// The cluster the prior's humanoid stood on: the nearest by centroid of those it stands on;
+// -1 when none (or no prior).
+int HeldCluster(const std::vector<Cluster>& clusters, const FramePrior* prior) {
+  if (prior == nullptr || !prior->has_pose) return -1;
+  int held = -1;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < clusters.size(); ++i) {
+    if (!StandsOn(clusters[i], prior->pose)) continue;
+    const double d = std::hypot(clusters[i].centroid.x() - prior->pose.x,
+                                clusters[i].centroid.y() - prior->pose.y);
+    if (d < nearest) {
+      nearest = d;
+      held = static_cast<int>(i);
+    }
+  }
+  return held;
 }
 
 // A cluster's extent across the line of sight from the sensor (ground origin) to its centroid.
@@ -316,6 +343,10 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
   if (!(options.min_humanoid_fit >= 0.0 && options.min_humanoid_fit <= 100.0)) {
     return MakeError(ErrorCode::kInvalidArgument, "min_humanoid_fit must be within [0, 100]");
   }
+  if (!(options.tracked_score_threshold >= 0.0 && options.tracked_score_threshold <= 100.0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "tracked_score_threshold must be within [0, 100]");
+  }
   std::unique_ptr<Estimator> e(new Estimator(std::move(options), std::move(templates)));
   if (e->search_ == nullptr) {
     return MakeError(ErrorCode::kInvalidArgument, std::string("search '") +
@@ -381,6 +412,11 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   Result<std::vector<Cluster>> clusters = ExtractClusters(cloud, est.floor, options_.clusters);
   if (!clusters.ok()) return clusters.error();
   est.timings.cluster_ms = MsSince(t);
+  // The cluster the previous frame's humanoid stood on, if any, and its lower threshold.
+  const int held_cluster = HeldCluster(*clusters, prior);
+  const double tracked_threshold =
+      std::min(options_.tracked_score_threshold, options_.score_threshold);
+  std::vector<double> thresholds(clusters->size(), options_.score_threshold);
 
   t = Clock::now();
   const bool use_free_space = options_.score == ScoreKind::kFreeSpace;
@@ -406,8 +442,9 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   struct Task {
     int cluster = 0;
     int tpl = 0;
-    bool kept = false;    // passed the voxel-count bound.
-    bool seeded = false;  // the prior pose lay in its search region.
+    double threshold = 0.0;  // the score threshold it is searched down to.
+    bool kept = false;       // passed the voxel-count bound.
+    bool seeded = false;     // the prior pose lay in its search region.
     Candidate cand;
     bool has_prior = false;  // the previous frame's pose stood on this cluster.
     double prior_theta = 0.0;
@@ -487,8 +524,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
 
   // Every (cluster, template) search and its refinement, one per thread; each task has its own
   // scorer (scorers keep scratch space).
-  pool_->ParallelFor(static_cast<int>(tasks.size()), [&](int k) {
-    Task& task = tasks[k];
+  const auto search_task = [&](Task& task) {
     const Cluster& c = (*clusters)[task.cluster];
     ClusterWork& w = work[task.cluster];
     const int j = task.tpl;
@@ -496,8 +532,9 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     // A bound, not a heuristic: a placed template covers at most as many cluster voxels as it
     // has voxels, so a cluster that large cannot reach the threshold with it.
     const int n = w.n;
-    if (options_.score_threshold > 0.0 && n > 0 &&
-        100.0 * static_cast<double>(templates_[j].voxels.size()) / n < options_.score_threshold) {
+    const double threshold = task.threshold;
+    if (threshold > 0.0 && n > 0 &&
+        100.0 * static_cast<double>(templates_[j].voxels.size()) / n < threshold) {
       return;
     }
     task.kept = true;
@@ -512,18 +549,14 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     problem.free_space_weight = options_.free_space_weight;
     problem.hit_weight = options_.hit_weight;
     if (options_.stop_below_threshold) {
-      problem.min_value = static_cast<int>(
-          std::ceil(options_.score_threshold * options_.hit_weight * n / 100.0 - 1e-9));
+      problem.min_value =
+          static_cast<int>(std::ceil(threshold * options_.hit_weight * n / 100.0 - 1e-9));
     }
     // The prior pose seeds the search of the cluster it stands on (within a hand of its
     // footprint), for every template: the bodies differ little.
     LatticePose incumbent;
     const double* prior_theta = nullptr;
-    constexpr float kFootprintMargin = 0.15f;  // metres.
-    if (prior != nullptr && prior->has_pose && prior->pose.x >= c.min.x() - kFootprintMargin &&
-        prior->pose.x <= c.max.x() + kFootprintMargin &&
-        prior->pose.y >= c.min.y() - kFootprintMargin &&
-        prior->pose.y <= c.max.y() + kFootprintMargin) {
+    if (prior != nullptr && prior->has_pose && StandsOn(c, prior->pose)) {
       incumbent = NearestLatticePose(options_.lattice, prior->pose);
       problem.incumbent = &incumbent;
       prior_theta = &prior->pose.theta;
@@ -559,7 +592,34 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
       task.has_prior = true;
       task.prior_theta = *prior_theta;
     }
-  });
+  };
+  // A prior that passed by the lower threshold itself: its cluster goes straight down to it.
+  if (held_cluster >= 0 && prior->score < options_.score_threshold) {
+    thresholds[held_cluster] = tracked_threshold;
+  }
+  for (Task& task : tasks) task.threshold = thresholds[task.cluster];
+  pool_->ParallelFor(static_cast<int>(tasks.size()), [&](int k) { search_task(tasks[k]); });
+  // Hysteresis: when none of the held cluster's templates reached score_threshold, they are
+  // searched again down to tracked_score_threshold.
+  if (held_cluster >= 0 && thresholds[held_cluster] > tracked_threshold) {
+    std::vector<int> again;
+    bool passed = false;
+    for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
+      if (tasks[k].cluster != held_cluster) continue;
+      again.push_back(k);
+      passed = passed || (tasks[k].kept && !tasks[k].cand.stopped_below_threshold &&
+                          tasks[k].cand.score >= options_.score_threshold);
+    }
+    if (!passed && !again.empty()) {
+      thresholds[held_cluster] = tracked_threshold;
+      pool_->ParallelFor(static_cast<int>(again.size()), [&](int i) {
+        Task& task = tasks[again[i]];
+        task = Task{task.cluster, task.tpl};
+        task.threshold = tracked_threshold;
+        search_task(task);
+      });
+    }
+  }
 
   // The runner-up headings, once every template of a cluster has its refined fit: a template
   // whose fit is far behind the cluster's best has its runner-up only evaluated.
@@ -619,8 +679,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
 
   std::stable_sort(est.candidates.begin(), est.candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-  est.detections =
-      ChooseTemplates(est.candidates, options_.score_threshold, options_.min_humanoid_fit);
+  est.detections = ChooseTemplates(est.candidates, thresholds, options_.min_humanoid_fit);
   est.timings.total_ms = cloud_ms + MsSince(t_start);
   return est;
 }

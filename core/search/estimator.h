@@ -74,6 +74,18 @@ struct EstimatorOptions {
   // sensor sees through the template (simulated frames: humanoids 82-100, such clutter 26-53;
   // docs/BENCHMARKS.md). 0: the score alone decides (before).
   double min_humanoid_fit = 60.0;
+  // Hysteresis for a tracked humanoid: the cluster the previous frame's humanoid stood on
+  // (FramePrior, PoseTracker) is a humanoid from this score on when none of its templates
+  // reaches score_threshold (the fit threshold still applies); every other cluster is held to
+  // score_threshold. Kinect noise thickens a far cluster over more voxels than the template
+  // covers, so a humanoid's score falls with distance (simulated, 0.9 m high and 20 degrees
+  // down: a Nao 46-53 at 3-3.5 m, a 1.23 m humanoid 38-46 from 2.8 m; docs/BENCHMARKS.md): once
+  // found near, it stays found walking away, while clutter elsewhere still needs the full
+  // score. The held cluster's templates are searched down to score_threshold first and again
+  // down to this only when none reaches it (straight down to this when the prior itself scored
+  // below score_threshold), so frames whose humanoid passes are searched as without it. Used up
+  // to score_threshold: at or above it, no hysteresis.
+  double tracked_score_threshold = 35.0;
   // true: the exact search stops proving a cluster below the threshold as soon as it has (its
   // candidate then carries the best pose it evaluated and the bound, stopped_below_threshold).
   // false: every candidate's exact
@@ -121,6 +133,9 @@ struct FramePrior {
   bool has_pose = false;
   std::string template_name;
   Pose2D pose;
+  // Its search score: below score_threshold (it passed by tracked_score_threshold), the cluster
+  // it stands on is searched straight down to tracked_score_threshold.
+  double score = 100.0;
   FloorTracker* floor = nullptr;  // optional; ignored with a fixed floor.
 };
 

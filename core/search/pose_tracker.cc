@@ -46,6 +46,7 @@ Result<Estimate> PoseTracker::Keep(Result<Estimate> estimate) {
     p.has_pose = true;
     p.template_name = humans.front().best.template_name;
     p.pose = humans.front().best.pose;
+    p.score = humans.front().best.score;
     prior_ = p;
   }
   return estimate;

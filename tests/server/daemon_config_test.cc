@@ -12,7 +12,8 @@ grpc: {max_receive_message_bytes: 2048, max_concurrent_estimates: 3}
 source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
          estimate_threads: 2, stale_after_s: 0.5}
 templates: [t/standing.bt, /abs/arm.bt]
-search: {score_threshold: 55, min_humanoid_fit: 70, scorer: reference}
+search: {score_threshold: 55, min_humanoid_fit: 70, tracked_score_threshold: 42,
+         scorer: reference}
 floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
 )";
   Result<DaemonConfig> c = ParseDaemonConfig(yaml, "test.yaml", "/etc/hpose");
@@ -31,6 +32,7 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_EQ(c->templates[1], "/abs/arm.bt");
   EXPECT_DOUBLE_EQ(c->estimator.score_threshold, 55.0);
   EXPECT_DOUBLE_EQ(c->estimator.min_humanoid_fit, 70.0);
+  EXPECT_DOUBLE_EQ(c->estimator.tracked_score_threshold, 42.0);
   EXPECT_EQ(c->estimator.scorer, ScorerKind::kOctomapReference);
   EXPECT_TRUE(c->floor.fixed);
   EXPECT_DOUBLE_EQ(c->floor.height_m, 0.5);
@@ -102,6 +104,10 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   bad = c;
   bad.estimator.min_humanoid_fit = -1.0;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.min_humanoid_fit"),
+            std::string::npos);
+  bad = c;
+  bad.estimator.tracked_score_threshold = 120.0;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.tracked_score_threshold"),
             std::string::npos);
   bad = c;
   bad.source.reconnect_max_backoff_s = 0.1;

@@ -82,6 +82,7 @@ TEST(ProtoConvertTest, EstimateCarriesPoseIn3DAndMargins) {
   d.second_template = "right_arm_raised";
   d.template_margin = 4.0;
   d.is_humanoid = true;
+  d.score_threshold = 35.0;
   e.candidates = {c};
   e.detections = {d};
   v1::DepthTemplateResult out;
@@ -90,6 +91,7 @@ TEST(ProtoConvertTest, EstimateCarriesPoseIn3DAndMargins) {
   const v1::Candidate& p = out.best().best();
   EXPECT_DOUBLE_EQ(p.runner_up_margin(), 10.0);
   EXPECT_DOUBLE_EQ(out.best().template_margin(), 4.0);
+  EXPECT_DOUBLE_EQ(out.best().score_threshold(), 35.0);
   EXPECT_NEAR(p.pose_3d().orientation().z(), std::sin(1.25), 1e-12);
   EXPECT_NEAR(p.pose_3d().orientation().w(), std::cos(1.25), 1e-12);
   EXPECT_DOUBLE_EQ(p.pose_3d().position().y(), -0.2);

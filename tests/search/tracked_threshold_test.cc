@@ -1,0 +1,171 @@
+// Hysteresis for a tracked humanoid (EstimatorOptions::tracked_score_threshold): the cluster the
+// previous frame's humanoid stood on passes from the lower score when none of its templates
+// reaches score_threshold, so a humanoid walking away stays found; every other cluster still
+// needs the full score, and frames whose humanoid passes are searched as without it.
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/search/estimator.h"
+#include "core/sim/frame_simulator.h"
+#include "tests/search/model_templates.h"
+
+namespace hpose {
+namespace {
+
+using testing::ModelTemplate;
+
+// A Nao 3.3 m from a sensor 0.9 m high looking 20 degrees down: the depth noise spreads its
+// surfaces over more voxels than the template covers, and it scores below 50.
+FrameSpec FarSpec() {
+  FrameSpec spec;
+  spec.preset = "standing";
+  spec.humanoid_pose = Pose2D{3.3, 0.2, DegToRad(120.0)};
+  spec.sensor_height_m = 0.9;
+  spec.sensor_pitch_rad = DegToRad(20.0);
+  spec.clutter = 3;
+  spec.seed = 3;
+  return spec;
+}
+
+struct Fixture {
+  FrameSpec spec = FarSpec();
+  SimulatedFrame frame = *SimulateFrame(spec);
+  std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
+                                          ModelTemplate("right_arm_raised")};
+
+  // The sensor's true mount as the floor, so that runs differ only in what is tested.
+  EstimatorOptions Options() const {
+    EstimatorOptions o = DefaultEstimatorOptions();
+    o.use_fixed_floor = true;
+    o.fixed_floor = frame.sensor_mount;
+    return o;
+  }
+  Estimate Run(const EstimatorOptions& o, const FramePrior* prior) const {
+    return *Estimator::Create(o, templates)
+                .value()
+                ->EstimateDepth(frame.depth, spec.intrinsics, prior);
+  }
+  // Where the previous frame saw the robot: 3 cm and 2 degrees off this frame's pose.
+  FramePrior Prior(double score) const {
+    FramePrior p;
+    p.has_pose = true;
+    p.template_name = "standing";
+    p.pose = Pose2D{spec.humanoid_pose.x - 0.03, spec.humanoid_pose.y,
+                    spec.humanoid_pose.theta - DegToRad(2.0)};
+    p.score = score;
+    return p;
+  }
+  bool NearTruth(const Detection& d) const {
+    return std::hypot(d.best.pose.x - spec.humanoid_pose.x, d.best.pose.y - spec.humanoid_pose.y) <
+               0.05 &&
+           std::abs(RadToDeg(AngleDiff(d.best.pose.theta, spec.humanoid_pose.theta))) < 10.0;
+  }
+};
+
+void ExpectSameCandidates(const Estimate& a, const Estimate& b) {
+  ASSERT_EQ(a.candidates.size(), b.candidates.size());
+  for (size_t i = 0; i < a.candidates.size(); ++i) {
+    const Candidate& x = a.candidates[i];
+    const Candidate& y = b.candidates[i];
+    EXPECT_EQ(x.template_name, y.template_name) << i;
+    EXPECT_EQ(x.cluster_index, y.cluster_index) << i;
+    EXPECT_EQ(x.pose.x, y.pose.x) << i;
+    EXPECT_EQ(x.pose.y, y.pose.y) << i;
+    EXPECT_EQ(x.pose.theta, y.pose.theta) << i;
+    EXPECT_EQ(x.score, y.score) << i;
+    EXPECT_EQ(x.stopped_below_threshold, y.stopped_below_threshold) << i;
+  }
+  ASSERT_EQ(a.detections.size(), b.detections.size());
+  for (size_t i = 0; i < a.detections.size(); ++i) {
+    EXPECT_EQ(a.detections[i].is_humanoid, b.detections[i].is_humanoid) << i;
+    EXPECT_EQ(a.detections[i].score_threshold, b.detections[i].score_threshold) << i;
+  }
+}
+
+TEST(TrackedThresholdTest, AFarHumanoidWhereTheLastFrameSawItStaysFound) {
+  const Fixture f;
+  const EstimatorOptions options = f.Options();
+  // Cold, the humanoid's cluster does not reach the threshold.
+  const Estimate cold = f.Run(options, nullptr);
+  EXPECT_TRUE(cold.Humanoids().empty());
+  for (const Candidate& c : cold.candidates) EXPECT_LT(c.score, options.score_threshold);
+
+  const FramePrior prior = f.Prior(55.0);
+  const Estimate held = f.Run(options, &prior);
+  const std::vector<Detection> humans = held.Humanoids();
+  ASSERT_EQ(humans.size(), 1u);
+  const Detection& d = humans.front();
+  EXPECT_TRUE(f.NearTruth(d)) << d.best.pose.x << " " << d.best.pose.y << " "
+                              << RadToDeg(d.best.pose.theta);
+  EXPECT_GE(d.best.score, options.tracked_score_threshold);
+  EXPECT_LT(d.best.score, options.score_threshold);
+  EXPECT_GE(d.best.fit.fit, options.min_humanoid_fit);
+  EXPECT_EQ(d.score_threshold, options.tracked_score_threshold);
+  // Every other cluster is held to the full threshold.
+  int others = 0;
+  for (const Detection& o : held.detections) {
+    if (f.NearTruth(o)) continue;
+    EXPECT_EQ(o.score_threshold, options.score_threshold);
+    ++others;
+  }
+  EXPECT_GT(others, 0);  // the frame's clutter is searched too.
+
+  // Without hysteresis the same prior finds nothing.
+  EstimatorOptions off = options;
+  off.tracked_score_threshold = options.score_threshold;
+  EXPECT_TRUE(f.Run(off, &prior).Humanoids().empty());
+}
+
+TEST(TrackedThresholdTest, APriorStandingOnNoClusterChangesNothing) {
+  const Fixture f;
+  const EstimatorOptions options = f.Options();
+  FramePrior prior = f.Prior(55.0);
+  prior.pose = Pose2D{1.0, -1.2, 0.0};  // bare floor.
+  ExpectSameCandidates(f.Run(options, &prior), f.Run(options, nullptr));
+}
+
+// A prior that itself passed by the lower threshold sends its cluster straight down to it: the
+// same result as searching to the full threshold first and again to the lower one.
+TEST(TrackedThresholdTest, StraightDownEqualsTwoPasses) {
+  const Fixture f;
+  const EstimatorOptions options = f.Options();
+  const FramePrior passed = f.Prior(55.0);  // two passes.
+  const FramePrior held = f.Prior(40.0);    // one.
+  const Estimate two = f.Run(options, &passed);
+  ExpectSameCandidates(f.Run(options, &held), two);
+  EXPECT_EQ(two.Humanoids().size(), 1u);
+}
+
+// Where the humanoid passes the full threshold, the lower one searches nothing further: the same
+// candidates as without hysteresis.
+TEST(TrackedThresholdTest, AHumanoidThatPassesIsSearchedAsWithout) {
+  Fixture f;
+  f.spec.humanoid_pose = Pose2D{1.6, 0.1, DegToRad(120.0)};
+  f.frame = *SimulateFrame(f.spec);
+  const EstimatorOptions options = f.Options();
+  EstimatorOptions off = options;
+  off.tracked_score_threshold = options.score_threshold;
+  const FramePrior prior = f.Prior(55.0);
+  const Estimate held = f.Run(options, &prior);
+  ExpectSameCandidates(held, f.Run(off, &prior));
+  ASSERT_EQ(held.Humanoids().size(), 1u);
+  EXPECT_TRUE(f.NearTruth(held.Humanoids().front()));
+  EXPECT_EQ(held.Humanoids().front().score_threshold, options.score_threshold);
+}
+
+TEST(TrackedThresholdTest, OutOfRangeIsRefused) {
+  const Fixture f;
+  EstimatorOptions o = f.Options();
+  o.tracked_score_threshold = -1.0;
+  EXPECT_FALSE(Estimator::Create(o, f.templates).ok());
+  o.tracked_score_threshold = 101.0;
+  EXPECT_FALSE(Estimator::Create(o, f.templates).ok());
+  o.tracked_score_threshold = std::nan("");
+  EXPECT_FALSE(Estimator::Create(o, f.templates).ok());
+}
+
+}  // namespace
+}  // namespace hpose
