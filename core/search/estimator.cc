@@ -599,18 +599,20 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   }
   for (Task& task : tasks) task.threshold = thresholds[task.cluster];
   pool_->ParallelFor(static_cast<int>(tasks.size()), [&](int k) { search_task(tasks[k]); });
-  // Hysteresis: when none of the held cluster's templates reached score_threshold, they are
-  // searched again down to tracked_score_threshold.
+  // Hysteresis: when none of the held cluster's templates reached score_threshold, those whose
+  // search stopped below it or that its voxel count ruled out are searched again down to
+  // tracked_score_threshold (a search that was not stopped has its optimum already).
   if (held_cluster >= 0 && thresholds[held_cluster] > tracked_threshold) {
     std::vector<int> again;
     bool passed = false;
     for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
-      if (tasks[k].cluster != held_cluster) continue;
-      again.push_back(k);
-      passed = passed || (tasks[k].kept && !tasks[k].cand.stopped_below_threshold &&
-                          tasks[k].cand.score >= options_.score_threshold);
+      const Task& task = tasks[k];
+      if (task.cluster != held_cluster) continue;
+      const bool done = task.kept && !task.cand.stopped_below_threshold;
+      passed = passed || (done && task.cand.score >= options_.score_threshold);
+      if (!done) again.push_back(k);
     }
-    if (!passed && !again.empty()) {
+    if (!passed) {
       thresholds[held_cluster] = tracked_threshold;
       pool_->ParallelFor(static_cast<int>(again.size()), [&](int i) {
         Task& task = tasks[again[i]];

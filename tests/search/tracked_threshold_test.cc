@@ -117,6 +117,16 @@ TEST(TrackedThresholdTest, AFarHumanoidWhereTheLastFrameSawItStaysFound) {
   EstimatorOptions off = options;
   off.tracked_score_threshold = options.score_threshold;
   EXPECT_TRUE(f.Run(off, &prior).Humanoids().empty());
+
+  // Searches that compute every optimum (nothing stopped) come to the same verdict and pose.
+  EstimatorOptions full = options;
+  full.stop_below_threshold = false;
+  const std::vector<Detection> full_humans = f.Run(full, &prior).Humanoids();
+  ASSERT_EQ(full_humans.size(), 1u);
+  EXPECT_EQ(full_humans.front().best.pose.x, d.best.pose.x);
+  EXPECT_EQ(full_humans.front().best.pose.y, d.best.pose.y);
+  EXPECT_EQ(full_humans.front().best.pose.theta, d.best.pose.theta);
+  EXPECT_EQ(full_humans.front().score_threshold, options.tracked_score_threshold);
 }
 
 TEST(TrackedThresholdTest, APriorStandingOnNoClusterChangesNothing) {
