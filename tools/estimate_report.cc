@@ -29,10 +29,33 @@ std::string EstimateToText(const Estimate& e) {
   if (humans.empty()) {
     os << "humanoid  none found";
     if (!e.detections.empty()) {
-      os << " (best: " << e.detections.front().best.template_name << " score "
-         << Fmt("%.1f", e.detections.front().best.score) << ", below the threshold)";
+      // The detection nearest to passing, and why it did not.
+      const Detection& d = e.detections.front();
+      const Candidate& c = d.best;
+      const double distance = std::hypot(c.pose.x, c.pose.y);
+      os << " (best: " << c.template_name << " on cluster " << c.cluster_index << ", "
+         << Fmt("%.1f", distance) << " m away, ";
+      const bool low_score = c.stopped_below_threshold || c.score < d.score_threshold;
+      if (c.stopped_below_threshold) {
+        os << "proved below score " << Fmt("%.0f", d.score_threshold) << ": at most "
+           << Fmt("%.1f", c.score_upper_bound) << ")\n";
+      } else if (low_score) {
+        os << "score " << Fmt("%.1f", c.score) << ", below " << Fmt("%.0f", d.score_threshold)
+           << ")\n";
+      } else {
+        os << "score " << Fmt("%.1f", c.score) << " but a refined fit of " << Fmt("%.1f", c.fit.fit)
+           << ", below the fit threshold: --min-fit)\n";
+      }
+      if (low_score && distance >= 2.5) {
+        os << "          far humanoids score less (depth noise thickens them): over a stream "
+              "(hposed,\n"
+              "          hpose replay) one found nearer stays found as it walks away; "
+              "--threshold lowers\n"
+              "          the bar for this frame (clutter may then pass too)\n";
+      }
+    } else {
+      os << "\n";
     }
-    os << "\n";
   }
   for (const Detection& d : humans) {
     const Candidate& c = d.best;

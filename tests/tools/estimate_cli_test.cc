@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -120,6 +121,28 @@ TEST_F(EstimateCliTest, BadInputNamesTheProblem) {
     EXPECT_EQ(run.exit_code, c.exit_code) << c.args << "\n" << run.err;
     EXPECT_NE(run.err.find(c.says), std::string::npos) << c.args << "\n" << run.err;
   }
+}
+
+// A humanoid too far to reach the score threshold: exit 3, and the report says which cluster
+// came nearest, that it was proved below the threshold, and what can find it.
+TEST_F(EstimateCliTest, AFarHumanoidBelowTheThresholdIsExplained) {
+  const CliRun sim = RunHpose("simulate --out '" + (*dir_ / "far") +
+                                  "' --x 3.5 --theta-deg 60 --sensor-height 0.9 --pitch-deg 20 "
+                                  "--clutter 3 --seed 4 --no-cloud",
+                              *dir_);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const CliRun run = RunHpose("estimate --depth '" + (*dir_ / "far/depth.png") + "'", *dir_);
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_NE(run.out.find("none found (best: "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find(" m away, proved below score 50"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("far humanoids score less"), std::string::npos) << run.out;
+  // With the bar lowered for this frame it is found where it stands.
+  const CliRun low =
+      RunHpose("estimate --depth '" + (*dir_ / "far/depth.png") + "' --threshold 35", *dir_);
+  EXPECT_EQ(low.exit_code, 0) << low.out << low.err;
+  const size_t at = low.out.find(" at x ");
+  ASSERT_NE(at, std::string::npos) << low.out;
+  EXPECT_NEAR(std::stod(low.out.substr(at + 6)), 3.5, 0.05) << low.out;
 }
 
 TEST_F(EstimateCliTest, NoFloorAndNoHumanoidHaveTheirOwnExitStatus) {
