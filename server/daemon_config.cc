@@ -183,6 +183,24 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.Read("queue_capacity", &s.queue_capacity, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.Read("estimate_threads", &s.estimate_threads, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.Read("tracking", &s.tracking, "true or false"));
+    const YAML::Node initial = r.Get("initial_pose");
+    if (initial.IsDefined() && !initial.IsNull()) {
+      MapReader p(initial, "source.initial_pose", origin);
+      HPOSE_RETURN_IF_ERROR(p.CheckIsMap());
+      for (const char* required : {"x_m", "y_m"}) {
+        const YAML::Node n = p.Get(required);
+        if (!n.IsDefined() || n.IsNull()) {
+          return p.Fail("source.initial_pose", "x_m and y_m are required (theta_deg: 0 if absent)");
+        }
+      }
+      double x = 0.0, y = 0.0, theta_deg = 0.0;
+      HPOSE_RETURN_IF_ERROR(p.ReadDouble("x_m", &x));
+      HPOSE_RETURN_IF_ERROR(p.ReadDouble("y_m", &y));
+      HPOSE_RETURN_IF_ERROR(p.ReadDouble("theta_deg", &theta_deg));
+      HPOSE_RETURN_IF_ERROR(p.CheckUnknown());
+      s.has_initial_pose = true;
+      s.initial_pose = Pose2D{x, y, NormalizeAngle(DegToRad(theta_deg))};
+    }
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("frame_timeout_s", &s.frame_timeout_s));
     HPOSE_RETURN_IF_ERROR(
         r.ReadDouble("reconnect_initial_backoff_s", &s.reconnect_initial_backoff_s));
@@ -427,6 +445,15 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (!(c.estimator.min_humanoid_fit >= 0.0 && c.estimator.min_humanoid_fit <= 100.0)) {
     return fail("search.min_humanoid_fit", "must be in [0, 100]");
   }
+  if (c.source.has_initial_pose) {
+    const Pose2D& p = c.source.initial_pose;
+    if (!(std::abs(p.x) <= 100.0 && std::abs(p.y) <= 100.0 && std::isfinite(p.theta))) {
+      return fail("source.initial_pose", "x_m and y_m must be within +-100 m");
+    }
+    if (!c.source.tracking) {
+      return fail("source.initial_pose", "needs source.tracking: true (it seeds the tracking)");
+    }
+  }
   if (!(c.estimator.tracked_score_threshold >= 0.0 &&
         c.estimator.tracked_score_threshold <= 100.0)) {
     return fail("search.tracked_score_threshold", "must be in [0, 100]");
@@ -495,6 +522,13 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "queue_capacity" << YAML::Value << s.queue_capacity;
   out << YAML::Key << "estimate_threads" << YAML::Value << s.estimate_threads;
   out << YAML::Key << "tracking" << YAML::Value << s.tracking;
+  if (s.has_initial_pose) {
+    out << YAML::Key << "initial_pose" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "x_m" << YAML::Value << s.initial_pose.x;
+    out << YAML::Key << "y_m" << YAML::Value << s.initial_pose.y;
+    out << YAML::Key << "theta_deg" << YAML::Value << RadToDeg(s.initial_pose.theta);
+    out << YAML::EndMap;
+  }
   out << YAML::Key << "frame_timeout_s" << YAML::Value << s.frame_timeout_s;
   out << YAML::Key << "reconnect_initial_backoff_s" << YAML::Value << s.reconnect_initial_backoff_s;
   out << YAML::Key << "reconnect_max_backoff_s" << YAML::Value << s.reconnect_max_backoff_s;

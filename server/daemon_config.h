@@ -68,6 +68,13 @@ struct SourceConfig {
   // (the result is the same, the global optimum is still proved) and the floor is kept while
   // it still fits the points (floor.mode fit) instead of being fitted every frame.
   bool tracking = true;
+  // Where the robot stands when the stream starts (ground frame; source.initial_pose: {x_m,
+  // y_m, theta_deg}): until it is first found, and again when the source restarts, frames are
+  // searched as if the one before had seen it there (PoseTracker::SetInitialPose), so a robot
+  // too far to pass search.score_threshold cold is found by search.tracked_score_threshold.
+  // Needs tracking.
+  bool has_initial_pose = false;
+  Pose2D initial_pose;
   double frame_timeout_s = 2.0;              // live device: no frame for this long = lost.
   double reconnect_initial_backoff_s = 0.5;  // first retry delay after a loss, doubled each try.
   double reconnect_max_backoff_s = 8.0;      // upper bound of the retry delay.

@@ -245,6 +245,7 @@ void PosePipeline::CaptureLoop() {
 void PosePipeline::EstimateLoop(Estimator* estimator) {
   // One tracker per estimation thread: with several threads each follows every n-th frame.
   PoseTracker tracker(estimator);
+  if (config_.has_initial_pose) tracker.SetInitialPose(config_.initial_pose);
   std::uint64_t tracked_epoch = 0;
   while (!stopping_.load()) {
     std::optional<Frame> frame;

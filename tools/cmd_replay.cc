@@ -80,7 +80,7 @@ void DrawProgress(long done, long total, double elapsed_s) {
 }  // namespace
 
 int RunReplay(int argc, char** argv) {
-  std::string out_path, format, config_path, intrinsics_path, rate = "fast";
+  std::string out_path, format, config_path, intrinsics_path, rate = "fast", initial_pose;
   std::vector<std::string> templates;
   int max_frames = 0;
   double fps = 30.0;
@@ -112,6 +112,12 @@ int RunReplay(int argc, char** argv) {
                   "else Kinect v1 for TIFF)",
                   "FILE");
   flags.AddInt("max-frames", &max_frames, "stop after N frames (0 = all)", "N");
+  flags.AddString("initial-pose", &initial_pose,
+                  "where the robot stands at the start, ground frame (metres, degrees): until "
+                  "it is first found, frames are searched as if the one before had seen it there, "
+                  "so a robot too far to pass the score threshold cold is found "
+                  "(search.tracked_score_threshold); default: source.initial_pose of --config",
+                  "X,Y,DEG");
   flags.AddBool("no-progress", &no_progress, "no progress bar");
   flags.AllowPositional("RECORDING");
   flags.SetEpilog(
@@ -130,6 +136,13 @@ int RunReplay(int argc, char** argv) {
   }
   if (format != "jsonl" && format != "csv") {
     std::cerr << "hpose replay: --format: expected jsonl or csv, got '" << format << "'\n";
+    return kExitUsage;
+  }
+  Pose2D start_pose;
+  const bool has_start = !initial_pose.empty();
+  if (has_start && !ParsePoseTriple(initial_pose, &start_pose)) {
+    std::cerr << "hpose replay: --initial-pose: expected X,Y,DEG (e.g. 3.2,0.4,90), got '"
+              << initial_pose << "'\n";
     return kExitUsage;
   }
   if (rate != "fast" && rate != "recorded") {
@@ -169,6 +182,11 @@ int RunReplay(int argc, char** argv) {
   Result<std::unique_ptr<Estimator>> estimator = Estimator::Create(options, std::move(loaded));
   if (!estimator.ok()) return ReportError("replay", estimator.error());
   PoseTracker tracker(estimator->get());
+  if (has_start) {
+    tracker.SetInitialPose(start_pose);
+  } else if (config.source.has_initial_pose) {
+    tracker.SetInitialPose(config.source.initial_pose);
+  }
 
   server::ReplayOptions replay;
   replay.realtime = rate == "recorded";

@@ -41,17 +41,6 @@ std::string Fixed(double v, int decimals) {
   return buf;
 }
 
-// "X,Y,THETA_DEG" -> pose (metres, radians).
-bool ParsePoseTriple(const std::string& text, Pose2D* pose) {
-  double x = 0.0, y = 0.0, deg = 0.0;
-  char c1 = 0, c2 = 0, extra = 0;
-  std::istringstream in(text);
-  if (!(in >> x >> c1 >> y >> c2 >> deg) || c1 != ',' || c2 != ',' || (in >> extra)) return false;
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(deg)) return false;
-  *pose = Pose2D{x, y, NormalizeAngle(DegToRad(deg))};
-  return true;
-}
-
 std::string FrameName(const std::string& stem, const std::string& ext, int index, int frames) {
   if (frames == 1) return stem + ext;
   char buf[32];

@@ -5,7 +5,13 @@
 #include <string>
 #include <vector>
 
+#include "core/common/pose2d.h"
+
 namespace hpose::tools {
+
+// "X,Y,THETA_DEG" (metres, degrees) -> a pose (metres, radians); false unless three finite
+// numbers.
+bool ParsePoseTriple(const std::string& text, Pose2D* pose);
 
 // What a command returns in the `hpose` front end when its flags parsed: "run me for real".
 // Never an exit status.

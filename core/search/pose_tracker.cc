@@ -16,13 +16,23 @@ FloorTrackerOptions FloorOptions(const Estimator& estimator) {
 PoseTracker::PoseTracker(const Estimator* estimator)
     : estimator_(estimator), floor_(FloorOptions(*estimator)) {}
 
+void PoseTracker::SetInitialPose(const Pose2D& pose) {
+  initial_ = pose;
+  initial_pending_ = true;
+}
+
 void PoseTracker::Reset() {
   prior_.reset();
   floor_.Reset();
+  initial_pending_ = initial_.has_value();
 }
 
 FramePrior PoseTracker::Context() {
   FramePrior context = prior_ ? *prior_ : FramePrior{};
+  if (!prior_ && initial_pending_) {
+    context.has_pose = true;
+    context.pose = *initial_;
+  }
   context.floor = &floor_;
   return context;
 }
@@ -42,6 +52,7 @@ Result<Estimate> PoseTracker::Keep(Result<Estimate> estimate) {
   if (!estimate.ok()) return estimate;
   const std::vector<Detection> humans = estimate->Humanoids();
   if (!humans.empty()) {
+    initial_pending_ = false;
     FramePrior p;
     p.has_pose = true;
     p.template_name = humans.front().best.template_name;

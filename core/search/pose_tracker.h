@@ -25,7 +25,16 @@ class PoseTracker {
   Result<Estimate> EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics);
   Result<Estimate> EstimateCloud(const PointCloud& cloud_sensor);
 
-  // Forgets the previous frames (e.g. when the source restarts): pose and floor.
+  // Where the robot is expected when the stream starts (ground frame), like a navigation stack's
+  // initial pose: until the robot is first found, and again after each Reset, frames are
+  // estimated as if the frame before had seen it there (FramePrior with an empty
+  // template_name), so its cluster passes from tracked_score_threshold. A robot too far to
+  // reach score_threshold (and so never found by a cold search) is found from the first frame.
+  // theta only breaks front/back ties.
+  void SetInitialPose(const Pose2D& pose);
+
+  // Forgets the previous frames (e.g. when the source restarts): pose and floor. An initial
+  // pose applies again.
   void Reset();
   // The pose the next frame starts from, if any.
   const std::optional<FramePrior>& prior() const { return prior_; }
@@ -37,6 +46,8 @@ class PoseTracker {
 
   const Estimator* estimator_;
   std::optional<FramePrior> prior_;  // with has_pose.
+  std::optional<Pose2D> initial_;    // SetInitialPose's.
+  bool initial_pending_ = false;     // the robot was not found since it was set or Reset.
   FloorTracker floor_;
 };
 

@@ -2,6 +2,7 @@
 // frame published in frame order at rate: fast; never an older frame after a newer one when
 // paced.
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <vector>
@@ -28,11 +29,15 @@ class PipelineThreadsTest : public ::testing::Test {
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  std::unique_ptr<PosePipeline> MakePipeline(bool realtime, double fps, int threads) {
+  // A pipeline over the frames of `dir` (default: the test's), starting from `initial` (source.
+  // initial_pose) when given.
+  std::unique_ptr<PosePipeline> MakePipeline(bool realtime, double fps, int threads,
+                                             const std::string& dir = "",
+                                             const Pose2D* initial = nullptr) {
     ReplayOptions replay;
     replay.realtime = realtime;
     replay.fps = fps;
-    Result<std::unique_ptr<FrameSource>> source = MakeFrameSource(dir_, replay);
+    Result<std::unique_ptr<FrameSource>> source = MakeFrameSource(dir.empty() ? dir_ : dir, replay);
     EXPECT_TRUE(source.ok()) << source.error().ToString();
     std::vector<VoxelTemplate> templates;
     for (const char* name : {"standing", "right_arm_raised"}) {
@@ -52,6 +57,10 @@ class PipelineThreadsTest : public ::testing::Test {
     config.fps = fps;
     config.queue_capacity = threads + 1;
     config.estimate_threads = threads;
+    if (initial != nullptr) {
+      config.has_initial_pose = true;
+      config.initial_pose = *initial;
+    }
     return std::make_unique<PosePipeline>(std::move(*source), std::move(estimators), config);
   }
 
@@ -59,13 +68,21 @@ class PipelineThreadsTest : public ::testing::Test {
   // 120 s pass); returns the frame sequence numbers seen, in publishing order.
   static std::vector<std::uint64_t> Follow(PosePipeline* pipeline) {
     std::vector<std::uint64_t> seen;
+    for (const auto& e : FollowEstimates(pipeline)) seen.push_back(e->sequence);
+    return seen;
+  }
+
+  // The same, returning the estimates seen.
+  static std::vector<std::shared_ptr<const PublishedEstimate>> FollowEstimates(
+      PosePipeline* pipeline) {
+    std::vector<std::shared_ptr<const PublishedEstimate>> seen;
     std::uint64_t last_id = 0;
     const Clock::time_point give_up = Clock::now() + std::chrono::seconds(120);
     while (Clock::now() < give_up) {
       auto e = pipeline->WaitNewer(last_id, Clock::now() + std::chrono::milliseconds(200));
       if (e && e->publish_id > last_id) {
         last_id = e->publish_id;
-        seen.push_back(e->sequence);
+        seen.push_back(e);
       }
       const PipelineStatus s = pipeline->Status();
       if (s.state == SourceState::kFinished &&
@@ -110,6 +127,38 @@ TEST_F(PipelineThreadsTest, PacedReplayNeverPublishesAnOlderFrameAfterANewerOne)
             static_cast<std::uint64_t>(kFrames));
   ASSERT_FALSE(seen.empty());
   for (size_t i = 1; i < seen.size(); ++i) EXPECT_LT(seen[i - 1], seen[i]);
+}
+
+// A robot too far to pass the score threshold cold (3.5 m from a sensor 0.9 m high looking 20
+// degrees down): found in every frame when the config says where it starts, in none without.
+TEST_F(PipelineThreadsTest, AnInitialPoseFindsAFarRobotInEveryFrame) {
+  const std::string far = testing_util::MakeTempDir("pipeline_far");
+  ASSERT_FALSE(far.empty());
+  constexpr int kFarFrames = 3;
+  ASSERT_TRUE(testing_util::SimulateFrames(
+      far, kFarFrames,
+      "--x 3.5 --theta-deg 60 --sensor-height 0.9 --pitch-deg 20 --clutter 3 --seed 4"));
+  const Pose2D start{3.5, 0.0, DegToRad(60.0)};
+  for (const bool given : {false, true}) {
+    std::unique_ptr<PosePipeline> pipeline =
+        MakePipeline(/*realtime=*/false, 30.0, 1, far, given ? &start : nullptr);
+    pipeline->Start();
+    const auto seen = FollowEstimates(pipeline.get());
+    pipeline->Stop();
+    ASSERT_EQ(seen.size(), static_cast<size_t>(kFarFrames)) << given;
+    for (const auto& e : seen) {
+      ASSERT_TRUE(e->ok) << e->error.message;
+      const std::vector<Detection> humans = e->estimate.Humanoids();
+      if (!given) {
+        EXPECT_TRUE(humans.empty()) << "frame " << e->sequence;
+        continue;
+      }
+      ASSERT_EQ(humans.size(), 1u) << "frame " << e->sequence;
+      const Pose2D& p = humans.front().best.pose;
+      EXPECT_LT(std::hypot(p.x - 3.5, p.y), 0.05) << "frame " << e->sequence;
+    }
+  }
+  std::filesystem::remove_all(far);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "core/search/estimator.h"
+#include "core/search/pose_tracker.h"
 #include "core/sim/frame_simulator.h"
 #include "tests/search/model_templates.h"
 
@@ -164,6 +165,37 @@ TEST(TrackedThresholdTest, AHumanoidThatPassesIsSearchedAsWithout) {
   ASSERT_EQ(held.Humanoids().size(), 1u);
   EXPECT_TRUE(f.NearTruth(held.Humanoids().front()));
   EXPECT_EQ(held.Humanoids().front().score_threshold, options.score_threshold);
+}
+
+// An initial pose (PoseTracker::SetInitialPose) stands in for the frame before until the robot
+// is first found, and again after Reset: a robot too far to be found cold is found from the
+// first frame.
+TEST(TrackedThresholdTest, AnInitialPoseFindsAFarRobotFromTheFirstFrame) {
+  const Fixture f;
+  const auto estimator = std::move(Estimator::Create(f.Options(), f.templates).value());
+  PoseTracker cold(estimator.get());
+  EXPECT_TRUE(cold.EstimateDepth(f.frame.depth, f.spec.intrinsics)->Humanoids().empty());
+
+  PoseTracker tracker(estimator.get());
+  tracker.SetInitialPose(f.Prior(0.0).pose);
+  const Estimate first = *tracker.EstimateDepth(f.frame.depth, f.spec.intrinsics);
+  ASSERT_EQ(first.Humanoids().size(), 1u);
+  EXPECT_TRUE(f.NearTruth(first.Humanoids().front()));
+  EXPECT_TRUE(first.tracking.prior_given);
+  EXPECT_EQ(first.tracking.prior_template, "");  // an initial pose, not a frame's.
+  EXPECT_TRUE(tracker.prior().has_value());
+
+  // Once found it is followed from frame to frame; a frame without it drops the pose, and the
+  // initial pose does not come back.
+  ASSERT_EQ(tracker.EstimateDepth(f.frame.depth, f.spec.intrinsics)->Humanoids().size(), 1u);
+  FrameSpec empty = f.spec;
+  empty.humanoid_pose = Pose2D{30.0, 0.0, 0.0};  // out of range: floor and clutter only.
+  const SimulatedFrame nothing = *SimulateFrame(empty);
+  EXPECT_TRUE(tracker.EstimateDepth(nothing.depth, f.spec.intrinsics)->Humanoids().empty());
+  EXPECT_TRUE(tracker.EstimateDepth(f.frame.depth, f.spec.intrinsics)->Humanoids().empty());
+  // A restarted stream starts from the initial pose again.
+  tracker.Reset();
+  EXPECT_EQ(tracker.EstimateDepth(f.frame.depth, f.spec.intrinsics)->Humanoids().size(), 1u);
 }
 
 TEST(TrackedThresholdTest, OutOfRangeIsRefused) {

@@ -10,7 +10,8 @@ TEST(DaemonConfigTest, ParsesEveryKeyAndResolvesRelativePaths) {
 listen: 127.0.0.1:6000
 grpc: {max_receive_message_bytes: 2048, max_concurrent_estimates: 3}
 source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
-         estimate_threads: 2, stale_after_s: 0.5}
+         estimate_threads: 2, stale_after_s: 0.5,
+         initial_pose: {x_m: 3.2, y_m: -0.4, theta_deg: 90}}
 templates: [t/standing.bt, /abs/arm.bt]
 search: {score_threshold: 55, min_humanoid_fit: 70, tracked_score_threshold: 42,
          scorer: reference}
@@ -27,6 +28,10 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_DOUBLE_EQ(c->source.fps, 15.0);
   EXPECT_EQ(c->source.queue_capacity, 2);
   EXPECT_EQ(c->source.estimate_threads, 2);
+  ASSERT_TRUE(c->source.has_initial_pose);
+  EXPECT_DOUBLE_EQ(c->source.initial_pose.x, 3.2);
+  EXPECT_DOUBLE_EQ(c->source.initial_pose.y, -0.4);
+  EXPECT_NEAR(c->source.initial_pose.theta, M_PI / 2.0, 1e-12);
   ASSERT_EQ(c->templates.size(), 2u);
   EXPECT_EQ(c->templates[0], "/etc/hpose/t/standing.bt");
   EXPECT_EQ(c->templates[1], "/abs/arm.bt");
@@ -63,11 +68,18 @@ TEST(DaemonConfigTest, ErrorsNameTheKey) {
     const char* yaml;
     const char* expected;
   } cases[] = {
-      {"sourc: {}", "sourc: unknown key"},     {"source: {rate: slow}", "source.rate"},
-      {"source: {fps: abc}", "source.fps"},    {"source: {bogus: 1}", "source.bogus: unknown key"},
-      {"floor: {mode: tilted}", "floor.mode"}, {"search: {scorer: magic}", "search.scorer"},
-      {"templates: {a: 1}", "templates"},      {"grpc: [1, 2]", "grpc: expected a mapping"},
+      {"sourc: {}", "sourc: unknown key"},
+      {"source: {rate: slow}", "source.rate"},
+      {"source: {fps: abc}", "source.fps"},
+      {"source: {bogus: 1}", "source.bogus: unknown key"},
+      {"floor: {mode: tilted}", "floor.mode"},
+      {"search: {scorer: magic}", "search.scorer"},
+      {"templates: {a: 1}", "templates"},
+      {"grpc: [1, 2]", "grpc: expected a mapping"},
       {"listen: [", "not valid YAML"},
+      {"source: {initial_pose: 3}", "source.initial_pose: expected a mapping"},
+      {"source: {initial_pose: {x_m: 3}}", "source.initial_pose: x_m and y_m are required"},
+      {"source: {initial_pose: {x_m: 3, y_m: 0, yaw: 1}}", "source.initial_pose.yaw: unknown"},
   };
   for (const Case& c : cases) {
     Result<DaemonConfig> r = ParseDaemonConfig(c.yaml, "cfg.yaml", "");
@@ -106,6 +118,15 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.min_humanoid_fit"),
             std::string::npos);
   bad = c;
+  bad.source.has_initial_pose = true;
+  bad.source.initial_pose = Pose2D{300.0, 0.0, 0.0};
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.initial_pose"),
+            std::string::npos);
+  bad.source.initial_pose = Pose2D{3.0, 0.0, 0.0};
+  EXPECT_TRUE(ValidateDaemonConfig(bad).ok());
+  bad.source.tracking = false;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.tracking"), std::string::npos);
+  bad = c;
   bad.estimator.tracked_score_threshold = 120.0;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.tracked_score_threshold"),
             std::string::npos);
@@ -123,10 +144,14 @@ TEST(DaemonConfigTest, DefaultsListenOnLoopbackAndPrintedConfigParsesBack) {
   c.source.loop = true;
   c.floor.fixed = true;
   c.floor.height_m = 0.42;
+  c.source.has_initial_pose = true;
+  c.source.initial_pose = Pose2D{2.5, 0.25, 0.5};
   Result<DaemonConfig> back = ParseDaemonConfig(DaemonConfigToYaml(c), "printed", "");
   ASSERT_TRUE(back.ok()) << back.error().ToString();
   EXPECT_EQ(back->source.path, c.source.path);
   EXPECT_TRUE(back->source.loop);
+  ASSERT_TRUE(back->source.has_initial_pose);
+  EXPECT_NEAR(back->source.initial_pose.theta, 0.5, 1e-9);
   EXPECT_EQ(back->templates, c.templates);
   EXPECT_TRUE(back->floor.fixed);
   EXPECT_DOUBLE_EQ(back->floor.height_m, 0.42);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -143,6 +144,36 @@ TEST_F(EstimateCliTest, AFarHumanoidBelowTheThresholdIsExplained) {
   const size_t at = low.out.find(" at x ");
   ASSERT_NE(at, std::string::npos) << low.out;
   EXPECT_NEAR(std::stod(low.out.substr(at + 6)), 3.5, 0.05) << low.out;
+}
+
+// hpose replay --initial-pose: the far robot above, turning on the spot, is found in every frame
+// of the recording; without it in none. A malformed pose is a usage error.
+TEST_F(EstimateCliTest, ReplayFromAnInitialPoseFindsAFarRobot) {
+  const CliRun sim = RunHpose("simulate --out '" + (*dir_ / "farseq") +
+                                  "' --x 3.5 --theta-deg 60 --sensor-height 0.9 --pitch-deg 20 "
+                                  "--clutter 3 --seed 4 --frames 3 --turn-deg 10 --width 320 "
+                                  "--height 240 --no-cloud",
+                              *dir_);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const std::string replay = "replay '" + (*dir_ / "farseq") + "' --no-progress --format csv";
+  for (const bool given : {false, true}) {
+    const CliRun run = RunHpose(replay + (given ? " --initial-pose 3.5,0,60" : ""), *dir_);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    std::istringstream lines(run.out);
+    std::string line;
+    std::getline(lines, line);  // the header.
+    int rows = 0, humanoids = 0;
+    while (std::getline(lines, line)) {
+      ++rows;
+      humanoids += line.find(",standing,1,") != std::string::npos ||
+                   line.find(",right_arm_raised,1,") != std::string::npos;
+    }
+    EXPECT_EQ(rows, 3) << run.out;
+    EXPECT_EQ(humanoids, given ? 3 : 0) << run.out;
+  }
+  const CliRun bad = RunHpose(replay + " --initial-pose 3.5,0", *dir_);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--initial-pose"), std::string::npos) << bad.err;
 }
 
 TEST_F(EstimateCliTest, NoFloorAndNoHumanoidHaveTheirOwnExitStatus) {
