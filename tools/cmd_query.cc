@@ -84,9 +84,18 @@ std::string DescribeDepth(const v1::PoseEstimate& e) {
   } else {
     const v1::Detection& d = r.best();
     const v1::Candidate& c = d.best();
+    // Why the best match is no humanoid: its score, or (refined) its fit.
+    char why[64] = "";
+    if (!d.is_humanoid()) {
+      if (c.stopped_below_threshold() || c.score() < d.score_threshold()) {
+        std::snprintf(why, sizeof(why), " (below threshold %.0f)", d.score_threshold());
+      } else {
+        std::snprintf(why, sizeof(why), " (poor fit %.0f)", c.fit().fit());
+      }
+    }
     std::snprintf(buf, sizeof(buf), "  %s%s  %s  score %.1f  margin %.1f",
-                  c.template_name().c_str(), d.is_humanoid() ? "" : " (below threshold)",
-                  PoseText("", c.pose()).c_str(), c.score(), d.template_margin());
+                  c.template_name().c_str(), why, PoseText("", c.pose()).c_str(), c.score(),
+                  d.template_margin());
     line += buf;
     if (c.has_runner_up()) {
       std::snprintf(buf, sizeof(buf), "  runner-up theta %.1f deg (-%.1f)",
