@@ -4,6 +4,7 @@
 #include <cassert>
 #include <climits>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <utility>
 
@@ -231,6 +232,27 @@ void AddCellTables(int shift, RotatedTemplate* r) {
   }
 }
 
+// Residues per axis of blocks of 2^level steps: their first steps are the multiples of
+// min(2^level, s) below s.
+int SweptResidues(int level, int s) { return std::max(1, s >> level); }
+
+// Where SweptGroups(level, ra, rb) lies in a rotation's list of tables.
+size_t SweptIndex(int level, int ra, int rb, int s) {
+  size_t index = 0;
+  for (int lv = 1; lv < level; ++lv) {
+    const int n = SweptResidues(lv, s);
+    index += static_cast<size_t>(n) * n;
+  }
+  const int step = std::min(1 << level, s);
+  return index + static_cast<size_t>(ra / step) * SweptResidues(level, s) + rb / step;
+}
+
+// SweptIndex with the S^2 residues of level 0 (single translations: Groups) first.
+size_t BlockSweptIndex(int level, int ra, int rb, int s) {
+  if (level == 0) return static_cast<size_t>(ra) * s + rb;
+  return static_cast<size_t>(s) * s + SweptIndex(level, ra, rb, s);
+}
+
 }  // namespace
 
 TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice)
@@ -288,10 +310,15 @@ TemplateRotations::TemplateRotations(std::string name, double height_m,
   groups_once_ = std::make_unique<std::once_flag[]>(rotations_.size());
   swept_.resize(rotations_.size());
   swept_once_ = std::make_unique<std::once_flag[]>(rotations_.size());
-  for (int t = 1; t < kThetaLevels; ++t) {
-    const size_t blocks = (rotations_.size() + (size_t{1} << t) - 1) >> t;
-    swept_blocks_.emplace_back(blocks);
-    swept_blocks_once_.push_back(std::make_unique<std::once_flag[]>(blocks));
+  if (shift >= 0) {
+    const int s = 1 << shift;
+    // Per theta block: SweptBlockGroups' levels and residues, then CommonBlockGroups'.
+    block_tables_ = BlockSweptIndex(kSweptLevels + 1, 0, 0, s) + static_cast<size_t>(s) * s;
+    for (int t = 1; t < kThetaLevels; ++t) {
+      const size_t tables = ((rotations_.size() + (size_t{1} << t) - 1) >> t) * block_tables_;
+      swept_blocks_.emplace_back(tables);
+      swept_blocks_once_.push_back(std::make_unique<std::once_flag[]>(tables));
+    }
   }
   bool first = true;
   const auto visit = [&](RotatedTemplate* r) {
@@ -322,59 +349,93 @@ TemplateRotations::TemplateRotations(std::string name, double height_m,
   }
 }
 
-void CellGroups::Append(int cx, int cy, std::uint64_t mask) {
-  assert(cx >= INT16_MIN && cx <= INT16_MAX && cy >= INT16_MIN && cy <= INT16_MAX);
-  masks_.push_back(mask);
-  if (!words.empty()) {  // the headers so far.
-    std::uint64_t& h = words.back();
-    const int len = RunHeaderLength(h);
-    if (RunHeaderY(h) == cy && RunHeaderX(h) + len == cx && len < kMaxRun) {
-      h = RunHeader(cx - len, cy, len + 1);
-      return;
+namespace {
+
+// Lays out a CellGroups from its cells, given row by row (cy, then cx, ascending), each once: a
+// cell right after the previous one in its row extends its run. Cell coordinates must fit 16
+// bits (tables hold cells within a template's reach of its origin). Kept for table after table,
+// it allocates once per table (the table's exact size).
+class CellGroupsBuilder {
+ public:
+  void Append(int cx, int cy, std::uint64_t mask) {
+    assert(cx >= INT16_MIN && cx <= INT16_MAX && cy >= INT16_MIN && cy <= INT16_MAX);
+    masks_.push_back(mask);
+    if (!headers_.empty()) {
+      std::uint64_t& h = headers_.back();
+      const int len = RunHeaderLength(h);
+      if (RunHeaderY(h) == cy && RunHeaderX(h) + len == cx && len < CellGroups::kMaxRun) {
+        h = RunHeader(cx - len, cy, len + 1);
+        return;
+      }
     }
+    headers_.push_back(RunHeader(cx, cy, 1));
   }
-  words.push_back(RunHeader(cx, cy, 1));
+  // The table of the cells appended since the last Take().
+  CellGroups Take() {
+    CellGroups g;
+    g.runs = static_cast<int>(headers_.size());
+    g.words.reserve(headers_.size() + masks_.size());
+    g.words.insert(g.words.end(), headers_.begin(), headers_.end());
+    g.words.insert(g.words.end(), masks_.begin(), masks_.end());
+    headers_.clear();
+    masks_.clear();
+    return g;
+  }
+
+ private:
+  std::vector<std::uint64_t> headers_, masks_;
+};
+
+// This thread's builder, for callers that make one table at a time without making another
+// meanwhile (no nesting).
+CellGroupsBuilder& ThreadBuilder() {
+  thread_local CellGroupsBuilder builder;
+  return builder;
 }
 
-void CellGroups::Finish() {
-  runs = static_cast<int>(words.size());
-  words.insert(words.end(), masks_.begin(), masks_.end());
-  words.shrink_to_fit();
-  masks_.clear();
-  masks_.shrink_to_fit();
+// The cells rotation r's columns reach at the translations of a block of size x size steps
+// whose first step has residue (rx, ry) (relative to the block's first cell): per cell the union
+// of the masks of every column landing in it at some translation of the block, row by row. Size
+// 1 is a single translation (Groups).
+CellGroups ReachedCells(const RotatedTemplate& r, int rx, int ry, int size, int shift) {
+  thread_local std::vector<std::uint64_t> scratch;  // all zero between calls.
+  std::vector<std::uint64_t>* grid = &scratch;
+  const int x_lo = (r.q_min.x() + rx) >> shift, y_lo = (r.q_min.y() + ry) >> shift;
+  const int nx = ((r.q_max.x() + rx + size - 1) >> shift) - x_lo + 1;
+  const int ny = ((r.q_max.y() + ry + size - 1) >> shift) - y_lo + 1;
+  if (grid->size() < static_cast<size_t>(nx) * ny) grid->resize(static_cast<size_t>(nx) * ny, 0);
+  std::uint64_t* cells = grid->data();
+  for (size_t c = 0; c < r.column_q.size(); ++c) {
+    const int qx = r.column_q[c].x() + rx, qy = r.column_q[c].y() + ry;
+    for (int y = (qy >> shift) - y_lo; y <= ((qy + size - 1) >> shift) - y_lo; ++y) {
+      for (int x = (qx >> shift) - x_lo; x <= ((qx + size - 1) >> shift) - x_lo; ++x) {
+        cells[static_cast<size_t>(y) * nx + x] |= r.column_masks[c];
+      }
+    }
+  }
+  for (int y = 0; y < ny; ++y) {  // rows in the order of the occupancy's layout.
+    for (int x = 0; x < nx; ++x) {
+      std::uint64_t& cell = cells[static_cast<size_t>(y) * nx + x];
+      const std::uint64_t m = cell;
+      cell = 0;
+      if (m == 0) continue;
+      ThreadBuilder().Append(x + x_lo, y + y_lo, m);
+    }
+  }
+  return ThreadBuilder().Take();
 }
+
+}  // namespace
 
 const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
   const int s = 1 << shift_;
   std::call_once(groups_once_[itheta], [&] {
     const RotatedTemplate& r = rotations_[itheta];
     std::vector<CellGroups>& out = groups_[itheta];
-    out.resize(static_cast<size_t>(s) * s);
-    std::vector<std::pair<std::int64_t, int>> keyed;  // (cell key, column).
+    out.reserve(static_cast<size_t>(s) * s);
+    // One cell per column's cell, its columns' masks united.
     for (int x = 0; x < s; ++x) {
-      for (int y = 0; y < s; ++y) {
-        keyed.clear();
-        for (size_t c = 0; c < r.column_q.size(); ++c) {
-          const std::int64_t cx = (r.column_q[c].x() + x) >> shift_;
-          const std::int64_t cy = (r.column_q[c].y() + y) >> shift_;
-          // Row by row (the runs' order). Multiplied, not shifted: cy may be negative.
-          keyed.emplace_back(cy * (std::int64_t{1} << 32) + (cx + (std::int64_t{1} << 31)),
-                             static_cast<int>(c));
-        }
-        std::sort(keyed.begin(), keyed.end());
-        CellGroups& g = out[static_cast<size_t>(x) * s + y];
-        for (size_t k = 0; k < keyed.size();) {  // one cell per key, its columns' masks united.
-          const int c = keyed[k].second;
-          std::uint64_t mask = 0;
-          size_t end = k;
-          for (; end < keyed.size() && keyed[end].first == keyed[k].first; ++end) {
-            mask |= r.column_masks[keyed[end].second];
-          }
-          g.Append((r.column_q[c].x() + x) >> shift_, (r.column_q[c].y() + y) >> shift_, mask);
-          k = end;
-        }
-        g.Finish();
-      }
+      for (int y = 0; y < s; ++y) out.push_back(ReachedCells(r, x, y, 1, shift_));
     }
     // Blocks of two steps at even residues: the window starts at the cell of q + residue and
     // is two cells long where q + residue is the last step of its cell.
@@ -384,6 +445,8 @@ const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
     for (int x = 0; x < half; ++x) {
       for (int y = 0; y < half; ++y) {
         PairBlockTable& t = pairs[static_cast<size_t>(x) * half + y];
+        t.cxe.reserve(r.column_q.size());
+        t.cy.reserve(r.column_q.size());
         for (const Eigen::Vector2i& q : r.column_q) {
           const int qx = q.x() + 2 * x, qy = q.y() + 2 * y;
           const int ex = (qx & (s - 1)) == s - 1 ? 1 : 0;
@@ -405,108 +468,108 @@ const PairBlockTable& TemplateRotations::PairTable(int itheta, int ra, int rb) c
 
 namespace {
 
-// Residues per axis of blocks of 2^level steps: their first steps are the multiples of
-// min(2^level, s) below s.
-int SweptResidues(int level, int s) { return std::max(1, s >> level); }
+// Walks a CellGroups' cells in order (row by row), each with a key that orders them so.
+class CellCursor {
+ public:
+  static constexpr std::int64_t kDone = INT64_MAX;  // the key once past the last cell.
 
-// Where SweptGroups(level, ra, rb) lies in a rotation's list of tables.
-size_t SweptIndex(int level, int ra, int rb, int s) {
-  size_t index = 0;
-  for (int lv = 1; lv < level; ++lv) {
-    const int n = SweptResidues(lv, s);
-    index += static_cast<size_t>(n) * n;
+  explicit CellCursor(const CellGroups& g) : g_(g), k_(static_cast<size_t>(g.runs)) { Load(); }
+  std::int64_t key() const { return key_; }
+  int cx() const { return cx_ + i_; }
+  int cy() const { return cy_; }
+  std::uint64_t mask() const { return g_.words[k_]; }
+  void Next() {
+    ++k_;
+    ++key_;
+    if (++i_ < len_) return;
+    ++r_;
+    i_ = 0;
+    Load();
   }
-  const int step = std::min(1 << level, s);
-  return index + static_cast<size_t>(ra / step) * SweptResidues(level, s) + rb / step;
-}
 
-// SweptIndex with the S^2 residues of level 0 (single translations: Groups) first.
-size_t BlockSweptIndex(int level, int ra, int rb, int s) {
-  if (level == 0) return static_cast<size_t>(ra) * s + rb;
-  return static_cast<size_t>(s) * s + SweptIndex(level, ra, rb, s);
-}
+ private:
+  void Load() {
+    if (r_ >= g_.runs) {
+      key_ = kDone;
+      return;
+    }
+    const std::uint64_t h = g_.words[r_];
+    cx_ = RunHeaderX(h);
+    cy_ = RunHeaderY(h);
+    len_ = RunHeaderLength(h);
+    key_ = (static_cast<std::int64_t>(cy_) << 32) + cx_;  // cx, cy fit 16 bits.
+  }
 
-struct GroupCell {
-  std::int32_t cy, cx;
-  std::uint64_t mask;
+  const CellGroups& g_;
+  size_t k_;  // the word of the current cell's mask.
+  int r_ = 0, i_ = 0;
+  int cx_ = 0, cy_ = 0, len_ = 0;
+  std::int64_t key_ = kDone;
 };
-
-// A CellGroups' cells one by one, row by row.
-std::vector<GroupCell> CellsOf(const CellGroups& g) {
-  std::vector<GroupCell> out;
-  out.reserve(g.cells());
-  g.ForEachCell([&](int cx, int cy, std::uint64_t mask) { out.push_back({cy, cx, mask}); });
-  return out;
-}
 
 // Merges the cells of a and b (each listed row by row, once). unite: every cell of either, the
 // masks of a cell in both united; else the cells of both, with the bits both set (cells with
 // none left out).
-CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite) {
-  const std::vector<GroupCell> ca = CellsOf(a), cb = CellsOf(b);
-  CellGroups out;
-  size_t i = 0, j = 0;
-  while (i < ca.size() || j < cb.size()) {
-    const bool take_a = j == cb.size() || (i < ca.size() && std::make_pair(ca[i].cy, ca[i].cx) <=
-                                                                std::make_pair(cb[j].cy, cb[j].cx));
-    const bool take_b = i == ca.size() || (j < cb.size() && std::make_pair(cb[j].cy, cb[j].cx) <=
-                                                                std::make_pair(ca[i].cy, ca[i].cx));
-    const GroupCell c = take_a ? ca[i] : cb[j];
-    const std::uint64_t mask_a = take_a ? ca[i++].mask : 0, mask_b = take_b ? cb[j++].mask : 0;
+CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite,
+                           CellGroupsBuilder* out) {
+  CellCursor ca(a), cb(b);
+  while (ca.key() != CellCursor::kDone || cb.key() != CellCursor::kDone) {
+    const bool take_a = ca.key() <= cb.key(), take_b = cb.key() <= ca.key();
+    const int cx = take_a ? ca.cx() : cb.cx(), cy = take_a ? ca.cy() : cb.cy();
+    const std::uint64_t mask_a = take_a ? ca.mask() : 0, mask_b = take_b ? cb.mask() : 0;
+    if (take_a) ca.Next();
+    if (take_b) cb.Next();
     if (unite) {
-      out.Append(c.cx, c.cy, mask_a | mask_b);
+      out->Append(cx, cy, mask_a | mask_b);
     } else if ((mask_a & mask_b) != 0) {
-      out.Append(c.cx, c.cy, mask_a & mask_b);
+      out->Append(cx, cy, mask_a & mask_b);
     }
   }
-  out.Finish();
-  return out;
+  return out->Take();
 }
 
 }  // namespace
+
+template <typename Half>
+const CellGroups& TemplateRotations::BlockTable(int tlevel, int itheta0, size_t index, bool unite,
+                                                const Half& half_table) const {
+  assert(tlevel >= 1 && tlevel < kThetaLevels && (itheta0 & ((1 << tlevel) - 1)) == 0);
+  const size_t slot = (static_cast<size_t>(itheta0) >> tlevel) * block_tables_ + index;
+  std::call_once(swept_blocks_once_[tlevel - 1][slot], [&] {
+    // Both halves first (made on first use too), then the merge.
+    const int half = 1 << (tlevel - 1);
+    const CellGroups& first = half_table(itheta0);
+    CellGroups& out = swept_blocks_[tlevel - 1][slot];
+    if (itheta0 + half >= static_cast<int>(rotations_.size())) {  // the last block: one half.
+      out = first;
+      return;
+    }
+    const CellGroups& second = half_table(itheta0 + half);
+    out = MergeCellGroups(first, second, unite, &ThreadBuilder());
+  });
+  return swept_blocks_[tlevel - 1][slot];
+}
 
 const CellGroups& TemplateRotations::CommonBlockGroups(int tlevel, int itheta0, int ra,
                                                        int rb) const {
   if (tlevel == 0) return Groups(itheta0, ra, rb);
   const int s = 1 << shift_;
-  SweptBlockGroups(tlevel, itheta0, 0, ra, rb);  // makes them.
-  const std::vector<CellGroups>& tables = swept_blocks_[tlevel - 1][itheta0 >> tlevel];
-  return tables[tables.size() - static_cast<size_t>(s) * s + static_cast<size_t>(ra) * s + rb];
+  const size_t index =
+      block_tables_ - static_cast<size_t>(s) * s + static_cast<size_t>(ra) * s + rb;
+  return BlockTable(tlevel, itheta0, index, /*unite=*/false, [&](int itheta) -> const CellGroups& {
+    return CommonBlockGroups(tlevel - 1, itheta, ra, rb);
+  });
 }
 
 const CellGroups& TemplateRotations::SweptBlockGroups(int tlevel, int itheta0, int level, int ra,
                                                       int rb) const {
   if (tlevel == 0)
     return level == 0 ? Groups(itheta0, ra, rb) : SweptGroups(itheta0, level, ra, rb);
-  assert(tlevel < kThetaLevels && (itheta0 & ((1 << tlevel) - 1)) == 0);
   const int s = 1 << shift_;
-  const size_t block = static_cast<size_t>(itheta0) >> tlevel;
-  std::call_once(swept_blocks_once_[tlevel - 1][block], [&] {
-    std::vector<CellGroups>& out = swept_blocks_[tlevel - 1][block];
-    const int half = 1 << (tlevel - 1);
-    const bool two = itheta0 + half < static_cast<int>(rotations_.size());
-    for (int lv = 0; lv <= kSweptLevels; ++lv) {
-      const int step = std::min(1 << lv, s);
-      const int residues = SweptResidues(lv, s);
-      for (int i = 0; i < residues * residues; ++i) {
-        const int rx = (i / residues) * step, ry = (i % residues) * step;
-        const CellGroups& first = SweptBlockGroups(tlevel - 1, itheta0, lv, rx, ry);
-        out.push_back(
-            two ? MergeCellGroups(first, SweptBlockGroups(tlevel - 1, itheta0 + half, lv, rx, ry),
-                                  true)
-                : first);
-      }
-    }
-    for (int rx = 0; rx < s; ++rx) {
-      for (int ry = 0; ry < s; ++ry) {
-        const CellGroups& first = CommonBlockGroups(tlevel - 1, itheta0, rx, ry);
-        out.push_back(two ? MergeCellGroups(
-                                first, CommonBlockGroups(tlevel - 1, itheta0 + half, rx, ry), false)
-                          : first);
-      }
-    }
-  });
-  return swept_blocks_[tlevel - 1][block][BlockSweptIndex(level, ra, rb, s)];
+  return BlockTable(tlevel, itheta0, BlockSweptIndex(level, ra, rb, s), /*unite=*/true,
+                    [&](int itheta) -> const CellGroups& {
+                      return SweptBlockGroups(tlevel - 1, itheta, level, ra, rb);
+                    });
 }
 
 void TemplateRotations::MakeTables(int max_tlevel, int begin, int end) const {
@@ -515,6 +578,7 @@ void TemplateRotations::MakeTables(int max_tlevel, int begin, int end) const {
   }
   if (!has_cell_groups()) return;
   const int steps = static_cast<int>(rotations_.size());
+  const int s = 1 << shift_;
   max_tlevel = std::min(max_tlevel, kThetaLevels - 1);
   for (int i = std::max(0, begin); i < std::min(end, steps); ++i) {
     Groups(i, 0, 0);
@@ -522,7 +586,16 @@ void TemplateRotations::MakeTables(int max_tlevel, int begin, int end) const {
     // Theta blocks whose last rotation is i: their halves are made by then.
     for (int t = 1; t <= max_tlevel; ++t) {
       const int first = i & ~((1 << t) - 1);
-      if (i == std::min(steps, first + (1 << t)) - 1) SweptBlockGroups(t, first, 0, 0, 0);
+      if (i != std::min(steps, first + (1 << t)) - 1) continue;
+      for (int lv = 0; lv <= kSweptLevels; ++lv) {
+        const int step = std::min(1 << lv, s);
+        for (int ra = 0; ra < s; ra += step) {
+          for (int rb = 0; rb < s; rb += step) SweptBlockGroups(t, first, lv, ra, rb);
+        }
+      }
+      for (int ra = 0; ra < s; ++ra) {
+        for (int rb = 0; rb < s; ++rb) CommonBlockGroups(t, first, ra, rb);
+      }
     }
   }
 }
@@ -533,41 +606,12 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
   std::call_once(swept_once_[itheta], [&] {
     const RotatedTemplate& r = rotations_[itheta];
     std::vector<CellGroups>& out = swept_[itheta];
-    // The union of masks per reached cell, row by row; all zero between tables (the scan that
-    // lists a table's cells clears them).
-    std::vector<std::uint64_t> grid;
     for (int lv = 1; lv <= kSweptLevels; ++lv) {
-      const int size = 1 << lv;
-      const int step = std::min(size, s);
+      const int step = std::min(1 << lv, s);
       const int residues = SweptResidues(lv, s);
       for (int i = 0; i < residues * residues; ++i) {
         const int rx = (i / residues) * step, ry = (i % residues) * step;
-        // A column at q reaches the cells of q + r + [0, size) (relative to the block's first).
-        const int x_lo = (r.q_min.x() + rx) >> shift_, y_lo = (r.q_min.y() + ry) >> shift_;
-        const int nx = ((r.q_max.x() + rx + size - 1) >> shift_) - x_lo + 1;
-        const int ny = ((r.q_max.y() + ry + size - 1) >> shift_) - y_lo + 1;
-        if (grid.size() < static_cast<size_t>(nx) * ny)
-          grid.resize(static_cast<size_t>(nx) * ny, 0);
-        for (size_t c = 0; c < r.column_q.size(); ++c) {
-          const int qx = r.column_q[c].x() + rx, qy = r.column_q[c].y() + ry;
-          for (int y = (qy >> shift_) - y_lo; y <= ((qy + size - 1) >> shift_) - y_lo; ++y) {
-            for (int x = (qx >> shift_) - x_lo; x <= ((qx + size - 1) >> shift_) - x_lo; ++x) {
-              grid[static_cast<size_t>(y) * nx + x] |= r.column_masks[c];
-            }
-          }
-        }
-        CellGroups g;
-        for (int y = 0; y < ny; ++y) {  // rows in the order of the occupancy's layout.
-          for (int x = 0; x < nx; ++x) {
-            std::uint64_t& cell = grid[static_cast<size_t>(y) * nx + x];
-            const std::uint64_t m = cell;
-            cell = 0;
-            if (m == 0) continue;
-            g.Append(x + x_lo, y + y_lo, m);
-          }
-        }
-        g.Finish();
-        out.push_back(std::move(g));
+        out.push_back(ReachedCells(r, rx, ry, 1 << lv, shift_));
       }
     }
   });

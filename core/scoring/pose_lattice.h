@@ -119,14 +119,8 @@ struct CellGroups {
   std::vector<std::uint64_t> words;
   int runs = 0;
 
-  // Appends cell (cx, cy) with its mask. Cells come row by row (cy, then cx, ascending), each
-  // once: a cell right after the previous one in its row extends its run. Cell coordinates
-  // must fit 16 bits (tables hold cells within a template's reach of its origin). Finish()
-  // once the last cell is in: it lays out `words`.
-  void Append(int cx, int cy, std::uint64_t mask);
-  void Finish();
   int cells() const { return static_cast<int>(words.size()) - runs; }
-  // Calls f(cx, cy, mask) for every cell, in order (after Finish).
+  // Calls f(cx, cy, mask) for every cell, in order.
   template <typename F>
   void ForEachCell(F&& f) const {
     size_t k = static_cast<size_t>(runs);
@@ -136,9 +130,6 @@ struct CellGroups {
       for (int i = 0; i < len; ++i) f(cx + i, cy, words[k++]);
     }
   }
-
- private:
-  std::vector<std::uint64_t> masks_;  // while appending.
 };
 
 // A rotation's columns (same order as column_q) for translation blocks of 2 steps starting at
@@ -252,13 +243,22 @@ class TemplateRotations {
   // Per rotation: for each level 1 .. kSweptLevels its residues' SweptGroups.
   mutable std::vector<std::vector<CellGroups>> swept_;
   mutable std::unique_ptr<std::once_flag[]> swept_once_;
-  // Per theta level t in [1, kThetaLevels) and block itheta0 >> t: SweptBlockGroups, level 0's
-  // residues first, then in the order of swept_; then CommonBlockGroups per residue.
-  mutable std::vector<std::vector<std::vector<CellGroups>>> swept_blocks_;
+  // Per theta level t in [1, kThetaLevels), block after block (itheta0 >> t), block_tables_
+  // each: SweptBlockGroups, level 0's residues first, then in the order of swept_; then
+  // CommonBlockGroups per residue. Each made on first use, with a once_flag of its own.
+  mutable std::vector<std::vector<CellGroups>> swept_blocks_;
   mutable std::vector<std::unique_ptr<std::once_flag[]>> swept_blocks_once_;
+  size_t block_tables_ = 0;
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
   std::vector<std::unique_ptr<TemplateRotations>> slabs_;
+
+  // Table `index` of the theta block (tlevel >= 1, itheta0), made on first use from its two
+  // halves' tables (half_table(itheta0 of the half), of level tlevel - 1): united, or their
+  // common bits.
+  template <typename Half>
+  const CellGroups& BlockTable(int tlevel, int itheta0, size_t index, bool unite,
+                               const Half& half_table) const;
 };
 
 }  // namespace hpose

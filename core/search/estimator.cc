@@ -277,12 +277,21 @@ double ApparentWidth(const Cluster& c) {
 
 Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates)
     : options_(std::move(options)), templates_(std::move(templates)) {
-  rotations_.reserve(templates_.size());
-  for (const VoxelTemplate& t : templates_) {
-    rotations_.push_back(std::make_unique<TemplateRotations>(t, options_.lattice));
-    surfaces_.push_back(std::make_unique<SurfaceModel>(t, options_.refine.surface_spacing_m));
-    silhouette_widths_.push_back(SilhouetteWidths(t, options_.clusters.min_height_above_floor_m));
-  }
+  pool_ = std::make_unique<TaskPool>(TaskPool::Resolve(options_.threads));
+  // Each template's rotations and surface, two tasks per template for the threads.
+  const int count = static_cast<int>(templates_.size());
+  rotations_.resize(count);
+  surfaces_.resize(count);
+  silhouette_widths_.resize(count);
+  pool_->ParallelFor(2 * count, [&](int k) {
+    const VoxelTemplate& t = templates_[k / 2];
+    if (k % 2 == 0) {
+      rotations_[k / 2] = std::make_unique<TemplateRotations>(t, options_.lattice);
+    } else {
+      surfaces_[k / 2] = std::make_unique<SurfaceModel>(t, options_.refine.surface_spacing_m);
+      silhouette_widths_[k / 2] = SilhouetteWidths(t, options_.clusters.min_height_above_floor_m);
+    }
+  });
   search_ = MakeSearch(options_);
   for (size_t j = 0; j < templates_.size() && search_ != nullptr; ++j) {
     double reach = 0.0;  // how far the template reaches from its origin.
@@ -294,7 +303,6 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
     reach += 2.0 * options_.lattice.resolution_m;
     free_reach_m_ = std::max(free_reach_m_, search_->OriginMargin(*rotations_[j]) + reach);
   }
-  pool_ = std::make_unique<TaskPool>(TaskPool::Resolve(options_.threads));
   if (options_.make_tables_at_start && options_.search == SearchKind::kExact) {
     // Runs of rotations a whole number of the largest theta blocks long, for the threads.
     constexpr int kRun = 1 << (TemplateRotations::kThetaLevels - 1);
@@ -616,8 +624,11 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
       thresholds[held_cluster] = tracked_threshold;
       pool_->ParallelFor(static_cast<int>(again.size()), [&](int i) {
         Task& task = tasks[again[i]];
-        task = Task{task.cluster, task.tpl};
-        task.threshold = tracked_threshold;
+        Task fresh;
+        fresh.cluster = task.cluster;
+        fresh.tpl = task.tpl;
+        fresh.threshold = tracked_threshold;
+        task = std::move(fresh);
         search_task(task);
       });
     }

@@ -1,23 +1,16 @@
 #include "core/search/surface_model.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
-#include <unordered_map>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 
 namespace hpose {
 namespace {
-
-// Hash of an integer cell for neighbour look-ups while building.
-struct CellHash {
-  size_t operator()(const Eigen::Vector3i& c) const {
-    return static_cast<size_t>(c.x()) * 73856093u ^ static_cast<size_t>(c.y()) * 19349663u ^
-           static_cast<size_t>(c.z()) * 83492791u;
-  }
-};
-
-using CellMap = std::unordered_map<Eigen::Vector3i, std::vector<int>, CellHash>;
 
 Eigen::Vector3i CellIndex(const Eigen::Vector3f& p, float inv) {
   return Eigen::Vector3i(static_cast<int>(std::floor(p.x() * inv)),
@@ -29,35 +22,60 @@ Eigen::Vector3i CellIndex(const Eigen::Vector3f& p, float inv) {
 // least spread); straight up where too few neighbours exist.
 std::vector<Eigen::Vector3f> PlaneNormals(const std::vector<Eigen::Vector3f>& points,
                                           float radius) {
-  const float inv = 1.0f / radius;
-  CellMap cells;
-  for (size_t i = 0; i < points.size(); ++i) {
-    cells[CellIndex(points[i], inv)].push_back(static_cast<int>(i));
-  }
   std::vector<Eigen::Vector3f> normals(points.size(), Eigen::Vector3f::UnitZ());
+  if (points.empty()) return normals;
+  const float inv = 1.0f / radius;
+  // The points sorted by cell of side `radius` (x, then y, then z; by index within a cell): the
+  // three cells of an (x, y) column one above the other are one range of the order, found by
+  // one binary search. Cells are offset by one past the lowest, so neighbours stay >= 0.
+  std::vector<Eigen::Vector3i> cell(points.size());
+  Eigen::Vector3i lo = Eigen::Vector3i::Constant(INT_MAX), hi = Eigen::Vector3i::Constant(INT_MIN);
+  for (size_t i = 0; i < points.size(); ++i) {
+    cell[i] = CellIndex(points[i], inv);
+    lo = lo.cwiseMin(cell[i]);
+    hi = hi.cwiseMax(cell[i]);
+  }
+  const std::int64_t ny = static_cast<std::int64_t>(hi.y()) - lo.y() + 3;
+  const std::int64_t nz = static_cast<std::int64_t>(hi.z()) - lo.z() + 3;
+  const auto key = [&](const Eigen::Vector3i& c) {
+    return ((static_cast<std::int64_t>(c.x()) - lo.x() + 1) * ny + (c.y() - lo.y() + 1)) * nz +
+           (c.z() - lo.z() + 1);
+  };
+  std::vector<std::pair<std::int64_t, int>> sorted(points.size());
+  for (size_t i = 0; i < points.size(); ++i) sorted[i] = {key(cell[i]), static_cast<int>(i)};
+  std::sort(sorted.begin(), sorted.end());
+
   const float r2 = radius * radius;
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f& p = points[i];
-    const Eigen::Vector3i c = CellIndex(p, inv);
+    const Eigen::Vector3i& c = cell[i];
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    // The lower triangle of the sum of outer products (the solver reads no more).
+    double xx = 0.0, yx = 0.0, zx = 0.0, yy = 0.0, zy = 0.0, zz = 0.0;
     int n = 0;
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
-        for (int dz = -1; dz <= 1; ++dz) {
-          auto it = cells.find(c + Eigen::Vector3i(dx, dy, dz));
-          if (it == cells.end()) continue;
-          for (int j : it->second) {
-            if ((points[j] - p).squaredNorm() > r2) continue;
-            const Eigen::Vector3d q = (points[j] - p).cast<double>();
-            sum += q;
-            outer += q * q.transpose();
-            ++n;
-          }
+        const std::int64_t first = key(c + Eigen::Vector3i(dx, dy, -1));
+        const std::int64_t last = first + 2;
+        auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(first, INT_MIN));
+        for (; it != sorted.end() && it->first <= last; ++it) {
+          const int j = it->second;
+          if ((points[j] - p).squaredNorm() > r2) continue;
+          const Eigen::Vector3d q = (points[j] - p).cast<double>();
+          sum += q;
+          xx += q.x() * q.x();
+          yx += q.y() * q.x();
+          zx += q.z() * q.x();
+          yy += q.y() * q.y();
+          zy += q.z() * q.y();
+          zz += q.z() * q.z();
+          ++n;
         }
       }
     }
     if (n < 3) continue;
+    Eigen::Matrix3d outer;
+    outer << xx, yx, zx, yx, yy, zy, zx, zy, zz;
     const Eigen::Vector3d mean = sum / n;
     const Eigen::Matrix3d cov = outer / n - mean * mean.transpose();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
