@@ -52,25 +52,29 @@ Result<PointCloud> DepthToCloud(const DepthImage& depth, const Intrinsics& intri
 
   PointCloud cloud;
   // One allocation: the organised size is an upper bound of the unorganised one.
-  cloud.points.reserve(static_cast<size_t>(out_w) * out_h);
+  cloud.points.resize(static_cast<size_t>(out_w) * out_h);
   if (options.keep_organised) {
     cloud.width = out_w;
     cloud.height = out_h;
   }
+  // Every pixel is written at the next free slot, which advances only past valid ones unless
+  // the cloud keeps its organisation (then invalid pixels stay, as NaN): no branch per pixel.
+  Eigen::Vector3f* out = cloud.points.data();
+  size_t n = 0;
+  const size_t keep_all = options.keep_organised ? 1 : 0;
   for (int v = 0; v < depth.height; v += stride) {
     const std::uint16_t* row = depth.mm.data() + static_cast<size_t>(v) * depth.width;
     const float ray_y = (static_cast<float>(v) - cy) * inv_fy;
     for (int u = 0; u < depth.width; u += stride) {
       const std::uint32_t mm = row[u];
-      if (mm < min_mm || mm > max_mm) {
-        if (options.keep_organised) cloud.points.emplace_back(nan, nan, nan);
-        continue;
-      }
-      const float z = static_cast<float>(mm) * 0.001f;
+      const bool valid = (mm >= min_mm) & (mm <= max_mm);
+      const float z = valid ? static_cast<float>(mm) * 0.001f : nan;
       const float ray_x = (static_cast<float>(u) - cx) * inv_fx;
-      cloud.points.emplace_back(ray_x * z, ray_y * z, z);
+      out[n] = Eigen::Vector3f(ray_x * z, ray_y * z, z);
+      n += valid ? 1 : keep_all;
     }
   }
+  cloud.points.resize(n);
   return cloud;
 }
 
