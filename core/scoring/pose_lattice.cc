@@ -198,8 +198,10 @@ void FillColumns(const PointColumns& g, const std::vector<Eigen::Vector2i>& corn
   }
 }
 
-// RotatePoints for grouped points (the same RotatedTemplate).
-RotatedTemplate RotateColumns(const PointColumns& g, const PoseLattice& lattice, int itheta) {
+// RotatePoints for grouped points (the same RotatedTemplate; without sub_cells unless
+// with_sub_cells).
+RotatedTemplate RotateColumns(const PointColumns& g, const PoseLattice& lattice, int itheta,
+                              bool with_sub_cells) {
   RotatedTemplate r;
   r.itheta = WrapAngleIndex(lattice, itheta);
   if (g.point_column.empty()) return r;
@@ -210,10 +212,12 @@ RotatedTemplate RotateColumns(const PointColumns& g, const PoseLattice& lattice,
     r.q_min = r.q_min.cwiseMin(p);
     r.q_max = r.q_max.cwiseMax(p);
   }
-  r.sub_cells.reserve(g.point_column.size());
-  for (size_t i = 0; i < g.point_column.size(); ++i) {
-    const Eigen::Vector2i& p = q[g.point_column[i]];
-    r.sub_cells.emplace_back(p.x(), p.y(), g.point_z[i]);
+  if (with_sub_cells) {
+    r.sub_cells.reserve(g.point_column.size());
+    for (size_t i = 0; i < g.point_column.size(); ++i) {
+      const Eigen::Vector2i& p = q[g.point_column[i]];
+      r.sub_cells.emplace_back(p.x(), p.y(), g.point_z[i]);
+    }
   }
   FillColumns(g, q, nullptr, &r);
   return r;
@@ -261,13 +265,18 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
 TemplateRotations::TemplateRotations(std::string name, double height_m,
                                      const std::vector<Eigen::Vector3f>& points,
                                      const PoseLattice& lattice)
+    : TemplateRotations(std::move(name), height_m, points, lattice, /*with_sub_cells=*/true) {}
+
+TemplateRotations::TemplateRotations(std::string name, double height_m,
+                                     const std::vector<Eigen::Vector3f>& points,
+                                     const PoseLattice& lattice, bool with_sub_cells)
     : name_(std::move(name)), height_m_(height_m), lattice_(lattice) {
   const PointColumns g = GroupPoints(points, lattice.resolution_m);
   rotations_.reserve(lattice.angle_steps);
   // Per column and block, the square its sub-voxel coordinates sweep: [lo, hi].
   std::vector<std::vector<Eigen::Vector2i>> lo, hi;
   for (int i = 0; i < lattice.angle_steps; ++i) {
-    rotations_.push_back(RotateColumns(g, lattice, i));
+    rotations_.push_back(RotateColumns(g, lattice, i, with_sub_cells));
     lo.push_back(RotateColumnsQ(g, lattice, i));
   }
   hi = lo;
@@ -344,7 +353,7 @@ TemplateRotations::TemplateRotations(std::string name, double height_m,
     for (const std::vector<Eigen::Vector3f>& slab : cut) {
       if (slab.empty()) continue;  // a gap of 64 cells or more.
       slabs_.push_back(std::unique_ptr<TemplateRotations>(
-          new TemplateRotations(name_, height_m_, slab, lattice)));
+          new TemplateRotations(name_, height_m_, slab, lattice, /*with_sub_cells=*/false)));
     }
   }
 }

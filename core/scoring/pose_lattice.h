@@ -212,7 +212,8 @@ class TemplateRotations {
   // slabs do: its points cut at every 64th z cell from its lowest, each run of 64 cells a
   // TemplateRotations of its own (one-word columns, the same columns' (x, y)). The slabs' cells
   // are disjoint, so a pose's hits are the sum of its slabs' hits, and a sum of their bounds
-  // bounds it. Empty for one-word templates and without a power-of-two subdivision.
+  // bounds it. Empty for one-word templates and without a power-of-two subdivision. A slab's
+  // rotations hold the column view only (no sub_cells: the template's own rotations have them).
   const std::vector<std::unique_ptr<TemplateRotations>>& slabs() const { return slabs_; }
   int z_words() const { return z_words_; }
   // CellDisjointMasks of rotation itheta (for free-space lower bounds), made once.
@@ -253,6 +254,9 @@ class TemplateRotations {
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
   std::vector<std::unique_ptr<TemplateRotations>> slabs_;
 
+  // The constructor, with or without each rotation's sub_cells (slabs: without).
+  TemplateRotations(std::string name, double height_m, const std::vector<Eigen::Vector3f>& points,
+                    const PoseLattice& lattice, bool with_sub_cells);
   // Table `index` of the theta block (tlevel >= 1, itheta0), made on first use from its two
   // halves' tables (half_table(itheta0 of the half), of level tlevel - 1): united, or their
   // common bits.

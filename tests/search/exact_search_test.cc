@@ -546,11 +546,14 @@ TEST(ExactSearchTest, TallTemplateSearchedBySlabsEqualsExhaustiveSearch) {
     ASSERT_GT(rot.z_words(), 1) << "scene " << scene;
     ASSERT_FALSE(rot.has_cell_groups());
     ASSERT_EQ(rot.slabs().size(), static_cast<size_t>(rot.z_words())) << "scene " << scene;
+    // A slab holds the column view only: its voxels are its columns' bits.
     size_t slab_voxels = 0;
     for (const std::unique_ptr<TemplateRotations>& slab : rot.slabs()) {
       EXPECT_EQ(slab->z_words(), 1);
       EXPECT_TRUE(slab->has_cell_groups());
-      slab_voxels += slab->Get(0).sub_cells.size();
+      EXPECT_TRUE(slab->Get(0).sub_cells.empty());
+      for (const std::uint64_t m : slab->Get(0).column_masks)
+        slab_voxels += __builtin_popcountll(m);
     }
     EXPECT_EQ(slab_voxels, rot.Get(0).sub_cells.size());
 
@@ -564,7 +567,24 @@ TEST(ExactSearchTest, TallTemplateSearchedBySlabsEqualsExhaustiveSearch) {
     const FastScorer scorer(cluster, lattice);
     const FastScorer free_scorer(free, lattice);
 
-    // Every slab's counts add up to the whole template's, pose by pose.
+    // Every slab's counts add up to the whole template's, pose by pose: a slab's from its
+    // column view (the distinct cells its columns' bits land in).
+    std::set<std::tuple<int, int, int>> in_cluster, in_free;
+    for (const Eigen::Vector3i& c : cluster.cells) in_cluster.insert({c.x(), c.y(), c.z()});
+    for (const Eigen::Vector3i& c : free.cells) in_free.insert({c.x(), c.y(), c.z()});
+    const auto column_hits = [&](const RotatedTemplate& r, int ix, int iy,
+                                 const std::set<std::tuple<int, int, int>>& cells) {
+      std::set<std::tuple<int, int, int>> placed;
+      for (size_t c = 0; c < r.column_q.size(); ++c) {
+        const int x = FloorDiv(r.column_q[c].x() + ix, lattice.subdivisions);
+        const int y = FloorDiv(r.column_q[c].y() + iy, lattice.subdivisions);
+        for (int bit = 0; bit < 64; ++bit) {
+          if ((r.column_masks[c] >> bit & 1) == 0) continue;
+          if (cells.count({x, y, r.z_base + bit}) != 0) placed.insert({x, y, r.z_base + bit});
+        }
+      }
+      return static_cast<int>(placed.size());
+    };
     std::uniform_int_distribution<int> it(0, lattice.angle_steps - 1), off(-40, 40);
     const int ix0 = static_cast<int>(std::lround(truth.x / lattice.step_m()));
     const int iy0 = static_cast<int>(std::lround(truth.y / lattice.step_m()));
@@ -572,8 +592,8 @@ TEST(ExactSearchTest, TallTemplateSearchedBySlabsEqualsExhaustiveSearch) {
       const int t = it(rng), ix = ix0 + off(rng), iy = iy0 + off(rng);
       int hits = 0, free_hits = 0;
       for (const std::unique_ptr<TemplateRotations>& slab : rot.slabs()) {
-        hits += scorer.Hits(slab->Get(t), ix, iy);
-        free_hits += free_scorer.Hits(slab->Get(t), ix, iy);
+        hits += column_hits(slab->Get(t), ix, iy, in_cluster);
+        free_hits += column_hits(slab->Get(t), ix, iy, in_free);
       }
       EXPECT_EQ(hits, scorer.Hits(rot.Get(t), ix, iy)) << "scene " << scene;
       EXPECT_EQ(free_hits, free_scorer.Hits(rot.Get(t), ix, iy)) << "scene " << scene;
