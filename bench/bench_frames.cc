@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 
 #include "core/depth/cluster_extractor.h"
 #include "core/depth/depth_to_cloud.h"
@@ -146,6 +147,12 @@ Status AppendProblems(const SimulatedFrame& frame, const Intrinsics& intrinsics,
 }
 
 double Median(std::vector<double> v) { return Percentile(std::move(v), 50.0); }
+
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
+}
 
 double Percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;

@@ -58,6 +58,9 @@ Status AppendProblems(const SimulatedFrame& frame, const Intrinsics& intrinsics,
                       const std::string& label, std::vector<BenchProblem>* out);
 
 double Median(std::vector<double> v);
+// CPU time this thread has used, in ms: on a shared, loaded machine far steadier than wall time
+// for single-threaded stages.
+double ThreadCpuMs();
 // Nearest-rank percentile, p in (0, 100].
 double Percentile(std::vector<double> v, double p);
 
