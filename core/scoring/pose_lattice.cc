@@ -506,7 +506,8 @@ class CellCursor {
     cx_ = RunHeaderX(h);
     cy_ = RunHeaderY(h);
     len_ = RunHeaderLength(h);
-    key_ = (static_cast<std::int64_t>(cy_) << 32) + cx_;  // cx, cy fit 16 bits.
+    // cx, cy fit 16 bits; multiplied, not shifted: cy may be negative.
+    key_ = static_cast<std::int64_t>(cy_) * (std::int64_t{1} << 32) + cx_;
   }
 
   const CellGroups& g_;
