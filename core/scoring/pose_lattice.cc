@@ -407,13 +407,12 @@ CellGroupsBuilder& ThreadBuilder() {
 // of the masks of every column landing in it at some translation of the block, row by row. Size
 // 1 is a single translation (Groups).
 CellGroups ReachedCells(const RotatedTemplate& r, int rx, int ry, int size, int shift) {
-  thread_local std::vector<std::uint64_t> scratch;  // all zero between calls.
-  std::vector<std::uint64_t>* grid = &scratch;
+  thread_local std::vector<std::uint64_t> grid;  // all zero between calls.
   const int x_lo = (r.q_min.x() + rx) >> shift, y_lo = (r.q_min.y() + ry) >> shift;
   const int nx = ((r.q_max.x() + rx + size - 1) >> shift) - x_lo + 1;
   const int ny = ((r.q_max.y() + ry + size - 1) >> shift) - y_lo + 1;
-  if (grid->size() < static_cast<size_t>(nx) * ny) grid->resize(static_cast<size_t>(nx) * ny, 0);
-  std::uint64_t* cells = grid->data();
+  if (grid.size() < static_cast<size_t>(nx) * ny) grid.resize(static_cast<size_t>(nx) * ny, 0);
+  std::uint64_t* cells = grid.data();
   for (size_t c = 0; c < r.column_q.size(); ++c) {
     const int qx = r.column_q[c].x() + rx, qy = r.column_q[c].y() + ry;
     for (int y = (qy >> shift) - y_lo; y <= ((qy + size - 1) >> shift) - y_lo; ++y) {
@@ -520,8 +519,8 @@ class CellCursor {
 // Merges the cells of a and b (each listed row by row, once). unite: every cell of either, the
 // masks of a cell in both united; else the cells of both, with the bits both set (cells with
 // none left out).
-CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite,
-                           CellGroupsBuilder* out) {
+CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite) {
+  CellGroupsBuilder* out = &ThreadBuilder();
   CellCursor ca(a), cb(b);
   while (ca.key() != CellCursor::kDone || cb.key() != CellCursor::kDone) {
     const bool take_a = ca.key() <= cb.key(), take_b = cb.key() <= ca.key();
@@ -555,7 +554,7 @@ const CellGroups& TemplateRotations::BlockTable(int tlevel, int itheta0, size_t 
       return;
     }
     const CellGroups& second = half_table(itheta0 + half);
-    out = MergeCellGroups(first, second, unite, &ThreadBuilder());
+    out = MergeCellGroups(first, second, unite);
   });
   return swept_blocks_[tlevel - 1][slot];
 }
