@@ -1,8 +1,9 @@
 // Cost of an estimator's set-up per template: the 360 rotations (TemplateRotations), the exact
 // search's cell tables made ahead (MakeTables, what hposed does at start; `hpose estimate`
 // makes only those its frame reads), and the refinement's surface normals (SurfaceModel). Each
-// is timed as thread CPU time over --repeat runs (median), and digested: the tables' words and
-// the normals' bits, so that two builds can be shown to make the same tables.
+// is timed as thread CPU time over --repeat runs (median), and digested: the rotations' and theta
+// blocks' columns (with the slabs'), the tables' words and the normals' bits, so that two
+// builds can be shown to make the same.
 //   taskset -c 0 setup_bench [--repeat N] [TEMPLATE.bt ...]   (default: the shipped templates)
 #include <algorithm>
 #include <cstdint>
@@ -33,6 +34,49 @@ struct Digest {
     Add(&g.runs, sizeof(g.runs));
   }
 };
+
+template <typename T>
+void AddVector(const std::vector<T>& v, Digest* d) {
+  const size_t n = v.size();
+  d->Add(&n, sizeof(n));
+  d->Add(v.data(), n * sizeof(T));
+}
+
+void DigestRotated(const RotatedTemplate& r, Digest* d) {
+  const int head[] = {r.itheta,    r.q_min.x(), r.q_min.y(), r.q_max.x(),
+                      r.q_max.y(), r.z_base,    r.z_words};
+  d->Add(head, sizeof(head));
+  AddVector(r.sub_cells, d);
+  AddVector(r.column_q, d);
+  AddVector(r.column_masks, d);
+  AddVector(r.column_extent, d);
+  AddVector(r.column_cxe, d);
+  AddVector(r.column_cy, d);
+}
+
+// What a TemplateRotations holds from its construction: every rotation and theta block with
+// their free-space masks and extents (a template's slabs after it).
+void DigestRotations(const TemplateRotations& rot, Digest* d) {
+  std::vector<const TemplateRotations*> parts{&rot};
+  for (const auto& slab : rot.slabs()) parts.push_back(slab.get());
+  for (const TemplateRotations* part : parts) {
+    const int steps = part->lattice().angle_steps;
+    const int head[] = {part->max_block_extent(), part->column_q_min().x(),
+                        part->column_q_min().y(), part->column_q_max().x(),
+                        part->column_q_max().y(), part->z_words()};
+    d->Add(head, sizeof(head));
+    for (int i = 0; i < steps; ++i) {
+      DigestRotated(part->Get(i), d);
+      AddVector(part->DisjointMasks(i), d);
+    }
+    for (int t = 1; t < TemplateRotations::kThetaLevels; ++t) {
+      const int extent = part->block_extent(t);
+      d->Add(&extent, sizeof(extent));
+      for (int first = 0; first < steps; first += 1 << t)
+        DigestRotated(part->GetBlock(t, first), d);
+    }
+  }
+}
 
 // Every table MakeTables makes, in a fixed order (a template's slabs after it).
 void DigestTables(const TemplateRotations& rot, Digest* d) {
@@ -109,7 +153,8 @@ int Run(int argc, char** argv) {
       repeat, options.exact.top_theta_level);
   std::printf(
       "| template | voxels | rotations ms | tables ms | table MB | surface ms | surface points | "
-      "tables digest | normals digest |\n|---|---|---|---|---|---|---|---|---|\n");
+      "rotations digest | tables digest | normals digest |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& path : paths) {
     Result<VoxelTemplate> tpl = LoadTemplate(path);
     if (!tpl.ok()) {
@@ -117,7 +162,7 @@ int Run(int argc, char** argv) {
       return 1;
     }
     std::vector<double> rotations_ms, tables_ms, surface_ms;
-    Digest tables, normals;
+    Digest rotations, tables, normals;
     size_t surface_points = 0;
     for (int r = 0; r < repeat; ++r) {
       double t0 = ThreadCpuMs();
@@ -130,15 +175,17 @@ int Run(int argc, char** argv) {
       const SurfaceModel surface(*tpl, options.refine.surface_spacing_m);
       surface_ms.push_back(ThreadCpuMs() - t0);
       if (r == 0) {
+        DigestRotations(rot, &rotations);
         DigestTables(rot, &tables);
         normals.Add(surface.normals().data(), surface.normals().size() * sizeof(float) * 3);
         surface_points = surface.normals().size();
       }
     }
     const std::string name = path.substr(path.find_last_of('/') + 1);
-    std::printf("| %s | %zu | %.1f | %.1f | %.1f | %.1f | %zu | %016llx | %016llx |\n",
+    std::printf("| %s | %zu | %.1f | %.1f | %.1f | %.1f | %zu | %016llx | %016llx | %016llx |\n",
                 name.c_str(), tpl->voxels.size(), Median(rotations_ms), Median(tables_ms),
                 tables.bytes / 1e6, Median(surface_ms), surface_points,
+                static_cast<unsigned long long>(rotations.h),
                 static_cast<unsigned long long>(tables.h),
                 static_cast<unsigned long long>(normals.h));
   }

@@ -185,6 +185,9 @@ void FillColumns(const PointColumns& g, const std::vector<Eigen::Vector2i>& corn
   });
   r->z_base = g.z_base;
   r->z_words = g.z_words;
+  r->column_q.reserve(order.size());
+  r->column_masks.reserve(order.size() * g.z_words);
+  if (extent != nullptr) r->column_extent.reserve(order.size());
   for (int k : order) {
     const bool same = !r->column_q.empty() && r->column_q.back() == corner[k] &&
                       (extent == nullptr || r->column_extent.back() == ext(k));
@@ -198,10 +201,8 @@ void FillColumns(const PointColumns& g, const std::vector<Eigen::Vector2i>& corn
   }
 }
 
-// RotatePoints for grouped points (the same RotatedTemplate; without sub_cells unless
-// with_sub_cells).
-RotatedTemplate RotateColumns(const PointColumns& g, const PoseLattice& lattice, int itheta,
-                              bool with_sub_cells) {
+// RotatePoints for grouped points (the same RotatedTemplate).
+RotatedTemplate RotateColumns(const PointColumns& g, const PoseLattice& lattice, int itheta) {
   RotatedTemplate r;
   r.itheta = WrapAngleIndex(lattice, itheta);
   if (g.point_column.empty()) return r;
@@ -212,12 +213,10 @@ RotatedTemplate RotateColumns(const PointColumns& g, const PoseLattice& lattice,
     r.q_min = r.q_min.cwiseMin(p);
     r.q_max = r.q_max.cwiseMax(p);
   }
-  if (with_sub_cells) {
-    r.sub_cells.reserve(g.point_column.size());
-    for (size_t i = 0; i < g.point_column.size(); ++i) {
-      const Eigen::Vector2i& p = q[g.point_column[i]];
-      r.sub_cells.emplace_back(p.x(), p.y(), g.point_z[i]);
-    }
+  r.sub_cells.reserve(g.point_column.size());
+  for (size_t i = 0; i < g.point_column.size(); ++i) {
+    const Eigen::Vector2i& p = q[g.point_column[i]];
+    r.sub_cells.emplace_back(p.x(), p.y(), g.point_z[i]);
   }
   FillColumns(g, q, nullptr, &r);
   return r;
@@ -265,18 +264,13 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
 TemplateRotations::TemplateRotations(std::string name, double height_m,
                                      const std::vector<Eigen::Vector3f>& points,
                                      const PoseLattice& lattice)
-    : TemplateRotations(std::move(name), height_m, points, lattice, /*with_sub_cells=*/true) {}
-
-TemplateRotations::TemplateRotations(std::string name, double height_m,
-                                     const std::vector<Eigen::Vector3f>& points,
-                                     const PoseLattice& lattice, bool with_sub_cells)
     : name_(std::move(name)), height_m_(height_m), lattice_(lattice) {
   const PointColumns g = GroupPoints(points, lattice.resolution_m);
   rotations_.reserve(lattice.angle_steps);
   // Per column and block, the square its sub-voxel coordinates sweep: [lo, hi].
   std::vector<std::vector<Eigen::Vector2i>> lo, hi;
   for (int i = 0; i < lattice.angle_steps; ++i) {
-    rotations_.push_back(RotateColumns(g, lattice, i, with_sub_cells));
+    rotations_.push_back(RotateColumns(g, lattice, i));
     lo.push_back(RotateColumnsQ(g, lattice, i));
   }
   hi = lo;
@@ -308,12 +302,91 @@ TemplateRotations::TemplateRotations(std::string name, double height_m,
     lo = std::move(next_lo);
     hi = std::move(next_hi);
   }
+  z_words_ = g.z_words;
+  PrepareTables();
+  if (z_words_ > 1 && shift_ >= 0) {
+    for (int word = 0; word < z_words_; ++word) {
+      // The slab's lowest z cell: the lowest bit any column sets in this word.
+      std::uint64_t any = 0;
+      const RotatedTemplate& first = rotations_.front();
+      for (size_t c = 0; c < first.column_q.size(); ++c) {
+        any |= first.column_masks[c * z_words_ + word];
+      }
+      if (any == 0) continue;  // a gap of 64 cells or more.
+      slabs_.push_back(std::unique_ptr<TemplateRotations>(
+          new TemplateRotations(*this, word, __builtin_ctzll(any))));
+    }
+  }
+}
+
+TemplateRotations::TemplateRotations(const TemplateRotations& parent, int word, int offset)
+    : name_(parent.name_), height_m_(parent.height_m_), lattice_(parent.lattice_) {
+  const int words = parent.z_words_;
+  // The columns of `from` with a bit in the word, their masks shifted to the slab's base. The
+  // parent's columns are sorted and each (corner, extent) once, so the kept ones are too: the
+  // columns a rotation of the slab's own points would make.
+  const auto cut = [&](const RotatedTemplate& from) {
+    RotatedTemplate r;
+    r.itheta = from.itheta;
+    r.z_base = from.z_base + 64 * word + offset;
+    r.z_words = 1;
+    for (size_t c = 0; c < from.column_q.size(); ++c) {
+      const std::uint64_t mask = from.column_masks[c * words + word] >> offset;
+      if (mask == 0) continue;
+      r.column_q.push_back(from.column_q[c]);
+      r.column_masks.push_back(mask);
+      if (!from.column_extent.empty()) r.column_extent.push_back(from.column_extent[c]);
+    }
+    return r;
+  };
+  rotations_.reserve(parent.rotations_.size());
+  disjoint_.reserve(parent.rotations_.size());
+  for (size_t i = 0; i < parent.rotations_.size(); ++i) {
+    const RotatedTemplate& from = parent.rotations_[i];
+    RotatedTemplate r = cut(from);
+    // The free-space masks too: CellDisjointMasks treats each word on its own, and a column
+    // without a bit in the word takes none from the others.
+    std::vector<std::uint64_t> disjoint;
+    disjoint.reserve(r.column_q.size());
+    for (size_t c = 0; c < from.column_q.size(); ++c) {
+      if (from.column_masks[c * words + word] >> offset != 0) {
+        disjoint.push_back(parent.disjoint_[i][c * words + word] >> offset);
+      }
+    }
+    disjoint_.push_back(std::move(disjoint));
+    if (!r.column_q.empty()) {
+      r.q_min = r.column_q.front();
+      r.q_max = r.column_q.front();
+      for (const Eigen::Vector2i& q : r.column_q) {
+        r.q_min = r.q_min.cwiseMin(q);
+        r.q_max = r.q_max.cwiseMax(q);
+      }
+    }
+    rotations_.push_back(std::move(r));
+  }
+  level_extent_.assign(parent.level_extent_.size(), 0);
+  for (size_t level = 0; level < parent.blocks_.size(); ++level) {
+    std::vector<RotatedTemplate> blocks;
+    blocks.reserve(parent.blocks_[level].size());
+    for (const RotatedTemplate& from : parent.blocks_[level]) {
+      blocks.push_back(cut(from));
+      for (int extent : blocks.back().column_extent) {
+        level_extent_[level] = std::max(level_extent_[level], extent);
+        max_block_extent_ = std::max(max_block_extent_, extent);
+      }
+    }
+    blocks_.push_back(std::move(blocks));
+  }
+  z_words_ = 1;
+  PrepareTables();
+}
+
+void TemplateRotations::PrepareTables() {
   int shift = -1;
   for (int k = 0; k < 31; ++k) {
-    if ((1 << k) == lattice.subdivisions) shift = k;
+    if ((1 << k) == lattice_.subdivisions) shift = k;
   }
   shift_ = shift;
-  z_words_ = g.z_words;
   groups_.resize(rotations_.size());
   pair_tables_.resize(rotations_.size());
   groups_once_ = std::make_unique<std::once_flag[]>(rotations_.size());
@@ -338,23 +411,13 @@ TemplateRotations::TemplateRotations(std::string name, double height_m,
       first = false;
     }
   };
+  const bool with_disjoint = disjoint_.empty();  // a slab's come from its parent's.
   for (RotatedTemplate& r : rotations_) {
     visit(&r);
-    disjoint_.push_back(CellDisjointMasks(r, lattice.subdivisions));
+    if (with_disjoint) disjoint_.push_back(CellDisjointMasks(r, lattice_.subdivisions));
   }
   for (std::vector<RotatedTemplate>& level : blocks_) {
     for (RotatedTemplate& r : level) visit(&r);
-  }
-  if (z_words_ > 1 && shift_ >= 0) {
-    std::vector<std::vector<Eigen::Vector3f>> cut(z_words_);
-    for (size_t i = 0; i < points.size(); ++i) {
-      cut[(g.point_z[i] - g.z_base) / 64].push_back(points[i]);
-    }
-    for (const std::vector<Eigen::Vector3f>& slab : cut) {
-      if (slab.empty()) continue;  // a gap of 64 cells or more.
-      slabs_.push_back(std::unique_ptr<TemplateRotations>(
-          new TemplateRotations(name_, height_m_, slab, lattice, /*with_sub_cells=*/false)));
-    }
   }
 }
 

@@ -254,9 +254,14 @@ class TemplateRotations {
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
   std::vector<std::unique_ptr<TemplateRotations>> slabs_;
 
-  // The constructor, with or without each rotation's sub_cells (slabs: without).
-  TemplateRotations(std::string name, double height_m, const std::vector<Eigen::Vector3f>& points,
-                    const PoseLattice& lattice, bool with_sub_cells);
+  // Slab `word` of `parent` (z_words() > 1), its lowest z cell `offset` cells above the word's
+  // first: the parent's rotations and theta blocks cut to the columns with a bit in the word
+  // (what rotating the slab's own points would make, without the sort that costs).
+  TemplateRotations(const TemplateRotations& parent, int word, int offset);
+  // The rest of a construction once rotations_, blocks_, level_extent_, max_block_extent_ and
+  // z_words_ are set: the cell tables' columns, the range of column_q, the free-space masks and
+  // the slots of the tables made on first use.
+  void PrepareTables();
   // Table `index` of the theta block (tlevel >= 1, itheta0), made on first use from its two
   // halves' tables (half_table(itheta0 of the half), of level tlevel - 1): united, or their
   // common bits.

@@ -1,7 +1,11 @@
 #include "core/scoring/pose_lattice.h"
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <random>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -118,6 +122,73 @@ TEST(TemplateRotationsTest, EqualsRotatingEveryPoint) {
     EXPECT_EQ(a.z_base, b.z_base) << t;
     EXPECT_EQ(a.z_words, b.z_words) << t;
   }
+}
+
+// A tall template's slabs are cut from its own rotations and theta blocks; each must equal the
+// TemplateRotations of the slab's points built on their own (the reference): same columns,
+// masks, extents, free-space masks and ranges, here with a slab whose lowest cell lies above
+// its word's first and a gap of more than 64 cells (a word with no slab).
+TEST(TemplateRotationsTest, SlabsEqualRotationsOfTheirOwnPoints) {
+  PoseLattice lattice;
+  lattice.angle_steps = 40;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> xy(-0.12f, 0.12f);
+  std::vector<Eigen::Vector3f> points;
+  const auto add = [&](int z_lo, int z_hi, int count) {
+    std::uniform_int_distribution<int> z(z_lo, z_hi);
+    for (int i = 0; i < count; ++i) {
+      points.emplace_back(xy(rng), xy(rng), (static_cast<float>(z(rng)) + 0.5f) * 0.016f);
+    }
+  };
+  add(0, 70, 300);     // word 0 and the start of word 1 (z cells 64-70)
+  add(200, 240, 200);  // word 3 from cell 8 of it (none in cells 71-199: word 2 is empty)
+  const TemplateRotations rot("t", 3.3, points, lattice);
+  ASSERT_EQ(rot.z_words(), 4);
+  // Cut the points as the slabs are: at every 64th cell from the lowest.
+  int z_base = INT_MAX;
+  for (const Eigen::Vector3f& p : points) z_base = std::min(z_base, CellOf(p, 0.016).z());
+  std::vector<std::vector<Eigen::Vector3f>> cut(4);
+  for (const Eigen::Vector3f& p : points) cut[(CellOf(p, 0.016).z() - z_base) / 64].push_back(p);
+  ASSERT_TRUE(cut[2].empty());
+  cut.erase(cut.begin() + 2);
+  ASSERT_EQ(rot.slabs().size(), 3u);
+  const auto same = [](const RotatedTemplate& a, const RotatedTemplate& b, const std::string& at) {
+    EXPECT_EQ(a.itheta, b.itheta) << at;
+    EXPECT_EQ(a.column_q, b.column_q) << at;
+    EXPECT_EQ(a.column_masks, b.column_masks) << at;
+    EXPECT_EQ(a.column_extent, b.column_extent) << at;
+    EXPECT_EQ(a.column_cxe, b.column_cxe) << at;
+    EXPECT_EQ(a.column_cy, b.column_cy) << at;
+    EXPECT_EQ(a.q_min, b.q_min) << at;
+    EXPECT_EQ(a.q_max, b.q_max) << at;
+    EXPECT_EQ(a.z_base, b.z_base) << at;
+    EXPECT_EQ(a.z_words, b.z_words) << at;
+  };
+  for (size_t k = 0; k < 3; ++k) {
+    const TemplateRotations& slab = *rot.slabs()[k];
+    const TemplateRotations ref("t", 3.3, cut[k], lattice);
+    const std::string name = "slab " + std::to_string(k);
+    EXPECT_EQ(slab.z_words(), 1) << name;
+    EXPECT_TRUE(slab.has_cell_groups()) << name;
+    EXPECT_EQ(slab.max_block_extent(), ref.max_block_extent()) << name;
+    EXPECT_EQ(slab.column_q_min(), ref.column_q_min()) << name;
+    EXPECT_EQ(slab.column_q_max(), ref.column_q_max()) << name;
+    for (int i = 0; i < lattice.angle_steps; ++i) {
+      same(slab.Get(i), ref.Get(i), name + " rotation " + std::to_string(i));
+      EXPECT_EQ(slab.DisjointMasks(i), ref.DisjointMasks(i)) << name << " rotation " << i;
+    }
+    for (int t = 1; t < TemplateRotations::kThetaLevels; ++t) {
+      EXPECT_EQ(slab.block_extent(t), ref.block_extent(t)) << name << " level " << t;
+      for (int first = 0; first < lattice.angle_steps; first += 1 << t) {
+        same(slab.GetBlock(t, first), ref.GetBlock(t, first),
+             name + " block " + std::to_string(t) + "/" + std::to_string(first));
+      }
+    }
+  }
+  // Slab 1 starts 64 cells above the lowest point; slab 2 at its first point, 8 cells into
+  // its word.
+  EXPECT_EQ(rot.slabs()[1]->Get(0).z_base, z_base + 64);
+  EXPECT_EQ(rot.slabs()[2]->Get(0).z_base, z_base + 200);
 }
 
 }  // namespace
