@@ -189,11 +189,13 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     if (!made.ok()) return made.error();
     source = std::move(*made);
     // The stream's estimators serve every frame: none of them pays for the search's tables
-    // (made at start; the gRPC pool's, for occasional requests, make them as they go).
+    // (made at start, once: they share the gRPC pool's models, whose requests then find them
+    // made too).
     EstimatorOptions stream_options = options;
     stream_options.make_tables_at_start = true;
     for (int i = 0; i < config.source.estimate_threads; ++i) {
-      Result<std::unique_ptr<Estimator>> e = Estimator::Create(stream_options, templates);
+      Result<std::unique_ptr<Estimator>> e =
+          Estimator::Create(stream_options, templates, impl->pool->models());
       if (!e.ok()) return e.error();
       estimators.push_back(std::move(*e));
     }

@@ -19,6 +19,7 @@ Result<std::unique_ptr<EstimatorPool>> EstimatorPool::Create(EstimatorOptions op
   if (!first.ok()) return first.error();
   std::unique_ptr<EstimatorPool> pool(
       new EstimatorPool(std::move(options), std::move(templates), max_instances));
+  pool->models_ = (*first)->models();
   pool->idle_.push_back(std::move(*first));
   pool->created_ = 1;
   return pool;
@@ -56,7 +57,7 @@ Result<Estimate> EstimatorPool::Run(const std::vector<std::string>& names,
   const bool pooled = subset.empty();
   if (!estimator) {
     Result<std::unique_ptr<Estimator>> made =
-        Estimator::Create(options_, pooled ? templates_ : subset);
+        Estimator::Create(options_, pooled ? templates_ : subset, models_);
     if (!made.ok()) {
       std::lock_guard<std::mutex> lock(mu_);
       --in_use_;

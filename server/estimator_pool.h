@@ -14,7 +14,8 @@
 namespace hpose::server {
 
 // Estimators for concurrent Estimate calls: an Estimator handles one frame at a time, so the
-// pool keeps up to `max_instances` of them and lends one per call. Thread-safe.
+// pool keeps up to `max_instances` of them and lends one per call; all of them, and those made
+// for a subset of the templates, share one copy of the templates' models. Thread-safe.
 class EstimatorPool {
  public:
   // Fails like Estimator::Create (no templates, duplicate names, bad options).
@@ -34,6 +35,9 @@ class EstimatorPool {
 
   const std::vector<VoxelTemplate>& templates() const { return templates_; }
   const EstimatorOptions& options() const { return options_; }
+  // The templates' models (rotations, search tables, surfaces) every estimator of the pool
+  // shares, made with its first: for other estimators of the process (Estimator::Create).
+  const std::vector<TemplateModels>& models() const { return models_; }
 
  private:
   EstimatorPool(EstimatorOptions options, std::vector<VoxelTemplate> templates, int max_instances);
@@ -45,6 +49,7 @@ class EstimatorPool {
 
   EstimatorOptions options_;
   std::vector<VoxelTemplate> templates_;
+  std::vector<TemplateModels> models_;  // set once, at Create.
   const int max_instances_;
 
   std::mutex mu_;

@@ -275,20 +275,43 @@ double ApparentWidth(const Cluster& c) {
 
 }  // namespace
 
-Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates)
+Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates,
+                     const std::vector<TemplateModels>& shared)
     : options_(std::move(options)), templates_(std::move(templates)) {
   pool_ = std::make_unique<TaskPool>(TaskPool::Resolve(options_.threads));
-  // Each template's rotations and surface, two tasks per template for the threads.
+  // Each template's rotations and surface, two tasks per template for the threads; taken from
+  // `shared` where they were made alike.
   const int count = static_cast<int>(templates_.size());
   rotations_.resize(count);
   surfaces_.resize(count);
   silhouette_widths_.resize(count);
+  const double spacing = options_.refine.surface_spacing_m;
+  for (int j = 0; j < count; ++j) {
+    const VoxelTemplate& t = templates_[j];
+    for (const TemplateModels& m : shared) {
+      const PoseLattice& a = m.lattice;
+      const PoseLattice& b = options_.lattice;
+      if (m.rotations == nullptr || m.surface == nullptr || m.rotations->name() != t.name ||
+          m.rotations->Get(0).sub_cells.size() != t.voxels.size() ||
+          a.resolution_m != b.resolution_m || a.subdivisions != b.subdivisions ||
+          a.angle_steps != b.angle_steps || m.surface_spacing_m != spacing) {
+        continue;
+      }
+      rotations_[j] = m.rotations;
+      surfaces_[j] = m.surface;
+      break;
+    }
+  }
   pool_->ParallelFor(2 * count, [&](int k) {
     const VoxelTemplate& t = templates_[k / 2];
     if (k % 2 == 0) {
-      rotations_[k / 2] = std::make_unique<TemplateRotations>(t, options_.lattice);
+      if (rotations_[k / 2] == nullptr) {
+        rotations_[k / 2] = std::make_shared<const TemplateRotations>(t, options_.lattice);
+      }
     } else {
-      surfaces_[k / 2] = std::make_unique<SurfaceModel>(t, options_.refine.surface_spacing_m);
+      if (surfaces_[k / 2] == nullptr) {
+        surfaces_[k / 2] = std::make_shared<const SurfaceModel>(t, spacing);
+      }
       silhouette_widths_[k / 2] = SilhouetteWidths(t, options_.clusters.min_height_above_floor_m);
     }
   });
@@ -317,8 +340,20 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
 
 Estimator::~Estimator() = default;
 
+std::vector<TemplateModels> Estimator::models() const {
+  std::vector<TemplateModels> out(templates_.size());
+  for (size_t j = 0; j < templates_.size(); ++j) {
+    out[j].lattice = options_.lattice;
+    out[j].surface_spacing_m = options_.refine.surface_spacing_m;
+    out[j].rotations = rotations_[j];
+    out[j].surface = surfaces_[j];
+  }
+  return out;
+}
+
 Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
-                                                     std::vector<VoxelTemplate> templates) {
+                                                     std::vector<VoxelTemplate> templates,
+                                                     const std::vector<TemplateModels>& shared) {
   if (templates.empty()) {
     return MakeError(ErrorCode::kInvalidArgument, "no templates given (at least one is needed)");
   }
@@ -355,7 +390,7 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
     return MakeError(ErrorCode::kInvalidArgument,
                      "tracked_score_threshold must be within [0, 100]");
   }
-  std::unique_ptr<Estimator> e(new Estimator(std::move(options), std::move(templates)));
+  std::unique_ptr<Estimator> e(new Estimator(std::move(options), std::move(templates), shared));
   if (e->search_ == nullptr) {
     return MakeError(ErrorCode::kInvalidArgument, std::string("search '") +
                                                       SearchKindName(e->options_.search) +

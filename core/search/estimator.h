@@ -19,6 +19,7 @@
 #include "core/search/exact_search.h"
 #include "core/search/pose_refiner.h"
 #include "core/search/pose_search.h"
+#include "core/search/template_models.h"
 #include "core/search/view_comparison.h"
 #include "core/templates/voxel_template.h"
 
@@ -145,8 +146,13 @@ class Estimator {
  public:
   // Fails (kInvalidArgument) without templates, with duplicate names, with a template whose
   // resolution differs from the lattice's, or with invalid options.
+  // With `shared` (another estimator's models(), made from the same templates), a template's
+  // models are taken from there instead of made again where they were made alike (same name and
+  // voxel count, lattice and surface spacing): estimators of one process then hold one copy of
+  // each template's rotations, search tables and surface, made once.
   static Result<std::unique_ptr<Estimator>> Create(EstimatorOptions options,
-                                                   std::vector<VoxelTemplate> templates);
+                                                   std::vector<VoxelTemplate> templates,
+                                                   const std::vector<TemplateModels>& shared = {});
 
   // Fails with kInvalidArgument (bad intrinsics, size mismatch, no valid depth) or
   // kFailedPrecondition (no floor found). "No humanoid" is not a failure: see
@@ -162,21 +168,25 @@ class Estimator {
 
   const std::vector<VoxelTemplate>& templates() const { return templates_; }
   const EstimatorOptions& options() const { return options_; }
+  // Each template's models (same order as templates()), for Create's `shared`.
+  std::vector<TemplateModels> models() const;
 
   ~Estimator();
 
  private:
-  Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates);
+  Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates,
+            const std::vector<TemplateModels>& shared);
   Result<Estimate> Run(const PointCloud& cloud_sensor, double cloud_ms,
                        const FramePrior* prior) const;
 
   EstimatorOptions options_;
   std::vector<VoxelTemplate> templates_;
-  std::vector<std::unique_ptr<TemplateRotations>> rotations_;  // one per template.
+  std::vector<std::shared_ptr<const TemplateRotations>> rotations_;  // one per template.
   // Narrowest and widest horizontal silhouette of each template over all headings (metres),
   // counting voxels above the clusters' floor band only.
   std::vector<std::pair<double, double>> silhouette_widths_;
-  std::vector<std::unique_ptr<SurfaceModel>> surfaces_;  // one per template, for refinement.
+  // One per template, for refinement.
+  std::vector<std::shared_ptr<const SurfaceModel>> surfaces_;
   std::unique_ptr<PoseSearch> search_;
   std::unique_ptr<TaskPool> pool_;
   // The free space a cluster's searches read: within free_reach_m_ of the box of its cells

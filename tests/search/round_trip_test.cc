@@ -119,6 +119,65 @@ TEST(EstimatorTest, ThreadsGiveTheSameCandidates) {
   EXPECT_FALSE(Estimator::Create(bad, tpls).ok());
 }
 
+// Estimators made with another's models() share each template's rotations (and so the search
+// tables, made once: here at start by the second, on three threads, for the first too) and
+// surface where they were made alike, and estimate exactly as estimators with their own; a
+// different lattice, surface spacing or template under the same name makes its own.
+TEST(EstimatorTest, SharedTemplateModelsGiveTheSameCandidates) {
+  EstimatorOptions one = DefaultEstimatorOptions();
+  const std::vector<VoxelTemplate> tpls = {ModelTemplate("standing"),
+                                           ModelTemplate("right_arm_raised")};
+  auto own = std::move(Estimator::Create(one, tpls).value());
+  auto first = std::move(Estimator::Create(one, tpls).value());
+  EstimatorOptions three = one;
+  three.threads = 3;
+  three.make_tables_at_start = true;
+  auto sharing = std::move(Estimator::Create(three, tpls, first->models()).value());
+  const std::vector<TemplateModels> a = first->models(), b = sharing->models();
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 2u);
+  for (size_t j = 0; j < 2; ++j) {
+    EXPECT_EQ(a[j].rotations.get(), b[j].rotations.get()) << j;
+    EXPECT_EQ(a[j].surface.get(), b[j].surface.get()) << j;
+    EXPECT_NE(own->models()[j].rotations.get(), a[j].rotations.get()) << j;
+  }
+  FrameSpec spec;
+  spec.preset = "right_arm_raised";
+  spec.humanoid_pose = Pose2D{1.5, 0.2, DegToRad(120.0)};
+  spec.clutter = 4;
+  spec.seed = 3;
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  const Estimate reference = *own->EstimateDepth(frame.depth, spec.intrinsics);
+  ASSERT_GE(reference.candidates.size(), 2u);
+  for (const Estimator* e : {first.get(), sharing.get()}) {
+    const Estimate got = *e->EstimateDepth(frame.depth, spec.intrinsics);
+    ASSERT_EQ(got.candidates.size(), reference.candidates.size());
+    for (size_t i = 0; i < got.candidates.size(); ++i) {
+      ExpectSameCandidate(got.candidates[i], reference.candidates[i], i);
+    }
+  }
+
+  // A subset shares its template's models.
+  auto subset = std::move(Estimator::Create(one, {tpls[1]}, first->models()).value());
+  EXPECT_EQ(subset->models()[0].rotations.get(), a[1].rotations.get());
+  // Made otherwise, or another template under the name: its own.
+  EstimatorOptions coarse = one;
+  coarse.lattice.angle_steps = 180;
+  EstimatorOptions spaced = one;
+  spaced.refine.surface_spacing_m = 2.0 * one.refine.surface_spacing_m + 0.001;
+  VoxelTemplate impostor = tpls[1];
+  impostor.name = "standing";
+  auto e1 = std::move(Estimator::Create(coarse, tpls, first->models()).value());
+  auto e2 = std::move(Estimator::Create(spaced, tpls, first->models()).value());
+  auto e3 = std::move(Estimator::Create(one, {impostor}, first->models()).value());
+  EXPECT_NE(e1->models()[0].rotations.get(), a[0].rotations.get());
+  EXPECT_EQ(e1->models()[0].rotations->lattice().angle_steps, 180);
+  EXPECT_NE(e2->models()[0].surface.get(), a[0].surface.get());
+  EXPECT_NE(e3->models()[0].rotations.get(), a[0].rotations.get());
+  EXPECT_EQ(e3->models()[0].rotations->Get(0).sub_cells.size(), tpls[1].voxels.size());
+  EXPECT_TRUE(e1->EstimateDepth(frame.depth, spec.intrinsics).ok());
+}
+
 // A humanoid taller than 64 voxels (1.23 m) is searched slab by slab: found where it stands, with
 // the same candidates as the search of its two-word columns (slabs off), and its tables made
 // at start as the daemon makes them.
