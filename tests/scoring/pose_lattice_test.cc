@@ -95,6 +95,17 @@ TEST(TemplateRotationsTest, PrecomputesEveryAngle) {
   EXPECT_EQ(rot.Get(0).sub_cells[0].x(), 25);
 }
 
+// Two rotated templates have the same column view: angle, columns and their masks, ranges.
+void ExpectSameColumns(const RotatedTemplate& a, const RotatedTemplate& b, const std::string& at) {
+  EXPECT_EQ(a.itheta, b.itheta) << at;
+  EXPECT_EQ(a.column_q, b.column_q) << at;
+  EXPECT_EQ(a.column_masks, b.column_masks) << at;
+  EXPECT_EQ(a.q_min, b.q_min) << at;
+  EXPECT_EQ(a.q_max, b.q_max) << at;
+  EXPECT_EQ(a.z_base, b.z_base) << at;
+  EXPECT_EQ(a.z_words, b.z_words) << at;
+}
+
 // TemplateRotations computes per column of the template (points of equal x, y) what
 // RotatePoints computes per point: the same rotated template at every angle.
 TEST(TemplateRotationsTest, EqualsRotatingEveryPoint) {
@@ -113,14 +124,8 @@ TEST(TemplateRotationsTest, EqualsRotatingEveryPoint) {
   for (int t = 0; t < lattice.angle_steps; t += 7) {
     const RotatedTemplate a = RotatePoints(points, lattice, t);
     const RotatedTemplate& b = rot.Get(t);
-    EXPECT_EQ(a.itheta, b.itheta);
     EXPECT_EQ(a.sub_cells, b.sub_cells) << t;
-    EXPECT_EQ(a.column_q, b.column_q) << t;
-    EXPECT_EQ(a.column_masks, b.column_masks) << t;
-    EXPECT_EQ(a.q_min, b.q_min) << t;
-    EXPECT_EQ(a.q_max, b.q_max) << t;
-    EXPECT_EQ(a.z_base, b.z_base) << t;
-    EXPECT_EQ(a.z_words, b.z_words) << t;
+    ExpectSameColumns(a, b, "rotation " + std::to_string(t));
   }
 }
 
@@ -153,16 +158,10 @@ TEST(TemplateRotationsTest, SlabsEqualRotationsOfTheirOwnPoints) {
   cut.erase(cut.begin() + 2);
   ASSERT_EQ(rot.slabs().size(), 3u);
   const auto same = [](const RotatedTemplate& a, const RotatedTemplate& b, const std::string& at) {
-    EXPECT_EQ(a.itheta, b.itheta) << at;
-    EXPECT_EQ(a.column_q, b.column_q) << at;
-    EXPECT_EQ(a.column_masks, b.column_masks) << at;
+    ExpectSameColumns(a, b, at);
     EXPECT_EQ(a.column_extent, b.column_extent) << at;
     EXPECT_EQ(a.column_cxe, b.column_cxe) << at;
     EXPECT_EQ(a.column_cy, b.column_cy) << at;
-    EXPECT_EQ(a.q_min, b.q_min) << at;
-    EXPECT_EQ(a.q_max, b.q_max) << at;
-    EXPECT_EQ(a.z_base, b.z_base) << at;
-    EXPECT_EQ(a.z_words, b.z_words) << at;
   };
   for (size_t k = 0; k < 3; ++k) {
     const TemplateRotations& slab = *rot.slabs()[k];

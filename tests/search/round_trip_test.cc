@@ -31,6 +31,16 @@ void ExpectSameCandidate(const Candidate& x, const Candidate& y, size_t i) {
   EXPECT_EQ(x.fit.fit, y.fit.fit) << i;
 }
 
+// A frame with clutter: several clusters, both templates searched.
+FrameSpec ClutteredSpec() {
+  FrameSpec spec;
+  spec.preset = "right_arm_raised";
+  spec.humanoid_pose = Pose2D{1.5, 0.2, DegToRad(120.0)};
+  spec.clutter = 4;
+  spec.seed = 3;
+  return spec;
+}
+
 class RoundTripTest : public ::testing::TestWithParam<std::tuple<SearchKind, double, double>> {};
 
 TEST_P(RoundTripTest, PoseComesBackWithinThePapersAccuracy) {
@@ -97,11 +107,7 @@ TEST(EstimatorTest, ThreadsGiveTheSameCandidates) {
                                            ModelTemplate("right_arm_raised")};
   auto serial = std::move(Estimator::Create(one, tpls).value());
   auto parallel = std::move(Estimator::Create(three, tpls).value());
-  FrameSpec spec;
-  spec.preset = "right_arm_raised";
-  spec.humanoid_pose = Pose2D{1.5, 0.2, DegToRad(120.0)};
-  spec.clutter = 4;
-  spec.seed = 3;
+  const FrameSpec spec = ClutteredSpec();
   const SimulatedFrame frame = *SimulateFrame(spec);
   const Estimate a = *serial->EstimateDepth(frame.depth, spec.intrinsics);
   const Estimate b = *parallel->EstimateDepth(frame.depth, spec.intrinsics);
@@ -141,11 +147,7 @@ TEST(EstimatorTest, SharedTemplateModelsGiveTheSameCandidates) {
     EXPECT_EQ(a[j].surface.get(), b[j].surface.get()) << j;
     EXPECT_NE(own->models()[j].rotations.get(), a[j].rotations.get()) << j;
   }
-  FrameSpec spec;
-  spec.preset = "right_arm_raised";
-  spec.humanoid_pose = Pose2D{1.5, 0.2, DegToRad(120.0)};
-  spec.clutter = 4;
-  spec.seed = 3;
+  const FrameSpec spec = ClutteredSpec();
   const SimulatedFrame frame = *SimulateFrame(spec);
   const Estimate reference = *own->EstimateDepth(frame.depth, spec.intrinsics);
   ASSERT_GE(reference.candidates.size(), 2u);
