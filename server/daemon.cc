@@ -165,6 +165,9 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     templates.push_back(std::move(*t));
   }
   EstimatorOptions options = EffectiveEstimatorOptions(config);
+  // Every search table made at start, once (all estimators share them): the first frames and
+  // calls take no longer than the later ones.
+  options.make_tables_at_start = true;
 
   auto impl = std::make_unique<Impl>();
   Result<std::unique_ptr<EstimatorPool>> pool =
@@ -188,14 +191,10 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     Result<std::unique_ptr<FrameSource>> made = MakeFrameSource(config.source.path, replay);
     if (!made.ok()) return made.error();
     source = std::move(*made);
-    // The stream's estimators serve every frame: none of them pays for the search's tables
-    // (made at start, once: they share the gRPC pool's models, whose requests then find them
-    // made too).
-    EstimatorOptions stream_options = options;
-    stream_options.make_tables_at_start = true;
+    // The stream's estimators share the pool's models, tables included.
     for (int i = 0; i < config.source.estimate_threads; ++i) {
       Result<std::unique_ptr<Estimator>> e =
-          Estimator::Create(stream_options, templates, impl->pool->models());
+          Estimator::Create(options, templates, impl->pool->models());
       if (!e.ok()) return e.error();
       estimators.push_back(std::move(*e));
     }
