@@ -324,8 +324,11 @@ TemplateRotations::TemplateRotations(const TemplateRotations& parent, int word, 
   const int words = parent.z_words_;
   // The columns of `from` with a bit in the word, their masks shifted to the slab's base. The
   // parent's columns are sorted and each (corner, extent) once, so the kept ones are too: the
-  // columns a rotation of the slab's own points would make.
-  const auto cut = [&](const RotatedTemplate& from) {
+  // columns a rotation of the slab's own points would make. With `disjoint`, a rotation's
+  // free-space masks (CellDisjointMasks treats each word on its own, and a column without a bit
+  // in the word takes none from the others) are cut alike into `disjoint_out`.
+  const auto cut = [&](const RotatedTemplate& from, const std::vector<std::uint64_t>* disjoint,
+                       std::vector<std::uint64_t>* disjoint_out) {
     RotatedTemplate r;
     r.itheta = from.itheta;
     r.z_base = from.z_base + 64 * word + offset;
@@ -336,24 +339,14 @@ TemplateRotations::TemplateRotations(const TemplateRotations& parent, int word, 
       r.column_q.push_back(from.column_q[c]);
       r.column_masks.push_back(mask);
       if (!from.column_extent.empty()) r.column_extent.push_back(from.column_extent[c]);
+      if (disjoint != nullptr) disjoint_out->push_back((*disjoint)[c * words + word] >> offset);
     }
     return r;
   };
   rotations_.reserve(parent.rotations_.size());
-  disjoint_.reserve(parent.rotations_.size());
+  disjoint_.resize(parent.rotations_.size());
   for (size_t i = 0; i < parent.rotations_.size(); ++i) {
-    const RotatedTemplate& from = parent.rotations_[i];
-    RotatedTemplate r = cut(from);
-    // The free-space masks too: CellDisjointMasks treats each word on its own, and a column
-    // without a bit in the word takes none from the others.
-    std::vector<std::uint64_t> disjoint;
-    disjoint.reserve(r.column_q.size());
-    for (size_t c = 0; c < from.column_q.size(); ++c) {
-      if (from.column_masks[c * words + word] >> offset != 0) {
-        disjoint.push_back(parent.disjoint_[i][c * words + word] >> offset);
-      }
-    }
-    disjoint_.push_back(std::move(disjoint));
+    RotatedTemplate r = cut(parent.rotations_[i], &parent.disjoint_[i], &disjoint_[i]);
     if (!r.column_q.empty()) {
       r.q_min = r.column_q.front();
       r.q_max = r.column_q.front();
@@ -369,7 +362,7 @@ TemplateRotations::TemplateRotations(const TemplateRotations& parent, int word, 
     std::vector<RotatedTemplate> blocks;
     blocks.reserve(parent.blocks_[level].size());
     for (const RotatedTemplate& from : parent.blocks_[level]) {
-      blocks.push_back(cut(from));
+      blocks.push_back(cut(from, nullptr, nullptr));
       for (int extent : blocks.back().column_extent) {
         level_extent_[level] = std::max(level_extent_[level], extent);
         max_block_extent_ = std::max(max_block_extent_, extent);
