@@ -22,7 +22,8 @@ std::string Describe(const Eigen::Vector3f& p) {
 
 }  // namespace
 
-Status ValidateCloud(const PointCloud& cloud, const CloudLimits& limits) {
+Status ValidateCloud(const PointCloud& cloud, const CloudLimits& limits,
+                     std::size_t* finite_points) {
   if (cloud.size() > limits.max_points) {
     return MakeError(ErrorCode::kInvalidArgument, "the cloud has " + std::to_string(cloud.size()) +
                                                       " points, more than " +
@@ -31,12 +32,18 @@ Status ValidateCloud(const PointCloud& cloud, const CloudLimits& limits) {
   const float limit = static_cast<float>(limits.max_abs_coordinate_m);
   size_t bad = 0;
   size_t first_bad = 0;
+  size_t within = 0;
   for (size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f& p = cloud.points[i];
-    if (IsWithin(p, limit) || IsMissing(p)) continue;
+    if (IsWithin(p, limit)) {
+      ++within;
+      continue;
+    }
+    if (IsMissing(p)) continue;
     if (bad == 0) first_bad = i;
     ++bad;
   }
+  if (finite_points != nullptr) *finite_points = within;
   if (bad == 0) return Status::Ok();
   std::ostringstream limit_text;
   limit_text << limits.max_abs_coordinate_m;

@@ -25,7 +25,10 @@ struct CloudLimits {
 // coordinates within +-max_abs_coordinate_m. Fails with kInvalidArgument naming the first
 // offending point (its index and coordinates) and how many points offend, or the point count
 // when it exceeds max_points.
-Status ValidateCloud(const PointCloud& cloud, const CloudLimits& limits = {});
+// With `finite_points`, also counts the points that are not missing (on success: every point
+// that is not NaN), in the same pass.
+Status ValidateCloud(const PointCloud& cloud, const CloudLimits& limits = {},
+                     std::size_t* finite_points = nullptr);
 
 // Checks a floor (fitted or fixed) before points are moved into its ground frame: the plane and
 // ground_from_sensor must be finite, the rotation orthonormal (a floor seen edge-on or along the

@@ -36,6 +36,48 @@ void Window1D(const std::uint64_t* in, int n_in, std::ptrdiff_t in_stride, int s
   }
 }
 
+// Windows of 2 len (+ 0 or 1 per axis) from those of len + 0/1 (4 interleaved words a cell,
+// e = 2 ex + ey): window 2 len + e at x = window len + e at x, then window len at x + len + e
+// (per axis). Windows starting past the box lie past the voxels: empty (max) or reaching
+// outside (min), 0 either way. The cells whose four reads all lie in the box skip the checks.
+template <bool kMax>
+void DoubleWindows(const std::uint64_t* in, int nx, int ny, int len, std::uint64_t* out) {
+  const auto combine = [](std::uint64_t a, std::uint64_t b, std::uint64_t c, std::uint64_t d) {
+    return kMax ? (a | b | c | d) : (a & b & c & d);
+  };
+  const auto at = [&](int x, int y, int e) -> std::uint64_t {
+    return x < nx && y < ny ? in[(static_cast<std::ptrdiff_t>(y) * nx + x) * 4 + e] : 0;
+  };
+  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(nx) * 4;
+  for (int y = 0; y < ny; ++y) {
+    // Every read in the box: x + len + 1 < nx and y + len + 1 < ny.
+    const int inside_end = y + len + 1 < ny ? std::max(0, nx - len - 1) : 0;
+    const std::uint64_t* r0 = in + y * row;
+    std::uint64_t* o = out + y * row;
+    if (inside_end > 0) {
+      const std::uint64_t* r1 = in + (y + len) * row;  // ey = 0
+      const std::uint64_t* r2 = r1 + row;              // ey = 1
+      const std::ptrdiff_t dx = 4 * static_cast<std::ptrdiff_t>(len);
+      for (int x = 0; x < inside_end; ++x) {
+        const std::ptrdiff_t i = 4 * static_cast<std::ptrdiff_t>(x);
+        o[i + 0] = combine(r0[i + 0], r0[i + dx + 0], r1[i + 0], r1[i + dx]);
+        o[i + 1] = combine(r0[i + 1], r0[i + dx + 1], r2[i + 0], r2[i + dx]);
+        o[i + 2] = combine(r0[i + 2], r0[i + dx + 4], r1[i + 2], r1[i + dx + 4]);
+        o[i + 3] = combine(r0[i + 3], r0[i + dx + 5], r2[i + 2], r2[i + dx + 4]);
+      }
+    }
+    for (int x = inside_end; x < nx; ++x) {
+      for (int ex = 0; ex < 2; ++ex) {
+        for (int ey = 0; ey < 2; ++ey) {
+          const int x1 = x + len + ex, y1 = y + len + ey;
+          o[4 * x + 2 * ex + ey] =
+              combine(at(x, y, 2 * ex + ey), at(x1, y, ey), at(x, y1, 2 * ex), at(x1, y1, 0));
+        }
+      }
+    }
+  }
+}
+
 // The bound sum for one 64-bit word per column and a power-of-two subdivision (the default
 // lattice): per column two shifts per axis find the window's first cell and its length, one
 // interleaved lookup gets the filtered mask.
@@ -340,34 +382,17 @@ ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
 
 ColumnOccupancy::Level ColumnOccupancy::Doubled(const Level& below, bool max_filter) const {
   assert(words_ == 1);
-  const int len = below.min_len;
   Level lv;
-  lv.min_len = 2 * len;
+  lv.min_len = 2 * below.min_len;
   lv.x0 = below.x0;
   lv.y0 = below.y0;
   lv.nx = below.nx;
   lv.ny = below.ny;
   lv.data.resize(below.data.size());
-  const int nx = lv.nx, ny = lv.ny;
-  const std::uint64_t* in = below.data.data();
-  // Windows starting past the box lie past the voxels: empty (kMax) or reaching outside (kMin),
-  // 0 either way.
-  const auto at = [&](int x, int y, int e) -> std::uint64_t {
-    return x < nx && y < ny ? in[(static_cast<size_t>(y) * nx + x) * 4 + e] : 0;
-  };
-  // Window 2 len + e = window len + e at x, then window len at x + len + e (per axis).
-  for (int y = 0; y < ny; ++y) {
-    for (int x = 0; x < nx; ++x) {
-      std::uint64_t* out = &lv.data[(static_cast<size_t>(y) * nx + x) * 4];
-      for (int ex = 0; ex < 2; ++ex) {
-        for (int ey = 0; ey < 2; ++ey) {
-          const int x1 = x + len + ex, y1 = y + len + ey;
-          const std::uint64_t a = at(x, y, 2 * ex + ey), b = at(x1, y, ey);
-          const std::uint64_t c = at(x, y1, 2 * ex), d = at(x1, y1, 0);
-          out[2 * ex + ey] = max_filter ? (a | b | c | d) : (a & b & c & d);
-        }
-      }
-    }
+  if (max_filter) {
+    DoubleWindows<true>(below.data.data(), lv.nx, lv.ny, below.min_len, lv.data.data());
+  } else {
+    DoubleWindows<false>(below.data.data(), lv.nx, lv.ny, below.min_len, lv.data.data());
   }
   return lv;
 }

@@ -1,6 +1,8 @@
 #ifndef HPOSE_CORE_SCORING_FREE_SPACE_H_
 #define HPOSE_CORE_SCORING_FREE_SPACE_H_
 
+#include <vector>
+
 #include <Eigen/Geometry>
 
 #include "core/depth/range_image.h"
@@ -15,14 +17,33 @@ struct FreeSpaceOptions {
   double sigma_factor = 3.0;
 };
 
-// The voxel cells (CellOf at `resolution_m`, ground frame) within [lo, hi] (inclusive) that the
-// sensor saw through: the ray to the voxel's centre met a surface clearly beyond it. Voxels
-// that are hidden behind something, out of view, or without a reading are not free (unknown).
+// Where free space is wanted: the box of columns [core_lo, core_hi] (x, y cells, inclusive),
+// grown per z layer by as many cells as is read there (the cells a template placed by the
+// searches can reach, which depend on the template's width at that height).
+struct FreeSpaceRegion {
+  Eigen::Vector2i core_lo{0, 0}, core_hi{-1, -1};
+  int z_lo = 0;           // the layer of grow[0].
+  std::vector<int> grow;  // per layer z_lo + k: cells added on every side; < 0: no cells.
+};
+
+// The voxel cells of `region` (CellOf at `resolution_m`, ground frame) that the sensor saw
+// through: the ray to the voxel's centre met a surface clearly beyond it. Voxels that are hidden
+// behind something, out of view, or without a reading are not free (unknown). Sorted (x, y, z).
+ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
+                             const FreeSpaceRegion& region, double resolution_m,
+                             const FreeSpaceOptions& options = {});
+// The same cells, one matrix product per cell (the straightforward form the above is tested
+// against).
+ClusterVoxels FreeSpaceCellsReference(const RangeImage& range,
+                                      const Eigen::Isometry3d& sensor_from_ground,
+                                      const FreeSpaceRegion& region, double resolution_m,
+                                      const FreeSpaceOptions& options = {});
+
+// The same for the box [lo, hi] (cells, inclusive): every layer of lo.z() .. hi.z() over the
+// columns [lo, hi].
 ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
                              const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
                              double resolution_m, const FreeSpaceOptions& options = {});
-// The same cells, one matrix product per cell (the straightforward form the above is tested
-// against).
 ClusterVoxels FreeSpaceCellsReference(const RangeImage& range,
                                       const Eigen::Isometry3d& sensor_from_ground,
                                       const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,

@@ -14,6 +14,7 @@
 #include "core/depth/cloud_validation.h"
 #include "core/depth/floor_tracker.h"
 #include "core/search/exact_search.h"
+#include "core/search/free_space_grow.h"
 #include "core/search/prepared_cluster.h"
 #include "core/search/view_comparison.h"
 
@@ -316,15 +317,12 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
     }
   });
   search_ = MakeSearch(options_);
+  // The free space every template's search may read, height by height.
   for (size_t j = 0; j < templates_.size() && search_ != nullptr; ++j) {
-    double reach = 0.0;  // how far the template reaches from its origin.
-    for (const Eigen::Vector3f& v : templates_[j].voxels) {
-      reach = std::max(reach, static_cast<double>(v.head<2>().norm()));
-      top_cell_ = std::max(top_cell_, CellOf(v, options_.lattice.resolution_m).z());
-    }
-    // Plus a voxel's diagonal and the rounding of rotated voxels to the lattice.
-    reach += 2.0 * options_.lattice.resolution_m;
-    free_reach_m_ = std::max(free_reach_m_, search_->OriginMargin(*rotations_[j]) + reach);
+    const std::vector<int> grow = FreeSpaceGrow(
+        templates_[j], search_->OriginMargin(*rotations_[j]), options_.lattice.resolution_m);
+    if (grow.size() > free_grow_.size()) free_grow_.resize(grow.size(), -1);
+    for (size_t z = 0; z < grow.size(); ++z) free_grow_[z] = std::max(free_grow_[z], grow[z]);
   }
   if (options_.make_tables_at_start && options_.search == SearchKind::kExact) {
     // Runs of rotations a whole number of the largest theta blocks long, for the threads.
@@ -422,19 +420,19 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     est.tracking.prior_pose = prior->pose;
   }
   est.timings.cloud_ms = cloud_ms;
-  const Status valid = ValidateCloud(cloud);  // finite and bounded before PCL sees it.
+  // Finite and bounded before PCL sees it; every point left is finite or missing (NaN).
+  std::size_t finite = 0;
+  const Status valid = ValidateCloud(cloud, {}, &finite);
   if (!valid.ok()) return valid.error();
   if (cloud.empty()) {
     return MakeError(ErrorCode::kInvalidArgument, "the point cloud is empty (no valid depth)");
   }
-  int finite = 0;
-  for (const Eigen::Vector3f& p : cloud.points) finite += p.allFinite() ? 1 : 0;
   if (finite == 0) {
     return MakeError(ErrorCode::kInvalidArgument, "the point cloud has no finite points (all " +
                                                       std::to_string(cloud.size()) +
                                                       " are NaN or infinite)");
   }
-  est.cloud_points = finite;
+  est.cloud_points = static_cast<int>(finite);
 
   Clock::time_point t = Clock::now();
   if (options_.use_fixed_floor) {
@@ -544,21 +542,16 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     w.voxels = VoxeliseCluster(c.points, res);
     w.n = static_cast<int>(w.voxels.cells.size());  // what every scorer counts.
     if (use_free_space && !w.voxels.cells.empty()) {
-      // Wherever a template placed by the searches can reach.
-      Eigen::Vector3i cell_lo = w.voxels.cells.front(), cell_hi = cell_lo;
+      // Wherever a template placed by the searches can reach, height by height.
+      FreeSpaceRegion region;
+      region.core_lo = region.core_hi = w.voxels.cells.front().head<2>();
       for (const Eigen::Vector3i& v : w.voxels.cells) {
-        cell_lo = cell_lo.cwiseMin(v);
-        cell_hi = cell_hi.cwiseMax(v);
+        region.core_lo = region.core_lo.cwiseMin(v.head<2>());
+        region.core_hi = region.core_hi.cwiseMax(v.head<2>());
       }
-      const int grow = static_cast<int>(std::ceil(free_reach_m_ / res));
-      cell_lo.x() -= grow;
-      cell_lo.y() -= grow;
-      cell_hi.x() += grow;
-      cell_hi.y() += grow;
-      cell_lo.z() = 0;
-      cell_hi.z() = top_cell_;
-      w.free =
-          FreeSpaceCells(range, sensor_from_ground, cell_lo, cell_hi, res, options_.free_space);
+      region.z_lo = 0;
+      region.grow = free_grow_;
+      w.free = FreeSpaceCells(range, sensor_from_ground, region, res, options_.free_space);
     }
     if (w.searched_with.size() > 1) {
       w.grids = search_->MakeGrids(w.voxels, use_free_space ? &w.free : nullptr, w.searched_with);

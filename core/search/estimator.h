@@ -189,11 +189,10 @@ class Estimator {
   std::vector<std::shared_ptr<const SurfaceModel>> surfaces_;
   std::unique_ptr<PoseSearch> search_;
   std::unique_ptr<TaskPool> pool_;
-  // The free space a cluster's searches read: within free_reach_m_ of the box of its cells
-  // (the search's origin margin plus the template's reach, the largest over the templates),
-  // heights 0 .. top_cell_ (the highest template cell).
-  double free_reach_m_ = 0.0;
-  int top_cell_ = 0;
+  // The free space a cluster's searches read, per z cell from 0 up to the highest template
+  // cell: within free_grow_[z] cells of the box of its cells (FreeSpaceGrow, the largest over
+  // the templates).
+  std::vector<int> free_grow_;
 };
 
 }  // namespace hpose

@@ -26,6 +26,12 @@ TEST(CloudValidationTest, OrdinaryAndMissingPointsPass) {
   cloud.points[5] = Eigen::Vector3f(-1000.0f, 1000.0f, 999.0f);  // the limit itself is fine.
   EXPECT_TRUE(ValidateCloud(cloud).ok());
   EXPECT_TRUE(ValidateCloud(PointCloud()).ok());
+  // The count of points that are not missing comes from the same pass.
+  std::size_t finite = 99;
+  EXPECT_TRUE(ValidateCloud(cloud, {}, &finite).ok());
+  EXPECT_EQ(finite, 8u);
+  EXPECT_TRUE(ValidateCloud(PointCloud(), {}, &finite).ok());
+  EXPECT_EQ(finite, 0u);
 }
 
 TEST(CloudValidationTest, InfiniteAndHugeCoordinatesNameThePoint) {

@@ -1,5 +1,6 @@
 #include "core/scoring/free_space.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -99,6 +100,49 @@ TEST(FreeSpaceTest, ColumnFormEqualsTheReferenceCellForCell) {
     total_free += static_cast<int>(ref.cells.size());
   }
   EXPECT_GT(total_free, 10000);  // the scenes leave plenty of free space to compare.
+}
+
+// A region grown differently per layer (some layers not at all, some left out) holds the
+// reference's cells of that region, which are the box's cells within it.
+TEST(FreeSpaceTest, RegionGrownPerLayerEqualsTheReferenceAndTheBoxWithinIt) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::uniform_int_distribution<int> g(-1, 20);
+  int total_free = 0, left_out = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const double height = 0.3 + 1.2 * u(rng), pitch = DegToRad(30.0 * u(rng));
+    const Eigen::Isometry3d sensor_from_ground = SensorFromGround(height, pitch, 0.0);
+    const PointCloud cloud = SceneCloud(sensor_from_ground, &rng);
+    const RangeImage range = RangeImage::FromCloud(cloud, 100.0);
+    const double res = 0.016;
+    FreeSpaceRegion region;
+    region.core_lo = Eigen::Vector2i(static_cast<int>(1.0 / res), static_cast<int>(-0.3 / res));
+    region.core_hi = region.core_lo + Eigen::Vector2i(8 + trial, 12);
+    region.z_lo = trial % 3;
+    for (int z = 0; z < 41 + trial; ++z) region.grow.push_back(z == 5 ? -1 : g(rng));
+    const ClusterVoxels fast = FreeSpaceCells(range, sensor_from_ground, region, res);
+    const ClusterVoxels ref = FreeSpaceCellsReference(range, sensor_from_ground, region, res);
+    ASSERT_EQ(fast.cells, ref.cells) << "trial " << trial;
+    // The box around the largest growth, filtered to the region.
+    const int most = *std::max_element(region.grow.begin(), region.grow.end());
+    const Eigen::Vector3i lo(region.core_lo.x() - most, region.core_lo.y() - most, region.z_lo);
+    const Eigen::Vector3i hi(region.core_hi.x() + most, region.core_hi.y() + most,
+                             region.z_lo + static_cast<int>(region.grow.size()) - 1);
+    std::vector<Eigen::Vector3i> within;
+    for (const Eigen::Vector3i& c : FreeSpaceCells(range, sensor_from_ground, lo, hi, res).cells) {
+      const int out = std::max({0, region.core_lo.x() - c.x(), c.x() - region.core_hi.x(),
+                                region.core_lo.y() - c.y(), c.y() - region.core_hi.y()});
+      if (region.grow[c.z() - region.z_lo] >= out) {
+        within.push_back(c);
+      } else {
+        ++left_out;
+      }
+    }
+    ASSERT_EQ(fast.cells, within) << "trial " << trial;
+    total_free += static_cast<int>(fast.cells.size());
+  }
+  EXPECT_GT(total_free, 5000);
+  EXPECT_GT(left_out, 5000);
 }
 
 TEST(FreeSpaceTest, CellsBeforeASurfaceAreFreeAndBehindItAreNot) {

@@ -19,6 +19,7 @@
 #include "core/scoring/column_occupancy.h"
 #include "core/scoring/fast_scorer.h"
 #include "core/search/exact_search.h"
+#include "core/search/free_space_grow.h"
 #include "core/search/pose_search.h"
 #include "tests/search/search_test_scenes.h"
 
@@ -67,36 +68,39 @@ Scene MakeScene(unsigned seed, int angle_steps, int subdivisions) {
 }
 
 // What the estimator computes free space for (core/search/estimator.cc): the box of the
-// cluster's cells grown by the search's origin margin plus the template's reach (its farthest
-// voxel, plus two voxels). No pose a search may place (every pose of the exact search's region;
-// for the paper's search every pose within its margin of the centroid) reaches a cell outside;
-// and the box is not grown by much more than that (a ring six cells inside it is reached).
+// cluster's cells grown, height by height, by FreeSpaceGrow (the search's origin margin plus the
+// template's reach at that height, plus two voxels). No pose a search may place (every pose of
+// the exact search's region; for the paper's search every pose within its margin of the
+// centroid) reaches a cell outside it; the region is not grown by much more than that (a ring
+// six cells inside it is reached); and a search given only the free cells within it finds what
+// it finds with every free cell around, after as many bounds.
 TEST(ExactSearchBoundsTest, SearchesReadFreeSpaceWithinTheirOriginMarginAndReach) {
   for (unsigned seed = 0; seed < (testing::kSanitizerBuild ? 2u : 4u); ++seed) {
     const Scene s = MakeScene(700 + seed, 24, seed % 2 == 0 ? 4 : 2);
     ASSERT_FALSE(s.cluster.cells.empty());
     const TemplateRotations rot(s.tpl, s.lattice);
-    double reach = 0.0;
-    for (const Eigen::Vector3f& v : s.tpl.voxels) {
-      reach = std::max(reach, static_cast<double>(v.head<2>().norm()));
-    }
-    reach += 2.0 * s.lattice.resolution_m;
     Eigen::Vector3i lo = s.cluster.cells.front(), hi = lo;
     for (const Eigen::Vector3i& c : s.cluster.cells) {
       lo = lo.cwiseMin(c);
       hi = hi.cwiseMax(c);
     }
-    // Cells outside the box grown by `grow` cells, within 12 more.
-    const auto ring = [&](int grow) {
+    // How far outside the box of the cluster's cells (x, y) the column (x, y) lies.
+    const auto outside = [&](int x, int y) {
+      return std::max({0, lo.x() - x, x - hi.x(), lo.y() - y, y - hi.y()});
+    };
+    // The cells of layers 0 .. 45 outside the region grown by `extra` more cells a layer (every
+    // cell of a layer without template voxels), within 12 cells beyond the largest growth.
+    const auto ring = [&](const std::vector<int>& grow, int extra) {
+      const int most = *std::max_element(grow.begin(), grow.end()) + 12;
       ClusterVoxels out;
       out.resolution_m = s.lattice.resolution_m;
-      for (int x = lo.x() - grow - 12; x <= hi.x() + grow + 12; ++x) {
-        for (int y = lo.y() - grow - 12; y <= hi.y() + grow + 12; ++y) {
-          if (x >= lo.x() - grow && x <= hi.x() + grow && y >= lo.y() - grow &&
-              y <= hi.y() + grow) {
-            continue;
+      for (int x = lo.x() - most; x <= hi.x() + most; ++x) {
+        for (int y = lo.y() - most; y <= hi.y() + most; ++y) {
+          for (int z = 0; z <= 45; ++z) {
+            const int g = z < static_cast<int>(grow.size()) ? grow[z] : -1;
+            if (g >= 0 && outside(x, y) <= g + extra) continue;
+            out.cells.emplace_back(x, y, z);
           }
-          for (int z = 0; z <= 45; ++z) out.cells.emplace_back(x, y, z);
         }
       }
       return out;
@@ -119,8 +123,15 @@ TEST(ExactSearchBoundsTest, SearchesReadFreeSpaceWithinTheirOriginMarginAndReach
     const PaperSearch paper;
     for (const PoseSearch* search :
          {static_cast<const PoseSearch*>(&exact), static_cast<const PoseSearch*>(&paper)}) {
-      const int grow =
-          static_cast<int>(std::ceil((search->OriginMargin(rot) + reach) / s.lattice.resolution_m));
+      const std::string where =
+          "seed " + std::to_string(seed) + (search == &exact ? ", exact" : ", paper");
+      const std::vector<int> grow =
+          FreeSpaceGrow(s.tpl, search->OriginMargin(rot), s.lattice.resolution_m);
+      ASSERT_FALSE(grow.empty());
+      // The template is wider at some heights than at others: the layers differ.
+      EXPECT_LT(*std::min_element(grow.begin(), grow.end()),
+                *std::max_element(grow.begin(), grow.end()) - 1)
+          << where;
       int ix0, ix1, iy0, iy1;
       if (search == &exact) {
         const ExactSearch::Region region = exact.TranslationRegion(s.cluster, rot);
@@ -131,10 +142,34 @@ TEST(ExactSearchBoundsTest, SearchesReadFreeSpaceWithinTheirOriginMarginAndReach
         ix0 = lo.x() * q - m, ix1 = (hi.x() + 1) * q + m, iy0 = lo.y() * q - m,
         iy1 = (hi.y() + 1) * q + m;
       }
-      EXPECT_EQ(most_hits(ring(grow), ix0, ix1, iy0, iy1), 0)
-          << "seed " << seed << (search == &exact ? ", exact" : ", paper");
-      EXPECT_GT(most_hits(ring(grow - 6), ix0, ix1, iy0, iy1), 0)
-          << "seed " << seed << (search == &exact ? ", exact" : ", paper");
+      EXPECT_EQ(most_hits(ring(grow, 0), ix0, ix1, iy0, iy1), 0) << where;
+      EXPECT_GT(most_hits(ring(grow, -6), ix0, ix1, iy0, iy1), 0) << where;
+      if (search != &exact) continue;
+      // Every free cell around, and only those within the region.
+      const int most = *std::max_element(grow.begin(), grow.end());
+      const ClusterVoxels around = DenseFreeSpace(s.cluster, most + 4, 45);
+      ClusterVoxels within;
+      within.resolution_m = around.resolution_m;
+      for (const Eigen::Vector3i& c : around.cells) {
+        if (c.z() < static_cast<int>(grow.size()) && grow[c.z()] >= outside(c.x(), c.y()))
+          within.cells.push_back(c);
+      }
+      ASSERT_LT(within.cells.size(), around.cells.size()) << where;
+      const FastScorer scorer(s.cluster, s.lattice);
+      const auto search_with = [&](const ClusterVoxels& free) {
+        SearchProblem problem{&s.cluster, &scorer, &rot, {s.truth.x, s.truth.y}};
+        problem.free_space = &free;
+        problem.hit_weight = 2;
+        return exact.Search(problem);
+      };
+      const SearchResult a = search_with(around), b = search_with(within);
+      EXPECT_EQ(b.value, a.value) << where;
+      EXPECT_EQ(b.best, a.best) << where;
+      EXPECT_EQ(b.hits, a.hits) << where;
+      EXPECT_EQ(b.free_hits, a.free_hits) << where;
+      EXPECT_EQ(b.runner_up_score, a.runner_up_score) << where;
+      EXPECT_EQ(b.bounds_evaluated, a.bounds_evaluated) << where;
+      EXPECT_GT(a.free_hits, 0) << where;
     }
   }
 }
@@ -261,6 +296,48 @@ TEST(ColumnOccupancyBoundsTest, Bound4EqualsFourBounds) {
           }
         }
       }
+    }
+  }
+}
+
+// The aligned layout (one box for every level, a level of doubled windows made from the one
+// below) bounds every block as the per-level boxes of the filtered windows do, both filters, on
+// and off the voxels' edges, for single headings and theta blocks.
+TEST(ColumnOccupancyBoundsTest, AlignedLevelsEqualFilteredLevels) {
+  std::mt19937 rng(29);
+  for (unsigned seed = 0; seed < 4; ++seed) {
+    const Scene s = MakeScene(800 + seed, 360, 4);
+    const ClusterVoxels free = DenseFreeSpace(s.cluster, 6, 45);
+    const TemplateRotations rot(s.tpl, s.lattice);
+    const RotatedTemplate& r0 = rot.Get(0);
+    ASSERT_EQ(r0.z_words, 1);
+    const LatticePose c = NearestLatticePose(s.lattice, s.truth);
+    const int cx = c.ix / s.lattice.subdivisions, cy = c.iy / s.lattice.subdivisions;
+    ColumnOccupancy::CellRange lookups;
+    lookups.x_lo = cx - 60;
+    lookups.x_hi = cx + 60;
+    lookups.y_lo = cy - 60;
+    lookups.y_hi = cy + 60;
+    for (const ColumnOccupancy::Filter f :
+         {ColumnOccupancy::Filter::kMax, ColumnOccupancy::Filter::kMin}) {
+      const ClusterVoxels& cells = f == ColumnOccupancy::Filter::kMax ? s.cluster : free;
+      const ColumnOccupancy plain(cells, s.lattice, r0.z_base, 1, 6, f);
+      const ColumnOccupancy aligned(cells, s.lattice, r0.z_base, 1, 6, f, &lookups);
+      ASSERT_TRUE(aligned.aligned());
+      ASSERT_FALSE(plain.aligned());
+      std::uniform_int_distribution<int> d(-25, 25), th(0, 359), tl(0, 3);
+      int nonzero = 0;
+      for (int k = 0; k < 400; ++k) {
+        const int tlevel = tl(rng);
+        const RotatedTemplate& r = rot.GetBlock(tlevel, (th(rng) >> tlevel) << tlevel);
+        const int level = 2 + k % 5;  // blocks of at least S = 4 steps, at multiples of S.
+        const int a = 4 * (cx + d(rng)), b = 4 * (cy + d(rng));
+        const int want = plain.Bound(r, a, b, level);
+        ASSERT_EQ(aligned.Bound(r, a, b, level), want)
+            << "seed " << seed << " level " << level << " at " << a << ", " << b;
+        nonzero += want > 0 ? 1 : 0;
+      }
+      EXPECT_GT(nonzero, 100) << "seed " << seed << ": the blocks missed the voxels";
     }
   }
 }
