@@ -67,6 +67,19 @@ Scene MakeScene(unsigned seed, int angle_steps, int subdivisions) {
   return s;
 }
 
+// Two searches found the same: optimum, counts, runner-up, and after the same work.
+void ExpectSameSearch(const SearchResult& got, const SearchResult& want, const std::string& where) {
+  EXPECT_EQ(got.value, want.value) << where;
+  EXPECT_EQ(got.best, want.best) << where;
+  EXPECT_EQ(got.hits, want.hits) << where;
+  EXPECT_EQ(got.free_hits, want.free_hits) << where;
+  EXPECT_EQ(got.below_min_value, want.below_min_value) << where;
+  EXPECT_EQ(got.has_runner_up, want.has_runner_up) << where;
+  EXPECT_EQ(got.runner_up_score, want.runner_up_score) << where;
+  EXPECT_EQ(got.bounds_evaluated, want.bounds_evaluated) << where;
+  EXPECT_EQ(got.poses_evaluated, want.poses_evaluated) << where;
+}
+
 // What the estimator computes free space for (core/search/estimator.cc): the box of the
 // cluster's cells grown, height by height, by FreeSpaceGrow (the search's origin margin plus the
 // template's reach at that height, plus two voxels). No pose a search may place (every pose of
@@ -162,13 +175,8 @@ TEST(ExactSearchBoundsTest, SearchesReadFreeSpaceWithinTheirOriginMarginAndReach
         problem.hit_weight = 2;
         return exact.Search(problem);
       };
-      const SearchResult a = search_with(around), b = search_with(within);
-      EXPECT_EQ(b.value, a.value) << where;
-      EXPECT_EQ(b.best, a.best) << where;
-      EXPECT_EQ(b.hits, a.hits) << where;
-      EXPECT_EQ(b.free_hits, a.free_hits) << where;
-      EXPECT_EQ(b.runner_up_score, a.runner_up_score) << where;
-      EXPECT_EQ(b.bounds_evaluated, a.bounds_evaluated) << where;
+      const SearchResult a = search_with(around);
+      ExpectSameSearch(search_with(within), a, where);
       EXPECT_GT(a.free_hits, 0) << where;
     }
   }
@@ -209,15 +217,7 @@ TEST(ExactSearchBoundsTest, SharedGridsGiveTheSameSearches) {
           const std::string where = "seed " + std::to_string(seed) + " template " +
                                     std::to_string(k) + (with_free ? " with free space" : "") +
                                     " min " + std::to_string(min_value);
-          EXPECT_EQ(shared[k].value, own[k].value) << where;
-          EXPECT_EQ(shared[k].best, own[k].best) << where;
-          EXPECT_EQ(shared[k].hits, own[k].hits) << where;
-          EXPECT_EQ(shared[k].free_hits, own[k].free_hits) << where;
-          EXPECT_EQ(shared[k].below_min_value, own[k].below_min_value) << where;
-          EXPECT_EQ(shared[k].has_runner_up, own[k].has_runner_up) << where;
-          EXPECT_EQ(shared[k].runner_up_score, own[k].runner_up_score) << where;
-          EXPECT_EQ(shared[k].bounds_evaluated, own[k].bounds_evaluated) << where;
-          EXPECT_EQ(shared[k].poses_evaluated, own[k].poses_evaluated) << where;
+          ExpectSameSearch(shared[k], own[k], where);
         }
       }
     }
