@@ -51,6 +51,53 @@ bool PackedCells(const std::vector<Eigen::Vector3f>& points, double resolution_m
   return true;
 }
 
+// The distinct cells of `keys` in (x, y, z) order, as sorting the keys gives them, from one bit
+// per cell of their box (a cluster's box holds some tens of cells per key, and a pass over its
+// bits costs less than a sort). False, with nothing written, when the box holds too many cells
+// for that.
+bool DistinctCellsByBits(const std::vector<std::uint64_t>& keys,
+                         std::vector<Eigen::Vector3i>* cells) {
+  if (keys.empty()) return false;
+  std::uint64_t lo[3], hi[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    lo[axis] = kCellMask;
+    hi[axis] = 0;
+  }
+  for (const std::uint64_t key : keys) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::uint64_t v = (key >> (kCellBits * (2 - axis))) & kCellMask;
+      lo[axis] = std::min(lo[axis], v);
+      hi[axis] = std::max(hi[axis], v);
+    }
+  }
+  const std::uint64_t ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
+  const std::uint64_t volume = (hi[0] - lo[0] + 1) * ny * nz;
+  // A word of bits costs about what a key costs in the sort.
+  if (volume > 64 * (keys.size() + 1024) || volume > (std::uint64_t{1} << 27)) return false;
+  std::vector<std::uint64_t> bits((volume + 63) / 64, 0);
+  for (const std::uint64_t key : keys) {
+    const std::uint64_t x = (key >> (2 * kCellBits)) - lo[0];
+    const std::uint64_t y = ((key >> kCellBits) & kCellMask) - lo[1];
+    const std::uint64_t z = (key & kCellMask) - lo[2];
+    const std::uint64_t i = (x * ny + y) * nz + z;
+    bits[i / 64] |= std::uint64_t{1} << (i % 64);
+  }
+  std::size_t count = 0;
+  for (const std::uint64_t w : bits) count += static_cast<std::size_t>(__builtin_popcountll(w));
+  cells->clear();
+  cells->reserve(count);
+  for (std::size_t k = 0; k < bits.size(); ++k) {
+    for (std::uint64_t w = bits[k]; w != 0; w &= w - 1) {
+      const std::uint64_t i = 64 * k + static_cast<std::uint64_t>(__builtin_ctzll(w));
+      const std::uint64_t z = i % nz, xy = i / nz;
+      cells->emplace_back(static_cast<int>(xy / ny + lo[0]) - kCellOffset,
+                          static_cast<int>(xy % ny + lo[1]) - kCellOffset,
+                          static_cast<int>(z + lo[2]) - kCellOffset);
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 ClusterVoxels VoxeliseCluster(const std::vector<Eigen::Vector3f>& points_ground,
@@ -59,6 +106,7 @@ ClusterVoxels VoxeliseCluster(const std::vector<Eigen::Vector3f>& points_ground,
   out.resolution_m = resolution_m;
   std::vector<std::uint64_t> keys;
   if (PackedCells(points_ground, resolution_m, &keys)) {
+    if (DistinctCellsByBits(keys, &out.cells)) return out;
     std::sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
     out.cells.resize(keys.size());

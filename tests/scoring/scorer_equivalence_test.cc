@@ -32,13 +32,15 @@ std::vector<Eigen::Vector3f> RandomBlob(std::mt19937& rng, int n, float spread) 
   return pts;
 }
 
-// VoxeliseCluster (cells packed into words to sort them) against a set of CellOf's cells, in
-// (x, y, z) order: around the origin (negative cells), with NaNs skipped, and with one point
-// kilometres away (cells the packing cannot hold: the axis-by-axis sort).
+// VoxeliseCluster (cells packed into words, then a bit per cell of their box or a sort) against
+// a set of CellOf's cells, in (x, y, z) order: around the origin (negative cells), with NaNs
+// skipped, blobs dense (bits) and sparse (the sort), and with one point kilometres away (cells
+// the packing cannot hold: the axis-by-axis sort).
 TEST(ScorerEquivalenceTest, VoxeliseClusterEqualsTheSortedDistinctCells) {
   std::mt19937 rng(77);
-  for (int trial = 0; trial < 30; ++trial) {
-    std::vector<Eigen::Vector3f> pts = RandomBlob(rng, 500 + 100 * trial, 0.5f);
+  for (int trial = 0; trial < 36; ++trial) {
+    const float spread[3] = {0.05f, 0.5f, 6.0f};
+    std::vector<Eigen::Vector3f> pts = RandomBlob(rng, 500 + 100 * trial, spread[(trial / 3) % 3]);
     if (trial % 3 == 1) pts.emplace_back(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.1f);
     if (trial % 3 == 2) pts.emplace_back(-20000.0f, 30000.0f, 0.2f);  // cell -1 250 000.
     const double res = trial % 2 == 0 ? 0.016 : 0.01;
