@@ -303,6 +303,12 @@ TemplateRotations::TemplateRotations(std::string name, double height_m,
     hi = std::move(next_hi);
   }
   z_words_ = g.z_words;
+  const double q_to_m = lattice.resolution_m / lattice.subdivisions;
+  for (const Eigen::Vector3i& q : rotations_.front().sub_cells) {
+    rim_radius_m_ =
+        std::max(rim_radius_m_, std::hypot((q.x() + 1.0) * q_to_m, (q.y() + 1.0) * q_to_m));
+    rim_radius_m_ = std::max(rim_radius_m_, std::hypot(q.x() * q_to_m, q.y() * q_to_m));
+  }
   PrepareTables();
   if (z_words_ > 1 && shift_ >= 0) {
     for (int word = 0; word < z_words_; ++word) {

@@ -223,11 +223,15 @@ class TemplateRotations {
   const Eigen::Vector2i& column_q_max() const { return column_q_max_; }
   const std::string& name() const { return name_; }
   double height_m() const { return height_m_; }
+  // How far rotation 0's voxels reach from the origin horizontally: the farthest corner (q or
+  // q + 1 per axis, in metres) of any of its sub-voxel cells; 0 for a slab (no sub-cells).
+  double rim_radius_m() const { return rim_radius_m_; }
   const PoseLattice& lattice() const { return lattice_; }
 
  private:
   std::string name_;
   double height_m_ = 0.0;
+  double rim_radius_m_ = 0.0;
   PoseLattice lattice_;
   std::vector<RotatedTemplate> rotations_;
   // blocks_[level - 1][itheta0 >> level] for level in [1, kThetaLevels).

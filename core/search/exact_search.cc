@@ -547,15 +547,8 @@ bool ExactSearch::BySlabs(const TemplateRotations& rotations) const {
 double ExactSearch::Margin(const TemplateRotations& rotations) const {
   if (options_.margin_m >= 0.0) return options_.margin_m;
   // Horizontal radius of the template from its rotation at theta = 0.
-  const PoseLattice& lattice = rotations.lattice();
-  const RotatedTemplate& r0 = rotations.Get(0);
-  const double q_to_m = lattice.resolution_m / lattice.subdivisions;
-  double radius = 0.0;
-  for (const Eigen::Vector3i& q : r0.sub_cells) {
-    radius = std::max(radius, std::hypot((q.x() + 1.0) * q_to_m, (q.y() + 1.0) * q_to_m));
-    radius = std::max(radius, std::hypot(q.x() * q_to_m, q.y() * q_to_m));
-  }
-  return options_.auto_margin_fraction * radius + lattice.resolution_m;
+  return options_.auto_margin_fraction * rotations.rim_radius_m() +
+         rotations.lattice().resolution_m;
 }
 
 double ExactSearch::OriginMargin(const TemplateRotations& rotations) const {

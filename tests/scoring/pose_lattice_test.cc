@@ -93,6 +93,8 @@ TEST(TemplateRotationsTest, PrecomputesEveryAngle) {
   // 90 degrees turns +x into +y: q = floor(0.1 * 4 / 0.016) = 25 on the y axis.
   EXPECT_EQ(rot.Get(90).sub_cells[0].y(), 25);
   EXPECT_EQ(rot.Get(0).sub_cells[0].x(), 25);
+  // The rim: the far corner (26, 1) of the sub-voxel cell (25, 0), 4 mm steps.
+  EXPECT_NEAR(rot.rim_radius_m(), std::hypot(26 * 0.004, 1 * 0.004), 1e-12);
 }
 
 // Two rotated templates have the same column view: angle, columns and their masks, ranges.
