@@ -351,6 +351,36 @@ ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
   const int words = words_;
   lv.data.assign(static_cast<size_t>(lv.nx) * lv.ny * 4 * words, 0);
   if (g0.nx == 0 || g0.ny == 0) return lv;
+  if (lv.min_len == 1) {
+    // Windows of one or two cells per axis: the cell, and the ones after it in x, y and both,
+    // combined directly (cells outside the base are 0, as the sparse tables pad them).
+    const auto row_of = [&](int y) -> const std::uint64_t* {
+      const int gy = y + lv.y0 - g0.y0;
+      return gy >= 0 && gy < g0.ny ? &g0.masks[static_cast<size_t>(gy) * g0.nx * words] : nullptr;
+    };
+    const auto at = [&](const std::uint64_t* row, int x, int w) -> std::uint64_t {
+      const int gx = x + lv.x0 - g0.x0;
+      return row != nullptr && gx >= 0 && gx < g0.nx ? row[static_cast<size_t>(gx) * words + w] : 0;
+    };
+    for (int y = 0; y < lv.ny; ++y) {
+      const std::uint64_t* r0 = row_of(y);
+      const std::uint64_t* r1 = row_of(y + 1);
+      if (r0 == nullptr && r1 == nullptr) continue;
+      std::uint64_t* out = &lv.data[static_cast<size_t>(y) * lv.nx * 4 * words];
+      for (int x = 0; x < lv.nx; ++x) {
+        for (int w = 0; w < words; ++w) {
+          const std::uint64_t a = at(r0, x, w), b = at(r0, x + 1, w);  // (x, y), (x + 1, y)
+          const std::uint64_t c = at(r1, x, w), d = at(r1, x + 1, w);  // (x, y + 1), ...
+          std::uint64_t* o = out + (static_cast<size_t>(x) * 4) * words + w;
+          o[0] = a;
+          o[words] = max_filter ? (a | c) : (a & c);
+          o[2 * words] = max_filter ? (a | b) : (a & b);
+          o[3 * words] = max_filter ? (a | b | c | d) : (a & b & c & d);
+        }
+      }
+    }
+    return lv;
+  }
   std::vector<std::uint64_t> scratch;
   // Along x, per base row: tmp[e][(y * nx + x) * words + w], window min_len + e.
   std::vector<std::uint64_t> tmp[2];

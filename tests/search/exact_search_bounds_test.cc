@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -296,6 +297,71 @@ TEST(ColumnOccupancyBoundsTest, Bound4EqualsFourBounds) {
           }
         }
       }
+    }
+  }
+}
+
+// Bound by its definition: per column, its z mask against the OR (kMax) or AND (kMin, cells
+// without voxels empty) of the cells its window sweeps over the block, floor_div(q + a, S) ..
+// floor_div(q + a + 2^level - 1, S) per axis; every level, both filters, both layouts, single
+// headings, on and off the voxels.
+TEST(ColumnOccupancyBoundsTest, BoundEqualsItsDefinition) {
+  std::mt19937 rng(31);
+  for (unsigned seed = 0; seed < 3; ++seed) {
+    const Scene s = MakeScene(850 + seed, 360, 4);
+    const ClusterVoxels free = DenseFreeSpace(s.cluster, 6, 45);
+    const TemplateRotations rot(s.tpl, s.lattice);
+    const RotatedTemplate& r0 = rot.Get(0);
+    ASSERT_EQ(r0.z_words, 1);
+    const int S = s.lattice.subdivisions;
+    const LatticePose c = NearestLatticePose(s.lattice, s.truth);
+    ColumnOccupancy::CellRange lookups;
+    lookups.x_lo = c.ix / S - 60;
+    lookups.x_hi = c.ix / S + 60;
+    lookups.y_lo = c.iy / S - 60;
+    lookups.y_hi = c.iy / S + 60;
+    for (const ColumnOccupancy::Filter f :
+         {ColumnOccupancy::Filter::kMax, ColumnOccupancy::Filter::kMin}) {
+      const bool max_filter = f == ColumnOccupancy::Filter::kMax;
+      const ClusterVoxels& cells = max_filter ? s.cluster : free;
+      std::map<std::pair<int, int>, std::uint64_t> mask_at;
+      for (const Eigen::Vector3i& v : cells.cells) {
+        const int bit = v.z() - r0.z_base;
+        if (bit >= 0 && bit < 64) mask_at[{v.x(), v.y()}] |= std::uint64_t{1} << bit;
+      }
+      const auto mask = [&](int x, int y) {
+        const auto it = mask_at.find({x, y});
+        return it == mask_at.end() ? std::uint64_t{0} : it->second;
+      };
+      const ColumnOccupancy plain(cells, s.lattice, r0.z_base, 1, 6, f);
+      const ColumnOccupancy aligned(cells, s.lattice, r0.z_base, 1, 6, f, &lookups);
+      std::uniform_int_distribution<int> d(-25, 25), th(0, 359);
+      int nonzero = 0;
+      for (int k = 0; k < 120; ++k) {
+        const RotatedTemplate& r = rot.Get(th(rng));
+        const int level = k % 7;
+        const int a = c.ix + S * d(rng) + (level < 2 ? k % S : 0);
+        const int b = c.iy + S * d(rng) + (level < 2 ? (k / S) % S : 0);
+        int want = 0;
+        for (size_t col = 0; col < r.column_q.size(); ++col) {
+          const Eigen::Vector2i q = r.column_q[col];
+          std::uint64_t window = max_filter ? 0 : ~std::uint64_t{0};
+          for (int x = FloorDiv(q.x() + a, S); x <= FloorDiv(q.x() + a + (1 << level) - 1, S);
+               ++x) {
+            for (int y = FloorDiv(q.y() + b, S); y <= FloorDiv(q.y() + b + (1 << level) - 1, S);
+                 ++y) {
+              window = max_filter ? (window | mask(x, y)) : (window & mask(x, y));
+            }
+          }
+          want += __builtin_popcountll(r.column_masks[col] & window);
+        }
+        const std::string where = "seed " + std::to_string(seed) + " level " +
+                                  std::to_string(level) + (max_filter ? " max" : " min");
+        ASSERT_EQ(plain.Bound(r, a, b, level), want) << where;
+        ASSERT_EQ(aligned.Bound(r, a, b, level), want) << where << " aligned";
+        nonzero += want > 0 ? 1 : 0;
+      }
+      EXPECT_GT(nonzero, 20) << "seed " << seed;
     }
   }
 }
