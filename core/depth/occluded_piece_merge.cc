@@ -15,6 +15,59 @@ struct Seen {
   int cluster;
 };
 
+// Above this many clusters the pairs are not screened (below it the screen costs microseconds).
+constexpr int kMaxScreenedClusters = 256;
+
+// Which clusters may take part in a merge, from their boxes alone: piece b behind cluster a
+// needs a point p of b and q of a whose directions from the sensor differ by at most the
+// neighbour angle at q and whose distances by at most max_depth_gap_m, so
+// |p - q| <= |p| |dir p - dir q| + (|p| - |q|) <= (b's farthest distance) x (a's largest
+// neighbour angle) + max_depth_gap_m: their boxes grown by that overlap. Clusters in no such
+// pair change nothing (the search below finds the same pairs among the others); all are kept
+// when there are too many to screen or screen_by_boxes is off.
+std::vector<bool> MayMerge(const Eigen::Vector3f& sensor, const OccludedPieceOptions& options,
+                           const std::vector<Cluster>& clusters) {
+  const int n = static_cast<int>(clusters.size());
+  const bool all = !options.screen_by_boxes || n > kMaxScreenedClusters;
+  std::vector<bool> involved(n, all);
+  if (all) return involved;
+  std::vector<Eigen::Vector3d> lo(n), hi(n);
+  std::vector<double> nearest(n), farthest(n);
+  for (int c = 0; c < n; ++c) {
+    const std::vector<Eigen::Vector3f>& points = clusters[c].points;
+    if (points.empty()) continue;
+    Eigen::Vector3f l = points.front(), h = l;
+    for (const Eigen::Vector3f& p : points) {
+      l = l.cwiseMin(p);
+      h = h.cwiseMax(p);
+    }
+    lo[c] = (l - sensor).cast<double>();
+    hi[c] = (h - sensor).cast<double>();
+    const Eigen::Vector3d inside = lo[c].cwiseMax(0.0).cwiseMin(hi[c]);  // the box's nearest.
+    nearest[c] = inside.norm();
+    farthest[c] = lo[c].cwiseAbs().cwiseMax(hi[c].cwiseAbs()).norm();
+  }
+  // Float rounding of the search's own tests (directions, distances) is far below this.
+  constexpr double kSlack = 1e-3;
+  for (int a = 0; a < n; ++a) {
+    const size_t a_size = clusters[a].points.size();
+    if (a_size == 0) continue;
+    const double angle = nearest[a] > 0.0
+                             ? std::max(options.max_angle_rad, 2.0 * options.leaf_m / nearest[a])
+                             : std::numeric_limits<double>::infinity();
+    for (int b = 0; b < n; ++b) {
+      const size_t b_size = clusters[b].points.size();
+      if (b == a || b_size == 0) continue;
+      if (static_cast<double>(b_size) > options.max_point_fraction * a_size) continue;
+      const double reach = farthest[b] * angle + options.max_depth_gap_m + kSlack;
+      const bool apart =
+          ((lo[b] - hi[a]).array() > reach).any() || ((lo[a] - hi[b]).array() > reach).any();
+      if (!apart) involved[a] = involved[b] = true;
+    }
+  }
+  return involved;
+}
+
 int Find(std::vector<int>* parent, int i) {
   while ((*parent)[i] != i) i = (*parent)[i] = (*parent)[(*parent)[i]];
   return i;
@@ -26,9 +79,12 @@ void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptio
                          std::vector<Cluster>* clusters) {
   if (!(options.max_depth_gap_m > 0.0) || clusters->size() < 2) return;
   const int n = static_cast<int>(clusters->size());
+  const std::vector<bool> involved = MayMerge(sensor, options, *clusters);
+  if (std::none_of(involved.begin(), involved.end(), [](bool b) { return b; })) return;
   std::vector<Seen> seen;
   float nearest = std::numeric_limits<float>::max();
   for (int c = 0; c < n; ++c) {
+    if (!involved[c]) continue;
     for (const Eigen::Vector3f& p : (*clusters)[c].points) {
       const Eigen::Vector3f d = p - sensor;
       const float distance = d.norm();
@@ -111,7 +167,11 @@ void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptio
               std::max(options.max_angle_rad, 2.0 * options.leaf_m / near.distance);
           if ((far.dir - near.dir).norm() > limit) continue;
           int& best = hidden_by[far.cluster];
-          if (best < 0 || (*clusters)[best].points.size() < near_size) best = near.cluster;
+          // The largest hider, the first cluster among equals (whatever the bins' order).
+          if (best < 0 || (*clusters)[best].points.size() < near_size ||
+              ((*clusters)[best].points.size() == near_size && near.cluster < best)) {
+            best = near.cluster;
+          }
         }
       }
     }

@@ -22,6 +22,10 @@ struct OccludedPieceOptions {
   // is larger (the veil filter removes a couple of pixels along every depth edge).
   double max_angle_rad = 0.008;
   double leaf_m = 0.008;
+  // Pairs of clusters whose boxes lie too far apart for any point of one to neighbour a point of
+  // the other are left out before the points are binned (the same merges; false: every cluster's
+  // points binned and searched, the reference).
+  bool screen_by_boxes = true;
 };
 
 // Merges into a cluster the smaller pieces of one object that it hides the joint of: an arm

@@ -1,5 +1,7 @@
 #include "core/depth/occluded_piece_merge.h"
 
+#include <random>
+
 #include <gtest/gtest.h>
 
 namespace hpose {
@@ -83,6 +85,51 @@ TEST(MergeOccludedPiecesTest, MergesChainsAndIgnoresEmptyOrDegenerateInput) {
   odd[1].points.push_back(kSensor);
   MergeOccludedPieces(kSensor, {}, &odd);
   EXPECT_EQ(odd.size(), 2u);
+}
+
+// Screening pairs by their boxes merges exactly what searching every cluster's points does:
+// random scenes of bodies and pieces around, behind and beside them (some near enough to merge,
+// some just too far, some of equal size hiding one piece), with and without the screen.
+TEST(MergeOccludedPiecesTest, ScreenedByBoxesMergesWhatTheFullSearchMerges) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  int merged_scenes = 0, kept_scenes = 0;
+  for (int scene = 0; scene < 60; ++scene) {
+    std::vector<Cluster> clusters;
+    const int bodies = 1 + scene % 3;
+    for (int k = 0; k < bodies; ++k) {
+      const float x = 0.8f + 2.5f * u(rng), y = -1.0f + 2.0f * u(rng);
+      clusters.push_back(Slab(x, y - 0.07f, y + 0.07f, 0.05f, 0.40f));
+      // Pieces behind its top edge in the image, at depths up to 0.45 m behind, some beside it.
+      const int pieces = static_cast<int>(3 * u(rng));
+      for (int j = 0; j < pieces; ++j) {
+        const float behind = x + 0.05f + 0.4f * u(rng);
+        const float bearing = (y + (u(rng) - 0.5f) * 0.4f) / x;
+        const float z = 0.34f + behind * (0.06f / x) * (1.0f + 0.2f * (u(rng) - 0.5f));
+        clusters.push_back(Slab(behind, bearing * behind - 0.02f, bearing * behind + 0.02f,
+                                z - 0.01f, z + 0.06f + 0.05f * u(rng)));
+      }
+    }
+    // Small debris anywhere.
+    for (int j = 0; j < 4; ++j) {
+      const float x = 0.6f + 3.0f * u(rng), y = -1.5f + 3.0f * u(rng), z = 0.5f * u(rng);
+      clusters.push_back(Slab(x, y, y + 0.02f, z, z + 0.02f));
+    }
+    std::shuffle(clusters.begin(), clusters.end(), rng);
+    std::vector<Cluster> screened = clusters, full = clusters;
+    OccludedPieceOptions reference;
+    reference.screen_by_boxes = false;
+    MergeOccludedPieces(kSensor, {}, &screened);
+    MergeOccludedPieces(kSensor, reference, &full);
+    ASSERT_EQ(screened.size(), full.size()) << "scene " << scene;
+    for (size_t c = 0; c < full.size(); ++c) {
+      EXPECT_EQ(screened[c].points, full[c].points) << "scene " << scene << " cluster " << c;
+    }
+    (full.size() < clusters.size() ? merged_scenes : kept_scenes) += 1;
+  }
+  // Both kinds of scene occur: some merges, some not.
+  EXPECT_GT(merged_scenes, 5);
+  EXPECT_GT(kept_scenes, 5);
 }
 
 }  // namespace
