@@ -46,17 +46,16 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
   if (voxel_of_point != nullptr) voxel_of_point->resize(points.size());
   if (points.empty()) return;
 
-  // Open addressing, at most half full. Sized for a quarter of the points as voxels (depth
-  // clouds have several points per voxel) and doubled when that is exceeded: a table sized for
-  // every point would not fit in the cache for a 640x480 frame and would cost more than it saves.
-  struct Slot {
-    std::uint64_t key;
-    int voxel;
-  };
+  // Open addressing, at most half full: the keys in one array (what a probe reads) and each
+  // key's voxel in another (read once the key matches). Sized for a quarter of the points as
+  // voxels (depth clouds have several points per voxel) and doubled when that is exceeded: a
+  // table sized for every point would not fit in the cache for a 640x480 frame and would cost
+  // more than it saves.
   size_t capacity = 64;
   while (capacity < points.size() / 2) capacity <<= 1;
   size_t mask = capacity - 1;
-  std::vector<Slot> table(capacity, Slot{kEmpty, -1});
+  std::vector<std::uint64_t> table(capacity, kEmpty);
+  std::vector<int> table_voxel(capacity);
   std::vector<std::uint64_t> keys;  // of each voxel, to rehash.
   std::vector<int> counts;
   counts.reserve(points.size() / 4 + 16);
@@ -64,7 +63,7 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
   centroids->reserve(points.size() / 4 + 16);
   auto find_slot = [&](std::uint64_t key) {
     size_t slot = Mix(key) & mask;
-    while (table[slot].key != kEmpty && table[slot].key != key) slot = (slot + 1) & mask;
+    while (table[slot] != kEmpty && table[slot] != key) slot = (slot + 1) & mask;
     return slot;
   };
 
@@ -78,20 +77,25 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
     const std::uint64_t key = PackKey(p, inv_leaf);
     int voxel = last_voxel;
     if (key != last_key) {
-      size_t slot = find_slot(key);
-      voxel = table[slot].voxel;
-      if (voxel < 0) {
+      const size_t slot = find_slot(key);
+      if (table[slot] == key) {
+        voxel = table_voxel[slot];
+      } else {
         voxel = static_cast<int>(centroids->size());
-        table[slot] = Slot{key, voxel};
+        table[slot] = key;
+        table_voxel[slot] = voxel;
         centroids->push_back(Eigen::Vector3f::Zero());
         counts.push_back(0);
         keys.push_back(key);
         if (2 * keys.size() > capacity) {
           capacity <<= 1;
           mask = capacity - 1;
-          table.assign(capacity, Slot{kEmpty, -1});
+          table.assign(capacity, kEmpty);
+          table_voxel.resize(capacity);
           for (size_t v = 0; v < keys.size(); ++v) {
-            table[find_slot(keys[v])] = Slot{keys[v], static_cast<int>(v)};
+            const size_t to = find_slot(keys[v]);
+            table[to] = keys[v];
+            table_voxel[to] = static_cast<int>(v);
           }
         }
       }
