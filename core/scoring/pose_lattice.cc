@@ -441,9 +441,10 @@ class CellGroupsBuilder {
     }
     headers_.push_back(RunHeader(cx, cy, 1));
   }
-  // The table of the cells appended since the last Take().
-  CellGroups Take() {
+  // The table of the cells appended since the last Take(), in `arena`.
+  CellGroups Take(TableArena* arena) {
     CellGroups g;
+    g.words = TableWords(TableAllocator<std::uint64_t>(arena));
     g.runs = static_cast<int>(headers_.size());
     g.words.reserve(headers_.size() + masks_.size());
     g.words.insert(g.words.end(), headers_.begin(), headers_.end());
@@ -468,7 +469,8 @@ CellGroupsBuilder& ThreadBuilder() {
 // whose first step has residue (rx, ry) (relative to the block's first cell): per cell the union
 // of the masks of every column landing in it at some translation of the block, row by row. Size
 // 1 is a single translation (Groups).
-CellGroups ReachedCells(const RotatedTemplate& r, int rx, int ry, int size, int shift) {
+CellGroups ReachedCells(const RotatedTemplate& r, int rx, int ry, int size, int shift,
+                        TableArena* arena) {
   thread_local std::vector<std::uint64_t> grid;  // all zero between calls.
   const int x_lo = (r.q_min.x() + rx) >> shift, y_lo = (r.q_min.y() + ry) >> shift;
   const int nx = ((r.q_max.x() + rx + size - 1) >> shift) - x_lo + 1;
@@ -492,7 +494,7 @@ CellGroups ReachedCells(const RotatedTemplate& r, int rx, int ry, int size, int 
       ThreadBuilder().Append(x + x_lo, y + y_lo, m);
     }
   }
-  return ThreadBuilder().Take();
+  return ThreadBuilder().Take(arena);
 }
 
 }  // namespace
@@ -505,7 +507,7 @@ const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
     out.reserve(static_cast<size_t>(s) * s);
     // One cell per column's cell, its columns' masks united.
     for (int x = 0; x < s; ++x) {
-      for (int y = 0; y < s; ++y) out.push_back(ReachedCells(r, x, y, 1, shift_));
+      for (int y = 0; y < s; ++y) out.push_back(ReachedCells(r, x, y, 1, shift_, arena_.get()));
     }
     // Blocks of two steps at even residues: the window starts at the cell of q + residue and
     // is two cells long where q + residue is the last step of its cell.
@@ -581,7 +583,8 @@ class CellCursor {
 // Merges the cells of a and b (each listed row by row, once). unite: every cell of either, the
 // masks of a cell in both united; else the cells of both, with the bits both set (cells with
 // none left out).
-CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite) {
+CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite,
+                           TableArena* arena) {
   CellGroupsBuilder* out = &ThreadBuilder();
   CellCursor ca(a), cb(b);
   while (ca.key() != CellCursor::kDone || cb.key() != CellCursor::kDone) {
@@ -596,7 +599,7 @@ CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite)
       out->Append(cx, cy, mask_a & mask_b);
     }
   }
-  return out->Take();
+  return out->Take(arena);
 }
 
 }  // namespace
@@ -616,7 +619,7 @@ const CellGroups& TemplateRotations::BlockTable(int tlevel, int itheta0, size_t 
       return;
     }
     const CellGroups& second = half_table(itheta0 + half);
-    out = MergeCellGroups(first, second, unite);
+    out = MergeCellGroups(first, second, unite, arena_.get());
   });
   return swept_blocks_[tlevel - 1][slot];
 }
@@ -682,7 +685,7 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
       const int residues = SweptResidues(lv, s);
       for (int i = 0; i < residues * residues; ++i) {
         const int rx = (i / residues) * step, ry = (i % residues) * step;
-        out.push_back(ReachedCells(r, rx, ry, 1 << lv, shift_));
+        out.push_back(ReachedCells(r, rx, ry, 1 << lv, shift_, arena_.get()));
       }
     }
   });

@@ -12,6 +12,7 @@
 #include "core/common/pose2d.h"
 #include "core/common/status.h"
 #include "core/scoring/gather_sums.h"
+#include "core/scoring/table_arena.h"
 #include "core/templates/voxel_template.h"
 
 namespace hpose {
@@ -116,7 +117,7 @@ struct CellGroups {
   static constexpr int kMaxRun = 8;
   // The runs' header words (RunHeader, gather_sums.h), then every cell's mask, run after run:
   // one array whose headers load independently of each other.
-  std::vector<std::uint64_t> words;
+  TableWords words;
   int runs = 0;
 
   int cells() const { return static_cast<int>(words.size()) - runs; }
@@ -257,6 +258,8 @@ class TemplateRotations {
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
   std::vector<std::unique_ptr<TemplateRotations>> slabs_;
+  // The memory of the cell tables (CellGroups), in huge pages where the system allows.
+  std::unique_ptr<TableArena> arena_ = std::make_unique<TableArena>();
 
   // Slab `word` of `parent` (z_words() > 1), its lowest z cell `offset` cells above the word's
   // first: the parent's rotations and theta blocks cut to the columns with a bit in the word
