@@ -230,6 +230,9 @@ class TemplateRotations {
   const PoseLattice& lattice() const { return lattice_; }
 
  private:
+  // The memory of the cell tables' words (CellGroups), in huge pages where the system allows.
+  // Declared first: destroyed last, after every container holding its memory.
+  std::unique_ptr<TableArena> arena_ = std::make_unique<TableArena>();
   std::string name_;
   double height_m_ = 0.0;
   double rim_radius_m_ = 0.0;
@@ -258,8 +261,6 @@ class TemplateRotations {
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
   std::vector<std::unique_ptr<TemplateRotations>> slabs_;
-  // The memory of the cell tables (CellGroups), in huge pages where the system allows.
-  std::unique_ptr<TableArena> arena_ = std::make_unique<TableArena>();
 
   // Slab `word` of `parent` (z_words() > 1), its lowest z cell `offset` cells above the word's
   // first: the parent's rotations and theta blocks cut to the columns with a bit in the word
