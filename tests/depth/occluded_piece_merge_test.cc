@@ -89,12 +89,17 @@ TEST(MergeOccludedPiecesTest, MergesChainsAndIgnoresEmptyOrDegenerateInput) {
 
 // Screening pairs by their boxes merges exactly what searching every cluster's points does:
 // random scenes of bodies and pieces around, behind and beside them (some near enough to merge,
-// some just too far, some of equal size hiding one piece), with and without the screen.
+// some just too far), with the default depth gap and a short one, with and without the screen.
 TEST(MergeOccludedPiecesTest, ScreenedByBoxesMergesWhatTheFullSearchMerges) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   int merged_scenes = 0, kept_scenes = 0;
-  for (int scene = 0; scene < 60; ++scene) {
+  for (int scene = 0; scene < 80; ++scene) {
+    // Every other scene with a short depth gap and its pieces close behind: there the
+    // neighbour angle, not the gap, makes most of the screen's reach.
+    const bool short_gap = scene % 2 == 1;
+    OccludedPieceOptions options;
+    if (short_gap) options.max_depth_gap_m = 0.03;
     std::vector<Cluster> clusters;
     const int bodies = 1 + scene % 3;
     for (int k = 0; k < bodies; ++k) {
@@ -103,7 +108,7 @@ TEST(MergeOccludedPiecesTest, ScreenedByBoxesMergesWhatTheFullSearchMerges) {
       // Pieces behind its top edge in the image, at depths up to 0.45 m behind, some beside it.
       const int pieces = static_cast<int>(3 * u(rng));
       for (int j = 0; j < pieces; ++j) {
-        const float behind = x + 0.05f + 0.4f * u(rng);
+        const float behind = x + (short_gap ? 0.005f + 0.05f * u(rng) : 0.05f + 0.4f * u(rng));
         const float bearing = (y + (u(rng) - 0.5f) * 0.4f) / x;
         const float z = 0.34f + behind * (0.06f / x) * (1.0f + 0.2f * (u(rng) - 0.5f));
         clusters.push_back(Slab(behind, bearing * behind - 0.02f, bearing * behind + 0.02f,
@@ -117,9 +122,9 @@ TEST(MergeOccludedPiecesTest, ScreenedByBoxesMergesWhatTheFullSearchMerges) {
     }
     std::shuffle(clusters.begin(), clusters.end(), rng);
     std::vector<Cluster> screened = clusters, full = clusters;
-    OccludedPieceOptions reference;
+    OccludedPieceOptions reference = options;
     reference.screen_by_boxes = false;
-    MergeOccludedPieces(kSensor, {}, &screened);
+    MergeOccludedPieces(kSensor, options, &screened);
     MergeOccludedPieces(kSensor, reference, &full);
     ASSERT_EQ(screened.size(), full.size()) << "scene " << scene;
     for (size_t c = 0; c < full.size(); ++c) {
