@@ -39,9 +39,8 @@ void* TableArena::Allocate(std::size_t bytes) {
     next_ = reinterpret_cast<char*>(start);
     end_ = next_ + usable;
 #ifdef MADV_HUGEPAGE
-    if (madvise(next_, usable, MADV_HUGEPAGE) != 0) advised_ = false;
-#else
-    advised_ = false;
+    // Only advice: where the kernel has no transparent huge pages the region keeps 4 KB pages.
+    madvise(next_, usable, MADV_HUGEPAGE);
 #endif
   }
   void* out = next_;
@@ -54,11 +53,6 @@ std::size_t TableArena::mapped_bytes() const {
   std::size_t total = 0;
   for (const Region& r : regions_) total += r.bytes;
   return total;
-}
-
-bool TableArena::huge_pages_advised() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return advised_ && !regions_.empty();
 }
 
 }  // namespace hpose

@@ -27,8 +27,6 @@ class TableArena {
   void* Allocate(std::size_t bytes);
   // Bytes of the regions mapped so far (their allocations and the unused rest).
   std::size_t mapped_bytes() const;
-  // Whether the regions were advised for huge pages (false where the system refused).
-  bool huge_pages_advised() const;
 
  private:
   struct Region {
@@ -40,7 +38,6 @@ class TableArena {
   char* next_ = nullptr;
   char* end_ = nullptr;
   std::size_t next_region_bytes_ = 0;  // the next region's size (doubling up to a limit).
-  bool advised_ = true;
 };
 
 // A std::allocator-compatible allocator taking its memory from a TableArena (deallocation is
