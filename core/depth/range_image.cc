@@ -6,6 +6,11 @@
 #include <cstdint>
 #include <limits>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define HPOSE_RANGE_AVX512 1
+#endif
+
 namespace hpose {
 
 namespace {
@@ -107,15 +112,166 @@ __attribute__((target_clones("avx2", "default"))) void SlopeExtent(const Eigen::
   for (int k = 0; k < 4; ++k) out[k] = e[k];
 }
 
+#ifdef HPOSE_RANGE_AVX512
+// Sixteen points (48 floats from `p`) split into their coordinates: lane i of x, y and z is
+// float 3i, 3i + 1 and 3i + 2, taken from the first two registers by one permutation and from
+// the third by a second one.
+struct Lanes16 {
+  __m512 x, y, z;
+};
+
+[[gnu::target("avx512f")]] inline Lanes16 Deinterleave(const float* p, const __m512i idx_ab[3],
+                                                       const __m512i idx_c[3],
+                                                       const __mmask16 from_c[3]) {
+  const __m512 a = _mm512_loadu_ps(p), b = _mm512_loadu_ps(p + 16), c = _mm512_loadu_ps(p + 32);
+  __m512 out[3];
+  for (int k = 0; k < 3; ++k) {
+    out[k] =
+        _mm512_mask_permutexvar_ps(_mm512_permutex2var_ps(a, idx_ab[k], b), from_c[k], idx_c[k], c);
+  }
+  return {out[0], out[1], out[2]};
+}
+
+// The permutations of Deinterleave. (Here and below, masked forms of the conversions and
+// extractions: the unmasked ones start from an undefined register, which GCC 12 reports as
+// uninitialised.)
+struct DeinterleaveIndex {
+  __m512i ab[3], c[3];
+  __mmask16 from_c[3];
+};
+
+[[gnu::target("avx512f")]] DeinterleaveIndex MakeDeinterleaveIndex() {
+  DeinterleaveIndex d;
+  for (int k = 0; k < 3; ++k) {
+    alignas(64) std::int32_t ab[16], c[16];
+    unsigned mask = 0;
+    for (int i = 0; i < 16; ++i) {
+      const int f = 3 * i + k;
+      ab[i] = f < 32 ? f : 0;
+      c[i] = f >= 32 ? f - 32 : 0;
+      if (f >= 32) mask |= 1u << i;
+    }
+    d.ab[k] = _mm512_load_si512(ab);
+    d.c[k] = _mm512_load_si512(c);
+    d.from_c[k] = static_cast<__mmask16>(mask);
+  }
+  return d;
+}
+
+// BinNearest sixteen points a step: the same slopes (float division), bins (the slope in
+// double, times focal, plus the offset: separate roundings, never fused) and comparisons lane by
+// lane; the bins' minimum then taken point by point (min_ss(z, d): z < d ? z : d, as std::min(d,
+// z)). The rest by BinNearest.
+[[gnu::target("avx2,avx512f,avx512dq")]] void BinNearestAvx512(const Eigen::Vector3f* points,
+                                                               size_t n, double focal, double u0,
+                                                               double v0, int width, int height,
+                                                               float* depth) {
+  const DeinterleaveIndex d = MakeDeinterleaveIndex();
+  const __m512d f = _mm512_set1_pd(focal), uo = _mm512_set1_pd(u0), vo = _mm512_set1_pd(v0);
+  const __m512d w = _mm512_set1_pd(width), h = _mm512_set1_pd(height);
+  const __m512d zero_d = _mm512_setzero_pd();
+  const __m512 far = _mm512_set1_ps(std::numeric_limits<float>::infinity());
+  const __m256i row = _mm256_set1_epi32(width);
+  const bool sixteens = static_cast<std::int64_t>(width) * height <= INT32_MAX;
+  size_t i = 0;
+  alignas(64) std::int32_t bins[16];
+  alignas(64) float zs[16];
+  for (; sixteens && i + 16 <= n; i += 16) {
+    const Lanes16 p = Deinterleave(points[i].data(), d.ab, d.c, d.from_c);
+    const __m512 tx = _mm512_div_ps(p.x, p.z), ty = _mm512_div_ps(p.y, p.z);
+    __mmask16 inside = _mm512_cmp_ps_mask(p.z, _mm512_setzero_ps(), _CMP_GT_OQ);
+    alignas(64) float slopes[2][16];
+    _mm512_store_ps(slopes[0], tx);
+    _mm512_store_ps(slopes[1], ty);
+    for (int half = 0; half < 2; ++half) {
+      constexpr int kDir = _MM_FROUND_CUR_DIRECTION;
+      const __m512d uf = _mm512_maskz_add_round_pd(
+          0xFF,
+          _mm512_maskz_mul_round_pd(
+              0xFF, _mm512_maskz_cvtps_pd(0xFF, _mm256_load_ps(slopes[0] + 8 * half)), f, kDir),
+          uo, kDir);
+      const __m512d vf = _mm512_maskz_add_round_pd(
+          0xFF,
+          _mm512_maskz_mul_round_pd(
+              0xFF, _mm512_maskz_cvtps_pd(0xFF, _mm256_load_ps(slopes[1] + 8 * half)), f, kDir),
+          vo, kDir);
+      const unsigned in =
+          _mm512_cmp_pd_mask(uf, zero_d, _CMP_GE_OQ) & _mm512_cmp_pd_mask(vf, zero_d, _CMP_GE_OQ) &
+          _mm512_cmp_pd_mask(uf, w, _CMP_LT_OQ) & _mm512_cmp_pd_mask(vf, h, _CMP_LT_OQ);
+      inside &= static_cast<__mmask16>(half == 0 ? (0xFF00u | in) : (0x00FFu | (in << 8)));
+      const __m256i bin =
+          _mm256_add_epi32(_mm256_mullo_epi32(_mm512_maskz_cvttpd_epi32(0xFF, vf), row),
+                           _mm512_maskz_cvttpd_epi32(0xFF, uf));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(bins + 8 * half), bin);
+    }
+    if (inside == 0) continue;
+    // Every lane, branch-free: one outside the image takes min(depth[0], inf), no change.
+    _mm512_store_si512(bins, _mm512_maskz_mov_epi32(inside, _mm512_load_si512(bins)));
+    _mm512_store_ps(zs, _mm512_mask_blend_ps(inside, far, p.z));
+    for (int k = 0; k < 16; ++k) {
+      float* dk = depth + bins[k];
+      _mm_store_ss(dk, _mm_min_ss(_mm_load_ss(zs + k), _mm_load_ss(dk)));
+    }
+  }
+  BinNearest(points + i, n - i, focal, u0, v0, width, height, depth);
+}
+
+// SlopeExtent sixteen points a step: the same slopes; the minimum and maximum of the valid
+// lanes' (no NaN among them, so any order gives the same extent), then the rest by SlopeExtent.
+[[gnu::target("avx512f,avx512dq")]] void SlopeExtentAvx512(const Eigen::Vector3f* points, size_t n,
+                                                           float out[4]) {
+  const DeinterleaveIndex d = MakeDeinterleaveIndex();
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  __m512 x_lo = _mm512_set1_ps(kInf), x_hi = _mm512_set1_ps(-kInf);
+  __m512 y_lo = x_lo, y_hi = x_hi;
+  const __m512 zero = _mm512_setzero_ps();
+  size_t i = 0;
+  for (; i + 16 <= n; i += 16) {
+    const Lanes16 p = Deinterleave(points[i].data(), d.ab, d.c, d.from_c);
+    // v - v is 0 exactly when v is finite.
+    const __mmask16 valid = _mm512_cmp_ps_mask(_mm512_sub_ps(p.x, p.x), zero, _CMP_EQ_OQ) &
+                            _mm512_cmp_ps_mask(_mm512_sub_ps(p.y, p.y), zero, _CMP_EQ_OQ) &
+                            _mm512_cmp_ps_mask(_mm512_sub_ps(p.z, p.z), zero, _CMP_EQ_OQ) &
+                            _mm512_cmp_ps_mask(p.z, zero, _CMP_GT_OQ);
+    const __m512 tx = _mm512_div_ps(p.x, p.z), ty = _mm512_div_ps(p.y, p.z);
+    x_lo = _mm512_mask_min_ps(x_lo, valid, tx, x_lo);
+    x_hi = _mm512_mask_max_ps(x_hi, valid, tx, x_hi);
+    y_lo = _mm512_mask_min_ps(y_lo, valid, ty, y_lo);
+    y_hi = _mm512_mask_max_ps(y_hi, valid, ty, y_hi);
+  }
+  SlopeExtent(points + i, n - i, out);
+  alignas(64) float lanes[4][16];
+  _mm512_store_ps(lanes[0], x_lo);
+  _mm512_store_ps(lanes[1], x_hi);
+  _mm512_store_ps(lanes[2], y_lo);
+  _mm512_store_ps(lanes[3], y_hi);
+  for (int k = 0; k < 16; ++k) {
+    out[0] = std::min(out[0], lanes[0][k]);
+    out[1] = std::max(out[1], lanes[1][k]);
+    out[2] = std::min(out[2], lanes[2][k]);
+    out[3] = std::max(out[3], lanes[3][k]);
+  }
+}
+
+bool HasAvx512() {
+  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+  return has;
+}
+#else
+bool HasAvx512() { return false; }
+constexpr auto* BinNearestAvx512 = &BinNearest;
+constexpr auto* SlopeExtentAvx512 = &SlopeExtent;
+#endif
+
 }  // namespace
 
-RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
+RangeImage RangeImage::Build(const PointCloud& cloud, double focal_px, bool wide) {
   RangeImage r;
   r.focal_ = focal_px;
   constexpr double kMaxTan = 3.0;
   constexpr float kInf = std::numeric_limits<float>::infinity();
   float extent[4];
-  SlopeExtent(cloud.points.data(), cloud.points.size(), extent);
+  (wide ? SlopeExtentAvx512 : SlopeExtent)(cloud.points.data(), cloud.points.size(), extent);
   const float tx_lo_f = extent[0], tx_hi_f = extent[1], ty_lo_f = extent[2], ty_hi_f = extent[3];
   if (!(tx_lo_f <= tx_hi_f)) return r;  // no point in front of the sensor.
   const double tx_lo = std::clamp<double>(tx_lo_f, -kMaxTan, kMaxTan);
@@ -128,11 +284,21 @@ RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
   r.height_ = static_cast<int>((ty_hi - ty_lo) * focal_px) + 1;
   // Nearest depth per bin, +inf while empty (0 = unknown once done).
   r.depth_.assign(static_cast<size_t>(r.width_) * r.height_, kInf);
-  BinNearest(cloud.points.data(), cloud.points.size(), focal_px, r.u0_, r.v0_, r.width_, r.height_,
-             r.depth_.data());
+  (wide ? BinNearestAvx512 : BinNearest)(cloud.points.data(), cloud.points.size(), focal_px, r.u0_,
+                                         r.v0_, r.width_, r.height_, r.depth_.data());
   for (float& d : r.depth_) d = d == kInf ? 0.0f : d;
   return r;
 }
+
+RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
+  return Build(cloud, focal_px, HasAvx512());
+}
+
+RangeImage RangeImage::FromCloudFourLanes(const PointCloud& cloud, double focal_px) {
+  return Build(cloud, focal_px, false);
+}
+
+bool RangeImage::SixteenLanes() { return HasAvx512(); }
 
 bool RangeImage::Covers(const Eigen::Vector3d& p) const {
   return p.z() > 1e-3 && CoversRay(p.x() / p.z(), p.y() / p.z());
