@@ -6,10 +6,7 @@
 #include <cstdint>
 #include <limits>
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-#define HPOSE_RANGE_AVX512 1
-#endif
+#include "core/depth/point_lanes.h"
 
 namespace hpose {
 
@@ -112,51 +109,9 @@ __attribute__((target_clones("avx2", "default"))) void SlopeExtent(const Eigen::
   for (int k = 0; k < 4; ++k) out[k] = e[k];
 }
 
-#ifdef HPOSE_RANGE_AVX512
-// Sixteen points (48 floats from `p`) split into their coordinates: lane i of x, y and z is
-// float 3i, 3i + 1 and 3i + 2, taken from the first two registers by one permutation and from
-// the third by a second one.
-struct Lanes16 {
-  __m512 x, y, z;
-};
-
-[[gnu::target("avx512f")]] inline Lanes16 Deinterleave(const float* p, const __m512i idx_ab[3],
-                                                       const __m512i idx_c[3],
-                                                       const __mmask16 from_c[3]) {
-  const __m512 a = _mm512_loadu_ps(p), b = _mm512_loadu_ps(p + 16), c = _mm512_loadu_ps(p + 32);
-  __m512 out[3];
-  for (int k = 0; k < 3; ++k) {
-    out[k] =
-        _mm512_mask_permutexvar_ps(_mm512_permutex2var_ps(a, idx_ab[k], b), from_c[k], idx_c[k], c);
-  }
-  return {out[0], out[1], out[2]};
-}
-
-// The permutations of Deinterleave. (Here and below, masked forms of the conversions and
-// extractions: the unmasked ones start from an undefined register, which GCC 12 reports as
-// uninitialised.)
-struct DeinterleaveIndex {
-  __m512i ab[3], c[3];
-  __mmask16 from_c[3];
-};
-
-[[gnu::target("avx512f")]] DeinterleaveIndex MakeDeinterleaveIndex() {
-  DeinterleaveIndex d;
-  for (int k = 0; k < 3; ++k) {
-    alignas(64) std::int32_t ab[16], c[16];
-    unsigned mask = 0;
-    for (int i = 0; i < 16; ++i) {
-      const int f = 3 * i + k;
-      ab[i] = f < 32 ? f : 0;
-      c[i] = f >= 32 ? f - 32 : 0;
-      if (f >= 32) mask |= 1u << i;
-    }
-    d.ab[k] = _mm512_load_si512(ab);
-    d.c[k] = _mm512_load_si512(c);
-    d.from_c[k] = static_cast<__mmask16>(mask);
-  }
-  return d;
-}
+#ifdef HPOSE_POINT_LANES
+// Here and below, masked forms of the conversions: the unmasked ones start from an undefined
+// register, which GCC 12 reports as uninitialised.
 
 // BinNearest sixteen points a step: the same slopes (float division), bins (the slope in
 // double, times focal, plus the offset: separate roundings, never fused) and comparisons lane by
@@ -166,7 +121,7 @@ struct DeinterleaveIndex {
                                                                size_t n, double focal, double u0,
                                                                double v0, int width, int height,
                                                                float* depth) {
-  const DeinterleaveIndex d = MakeDeinterleaveIndex();
+  const PointDeinterleaver lanes;
   const __m512d f = _mm512_set1_pd(focal), uo = _mm512_set1_pd(u0), vo = _mm512_set1_pd(v0);
   const __m512d w = _mm512_set1_pd(width), h = _mm512_set1_pd(height);
   const __m512d zero_d = _mm512_setzero_pd();
@@ -177,7 +132,7 @@ struct DeinterleaveIndex {
   alignas(64) std::int32_t bins[16];
   alignas(64) float zs[16];
   for (; sixteens && i + 16 <= n; i += 16) {
-    const Lanes16 p = Deinterleave(points[i].data(), d.ab, d.c, d.from_c);
+    const PointLanes p = lanes.Load(points[i].data());
     const __m512 tx = _mm512_div_ps(p.x, p.z), ty = _mm512_div_ps(p.y, p.z);
     __mmask16 inside = _mm512_cmp_ps_mask(p.z, _mm512_setzero_ps(), _CMP_GT_OQ);
     alignas(64) float slopes[2][16];
@@ -220,14 +175,14 @@ struct DeinterleaveIndex {
 // lanes' (no NaN among them, so any order gives the same extent), then the rest by SlopeExtent.
 [[gnu::target("avx512f,avx512dq")]] void SlopeExtentAvx512(const Eigen::Vector3f* points, size_t n,
                                                            float out[4]) {
-  const DeinterleaveIndex d = MakeDeinterleaveIndex();
+  const PointDeinterleaver lanes;
   constexpr float kInf = std::numeric_limits<float>::infinity();
   __m512 x_lo = _mm512_set1_ps(kInf), x_hi = _mm512_set1_ps(-kInf);
   __m512 y_lo = x_lo, y_hi = x_hi;
   const __m512 zero = _mm512_setzero_ps();
   size_t i = 0;
   for (; i + 16 <= n; i += 16) {
-    const Lanes16 p = Deinterleave(points[i].data(), d.ab, d.c, d.from_c);
+    const PointLanes p = lanes.Load(points[i].data());
     // v - v is 0 exactly when v is finite.
     const __mmask16 valid = _mm512_cmp_ps_mask(_mm512_sub_ps(p.x, p.x), zero, _CMP_EQ_OQ) &
                             _mm512_cmp_ps_mask(_mm512_sub_ps(p.y, p.y), zero, _CMP_EQ_OQ) &
@@ -240,16 +195,16 @@ struct DeinterleaveIndex {
     y_hi = _mm512_mask_max_ps(y_hi, valid, ty, y_hi);
   }
   SlopeExtent(points + i, n - i, out);
-  alignas(64) float lanes[4][16];
-  _mm512_store_ps(lanes[0], x_lo);
-  _mm512_store_ps(lanes[1], x_hi);
-  _mm512_store_ps(lanes[2], y_lo);
-  _mm512_store_ps(lanes[3], y_hi);
+  alignas(64) float extent[4][16];
+  _mm512_store_ps(extent[0], x_lo);
+  _mm512_store_ps(extent[1], x_hi);
+  _mm512_store_ps(extent[2], y_lo);
+  _mm512_store_ps(extent[3], y_hi);
   for (int k = 0; k < 16; ++k) {
-    out[0] = std::min(out[0], lanes[0][k]);
-    out[1] = std::max(out[1], lanes[1][k]);
-    out[2] = std::min(out[2], lanes[2][k]);
-    out[3] = std::max(out[3], lanes[3][k]);
+    out[0] = std::min(out[0], extent[0][k]);
+    out[1] = std::max(out[1], extent[1][k]);
+    out[2] = std::min(out[2], extent[2][k]);
+    out[3] = std::max(out[3], extent[3][k]);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "core/depth/voxel_downsample.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -87,6 +88,33 @@ TEST(VoxelDownsampleTest, EqualsAStraightforwardReferenceOnLargeClouds) {
       ASSERT_EQ(centroids[v], sums[v] / static_cast<float>(counts[v])) << "voxel " << v;
     }
   }
+}
+
+// Cells beyond 2^20 - 1 from the origin on an axis are clamped there (those far voxels merge):
+// the sixteen-point path clamps as the scalar one does, on both sides.
+TEST(VoxelDownsampleTest, ClampsCellsBeyondTheKeyRange) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-3.0f, 3.0f);
+  std::vector<Eigen::Vector3f> points;
+  for (int i = 0; i < 200; ++i) points.emplace_back(u(rng), 0.0f, u(rng));
+  const float leaf = 1e-6f;  // 3 m is 3e6 cells: beyond the limit.
+  std::vector<Eigen::Vector3f> centroids;
+  std::vector<int> owner;
+  VoxelDownsample(points, leaf, &centroids, &owner);
+  const long limit = (1L << 20) - 1;
+  const float inv = 1.0f / leaf;
+  std::map<std::tuple<long, long, long>, int> index;
+  std::vector<int> expected_owner;
+  for (const Eigen::Vector3f& p : points) {
+    auto cell = [&](float v) {
+      return std::clamp(static_cast<long>(std::floor(v * inv)), -limit, limit);
+    };
+    const auto key = std::make_tuple(cell(p.x()), cell(p.y()), cell(p.z()));
+    expected_owner.push_back(index.emplace(key, static_cast<int>(index.size())).first->second);
+  }
+  EXPECT_EQ(owner, expected_owner);
+  EXPECT_EQ(centroids.size(), index.size());
+  EXPECT_LT(index.size(), 150u);  // clamped corners merged many of them.
 }
 
 }  // namespace
