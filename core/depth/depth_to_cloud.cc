@@ -7,10 +7,7 @@
 #include <string>
 #include <vector>
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-#define HPOSE_CLOUD_AVX512 1
-#endif
+#include "core/depth/point_lanes.h"
 
 namespace hpose {
 namespace {
@@ -102,19 +99,15 @@ size_t ProjectRowScalar(const Projection& p, int v, int u_begin, Eigen::Vector3f
   return n;
 }
 
-#ifdef HPOSE_CLOUD_AVX512
+#ifdef HPOSE_POINT_LANES
 // Stride 1, sixteen pixels a step: the same operations as ProjectRowScalar lane by lane (the
 // depth converted exactly, times 0.001f; the ray's slope (u - cx) * inv_fx; each coordinate one
-// product), the valid lanes packed to the front (all of them when organised), and the points
-// interleaved (x, y, z) into three registers stored with masks.
-[[gnu::target("avx512f,avx512bw")]] size_t ProjectRowAvx512(const Projection& p, int v,
-                                                            Eigen::Vector3f* out, size_t n,
-                                                            int* u_end) {
+// product), the valid lanes packed to the front (all of them when organised), then stored as
+// points; every row, each finished by ProjectRowScalar. Returns the points written.
+[[gnu::target("avx512f,avx512bw")]] size_t ProjectRowsAvx512(const Projection& p,
+                                                             Eigen::Vector3f* out) {
   const DepthImage& depth = *p.depth;
   const int width = depth.width;
-  const std::uint16_t* row = depth.mm.data() + static_cast<size_t>(v) * width;
-  const float ray_y_s = (static_cast<float>(v) - p.cy) * p.inv_fy;
-  const __m512 ray_y = _mm512_set1_ps(ray_y_s);
   const __m512 cx = _mm512_set1_ps(p.cx), inv_fx = _mm512_set1_ps(p.inv_fx);
   const __m512 milli = _mm512_set1_ps(0.001f);
   const __m512 nan = _mm512_set1_ps(std::numeric_limits<float>::quiet_NaN());
@@ -124,57 +117,36 @@ size_t ProjectRowScalar(const Projection& p, int v, int u_begin, Eigen::Vector3f
   // GCC 12 reports as maybe uninitialised.
   const __mmask16 all = 0xFFFF;
   const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  // Float f of the 48 interleaved is component f % 3 of point f / 3: from x (index p) or y
-  // (16 + p) by one permutation, z by a second one into the lanes of component 2.
-  alignas(64) std::int32_t xy_idx[3][16], z_idx[3][16];
-  __mmask16 z_lanes[3] = {0, 0, 0};
-  for (int r = 0; r < 3; ++r) {
-    for (int l = 0; l < 16; ++l) {
-      const int f = 16 * r + l, point = f / 3, c = f % 3;
-      xy_idx[r][l] = c == 1 ? 16 + point : point;
-      z_idx[r][l] = point;
-      if (c == 2) z_lanes[r] = static_cast<__mmask16>(z_lanes[r] | (1u << l));
-    }
-  }
-  __m512i xy_perm[3], z_perm[3];
-  for (int r = 0; r < 3; ++r) {
-    xy_perm[r] = _mm512_load_si512(xy_idx[r]);
-    z_perm[r] = _mm512_load_si512(z_idx[r]);
-  }
+  const PointInterleaver points;
   float* dst = out->data();
-  int u = 0;
-  for (; u + 16 <= width; u += 16) {
-    const __m512i mm = _mm512_maskz_cvtepu16_epi32(
-        all, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row + u)));
-    const __mmask16 valid =
-        _mm512_cmpge_epu32_mask(mm, min_mm) & _mm512_cmple_epu32_mask(mm, max_mm);
-    __m512 z = _mm512_mul_ps(_mm512_maskz_cvtepi32_ps(all, mm), milli);
-    const __m512 us = _mm512_maskz_cvtepi32_ps(all, _mm512_add_epi32(_mm512_set1_epi32(u), iota));
-    __m512 ray_x = _mm512_mul_ps(_mm512_sub_ps(us, cx), inv_fx);
-    int count = 16;
-    if (p.keep_organised) {
-      z = _mm512_mask_blend_ps(valid, nan, z);
-    } else {
-      count = __builtin_popcount(valid);
-      z = _mm512_maskz_compress_ps(valid, z);
-      ray_x = _mm512_maskz_compress_ps(valid, ray_x);
+  size_t n = 0;
+  for (int v = 0; v < depth.height; ++v) {
+    const std::uint16_t* row = depth.mm.data() + static_cast<size_t>(v) * width;
+    const __m512 ray_y = _mm512_set1_ps((static_cast<float>(v) - p.cy) * p.inv_fy);
+    int u = 0;
+    for (; u + 16 <= width; u += 16) {
+      const __m512i mm = _mm512_maskz_cvtepu16_epi32(
+          all, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row + u)));
+      const __mmask16 valid =
+          _mm512_cmpge_epu32_mask(mm, min_mm) & _mm512_cmple_epu32_mask(mm, max_mm);
+      __m512 z = _mm512_mul_ps(_mm512_maskz_cvtepi32_ps(all, mm), milli);
+      const __m512 us = _mm512_maskz_cvtepi32_ps(all, _mm512_add_epi32(_mm512_set1_epi32(u), iota));
+      __m512 ray_x = _mm512_mul_ps(_mm512_sub_ps(us, cx), inv_fx);
+      int count = 16;
+      if (p.keep_organised) {
+        z = _mm512_mask_blend_ps(valid, nan, z);
+      } else {
+        count = __builtin_popcount(valid);
+        z = _mm512_maskz_compress_ps(valid, z);
+        ray_x = _mm512_maskz_compress_ps(valid, ray_x);
+      }
+      const __m512 x = _mm512_mul_ps(ray_x, z);
+      const __m512 y = _mm512_mul_ps(ray_y, z);
+      points.Store(x, y, z, count, dst + 3 * n);
+      n += static_cast<size_t>(count);
     }
-    const __m512 x = _mm512_mul_ps(ray_x, z);
-    const __m512 y = _mm512_mul_ps(ray_y, z);
-    float* at = dst + 3 * n;
-    const int floats = 3 * count;
-    for (int r = 0; r < 3; ++r) {
-      const int left = floats - 16 * r;
-      if (left <= 0) break;
-      const __mmask16 keep =
-          left >= 16 ? static_cast<__mmask16>(0xFFFF) : static_cast<__mmask16>((1u << left) - 1);
-      const __m512 xy = _mm512_permutex2var_ps(x, xy_perm[r], y);
-      const __m512 xyz = _mm512_mask_permutexvar_ps(xy, z_lanes[r], z_perm[r], z);
-      _mm512_mask_storeu_ps(at + 16 * r, keep, xyz);
-    }
-    n += static_cast<size_t>(count);
+    n = ProjectRowScalar(p, v, u, out, n);
   }
-  *u_end = u;
   return n;
 }
 
@@ -184,10 +156,7 @@ bool HasAvx512() {
 }
 #else
 bool HasAvx512() { return false; }
-size_t ProjectRowAvx512(const Projection&, int, Eigen::Vector3f*, size_t n, int* u_end) {
-  *u_end = 0;
-  return n;
-}
+size_t ProjectRowsAvx512(const Projection&, Eigen::Vector3f*) { return 0; }
 #endif
 
 Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics,
@@ -198,11 +167,10 @@ Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics
   PointCloud cloud = Allocate(p);
   Eigen::Vector3f* out = cloud.points.data();
   size_t n = 0;
-  const bool sixteen = vectorised && p.stride == 1 && HasAvx512();
-  for (int v = 0; v < depth.height; v += p.stride) {
-    int u = 0;
-    if (sixteen) n = ProjectRowAvx512(p, v, out, n, &u);
-    n = ProjectRowScalar(p, v, u, out, n);
+  if (vectorised && p.stride == 1 && HasAvx512()) {
+    n = ProjectRowsAvx512(p, out);
+  } else {
+    for (int v = 0; v < depth.height; v += p.stride) n = ProjectRowScalar(p, v, 0, out, n);
   }
   cloud.points.resize(n);
   return cloud;

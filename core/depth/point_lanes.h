@@ -55,6 +55,46 @@ class PointDeinterleaver {
   __mmask16 from_c_[3];
 };
 
+// The inverse: the first `count` lanes of x, y and z written as `count` points (3 count floats)
+// from `dst`, nothing past them. Float f of the 48 is component f % 3 of lane f / 3: from x
+// (index f / 3) or y (16 + f / 3) by one permutation, z by a second one into the lanes of
+// component 2.
+class PointInterleaver {
+ public:
+  [[gnu::target("avx512f")]] PointInterleaver() {
+    for (int r = 0; r < 3; ++r) {
+      alignas(64) std::int32_t xy[16], z[16];
+      unsigned mask = 0;
+      for (int l = 0; l < 16; ++l) {
+        const int f = 16 * r + l, point = f / 3, c = f % 3;
+        xy[l] = c == 1 ? 16 + point : point;
+        z[l] = point;
+        if (c == 2) mask |= 1u << l;
+      }
+      xy_[r] = _mm512_load_si512(xy);
+      z_[r] = _mm512_load_si512(z);
+      z_lanes_[r] = static_cast<__mmask16>(mask);
+    }
+  }
+
+  [[gnu::target("avx512f")]] void Store(__m512 x, __m512 y, __m512 z, int count, float* dst) const {
+    const int floats = 3 * count;
+    for (int r = 0; r < 3; ++r) {
+      const int left = floats - 16 * r;
+      if (left <= 0) break;
+      const __mmask16 keep =
+          left >= 16 ? static_cast<__mmask16>(0xFFFF) : static_cast<__mmask16>((1u << left) - 1);
+      const __m512 xy = _mm512_permutex2var_ps(x, xy_[r], y);
+      _mm512_mask_storeu_ps(dst + 16 * r, keep,
+                            _mm512_mask_permutexvar_ps(xy, z_lanes_[r], z_[r], z));
+    }
+  }
+
+ private:
+  __m512i xy_[3], z_[3];
+  __mmask16 z_lanes_[3];
+};
+
 }  // namespace hpose
 
 #endif
