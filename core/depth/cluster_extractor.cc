@@ -23,6 +23,7 @@
 
 #include "core/depth/cloud_validation.h"
 #include "core/depth/grid_euclidean_clusters.h"
+#include "core/depth/ground_band.h"
 #include "core/depth/voxel_downsample.h"
 
 namespace hpose {
@@ -268,30 +269,30 @@ Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
   if (!valid_floor.ok()) return valid_floor.error();
 
   // 1. Ground frame, height band and range.
-  const Eigen::Matrix3f rotation = floor.ground_from_sensor.linear().cast<float>();
-  const Eigen::Vector3f translation = floor.ground_from_sensor.translation().cast<float>();
-  const float z_min = static_cast<float>(options.min_height_above_floor_m);
-  const float z_max = static_cast<float>(options.max_height_above_floor_m);
-  const float range2 = static_cast<float>(options.max_range_m * options.max_range_m);
+  GroundBand slab;
+  slab.rotation = floor.ground_from_sensor.linear().cast<float>();
+  slab.translation = floor.ground_from_sensor.translation().cast<float>();
+  slab.z_min = static_cast<float>(options.min_height_above_floor_m);
+  slab.z_max = static_cast<float>(options.max_height_above_floor_m);
+  slab.range2 = static_cast<float>(options.max_range_m * options.max_range_m);
   const bool drop_veils = cloud_sensor.organised() && options.veil_max_angle_rad > 0.0;
-  const float cos_veil = static_cast<float>(std::cos(options.veil_max_angle_rad));
-  const float cos2_veil = cos_veil * cos_veil;
-  const int width = cloud_sensor.width;
-  const int height = cloud_sensor.height;
   std::vector<Eigen::Vector3f> band;
-  band.reserve(cloud_sensor.size() / 2);
-  for (size_t i = 0; i < cloud_sensor.size(); ++i) {
-    const Eigen::Vector3f& p = cloud_sensor.points[i];
-    if (!p.allFinite()) continue;
-    const Eigen::Vector3f g = rotation * p + translation;
-    // Written to fail for NaN: only points provably inside the band and range pass.
-    if (!(g.z() >= z_min && g.z() <= z_max)) continue;
-    if (!(g.x() * g.x() + g.y() * g.y() <= range2)) continue;
-    if (drop_veils && IsVeilPoint(cloud_sensor.points, width, height, static_cast<int>(i % width),
-                                  static_cast<int>(i / width), cos2_veil)) {
-      continue;
+  std::vector<int> band_index;
+  SelectGroundBand(cloud_sensor, slab, &band, drop_veils ? &band_index : nullptr);
+  if (drop_veils) {
+    const float cos_veil = static_cast<float>(std::cos(options.veil_max_angle_rad));
+    const float cos2_veil = cos_veil * cos_veil;
+    const int width = cloud_sensor.width;
+    const int height = cloud_sensor.height;
+    size_t kept = 0;
+    for (size_t k = 0; k < band.size(); ++k) {
+      const int i = band_index[k];
+      if (IsVeilPoint(cloud_sensor.points, width, height, i % width, i / width, cos2_veil)) {
+        continue;
+      }
+      band[kept++] = band[k];
     }
-    band.push_back(g);
+    band.resize(kept);
   }
   std::vector<Cluster> clusters;
   if (band.empty()) return clusters;

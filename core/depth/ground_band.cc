@@ -1,0 +1,125 @@
+#include "core/depth/ground_band.h"
+
+#include <cstddef>
+
+#include "core/depth/point_lanes.h"
+
+namespace hpose {
+namespace {
+
+// Points [begin, end) of `cloud`, the scalar way, written from out[n]; returns the next free
+// slot.
+size_t SelectRange(const PointCloud& cloud, const GroundBand& band, size_t begin, size_t end,
+                   Eigen::Vector3f* out, int* index, size_t n) {
+  for (size_t i = begin; i < end; ++i) {
+    const Eigen::Vector3f& p = cloud.points[i];
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3f g = band.rotation * p + band.translation;
+    if (!(g.z() >= band.z_min && g.z() <= band.z_max)) continue;
+    if (!(g.x() * g.x() + g.y() * g.y() <= band.range2)) continue;
+    if (index != nullptr) index[n] = static_cast<int>(i);
+    out[n++] = g;
+  }
+  return n;
+}
+
+#ifdef HPOSE_POINT_LANES
+// A product and a sum each rounded on their own: the _round forms, which the compiler never
+// fuses into a multiply-add.
+[[gnu::target("avx512f")]] inline __m512 Mul(__m512 a, __m512 b) {
+  return _mm512_maskz_mul_round_ps(0xFFFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+[[gnu::target("avx512f")]] inline __m512 Add(__m512 a, __m512 b) {
+  return _mm512_maskz_add_round_ps(0xFFFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+
+// Sixteen points a step: g with Mul and Add in Eigen's order; the lanes that pass packed to the
+// front and stored. The rest by SelectRange. Returns the points written.
+[[gnu::target("avx512f")]] size_t SelectAvx512(const PointCloud& cloud, const GroundBand& band,
+                                               Eigen::Vector3f* out, int* index) {
+  const PointDeinterleaver lanes;
+  const PointInterleaver points;
+  __m512 r[3][3], t[3];
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) r[row][col] = _mm512_set1_ps(band.rotation(row, col));
+    t[row] = _mm512_set1_ps(band.translation(row));
+  }
+  const __m512 z_min = _mm512_set1_ps(band.z_min), z_max = _mm512_set1_ps(band.z_max);
+  const __m512 range2 = _mm512_set1_ps(band.range2);
+  const __m512 zero = _mm512_setzero_ps();
+  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const size_t size = cloud.points.size();
+  float* dst = out->data();
+  size_t n = 0, i = 0;
+  for (; i + 16 <= size; i += 16) {
+    const PointLanes p = lanes.Load(cloud.points[i].data());
+    // v - v is 0 exactly when v is finite.
+    const __mmask16 finite = _mm512_cmp_ps_mask(_mm512_sub_ps(p.x, p.x), zero, _CMP_EQ_OQ) &
+                             _mm512_cmp_ps_mask(_mm512_sub_ps(p.y, p.y), zero, _CMP_EQ_OQ) &
+                             _mm512_cmp_ps_mask(_mm512_sub_ps(p.z, p.z), zero, _CMP_EQ_OQ);
+    __m512 g[3];
+    for (int row = 0; row < 3; ++row) {
+      g[row] = Add(Add(Mul(r[row][0], p.x), Add(Mul(r[row][1], p.y), Mul(r[row][2], p.z))), t[row]);
+    }
+    const __mmask16 keep =
+        finite & _mm512_cmp_ps_mask(g[2], z_min, _CMP_GE_OQ) &
+        _mm512_cmp_ps_mask(g[2], z_max, _CMP_LE_OQ) &
+        _mm512_cmp_ps_mask(Add(Mul(g[0], g[0]), Mul(g[1], g[1])), range2, _CMP_LE_OQ);
+    if (keep == 0) continue;
+    const int count = __builtin_popcount(keep);
+    points.Store(_mm512_maskz_compress_ps(keep, g[0]), _mm512_maskz_compress_ps(keep, g[1]),
+                 _mm512_maskz_compress_ps(keep, g[2]), count, dst + 3 * n);
+    if (index != nullptr) {
+      _mm512_mask_compressstoreu_epi32(
+          index + n, keep, _mm512_add_epi32(_mm512_set1_epi32(static_cast<int>(i)), iota));
+    }
+    n += static_cast<size_t>(count);
+  }
+  return SelectRange(cloud, band, i, size, out, index, n);
+}
+
+bool HasAvx512() {
+  static const bool has = __builtin_cpu_supports("avx512f");
+  return has;
+}
+#else
+bool HasAvx512() { return false; }
+size_t SelectAvx512(const PointCloud& cloud, const GroundBand& band, Eigen::Vector3f* out,
+                    int* index) {
+  return SelectRange(cloud, band, 0, cloud.points.size(), out, index, 0);
+}
+#endif
+
+void Select(const PointCloud& cloud, const GroundBand& band, std::vector<Eigen::Vector3f>* out,
+            std::vector<int>* index, bool vectorised) {
+  // Room for every point, then cut to those kept.
+  const size_t start = out->size();
+  out->resize(start + cloud.points.size());
+  int* index_at = nullptr;
+  if (index != nullptr) {
+    index->resize(start + cloud.points.size());
+    index_at = index->data() + start;
+  }
+  Eigen::Vector3f* out_at = out->data() + start;
+  const size_t n = vectorised && HasAvx512()
+                       ? SelectAvx512(cloud, band, out_at, index_at)
+                       : SelectRange(cloud, band, 0, cloud.points.size(), out_at, index_at, 0);
+  out->resize(start + n);
+  if (index != nullptr) index->resize(start + n);
+}
+
+}  // namespace
+
+void SelectGroundBand(const PointCloud& cloud, const GroundBand& band,
+                      std::vector<Eigen::Vector3f>* out, std::vector<int>* index) {
+  Select(cloud, band, out, index, /*vectorised=*/true);
+}
+
+void SelectGroundBandScalar(const PointCloud& cloud, const GroundBand& band,
+                            std::vector<Eigen::Vector3f>* out, std::vector<int>* index) {
+  Select(cloud, band, out, index, /*vectorised=*/false);
+}
+
+bool GroundBandVectorised() { return HasAvx512(); }
+
+}  // namespace hpose
