@@ -298,25 +298,24 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
   }
 }
 
-int ColumnOccupancy::HitsGrouped(const CellGroups& groups, int ix, int iy) const {
+int ColumnOccupancy::HitsGrouped(const CellTable& groups, int ix, int iy) const {
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = LevelAt(0);  // the plane: level 0's one-cell windows, the cells' own voxels.
   // The runs' rows that can meet a cluster row (relative to the translation's cell row).
   const int row0 = ((iy & ~mask) >> shift_) - lv.y0;
-  return RunPopcountSum(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx,
-                        groups.words.data(), groups.runs, plane_row_lo_ - row0,
-                        plane_row_hi_ - row0);
+  return RunPopcountSum(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx, groups.words,
+                        groups.runs, plane_row_lo_ - row0, plane_row_hi_ - row0);
 }
 
-void ColumnOccupancy::HitsGrouped4(const CellGroups& groups, int ix, int iy, int d,
+void ColumnOccupancy::HitsGrouped4(const CellTable& groups, int ix, int iy, int d,
                                    int out[4]) const {
   assert(aligned_);
   const int mask = lattice_.subdivisions - 1;
   const Level& lv = LevelAt(0);
   const int row0 = ((iy & ~mask) >> shift_) - lv.y0;
   RunPopcountSum4(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx, d,
-                  static_cast<std::ptrdiff_t>(d) * lv.nx, groups.words.data(), groups.runs,
+                  static_cast<std::ptrdiff_t>(d) * lv.nx, groups.words, groups.runs,
                   plane_row_lo_ - row0 - d, plane_row_hi_ - row0, out);
 }
 

@@ -67,10 +67,13 @@ class ColumnOccupancy {
   // Hits of a rotation at (ix, iy) from its CellGroups for the residue of (ix, iy)
   // (TemplateRotations::Groups): equal to Hits, without scratch space, in the aligned layout
   // (aligned() only; the cells of every group must lie in the lookup range).
-  int HitsGrouped(const CellGroups& groups, int ix, int iy) const;
+  int HitsGrouped(const CellTable& groups, int ix, int iy) const;
+  int HitsGrouped(const CellGroups& groups, int ix, int iy) const {
+    return HitsGrouped(groups.table(), ix, iy);
+  }
   // HitsGrouped at (ix + i d S, iy + j d S), i, j in {0, 1}, into out[2 i + j] (S = the
   // subdivisions): one pass over the groups for four translations a whole number of cells apart.
-  void HitsGrouped4(const CellGroups& groups, int ix, int iy, int d, int out[4]) const;
+  void HitsGrouped4(const CellTable& groups, int ix, int iy, int d, int out[4]) const;
   bool aligned() const { return aligned_; }
   // The bound of a block of 2 steps (level 1) at (a, b), with the rotation's PairBlockTable for
   // the residue of (a, b) and the rotation's masks (or cell-disjoint masks for a lower bound):

@@ -400,6 +400,24 @@ void TemplateRotations::PrepareTables() {
       swept_blocks_.emplace_back(tables);
       swept_blocks_once_.push_back(std::make_unique<std::once_flag[]>(tables));
     }
+    // The directory: level 0's rotations, then each theta level's blocks.
+    size_t entries = 0;
+    for (int t = 0; t < kThetaLevels; ++t) {
+      table_offset_[t] = entries;
+      entries += ((rotations_.size() + (size_t{1} << t) - 1) >> t) * block_tables_;
+    }
+    table_refs_ = std::make_unique<TableRef[]>(entries);
+    block_index_.assign(static_cast<size_t>(kSweptLevels + 1) * s * s, 0);
+    for (int level = 0; level <= kSweptLevels; ++level) {
+      // Level l's residues are the multiples of min(2^l, S); the others are never asked for.
+      const int step = level == 0 ? 1 : std::min(1 << level, s);
+      for (int ra = 0; ra < s; ra += step) {
+        for (int rb = 0; rb < s; rb += step) {
+          block_index_[(static_cast<size_t>(level) * s + ra) * s + rb] =
+              static_cast<std::uint16_t>(BlockSweptIndex(level, ra, rb, s));
+        }
+      }
+    }
   }
   bool first = true;
   const auto visit = [&](RotatedTemplate* r) {
@@ -690,6 +708,13 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
     }
   });
   return swept_[itheta][SweptIndex(level, ra, rb, s)];
+}
+
+CellTable TemplateRotations::Publish(TableRef& ref, const CellGroups& g) {
+  ref.runs.store(g.runs, std::memory_order_relaxed);
+  ref.size.store(static_cast<int>(g.words.size()), std::memory_order_relaxed);
+  ref.words.store(g.words.data(), std::memory_order_release);
+  return g.table();
 }
 
 const RotatedTemplate& TemplateRotations::GetBlock(int level, int itheta0) const {

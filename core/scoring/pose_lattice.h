@@ -1,6 +1,7 @@
 #ifndef HPOSE_CORE_SCORING_POSE_LATTICE_H_
 #define HPOSE_CORE_SCORING_POSE_LATTICE_H_
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -113,6 +114,13 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
 // row by row in runs of at most kMaxRun consecutive cells of one row: run r covers cells
 // (run_cx[r] + i, run_cy[r]) for i < run_len[r], and `masks` holds one word per cell, run after
 // run (HitsGrouped reads a run as consecutive words).
+// What a search reads of a CellGroups: its words (headers, then masks) and how many runs.
+struct CellTable {
+  const std::uint64_t* words = nullptr;
+  int runs = 0;
+  int size = 0;  // words.
+};
+
 struct CellGroups {
   static constexpr int kMaxRun = 8;
   // The runs' header words (RunHeader, gather_sums.h), then every cell's mask, run after run:
@@ -121,6 +129,7 @@ struct CellGroups {
   int runs = 0;
 
   int cells() const { return static_cast<int>(words.size()) - runs; }
+  CellTable table() const { return {words.data(), runs, static_cast<int>(words.size())}; }
   // Calls f(cx, cy, mask) for every cell, in order.
   template <typename F>
   void ForEachCell(F&& f) const {
@@ -204,6 +213,31 @@ class TemplateRotations {
   // pose of the block at that translation places, so their free-space hits are a lower bound of
   // each pose's. tlevel 0 is Groups. Made with SweptBlockGroups.
   const CellGroups& CommonBlockGroups(int tlevel, int itheta0, int ra, int rb) const;
+  // SweptBlockGroups and CommonBlockGroups as their CellTable, through a directory of every
+  // table's words and run count filled as the tables are made: a made table costs one load of
+  // 16 bytes (the search asks for one per bound) instead of its once_flag's and its header's,
+  // in two other places. Made on first use as the others (thread-safe).
+  CellTable SweptTable(int tlevel, int itheta0, int level, int ra, int rb) const {
+    TableRef& ref = table_refs_[TableId(tlevel, itheta0, BlockSweptIndexOf(level, ra, rb))];
+    const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
+    if (words != nullptr) {
+      return {words, ref.runs.load(std::memory_order_relaxed),
+              ref.size.load(std::memory_order_relaxed)};
+    }
+    return Publish(ref, SweptBlockGroups(tlevel, itheta0, level, ra, rb));
+  }
+  CellTable CommonTable(int tlevel, int itheta0, int ra, int rb) const {
+    if (tlevel == 0) return SweptTable(0, itheta0, 0, ra, rb);  // Groups either way.
+    const std::size_t index = block_tables_ - static_cast<std::size_t>(1 << (2 * shift_)) +
+                              (static_cast<std::size_t>(ra) << shift_) + rb;
+    TableRef& ref = table_refs_[TableId(tlevel, itheta0, index)];
+    const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
+    if (words != nullptr) {
+      return {words, ref.runs.load(std::memory_order_relaxed),
+              ref.size.load(std::memory_order_relaxed)};
+    }
+    return Publish(ref, CommonBlockGroups(tlevel, itheta0, ra, rb));
+  }
   // Makes now every table the getters above make on first use (Groups, PairTable, SweptGroups,
   // and SweptBlockGroups and CommonBlockGroups of theta levels up to max_tlevel), so that no
   // search pays for them; a no-op without cell groups. Thread-safe; rotations [begin, end)
@@ -258,6 +292,19 @@ class TemplateRotations {
   mutable std::vector<std::vector<CellGroups>> swept_blocks_;
   mutable std::vector<std::unique_ptr<std::once_flag[]>> swept_blocks_once_;
   size_t block_tables_ = 0;
+  // The directory of SweptTable and CommonTable: per theta level t (0 .. kThetaLevels - 1; level
+  // 0 holds Groups and SweptGroups) from table_offset_[t], block after block, block_tables_ each
+  // in the order of swept_blocks_. An entry's words stay null until its table is made (and
+  // when the table has no words: then it is looked up the slow way every time).
+  struct TableRef {
+    std::atomic<const std::uint64_t*> words{nullptr};
+    std::atomic<int> runs{0};
+    std::atomic<int> size{0};
+  };
+  std::unique_ptr<TableRef[]> table_refs_;
+  std::size_t table_offset_[kThetaLevels] = {};
+  // BlockSweptIndex of (level, ra, rb) at [(level * S + ra) * S + rb], level 0 .. kSweptLevels.
+  std::vector<std::uint16_t> block_index_;
   Eigen::Vector2i column_q_min_ = Eigen::Vector2i::Zero();
   Eigen::Vector2i column_q_max_ = Eigen::Vector2i::Zero();
   std::vector<std::unique_ptr<TemplateRotations>> slabs_;
@@ -270,6 +317,16 @@ class TemplateRotations {
   // z_words_ are set: the cell tables' columns, the range of column_q, the free-space masks and
   // the slots of the tables made on first use.
   void PrepareTables();
+  std::size_t TableId(int tlevel, int itheta0, std::size_t index) const {
+    return table_offset_[tlevel] + (static_cast<std::size_t>(itheta0) >> tlevel) * block_tables_ +
+           index;
+  }
+  std::size_t BlockSweptIndexOf(int level, int ra, int rb) const {
+    return block_index_[(((static_cast<std::size_t>(level) << shift_) + ra) << shift_) + rb];
+  }
+  // Enters `g` in `ref` (every thread that made or found it stores the same values) and returns
+  // its CellTable.
+  static CellTable Publish(TableRef& ref, const CellGroups& g);
   // Table `index` of the theta block (tlevel >= 1, itheta0), made on first use from its two
   // halves' tables (half_table(itheta0 of the half), of level tlevel - 1): united, or their
   // common bits.

@@ -71,7 +71,7 @@ class PartEvaluator {
       const int mask = rotations_->lattice().subdivisions - 1;
       return hit_weight_ *
              cluster_->HitsGrouped(
-                 rotations_->SweptBlockGroups(tlevel, itheta, level, a & mask, b & mask), a, b);
+                 rotations_->SweptTable(tlevel, itheta, level, a & mask, b & mask), a, b);
     }
     const RotatedTemplate& r = rotations_->GetBlock(tlevel, itheta);
     if (Pairs(r, a, b, level)) {
@@ -87,8 +87,8 @@ class PartEvaluator {
     int part[4];
     if (Swept(level) && size % s == 0) {  // the four share a residue: one table.
       cluster_->HitsGrouped4(
-          rotations_->SweptBlockGroups(tlevel, itheta, level, a & (s - 1), b & (s - 1)), a, b,
-          size / s, part);
+          rotations_->SweptTable(tlevel, itheta, level, a & (s - 1), b & (s - 1)), a, b, size / s,
+          part);
       for (int k = 0; k < 4; ++k) out[k] += hit_weight_ * part[k];
       return;
     }
@@ -110,9 +110,9 @@ class PartEvaluator {
   void Prefetch(int tlevel, int itheta, int a, int b, int level) const {
     if (!swept_ok_ || level > TemplateRotations::kSweptLevels) return;
     const int mask = rotations_->lattice().subdivisions - 1;
-    const CellGroups& g = rotations_->SweptBlockGroups(tlevel, itheta, level, a & mask, b & mask);
-    const std::uint64_t* w = g.words.data();
-    const int n = std::min(static_cast<int>(g.words.size()), kPrefetchWords);
+    const CellTable g = rotations_->SweptTable(tlevel, itheta, level, a & mask, b & mask);
+    const std::uint64_t* w = g.words;
+    const int n = std::min(g.size, kPrefetchWords);
     for (int i = 0; i < n; i += 8) __builtin_prefetch(w + i);
   }
 
@@ -128,8 +128,7 @@ class PartEvaluator {
     if (tlevel > 0) {  // the voxels every rotation of the block places at (a, b).
       const int mask = rotations_->lattice().subdivisions - 1;
       return free_weight_ *
-             free_->HitsGrouped(rotations_->CommonBlockGroups(tlevel, itheta, a & mask, b & mask),
-                                a, b);
+             free_->HitsGrouped(rotations_->CommonTable(tlevel, itheta, a & mask, b & mask), a, b);
     }
     const RotatedTemplate& r = rotations_->Get(itheta);
     if (Pairs(r, a, b, level)) {
@@ -143,7 +142,7 @@ class PartEvaluator {
   void AddCounts(int itheta, int a, int b, int* hits, int* free_hits) const {
     if (grouped_) {
       const int mask = rotations_->lattice().subdivisions - 1;
-      const CellGroups& g = rotations_->Groups(itheta, a & mask, b & mask);
+      const CellTable g = rotations_->SweptTable(0, itheta, 0, a & mask, b & mask);
       *hits += cluster_->HitsGrouped(g, a, b);
       *free_hits += free_ != nullptr ? free_->HitsGrouped(g, a, b) : 0;
       return;

@@ -305,7 +305,7 @@ TEST(ColumnOccupancyTest, SweptGroupsCountTheVoxelsTheBlockReaches) {
       nonzero += swept > 0 ? 1 : 0;
       if (size % s == 0) {
         int four[4];
-        occ.HitsGrouped4(g, a, b, size / s, four);
+        occ.HitsGrouped4(g.table(), a, b, size / s, four);
         for (int q = 0; q < 4; ++q) {
           EXPECT_EQ(four[q], occ.HitsGrouped(g, a + (q / 2) * size, b + (q % 2) * size))
               << "quarter " << q;
@@ -394,6 +394,52 @@ TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
   EXPECT_GT(lazy.block_extent(4), lazy.block_extent(1));
   EXPECT_GT(lazy.block_extent(1), 0);
   EXPECT_EQ(lazy.block_extent(0), 0);
+}
+
+// The directory of SweptTable and CommonTable returns each table's own words, run count and
+// size (those of SweptBlockGroups and CommonBlockGroups), on first use (the slow way, which
+// enters it) and after, for every theta level, block, translation level and residue, at three
+// subdivisions.
+TEST(ColumnOccupancyTest, TableDirectoryGivesEveryTableItsOwn) {
+  int checked = 0;
+  for (const int s : {2, 4, 8}) {
+    PoseLattice lattice;
+    lattice.angle_steps = 40;  // the last block of 16 holds 8 headings.
+    lattice.subdivisions = s;
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(5), "t", lattice.resolution_m);
+    const TemplateRotations rot(tpl, lattice);
+    for (int pass = 0; pass < 2; ++pass) {
+      for (int t = 0; t < TemplateRotations::kThetaLevels; ++t) {
+        for (int first = 0; first < lattice.angle_steps; first += 1 << t) {
+          for (int level = 0; level <= TemplateRotations::kSweptLevels; ++level) {
+            const int step = level == 0 ? 1 : std::min(1 << level, s);
+            for (int ra = 0; ra < s; ra += step) {
+              for (int rb = 0; rb < s; rb += step) {
+                const CellTable got = rot.SweptTable(t, first, level, ra, rb);
+                const CellGroups& want = rot.SweptBlockGroups(t, first, level, ra, rb);
+                ASSERT_EQ(got.words, want.words.data())
+                    << "s " << s << " theta level " << t << " block " << first << " level " << level
+                    << " residue " << ra << "," << rb << " pass " << pass;
+                ASSERT_EQ(got.runs, want.runs);
+                ASSERT_EQ(got.size, static_cast<int>(want.words.size()));
+                ++checked;
+                if (level != 0) continue;
+                const CellTable common = rot.CommonTable(t, first, ra, rb);
+                const CellGroups& common_want = rot.CommonBlockGroups(t, first, ra, rb);
+                ASSERT_EQ(common.words, common_want.words.data())
+                    << "s " << s << " theta level " << t << " block " << first << " residue " << ra
+                    << "," << rb << " pass " << pass;
+                ASSERT_EQ(common.runs, common_want.runs);
+                ASSERT_EQ(common.size, static_cast<int>(common_want.words.size()));
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 3000);
 }
 
 // Under the sanitizers every third scene (still every max_level and both subdivisions): the
