@@ -1,7 +1,9 @@
 #include "core/depth/cloud_validation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -45,6 +47,48 @@ TEST(CloudValidationTest, InfiniteAndHugeCoordinatesNameThePoint) {
       EXPECT_EQ(s.error().code, ErrorCode::kInvalidArgument);
       EXPECT_NE(s.error().message.find("point 7 "), std::string::npos) << s.error().message;
       EXPECT_NE(s.error().message.find("2 of 10"), std::string::npos) << s.error().message;
+    }
+  }
+}
+
+// Large clouds (the sixteen-point path where the CPU has it): the count of points that are not
+// missing equals a straightforward count, and one offending point anywhere, alone or among
+// others, is named with the number of them.
+TEST(CloudValidationTest, LargeCloudsCountAndNameLikeTheDefinition) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-5.0f, 5.0f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (const int n : {1000, 1003, 307200}) {
+    PointCloud cloud;
+    size_t expected_finite = 0;
+    for (int i = 0; i < n; ++i) {
+      Eigen::Vector3f p(u(rng), u(rng), u(rng));
+      if (i % 13 == 0) p[i % 3] = nan;
+      if (i % 97 == 0) p = Eigen::Vector3f(-1000.0f, 1000.0f, 999.0f);  // on the limit: fine.
+      expected_finite += p.array().isNaN().any() ? 0 : 1;
+      cloud.points.push_back(p);
+    }
+    std::size_t finite = 0;
+    ASSERT_TRUE(ValidateCloud(cloud, {}, &finite).ok()) << n;
+    EXPECT_EQ(finite, expected_finite) << n;
+    for (const int at : {0, 17, n / 2 + 5, n - 1}) {
+      PointCloud bad = cloud;
+      bad.points[at] = Eigen::Vector3f(0.0f, (at % 2) ? 1000.5f : -INFINITY, 1.0f);
+      const Status one = ValidateCloud(bad);
+      ASSERT_FALSE(one.ok()) << n << " at " << at;
+      EXPECT_NE(one.error().message.find("point " + std::to_string(at) + " "), std::string::npos)
+          << one.error().message;
+      EXPECT_NE(one.error().message.find("1 of " + std::to_string(n)), std::string::npos)
+          << one.error().message;
+      bad.points[n - 2] = Eigen::Vector3f(2000.0f, 0.0f, 0.0f);
+      const Status two = ValidateCloud(bad);
+      ASSERT_FALSE(two.ok());
+      const int first = std::min(at, n - 2);
+      EXPECT_NE(two.error().message.find("point " + std::to_string(first) + " "), std::string::npos)
+          << two.error().message;
+      EXPECT_NE(two.error().message.find((at == n - 2 ? "1 of " : "2 of ") + std::to_string(n)),
+                std::string::npos)
+          << two.error().message;
     }
   }
 }
