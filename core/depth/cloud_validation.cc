@@ -56,12 +56,7 @@ std::string Describe(const Eigen::Vector3f& p) {
   return true;
 }
 
-bool HasAvx512() {
-  static const bool has = __builtin_cpu_supports("avx512f");
-  return has;
-}
 #else
-bool HasAvx512() { return false; }
 bool CountWithinAvx512(const PointCloud&, float, size_t*) { return false; }
 #endif
 
@@ -76,7 +71,7 @@ Status ValidateCloud(const PointCloud& cloud, const CloudLimits& limits,
   }
   const float limit = static_cast<float>(limits.max_abs_coordinate_m);
   size_t valid_within = 0;
-  if (HasAvx512() && CountWithinAvx512(cloud, limit, &valid_within)) {
+  if (PointLanesAvailable() && CountWithinAvx512(cloud, limit, &valid_within)) {
     if (finite_points != nullptr) *finite_points = valid_within;
     return Status::Ok();
   }

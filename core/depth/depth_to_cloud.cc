@@ -150,12 +150,7 @@ size_t ProjectRowScalar(const Projection& p, int v, int u_begin, Eigen::Vector3f
   return n;
 }
 
-bool HasAvx512() {
-  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw");
-  return has;
-}
 #else
-bool HasAvx512() { return false; }
 size_t ProjectRowsAvx512(const Projection&, Eigen::Vector3f*) { return 0; }
 #endif
 
@@ -167,7 +162,7 @@ Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics
   PointCloud cloud = Allocate(p);
   Eigen::Vector3f* out = cloud.points.data();
   size_t n = 0;
-  if (vectorised && p.stride == 1 && HasAvx512()) {
+  if (vectorised && p.stride == 1 && PointLanesAvailable()) {
     n = ProjectRowsAvx512(p, out);
   } else {
     for (int v = 0; v < depth.height; v += p.stride) n = ProjectRowScalar(p, v, 0, out, n);
@@ -188,6 +183,6 @@ Result<PointCloud> DepthToCloudScalar(const DepthImage& depth, const Intrinsics&
   return Project(depth, intrinsics, options, /*vectorised=*/false);
 }
 
-bool DepthToCloudVectorised() { return HasAvx512(); }
+bool DepthToCloudVectorised() { return PointLanesAvailable(); }
 
 }  // namespace hpose

@@ -78,12 +78,7 @@ size_t SelectRange(const PointCloud& cloud, const GroundBand& band, size_t begin
   return SelectRange(cloud, band, i, size, out, index, n);
 }
 
-bool HasAvx512() {
-  static const bool has = __builtin_cpu_supports("avx512f");
-  return has;
-}
 #else
-bool HasAvx512() { return false; }
 size_t SelectAvx512(const PointCloud& cloud, const GroundBand& band, Eigen::Vector3f* out,
                     int* index) {
   return SelectRange(cloud, band, 0, cloud.points.size(), out, index, 0);
@@ -101,7 +96,7 @@ void Select(const PointCloud& cloud, const GroundBand& band, std::vector<Eigen::
     index_at = index->data() + start;
   }
   Eigen::Vector3f* out_at = out->data() + start;
-  const size_t n = vectorised && HasAvx512()
+  const size_t n = vectorised && PointLanesAvailable()
                        ? SelectAvx512(cloud, band, out_at, index_at)
                        : SelectRange(cloud, band, 0, cloud.points.size(), out_at, index_at, 0);
   out->resize(start + n);
@@ -120,6 +115,6 @@ void SelectGroundBandScalar(const PointCloud& cloud, const GroundBand& band,
   Select(cloud, band, out, index, /*vectorised=*/false);
 }
 
-bool GroundBandVectorised() { return HasAvx512(); }
+bool GroundBandVectorised() { return PointLanesAvailable(); }
 
 }  // namespace hpose

@@ -4,7 +4,8 @@
 // Internal to core/depth: sixteen points of a cloud (Eigen::Vector3f, 12 bytes each, packed)
 // as three AVX-512 registers of their x, y and z, for the passes over whole clouds that take
 // sixteen points a step. Only on x86-64 with GCC or Clang (HPOSE_POINT_LANES defined); the
-// functions carry their own target, so callers need AVX-512F at run time, nothing at build.
+// functions carry their own target, so they need nothing at build time, and run only where
+// PointLanesAvailable().
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -12,7 +13,25 @@
 #include <cstdint>
 
 #define HPOSE_POINT_LANES 1
+#endif
 
+namespace hpose {
+
+// Whether this CPU runs the sixteen-point passes of core/depth: AVX-512 F, BW and DQ, and AVX2
+// (what their targets name). Checked once.
+inline bool PointLanesAvailable() {
+#ifdef HPOSE_POINT_LANES
+  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                          __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
+}  // namespace hpose
+
+#ifdef HPOSE_POINT_LANES
 namespace hpose {
 
 struct PointLanes {
@@ -97,5 +116,5 @@ class PointInterleaver {
 
 }  // namespace hpose
 
-#endif
+#endif  // HPOSE_POINT_LANES
 #endif  // HPOSE_CORE_DEPTH_POINT_LANES_H_

@@ -208,12 +208,7 @@ __attribute__((target_clones("avx2", "default"))) void SlopeExtent(const Eigen::
   }
 }
 
-bool HasAvx512() {
-  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
-  return has;
-}
 #else
-bool HasAvx512() { return false; }
 constexpr auto* BinNearestAvx512 = &BinNearest;
 constexpr auto* SlopeExtentAvx512 = &SlopeExtent;
 #endif
@@ -246,14 +241,14 @@ RangeImage RangeImage::Build(const PointCloud& cloud, double focal_px, bool wide
 }
 
 RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
-  return Build(cloud, focal_px, HasAvx512());
+  return Build(cloud, focal_px, PointLanesAvailable());
 }
 
 RangeImage RangeImage::FromCloudFourLanes(const PointCloud& cloud, double focal_px) {
   return Build(cloud, focal_px, false);
 }
 
-bool RangeImage::SixteenLanes() { return HasAvx512(); }
+bool RangeImage::SixteenLanes() { return PointLanesAvailable(); }
 
 bool RangeImage::Covers(const Eigen::Vector3d& p) const {
   return p.z() > 1e-3 && CoversRay(p.x() / p.z(), p.y() / p.z());

@@ -75,12 +75,7 @@ void PackKeysScalar(const Eigen::Vector3f* points, size_t n, float inv_leaf, std
   PackKeysScalar(points + i, n - i, inv_leaf, keys + i);
 }
 
-bool HasAvx512() {
-  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx2");
-  return has;
-}
 #else
-bool HasAvx512() { return false; }
 constexpr auto* PackKeysAvx512 = &PackKeysScalar;
 #endif
 
@@ -126,8 +121,8 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
   // Every point's key first, so that the loop below can ask for the slot of a key kAhead points
   // on while it works on this one: the probes of a 640x480 frame's table miss the cache.
   std::vector<std::uint64_t> point_keys(points.size());
-  (HasAvx512() ? PackKeysAvx512 : PackKeysScalar)(points.data(), points.size(), inv_leaf,
-                                                  point_keys.data());
+  (PointLanesAvailable() ? PackKeysAvx512 : PackKeysScalar)(points.data(), points.size(), inv_leaf,
+                                                            point_keys.data());
   constexpr size_t kAhead = 16;
   // Depth-camera clouds come in scan order, so consecutive points often share a voxel: the
   // last key is remembered to skip the table lookup.
