@@ -106,6 +106,14 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
                          FloorDiv(sub_cell.y() + iy, subdivisions), sub_cell.z());
 }
 
+// What a search reads of a CellGroups: its words (the headers, then the masks), how many runs
+// and how many words.
+struct CellTable {
+  const std::uint64_t* words = nullptr;
+  int runs = 0;
+  int size = 0;
+};
+
 // A rotation's columns grouped by the cell they land in at translations with one residue
 // (ix mod S, iy mod S), S a power of two: per group the cell offset (cx, cy; added to the
 // translation's cell (ix >> log2 S, iy >> log2 S) minus the residue's) and the union of the
@@ -114,13 +122,6 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
 // row by row in runs of at most kMaxRun consecutive cells of one row: run r covers cells
 // (run_cx[r] + i, run_cy[r]) for i < run_len[r], and `masks` holds one word per cell, run after
 // run (HitsGrouped reads a run as consecutive words).
-// What a search reads of a CellGroups: its words (headers, then masks) and how many runs.
-struct CellTable {
-  const std::uint64_t* words = nullptr;
-  int runs = 0;
-  int size = 0;  // words.
-};
-
 struct CellGroups {
   static constexpr int kMaxRun = 8;
   // The runs' header words (RunHeader, gather_sums.h), then every cell's mask, run after run:
