@@ -162,6 +162,7 @@ Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics
   PointCloud cloud = Allocate(p);
   Eigen::Vector3f* out = cloud.points.data();
   size_t n = 0;
+  if (cloud.points.empty()) return cloud;  // (no storage to point into)
   if (vectorised && p.stride == 1 && PointLanesAvailable()) {
     n = ProjectRowsAvx512(p, out);
   } else {

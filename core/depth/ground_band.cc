@@ -87,6 +87,7 @@ size_t SelectAvx512(const PointCloud& cloud, const GroundBand& band, Eigen::Vect
 
 void Select(const PointCloud& cloud, const GroundBand& band, std::vector<Eigen::Vector3f>* out,
             std::vector<int>* index, bool vectorised) {
+  if (cloud.points.empty()) return;  // (and no storage to point into)
   // Room for every point, then cut to those kept.
   const size_t start = out->size();
   out->resize(start + cloud.points.size());

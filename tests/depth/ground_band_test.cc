@@ -66,6 +66,22 @@ TEST(GroundBandTest, KeepsWhatTheDefinitionKeepsInOrder) {
   EXPECT_LT(k, s.cloud.points.size() - 500);
 }
 
+// An empty cloud adds nothing (and what the output held stays); a cloud shorter than sixteen
+// points takes the scalar loop alone.
+TEST(GroundBandTest, EmptyAndShortClouds) {
+  const Scene s = RandomScene(5, 7);
+  std::vector<Eigen::Vector3f> out(2, Eigen::Vector3f::Ones());
+  std::vector<int> index(2, 4);
+  SelectGroundBand(PointCloud(), s.band, &out, &index);
+  EXPECT_EQ(out.size(), 2u);
+  EXPECT_EQ(index, std::vector<int>(2, 4));
+  std::vector<Eigen::Vector3f> ref;
+  SelectGroundBand(s.cloud, s.band, &out);
+  SelectGroundBandScalar(s.cloud, s.band, &ref);
+  ASSERT_EQ(out.size(), 2 + ref.size());
+  for (size_t k = 0; k < ref.size(); ++k) EXPECT_EQ(out[2 + k], ref[k]);
+}
+
 // The sixteen-point path against the scalar reference, to the bit, appending after what the
 // output already holds.
 TEST(GroundBandTest, VectorisedEqualsTheScalarReferenceToTheBit) {
