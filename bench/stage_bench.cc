@@ -1,11 +1,12 @@
 // Cost of a frame's stages outside the pose search: depth to cloud, floor (a fit on every frame
 // and FloorTracker, which reuses the last floor while it still fits), clustering (bucket grid and
-// PCL's kd-tree, the reference) and the range image of the free-space score. Runs on the
+// PCL's kd-tree, the reference), the range image of the free-space score and the free-space cells
+// around every cluster (FreeSpaceCells and its reference). Runs on the
 // simulated 640x480 frames of frame_bench (a sequence from one fixed sensor mount) and on any
 // real clouds given with --cloud (each replayed --repeat times as a still sequence). Every
 // variant runs on every frame in turn, so drift on a shared machine hits all alike. It also
 // checks that the fast paths agree with the references (same clusters; tracked floor within
-// 1 cm and 1 degree of a fresh fit) and says so.
+// 1 cm and 1 degree of a fresh fit; the same free-space cells) and says so.
 // Pin it to one core for the documented numbers:
 //   taskset -c 0 stage_bench [--frames N] [--clutter N] [--repeat N] [--cloud FILE]...
 #include <algorithm>
@@ -23,6 +24,8 @@
 #include "core/depth/floor_tracker.h"
 #include "core/depth/range_image.h"
 #include "core/io/cloud_io.h"
+#include "core/scoring/free_space.h"
+#include "core/scoring/pose_scorer.h"
 
 namespace hpose::bench {
 namespace {
@@ -48,6 +51,7 @@ struct Table {
   int refits = 0;
   int cluster_mismatches = 0;
   int cluster_count = 0;
+  int free_mismatches = 0;
   double worst_floor_angle_deg = 0.0;
   double worst_floor_height_mm = 0.0;
   // Simulated frames only: worst error against the true mount, of a fit on every frame and of
@@ -128,6 +132,39 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
   table->At("range image").push_back(range_ms);
   table->At("total: cloud + FloorTracker + grid + range image")
       .push_back(cloud_ms + track_ms + cluster_ms + range_ms);
+
+  // Free space around every cluster, as the estimator asks for it: the cluster's columns grown
+  // by kFreeGrowCells on every side (about a Nao's reach: the search's origin margin), every
+  // layer from the floor to two above the cluster's top.
+  constexpr int kFreeGrowCells = 16;
+  const double res = options.lattice.resolution_m;
+  const Eigen::Isometry3d sensor_from_ground = tracked->ground_from_sensor.inverse();
+  double free_ms = 0.0, free_reference_ms = 0.0;
+  bool same = true;
+  for (const Cluster& c : *fast) {
+    const ClusterVoxels voxels = VoxeliseCluster(c.points, res);
+    if (voxels.cells.empty()) continue;
+    FreeSpaceRegion region;
+    region.core_lo = region.core_hi = voxels.cells.front().head<2>();
+    int top = 0;
+    for (const Eigen::Vector3i& v : voxels.cells) {
+      region.core_lo = region.core_lo.cwiseMin(v.head<2>());
+      region.core_hi = region.core_hi.cwiseMax(v.head<2>());
+      top = std::max(top, v.z());
+    }
+    region.grow.assign(top + 3, kFreeGrowCells);
+    ClusterVoxels free, reference_free;
+    free_ms += TimeMs(
+        [&] { free = FreeSpaceCells(range, sensor_from_ground, region, res, options.free_space); });
+    free_reference_ms += TimeMs([&] {
+      reference_free =
+          FreeSpaceCellsReference(range, sensor_from_ground, region, res, options.free_space);
+    });
+    same = same && free.cells == reference_free.cells;
+  }
+  table->At("free-space cells, every cluster").push_back(free_ms);
+  table->At("free-space cells (reference)").push_back(free_reference_ms);
+  table->free_mismatches += same ? 0 : 1;
   return Status::Ok();
 }
 
@@ -141,9 +178,10 @@ void Print(const Table& t) {
   }
   std::printf(
       "\nFloorTracker refitted on %d of %d frames; tracked floor vs a fresh fit: worst %.2f deg, "
-      "%.1f mm. Clusters: %d, grid vs PCL differ on %d frame(s).\n",
+      "%.1f mm. Clusters: %d, grid vs PCL differ on %d frame(s). Free-space cells differ from "
+      "the reference's on %d frame(s).\n",
       t.refits, t.frames, t.worst_floor_angle_deg, t.worst_floor_height_mm, t.cluster_count,
-      t.cluster_mismatches);
+      t.cluster_mismatches, t.free_mismatches);
   if (t.has_truth) {
     std::printf(
         "Against the true mount, worst over the frames: fit every frame %.2f deg, %.1f mm; "
@@ -171,7 +209,8 @@ int Run(int argc, char** argv) {
     } else {
       std::printf(
           "usage: stage_bench [--frames N] [--clutter N] [--repeat N] [--cloud FILE]...\n"
-          "Times the non-search stages of a frame (cloud, floor, clustering, range image).\n"
+          "Times the non-search stages of a frame (cloud, floor, clustering, range image,\n"
+          "free-space cells).\n"
           "  --frames N   simulated 640x480 frames (30); 0 runs only the --cloud files\n"
           "  --clutter N  clutter objects per simulated frame (4)\n"
           "  --repeat N   times each --cloud file is replayed as a still sequence (10)\n"

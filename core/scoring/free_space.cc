@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <vector>
+
+#include "core/depth/point_lanes.h"
 
 namespace hpose {
 namespace {
@@ -36,44 +39,161 @@ int MostGrow(const FreeSpaceRegion& region) {
   return region.grow.empty() ? -1 : *std::max_element(region.grow.begin(), region.grow.end());
 }
 
-}  // namespace
+// What the vectorised forms share: the box of columns and layers the region spans, the z terms
+// of `r * centre` once per height and each lane's growth, in groups of `lanes` heights (the
+// padding lanes never in the region).
+struct Sweep {
+  Eigen::Vector3i lo, hi;
+  int groups = 0;
+  // r * centre + t sums its terms in this order: ((r0 cx + r1 cy) + r2 cz) + t; the x and y
+  // terms once per column, the z terms (rz0, rz1, rz2) once per height.
+  Eigen::Matrix3d r;
+  Eigen::Vector3d t;
+  std::vector<double> rz0, rz1, rz2;
+  std::vector<long long> grow;  // per lane: the layer's growth, -1 for padding.
+  std::vector<int> group_grow;  // per group: its lanes' largest growth.
+};
 
-__attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCells(
+// The sweep of `region`, or false when it holds no cell or the range image is empty.
+bool MakeSweep(const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
+               const FreeSpaceRegion& region, double resolution_m, int lanes, Sweep* s) {
+  const int most = MostGrow(region);
+  if (most < 0 || region.core_hi.x() < region.core_lo.x() ||
+      region.core_hi.y() < region.core_lo.y()) {
+    return false;
+  }
+  if (range.width() == 0 || range.height() == 0) return false;
+  s->lo = Eigen::Vector3i(region.core_lo.x() - most, region.core_lo.y() - most, region.z_lo);
+  s->hi = Eigen::Vector3i(region.core_hi.x() + most, region.core_hi.y() + most,
+                          region.z_lo + static_cast<int>(region.grow.size()) - 1);
+  s->r = sensor_from_ground.linear();
+  s->t = sensor_from_ground.translation();
+  const int nz = s->hi.z() - s->lo.z() + 1;
+  s->groups = (nz + lanes - 1) / lanes;
+  const int padded = lanes * s->groups;
+  s->rz0.resize(padded);
+  s->rz1.resize(padded);
+  s->rz2.resize(padded);
+  for (int k = 0; k < padded; ++k) {
+    const double cz = (s->lo.z() + k + 0.5) * resolution_m;
+    s->rz0[k] = s->r(0, 2) * cz;
+    s->rz1[k] = s->r(1, 2) * cz;
+    s->rz2[k] = s->r(2, 2) * cz;
+  }
+  s->grow.assign(padded, -1);
+  for (int k = 0; k < nz; ++k) s->grow[k] = region.grow[k];
+  s->group_grow.assign(s->groups, -1);
+  for (int k = 0; k < nz; ++k) {
+    s->group_grow[k / lanes] = std::max(s->group_grow[k / lanes], region.grow[k]);
+  }
+  return true;
+}
+
+#ifdef HPOSE_POINT_LANES
+// Each operation rounded on its own (the _round forms, which the compiler never fuses into a
+// multiply-add); masked forms, as the unmasked ones start from an undefined register.
+[[gnu::target("avx512f")]] inline __m512d Add(__m512d a, __m512d b) {
+  return _mm512_maskz_add_round_pd(0xFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+[[gnu::target("avx512f")]] inline __m512d Mul(__m512d a, __m512d b) {
+  return _mm512_maskz_mul_round_pd(0xFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+[[gnu::target("avx512f")]] inline __m512d Div(__m512d a, __m512d b) {
+  return _mm512_maskz_div_round_pd(0xFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+
+// FreeSpaceCellsFourLanes eight heights a step: the same operations in the same order, as
+// rounded AVX-512 arithmetic (never fused), the range image read by a masked gather (lanes out
+// of view read nothing and are not kept), and the kept heights compressed into the column's list
+// without a branch.
+[[gnu::target("avx2,avx512f,avx512vl,avx512dq")]] ClusterVoxels FreeSpaceCellsEightLanesAvx512(
     const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
     const FreeSpaceRegion& region, double resolution_m, const FreeSpaceOptions& options) {
   ClusterVoxels free;
   free.resolution_m = resolution_m;
-  const int most = MostGrow(region);
-  if (most < 0 || region.core_hi.x() < region.core_lo.x() ||
-      region.core_hi.y() < region.core_lo.y()) {
-    return free;
+  Sweep s;
+  if (!MakeSweep(range, sensor_from_ground, region, resolution_m, 8, &s)) return free;
+  const __m512d focal = _mm512_set1_pd(range.focal()), u0 = _mm512_set1_pd(range.u0());
+  const __m512d v0 = _mm512_set1_pd(range.v0());
+  const __m512d width = _mm512_set1_pd(range.width()), height = _mm512_set1_pd(range.height());
+  const __m512d tx = _mm512_set1_pd(s.t.x()), ty = _mm512_set1_pd(s.t.y());
+  const __m512d tz = _mm512_set1_pd(s.t.z());
+  const __m512d margin = _mm512_set1_pd(options.margin_m);
+  const __m512d sigma_factor = _mm512_set1_pd(options.sigma_factor);
+  const __m512d axial = _mm512_set1_pd(1.425e-3), min_depth = _mm512_set1_pd(1e-3);
+  const __m512d zero = _mm512_setzero_pd();
+  const __m256i row = _mm256_set1_epi32(range.width());
+  const __m256i lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const float* depth = range.depth_data();
+  // One column's kept heights (a whole group's worth of slack for the last store).
+  std::vector<std::int32_t> kept(8 * s.groups + 8);
+  for (int x = s.lo.x(); x <= s.hi.x(); ++x) {
+    const double cx = (x + 0.5) * resolution_m;
+    for (int y = s.lo.y(); y <= s.hi.y(); ++y) {
+      const double cy = (y + 0.5) * resolution_m;
+      const __m512d a0 = _mm512_set1_pd(s.r(0, 0) * cx + s.r(0, 1) * cy);
+      const __m512d a1 = _mm512_set1_pd(s.r(1, 0) * cx + s.r(1, 1) * cy);
+      const __m512d a2 = _mm512_set1_pd(s.r(2, 0) * cx + s.r(2, 1) * cy);
+      const int outside = OutsideCore(region, x, y);
+      const __m512i outside8 = _mm512_set1_epi64(outside);
+      int count = 0;
+      for (int g = 0; g < s.groups; ++g) {
+        if (s.group_grow[g] < outside) continue;
+        const __mmask8 real = _mm512_cmpge_epi64_mask(_mm512_loadu_si512(&s.grow[8 * g]), outside8);
+        const __m512d sx = Add(Add(a0, _mm512_loadu_pd(&s.rz0[8 * g])), tx);
+        const __m512d sy = Add(Add(a1, _mm512_loadu_pd(&s.rz1[8 * g])), ty);
+        const __m512d sz = Add(Add(a2, _mm512_loadu_pd(&s.rz2[8 * g])), tz);
+        const __m512d uf = Add(Mul(Div(sx, sz), focal), u0);
+        const __m512d vf = Add(Mul(Div(sy, sz), focal), v0);
+        const __mmask8 inside = _mm512_mask_cmp_pd_mask(
+            _mm512_mask_cmp_pd_mask(
+                _mm512_mask_cmp_pd_mask(
+                    _mm512_mask_cmp_pd_mask(
+                        _mm512_mask_cmp_pd_mask(real, sz, min_depth, _CMP_GT_OQ), uf, zero,
+                        _CMP_GE_OQ),
+                    vf, zero, _CMP_GE_OQ),
+                uf, width, _CMP_LT_OQ),
+            vf, height, _CMP_LT_OQ);
+        // Within the image the truncation is the floor, and fits an int.
+        const __m256i bin =
+            _mm256_add_epi32(_mm256_mullo_epi32(_mm512_maskz_cvttpd_epi32(0xFF, vf), row),
+                             _mm512_maskz_cvttpd_epi32(0xFF, uf));
+        const __m512d seen = _mm512_maskz_cvtps_pd(
+            0xFF, _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), inside, bin, depth, 4));
+        const __m512d needed = Add(Add(sz, margin), Mul(sigma_factor, Mul(Mul(axial, seen), seen)));
+        const __mmask8 keep = _mm512_mask_cmp_pd_mask(
+            _mm512_mask_cmp_pd_mask(inside, seen, zero, _CMP_GT_OQ), seen, needed, _CMP_GT_OQ);
+        // Cells are sorted (x, y, z) as VoxeliseCluster sorts them.
+        const __m256i heights = _mm256_add_epi32(_mm256_set1_epi32(s.lo.z() + 8 * g), lane_index);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(kept.data() + count),
+                            _mm256_maskz_compress_epi32(keep, heights));
+        count += __builtin_popcount(keep);
+      }
+      for (int k = 0; k < count; ++k) free.cells.emplace_back(x, y, kept[k]);
+    }
   }
-  if (range.width() == 0 || range.height() == 0) return free;
-  const Eigen::Vector3i lo(region.core_lo.x() - most, region.core_lo.y() - most, region.z_lo);
-  const Eigen::Vector3i hi(region.core_hi.x() + most, region.core_hi.y() + most,
-                           region.z_lo + static_cast<int>(region.grow.size()) - 1);
-  const Eigen::Matrix3d r = sensor_from_ground.linear();
-  const Eigen::Vector3d t = sensor_from_ground.translation();
-  // r * centre + t sums its terms in this order: ((r0 cx + r1 cy) + r2 cz) + t; the x and y
-  // terms once per column, the z terms once per height (heights padded to whole groups of 4).
-  const int nz = hi.z() - lo.z() + 1;
-  const int groups = (nz + 3) / 4;
-  std::vector<double> rz0(4 * groups), rz1(4 * groups), rz2(4 * groups);
-  for (int k = 0; k < 4 * groups; ++k) {
-    const double cz = (lo.z() + k + 0.5) * resolution_m;
-    rz0[k] = r(0, 2) * cz;
-    rz1[k] = r(1, 2) * cz;
-    rz2[k] = r(2, 2) * cz;
-  }
+  return free;
+}
+#endif
+
+}  // namespace
+
+__attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCellsFourLanes(
+    const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
+    const FreeSpaceRegion& region, double resolution_m, const FreeSpaceOptions& options) {
+  ClusterVoxels free;
+  free.resolution_m = resolution_m;
+  Sweep sweep;
+  if (!MakeSweep(range, sensor_from_ground, region, resolution_m, 4, &sweep)) return free;
+  const Eigen::Vector3i& lo = sweep.lo;
+  const Eigen::Vector3i& hi = sweep.hi;
+  const Eigen::Matrix3d& r = sweep.r;
+  const Eigen::Vector3d& t = sweep.t;
+  const int groups = sweep.groups;
   const double focal = range.focal(), u0 = range.u0(), v0 = range.v0();
   const double width = range.width(), height = range.height();
   const int row = range.width();
   const double margin = options.margin_m, sigma_factor = options.sigma_factor;
-  // Each lane's growth (the padding: none), and each group's largest.
-  std::vector<long long> grow(4 * groups, -1);
-  for (int k = 0; k < nz; ++k) grow[k] = region.grow[k];
-  std::vector<int> group_grow(groups, -1);
-  for (int k = 0; k < nz; ++k) group_grow[k / 4] = std::max(group_grow[k / 4], region.grow[k]);
   const float* depth = range.depth_data();
   std::vector<Eigen::Vector3i> column(4 * groups);  // one column's free cells.
   for (int x = lo.x(); x <= hi.x(); ++x) {
@@ -87,15 +207,15 @@ __attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCells(
       const Long4 outside4 = {outside, outside, outside, outside};
       int count = 0;
       for (int g = 0; g < groups; ++g) {
-        if (group_grow[g] < outside) continue;
+        if (sweep.group_grow[g] < outside) continue;
         // Loaded by memcpy (the arrays hold plain doubles), never passed by value: a 256-bit
         // vector argument would change the calling convention between the clones.
         Double4 z0, z1, z2;
         Long4 lane_grow;
-        std::memcpy(&z0, &rz0[4 * g], sizeof z0);
-        std::memcpy(&z1, &rz1[4 * g], sizeof z1);
-        std::memcpy(&z2, &rz2[4 * g], sizeof z2);
-        std::memcpy(&lane_grow, &grow[4 * g], sizeof lane_grow);
+        std::memcpy(&z0, &sweep.rz0[4 * g], sizeof z0);
+        std::memcpy(&z1, &sweep.rz1[4 * g], sizeof z1);
+        std::memcpy(&z2, &sweep.rz2[4 * g], sizeof z2);
+        std::memcpy(&lane_grow, &sweep.grow[4 * g], sizeof lane_grow);
         const Long4 real = lane_grow >= outside4;  // the lanes of this column's region.
         const Double4 sx = (a0 + z0) + t.x();
         const Double4 sy = (a1 + z1) + t.y();
@@ -124,6 +244,19 @@ __attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCells(
     }
   }
   return free;
+}
+
+bool FreeSpaceEightLanes() { return PointLanesAvailable() && __builtin_cpu_supports("avx512vl"); }
+
+ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
+                             const FreeSpaceRegion& region, double resolution_m,
+                             const FreeSpaceOptions& options) {
+#ifdef HPOSE_POINT_LANES
+  if (FreeSpaceEightLanes()) {
+    return FreeSpaceCellsEightLanesAvx512(range, sensor_from_ground, region, resolution_m, options);
+  }
+#endif
+  return FreeSpaceCellsFourLanes(range, sensor_from_ground, region, resolution_m, options);
 }
 
 ClusterVoxels FreeSpaceCellsReference(const RangeImage& range,

@@ -97,6 +97,16 @@ TEST(FreeSpaceTest, ColumnFormEqualsTheReferenceCellForCell) {
     for (size_t i = 0; i < ref.cells.size(); ++i) {
       ASSERT_EQ(fast.cells[i], ref.cells[i]) << "trial " << trial << " cell " << i;
     }
+    // The four-lane form (what CPUs without AVX-512 run; FreeSpaceCells is the eight-lane one
+    // where the CPU has it) over the same box.
+    FreeSpaceRegion box;
+    box.core_lo = lo.head<2>();
+    box.core_hi = hi.head<2>();
+    box.z_lo = lo.z();
+    box.grow.assign(hi.z() - lo.z() + 1, 0);
+    ASSERT_EQ(FreeSpaceCellsFourLanes(range, sensor_from_ground, box, res, options).cells,
+              ref.cells)
+        << "trial " << trial;
     total_free += static_cast<int>(ref.cells.size());
   }
   EXPECT_GT(total_free, 10000);  // the scenes leave plenty of free space to compare.
@@ -123,6 +133,8 @@ TEST(FreeSpaceTest, RegionGrownPerLayerEqualsTheReferenceAndTheBoxWithinIt) {
     const ClusterVoxels fast = FreeSpaceCells(range, sensor_from_ground, region, res);
     const ClusterVoxels ref = FreeSpaceCellsReference(range, sensor_from_ground, region, res);
     ASSERT_EQ(fast.cells, ref.cells) << "trial " << trial;
+    ASSERT_EQ(FreeSpaceCellsFourLanes(range, sensor_from_ground, region, res).cells, ref.cells)
+        << "trial " << trial;
     // The box around the largest growth, filtered to the region.
     const int most = *std::max_element(region.grow.begin(), region.grow.end());
     const Eigen::Vector3i lo(region.core_lo.x() - most, region.core_lo.y() - most, region.z_lo);
