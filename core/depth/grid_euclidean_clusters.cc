@@ -7,6 +7,8 @@
 #include <numeric>
 #include <utility>
 
+#include "core/depth/point_lanes.h"
+
 namespace hpose {
 namespace {
 
@@ -34,10 +36,56 @@ inline float SquaredDistance(const Eigen::Vector3f& a, const Eigen::Vector3f& b)
 constexpr int kKeyBits = 21;
 constexpr std::int64_t kKeyRange = std::int64_t{1} << kKeyBits;
 
-}  // namespace
+// Points of the buckets in bucket order, as three arrays (what the distance tests read).
+struct Lanes {
+  const float* x;
+  const float* y;
+  const float* z;
+};
 
-std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& points,
-                                            double tolerance_m, int* cluster_count) {
+// Bit k set: point t0 + k (k < count <= 16) of `lanes` lies within the tolerance of `p`, by
+// SquaredDistance's test (not >= tol2).
+std::uint32_t CloseMaskScalar(const Lanes& lanes, int t0, int count, const Eigen::Vector3f& p,
+                              float tol2) {
+  std::uint32_t mask = 0;
+  for (int k = 0; k < count; ++k) {
+    const int t = t0 + k;
+    const Eigen::Vector3f q(lanes.x[t], lanes.y[t], lanes.z[t]);
+    if (!(SquaredDistance(p, q) >= tol2)) mask |= std::uint32_t{1} << k;
+  }
+  return mask;
+}
+
+#ifdef HPOSE_POINT_LANES
+// (v - a[k])^2 of the lanes in `valid`.
+[[gnu::target("avx512f")]] inline __m512 SquaredOffsets(const float* a, __mmask16 valid, float v) {
+  const __m512 t = _mm512_maskz_sub_round_ps(
+      0xFFFF, _mm512_set1_ps(v), _mm512_maskz_loadu_ps(valid, a), _MM_FROUND_CUR_DIRECTION);
+  return _mm512_maskz_mul_round_ps(0xFFFF, t, t, _MM_FROUND_CUR_DIRECTION);
+}
+
+// The same sixteen points at a time: the same products and sums in the same order, each rounded
+// on its own (the _round forms are never fused into a multiply-add).
+[[gnu::target("avx512f")]] std::uint32_t CloseMaskAvx512(const Lanes& lanes, int t0, int count,
+                                                         const Eigen::Vector3f& p, float tol2) {
+  const __mmask16 valid = static_cast<__mmask16>((std::uint32_t{1} << count) - 1);
+  const __m512 dx = SquaredOffsets(lanes.x + t0, valid, p.x());
+  const __m512 dy = SquaredOffsets(lanes.y + t0, valid, p.y());
+  const __m512 dz = SquaredOffsets(lanes.z + t0, valid, p.z());
+  const __m512 d = _mm512_maskz_add_round_ps(
+      0xFFFF, _mm512_maskz_add_round_ps(0xFFFF, dx, dy, _MM_FROUND_CUR_DIRECTION), dz,
+      _MM_FROUND_CUR_DIRECTION);
+  return _mm512_mask_cmp_ps_mask(valid, d, _mm512_set1_ps(tol2), _CMP_NGE_UQ);
+}
+#else
+constexpr auto* CloseMaskAvx512 = &CloseMaskScalar;
+#endif
+
+// GridEuclideanClusterLabels with the distance tests of CloseMask (one bucket's point against up
+// to sixteen of another's).
+template <std::uint32_t (*CloseMask)(const Lanes&, int, int, const Eigen::Vector3f&, float)>
+std::vector<int> Labels(const std::vector<Eigen::Vector3f>& points, double tolerance_m,
+                        int* cluster_count) {
   assert(tolerance_m > 0.0 && cluster_count != nullptr);
   const int n = static_cast<int>(points.size());
   std::vector<int> labels(points.size(), -1);
@@ -66,20 +114,19 @@ std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& 
   std::vector<int> parent(points.size());
   std::iota(parent.begin(), parent.end(), 0);
   const float tol2 = static_cast<float>(tolerance_m * tolerance_m);
-  // Joins the components of i and j when they are within the tolerance; true when they are
-  // (whether or not they were joined already).
-  auto unite = [&](int i, int j) {
-    if (SquaredDistance(points[i], points[j]) >= tol2) return false;
+  // Joins the components of points i and j (the lower index becomes the root).
+  auto join = [&](int i, int j) {
     int ri = Find(&parent, i), rj = Find(&parent, j);
-    if (ri == rj) return true;
+    if (ri == rj) return;
     if (ri > rj) std::swap(ri, rj);
     parent[rj] = ri;
-    return true;
   };
   if (!packable) {
     // Absurd extent for the tolerance: compare every pair (correct, slow, never hit in practice).
     for (int i = 0; i < n; ++i) {
-      for (int j = i + 1; j < n; ++j) unite(i, j);
+      for (int j = i + 1; j < n; ++j) {
+        if (!(SquaredDistance(points[i], points[j]) >= tol2)) join(i, j);
+      }
     }
   } else {
     auto pack = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
@@ -89,32 +136,67 @@ std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& 
     std::vector<std::pair<std::uint64_t, int>> order(points.size());
     for (int i = 0; i < n; ++i) order[i] = {pack(key[i].x(), key[i].y(), key[i].z()), i};
     std::sort(order.begin(), order.end());
-    // Runs of equal keys: bucket b holds order[start[b] .. start[b + 1]).
+    // Runs of equal keys: bucket b holds sorted points start[b] .. start[b + 1]; sorted point s
+    // is points[index[s]], its coordinates (xs, ys, zs)[s].
     std::vector<std::uint64_t> bucket_key;
     std::vector<int> start;
+    std::vector<int> index(n);
+    std::vector<float> xs(n), ys(n), zs(n);
     for (int k = 0; k < n; ++k) {
       if (k == 0 || order[k].first != order[k - 1].first) {
         bucket_key.push_back(order[k].first);
         start.push_back(k);
       }
+      const int i = order[k].second;
+      index[k] = i;
+      xs[k] = points[i].x();
+      ys[k] = points[i].y();
+      zs[k] = points[i].z();
     }
     start.push_back(n);
+    const Lanes lanes{xs.data(), ys.data(), zs.data()};
     const int buckets = static_cast<int>(bucket_key.size());
     // The root shared by every point of bucket b, or -1 when they lie in several components.
+    // A bucket found in one component stays in one (components only merge): `single` remembers
+    // it, and its root is then its first point's.
+    std::vector<char> single(bucket_key.size(), 0);
     auto common_root = [&](int b) {
-      const int root = Find(&parent, order[start[b]].second);
+      const int root = Find(&parent, index[start[b]]);
+      if (single[b]) return root;
       for (int s = start[b] + 1; s < start[b + 1]; ++s) {
-        if (Find(&parent, order[s].second) != root) return -1;
+        if (Find(&parent, index[s]) != root) return -1;
       }
+      single[b] = 1;
       return root;
+    };
+    // Joins sorted point s with every point of t0 .. t1 within the tolerance, or with the first
+    // one only when `first_only`; true when any was.
+    auto join_close = [&](int s, int t0, int t1, bool first_only) {
+      const Eigen::Vector3f p(xs[s], ys[s], zs[s]);
+      int root = -1;  // of s, once a close point is found.
+      for (int t = t0; t < t1; t += 16) {
+        std::uint32_t mask = CloseMask(lanes, t, std::min(16, t1 - t), p, tol2);
+        for (; mask != 0; mask &= mask - 1) {
+          if (root < 0) root = Find(&parent, index[s]);
+          const int other = Find(&parent, index[t + __builtin_ctz(mask)]);
+          if (other != root) {  // the lower index becomes the root.
+            parent[std::max(root, other)] = std::min(root, other);
+            root = std::min(root, other);
+          }
+          if (first_only) return true;
+        }
+      }
+      return root >= 0;
     };
     const std::uint64_t one_y = std::uint64_t{1} << kKeyBits;
     const std::uint64_t one_x = std::uint64_t{1} << (2 * kKeyBits);
+    // Pairs inside each bucket first: most buckets are then one component, and between two
+    // such the scan stops at the first close pair.
     for (int b = 0; b < buckets; ++b) {
-      // Pairs inside the bucket.
-      for (int s = start[b]; s < start[b + 1]; ++s) {
-        for (int t = s + 1; t < start[b + 1]; ++t) unite(order[s].second, order[t].second);
-      }
+      for (int s = start[b]; s < start[b + 1]; ++s) join_close(s, s + 1, start[b + 1], false);
+    }
+    int cursor[5] = {0, 0, 0, 0, 0};
+    for (int b = 0; b < buckets; ++b) {
       // The 13 neighbour buckets after this one in key order: (0, 0, +1), then the columns
       // (0, +1), (+1, -1), (+1, 0), (+1, +1) at z - 1 .. z + 1, each a contiguous key range.
       const std::uint64_t k = bucket_key[b];
@@ -125,25 +207,21 @@ std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& 
           {k + one_x - 1, k + one_x + 1},
           {k + one_x + one_y - 1, k + one_x + one_y + 1},
       };
-      for (const auto& r : ranges) {
-        auto it = std::lower_bound(bucket_key.begin() + b + 1, bucket_key.end(), r[0]);
-        for (; it != bucket_key.end() && *it <= r[1]; ++it) {
-          const int c = static_cast<int>(it - bucket_key.begin());
+      for (int q = 0; q < 5; ++q) {
+        // The first bucket at or after the range's start: ranges move forward with b.
+        int& c0 = cursor[q];
+        c0 = std::max(c0, b + 1);
+        while (c0 < buckets && bucket_key[c0] < ranges[q][0]) ++c0;
+        for (int c = c0; c < buckets && bucket_key[c] <= ranges[q][1]; ++c) {
           // Two buckets each already inside one component: one close pair joins them and
           // nothing else can change, so the pair scan stops there (or is skipped when they are
           // already one component). Only the union-find changes, not the components.
           const int root_b = common_root(b);
           const int root_c = root_b >= 0 ? common_root(c) : -1;
           if (root_b >= 0 && root_b == root_c) continue;
-          const bool stop_at_first = root_b >= 0 && root_c >= 0;
-          bool joined = false;
-          for (int s = start[b]; s < start[b + 1] && !joined; ++s) {
-            for (int t = start[c]; t < start[c + 1]; ++t) {
-              if (unite(order[s].second, order[t].second) && stop_at_first) {
-                joined = true;
-                break;
-              }
-            }
+          const bool first_only = root_b >= 0 && root_c >= 0;
+          for (int s = start[b]; s < start[b + 1]; ++s) {
+            if (join_close(s, start[c], start[c + 1], first_only) && first_only) break;
           }
         }
       }
@@ -159,6 +237,22 @@ std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& 
     }
   }
   return labels;
+}
+
+}  // namespace
+
+bool GridEuclideanClustersVectorised() { return PointLanesAvailable(); }
+
+std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& points,
+                                            double tolerance_m, int* cluster_count) {
+  return GridEuclideanClustersVectorised()
+             ? Labels<CloseMaskAvx512>(points, tolerance_m, cluster_count)
+             : Labels<CloseMaskScalar>(points, tolerance_m, cluster_count);
+}
+
+std::vector<int> GridEuclideanClusterLabelsScalar(const std::vector<Eigen::Vector3f>& points,
+                                                  double tolerance_m, int* cluster_count) {
+  return Labels<CloseMaskScalar>(points, tolerance_m, cluster_count);
 }
 
 }  // namespace hpose

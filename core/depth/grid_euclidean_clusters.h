@@ -18,6 +18,13 @@ namespace hpose {
 std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& points,
                                             double tolerance_m, int* cluster_count);
 
+// The distance tests take sixteen points at a time with AVX-512 where the CPU has it
+// (GridEuclideanClustersVectorised()); the scalar form gives the same labels on any CPU (the
+// reference the tests compare with).
+std::vector<int> GridEuclideanClusterLabelsScalar(const std::vector<Eigen::Vector3f>& points,
+                                                  double tolerance_m, int* cluster_count);
+bool GridEuclideanClustersVectorised();
+
 }  // namespace hpose
 
 #endif  // HPOSE_CORE_DEPTH_GRID_EUCLIDEAN_CLUSTERS_H_

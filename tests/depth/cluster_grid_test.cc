@@ -98,8 +98,55 @@ TEST(GridClusteringTest, SameClustersAsPclAtExactlyTheTolerance) {
   }
 }
 
-// The labels directly: the connected components of "squared float distance below the squared
-// tolerance", numbered by their lowest index, from a brute-force pass over all pairs.
+// The connected components of "squared float distance below the squared tolerance", numbered by
+// their lowest index, from a brute-force pass over all pairs.
+std::vector<int> BruteForceLabels(const std::vector<Eigen::Vector3f>& points, double tolerance,
+                                  int* count) {
+  const int n = static_cast<int>(points.size());
+  std::vector<int> parent(n);
+  for (int i = 0; i < n; ++i) parent[i] = i;
+  std::function<int(int)> find = [&](int i) {
+    return parent[i] == i ? i : parent[i] = find(parent[i]);
+  };
+  const float tol2 = static_cast<float>(tolerance * tolerance);
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      float d = 0.0f;
+      for (int a = 0; a < 3; ++a) {
+        const float t = points[i][a] - points[j][a];
+        d += t * t;
+      }
+      if (d < tol2) {
+        const int ri = find(i), rj = find(j);
+        parent[std::max(ri, rj)] = std::min(ri, rj);
+      }
+    }
+  }
+  std::vector<int> expected(n, -1);
+  *count = 0;
+  for (int i = 0; i < n; ++i) {
+    const int r = find(i);
+    expected[i] = r == i ? (*count)++ : expected[r];
+  }
+  return expected;
+}
+
+// Both forms of the distance tests (sixteen at a time where the CPU has AVX-512, and one by one)
+// against the brute force.
+void ExpectBruteForceLabels(const std::vector<Eigen::Vector3f>& points, double tolerance,
+                            const std::string& what) {
+  int expected_count = 0;
+  const std::vector<int> expected = BruteForceLabels(points, tolerance, &expected_count);
+  int count = 0;
+  EXPECT_EQ(GridEuclideanClusterLabels(points, tolerance, &count), expected) << what;
+  EXPECT_EQ(count, expected_count) << what;
+  count = 0;
+  EXPECT_EQ(GridEuclideanClusterLabelsScalar(points, tolerance, &count), expected) << what;
+  EXPECT_EQ(count, expected_count) << what;
+  EXPECT_GT(expected_count, 1) << what;
+  EXPECT_LT(expected_count, static_cast<int>(points.size())) << what;
+}
+
 TEST(GridClusteringTest, LabelsEqualBruteForceComponents) {
   std::mt19937 rng(3);
   for (int scene = 0; scene < 20; ++scene) {
@@ -110,40 +157,56 @@ TEST(GridClusteringTest, LabelsEqualBruteForceComponents) {
     for (int i = 0; i < n; ++i)
       points.emplace_back(spread * u(rng), spread * u(rng), spread * u(rng));
     const double tolerance = spread * (0.1 + 0.03 * (scene % 5));
-    int count = 0;
-    const std::vector<int> labels = GridEuclideanClusterLabels(points, tolerance, &count);
-    ASSERT_EQ(labels.size(), points.size());
-    // Brute force.
-    std::vector<int> parent(n);
-    for (int i = 0; i < n; ++i) parent[i] = i;
-    std::function<int(int)> find = [&](int i) {
-      return parent[i] == i ? i : parent[i] = find(parent[i]);
-    };
-    const float tol2 = static_cast<float>(tolerance * tolerance);
-    for (int i = 0; i < n; ++i) {
-      for (int j = i + 1; j < n; ++j) {
-        float d = 0.0f;
-        for (int a = 0; a < 3; ++a) {
-          const float t = points[i][a] - points[j][a];
-          d += t * t;
-        }
-        if (d < tol2) {
-          const int ri = find(i), rj = find(j);
-          parent[std::max(ri, rj)] = std::min(ri, rj);
-        }
+    ExpectBruteForceLabels(points, tolerance, "scene " + std::to_string(scene));
+  }
+}
+
+// Clumps of up to 60 points, each within a bucket or two (more than the sixteen distances tested
+// at a time), in rows whose gaps lie about one tolerance apart: some clumps join, some do not.
+TEST(GridClusteringTest, CrowdedBucketsEqualBruteForceComponents) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::uniform_int_distribution<int> size(1, 60);
+  for (int scene = 0; scene < 8; ++scene) {
+    const double tolerance = 0.04;
+    std::vector<Eigen::Vector3f> points;
+    const float radius = 0.004f + 0.002f * scene;
+    // Centres a tolerance apart plus twice the radius, give or take a centimetre.
+    std::uniform_real_distribution<float> gap(0.03f, 0.05f);
+    Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+    for (int clump = 0; clump < 30; ++clump) {
+      centre.x() += gap(rng) + 2.0f * radius;
+      if (clump % 6 == 0) centre = Eigen::Vector3f(0.0f, centre.y() + 0.2f, 0.0f);
+      for (int k = size(rng); k > 0; --k) {
+        points.push_back(centre + radius * Eigen::Vector3f(u(rng), u(rng), u(rng)));
       }
     }
-    std::vector<int> expected(n, -1);
-    int expected_count = 0;
-    for (int i = 0; i < n; ++i) {
-      const int r = find(i);
-      expected[i] = r == i ? expected_count++ : expected[r];
-    }
-    EXPECT_EQ(count, expected_count) << "scene " << scene;
-    EXPECT_EQ(labels, expected) << "scene " << scene;
-    EXPECT_GT(count, 1) << "scene " << scene;
-    EXPECT_LT(count, n) << "scene " << scene;
+    ExpectBruteForceLabels(points, tolerance, "scene " + std::to_string(scene));
   }
+}
+
+// Two balls of 30 points more than a tolerance apart, in neighbouring buckets, joined only by one
+// point of the second ball's bucket that comes after all of that ball's (so beyond the first
+// sixteen distances tested at a time): one cluster.
+TEST(GridClusteringTest, ABridgeBeyondTheSixteenthPointOfABucketJoins) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-0.002f, 0.002f);
+  std::vector<Eigen::Vector3f> points;
+  for (const float x : {0.01f, 0.075f}) {  // buckets [0, 4) cm and [4, 8) cm.
+    for (int k = 0; k < 30; ++k) points.emplace_back(x + u(rng), 0.02f + u(rng), 0.02f + u(rng));
+  }
+  points.emplace_back(0.045f, 0.02f, 0.02f);  // within 4 cm of both balls.
+  const std::vector<int> one(points.size(), 0);
+  int count = 0;
+  EXPECT_EQ(GridEuclideanClusterLabels(points, 0.04, &count), one);
+  EXPECT_EQ(count, 1);
+  count = 0;
+  EXPECT_EQ(GridEuclideanClusterLabelsScalar(points, 0.04, &count), one);
+  EXPECT_EQ(count, 1);
+  // Without the bridge, two.
+  points.pop_back();
+  GridEuclideanClusterLabels(points, 0.04, &count);
+  EXPECT_EQ(count, 2);
 }
 
 TEST(GridClusteringTest, EmptyInputHasNoClusters) {
