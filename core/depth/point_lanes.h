@@ -1,11 +1,11 @@
 #ifndef HPOSE_CORE_DEPTH_POINT_LANES_H_
 #define HPOSE_CORE_DEPTH_POINT_LANES_H_
 
-// Internal to core/depth: sixteen points of a cloud (Eigen::Vector3f, 12 bytes each, packed)
-// as three AVX-512 registers of their x, y and z, for the passes over whole clouds that take
-// sixteen points a step. Only on x86-64 with GCC or Clang (HPOSE_POINT_LANES defined); the
-// functions carry their own target, so they need nothing at build time, and run only where
-// PointLanesAvailable().
+// Internal to core: sixteen points of a cloud (Eigen::Vector3f, 12 bytes each, packed) as three
+// AVX-512 registers of their x, y and z, for the passes over whole clouds that take sixteen
+// points a step, and the one CPU check of core's AVX-512 passes. Only on x86-64 with GCC or Clang
+// (HPOSE_POINT_LANES defined); the functions carry their own target, so they need nothing at build
+// time, and run only where PointLanesAvailable().
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -17,8 +17,9 @@
 
 namespace hpose {
 
-// Whether this CPU runs the sixteen-point passes of core/depth: AVX-512 F, BW and DQ, and AVX2
-// (what their targets name). Checked once.
+// Whether this CPU runs core's AVX-512 passes (the sixteen-point passes over clouds, the grid
+// clustering's distance tests; the free-space cells also ask for VL): AVX-512 F, BW and DQ, and
+// AVX2 (what their targets name). Checked once.
 inline bool PointLanesAvailable() {
 #ifdef HPOSE_POINT_LANES
   static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
