@@ -43,22 +43,21 @@ void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, st
 
 namespace {
 
-// The runs whose row lies in [cy_lo, cy_hi] (runs come in ascending rows): [first, end), and
-// where the first one's masks start.
+// The first run whose row is at least cy_lo (runs come in ascending rows), and where its masks
+// start. The sums go on from there while the rows stay within cy_hi: the runs past it are not
+// counted first in a pass of their own.
 struct RowRuns {
-  int first = 0, end = 0;
+  int first = 0;
   const std::uint64_t* masks = nullptr;
 };
 
-RowRuns RunsOfRows(const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi) {
+RowRuns RunsFromRow(const std::uint64_t* runs, int run_count, int cy_lo) {
   RowRuns out;
   out.masks = runs + run_count;
   while (out.first < run_count && RunHeaderY(runs[out.first]) < cy_lo) {
     out.masks += RunHeaderLength(runs[out.first]);
     ++out.first;
   }
-  out.end = out.first;
-  while (out.end < run_count && RunHeaderY(runs[out.end]) <= cy_hi) ++out.end;
   return out;
 }
 
@@ -68,10 +67,11 @@ HPOSE_POPCNT_CLONES
 int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                          const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi) {
   int sum = 0;
-  const RowRuns rr = RunsOfRows(runs, run_count, cy_lo, cy_hi);
+  const RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
   const std::uint64_t* masks = rr.masks;
-  for (int r = rr.first; r < rr.end; ++r) {
+  for (int r = rr.first; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
+    if (RunHeaderY(h) > cy_hi) break;
     const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
     for (int i = 0; i < len; ++i) sum += __builtin_popcountll(masks[i] & p[i]);
@@ -85,10 +85,11 @@ void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std:
                            std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
                            int run_count, int cy_lo, int cy_hi, int out[4]) {
   int s00 = 0, s01 = 0, s10 = 0, s11 = 0;
-  const RowRuns rr = RunsOfRows(runs, run_count, cy_lo, cy_hi);
+  const RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
   const std::uint64_t* masks = rr.masks;
-  for (int r = rr.first; r < rr.end; ++r) {
+  for (int r = rr.first; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
+    if (RunHeaderY(h) > cy_hi) break;
     const int len = RunHeaderLength(h);
     const std::uint64_t* p = RunStart(plane, base, row, h);
     for (int i = 0; i < len; ++i) {
@@ -176,10 +177,11 @@ namespace {
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, const std::uint64_t* runs,
     int run_count, int cy_lo, int cy_hi) {
   __m512i acc = _mm512_setzero_si512();
-  const RowRuns rr = RunsOfRows(runs, run_count, cy_lo, cy_hi);
+  const RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
   const std::uint64_t* masks = rr.masks;
-  for (int r = rr.first; r < rr.end; ++r) {
+  for (int r = rr.first; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
+    if (RunHeaderY(h) > cy_hi) break;
     const int len = RunHeaderLength(h);
     const std::uint64_t* p = RunStart(plane, base, row, h);
     const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
@@ -197,10 +199,11 @@ namespace {
   const __m512i zero = _mm512_setzero_si512();
   __m512i acc[4] = {zero, zero, zero, zero};
   const std::ptrdiff_t offset[4] = {0, dy, dx, dx + dy};
-  const RowRuns rr = RunsOfRows(runs, run_count, cy_lo, cy_hi);
+  const RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
   const std::uint64_t* masks = rr.masks;
-  for (int r = rr.first; r < rr.end; ++r) {
+  for (int r = rr.first; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
+    if (RunHeaderY(h) > cy_hi) break;
     const int len = RunHeaderLength(h);
     const std::uint64_t* p = RunStart(plane, base, row, h);
     const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
