@@ -57,24 +57,20 @@ std::uint32_t CloseMaskScalar(const Lanes& lanes, int t0, int count, const Eigen
 }
 
 #ifdef HPOSE_POINT_LANES
-// (v - a[k])^2 of the lanes in `valid`.
+// (v - a[k])^2 of the lanes in `valid`, each operation rounded on its own (never fused).
 [[gnu::target("avx512f")]] inline __m512 SquaredOffsets(const float* a, __mmask16 valid, float v) {
-  const __m512 t = _mm512_maskz_sub_round_ps(
-      0xFFFF, _mm512_set1_ps(v), _mm512_maskz_loadu_ps(valid, a), _MM_FROUND_CUR_DIRECTION);
-  return _mm512_maskz_mul_round_ps(0xFFFF, t, t, _MM_FROUND_CUR_DIRECTION);
+  const __m512 t = rounded::Sub(_mm512_set1_ps(v), _mm512_maskz_loadu_ps(valid, a));
+  return rounded::Mul(t, t);
 }
 
-// The same sixteen points at a time: the same products and sums in the same order, each rounded
-// on its own (the _round forms are never fused into a multiply-add).
+// The same sixteen points at a time: the same products and sums in the same order.
 [[gnu::target("avx512f")]] std::uint32_t CloseMaskAvx512(const Lanes& lanes, int t0, int count,
                                                          const Eigen::Vector3f& p, float tol2) {
   const __mmask16 valid = static_cast<__mmask16>((std::uint32_t{1} << count) - 1);
   const __m512 dx = SquaredOffsets(lanes.x + t0, valid, p.x());
   const __m512 dy = SquaredOffsets(lanes.y + t0, valid, p.y());
   const __m512 dz = SquaredOffsets(lanes.z + t0, valid, p.z());
-  const __m512 d = _mm512_maskz_add_round_ps(
-      0xFFFF, _mm512_maskz_add_round_ps(0xFFFF, dx, dy, _MM_FROUND_CUR_DIRECTION), dz,
-      _MM_FROUND_CUR_DIRECTION);
+  const __m512 d = rounded::Add(rounded::Add(dx, dy), dz);
   return _mm512_mask_cmp_ps_mask(valid, d, _mm512_set1_ps(tol2), _CMP_NGE_UQ);
 }
 #else

@@ -24,14 +24,9 @@ size_t SelectRange(const PointCloud& cloud, const GroundBand& band, size_t begin
 }
 
 #ifdef HPOSE_POINT_LANES
-// A product and a sum each rounded on their own: the _round forms, which the compiler never
-// fuses into a multiply-add.
-[[gnu::target("avx512f")]] inline __m512 Mul(__m512 a, __m512 b) {
-  return _mm512_maskz_mul_round_ps(0xFFFF, a, b, _MM_FROUND_CUR_DIRECTION);
-}
-[[gnu::target("avx512f")]] inline __m512 Add(__m512 a, __m512 b) {
-  return _mm512_maskz_add_round_ps(0xFFFF, a, b, _MM_FROUND_CUR_DIRECTION);
-}
+// Products and sums each rounded on their own (never fused).
+using rounded::Add;
+using rounded::Mul;
 
 // Sixteen points a step: g with Mul and Add in Eigen's order; the lanes that pass packed to the
 // front and stored. The rest by SelectRange. Returns the points written.

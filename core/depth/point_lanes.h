@@ -35,6 +35,31 @@ inline bool PointLanesAvailable() {
 #ifdef HPOSE_POINT_LANES
 namespace hpose {
 
+// Lane-wise arithmetic each operation rounded on its own, for the passes that must equal a scalar
+// reference to the bit: the _round forms, which the compiler never fuses into a multiply-add
+// whatever its flags (masked forms: the unmasked ones start from an undefined register, which
+// GCC 12 reports as uninitialised).
+namespace rounded {
+[[gnu::target("avx512f")]] inline __m512 Add(__m512 a, __m512 b) {
+  return _mm512_maskz_add_round_ps(0xFFFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+[[gnu::target("avx512f")]] inline __m512 Sub(__m512 a, __m512 b) {
+  return _mm512_maskz_sub_round_ps(0xFFFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+[[gnu::target("avx512f")]] inline __m512 Mul(__m512 a, __m512 b) {
+  return _mm512_maskz_mul_round_ps(0xFFFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+[[gnu::target("avx512f")]] inline __m512d Add(__m512d a, __m512d b) {
+  return _mm512_maskz_add_round_pd(0xFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+[[gnu::target("avx512f")]] inline __m512d Mul(__m512d a, __m512d b) {
+  return _mm512_maskz_mul_round_pd(0xFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+[[gnu::target("avx512f")]] inline __m512d Div(__m512d a, __m512d b) {
+  return _mm512_maskz_div_round_pd(0xFF, a, b, _MM_FROUND_CUR_DIRECTION);
+}
+}  // namespace rounded
+
 struct PointLanes {
   __m512 x, y, z;
 };

@@ -90,29 +90,18 @@ bool MakeSweep(const RangeImage& range, const Eigen::Isometry3d& sensor_from_gro
 }
 
 #ifdef HPOSE_POINT_LANES
-// Each operation rounded on its own (the _round forms, which the compiler never fuses into a
-// multiply-add); masked forms, as the unmasked ones start from an undefined register.
-[[gnu::target("avx512f")]] inline __m512d Add(__m512d a, __m512d b) {
-  return _mm512_maskz_add_round_pd(0xFF, a, b, _MM_FROUND_CUR_DIRECTION);
-}
-[[gnu::target("avx512f")]] inline __m512d Mul(__m512d a, __m512d b) {
-  return _mm512_maskz_mul_round_pd(0xFF, a, b, _MM_FROUND_CUR_DIRECTION);
-}
-[[gnu::target("avx512f")]] inline __m512d Div(__m512d a, __m512d b) {
-  return _mm512_maskz_div_round_pd(0xFF, a, b, _MM_FROUND_CUR_DIRECTION);
-}
+// Each operation rounded on its own (never fused).
+using rounded::Add;
+using rounded::Div;
+using rounded::Mul;
 
-// FreeSpaceCellsFourLanes eight heights a step: the same operations in the same order, as
+// FourLanes eight heights a step: the same operations in the same order, as
 // rounded AVX-512 arithmetic (never fused), the range image read by a masked gather (lanes out
 // of view read nothing and are not kept), and the kept heights compressed into the column's list
 // without a branch.
-[[gnu::target("avx2,avx512f,avx512vl,avx512dq")]] ClusterVoxels FreeSpaceCellsEightLanesAvx512(
-    const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
-    const FreeSpaceRegion& region, double resolution_m, const FreeSpaceOptions& options) {
-  ClusterVoxels free;
-  free.resolution_m = resolution_m;
-  Sweep s;
-  if (!MakeSweep(range, sensor_from_ground, region, resolution_m, 8, &s)) return free;
+[[gnu::target("avx2,avx512f,avx512vl,avx512dq")]] void EightLanesAvx512(
+    const Sweep& s, const RangeImage& range, const FreeSpaceRegion& region, double resolution_m,
+    const FreeSpaceOptions& options, std::vector<Eigen::Vector3i>* cells) {
   const __m512d focal = _mm512_set1_pd(range.focal()), u0 = _mm512_set1_pd(range.u0());
   const __m512d v0 = _mm512_set1_pd(range.v0());
   const __m512d width = _mm512_set1_pd(range.width()), height = _mm512_set1_pd(range.height());
@@ -169,22 +158,16 @@ bool MakeSweep(const RangeImage& range, const Eigen::Isometry3d& sensor_from_gro
                             _mm256_maskz_compress_epi32(keep, heights));
         count += __builtin_popcount(keep);
       }
-      for (int k = 0; k < count; ++k) free.cells.emplace_back(x, y, kept[k]);
+      for (int k = 0; k < count; ++k) cells->emplace_back(x, y, kept[k]);
     }
   }
-  return free;
 }
 #endif
 
-}  // namespace
-
-__attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCellsFourLanes(
-    const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
-    const FreeSpaceRegion& region, double resolution_m, const FreeSpaceOptions& options) {
-  ClusterVoxels free;
-  free.resolution_m = resolution_m;
-  Sweep sweep;
-  if (!MakeSweep(range, sensor_from_ground, region, resolution_m, 4, &sweep)) return free;
+// FreeSpaceCellsFourLanes' pass over its sweep (four heights a group).
+__attribute__((target_clones("avx2", "default"))) void FourLanes(
+    const Sweep& sweep, const RangeImage& range, const FreeSpaceRegion& region, double resolution_m,
+    const FreeSpaceOptions& options, std::vector<Eigen::Vector3i>* cells) {
   const Eigen::Vector3i& lo = sweep.lo;
   const Eigen::Vector3i& hi = sweep.hi;
   const Eigen::Matrix3d& r = sweep.r;
@@ -240,10 +223,33 @@ __attribute__((target_clones("avx2", "default"))) ClusterVoxels FreeSpaceCellsFo
           count += static_cast<int>(keep[lane] & 1);
         }
       }
-      free.cells.insert(free.cells.end(), column.begin(), column.begin() + count);
+      cells->insert(cells->end(), column.begin(), column.begin() + count);
     }
   }
+}
+
+// The free cells of `region` found by `pass` over its sweep in groups of `lanes` heights.
+using SweepPass = void (*)(const Sweep&, const RangeImage&, const FreeSpaceRegion&, double,
+                           const FreeSpaceOptions&, std::vector<Eigen::Vector3i>*);
+ClusterVoxels SweepRegion(const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
+                          const FreeSpaceRegion& region, double resolution_m,
+                          const FreeSpaceOptions& options, int lanes, SweepPass pass) {
+  ClusterVoxels free;
+  free.resolution_m = resolution_m;
+  Sweep sweep;
+  if (MakeSweep(range, sensor_from_ground, region, resolution_m, lanes, &sweep)) {
+    pass(sweep, range, region, resolution_m, options, &free.cells);
+  }
   return free;
+}
+
+}  // namespace
+
+ClusterVoxels FreeSpaceCellsFourLanes(const RangeImage& range,
+                                      const Eigen::Isometry3d& sensor_from_ground,
+                                      const FreeSpaceRegion& region, double resolution_m,
+                                      const FreeSpaceOptions& options) {
+  return SweepRegion(range, sensor_from_ground, region, resolution_m, options, 4, FourLanes);
 }
 
 bool FreeSpaceEightLanes() { return PointLanesAvailable() && __builtin_cpu_supports("avx512vl"); }
@@ -253,7 +259,8 @@ ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& s
                              const FreeSpaceOptions& options) {
 #ifdef HPOSE_POINT_LANES
   if (FreeSpaceEightLanes()) {
-    return FreeSpaceCellsEightLanesAvx512(range, sensor_from_ground, region, resolution_m, options);
+    return SweepRegion(range, sensor_from_ground, region, resolution_m, options, 8,
+                       EightLanesAvx512);
   }
 #endif
   return FreeSpaceCellsFourLanes(range, sensor_from_ground, region, resolution_m, options);
