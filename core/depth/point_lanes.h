@@ -3,9 +3,10 @@
 
 // Internal to core: sixteen points of a cloud (Eigen::Vector3f, 12 bytes each, packed) as three
 // AVX-512 registers of their x, y and z, for the passes over whole clouds that take sixteen
-// points a step, and the one CPU check of core's AVX-512 passes. Only on x86-64 with GCC or Clang
-// (HPOSE_POINT_LANES defined); the functions carry their own target, so they need nothing at build
-// time, and run only where PointLanesAvailable().
+// points a step; lane-wise arithmetic rounded operation by operation; and the one CPU check of
+// core's AVX-512 passes. Only on x86-64 with GCC or Clang (HPOSE_POINT_LANES defined); the
+// functions carry their own target, so they need nothing at build time, and run only where
+// PointLanesAvailable().
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
