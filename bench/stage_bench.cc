@@ -144,15 +144,10 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
   for (const Cluster& c : *fast) {
     const ClusterVoxels voxels = VoxeliseCluster(c.points, res);
     if (voxels.cells.empty()) continue;
-    FreeSpaceRegion region;
-    region.core_lo = region.core_hi = voxels.cells.front().head<2>();
     int top = 0;
-    for (const Eigen::Vector3i& v : voxels.cells) {
-      region.core_lo = region.core_lo.cwiseMin(v.head<2>());
-      region.core_hi = region.core_hi.cwiseMax(v.head<2>());
-      top = std::max(top, v.z());
-    }
-    region.grow.assign(top + 3, kFreeGrowCells);
+    for (const Eigen::Vector3i& v : voxels.cells) top = std::max(top, v.z());
+    const FreeSpaceRegion region =
+        FreeSpaceRegionAround(voxels, std::vector<int>(top + 3, kFreeGrowCells));
     ClusterVoxels free, reference_free;
     free_ms += TimeMs(
         [&] { free = FreeSpaceCells(range, sensor_from_ground, region, res, options.free_space); });

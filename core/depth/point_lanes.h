@@ -19,12 +19,13 @@
 namespace hpose {
 
 // Whether this CPU runs core's AVX-512 passes (the sixteen-point passes over clouds, the grid
-// clustering's distance tests; the free-space cells also ask for VL): AVX-512 F, BW and DQ, and
-// AVX2 (what their targets name). Checked once.
+// clustering's distance tests, the free-space cells): AVX-512 F, BW, DQ and VL, and AVX2 (what
+// their targets name). Checked once.
 inline bool PointLanesAvailable() {
 #ifdef HPOSE_POINT_LANES
   static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-                          __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx2");
+                          __builtin_cpu_supports("avx512dq") &&
+                          __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx2");
   return has;
 #else
   return false;

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "core/depth/point_lanes.h"
@@ -252,7 +253,19 @@ ClusterVoxels FreeSpaceCellsFourLanes(const RangeImage& range,
   return SweepRegion(range, sensor_from_ground, region, resolution_m, options, 4, FourLanes);
 }
 
-bool FreeSpaceEightLanes() { return PointLanesAvailable() && __builtin_cpu_supports("avx512vl"); }
+bool FreeSpaceEightLanes() { return PointLanesAvailable(); }
+
+FreeSpaceRegion FreeSpaceRegionAround(const ClusterVoxels& voxels, std::vector<int> grow) {
+  FreeSpaceRegion region;
+  region.core_lo = region.core_hi = voxels.cells.front().head<2>();
+  for (const Eigen::Vector3i& v : voxels.cells) {
+    region.core_lo = region.core_lo.cwiseMin(v.head<2>());
+    region.core_hi = region.core_hi.cwiseMax(v.head<2>());
+  }
+  region.z_lo = 0;
+  region.grow = std::move(grow);
+  return region;
+}
 
 ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
                              const FreeSpaceRegion& region, double resolution_m,

@@ -26,6 +26,10 @@ struct FreeSpaceRegion {
   std::vector<int> grow;  // per layer z_lo + k: cells added on every side; < 0: no cells.
 };
 
+// The region around a cluster's voxels (non-empty): their columns' box, grown per layer by
+// `grow` from layer 0 (the floor).
+FreeSpaceRegion FreeSpaceRegionAround(const ClusterVoxels& voxels, std::vector<int> grow);
+
 // The voxel cells of `region` (CellOf at `resolution_m`, ground frame) that the sensor saw
 // through: the ray to the voxel's centre met a surface clearly beyond it. Voxels that are hidden
 // behind something, out of view, or without a reading are not free (unknown). Sorted (x, y, z).

@@ -543,15 +543,9 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     w.n = static_cast<int>(w.voxels.cells.size());  // what every scorer counts.
     if (use_free_space && !w.voxels.cells.empty()) {
       // Wherever a template placed by the searches can reach, height by height.
-      FreeSpaceRegion region;
-      region.core_lo = region.core_hi = w.voxels.cells.front().head<2>();
-      for (const Eigen::Vector3i& v : w.voxels.cells) {
-        region.core_lo = region.core_lo.cwiseMin(v.head<2>());
-        region.core_hi = region.core_hi.cwiseMax(v.head<2>());
-      }
-      region.z_lo = 0;
-      region.grow = free_grow_;
-      w.free = FreeSpaceCells(range, sensor_from_ground, region, res, options_.free_space);
+      w.free =
+          FreeSpaceCells(range, sensor_from_ground, FreeSpaceRegionAround(w.voxels, free_grow_),
+                         res, options_.free_space);
     }
     if (w.searched_with.size() > 1) {
       w.grids = search_->MakeGrids(w.voxels, use_free_space ? &w.free : nullptr, w.searched_with);

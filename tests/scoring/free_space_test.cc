@@ -157,6 +157,17 @@ TEST(FreeSpaceTest, RegionGrownPerLayerEqualsTheReferenceAndTheBoxWithinIt) {
   EXPECT_GT(left_out, 5000);
 }
 
+TEST(FreeSpaceTest, RegionAroundAClusterIsItsColumnsBoxGrownFromTheFloor) {
+  ClusterVoxels voxels;
+  voxels.resolution_m = 0.016;
+  voxels.cells = {{3, -2, 5}, {7, 4, 0}, {-1, 1, 9}, {5, 0, 2}};
+  const FreeSpaceRegion region = FreeSpaceRegionAround(voxels, {4, 4, 3, -1});
+  EXPECT_EQ(region.core_lo, Eigen::Vector2i(-1, -2));
+  EXPECT_EQ(region.core_hi, Eigen::Vector2i(7, 4));
+  EXPECT_EQ(region.z_lo, 0);
+  EXPECT_EQ(region.grow, (std::vector<int>{4, 4, 3, -1}));
+}
+
 TEST(FreeSpaceTest, CellsBeforeASurfaceAreFreeAndBehindItAreNot) {
   // A wall across the view 3 m ahead of a level sensor 1 m up.
   const Eigen::Isometry3d sensor_from_ground = SensorFromGround(1.0, 0.0, 0.0);
