@@ -305,7 +305,7 @@ int ColumnOccupancy::HitsGrouped(const CellTable& groups, int ix, int iy) const 
   // The runs' rows that can meet a cluster row (relative to the translation's cell row).
   const int row0 = ((iy & ~mask) >> shift_) - lv.y0;
   return RunPopcountSum(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx, groups.words,
-                        groups.runs, plane_row_lo_ - row0, plane_row_hi_ - row0);
+                        groups.runs, groups.mask_bytes, plane_row_lo_ - row0, plane_row_hi_ - row0);
 }
 
 void ColumnOccupancy::HitsGrouped4(const CellTable& groups, int ix, int iy, int d,
@@ -316,7 +316,7 @@ void ColumnOccupancy::HitsGrouped4(const CellTable& groups, int ix, int iy, int 
   const int row0 = ((iy & ~mask) >> shift_) - lv.y0;
   RunPopcountSum4(plane_.data(), PlaneBase(ix & ~mask, iy & ~mask), lv.nx, d,
                   static_cast<std::ptrdiff_t>(d) * lv.nx, groups.words, groups.runs,
-                  plane_row_lo_ - row0 - d, plane_row_hi_ - row0, out);
+                  groups.mask_bytes, plane_row_lo_ - row0 - d, plane_row_hi_ - row0, out);
 }
 
 int ColumnOccupancy::PairBound(const PairBlockTable& table, const std::uint64_t* masks, int a,

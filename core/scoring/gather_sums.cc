@@ -48,14 +48,14 @@ namespace {
 // counted first in a pass of their own.
 struct RowRuns {
   int first = 0;
-  const std::uint64_t* masks = nullptr;
+  const unsigned char* masks = nullptr;
 };
 
-RowRuns RunsFromRow(const std::uint64_t* runs, int run_count, int cy_lo) {
+RowRuns RunsFromRow(const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo) {
   RowRuns out;
-  out.masks = runs + run_count;
+  out.masks = RunMasks(runs, run_count);
   while (out.first < run_count && RunHeaderY(runs[out.first]) < cy_lo) {
-    out.masks += RunHeaderLength(runs[out.first]);
+    out.masks += RunHeaderLength(runs[out.first]) * mask_bytes;
     ++out.first;
   }
   return out;
@@ -65,17 +65,19 @@ RowRuns RunsFromRow(const std::uint64_t* runs, int run_count, int cy_lo) {
 
 HPOSE_POPCNT_CLONES
 int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                         const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi) {
+                         const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
+                         int cy_hi) {
   int sum = 0;
-  const RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
-  const std::uint64_t* masks = rr.masks;
+  const RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
+  const unsigned char* masks = rr.masks;
   for (int r = rr.first; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
     if (RunHeaderY(h) > cy_hi) break;
     const std::uint64_t* p = RunStart(plane, base, row, h);
     const int len = RunHeaderLength(h);
-    for (int i = 0; i < len; ++i) sum += __builtin_popcountll(masks[i] & p[i]);
-    masks += len;
+    for (int i = 0; i < len; ++i, masks += mask_bytes) {
+      sum += __builtin_popcountll(LoadRunMask(masks, mask_bytes) & p[i]);
+    }
   }
   return sum;
 }
@@ -83,23 +85,22 @@ int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::p
 HPOSE_POPCNT_CLONES
 void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                            std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
-                           int run_count, int cy_lo, int cy_hi, int out[4]) {
+                           int run_count, int mask_bytes, int cy_lo, int cy_hi, int out[4]) {
   int s00 = 0, s01 = 0, s10 = 0, s11 = 0;
-  const RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
-  const std::uint64_t* masks = rr.masks;
+  const RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
+  const unsigned char* masks = rr.masks;
   for (int r = rr.first; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
     if (RunHeaderY(h) > cy_hi) break;
     const int len = RunHeaderLength(h);
     const std::uint64_t* p = RunStart(plane, base, row, h);
-    for (int i = 0; i < len; ++i) {
-      const std::uint64_t m = masks[i];
+    for (int i = 0; i < len; ++i, masks += mask_bytes) {
+      const std::uint64_t m = LoadRunMask(masks, mask_bytes);
       s00 += __builtin_popcountll(m & p[i]);
       s01 += __builtin_popcountll(m & p[i + dy]);
       s10 += __builtin_popcountll(m & p[i + dx]);
       s11 += __builtin_popcountll(m & p[i + dx + dy]);
     }
-    masks += len;
   }
   out[0] = s00;
   out[1] = s01;
@@ -172,13 +173,34 @@ namespace {
 }
 
 // A run is one masked load of its words and one of its masks (lanes past the run read
-// nothing and count 0).
-[[gnu::target("avx512f,avx512vpopcntdq,popcnt")]] int RunPopcountSumAvx512(
+// nothing and count 0). Masks narrower than 8 bytes are spread to the low bytes of their lanes
+// by an expanding load; 8-byte ones are a plain masked load.
+#define HPOSE_RUN_TARGET "avx512f,avx512bw,avx512vbmi2,avx512vpopcntdq,bmi2,popcnt"
+
+// The lanes of a run of `len` masks, and the bytes of those lanes an expanding load of
+// `mask_bytes`-byte masks fills (`lane_bytes`: the low mask_bytes bytes of every lane).
+[[gnu::target(HPOSE_RUN_TARGET)]] inline __m512i LoadRunMasks(const unsigned char* masks, int len,
+                                                              std::uint64_t lane_bytes,
+                                                              bool packed) {
+  if (!packed) {
+    return _mm512_maskz_loadu_epi64(static_cast<__mmask8>((1u << len) - 1u), masks);
+  }
+  return _mm512_maskz_expandloadu_epi8(_bzhi_u64(lane_bytes, 8u * static_cast<unsigned>(len)),
+                                       masks);
+}
+
+inline std::uint64_t LaneBytes(int mask_bytes) {
+  return 0x0101010101010101ull * ((1u << mask_bytes) - 1u);
+}
+
+template <bool kPacked>
+[[gnu::target(HPOSE_RUN_TARGET)]] int RunPopcountSumAvx512Of(
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, const std::uint64_t* runs,
-    int run_count, int cy_lo, int cy_hi) {
+    int run_count, int mask_bytes, int cy_lo, int cy_hi) {
   __m512i acc = _mm512_setzero_si512();
-  const RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
-  const std::uint64_t* masks = rr.masks;
+  const RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
+  const unsigned char* masks = rr.masks;
+  const std::uint64_t lane_bytes = LaneBytes(mask_bytes);
   for (int r = rr.first; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
     if (RunHeaderY(h) > cy_hi) break;
@@ -186,35 +208,54 @@ namespace {
     const std::uint64_t* p = RunStart(plane, base, row, h);
     const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
     const __m512i words = _mm512_maskz_loadu_epi64(k, p);
-    const __m512i m = _mm512_maskz_loadu_epi64(k, masks);
+    const __m512i m = LoadRunMasks(masks, len, lane_bytes, kPacked);
     acc = _mm512_add_epi64(acc, _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
-    masks += len;
+    masks += len * mask_bytes;
   }
   return SumLanes(acc);
 }
 
-[[gnu::target("avx512f,avx512vpopcntdq,popcnt")]] void RunPopcountSum4Avx512(
+int RunPopcountSumAvx512(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
+                         const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
+                         int cy_hi) {
+  return (mask_bytes >= 8 ? RunPopcountSumAvx512Of<false>
+                          : RunPopcountSumAvx512Of<true>)(plane, base, row, runs, run_count,
+                                                          mask_bytes, cy_lo, cy_hi);
+}
+
+template <bool kPacked>
+[[gnu::target(HPOSE_RUN_TARGET)]] void RunPopcountSum4Avx512Of(
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, std::ptrdiff_t dx,
-    std::ptrdiff_t dy, const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi, int out[4]) {
+    std::ptrdiff_t dy, const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
+    int cy_hi, int out[4]) {
   const __m512i zero = _mm512_setzero_si512();
   __m512i acc[4] = {zero, zero, zero, zero};
   const std::ptrdiff_t offset[4] = {0, dy, dx, dx + dy};
-  const RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
-  const std::uint64_t* masks = rr.masks;
+  const RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
+  const unsigned char* masks = rr.masks;
+  const std::uint64_t lane_bytes = LaneBytes(mask_bytes);
   for (int r = rr.first; r < run_count; ++r) {
     const std::uint64_t h = runs[r];
     if (RunHeaderY(h) > cy_hi) break;
     const int len = RunHeaderLength(h);
     const std::uint64_t* p = RunStart(plane, base, row, h);
     const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
-    const __m512i m = _mm512_maskz_loadu_epi64(k, masks);
+    const __m512i m = LoadRunMasks(masks, len, lane_bytes, kPacked);
     for (int q = 0; q < 4; ++q) {
       const __m512i words = _mm512_maskz_loadu_epi64(k, p + offset[q]);
       acc[q] = _mm512_add_epi64(acc[q], _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
     }
-    masks += len;
+    masks += len * mask_bytes;
   }
   for (int q = 0; q < 4; ++q) out[q] = SumLanes(acc[q]);
+}
+
+void RunPopcountSum4Avx512(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
+                           std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
+                           int run_count, int mask_bytes, int cy_lo, int cy_hi, int out[4]) {
+  (mask_bytes >= 8 ? RunPopcountSum4Avx512Of<false>
+                   : RunPopcountSum4Avx512Of<true>)(plane, base, row, dx, dy, runs, run_count,
+                                                    mask_bytes, cy_lo, cy_hi, out);
 }
 
 bool HasAvx512Popcount() {
@@ -224,12 +265,20 @@ bool HasAvx512Popcount() {
   return has;
 }
 
+// The run sums' vector path also needs the expanding byte loads and BZHI.
+bool HasAvx512RunSums() {
+  static const bool has = HasAvx512Popcount() && __builtin_cpu_supports("avx512bw") &&
+                          __builtin_cpu_supports("avx512vbmi2") && __builtin_cpu_supports("bmi2");
+  return has;
+}
+
 }  // namespace
 #else
 namespace {
 
 // No vector paths here: the dispatch below always takes the scalar loops.
 bool HasAvx512Popcount() { return false; }
+bool HasAvx512RunSums() { return false; }
 constexpr auto* GatherPopcountSumAvx512 = &GatherPopcountSumScalar;
 constexpr auto* GatherPopcountSum4Avx512 = &GatherPopcountSum4Scalar;
 constexpr auto* RunPopcountSumAvx512 = &RunPopcountSumScalar;
@@ -255,16 +304,16 @@ void GatherPopcountSum4(const std::uint64_t* data, std::ptrdiff_t base, std::ptr
 }
 
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                   const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi) {
-  return (HasAvx512Popcount() ? RunPopcountSumAvx512 : RunPopcountSumScalar)(
-      plane, base, row, runs, run_count, cy_lo, cy_hi);
+                   const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo, int cy_hi) {
+  return (HasAvx512RunSums() ? RunPopcountSumAvx512 : RunPopcountSumScalar)(
+      plane, base, row, runs, run_count, mask_bytes, cy_lo, cy_hi);
 }
 
 void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                      std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs, int run_count,
-                     int cy_lo, int cy_hi, int out[4]) {
-  (HasAvx512Popcount() ? RunPopcountSum4Avx512 : RunPopcountSum4Scalar)(
-      plane, base, row, dx, dy, runs, run_count, cy_lo, cy_hi, out);
+                     int mask_bytes, int cy_lo, int cy_hi, int out[4]) {
+  (HasAvx512RunSums() ? RunPopcountSum4Avx512 : RunPopcountSum4Scalar)(
+      plane, base, row, dx, dy, runs, run_count, mask_bytes, cy_lo, cy_hi, out);
 }
 
 }  // namespace hpose

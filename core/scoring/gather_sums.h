@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 namespace hpose {
 
@@ -34,8 +35,11 @@ bool GatherPopcountSumVectorised();
 
 // Runs of consecutive cells in one array of words (CellGroups): a header word per run (its
 // first cell, cx and cy as 16-bit two's complement in bits 0-15 and 16-31, and its length, 1
-// to 8, in bits 32-35), then the masks of every run's cells, run after run. One array read
-// front to back: a table costs the cache lines it fills, not a miss per field.
+// to 8, in bits 32-35), then the masks of every run's cells, run after run, each in the same
+// number of bytes (1 to 8: the table's mask width, which its template's highest z bit sets),
+// lowest byte first, then padding so that 8 bytes can be read at any mask (MaskedRunWords). One
+// array read front to back: a table costs the cache lines it fills, not a miss per field, and a
+// template 37 cells tall fills 5 bytes a cell instead of 8.
 inline std::uint64_t RunHeader(int cx, int cy, int len) {
   return static_cast<std::uint64_t>(static_cast<std::uint16_t>(cx)) |
          (static_cast<std::uint64_t>(static_cast<std::uint16_t>(cy)) << 16) |
@@ -49,25 +53,60 @@ inline const std::uint64_t* RunStart(const std::uint64_t* plane, std::ptrdiff_t 
                                      std::ptrdiff_t row, std::uint64_t h) {
   return plane + base + RunHeaderY(h) * row + RunHeaderX(h);
 }
+// The bytes a mask needs: those up to its highest set bit (at least 1).
+inline int MaskBytes(std::uint64_t mask) {
+  return mask == 0 ? 1 : (64 - __builtin_clzll(mask) + 7) / 8;
+}
+// The words a table of `runs` runs and `cells` cells needs at `mask_bytes` a mask, with the
+// padding that makes 8 bytes readable at the last mask: (cells - 1) * mask_bytes + 8 bytes of
+// masks, rounded up to words.
+inline std::size_t MaskedRunWords(int runs, int cells, int mask_bytes) {
+  const std::size_t bytes =
+      static_cast<std::size_t>(cells) * static_cast<std::size_t>(mask_bytes) + 8 - mask_bytes;
+  return static_cast<std::size_t>(runs) + (cells == 0 ? 0 : (bytes + 7) / 8);
+}
+// Writes a mask at `at` as 8 bytes, lowest first: its own (it must fit the table's width) and
+// zeros above, which the next mask overwrites (the padding leaves room after the last). And
+// reads one back from there.
+inline void StoreRunMask(unsigned char* at, std::uint64_t mask) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+  mask = __builtin_bswap64(mask);
+#endif
+  std::memcpy(at, &mask, sizeof mask);
+}
+inline std::uint64_t LoadRunMask(const unsigned char* at, int mask_bytes) {
+  std::uint64_t m;
+  std::memcpy(&m, at, sizeof m);  // the padding makes 8 bytes readable.
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+  m = __builtin_bswap64(m);
+#endif
+  return mask_bytes >= 8 ? m : m & ((std::uint64_t{1} << (8 * mask_bytes)) - 1);
+}
+// Where the masks of a table of `run_count` runs start.
+inline const unsigned char* RunMasks(const std::uint64_t* runs, int run_count) {
+  return reinterpret_cast<const unsigned char*>(runs + run_count);
+}
 
-// The same sum over such runs (`runs`: the array, run_count headers then the masks): run r adds
-// popcount(mask & word) for its masks and the words from plane + base + cy * row + cx on. Runs
-// are in ascending cy (CellGroups' order), and those whose cy lies outside [cy_lo, cy_hi] are
-// left out: the caller passes the rows where the plane may be non-zero (INT_MIN and INT_MAX for
-// all), so a small cluster's sum skips the runs that would only read zeros. With AVX-512 a run
-// is one masked load of its words and one of its masks; the scalar loop is the reference.
+// The same sum over such runs (`runs`: the array, run_count headers then the masks,
+// `mask_bytes` bytes each): run r adds popcount(mask & word) for its masks and the words from
+// plane + base + cy * row + cx on. Runs are in ascending cy (CellGroups' order), and those whose
+// cy lies outside [cy_lo, cy_hi] are left out: the caller passes the rows where the plane may be
+// non-zero (INT_MIN and INT_MAX for all), so a small cluster's sum skips the runs that would
+// only read zeros. With AVX-512 (and VBMI2 for masks narrower than 8 bytes) a run is one masked
+// load of its words and one expanding load of its masks; the scalar loop is the reference.
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                   const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi);
+                   const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo, int cy_hi);
 int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                         const std::uint64_t* runs, int run_count, int cy_lo, int cy_hi);
+                         const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
+                         int cy_hi);
 // RunPopcountSum at base, base + dy, base + dx and base + dx + dy into out[0 .. 3]; runs whose
 // cy lies outside [cy_lo, cy_hi] are left out of all four.
 void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                      std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs, int run_count,
-                     int cy_lo, int cy_hi, int out[4]);
+                     int mask_bytes, int cy_lo, int cy_hi, int out[4]);
 void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                            std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
-                           int run_count, int cy_lo, int cy_hi, int out[4]);
+                           int run_count, int mask_bytes, int cy_lo, int cy_hi, int out[4]);
 
 }  // namespace hpose
 

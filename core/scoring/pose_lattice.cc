@@ -436,6 +436,15 @@ void TemplateRotations::PrepareTables() {
   for (std::vector<RotatedTemplate>& level : blocks_) {
     for (RotatedTemplate& r : level) visit(&r);
   }
+  // The cell tables' masks (one-word columns only) hold the bits any column sets: every table
+  // unites or intersects rotations' masks.
+  std::uint64_t any = 0;
+  if (z_words_ == 1) {
+    for (const RotatedTemplate& r : rotations_) {
+      for (const std::uint64_t m : r.column_masks) any |= m;
+    }
+  }
+  mask_bytes_ = MaskBytes(any);
 }
 
 namespace {
@@ -459,14 +468,22 @@ class CellGroupsBuilder {
     }
     headers_.push_back(RunHeader(cx, cy, 1));
   }
-  // The table of the cells appended since the last Take(), in `arena`.
-  CellGroups Take(TableArena* arena) {
+  // The table of the cells appended since the last Take(), in `arena`, its masks mask_bytes
+  // bytes each (every mask must fit).
+  CellGroups Take(TableArena* arena, int mask_bytes) {
     CellGroups g;
     g.words = TableWords(TableAllocator<std::uint64_t>(arena));
     g.runs = static_cast<int>(headers_.size());
-    g.words.reserve(headers_.size() + masks_.size());
-    g.words.insert(g.words.end(), headers_.begin(), headers_.end());
-    g.words.insert(g.words.end(), masks_.begin(), masks_.end());
+    g.cell_count = static_cast<int>(masks_.size());
+    g.mask_bytes = mask_bytes;
+    g.words.assign(MaskedRunWords(g.runs, g.cell_count, mask_bytes), 0);
+    std::copy(headers_.begin(), headers_.end(), g.words.begin());
+    unsigned char* at = reinterpret_cast<unsigned char*>(g.words.data() + g.runs);
+    for (const std::uint64_t m : masks_) {
+      assert(MaskBytes(m) <= mask_bytes);
+      StoreRunMask(at, m);
+      at += mask_bytes;
+    }
     headers_.clear();
     masks_.clear();
     return g;
@@ -488,7 +505,7 @@ CellGroupsBuilder& ThreadBuilder() {
 // of the masks of every column landing in it at some translation of the block, row by row. Size
 // 1 is a single translation (Groups).
 CellGroups ReachedCells(const RotatedTemplate& r, int rx, int ry, int size, int shift,
-                        TableArena* arena) {
+                        int mask_bytes, TableArena* arena) {
   thread_local std::vector<std::uint64_t> grid;  // all zero between calls.
   const int x_lo = (r.q_min.x() + rx) >> shift, y_lo = (r.q_min.y() + ry) >> shift;
   const int nx = ((r.q_max.x() + rx + size - 1) >> shift) - x_lo + 1;
@@ -512,7 +529,7 @@ CellGroups ReachedCells(const RotatedTemplate& r, int rx, int ry, int size, int 
       ThreadBuilder().Append(x + x_lo, y + y_lo, m);
     }
   }
-  return ThreadBuilder().Take(arena);
+  return ThreadBuilder().Take(arena, mask_bytes);
 }
 
 }  // namespace
@@ -525,7 +542,8 @@ const CellGroups& TemplateRotations::Groups(int itheta, int rx, int ry) const {
     out.reserve(static_cast<size_t>(s) * s);
     // One cell per column's cell, its columns' masks united.
     for (int x = 0; x < s; ++x) {
-      for (int y = 0; y < s; ++y) out.push_back(ReachedCells(r, x, y, 1, shift_, arena_.get()));
+      for (int y = 0; y < s; ++y)
+        out.push_back(ReachedCells(r, x, y, 1, shift_, mask_bytes_, arena_.get()));
     }
     // Blocks of two steps at even residues: the window starts at the cell of q + residue and
     // is two cells long where q + residue is the last step of its cell.
@@ -563,11 +581,11 @@ class CellCursor {
  public:
   static constexpr std::int64_t kDone = INT64_MAX;  // the key once past the last cell.
 
-  explicit CellCursor(const CellGroups& g) : g_(g), k_(static_cast<size_t>(g.runs)) { Load(); }
+  explicit CellCursor(const CellGroups& g) : g_(g) { Load(); }
   std::int64_t key() const { return key_; }
   int cx() const { return cx_ + i_; }
   int cy() const { return cy_; }
-  std::uint64_t mask() const { return g_.words[k_]; }
+  std::uint64_t mask() const { return g_.mask(k_); }
   void Next() {
     ++k_;
     ++key_;
@@ -592,7 +610,7 @@ class CellCursor {
   }
 
   const CellGroups& g_;
-  size_t k_;  // the word of the current cell's mask.
+  int k_ = 0;  // the current cell's index (its mask's).
   int r_ = 0, i_ = 0;
   int cx_ = 0, cy_ = 0, len_ = 0;
   std::int64_t key_ = kDone;
@@ -603,6 +621,7 @@ class CellCursor {
 // none left out).
 CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite,
                            TableArena* arena) {
+  assert(a.mask_bytes == b.mask_bytes);
   CellGroupsBuilder* out = &ThreadBuilder();
   CellCursor ca(a), cb(b);
   while (ca.key() != CellCursor::kDone || cb.key() != CellCursor::kDone) {
@@ -617,7 +636,7 @@ CellGroups MergeCellGroups(const CellGroups& a, const CellGroups& b, bool unite,
       out->Append(cx, cy, mask_a & mask_b);
     }
   }
-  return out->Take(arena);
+  return out->Take(arena, a.mask_bytes);
 }
 
 }  // namespace
@@ -703,7 +722,7 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
       const int residues = SweptResidues(lv, s);
       for (int i = 0; i < residues * residues; ++i) {
         const int rx = (i / residues) * step, ry = (i % residues) * step;
-        out.push_back(ReachedCells(r, rx, ry, 1 << lv, shift_, arena_.get()));
+        out.push_back(ReachedCells(r, rx, ry, 1 << lv, shift_, mask_bytes_, arena_.get()));
       }
     }
   });

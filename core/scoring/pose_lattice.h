@@ -106,12 +106,13 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
                          FloorDiv(sub_cell.y() + iy, subdivisions), sub_cell.z());
 }
 
-// What a search reads of a CellGroups: its words (the headers, then the masks), how many runs
-// and how many words.
+// What a search reads of a CellGroups: its words (the headers, then the masks), how many runs,
+// how many words and how many bytes a mask.
 struct CellTable {
   const std::uint64_t* words = nullptr;
   int runs = 0;
   int size = 0;
+  int mask_bytes = 8;
 };
 
 // A rotation's columns grouped by the cell they land in at translations with one residue
@@ -120,25 +121,34 @@ struct CellTable {
 // group's masks. Each cell appears once, so summing a group's voxels in its cell counts every
 // covered voxel exactly once: the exact hits (ColumnOccupancy::HitsGrouped). The cells are kept
 // row by row in runs of at most kMaxRun consecutive cells of one row: run r covers cells
-// (run_cx[r] + i, run_cy[r]) for i < run_len[r], and `masks` holds one word per cell, run after
-// run (HitsGrouped reads a run as consecutive words).
+// (cx + i, cy) for i below its length, and the masks follow the headers, one per cell, run after
+// run, in mask_bytes bytes each (HitsGrouped reads a run's masks as consecutive bytes; the
+// layout is gather_sums.h's).
 struct CellGroups {
   static constexpr int kMaxRun = 8;
   // The runs' header words (RunHeader, gather_sums.h), then every cell's mask, run after run:
   // one array whose headers load independently of each other.
   TableWords words;
   int runs = 0;
+  int cell_count = 0;
+  int mask_bytes = 8;  // the template's: enough for its highest z bit.
 
-  int cells() const { return static_cast<int>(words.size()) - runs; }
-  CellTable table() const { return {words.data(), runs, static_cast<int>(words.size())}; }
+  int cells() const { return cell_count; }
+  CellTable table() const {
+    return {words.data(), runs, static_cast<int>(words.size()), mask_bytes};
+  }
+  std::uint64_t mask(int cell) const {
+    return LoadRunMask(RunMasks(words.data(), runs) + static_cast<size_t>(cell) * mask_bytes,
+                       mask_bytes);
+  }
   // Calls f(cx, cy, mask) for every cell, in order.
   template <typename F>
   void ForEachCell(F&& f) const {
-    size_t k = static_cast<size_t>(runs);
+    int k = 0;
     for (int r = 0; r < runs; ++r) {
       const std::uint64_t h = words[r];
       const int cx = RunHeaderX(h), cy = RunHeaderY(h), len = RunHeaderLength(h);
-      for (int i = 0; i < len; ++i) f(cx + i, cy, words[k++]);
+      for (int i = 0; i < len; ++i) f(cx + i, cy, mask(k++));
     }
   }
 };
@@ -223,7 +233,7 @@ class TemplateRotations {
     const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
     if (words != nullptr) {
       return {words, ref.runs.load(std::memory_order_relaxed),
-              ref.size.load(std::memory_order_relaxed)};
+              ref.size.load(std::memory_order_relaxed), mask_bytes_};
     }
     return Publish(ref, SweptBlockGroups(tlevel, itheta0, level, ra, rb));
   }
@@ -235,7 +245,7 @@ class TemplateRotations {
     const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
     if (words != nullptr) {
       return {words, ref.runs.load(std::memory_order_relaxed),
-              ref.size.load(std::memory_order_relaxed)};
+              ref.size.load(std::memory_order_relaxed), mask_bytes_};
     }
     return Publish(ref, CommonBlockGroups(tlevel, itheta0, ra, rb));
   }
@@ -252,6 +262,9 @@ class TemplateRotations {
   // rotations hold the column view only (no sub_cells: the template's own rotations have them).
   const std::vector<std::unique_ptr<TemplateRotations>>& slabs() const { return slabs_; }
   int z_words() const { return z_words_; }
+  // The bytes of a cell table's mask (CellGroups::mask_bytes): those of the highest z bit any
+  // column sets.
+  int mask_bytes() const { return mask_bytes_; }
   // CellDisjointMasks of rotation itheta (for free-space lower bounds), made once.
   const std::vector<std::uint64_t>& DisjointMasks(int itheta) const { return disjoint_[itheta]; }
   // The range of column_q over every rotation and block (sub-voxel steps).
@@ -280,6 +293,7 @@ class TemplateRotations {
   std::vector<std::vector<std::uint64_t>> disjoint_;  // per rotation.
   int shift_ = -1;                                    // log2(subdivisions) when a power of two.
   int z_words_ = 0;                                   // words per column.
+  int mask_bytes_ = 8;  // the cell tables' mask width: the bytes of the highest z bit.
   // Per rotation, S^2 residues of CellGroups, made once each on first use.
   mutable std::vector<std::vector<CellGroups>> groups_;
   mutable std::vector<std::vector<PairBlockTable>> pair_tables_;  // (S/2)^2 per rotation.

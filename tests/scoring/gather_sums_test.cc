@@ -98,6 +98,48 @@ struct Rows {
 };
 constexpr Rows kAll = {INT_MIN, INT_MAX};
 
+// The low `bytes` bytes of a word.
+std::uint64_t LowBytes(std::uint64_t w, int bytes) {
+  return bytes >= 8 ? w : w & ((std::uint64_t{1} << (8 * bytes)) - 1);
+}
+
+// A table as RunPopcountSum reads it: the headers, then the masks `bytes` bytes each, padded
+// (gather_sums.h).
+std::vector<std::uint64_t> RunTable(const std::vector<std::uint64_t>& headers,
+                                    const std::vector<std::uint64_t>& masks, int bytes) {
+  std::vector<std::uint64_t> words(
+      MaskedRunWords(static_cast<int>(headers.size()), static_cast<int>(masks.size()), bytes), 0);
+  std::copy(headers.begin(), headers.end(), words.begin());
+  auto* at = reinterpret_cast<unsigned char*>(words.data() + headers.size());
+  for (const std::uint64_t m : masks) {
+    StoreRunMask(at, m);
+    at += bytes;
+  }
+  return words;
+}
+
+// Masks of every width are written and read back as they were, and a width holds the bytes up
+// to the highest set bit.
+TEST(GatherSumsTest, RunMasksOfEveryWidthReadBackAsWritten) {
+  std::mt19937_64 rng(11);
+  for (int bytes = 1; bytes <= 8; ++bytes) {
+    std::vector<std::uint64_t> masks;
+    for (int i = 0; i < 37; ++i) masks.push_back(LowBytes(rng(), bytes));
+    masks.push_back(LowBytes(~0ull, bytes));  // every bit of the width.
+    const std::vector<std::uint64_t> words = RunTable({RunHeader(0, 0, 1)}, masks, bytes);
+    ASSERT_GE(words.size() * 8, 8 + (masks.size() - 1) * bytes + 8);  // 8 readable at the last.
+    for (size_t i = 0; i < masks.size(); ++i) {
+      ASSERT_EQ(LoadRunMask(RunMasks(words.data(), 1) + i * bytes, bytes), masks[i])
+          << "width " << bytes << " mask " << i;
+    }
+    EXPECT_EQ(MaskBytes(std::uint64_t{1} << (8 * bytes - 1)), bytes);
+    EXPECT_EQ(MaskBytes(LowBytes(~0ull, bytes)), bytes);
+  }
+  EXPECT_EQ(MaskBytes(0), 1);
+  EXPECT_EQ(MaskBytes(1), 1);
+  EXPECT_EQ(MaskBytes(std::uint64_t{1} << 36), 5);  // a body 37 cells tall.
+}
+
 // Runs of consecutive cells on a plane of one word per cell: random runs of 1..8 cells around
 // the middle (negative offsets too), each summed by the dispatched and the scalar loop, both
 // checked bit by bit.
@@ -111,16 +153,20 @@ TEST(GatherSumsTest, RunSumsCountTheMaskedBitsOfEveryRun) {
   int nonzero = 0;
   for (int trial = 0; trial < 200; ++trial) {
     std::vector<std::int32_t> run_cx, run_cy, run_len;
-    std::vector<std::uint64_t> masks, words;  // words: the runs as RunPopcountSum reads them.
+    std::vector<std::uint64_t> headers, masks;
     const int runs = trial % 25;
+    const int bytes = 1 + trial % 8;  // every mask width.
     for (int r = 0; r < runs; ++r) {
       run_cx.push_back(off(rng));
       run_cy.push_back(off(rng));
       run_len.push_back(len(rng));
-      words.push_back(RunHeader(run_cx.back(), run_cy.back(), run_len.back()));
-      for (int i = 0; i < run_len.back(); ++i) masks.push_back(r % 4 == 0 ? ~0ull : rng());
+      headers.push_back(RunHeader(run_cx.back(), run_cy.back(), run_len.back()));
+      for (int i = 0; i < run_len.back(); ++i) {
+        masks.push_back(LowBytes(r % 4 == 0 ? ~0ull : rng(), bytes));
+      }
     }
-    words.insert(words.end(), masks.begin(), masks.end());
+    // words: the runs as RunPopcountSum reads them.
+    const std::vector<std::uint64_t> words = RunTable(headers, masks, bytes);
     const std::ptrdiff_t dx = 1 + trial % 4, dy = (1 + trial % 3) * nx;
     const std::ptrdiff_t shifts[4] = {0, dy, dx, dx + dy};
     int bits[4] = {0, 0, 0, 0};
@@ -134,17 +180,20 @@ TEST(GatherSumsTest, RunSumsCountTheMaskedBitsOfEveryRun) {
         }
       }
     }
-    ASSERT_EQ(RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs, kAll.lo, kAll.hi),
-              bits[0]);
-    ASSERT_EQ(RunPopcountSum(plane.data(), base, nx, words.data(), runs, kAll.lo, kAll.hi), bits[0])
-        << "runs " << runs;
+    ASSERT_EQ(
+        RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs, bytes, kAll.lo, kAll.hi),
+        bits[0]);
+    ASSERT_EQ(RunPopcountSum(plane.data(), base, nx, words.data(), runs, bytes, kAll.lo, kAll.hi),
+              bits[0])
+        << "runs " << runs << " width " << bytes;
     int fast[4], ref[4];
-    RunPopcountSum4(plane.data(), base, nx, dx, dy, words.data(), runs, kAll.lo, kAll.hi, fast);
-    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, kAll.lo, kAll.hi,
-                          ref);
+    RunPopcountSum4(plane.data(), base, nx, dx, dy, words.data(), runs, bytes, kAll.lo, kAll.hi,
+                    fast);
+    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, bytes, kAll.lo,
+                          kAll.hi, ref);
     for (int q = 0; q < 4; ++q) {
-      ASSERT_EQ(ref[q], bits[q]) << "block " << q;
-      ASSERT_EQ(fast[q], bits[q]) << "block " << q;
+      ASSERT_EQ(ref[q], bits[q]) << "block " << q << " width " << bytes;
+      ASSERT_EQ(fast[q], bits[q]) << "block " << q << " width " << bytes;
     }
     nonzero += bits[0] > 0 ? 1 : 0;
   }
@@ -172,30 +221,31 @@ TEST(GatherSumsTest, RunSumsSkipOnlyRowsOfZeros) {
     for (int r = 0; r < 30; ++r) starts.emplace_back(off(rng), off(rng));
     std::sort(starts.begin(), starts.end());
     std::vector<std::uint64_t> headers, masks;
+    const int bytes = 8 - trial % 8;
     for (const auto& [cy, cx] : starts) {
       const int n = len(rng);
       headers.push_back(RunHeader(cx, cy, n));
-      for (int i = 0; i < n; ++i) masks.push_back(rng());
+      for (int i = 0; i < n; ++i) masks.push_back(LowBytes(rng(), bytes));
     }
     const int runs = static_cast<int>(headers.size());
-    std::vector<std::uint64_t> words = headers;
-    words.insert(words.end(), masks.begin(), masks.end());
+    const std::vector<std::uint64_t> words = RunTable(headers, masks, bytes);
     const int row0 = static_cast<int>(base / nx);  // the plane row of cy = 0.
     const int d = 1 + trial % 3;
     const std::ptrdiff_t dx = d, dy = d * nx;
     const int all =
-        RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs, kAll.lo, kAll.hi);
-    ASSERT_EQ(RunPopcountSum(plane.data(), base, nx, words.data(), runs, lo - row0, hi - row0),
-              all);
+        RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs, bytes, kAll.lo, kAll.hi);
     ASSERT_EQ(
-        RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs, lo - row0, hi - row0),
+        RunPopcountSum(plane.data(), base, nx, words.data(), runs, bytes, lo - row0, hi - row0),
         all);
+    ASSERT_EQ(RunPopcountSumScalar(plane.data(), base, nx, words.data(), runs, bytes, lo - row0,
+                                   hi - row0),
+              all);
     int full[4], limited[4], limited_ref[4];
-    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, kAll.lo, kAll.hi,
-                          full);
-    RunPopcountSum4(plane.data(), base, nx, dx, dy, words.data(), runs, lo - row0 - d, hi - row0,
-                    limited);
-    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, lo - row0 - d,
+    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, bytes, kAll.lo,
+                          kAll.hi, full);
+    RunPopcountSum4(plane.data(), base, nx, dx, dy, words.data(), runs, bytes, lo - row0 - d,
+                    hi - row0, limited);
+    RunPopcountSum4Scalar(plane.data(), base, nx, dx, dy, words.data(), runs, bytes, lo - row0 - d,
                           hi - row0, limited_ref);
     for (int q = 0; q < 4; ++q) {
       ASSERT_EQ(limited[q], full[q]) << "block " << q;
@@ -203,7 +253,7 @@ TEST(GatherSumsTest, RunSumsSkipOnlyRowsOfZeros) {
     }
     // A limit one row too tight loses the sum of a non-zero row whenever a run reads it.
     const int tight =
-        RunPopcountSum(plane.data(), base, nx, words.data(), runs, lo - row0 + 1, hi - row0);
+        RunPopcountSum(plane.data(), base, nx, words.data(), runs, bytes, lo - row0 + 1, hi - row0);
     skipped_nonzero += tight < all ? 1 : 0;
   }
   EXPECT_GT(skipped_nonzero, 20);  // the limits do leave runs out.

@@ -423,6 +423,7 @@ TEST(ColumnOccupancyTest, TableDirectoryGivesEveryTableItsOwn) {
                     << " residue " << ra << "," << rb << " pass " << pass;
                 ASSERT_EQ(got.runs, want.runs);
                 ASSERT_EQ(got.size, static_cast<int>(want.words.size()));
+                ASSERT_EQ(got.mask_bytes, want.mask_bytes);
                 ++checked;
                 if (level != 0) continue;
                 const CellTable common = rot.CommonTable(t, first, ra, rb);
@@ -432,6 +433,7 @@ TEST(ColumnOccupancyTest, TableDirectoryGivesEveryTableItsOwn) {
                     << "," << rb << " pass " << pass;
                 ASSERT_EQ(common.runs, common_want.runs);
                 ASSERT_EQ(common.size, static_cast<int>(common_want.words.size()));
+                ASSERT_EQ(common.mask_bytes, rot.mask_bytes());
               }
             }
           }
@@ -440,6 +442,40 @@ TEST(ColumnOccupancyTest, TableDirectoryGivesEveryTableItsOwn) {
     }
   }
   EXPECT_GT(checked, 3000);
+}
+
+// The cell tables keep each mask in the bytes the template's highest z cell needs: a template
+// under 64 cells tall takes fewer than 8, and every table's cells read back (ForEachCell) within
+// that width and with the masks of the columns landing in them (Groups at residue (0, 0)).
+TEST(ColumnOccupancyTest, CellTablesKeepMasksInTheTemplatesBytes) {
+  PoseLattice lattice;
+  lattice.angle_steps = 16;
+  const VoxelTemplate tpl =
+      *MakeTemplateFromPoints(testing::RandomRobotPoints(9), "t", lattice.resolution_m);
+  const TemplateRotations rot(tpl, lattice);
+  std::uint64_t any = 0;
+  for (const std::uint64_t m : rot.Get(0).column_masks) any |= m;
+  ASSERT_NE(any, 0u);
+  const int height = 64 - __builtin_clzll(any);  // z cells from the lowest.
+  EXPECT_EQ(rot.mask_bytes(), (height + 7) / 8);
+  EXPECT_LT(rot.mask_bytes(), 8);
+  const int s = lattice.subdivisions;
+  for (int itheta = 0; itheta < lattice.angle_steps; ++itheta) {
+    const RotatedTemplate& r = rot.Get(itheta);
+    std::map<std::pair<int, int>, std::uint64_t> want;
+    for (size_t c = 0; c < r.column_q.size(); ++c) {
+      want[{FloorDiv(r.column_q[c].x(), s), FloorDiv(r.column_q[c].y(), s)}] |= r.column_masks[c];
+    }
+    const CellGroups& g = rot.Groups(itheta, 0, 0);
+    EXPECT_EQ(g.mask_bytes, rot.mask_bytes());
+    EXPECT_EQ(g.cells(), static_cast<int>(want.size()));
+    std::map<std::pair<int, int>, std::uint64_t> got;
+    g.ForEachCell([&](int cx, int cy, std::uint64_t mask) {
+      EXPECT_EQ(mask >> (8 * g.mask_bytes), 0u);
+      got[{cx, cy}] = mask;
+    });
+    ASSERT_EQ(got, want) << "rotation " << itheta;
+  }
 }
 
 // Under the sanitizers every third scene (still every max_level and both subdivisions): the
