@@ -41,24 +41,46 @@ void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, st
   out[3] = s11;
 }
 
+void WriteRunTable(const CellRun* runs, int run_count, const std::uint64_t* masks, int cells,
+                   int mask_bytes, std::uint64_t* out) {
+  for (int r = 0; r < run_count; ++r) {
+    assert(runs[r].len >= 1 && runs[r].len <= 8 && runs[r].cy < kRunRowBias - 1);
+    out[r] = RunHeader(runs[r].cx, runs[r].cy, runs[r].len, mask_bytes);
+  }
+  out[run_count] = kRunSentinel;
+  // The stores below write every byte up to the last mask's 8; the padding's last words are
+  // zeroed first.
+  const std::size_t words = RunTableWords(run_count, cells, mask_bytes);
+  const std::size_t pad_from =
+      std::max<std::size_t>(run_count + 1, words - (kRunTablePadding / 8 + 1));
+  std::fill(out + pad_from, out + words, 0);
+  unsigned char* at = reinterpret_cast<unsigned char*>(out + run_count + 1);
+  for (int c = 0; c < cells; ++c, at += mask_bytes) {
+    assert(MaskBytes(masks[c]) <= mask_bytes);
+    StoreRunMask(at, masks[c]);
+  }
+}
+
 namespace {
 
-// The first run whose row is at least cy_lo (runs come in ascending rows), and where its masks
-// start. The sums go on from there while the rows stay within cy_hi: the runs past it are not
-// counted first in a pass of their own.
+// The first header of a run with cy >= cy_lo (or the sentinel), and where its masks start.
+// The sums go on from there while the headers stay within RunRowsTo(cy_hi).
 struct RowRuns {
-  int first = 0;
+  const std::uint64_t* header = nullptr;
   const unsigned char* masks = nullptr;
 };
 
-RowRuns RunsFromRow(const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo) {
-  RowRuns out;
-  out.masks = RunMasks(runs, run_count);
-  while (out.first < run_count && RunHeaderY(runs[out.first]) < cy_lo) {
-    out.masks += RunHeaderLength(runs[out.first]) * mask_bytes;
-    ++out.first;
-  }
+RowRuns RunsFromRow(const std::uint64_t* runs, int run_count, int cy_lo) {
+  RowRuns out{runs, RunMasks(runs, run_count)};
+  const std::uint64_t from = RunRowsFrom(cy_lo);
+  for (; *out.header < from; ++out.header) out.masks += RunHeaderBytes(*out.header);
   return out;
+}
+
+// The plane offset of a run's first word: base + cy * row + cx, with the biased cy of its
+// header and `biased_base` = base - kRunRowBias * row.
+inline std::ptrdiff_t RunOffset(std::ptrdiff_t biased_base, std::ptrdiff_t row, std::uint64_t h) {
+  return biased_base + static_cast<std::ptrdiff_t>(h >> 48) * row + RunHeaderX(h);
 }
 
 }  // namespace
@@ -68,16 +90,16 @@ int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::p
                          const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
                          int cy_hi) {
   int sum = 0;
-  const RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
-  const unsigned char* masks = rr.masks;
-  for (int r = rr.first; r < run_count; ++r) {
-    const std::uint64_t h = runs[r];
-    if (RunHeaderY(h) > cy_hi) break;
-    const std::uint64_t* p = RunStart(plane, base, row, h);
+  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
+  const std::uint64_t to = RunRowsTo(cy_hi);
+  const std::ptrdiff_t biased_base = base - kRunRowBias * row;
+  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+    const std::uint64_t* p = plane + RunOffset(biased_base, row, h);
     const int len = RunHeaderLength(h);
-    for (int i = 0; i < len; ++i, masks += mask_bytes) {
-      sum += __builtin_popcountll(LoadRunMask(masks, mask_bytes) & p[i]);
+    for (int i = 0; i < len; ++i) {
+      sum += __builtin_popcountll(LoadRunMask(rr.masks + i * mask_bytes, mask_bytes) & p[i]);
     }
+    rr.masks += RunHeaderBytes(h);
   }
   return sum;
 }
@@ -87,20 +109,20 @@ void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std:
                            std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
                            int run_count, int mask_bytes, int cy_lo, int cy_hi, int out[4]) {
   int s00 = 0, s01 = 0, s10 = 0, s11 = 0;
-  const RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
-  const unsigned char* masks = rr.masks;
-  for (int r = rr.first; r < run_count; ++r) {
-    const std::uint64_t h = runs[r];
-    if (RunHeaderY(h) > cy_hi) break;
+  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
+  const std::uint64_t to = RunRowsTo(cy_hi);
+  const std::ptrdiff_t biased_base = base - kRunRowBias * row;
+  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+    const std::uint64_t* p = plane + RunOffset(biased_base, row, h);
     const int len = RunHeaderLength(h);
-    const std::uint64_t* p = RunStart(plane, base, row, h);
-    for (int i = 0; i < len; ++i, masks += mask_bytes) {
-      const std::uint64_t m = LoadRunMask(masks, mask_bytes);
+    for (int i = 0; i < len; ++i) {
+      const std::uint64_t m = LoadRunMask(rr.masks + i * mask_bytes, mask_bytes);
       s00 += __builtin_popcountll(m & p[i]);
       s01 += __builtin_popcountll(m & p[i + dy]);
       s10 += __builtin_popcountll(m & p[i + dx]);
       s11 += __builtin_popcountll(m & p[i + dx + dy]);
     }
+    rr.masks += RunHeaderBytes(h);
   }
   out[0] = s00;
   out[1] = s01;
@@ -172,90 +194,84 @@ namespace {
   }
 }
 
-// A run is one masked load of its words and one of its masks (lanes past the run read
-// nothing and count 0). Masks narrower than 8 bytes are spread to the low bytes of their lanes
-// by an expanding load; 8-byte ones are a plain masked load.
-#define HPOSE_RUN_TARGET "avx512f,avx512bw,avx512vbmi2,avx512vpopcntdq,bmi2,popcnt"
+// A run is one load of its words, masked to its lanes by its header's low byte, and one
+// 64-byte load of its masks. Masks of 8 bytes are in their lanes as loaded; narrower ones are
+// moved there by one byte permutation (byte j of lane l from byte l * width + j, bytes at and
+// above the width zeroed). Lanes past the run hold other runs' masks, but their words are 0.
+#define HPOSE_RUN_TARGET "avx512f,avx512bw,avx512vbmi,avx512vpopcntdq,popcnt"
 
-// The lanes of a run of `len` masks, and the bytes of those lanes an expanding load of
-// `mask_bytes`-byte masks fills (`lane_bytes`: the low mask_bytes bytes of every lane).
-[[gnu::target(HPOSE_RUN_TARGET)]] inline __m512i LoadRunMasks(const unsigned char* masks, int len,
-                                                              std::uint64_t lane_bytes,
-                                                              bool packed) {
-  if (!packed) {
-    return _mm512_maskz_loadu_epi64(static_cast<__mmask8>((1u << len) - 1u), masks);
+// The permutation's byte indices per mask width (1 to 8; 0 unused).
+struct LaneBytes {
+  alignas(64) std::uint8_t index[9][64] = {};
+  LaneBytes() {
+    for (int width = 1; width <= 8; ++width) {
+      for (int lane = 0; lane < 8; ++lane) {
+        for (int j = 0; j < width; ++j) {
+          index[width][8 * lane + j] = static_cast<std::uint8_t>(lane * width + j);
+        }
+      }
+    }
   }
-  return _mm512_maskz_expandloadu_epi8(_bzhi_u64(lane_bytes, 8u * static_cast<unsigned>(len)),
-                                       masks);
-}
+};
+const LaneBytes kLaneBytes;
 
-inline std::uint64_t LaneBytes(int mask_bytes) {
+// The bytes of a lane a mask of `mask_bytes` bytes fills, in every lane.
+inline std::uint64_t LaneByteMask(int mask_bytes) {
   return 0x0101010101010101ull * ((1u << mask_bytes) - 1u);
 }
 
+[[gnu::target(HPOSE_RUN_TARGET)]] inline __m512i LoadRunMasks(const unsigned char* masks,
+                                                              __mmask64 bytes, __m512i index,
+                                                              bool packed) {
+  const __m512i raw = _mm512_loadu_si512(masks);
+  return packed ? _mm512_maskz_permutexvar_epi8(bytes, index, raw) : raw;
+}
+
 template <bool kPacked>
-[[gnu::target(HPOSE_RUN_TARGET)]] int RunPopcountSumAvx512Of(
-    const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, const std::uint64_t* runs,
-    int run_count, int mask_bytes, int cy_lo, int cy_hi) {
+[[gnu::target(HPOSE_RUN_TARGET)]] int RunPopcountSumAvx512(const std::uint64_t* plane,
+                                                           std::ptrdiff_t base, std::ptrdiff_t row,
+                                                           const std::uint64_t* runs, int run_count,
+                                                           int mask_bytes, int cy_lo, int cy_hi) {
   __m512i acc = _mm512_setzero_si512();
-  const RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
-  const unsigned char* masks = rr.masks;
-  const std::uint64_t lane_bytes = LaneBytes(mask_bytes);
-  for (int r = rr.first; r < run_count; ++r) {
-    const std::uint64_t h = runs[r];
-    if (RunHeaderY(h) > cy_hi) break;
-    const int len = RunHeaderLength(h);
-    const std::uint64_t* p = RunStart(plane, base, row, h);
-    const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
-    const __m512i words = _mm512_maskz_loadu_epi64(k, p);
-    const __m512i m = LoadRunMasks(masks, len, lane_bytes, kPacked);
+  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
+  const std::uint64_t to = RunRowsTo(cy_hi);
+  const std::ptrdiff_t biased_base = base - kRunRowBias * row;
+  const __mmask64 bytes = _cvtu64_mask64(LaneByteMask(mask_bytes));
+  const __m512i index = _mm512_load_si512(kLaneBytes.index[mask_bytes]);
+  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+    const __m512i words = _mm512_maskz_loadu_epi64(static_cast<__mmask8>(h & 0xFF),
+                                                   plane + RunOffset(biased_base, row, h));
+    const __m512i m = LoadRunMasks(rr.masks, bytes, index, kPacked);
     acc = _mm512_add_epi64(acc, _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
-    masks += len * mask_bytes;
+    rr.masks += RunHeaderBytes(h);
   }
   return SumLanes(acc);
 }
 
-int RunPopcountSumAvx512(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                         const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
-                         int cy_hi) {
-  return (mask_bytes >= 8 ? RunPopcountSumAvx512Of<false>
-                          : RunPopcountSumAvx512Of<true>)(plane, base, row, runs, run_count,
-                                                          mask_bytes, cy_lo, cy_hi);
-}
-
 template <bool kPacked>
-[[gnu::target(HPOSE_RUN_TARGET)]] void RunPopcountSum4Avx512Of(
+[[gnu::target(HPOSE_RUN_TARGET)]] void RunPopcountSum4Avx512(
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, std::ptrdiff_t dx,
     std::ptrdiff_t dy, const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
     int cy_hi, int out[4]) {
   const __m512i zero = _mm512_setzero_si512();
   __m512i acc[4] = {zero, zero, zero, zero};
   const std::ptrdiff_t offset[4] = {0, dy, dx, dx + dy};
-  const RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
-  const unsigned char* masks = rr.masks;
-  const std::uint64_t lane_bytes = LaneBytes(mask_bytes);
-  for (int r = rr.first; r < run_count; ++r) {
-    const std::uint64_t h = runs[r];
-    if (RunHeaderY(h) > cy_hi) break;
-    const int len = RunHeaderLength(h);
-    const std::uint64_t* p = RunStart(plane, base, row, h);
-    const __mmask8 k = static_cast<__mmask8>((1u << len) - 1u);
-    const __m512i m = LoadRunMasks(masks, len, lane_bytes, kPacked);
+  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
+  const std::uint64_t to = RunRowsTo(cy_hi);
+  const std::ptrdiff_t biased_base = base - kRunRowBias * row;
+  const __mmask64 bytes = _cvtu64_mask64(LaneByteMask(mask_bytes));
+  const __m512i index = _mm512_load_si512(kLaneBytes.index[mask_bytes]);
+  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+    const __mmask8 k = static_cast<__mmask8>(h & 0xFF);
+    const std::uint64_t* p = plane + RunOffset(biased_base, row, h);
+    const __m512i m = LoadRunMasks(rr.masks, bytes, index, kPacked);
     for (int q = 0; q < 4; ++q) {
       const __m512i words = _mm512_maskz_loadu_epi64(k, p + offset[q]);
       acc[q] = _mm512_add_epi64(acc[q], _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
     }
-    masks += len * mask_bytes;
+    rr.masks += RunHeaderBytes(h);
   }
   for (int q = 0; q < 4; ++q) out[q] = SumLanes(acc[q]);
-}
-
-void RunPopcountSum4Avx512(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
-                           std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
-                           int run_count, int mask_bytes, int cy_lo, int cy_hi, int out[4]) {
-  (mask_bytes >= 8 ? RunPopcountSum4Avx512Of<false>
-                   : RunPopcountSum4Avx512Of<true>)(plane, base, row, dx, dy, runs, run_count,
-                                                    mask_bytes, cy_lo, cy_hi, out);
 }
 
 bool HasAvx512Popcount() {
@@ -265,10 +281,10 @@ bool HasAvx512Popcount() {
   return has;
 }
 
-// The run sums' vector path also needs the expanding byte loads and BZHI.
+// The run sums' vector path also needs the byte permutation (VBMI) and byte masks (BW).
 bool HasAvx512RunSums() {
   static const bool has = HasAvx512Popcount() && __builtin_cpu_supports("avx512bw") &&
-                          __builtin_cpu_supports("avx512vbmi2") && __builtin_cpu_supports("bmi2");
+                          __builtin_cpu_supports("avx512vbmi");
   return has;
 }
 
@@ -281,7 +297,9 @@ bool HasAvx512Popcount() { return false; }
 bool HasAvx512RunSums() { return false; }
 constexpr auto* GatherPopcountSumAvx512 = &GatherPopcountSumScalar;
 constexpr auto* GatherPopcountSum4Avx512 = &GatherPopcountSum4Scalar;
+template <bool kPacked>
 constexpr auto* RunPopcountSumAvx512 = &RunPopcountSumScalar;
+template <bool kPacked>
 constexpr auto* RunPopcountSum4Avx512 = &RunPopcountSum4Scalar;
 
 }  // namespace
@@ -305,15 +323,24 @@ void GatherPopcountSum4(const std::uint64_t* data, std::ptrdiff_t base, std::ptr
 
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                    const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo, int cy_hi) {
-  return (HasAvx512RunSums() ? RunPopcountSumAvx512 : RunPopcountSumScalar)(
-      plane, base, row, runs, run_count, mask_bytes, cy_lo, cy_hi);
+  if (!HasAvx512RunSums()) {
+    return RunPopcountSumScalar(plane, base, row, runs, run_count, mask_bytes, cy_lo, cy_hi);
+  }
+  return (mask_bytes >= 8 ? RunPopcountSumAvx512<false>
+                          : RunPopcountSumAvx512<true>)(plane, base, row, runs, run_count,
+                                                        mask_bytes, cy_lo, cy_hi);
 }
 
 void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                      std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs, int run_count,
                      int mask_bytes, int cy_lo, int cy_hi, int out[4]) {
-  (HasAvx512RunSums() ? RunPopcountSum4Avx512 : RunPopcountSum4Scalar)(
-      plane, base, row, dx, dy, runs, run_count, mask_bytes, cy_lo, cy_hi, out);
+  if (!HasAvx512RunSums()) {
+    RunPopcountSum4Scalar(plane, base, row, dx, dy, runs, run_count, mask_bytes, cy_lo, cy_hi, out);
+    return;
+  }
+  (mask_bytes >= 8 ? RunPopcountSum4Avx512<false>
+                   : RunPopcountSum4Avx512<true>)(plane, base, row, dx, dy, runs, run_count,
+                                                  mask_bytes, cy_lo, cy_hi, out);
 }
 
 }  // namespace hpose

@@ -1,6 +1,7 @@
 #ifndef HPOSE_CORE_SCORING_GATHER_SUMS_H_
 #define HPOSE_CORE_SCORING_GATHER_SUMS_H_
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -33,38 +34,72 @@ void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, st
                               int out[4]);
 bool GatherPopcountSumVectorised();
 
-// Runs of consecutive cells in one array of words (CellGroups): a header word per run (its
-// first cell, cx and cy as 16-bit two's complement in bits 0-15 and 16-31, and its length, 1
-// to 8, in bits 32-35), then the masks of every run's cells, run after run, each in the same
-// number of bytes (1 to 8: the table's mask width, which its template's highest z bit sets),
-// lowest byte first, then padding so that 8 bytes can be read at any mask (MaskedRunWords). One
-// array read front to back: a table costs the cache lines it fills, not a miss per field, and a
-// template 37 cells tall fills 5 bytes a cell instead of 8.
-inline std::uint64_t RunHeader(int cx, int cy, int len) {
-  return static_cast<std::uint64_t>(static_cast<std::uint16_t>(cx)) |
-         (static_cast<std::uint64_t>(static_cast<std::uint16_t>(cy)) << 16) |
-         (static_cast<std::uint64_t>(len) << 32);
+// Runs of consecutive cells in one array of words (CellGroups): a header word per run, a
+// sentinel word, then the masks of every run's cells, run after run, each in the same number of
+// bytes (1 to 8: the table's mask width, which its template's highest z bit sets), lowest byte
+// first, then padding (RunTableWords). One array read front to back: a table costs the cache
+// lines it fills, not a miss per field, and a template 37 cells tall fills 5 bytes a cell
+// instead of 8. A header holds what the sums use, each where it is cheapest to take:
+//   bits 0-7    the run's lanes, (1 << length) - 1 (length 1 to 8): a lane mask as it is;
+//   bits 8-15   the bytes of the run's masks (length times the width): where the next run's
+//               masks start;
+//   bits 16-31  its first cell's cx, 16-bit two's complement;
+//   bits 48-63  its cy + 32768 (cy below 32767), so that headers compare as their rows do
+//               (runs come in ascending cy: CellGroups' order).
+// The sentinel's row field is 0xFFFF, above every run's: a loop over the runs of rows up to
+// some cy stops there without counting them.
+constexpr int kRunRowBias = 32768;
+constexpr std::uint64_t kRunSentinel = std::uint64_t{0xFFFF} << 48;
+inline std::uint64_t RunHeader(int cx, int cy, int len, int mask_bytes) {
+  return ((std::uint64_t{1} << len) - 1) | (static_cast<std::uint64_t>(len * mask_bytes) << 8) |
+         (static_cast<std::uint64_t>(static_cast<std::uint16_t>(cx)) << 16) |
+         (static_cast<std::uint64_t>(cy + kRunRowBias) << 48);
 }
-inline int RunHeaderX(std::uint64_t h) { return static_cast<std::int16_t>(h & 0xFFFF); }
-inline int RunHeaderY(std::uint64_t h) { return static_cast<std::int16_t>((h >> 16) & 0xFFFF); }
-inline int RunHeaderLength(std::uint64_t h) { return static_cast<int>((h >> 32) & 0xF); }
-// The first word of the run of header h on a plane of `row` words a row, relative to `base`.
-inline const std::uint64_t* RunStart(const std::uint64_t* plane, std::ptrdiff_t base,
-                                     std::ptrdiff_t row, std::uint64_t h) {
-  return plane + base + RunHeaderY(h) * row + RunHeaderX(h);
+inline int RunHeaderX(std::uint64_t h) { return static_cast<std::int16_t>((h >> 16) & 0xFFFF); }
+inline int RunHeaderY(std::uint64_t h) { return static_cast<int>(h >> 48) - kRunRowBias; }
+inline int RunHeaderLength(std::uint64_t h) {  // the lanes' highest bit, + 1.
+  return 32 - __builtin_clz(static_cast<unsigned>(h & 0xFF));
+}
+inline int RunHeaderBytes(std::uint64_t h) { return static_cast<int>((h >> 8) & 0xFF); }
+// Every header of a run with cy >= cy_lo is at least RunRowsFrom(cy_lo), and every header of a
+// run with cy <= cy_hi (and no other, nor the sentinel) at most RunRowsTo(cy_hi).
+inline std::uint64_t RunRowsFrom(int cy_lo) {
+  if (cy_lo <= -kRunRowBias) return 0;
+  return static_cast<std::uint64_t>(std::min(cy_lo, kRunRowBias - 1) + kRunRowBias) << 48;
+}
+inline std::uint64_t RunRowsTo(int cy_hi) {
+  if (cy_hi < -kRunRowBias) return 0;  // a header's lanes are never 0.
+  return (static_cast<std::uint64_t>(std::min(cy_hi, kRunRowBias - 2) + kRunRowBias) << 48) |
+         ((std::uint64_t{1} << 48) - 1);
 }
 // The bytes a mask needs: those up to its highest set bit (at least 1).
 inline int MaskBytes(std::uint64_t mask) {
   return mask == 0 ? 1 : (64 - __builtin_clzll(mask) + 7) / 8;
 }
-// The words a table of `runs` runs and `cells` cells needs at `mask_bytes` a mask, with the
-// padding that makes 8 bytes readable at the last mask: (cells - 1) * mask_bytes + 8 bytes of
-// masks, rounded up to words.
-inline std::size_t MaskedRunWords(int runs, int cells, int mask_bytes) {
+// A table's padding after its masks: 64 bytes can be read at any run's first mask.
+constexpr int kRunTablePadding = 64;
+// The words a table of `runs` runs and `cells` cells takes at `mask_bytes` a mask: headers,
+// sentinel, masks and padding.
+inline std::size_t RunTableWords(int runs, int cells, int mask_bytes) {
   const std::size_t bytes =
-      static_cast<std::size_t>(cells) * static_cast<std::size_t>(mask_bytes) + 8 - mask_bytes;
-  return static_cast<std::size_t>(runs) + (cells == 0 ? 0 : (bytes + 7) / 8);
+      static_cast<std::size_t>(cells) * static_cast<std::size_t>(mask_bytes) + kRunTablePadding;
+  return static_cast<std::size_t>(runs) + 1 + (bytes + 7) / 8;
 }
+// Where the masks of a table of `run_count` runs start.
+inline const unsigned char* RunMasks(const std::uint64_t* runs, int run_count) {
+  return reinterpret_cast<const unsigned char*>(runs + run_count + 1);
+}
+// A run as a table's builder gives it: its first cell and its length (1 to 8).
+struct CellRun {
+  int cx = 0;
+  int cy = 0;
+  int len = 0;
+};
+// Lays out the table of `run_count` runs (ascending cy) and their `cells` masks (cell after
+// cell, each fitting `mask_bytes` bytes) in `out`, RunTableWords(run_count, cells, mask_bytes)
+// words.
+void WriteRunTable(const CellRun* runs, int run_count, const std::uint64_t* masks, int cells,
+                   int mask_bytes, std::uint64_t* out);
 // Writes a mask at `at` as 8 bytes, lowest first: its own (it must fit the table's width) and
 // zeros above, which the next mask overwrites (the padding leaves room after the last). And
 // reads one back from there.
@@ -82,18 +117,14 @@ inline std::uint64_t LoadRunMask(const unsigned char* at, int mask_bytes) {
 #endif
   return mask_bytes >= 8 ? m : m & ((std::uint64_t{1} << (8 * mask_bytes)) - 1);
 }
-// Where the masks of a table of `run_count` runs start.
-inline const unsigned char* RunMasks(const std::uint64_t* runs, int run_count) {
-  return reinterpret_cast<const unsigned char*>(runs + run_count);
-}
 
-// The same sum over such runs (`runs`: the array, run_count headers then the masks,
-// `mask_bytes` bytes each): run r adds popcount(mask & word) for its masks and the words from
-// plane + base + cy * row + cx on. Runs are in ascending cy (CellGroups' order), and those whose
-// cy lies outside [cy_lo, cy_hi] are left out: the caller passes the rows where the plane may be
-// non-zero (INT_MIN and INT_MAX for all), so a small cluster's sum skips the runs that would
-// only read zeros. With AVX-512 (and VBMI2 for masks narrower than 8 bytes) a run is one masked
-// load of its words and one expanding load of its masks; the scalar loop is the reference.
+// The same sum over such runs (`runs`: a table as above, of run_count runs, `mask_bytes` bytes a
+// mask): a run adds popcount(mask & word) for its masks and the words from
+// plane + base + cy * row + cx on. Runs whose cy lies outside [cy_lo, cy_hi] are left out: the
+// caller passes the rows where the plane may be non-zero (INT_MIN and INT_MAX for all), so a
+// small cluster's sum skips the runs that would only read zeros. With AVX-512 (and VBMI for
+// masks narrower than 8 bytes) a run is a masked load of its words and a load of its masks,
+// spread to their lanes by one byte permutation; the scalar loop is the reference.
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                    const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo, int cy_hi);
 int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,

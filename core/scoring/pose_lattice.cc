@@ -456,41 +456,35 @@ namespace {
 class CellGroupsBuilder {
  public:
   void Append(int cx, int cy, std::uint64_t mask) {
-    assert(cx >= INT16_MIN && cx <= INT16_MAX && cy >= INT16_MIN && cy <= INT16_MAX);
+    assert(cx >= INT16_MIN && cx <= INT16_MAX && cy >= INT16_MIN && cy < INT16_MAX);
     masks_.push_back(mask);
-    if (!headers_.empty()) {
-      std::uint64_t& h = headers_.back();
-      const int len = RunHeaderLength(h);
-      if (RunHeaderY(h) == cy && RunHeaderX(h) + len == cx && len < CellGroups::kMaxRun) {
-        h = RunHeader(cx - len, cy, len + 1);
+    if (!runs_.empty()) {
+      CellRun& r = runs_.back();
+      if (r.cy == cy && r.cx + r.len == cx && r.len < CellGroups::kMaxRun) {
+        ++r.len;
         return;
       }
     }
-    headers_.push_back(RunHeader(cx, cy, 1));
+    runs_.push_back({cx, cy, 1});
   }
   // The table of the cells appended since the last Take(), in `arena`, its masks mask_bytes
   // bytes each (every mask must fit).
   CellGroups Take(TableArena* arena, int mask_bytes) {
     CellGroups g;
     g.words = TableWords(TableAllocator<std::uint64_t>(arena));
-    g.runs = static_cast<int>(headers_.size());
+    g.runs = static_cast<int>(runs_.size());
     g.cell_count = static_cast<int>(masks_.size());
     g.mask_bytes = mask_bytes;
-    g.words.assign(MaskedRunWords(g.runs, g.cell_count, mask_bytes), 0);
-    std::copy(headers_.begin(), headers_.end(), g.words.begin());
-    unsigned char* at = reinterpret_cast<unsigned char*>(g.words.data() + g.runs);
-    for (const std::uint64_t m : masks_) {
-      assert(MaskBytes(m) <= mask_bytes);
-      StoreRunMask(at, m);
-      at += mask_bytes;
-    }
-    headers_.clear();
+    g.words.resize(RunTableWords(g.runs, g.cell_count, mask_bytes));
+    WriteRunTable(runs_.data(), g.runs, masks_.data(), g.cell_count, mask_bytes, g.words.data());
+    runs_.clear();
     masks_.clear();
     return g;
   }
 
  private:
-  std::vector<std::uint64_t> headers_, masks_;
+  std::vector<CellRun> runs_;
+  std::vector<std::uint64_t> masks_;
 };
 
 // This thread's builder, for callers that make one table at a time without making another

@@ -123,7 +123,7 @@ struct CellTable {
 // row by row in runs of at most kMaxRun consecutive cells of one row: run r covers cells
 // (cx + i, cy) for i below its length, and the masks follow the headers, one per cell, run after
 // run, in mask_bytes bytes each (HitsGrouped reads a run's masks as consecutive bytes; the
-// layout is gather_sums.h's).
+// layout, a sentinel and padding included, is gather_sums.h's).
 struct CellGroups {
   static constexpr int kMaxRun = 8;
   // The runs' header words (RunHeader, gather_sums.h), then every cell's mask, run after run:

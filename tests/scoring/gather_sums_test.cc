@@ -103,19 +103,41 @@ std::uint64_t LowBytes(std::uint64_t w, int bytes) {
   return bytes >= 8 ? w : w & ((std::uint64_t{1} << (8 * bytes)) - 1);
 }
 
-// A table as RunPopcountSum reads it: the headers, then the masks `bytes` bytes each, padded
-// (gather_sums.h).
-std::vector<std::uint64_t> RunTable(const std::vector<std::uint64_t>& headers,
+// A table as RunPopcountSum reads it (gather_sums.h), laid out by WriteRunTable.
+std::vector<std::uint64_t> RunTable(const std::vector<CellRun>& runs,
                                     const std::vector<std::uint64_t>& masks, int bytes) {
-  std::vector<std::uint64_t> words(
-      MaskedRunWords(static_cast<int>(headers.size()), static_cast<int>(masks.size()), bytes), 0);
-  std::copy(headers.begin(), headers.end(), words.begin());
-  auto* at = reinterpret_cast<unsigned char*>(words.data() + headers.size());
-  for (const std::uint64_t m : masks) {
-    StoreRunMask(at, m);
-    at += bytes;
-  }
+  const int run_count = static_cast<int>(runs.size()), cells = static_cast<int>(masks.size());
+  std::vector<std::uint64_t> words(RunTableWords(run_count, cells, bytes), ~0ull);
+  WriteRunTable(runs.data(), run_count, masks.data(), cells, bytes, words.data());
   return words;
+}
+
+// A header gives back its run's cell, length and bytes; headers order as their rows do, the
+// row limits take exactly the runs of their rows, and the sentinel is above every limit.
+TEST(GatherSumsTest, RunHeadersKeepTheirRunAndOrderByRow) {
+  const int cys[] = {-32768, -300, -1, 0, 1, 77, 32766};
+  const int cxs[] = {-32768, -5, 0, 3, 32767};
+  for (const int cy : cys) {
+    for (const int cx : cxs) {
+      for (int len = 1; len <= 8; ++len) {
+        for (int bytes = 1; bytes <= 8; ++bytes) {
+          const std::uint64_t h = RunHeader(cx, cy, len, bytes);
+          ASSERT_EQ(RunHeaderX(h), cx);
+          ASSERT_EQ(RunHeaderY(h), cy);
+          ASSERT_EQ(RunHeaderLength(h), len);
+          ASSERT_EQ(RunHeaderBytes(h), len * bytes);
+          ASSERT_EQ(h & 0xFF, (1u << len) - 1);  // the lanes, as a mask.
+          ASSERT_LT(h, kRunSentinel);
+          for (const int limit : {INT_MIN, -40000, cy - 1, cy, cy + 1, 40000, INT_MAX}) {
+            ASSERT_EQ(h >= RunRowsFrom(limit), cy >= limit) << cy << " from " << limit;
+            ASSERT_EQ(h <= RunRowsTo(limit), cy <= limit) << cy << " to " << limit;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(kRunSentinel, RunRowsTo(INT_MAX));
+  EXPECT_GE(kRunSentinel, RunRowsFrom(INT_MAX));
 }
 
 // Masks of every width are written and read back as they were, and a width holds the bytes up
@@ -126,10 +148,23 @@ TEST(GatherSumsTest, RunMasksOfEveryWidthReadBackAsWritten) {
     std::vector<std::uint64_t> masks;
     for (int i = 0; i < 37; ++i) masks.push_back(LowBytes(rng(), bytes));
     masks.push_back(LowBytes(~0ull, bytes));  // every bit of the width.
-    const std::vector<std::uint64_t> words = RunTable({RunHeader(0, 0, 1)}, masks, bytes);
-    ASSERT_GE(words.size() * 8, 8 + (masks.size() - 1) * bytes + 8);  // 8 readable at the last.
+    // Runs of 8 cells along row 0 (the last of 6), one per mask.
+    std::vector<CellRun> runs;
+    for (int c = 0; c < static_cast<int>(masks.size()); c += 8) {
+      runs.push_back({c, 0, std::min(8, static_cast<int>(masks.size()) - c)});
+    }
+    const int n = static_cast<int>(runs.size());
+    const std::vector<std::uint64_t> words = RunTable(runs, masks, bytes);
+    // 64 bytes readable at every mask (a run's first, at most).
+    ASSERT_GE(words.size() * 8, 8 * (n + 1) + (masks.size() - 1) * bytes + 64);
+    EXPECT_EQ(words[n], kRunSentinel);
+    // Every byte after the masks is written, as 0 (RunTable starts from all ones).
+    const auto* bytes_of = reinterpret_cast<const unsigned char*>(words.data());
+    for (size_t b = 8 * (n + 1) + masks.size() * bytes; b < words.size() * 8; ++b) {
+      ASSERT_EQ(bytes_of[b], 0) << "width " << bytes << " byte " << b;
+    }
     for (size_t i = 0; i < masks.size(); ++i) {
-      ASSERT_EQ(LoadRunMask(RunMasks(words.data(), 1) + i * bytes, bytes), masks[i])
+      ASSERT_EQ(LoadRunMask(RunMasks(words.data(), n) + i * bytes, bytes), masks[i])
           << "width " << bytes << " mask " << i;
     }
     EXPECT_EQ(MaskBytes(std::uint64_t{1} << (8 * bytes - 1)), bytes);
@@ -153,14 +188,15 @@ TEST(GatherSumsTest, RunSumsCountTheMaskedBitsOfEveryRun) {
   int nonzero = 0;
   for (int trial = 0; trial < 200; ++trial) {
     std::vector<std::int32_t> run_cx, run_cy, run_len;
-    std::vector<std::uint64_t> headers, masks;
+    std::vector<CellRun> headers;
+    std::vector<std::uint64_t> masks;
     const int runs = trial % 25;
     const int bytes = 1 + trial % 8;  // every mask width.
     for (int r = 0; r < runs; ++r) {
       run_cx.push_back(off(rng));
       run_cy.push_back(off(rng));
       run_len.push_back(len(rng));
-      headers.push_back(RunHeader(run_cx.back(), run_cy.back(), run_len.back()));
+      headers.push_back({run_cx.back(), run_cy.back(), run_len.back()});
       for (int i = 0; i < run_len.back(); ++i) {
         masks.push_back(LowBytes(r % 4 == 0 ? ~0ull : rng(), bytes));
       }
@@ -220,11 +256,12 @@ TEST(GatherSumsTest, RunSumsSkipOnlyRowsOfZeros) {
     std::vector<std::pair<int, int>> starts;
     for (int r = 0; r < 30; ++r) starts.emplace_back(off(rng), off(rng));
     std::sort(starts.begin(), starts.end());
-    std::vector<std::uint64_t> headers, masks;
+    std::vector<CellRun> headers;
+    std::vector<std::uint64_t> masks;
     const int bytes = 8 - trial % 8;
     for (const auto& [cy, cx] : starts) {
       const int n = len(rng);
-      headers.push_back(RunHeader(cx, cy, n));
+      headers.push_back({cx, cy, n});
       for (int i = 0; i < n; ++i) masks.push_back(LowBytes(rng(), bytes));
     }
     const int runs = static_cast<int>(headers.size());
