@@ -93,7 +93,7 @@ struct EstimatorOptions {
   // optimum is computed, however low (slower on clutter).
   bool stop_below_threshold = true;
   // Make at construction every search table the exact search otherwise makes on first use
-  // (per shipped template about 40 ms on one core, spread over `threads`, and about 35 MB), so
+  // (per shipped template about 40 ms on one core, spread over `threads`, and about 27 MB), so
   // that the first frames take no longer than the later ones: for estimators that serve a
   // stream of frames (the daemon's). One-off estimates are quicker without (they make only
   // what they use).
