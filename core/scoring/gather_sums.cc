@@ -227,23 +227,38 @@ inline std::uint64_t LaneByteMask(int mask_bytes) {
   return packed ? _mm512_maskz_permutexvar_epi8(bytes, index, raw) : raw;
 }
 
+// What a sum over runs sets up once: where its runs start, the last row's limit, the plane
+// offset of biased row 0, and the permutation that spreads masks to their lanes.
+struct RunSum {
+  RowRuns rr;
+  std::uint64_t to;
+  std::ptrdiff_t biased_base;
+  __mmask64 bytes;
+  __m512i index;
+};
+
+[[gnu::target(HPOSE_RUN_TARGET)]] inline RunSum StartRunSum(std::ptrdiff_t base, std::ptrdiff_t row,
+                                                            const std::uint64_t* runs,
+                                                            int run_count, int mask_bytes,
+                                                            int cy_lo, int cy_hi) {
+  return {RunsFromRow(runs, run_count, cy_lo), RunRowsTo(cy_hi), base - kRunRowBias * row,
+          _cvtu64_mask64(LaneByteMask(mask_bytes)),
+          _mm512_load_si512(kLaneBytes.index[mask_bytes])};
+}
+
 template <bool kPacked>
 [[gnu::target(HPOSE_RUN_TARGET)]] int RunPopcountSumAvx512(const std::uint64_t* plane,
                                                            std::ptrdiff_t base, std::ptrdiff_t row,
                                                            const std::uint64_t* runs, int run_count,
                                                            int mask_bytes, int cy_lo, int cy_hi) {
   __m512i acc = _mm512_setzero_si512();
-  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
-  const std::uint64_t to = RunRowsTo(cy_hi);
-  const std::ptrdiff_t biased_base = base - kRunRowBias * row;
-  const __mmask64 bytes = _cvtu64_mask64(LaneByteMask(mask_bytes));
-  const __m512i index = _mm512_load_si512(kLaneBytes.index[mask_bytes]);
-  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+  RunSum s = StartRunSum(base, row, runs, run_count, mask_bytes, cy_lo, cy_hi);
+  for (std::uint64_t h = *s.rr.header; h <= s.to; h = *++s.rr.header) {
     const __m512i words = _mm512_maskz_loadu_epi64(static_cast<__mmask8>(h & 0xFF),
-                                                   plane + RunOffset(biased_base, row, h));
-    const __m512i m = LoadRunMasks(rr.masks, bytes, index, kPacked);
+                                                   plane + RunOffset(s.biased_base, row, h));
+    const __m512i m = LoadRunMasks(s.rr.masks, s.bytes, s.index, kPacked);
     acc = _mm512_add_epi64(acc, _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
-    rr.masks += RunHeaderBytes(h);
+    s.rr.masks += RunHeaderBytes(h);
   }
   return SumLanes(acc);
 }
@@ -256,20 +271,16 @@ template <bool kPacked>
   const __m512i zero = _mm512_setzero_si512();
   __m512i acc[4] = {zero, zero, zero, zero};
   const std::ptrdiff_t offset[4] = {0, dy, dx, dx + dy};
-  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
-  const std::uint64_t to = RunRowsTo(cy_hi);
-  const std::ptrdiff_t biased_base = base - kRunRowBias * row;
-  const __mmask64 bytes = _cvtu64_mask64(LaneByteMask(mask_bytes));
-  const __m512i index = _mm512_load_si512(kLaneBytes.index[mask_bytes]);
-  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+  RunSum s = StartRunSum(base, row, runs, run_count, mask_bytes, cy_lo, cy_hi);
+  for (std::uint64_t h = *s.rr.header; h <= s.to; h = *++s.rr.header) {
     const __mmask8 k = static_cast<__mmask8>(h & 0xFF);
-    const std::uint64_t* p = plane + RunOffset(biased_base, row, h);
-    const __m512i m = LoadRunMasks(rr.masks, bytes, index, kPacked);
+    const std::uint64_t* p = plane + RunOffset(s.biased_base, row, h);
+    const __m512i m = LoadRunMasks(s.rr.masks, s.bytes, s.index, kPacked);
     for (int q = 0; q < 4; ++q) {
       const __m512i words = _mm512_maskz_loadu_epi64(k, p + offset[q]);
       acc[q] = _mm512_add_epi64(acc[q], _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
     }
-    rr.masks += RunHeaderBytes(h);
+    s.rr.masks += RunHeaderBytes(h);
   }
   for (int q = 0; q < 4; ++q) out[q] = SumLanes(acc[q]);
 }
