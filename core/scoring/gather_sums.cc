@@ -203,7 +203,7 @@ namespace {
 // The permutation's byte indices per mask width (1 to 8; 0 unused).
 struct LaneBytes {
   alignas(64) std::uint8_t index[9][64] = {};
-  LaneBytes() {
+  constexpr LaneBytes() {
     for (int width = 1; width <= 8; ++width) {
       for (int lane = 0; lane < 8; ++lane) {
         for (int j = 0; j < width; ++j) {
@@ -213,7 +213,7 @@ struct LaneBytes {
     }
   }
 };
-const LaneBytes kLaneBytes;
+constexpr LaneBytes kLaneBytes;
 
 // The bytes of a lane a mask of `mask_bytes` bytes fills, in every lane.
 inline std::uint64_t LaneByteMask(int mask_bytes) {

@@ -106,8 +106,8 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
                          FloorDiv(sub_cell.y() + iy, subdivisions), sub_cell.z());
 }
 
-// What a search reads of a CellGroups: its words (the headers, then the masks), how many runs,
-// how many words and how many bytes a mask.
+// What a search reads of a CellGroups: its words (the headers, a sentinel, then the masks), how
+// many runs, how many words and how many bytes a mask.
 struct CellTable {
   const std::uint64_t* words = nullptr;
   int runs = 0;
@@ -126,8 +126,8 @@ struct CellTable {
 // layout, a sentinel and padding included, is gather_sums.h's).
 struct CellGroups {
   static constexpr int kMaxRun = 8;
-  // The runs' header words (RunHeader, gather_sums.h), then every cell's mask, run after run:
-  // one array whose headers load independently of each other.
+  // The runs' header words (RunHeader, gather_sums.h), a sentinel, then every cell's mask, run
+  // after run, and padding: one array whose headers load independently of each other.
   TableWords words;
   int runs = 0;
   int cell_count = 0;
@@ -309,8 +309,8 @@ class TemplateRotations {
   size_t block_tables_ = 0;
   // The directory of SweptTable and CommonTable: per theta level t (0 .. kThetaLevels - 1; level
   // 0 holds Groups and SweptGroups) from table_offset_[t], block after block, block_tables_ each
-  // in the order of swept_blocks_. An entry's words stay null until its table is made (and
-  // when the table has no words: then it is looked up the slow way every time).
+  // in the order of swept_blocks_. An entry's words stay null until its table is made (every
+  // table has words: an empty one its sentinel and padding).
   struct TableRef {
     std::atomic<const std::uint64_t*> words{nullptr};
     std::atomic<int> runs{0};
