@@ -19,8 +19,8 @@
 namespace hpose {
 
 // Whether this CPU runs core's AVX-512 passes (the sixteen-point passes over clouds, the grid
-// clustering's distance tests, the free-space cells): AVX-512 F, BW, DQ and VL, and AVX2 (what
-// their targets name). Checked once.
+// clustering's distance tests, the free-space cells, the refinement's placement of template
+// points): AVX-512 F, BW, DQ and VL, and AVX2 (what their targets name). Checked once.
 inline bool PointLanesAvailable() {
 #ifdef HPOSE_POINT_LANES
   static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/depth/point_lanes.h"
 #include "core/search/refine_terms.h"
 
 namespace hpose {
@@ -110,22 +111,17 @@ bool HasAvx2() {
   static const bool has = __builtin_cpu_supports("avx2");
   return has;
 }
-bool HasAvx512() {
-  static const bool has = __builtin_cpu_supports("avx512f");
-  return has;
-}
 #else
 void PlaceInViewAvx2(HPOSE_PLACE_IN_VIEW_PARAMS) {
   PlaceInViewLoop(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
 }
 constexpr auto* PlaceInViewAvx512 = &PlaceInViewAvx2;
 bool HasAvx2() { return false; }
-bool HasAvx512() { return false; }
 #endif
 
 void PlaceInView(HPOSE_PLACE_IN_VIEW_PARAMS) {
-  (HasAvx512() ? PlaceInViewAvx512
-   : HasAvx2() ? PlaceInViewAvx2
+  (PointLanesAvailable() ? PlaceInViewAvx512
+   : HasAvx2()           ? PlaceInViewAvx2
                : PlaceInViewBaseline)(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
 }
 
