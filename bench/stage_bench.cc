@@ -22,7 +22,9 @@
 #include "core/depth/depth_to_cloud.h"
 #include "core/depth/floor_fitter.h"
 #include "core/depth/floor_tracker.h"
+#include "core/depth/ground_band.h"
 #include "core/depth/range_image.h"
+#include "core/depth/veil_filter.h"
 #include "core/io/cloud_io.h"
 #include "core/scoring/free_space.h"
 #include "core/scoring/pose_scorer.h"
@@ -52,6 +54,7 @@ struct Table {
   int cluster_mismatches = 0;
   int cluster_count = 0;
   int free_mismatches = 0;
+  int veil_mismatches = 0;
   double worst_floor_angle_deg = 0.0;
   double worst_floor_height_mm = 0.0;
   // Simulated frames only: worst error against the true mount, of a fit on every frame and of
@@ -126,6 +129,30 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
   table->cluster_count += static_cast<int>(fast->size());
   table->cluster_mismatches += SameClusters(*fast, *reference) ? 0 : 1;
 
+  // The clustering's veil filter alone, on the pixels it tests (the height band's), and its
+  // reference.
+  if (cloud.organised() && options.clusters.veil_max_angle_rad > 0.0) {
+    GroundBand slab;
+    slab.rotation = tracked->ground_from_sensor.linear().cast<float>();
+    slab.translation = tracked->ground_from_sensor.translation().cast<float>();
+    slab.z_min = static_cast<float>(options.clusters.min_height_above_floor_m);
+    slab.z_max = static_cast<float>(options.clusters.max_height_above_floor_m);
+    slab.range2 = static_cast<float>(options.clusters.max_range_m * options.clusters.max_range_m);
+    std::vector<Eigen::Vector3f> band;
+    std::vector<int> index;
+    SelectGroundBand(cloud, slab, &band, &index);
+    std::vector<Eigen::Vector3f> band_reference = band;
+    std::vector<int> index_reference = index;
+    const float cos_veil = static_cast<float>(std::cos(options.clusters.veil_max_angle_rad));
+    table->At("veil filter (in clustering)").push_back(TimeMs([&] {
+      DropVeilPoints(cloud, cos_veil * cos_veil, &band, &index);
+    }));
+    table->At("veil filter (reference)").push_back(TimeMs([&] {
+      DropVeilPointsScalar(cloud, cos_veil * cos_veil, &band_reference, &index_reference);
+    }));
+    table->veil_mismatches += index == index_reference ? 0 : 1;
+  }
+
   RangeImage range;
   const double range_ms =
       TimeMs([&] { range = RangeImage::FromCloud(cloud, options.range_image_focal_px); });
@@ -174,9 +201,10 @@ void Print(const Table& t) {
   std::printf(
       "\nFloorTracker refitted on %d of %d frames; tracked floor vs a fresh fit: worst %.2f deg, "
       "%.1f mm. Clusters: %d, grid vs PCL differ on %d frame(s). Free-space cells differ from "
-      "the reference's on %d frame(s).\n",
+      "the reference's on %d frame(s). The veil filter drops other pixels than its reference "
+      "on %d frame(s).\n",
       t.refits, t.frames, t.worst_floor_angle_deg, t.worst_floor_height_mm, t.cluster_count,
-      t.cluster_mismatches, t.free_mismatches);
+      t.cluster_mismatches, t.free_mismatches, t.veil_mismatches);
   if (t.has_truth) {
     std::printf(
         "Against the true mount, worst over the frames: fit every frame %.2f deg, %.1f mm; "

@@ -24,6 +24,7 @@
 #include "core/depth/cloud_validation.h"
 #include "core/depth/grid_euclidean_clusters.h"
 #include "core/depth/ground_band.h"
+#include "core/depth/veil_filter.h"
 #include "core/depth/voxel_downsample.h"
 
 namespace hpose {
@@ -69,33 +70,6 @@ Status ValidateOptions(const ClusterOptions& o) {
     return bad("split_min_top_separation_m must be finite and >= 0");
   }
   return Status::Ok();
-}
-
-// Pixels this far apart (in u or v) are compared by the veil test: two pixels rather than one
-// so that one depth-quantisation step on an oblique surface does not look like a jump.
-constexpr int kVeilPixelStep = 2;
-
-// True when the point at pixel (u, v) of an organised cloud lies on a depth jump: the segment to
-// a neighbouring pixel runs within the veil angle of the viewing ray. Structured-light sensors
-// interpolate "mixed pixels" across such jumps, which would glue a person to whatever stands
-// behind. Both borders of the jump go too (a couple of pixels per object).
-bool IsVeilPoint(const std::vector<Eigen::Vector3f>& points, int width, int height, int u, int v,
-                 float cos2_veil) {
-  const Eigen::Vector3f& p = points[static_cast<size_t>(v) * width + u];
-  const float p2 = p.squaredNorm();
-  const int du[4] = {kVeilPixelStep, -kVeilPixelStep, 0, 0};
-  const int dv[4] = {0, 0, kVeilPixelStep, -kVeilPixelStep};
-  for (int k = 0; k < 4; ++k) {
-    const int nu = u + du[k];
-    const int nv = v + dv[k];
-    if (nu < 0 || nu >= width || nv < 0 || nv >= height) continue;
-    const Eigen::Vector3f& q = points[static_cast<size_t>(nv) * width + nu];
-    if (!q.allFinite()) continue;
-    const Eigen::Vector3f step = q - p;
-    const float along = step.dot(p);
-    if (along * along > cos2_veil * step.squaredNorm() * p2) return true;
-  }
-  return false;
 }
 
 // The reference path: pcl::EuclideanClusterExtraction (kd-tree radius searches) on `points`;
@@ -281,18 +255,7 @@ Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
   SelectGroundBand(cloud_sensor, slab, &band, drop_veils ? &band_index : nullptr);
   if (drop_veils) {
     const float cos_veil = static_cast<float>(std::cos(options.veil_max_angle_rad));
-    const float cos2_veil = cos_veil * cos_veil;
-    const int width = cloud_sensor.width;
-    const int height = cloud_sensor.height;
-    size_t kept = 0;
-    for (size_t k = 0; k < band.size(); ++k) {
-      const int i = band_index[k];
-      if (IsVeilPoint(cloud_sensor.points, width, height, i % width, i / width, cos2_veil)) {
-        continue;
-      }
-      band[kept++] = band[k];
-    }
-    band.resize(kept);
+    DropVeilPoints(cloud_sensor, cos_veil * cos_veil, &band, &band_index);
   }
   std::vector<Cluster> clusters;
   if (band.empty()) return clusters;

@@ -1,0 +1,167 @@
+#include "core/depth/veil_filter.h"
+
+#include <algorithm>
+#include <cstddef>
+
+#include "core/depth/point_lanes.h"
+
+namespace hpose {
+
+bool IsVeilPoint(const PointCloud& cloud, int u, int v, float cos2_veil) {
+  const int width = cloud.width, height = cloud.height;
+  const Eigen::Vector3f& p = cloud.points[static_cast<size_t>(v) * width + u];
+  const float p2 = p.squaredNorm();
+  const int du[4] = {kVeilPixelStep, -kVeilPixelStep, 0, 0};
+  const int dv[4] = {0, 0, kVeilPixelStep, -kVeilPixelStep};
+  for (int k = 0; k < 4; ++k) {
+    const int nu = u + du[k];
+    const int nv = v + dv[k];
+    if (nu < 0 || nu >= width || nv < 0 || nv >= height) continue;
+    const Eigen::Vector3f& q = cloud.points[static_cast<size_t>(nv) * width + nu];
+    if (!q.allFinite()) continue;
+    const Eigen::Vector3f step = q - p;
+    const float along = step.dot(p);
+    if (along * along > cos2_veil * step.squaredNorm() * p2) return true;
+  }
+  return false;
+}
+
+namespace {
+
+// The veil test of pixel `pixel`, the scalar way.
+bool VeilAt(const PointCloud& cloud, int pixel, float cos2_veil) {
+  return IsVeilPoint(cloud, pixel % cloud.width, pixel / cloud.width, cos2_veil);
+}
+
+#ifdef HPOSE_POINT_LANES
+using rounded::Add;
+using rounded::Mul;
+using rounded::Sub;
+
+// x0 + (x1 + x2): how Eigen sums a 3-vector's terms (dot, squaredNorm).
+[[gnu::target("avx512f")]] inline __m512 Sum3(__m512 x0, __m512 x1, __m512 x2) {
+  return Add(x0, Add(x1, x2));
+}
+
+// The veil test of sixteen pixels of one row at once, IsVeilPoint's arithmetic lane by lane.
+class VeilLanes {
+ public:
+  [[gnu::target("avx512f")]] VeilLanes(const PointCloud& cloud, float cos2_veil)
+      : cloud_(cloud), cos2_(_mm512_set1_ps(cos2_veil)) {}
+
+  // The veil bits of pixels first .. first + 15 (bit i: pixel first + i), or false when they do
+  // not lie in one row with room for the loads around them (then the scalar test decides).
+  [[gnu::target("avx512f,avx512dq")]] bool Mask(size_t first, unsigned* bits) const {
+    const size_t width = static_cast<size_t>(cloud_.width);
+    const size_t height = static_cast<size_t>(cloud_.height);
+    const size_t n = cloud_.points.size();
+    const size_t s = kVeilPixelStep;
+    const size_t v = first / width, u0 = first % width;
+    if (u0 + 16 > width || first < s || first + 16 + s > n) return false;
+    const PointLanes p = lanes_.Load(cloud_.points[first].data());
+    const __m512 p2 = Sum3(Mul(p.x, p.x), Mul(p.y, p.y), Mul(p.z, p.z));
+    // Lane i is pixel u0 + i: its neighbour to the right exists while u0 + i + s < width, to
+    // the left from i >= s - u0.
+    const size_t right = std::min<size_t>(16, width - u0 - std::min(width - u0, s));
+    const size_t left_from = u0 >= s ? 0 : s - u0;
+    __mmask16 veil = 0;
+    veil |= Test(p, p2, first + s) & static_cast<__mmask16>((1u << right) - 1);
+    veil |= Test(p, p2, first - s) & static_cast<__mmask16>(0xFFFFu << left_from);
+    if (v + s < height) veil |= Test(p, p2, first + s * width);
+    if (v >= s) veil |= Test(p, p2, first - s * width);
+    *bits = veil;
+    return true;
+  }
+
+ private:
+  // The lanes whose neighbour q (the sixteen points from `from`) is finite and lies within the
+  // veil angle of the lane's ray.
+  [[gnu::target("avx512f,avx512dq")]] __mmask16 Test(const PointLanes& p, __m512 p2,
+                                                     size_t from) const {
+    const PointLanes q = lanes_.Load(cloud_.points[from].data());
+    // Not NaN nor infinite (fpclass 0x99: quiet and signalling NaN, +inf, -inf).
+    const __mmask16 finite = static_cast<__mmask16>(~(_mm512_fpclass_ps_mask(q.x, 0x99) |
+                                                      _mm512_fpclass_ps_mask(q.y, 0x99) |
+                                                      _mm512_fpclass_ps_mask(q.z, 0x99)));
+    const __m512 sx = Sub(q.x, p.x), sy = Sub(q.y, p.y), sz = Sub(q.z, p.z);
+    const __m512 along = Sum3(Mul(sx, p.x), Mul(sy, p.y), Mul(sz, p.z));
+    const __m512 step2 = Sum3(Mul(sx, sx), Mul(sy, sy), Mul(sz, sz));
+    return finite & _mm512_cmp_ps_mask(Mul(along, along), Mul(Mul(cos2_, step2), p2), _CMP_GT_OQ);
+  }
+
+  const PointCloud& cloud_;
+  const __m512 cos2_;
+  const PointDeinterleaver lanes_;
+};
+
+// Each entry's pixel looked up in the bits of its group of sixteen (made once per group met).
+[[gnu::target("avx512f,avx512dq")]] size_t KeepAvx512(const PointCloud& cloud, float cos2_veil,
+                                                      Eigen::Vector3f* kept, int* index,
+                                                      size_t count) {
+  const VeilLanes veil(cloud, cos2_veil);
+  size_t out = 0;
+  size_t group = ~size_t{0};
+  bool in_lanes = false;
+  unsigned bits = 0;
+  for (size_t k = 0; k < count; ++k) {
+    const size_t pixel = static_cast<size_t>(index[k]);
+    if ((pixel & ~size_t{15}) != group) {
+      group = pixel & ~size_t{15};
+      in_lanes = veil.Mask(group, &bits);
+    }
+    const bool drop = in_lanes ? ((bits >> (pixel & 15)) & 1u) != 0
+                               : VeilAt(cloud, static_cast<int>(pixel), cos2_veil);
+    if (drop) continue;
+    kept[out] = kept[k];
+    index[out] = index[k];
+    ++out;
+  }
+  return out;
+}
+#endif
+
+size_t KeepScalar(const PointCloud& cloud, float cos2_veil, Eigen::Vector3f* kept, int* index,
+                  size_t count) {
+  size_t out = 0;
+  for (size_t k = 0; k < count; ++k) {
+    if (VeilAt(cloud, index[k], cos2_veil)) continue;
+    kept[out] = kept[k];
+    index[out] = index[k];
+    ++out;
+  }
+  return out;
+}
+
+void Drop(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>* kept,
+          std::vector<int>* index, bool vectorised) {
+  const size_t count = std::min(kept->size(), index->size());
+  size_t out = 0;
+#ifdef HPOSE_POINT_LANES
+  if (vectorised && PointLanesAvailable()) {
+    out = KeepAvx512(cloud, cos2_veil, kept->data(), index->data(), count);
+  } else {
+    out = KeepScalar(cloud, cos2_veil, kept->data(), index->data(), count);
+  }
+#else
+  (void)vectorised;
+  out = KeepScalar(cloud, cos2_veil, kept->data(), index->data(), count);
+#endif
+  kept->resize(out);
+  index->resize(out);
+}
+
+}  // namespace
+
+void DropVeilPoints(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>* kept,
+                    std::vector<int>* index) {
+  Drop(cloud, cos2_veil, kept, index, /*vectorised=*/true);
+}
+
+void DropVeilPointsScalar(const PointCloud& cloud, float cos2_veil,
+                          std::vector<Eigen::Vector3f>* kept, std::vector<int>* index) {
+  Drop(cloud, cos2_veil, kept, index, /*vectorised=*/false);
+}
+
+bool VeilFilterVectorised() { return PointLanesAvailable(); }
+
+}  // namespace hpose

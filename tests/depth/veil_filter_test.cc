@@ -1,0 +1,151 @@
+#include "core/depth/veil_filter.h"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+namespace hpose {
+namespace {
+
+constexpr float kVeilAngle = 0.2f;  // rad, about 11.5 degrees.
+
+// A depth image of a `width` x `height` sensor: a wall with boxes in front of it (depth jumps),
+// noise, invalid pixels (NaN, and now and then infinite), and pixels placed so that a segment to
+// a neighbour lies at the veil angle to within a rounding (the cases where only the arithmetic's
+// order decides).
+PointCloud RandomImage(unsigned seed, int width, int height) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  PointCloud cloud;
+  cloud.width = width;
+  cloud.height = height;
+  cloud.points.resize(static_cast<size_t>(width) * height);
+  const float focal = 0.8f * width;
+  for (int v = 0; v < height; ++v) {
+    for (int c = 0; c < width; ++c) {
+      float z = 3.0f + 0.01f * u(rng);
+      if (((c / 7) + (v / 5)) % 3 == 0) z = 1.2f + 0.01f * u(rng);  // a box nearer.
+      Eigen::Vector3f p((c - 0.5f * width) * z / focal, (v - 0.5f * height) * z / focal, z);
+      const float r = u(rng);
+      if (r < 0.04f) p.x() = NAN;
+      if (r > 0.995f) p.z() = INFINITY;
+      cloud.points[static_cast<size_t>(v) * width + c] = p;
+    }
+  }
+  // Neighbours at the veil angle: q = p + t (cos a ray + sin a w), w across the ray.
+  const float cos_a = std::cos(kVeilAngle), sin_a = std::sin(kVeilAngle);
+  for (int k = 0; k < width * height / 8; ++k) {
+    const int c = static_cast<int>(u(rng) * (width - kVeilPixelStep));
+    const int v = static_cast<int>(u(rng) * height);
+    const Eigen::Vector3f& p = cloud.points[static_cast<size_t>(v) * width + c];
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3f ray = p.normalized();
+    const Eigen::Vector3f w = ray.cross(Eigen::Vector3f::UnitY()).normalized();
+    const float t = 0.05f + 0.3f * u(rng);
+    cloud.points[static_cast<size_t>(v) * width + c + kVeilPixelStep] =
+        p + t * (cos_a * ray + sin_a * w);
+  }
+  return cloud;
+}
+
+// Every finite pixel, with a marker per pixel as its point.
+void AllFinite(const PointCloud& cloud, std::vector<Eigen::Vector3f>* kept,
+               std::vector<int>* index) {
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    if (!cloud.points[i].allFinite()) continue;
+    kept->push_back(Eigen::Vector3f(static_cast<float>(i), 0.0f, 1.0f));
+    index->push_back(static_cast<int>(i));
+  }
+}
+
+TEST(VeilFilterTest, VectorAndScalarDropTheSamePixels) {
+  if (!VeilFilterVectorised()) GTEST_SKIP() << "no AVX-512 on this CPU: only the scalar path runs";
+  const float cos2 = std::cos(kVeilAngle) * std::cos(kVeilAngle);
+  int dropped_total = 0, kept_total = 0;
+  // Widths with and without a multiple of sixteen, images down to one group a row.
+  for (const auto [width, height] : {std::pair{640, 48}, std::pair{37, 23}, std::pair{16, 9},
+                                     std::pair{19, 5}, std::pair{64, 3}, std::pair{5, 40}}) {
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      const PointCloud cloud = RandomImage(seed, width, height);
+      std::vector<Eigen::Vector3f> fast, reference;
+      std::vector<int> fast_index, reference_index;
+      AllFinite(cloud, &fast, &fast_index);
+      reference = fast;
+      reference_index = fast_index;
+      const size_t before = fast.size();
+      DropVeilPoints(cloud, cos2, &fast, &fast_index);
+      DropVeilPointsScalar(cloud, cos2, &reference, &reference_index);
+      ASSERT_EQ(fast_index, reference_index) << width << "x" << height << " seed " << seed;
+      ASSERT_EQ(fast.size(), fast_index.size());
+      for (size_t k = 0; k < fast.size(); ++k) {
+        ASSERT_EQ(fast[k], Eigen::Vector3f(static_cast<float>(fast_index[k]), 0.0f, 1.0f));
+      }
+      dropped_total += static_cast<int>(before - fast.size());
+      kept_total += static_cast<int>(fast.size());
+    }
+  }
+  EXPECT_GT(dropped_total, 1000);
+  EXPECT_GT(kept_total, 1000);
+}
+
+// The reference against the definition, written out: a pixel goes when a finite pixel two away
+// in u or v makes a segment within the veil angle of its ray.
+TEST(VeilFilterTest, DropsThePixelsAtDepthJumps) {
+  const int width = 40, height = 30;
+  const PointCloud cloud = RandomImage(7, width, height);
+  const double cos_a = std::cos(static_cast<double>(kVeilAngle));
+  std::vector<Eigen::Vector3f> kept;
+  std::vector<int> index;
+  AllFinite(cloud, &kept, &index);
+  const std::vector<int> all = index;
+  const float cos_f = std::cos(kVeilAngle);
+  DropVeilPointsScalar(cloud, cos_f * cos_f, &kept, &index);
+  size_t k = 0;
+  int clear = 0;
+  for (const int i : all) {
+    const int c = i % width, v = i / width;
+    const Eigen::Vector3d p = cloud.points[i].cast<double>();
+    double best_cos = 0.0;  // the smallest angle to the ray over the neighbours, as a cosine.
+    for (const auto [dc, dv] :
+         {std::pair{2, 0}, std::pair{-2, 0}, std::pair{0, 2}, std::pair{0, -2}}) {
+      if (c + dc < 0 || c + dc >= width || v + dv < 0 || v + dv >= height) continue;
+      const Eigen::Vector3f& q = cloud.points[static_cast<size_t>(v + dv) * width + c + dc];
+      if (!q.allFinite()) continue;
+      const Eigen::Vector3d step = q.cast<double>() - p;
+      best_cos = std::max(best_cos, std::abs(step.dot(p)) / (step.norm() * p.norm()));
+    }
+    const bool was_kept = k < index.size() && index[k] == i;
+    if (was_kept) ++k;
+    // Away from the angle itself the float test must agree with the exact one.
+    if (std::abs(best_cos - cos_a) < 1e-4) continue;
+    const bool veil = best_cos > cos_a;
+    EXPECT_EQ(was_kept, !veil) << "pixel " << c << "," << v << " cos " << best_cos;
+    ++clear;
+  }
+  EXPECT_GT(clear, 500);
+}
+
+TEST(VeilFilterTest, KeepsEverythingOnASmoothSurface) {
+  // A wall seen square on: neighbours' segments are across the rays.
+  PointCloud cloud;
+  cloud.width = 48;
+  cloud.height = 20;
+  for (int v = 0; v < cloud.height; ++v) {
+    for (int c = 0; c < cloud.width; ++c) {
+      cloud.points.emplace_back((c - 24) * 0.005f, (v - 10) * 0.005f, 2.0f);
+    }
+  }
+  std::vector<Eigen::Vector3f> kept;
+  std::vector<int> index;
+  AllFinite(cloud, &kept, &index);
+  const float cos2 = std::cos(kVeilAngle) * std::cos(kVeilAngle);
+  DropVeilPoints(cloud, cos2, &kept, &index);
+  EXPECT_EQ(kept.size(), cloud.points.size());
+  EXPECT_EQ(index.size(), cloud.points.size());
+}
+
+}  // namespace
+}  // namespace hpose
