@@ -134,6 +134,7 @@ size_t KeepScalar(const PointCloud& cloud, float cos2_veil, Eigen::Vector3f* kep
 
 void Drop(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>* kept,
           std::vector<int>* index, bool vectorised) {
+  if (!cloud.organised()) return;  // no neighbours to test against.
   const size_t count = std::min(kept->size(), index->size());
   size_t out = 0;
 #ifdef HPOSE_POINT_LANES

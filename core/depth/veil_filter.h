@@ -22,7 +22,8 @@ bool IsVeilPoint(const PointCloud& cloud, int u, int v, float cos2_veil);
 
 // Removes from `kept` (and `index`) the entries whose pixel index[k] (into the organised
 // `cloud`) is a veil point, keeping the order of the rest; `kept` and `index` are parallel
-// (a point derived from each pixel, e.g. its ground-frame position, and the pixel).
+// (a point derived from each pixel, e.g. its ground-frame position, and the pixel). An
+// unorganised cloud has no neighbours to test: nothing is removed.
 //
 // With AVX-512 the test takes sixteen pixels of a row a step (VeilFilterVectorised()), the
 // scalar loop over IsVeilPoint otherwise: DropVeilPointsScalar, the reference. Both add and

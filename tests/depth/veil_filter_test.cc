@@ -147,5 +147,24 @@ TEST(VeilFilterTest, KeepsEverythingOnASmoothSurface) {
   EXPECT_EQ(index.size(), cloud.points.size());
 }
 
+TEST(VeilFilterTest, AnUnorganisedCloudKeepsEverything) {
+  PointCloud cloud = RandomImage(3, 37, 23);
+  std::vector<Eigen::Vector3f> kept;
+  std::vector<int> index;
+  AllFinite(cloud, &kept, &index);
+  const size_t before = kept.size();
+  const float cos2 = std::cos(kVeilAngle) * std::cos(kVeilAngle);
+  std::vector<Eigen::Vector3f> organised_kept = kept;
+  std::vector<int> organised_index = index;
+  DropVeilPoints(cloud, cos2, &organised_kept, &organised_index);
+  ASSERT_LT(organised_kept.size(), before);  // the same pixels organised do lose some.
+  cloud.width = 0;
+  cloud.height = 0;
+  DropVeilPoints(cloud, cos2, &kept, &index);
+  DropVeilPointsScalar(cloud, cos2, &kept, &index);
+  EXPECT_EQ(kept.size(), before);
+  EXPECT_EQ(index.size(), before);
+}
+
 }  // namespace
 }  // namespace hpose
