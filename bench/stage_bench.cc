@@ -132,15 +132,9 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
   // The clustering's veil filter alone, on the pixels it tests (the height band's), and its
   // reference.
   if (cloud.organised() && options.clusters.veil_max_angle_rad > 0.0) {
-    GroundBand slab;
-    slab.rotation = tracked->ground_from_sensor.linear().cast<float>();
-    slab.translation = tracked->ground_from_sensor.translation().cast<float>();
-    slab.z_min = static_cast<float>(options.clusters.min_height_above_floor_m);
-    slab.z_max = static_cast<float>(options.clusters.max_height_above_floor_m);
-    slab.range2 = static_cast<float>(options.clusters.max_range_m * options.clusters.max_range_m);
     std::vector<Eigen::Vector3f> band;
     std::vector<int> index;
-    SelectGroundBand(cloud, slab, &band, &index);
+    SelectGroundBand(cloud, ClusterGroundBand(*tracked, options.clusters), &band, &index);
     std::vector<Eigen::Vector3f> band_reference = band;
     std::vector<int> index_reference = index;
     const float cos_veil = static_cast<float>(std::cos(options.clusters.veil_max_angle_rad));

@@ -234,6 +234,16 @@ void SplitByTops(Cluster cluster, const ClusterOptions& options, std::vector<Clu
 
 }  // namespace
 
+GroundBand ClusterGroundBand(const FloorEstimate& floor, const ClusterOptions& options) {
+  GroundBand slab;
+  slab.rotation = floor.ground_from_sensor.linear().cast<float>();
+  slab.translation = floor.ground_from_sensor.translation().cast<float>();
+  slab.z_min = static_cast<float>(options.min_height_above_floor_m);
+  slab.z_max = static_cast<float>(options.max_height_above_floor_m);
+  slab.range2 = static_cast<float>(options.max_range_m * options.max_range_m);
+  return slab;
+}
+
 Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
                                              const FloorEstimate& floor,
                                              const ClusterOptions& options) {
@@ -243,12 +253,7 @@ Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
   if (!valid_floor.ok()) return valid_floor.error();
 
   // 1. Ground frame, height band and range.
-  GroundBand slab;
-  slab.rotation = floor.ground_from_sensor.linear().cast<float>();
-  slab.translation = floor.ground_from_sensor.translation().cast<float>();
-  slab.z_min = static_cast<float>(options.min_height_above_floor_m);
-  slab.z_max = static_cast<float>(options.max_height_above_floor_m);
-  slab.range2 = static_cast<float>(options.max_range_m * options.max_range_m);
+  const GroundBand slab = ClusterGroundBand(floor, options);
   const bool drop_veils = cloud_sensor.organised() && options.veil_max_angle_rad > 0.0;
   std::vector<Eigen::Vector3f> band;
   std::vector<int> band_index;

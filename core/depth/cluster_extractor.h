@@ -6,6 +6,7 @@
 #include "core/common/status.h"
 #include "core/depth/cluster.h"
 #include "core/depth/floor_estimate.h"
+#include "core/depth/ground_band.h"
 #include "core/depth/point_cloud.h"
 
 namespace hpose {
@@ -72,6 +73,10 @@ struct ClusterOptions {
 Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
                                              const FloorEstimate& floor,
                                              const ClusterOptions& options = {});
+
+// The slab of space ExtractClusters looks in (its first step): the floor's ground frame, the
+// options' heights above the floor and horizontal range.
+GroundBand ClusterGroundBand(const FloorEstimate& floor, const ClusterOptions& options);
 
 }  // namespace hpose
 

@@ -33,6 +33,18 @@ bool VeilAt(const PointCloud& cloud, int pixel, float cos2_veil) {
   return IsVeilPoint(cloud, pixel % cloud.width, pixel / cloud.width, cos2_veil);
 }
 
+size_t KeepScalar(const PointCloud& cloud, float cos2_veil, Eigen::Vector3f* kept, int* index,
+                  size_t count) {
+  size_t out = 0;
+  for (size_t k = 0; k < count; ++k) {
+    if (VeilAt(cloud, index[k], cos2_veil)) continue;
+    kept[out] = kept[k];
+    index[out] = index[k];
+    ++out;
+  }
+  return out;
+}
+
 #ifdef HPOSE_POINT_LANES
 using rounded::Add;
 using rounded::Mul;
@@ -118,35 +130,16 @@ class VeilLanes {
   }
   return out;
 }
+#else
+constexpr auto* KeepAvx512 = &KeepScalar;
 #endif
-
-size_t KeepScalar(const PointCloud& cloud, float cos2_veil, Eigen::Vector3f* kept, int* index,
-                  size_t count) {
-  size_t out = 0;
-  for (size_t k = 0; k < count; ++k) {
-    if (VeilAt(cloud, index[k], cos2_veil)) continue;
-    kept[out] = kept[k];
-    index[out] = index[k];
-    ++out;
-  }
-  return out;
-}
 
 void Drop(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>* kept,
           std::vector<int>* index, bool vectorised) {
   if (!cloud.organised()) return;  // no neighbours to test against.
   const size_t count = std::min(kept->size(), index->size());
-  size_t out = 0;
-#ifdef HPOSE_POINT_LANES
-  if (vectorised && PointLanesAvailable()) {
-    out = KeepAvx512(cloud, cos2_veil, kept->data(), index->data(), count);
-  } else {
-    out = KeepScalar(cloud, cos2_veil, kept->data(), index->data(), count);
-  }
-#else
-  (void)vectorised;
-  out = KeepScalar(cloud, cos2_veil, kept->data(), index->data(), count);
-#endif
+  const size_t out = (vectorised && PointLanesAvailable() ? KeepAvx512 : KeepScalar)(
+      cloud, cos2_veil, kept->data(), index->data(), count);
   kept->resize(out);
   index->resize(out);
 }
