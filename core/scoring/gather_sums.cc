@@ -285,6 +285,150 @@ template <bool kPacked>
   for (int q = 0; q < 4; ++q) out[q] = SumLanes(acc[q]);
 }
 
+// AVX2 has no 64-bit popcount and no byte permutation across 128-bit halves. A run's eight
+// lanes are two vectors of four: its words by masked loads (lanes past the run read as 0), its
+// masks by four 16-byte loads, at the masks of lanes 0, 2, 4 and 6, each spread over its two
+// lanes by a byte shuffle within its half. Bits are counted a nibble at a time by table
+// lookup, and the byte counts summed into 64-bit lanes.
+#define HPOSE_RUN_TARGET_AVX2 "avx2,popcnt"
+
+// The shuffle's byte indices per mask width (1 to 8; 0 unused), the same in both halves: bytes
+// of the first lane from byte j, of the second from byte width + j, 0x80 (zero) above width.
+struct HalfLaneBytes {
+  alignas(32) std::uint8_t index[9][32] = {};
+  constexpr HalfLaneBytes() {
+    for (int width = 0; width <= 8; ++width) {
+      for (int half = 0; half < 2; ++half) {
+        for (int lane = 0; lane < 2; ++lane) {
+          for (int j = 0; j < 8; ++j) {
+            index[width][16 * half + 8 * lane + j] =
+                j < width ? static_cast<std::uint8_t>(lane * width + j) : 0x80;
+          }
+        }
+      }
+    }
+  }
+};
+constexpr HalfLaneBytes kHalfLaneBytes;
+
+// Per run length (0 to 8), the lanes' load masks: all ones in lanes below the length.
+struct LengthLanes {
+  alignas(32) std::int64_t lanes[9][8] = {};
+  constexpr LengthLanes() {
+    for (int len = 0; len <= 8; ++len) {
+      for (int l = 0; l < 8; ++l) lanes[len][l] = l < len ? -1 : 0;
+    }
+  }
+};
+constexpr LengthLanes kLengthLanes;
+
+[[gnu::target(HPOSE_RUN_TARGET_AVX2)]] inline __m256i ByteCounts(__m256i v) {
+  const __m256i table = _mm256_setr_epi8(0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4, 0, 1, 1, 2,
+                                         1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4);
+  const __m256i nibble = _mm256_set1_epi8(0x0F);
+  const __m256i lo = _mm256_and_si256(v, nibble);
+  const __m256i hi = _mm256_and_si256(_mm256_srli_epi16(v, 4), nibble);
+  return _mm256_add_epi8(_mm256_shuffle_epi8(table, lo), _mm256_shuffle_epi8(table, hi));
+}
+
+// The sum of the four 64-bit lanes.
+[[gnu::target(HPOSE_RUN_TARGET_AVX2)]] int SumLanes(__m256i v) {
+  const __m128i s = _mm_add_epi64(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+  return static_cast<int>(_mm_cvtsi128_si64(s) + _mm_extract_epi64(s, 1));
+}
+
+// A run's masks as two vectors of four lanes (masks of 8 bytes are in place as loaded).
+struct RunMasks2 {
+  __m256i lo, hi;
+};
+// The masks of lanes `lane` to lane + 3 of a run, `width` bytes each.
+[[gnu::target(HPOSE_RUN_TARGET_AVX2)]] inline __m256i SpreadMasks(const unsigned char* masks,
+                                                                  int lane, int width,
+                                                                  __m256i index) {
+  const __m128i first = _mm_loadu_si128(reinterpret_cast<const __m128i*>(masks + lane * width));
+  const __m128i second =
+      _mm_loadu_si128(reinterpret_cast<const __m128i*>(masks + (lane + 2) * width));
+  return _mm256_shuffle_epi8(_mm256_inserti128_si256(_mm256_castsi128_si256(first), second, 1),
+                             index);
+}
+
+template <bool kPacked>
+[[gnu::target(HPOSE_RUN_TARGET_AVX2)]] inline RunMasks2 LoadRunMasks2(const unsigned char* masks,
+                                                                      int width, __m256i index) {
+  if (!kPacked) {
+    return {_mm256_loadu_si256(reinterpret_cast<const __m256i*>(masks)),
+            _mm256_loadu_si256(reinterpret_cast<const __m256i*>(masks + 32))};
+  }
+  return {SpreadMasks(masks, 0, width, index), SpreadMasks(masks, 4, width, index)};
+}
+
+// A run's words from p, zero past its length: two masked loads.
+struct RunWords2 {
+  __m256i lo, hi;
+};
+[[gnu::target(HPOSE_RUN_TARGET_AVX2)]] inline RunWords2 LoadRunWords2(const std::uint64_t* p,
+                                                                      const std::int64_t* lanes) {
+  const auto* q = reinterpret_cast<const long long*>(p);
+  return {
+      _mm256_maskload_epi64(q, _mm256_load_si256(reinterpret_cast<const __m256i*>(lanes))),
+      _mm256_maskload_epi64(q + 4, _mm256_load_si256(reinterpret_cast<const __m256i*>(lanes + 4)))};
+}
+
+// The bits of (words & masks) added to acc's 64-bit lanes.
+[[gnu::target(HPOSE_RUN_TARGET_AVX2)]] inline __m256i AddRunBits(__m256i acc, RunWords2 w,
+                                                                 RunMasks2 m) {
+  const __m256i bytes = _mm256_add_epi8(ByteCounts(_mm256_and_si256(w.lo, m.lo)),
+                                        ByteCounts(_mm256_and_si256(w.hi, m.hi)));
+  return _mm256_add_epi64(acc, _mm256_sad_epu8(bytes, _mm256_setzero_si256()));
+}
+
+template <bool kPacked>
+[[gnu::target(HPOSE_RUN_TARGET_AVX2)]] int RunPopcountSumAvx2(
+    const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, const std::uint64_t* runs,
+    int run_count, int mask_bytes, int cy_lo, int cy_hi) {
+  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
+  const std::uint64_t to = RunRowsTo(cy_hi);
+  const std::ptrdiff_t biased_base = base - kRunRowBias * row;
+  const __m256i index =
+      _mm256_load_si256(reinterpret_cast<const __m256i*>(kHalfLaneBytes.index[mask_bytes]));
+  __m256i acc = _mm256_setzero_si256();
+  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+    const RunWords2 w = LoadRunWords2(plane + RunOffset(biased_base, row, h),
+                                      kLengthLanes.lanes[RunHeaderLength(h)]);
+    acc = AddRunBits(acc, w, LoadRunMasks2<kPacked>(rr.masks, mask_bytes, index));
+    rr.masks += RunHeaderBytes(h);
+  }
+  return SumLanes(acc);
+}
+
+template <bool kPacked>
+[[gnu::target(HPOSE_RUN_TARGET_AVX2)]] void RunPopcountSum4Avx2(
+    const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, std::ptrdiff_t dx,
+    std::ptrdiff_t dy, const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
+    int cy_hi, int out[4]) {
+  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
+  const std::uint64_t to = RunRowsTo(cy_hi);
+  const std::ptrdiff_t biased_base = base - kRunRowBias * row;
+  const __m256i index =
+      _mm256_load_si256(reinterpret_cast<const __m256i*>(kHalfLaneBytes.index[mask_bytes]));
+  const std::ptrdiff_t offset[4] = {0, dy, dx, dx + dy};
+  __m256i acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(),
+                    _mm256_setzero_si256()};
+  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+    const std::uint64_t* p = plane + RunOffset(biased_base, row, h);
+    const std::int64_t* lanes = kLengthLanes.lanes[RunHeaderLength(h)];
+    const RunMasks2 m = LoadRunMasks2<kPacked>(rr.masks, mask_bytes, index);
+    for (int q = 0; q < 4; ++q) acc[q] = AddRunBits(acc[q], LoadRunWords2(p + offset[q], lanes), m);
+    rr.masks += RunHeaderBytes(h);
+  }
+  for (int q = 0; q < 4; ++q) out[q] = SumLanes(acc[q]);
+}
+
+bool HasAvx2RunSums() {
+  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
+  return has;
+}
+
 bool HasAvx512Popcount() {
   static const bool has = __builtin_cpu_supports("avx512f") &&
                           __builtin_cpu_supports("avx512vpopcntdq") &&
@@ -306,12 +450,17 @@ namespace {
 // No vector paths here: the dispatch below always takes the scalar loops.
 bool HasAvx512Popcount() { return false; }
 bool HasAvx512RunSums() { return false; }
+bool HasAvx2RunSums() { return false; }
 constexpr auto* GatherPopcountSumAvx512 = &GatherPopcountSumScalar;
 constexpr auto* GatherPopcountSum4Avx512 = &GatherPopcountSum4Scalar;
 template <bool kPacked>
 constexpr auto* RunPopcountSumAvx512 = &RunPopcountSumScalar;
 template <bool kPacked>
 constexpr auto* RunPopcountSum4Avx512 = &RunPopcountSum4Scalar;
+template <bool kPacked>
+constexpr auto* RunPopcountSumAvx2 = &RunPopcountSumScalar;
+template <bool kPacked>
+constexpr auto* RunPopcountSum4Avx2 = &RunPopcountSum4Scalar;
 
 }  // namespace
 #endif
@@ -332,26 +481,88 @@ void GatherPopcountSum4(const std::uint64_t* data, std::ptrdiff_t base, std::ptr
       data, base, row, dx, dy, cxe, cy, masks, n, out);
 }
 
+bool RunSumPathAvailable(RunSumPath path) {
+  switch (path) {
+    case RunSumPath::kScalar:
+      return true;
+    case RunSumPath::kAvx2:
+      return HasAvx2RunSums();
+    case RunSumPath::kAvx512:
+      return HasAvx512RunSums();
+  }
+  return false;
+}
+
+RunSumPath FastestRunSumPath() {
+  static const RunSumPath fastest = HasAvx512RunSums() ? RunSumPath::kAvx512
+                                    : HasAvx2RunSums() ? RunSumPath::kAvx2
+                                                       : RunSumPath::kScalar;
+  return fastest;
+}
+
+namespace {
+
+using RunSumFn = int (*)(const std::uint64_t*, std::ptrdiff_t, std::ptrdiff_t, const std::uint64_t*,
+                         int, int, int, int);
+using RunSum4Fn = void (*)(const std::uint64_t*, std::ptrdiff_t, std::ptrdiff_t, std::ptrdiff_t,
+                           std::ptrdiff_t, const std::uint64_t*, int, int, int, int, int[4]);
+
+// The loop of a path for masks of `mask_bytes` (8: as loaded; fewer: spread to their lanes).
+RunSumFn RunSumOf(RunSumPath path, int mask_bytes) {
+  const bool packed = mask_bytes < 8;
+  switch (path) {
+    case RunSumPath::kAvx512:
+      return packed ? RunPopcountSumAvx512<true> : RunPopcountSumAvx512<false>;
+    case RunSumPath::kAvx2:
+      return packed ? RunPopcountSumAvx2<true> : RunPopcountSumAvx2<false>;
+    case RunSumPath::kScalar:
+      break;
+  }
+  return RunPopcountSumScalar;
+}
+
+RunSum4Fn RunSum4Of(RunSumPath path, int mask_bytes) {
+  const bool packed = mask_bytes < 8;
+  switch (path) {
+    case RunSumPath::kAvx512:
+      return packed ? RunPopcountSum4Avx512<true> : RunPopcountSum4Avx512<false>;
+    case RunSumPath::kAvx2:
+      return packed ? RunPopcountSum4Avx2<true> : RunPopcountSum4Avx2<false>;
+    case RunSumPath::kScalar:
+      break;
+  }
+  return RunPopcountSum4Scalar;
+}
+
+}  // namespace
+
+int RunPopcountSumOn(RunSumPath path, const std::uint64_t* plane, std::ptrdiff_t base,
+                     std::ptrdiff_t row, const std::uint64_t* runs, int run_count, int mask_bytes,
+                     int cy_lo, int cy_hi) {
+  assert(RunSumPathAvailable(path));
+  return RunSumOf(path, mask_bytes)(plane, base, row, runs, run_count, mask_bytes, cy_lo, cy_hi);
+}
+
+void RunPopcountSum4On(RunSumPath path, const std::uint64_t* plane, std::ptrdiff_t base,
+                       std::ptrdiff_t row, std::ptrdiff_t dx, std::ptrdiff_t dy,
+                       const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
+                       int cy_hi, int out[4]) {
+  assert(RunSumPathAvailable(path));
+  RunSum4Of(path, mask_bytes)(plane, base, row, dx, dy, runs, run_count, mask_bytes, cy_lo, cy_hi,
+                              out);
+}
+
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                    const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo, int cy_hi) {
-  if (!HasAvx512RunSums()) {
-    return RunPopcountSumScalar(plane, base, row, runs, run_count, mask_bytes, cy_lo, cy_hi);
-  }
-  return (mask_bytes >= 8 ? RunPopcountSumAvx512<false>
-                          : RunPopcountSumAvx512<true>)(plane, base, row, runs, run_count,
-                                                        mask_bytes, cy_lo, cy_hi);
+  return RunSumOf(FastestRunSumPath(), mask_bytes)(plane, base, row, runs, run_count, mask_bytes,
+                                                   cy_lo, cy_hi);
 }
 
 void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                      std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs, int run_count,
                      int mask_bytes, int cy_lo, int cy_hi, int out[4]) {
-  if (!HasAvx512RunSums()) {
-    RunPopcountSum4Scalar(plane, base, row, dx, dy, runs, run_count, mask_bytes, cy_lo, cy_hi, out);
-    return;
-  }
-  (mask_bytes >= 8 ? RunPopcountSum4Avx512<false>
-                   : RunPopcountSum4Avx512<true>)(plane, base, row, dx, dy, runs, run_count,
-                                                  mask_bytes, cy_lo, cy_hi, out);
+  RunSum4Of(FastestRunSumPath(), mask_bytes)(plane, base, row, dx, dy, runs, run_count, mask_bytes,
+                                             cy_lo, cy_hi, out);
 }
 
 }  // namespace hpose

@@ -122,9 +122,12 @@ inline std::uint64_t LoadRunMask(const unsigned char* at, int mask_bytes) {
 // mask): a run adds popcount(mask & word) for its masks and the words from
 // plane + base + cy * row + cx on. Runs whose cy lies outside [cy_lo, cy_hi] are left out: the
 // caller passes the rows where the plane may be non-zero (INT_MIN and INT_MAX for all), so a
-// small cluster's sum skips the runs that would only read zeros. With AVX-512 (and VBMI for
-// masks narrower than 8 bytes) a run is a masked load of its words and a load of its masks,
-// spread to their lanes by one byte permutation; the scalar loop is the reference.
+// small cluster's sum skips the runs that would only read zeros. It takes the fastest path
+// this CPU has (FastestRunSumPath): with AVX-512 (F, BW, VBMI, VPOPCNTDQ) a run is a masked
+// load of its words and a load of its masks, spread to their lanes by one byte permutation;
+// with AVX2, two masked loads of four words, four 16-byte loads of masks spread by byte
+// shuffles, and bits counted by nibble lookup. The scalar loop is the reference; all count the
+// same integers.
 int RunPopcountSum(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                    const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo, int cy_hi);
 int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
@@ -138,6 +141,19 @@ void RunPopcountSum4(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdi
 void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row,
                            std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
                            int run_count, int mask_bytes, int cy_lo, int cy_hi, int out[4]);
+
+// The run sums' paths by name, for tests and benchmarks: whether this CPU has one, the one
+// RunPopcountSum takes, and the two sums on a given path (which must be available).
+enum class RunSumPath { kScalar, kAvx2, kAvx512 };
+bool RunSumPathAvailable(RunSumPath path);
+RunSumPath FastestRunSumPath();
+int RunPopcountSumOn(RunSumPath path, const std::uint64_t* plane, std::ptrdiff_t base,
+                     std::ptrdiff_t row, const std::uint64_t* runs, int run_count, int mask_bytes,
+                     int cy_lo, int cy_hi);
+void RunPopcountSum4On(RunSumPath path, const std::uint64_t* plane, std::ptrdiff_t base,
+                       std::ptrdiff_t row, std::ptrdiff_t dx, std::ptrdiff_t dy,
+                       const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
+                       int cy_hi, int out[4]);
 
 }  // namespace hpose
 

@@ -98,6 +98,18 @@ struct Rows {
 };
 constexpr Rows kAll = {INT_MIN, INT_MAX};
 
+// The run sums' paths this CPU has (the scalar one always), and their names for messages.
+std::vector<RunSumPath> AvailableRunSumPaths() {
+  std::vector<RunSumPath> paths;
+  for (const RunSumPath p : {RunSumPath::kScalar, RunSumPath::kAvx2, RunSumPath::kAvx512}) {
+    if (RunSumPathAvailable(p)) paths.push_back(p);
+  }
+  return paths;
+}
+const char* Name(RunSumPath p) {
+  return p == RunSumPath::kAvx512 ? "avx512" : p == RunSumPath::kAvx2 ? "avx2" : "scalar";
+}
+
 // The low `bytes` bytes of a word.
 std::uint64_t LowBytes(std::uint64_t w, int bytes) {
   return bytes >= 8 ? w : w & ((std::uint64_t{1} << (8 * bytes)) - 1);
@@ -231,6 +243,18 @@ TEST(GatherSumsTest, RunSumsCountTheMaskedBitsOfEveryRun) {
       ASSERT_EQ(ref[q], bits[q]) << "block " << q << " width " << bytes;
       ASSERT_EQ(fast[q], bits[q]) << "block " << q << " width " << bytes;
     }
+    for (const RunSumPath path : AvailableRunSumPaths()) {
+      ASSERT_EQ(RunPopcountSumOn(path, plane.data(), base, nx, words.data(), runs, bytes, kAll.lo,
+                                 kAll.hi),
+                bits[0])
+          << Name(path) << " runs " << runs << " width " << bytes;
+      int on[4];
+      RunPopcountSum4On(path, plane.data(), base, nx, dx, dy, words.data(), runs, bytes, kAll.lo,
+                        kAll.hi, on);
+      for (int q = 0; q < 4; ++q) {
+        ASSERT_EQ(on[q], bits[q]) << Name(path) << " block " << q << " width " << bytes;
+      }
+    }
     nonzero += bits[0] > 0 ? 1 : 0;
   }
   EXPECT_GT(nonzero, 150);
@@ -288,12 +312,37 @@ TEST(GatherSumsTest, RunSumsSkipOnlyRowsOfZeros) {
       ASSERT_EQ(limited[q], full[q]) << "block " << q;
       ASSERT_EQ(limited_ref[q], full[q]) << "block " << q;
     }
+    for (const RunSumPath path : AvailableRunSumPaths()) {
+      ASSERT_EQ(RunPopcountSumOn(path, plane.data(), base, nx, words.data(), runs, bytes, lo - row0,
+                                 hi - row0),
+                all)
+          << Name(path);
+      int on[4];
+      RunPopcountSum4On(path, plane.data(), base, nx, dx, dy, words.data(), runs, bytes,
+                        lo - row0 - d, hi - row0, on);
+      for (int q = 0; q < 4; ++q) ASSERT_EQ(on[q], full[q]) << Name(path) << " block " << q;
+    }
     // A limit one row too tight loses the sum of a non-zero row whenever a run reads it.
     const int tight =
         RunPopcountSum(plane.data(), base, nx, words.data(), runs, bytes, lo - row0 + 1, hi - row0);
     skipped_nonzero += tight < all ? 1 : 0;
   }
   EXPECT_GT(skipped_nonzero, 20);  // the limits do leave runs out.
+}
+
+// This CPU's fastest path is the one the dispatched sums take; the scalar one is always there,
+// and a CPU with AVX-512's run sums has AVX2's too.
+TEST(GatherSumsTest, TheFastestRunSumPathIsAvailable) {
+  EXPECT_TRUE(RunSumPathAvailable(RunSumPath::kScalar));
+  EXPECT_TRUE(RunSumPathAvailable(FastestRunSumPath()));
+  if (RunSumPathAvailable(RunSumPath::kAvx512)) {
+    EXPECT_TRUE(RunSumPathAvailable(RunSumPath::kAvx2));
+    EXPECT_EQ(FastestRunSumPath(), RunSumPath::kAvx512);
+  } else if (RunSumPathAvailable(RunSumPath::kAvx2)) {
+    EXPECT_EQ(FastestRunSumPath(), RunSumPath::kAvx2);
+  } else {
+    EXPECT_EQ(FastestRunSumPath(), RunSumPath::kScalar);
+  }
 }
 
 }  // namespace
