@@ -7,8 +7,10 @@
 #include "core/depth/cluster_extractor.h"
 #include "core/depth/depth_to_cloud.h"
 #include "core/depth/floor_fitter.h"
+#include "core/depth/point_lanes.h"
 #include "core/depth/range_image.h"
 #include "core/scoring/free_space.h"
+#include "core/scoring/gather_sums.h"
 #include "core/sim/humanoid_model.h"
 #include "core/templates/template_io.h"
 
@@ -159,6 +161,15 @@ double Percentile(std::vector<double> v, double p) {
   std::sort(v.begin(), v.end());
   const size_t rank = static_cast<size_t>(std::ceil(p / 100.0 * static_cast<double>(v.size())));
   return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
+}
+
+std::string VectorPaths() {
+  const RunSumPath run = FastestRunSumPath();
+  return std::string("run sums ") +
+         (run == RunSumPath::kAvx512 ? "AVX-512"
+          : run == RunSumPath::kAvx2 ? "AVX2"
+                                     : "scalar") +
+         ", whole-cloud passes " + (PointLanesAvailable() ? "AVX-512" : "scalar");
 }
 
 }  // namespace hpose::bench

@@ -603,6 +603,7 @@ int Run(int argc, char** argv) {
     if (!st.ok()) std::fprintf(stderr, "frame_bench: %s\n", st.error().message.c_str());
     return st.ok();
   };
+  std::printf("Vector paths of this CPU: %s.\n", VectorPaths().c_str());
   if (!scattered.empty()) {
     if (!run_set(BenchFrameSpecs(frames, clutter, max_distance), &scattered)) return 1;
     std::printf(
