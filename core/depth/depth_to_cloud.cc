@@ -1,6 +1,7 @@
 #include "core/depth/depth_to_cloud.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -150,12 +151,62 @@ size_t ProjectRowScalar(const Projection& p, int v, int u_begin, Eigen::Vector3f
   return n;
 }
 
+// Stride 1, eight pixels a step with AVX2: the same operations as ProjectRowScalar lane by lane
+// (the readings' range tested as signed integers: they and the limits are below 2^16). The
+// valid lanes are packed to the front by one permutation, and all eight stored: n never passes
+// the pixels done, so the stores stay inside the cloud, and what lies past the valid points is
+// overwritten or cut.
+[[gnu::target("avx2")]] size_t ProjectRowsAvx2(const Projection& p, Eigen::Vector3f* out) {
+  const DepthImage& depth = *p.depth;
+  const int width = depth.width;
+  const __m256 cx = _mm256_set1_ps(p.cx), inv_fx = _mm256_set1_ps(p.inv_fx);
+  const __m256 milli = _mm256_set1_ps(0.001f);
+  const __m256 nan = _mm256_set1_ps(std::numeric_limits<float>::quiet_NaN());
+  const __m256i min_mm = _mm256_set1_epi32(static_cast<int>(p.min_mm));
+  const __m256i max_mm = _mm256_set1_epi32(static_cast<int>(p.max_mm));
+  const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const PointShuffles8 shuffles;
+  float* dst = out->data();
+  size_t n = 0;
+  for (int v = 0; v < depth.height; ++v) {
+    const std::uint16_t* row = depth.mm.data() + static_cast<size_t>(v) * width;
+    const __m256 ray_y = _mm256_set1_ps((static_cast<float>(v) - p.cy) * p.inv_fy);
+    int u = 0;
+    for (; u + 8 <= width; u += 8) {
+      const __m256i mm =
+          _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + u)));
+      const __m256 invalid = _mm256_castsi256_ps(
+          _mm256_or_si256(_mm256_cmpgt_epi32(min_mm, mm), _mm256_cmpgt_epi32(mm, max_mm)));
+      __m256 z = _mm256_mul_ps(_mm256_cvtepi32_ps(mm), milli);
+      const __m256 us = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(u), iota));
+      __m256 ray_x = _mm256_mul_ps(_mm256_sub_ps(us, cx), inv_fx);
+      int count = 8;
+      if (p.keep_organised) {
+        z = _mm256_blendv_ps(z, nan, invalid);
+      } else {
+        const int valid = ~_mm256_movemask_ps(invalid) & 0xFF;
+        count = __builtin_popcount(static_cast<unsigned>(valid));
+        const __m256i packed = PackLanes8(valid);
+        z = _mm256_permutevar8x32_ps(z, packed);
+        ray_x = _mm256_permutevar8x32_ps(ray_x, packed);
+      }
+      shuffles.Store(_mm256_mul_ps(ray_x, z), _mm256_mul_ps(ray_y, z), z, dst + 3 * n);
+      n += static_cast<size_t>(count);
+    }
+    n = ProjectRowScalar(p, v, u, out, n);
+  }
+  return n;
+}
+
 #else
 size_t ProjectRowsAvx512(const Projection&, Eigen::Vector3f*) { return 0; }
+size_t ProjectRowsAvx2(const Projection&, Eigen::Vector3f*) { return 0; }
 #endif
 
+enum class Path { kScalar, kAvx2, kFastest };
+
 Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics,
-                           const DepthToCloudOptions& options, bool vectorised) {
+                           const DepthToCloudOptions& options, Path path) {
   Result<Projection> prepared = Prepare(depth, intrinsics, options);
   if (!prepared.ok()) return prepared.error();
   const Projection& p = *prepared;
@@ -163,8 +214,10 @@ Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics
   Eigen::Vector3f* out = cloud.points.data();
   size_t n = 0;
   if (cloud.points.empty()) return cloud;  // (no storage to point into)
-  if (vectorised && p.stride == 1 && PointLanesAvailable()) {
+  if (path == Path::kFastest && p.stride == 1 && PointLanesAvailable()) {
     n = ProjectRowsAvx512(p, out);
+  } else if (path != Path::kScalar && p.stride == 1 && PointLanes8Available()) {
+    n = ProjectRowsAvx2(p, out);
   } else {
     for (int v = 0; v < depth.height; v += p.stride) n = ProjectRowScalar(p, v, 0, out, n);
   }
@@ -176,14 +229,22 @@ Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics
 
 Result<PointCloud> DepthToCloud(const DepthImage& depth, const Intrinsics& intrinsics,
                                 const DepthToCloudOptions& options) {
-  return Project(depth, intrinsics, options, /*vectorised=*/true);
+  return Project(depth, intrinsics, options, Path::kFastest);
+}
+
+Result<PointCloud> DepthToCloudAvx2(const DepthImage& depth, const Intrinsics& intrinsics,
+                                    const DepthToCloudOptions& options) {
+  assert(DepthToCloudAvx2Available());
+  return Project(depth, intrinsics, options, Path::kAvx2);
 }
 
 Result<PointCloud> DepthToCloudScalar(const DepthImage& depth, const Intrinsics& intrinsics,
                                       const DepthToCloudOptions& options) {
-  return Project(depth, intrinsics, options, /*vectorised=*/false);
+  return Project(depth, intrinsics, options, Path::kScalar);
 }
 
-bool DepthToCloudVectorised() { return PointLanesAvailable(); }
+bool DepthToCloudVectorised() { return PointLanesAvailable() || PointLanes8Available(); }
+
+bool DepthToCloudAvx2Available() { return PointLanes8Available(); }
 
 }  // namespace hpose

@@ -17,14 +17,19 @@ struct DepthToCloudOptions {
 
 // Back-projects a depth image through pinhole intrinsics into the sensor frame.
 // Fails (kInvalidArgument) when the intrinsics are invalid or do not match the image size.
-// Sixteen pixels a step with AVX-512 where the CPU has it (DepthToCloudVectorised(); stride 1),
-// the scalar loop otherwise: DepthToCloudScalar, the reference. Both compute every coordinate
-// with the same float operations in the same order, so their clouds are equal to the bit.
+// Sixteen pixels a step with AVX-512 where the CPU has it, eight with AVX2 where it has that
+// (DepthToCloudVectorised(); stride 1), the scalar loop otherwise: DepthToCloudScalar, the
+// reference. All compute every coordinate with the same float operations in the same order, so
+// their clouds are equal to the bit. DepthToCloudAvx2 takes the AVX2 path whatever else the CPU
+// has (only where DepthToCloudAvx2Available()), for tests and benchmarks.
 Result<PointCloud> DepthToCloud(const DepthImage& depth, const Intrinsics& intrinsics,
                                 const DepthToCloudOptions& options = {});
 Result<PointCloud> DepthToCloudScalar(const DepthImage& depth, const Intrinsics& intrinsics,
                                       const DepthToCloudOptions& options = {});
 bool DepthToCloudVectorised();
+Result<PointCloud> DepthToCloudAvx2(const DepthImage& depth, const Intrinsics& intrinsics,
+                                    const DepthToCloudOptions& options = {});
+bool DepthToCloudAvx2Available();
 
 }  // namespace hpose
 

@@ -1,5 +1,6 @@
 #include "core/depth/ground_band.h"
 
+#include <cassert>
 #include <cstddef>
 
 #include "core/depth/point_lanes.h"
@@ -73,15 +74,70 @@ using rounded::Mul;
   return SelectRange(cloud, band, i, size, out, index, n);
 }
 
+// Eight points a step, the same operations with AVX2 (whose target has no fused multiply-add).
+// The lanes that pass are packed to the front by one permutation and all eight stored: the
+// output has room for a point per input point, and n <= i, so the stores stay inside it and
+// what lies past the kept points is overwritten or cut.
+[[gnu::target("avx2")]] size_t SelectAvx2(const PointCloud& cloud, const GroundBand& band,
+                                          Eigen::Vector3f* out, int* index) {
+  const PointShuffles8 shuffles;
+  __m256 r[3][3], t[3];
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) r[row][col] = _mm256_set1_ps(band.rotation(row, col));
+    t[row] = _mm256_set1_ps(band.translation(row));
+  }
+  const __m256 z_min = _mm256_set1_ps(band.z_min), z_max = _mm256_set1_ps(band.z_max);
+  const __m256 range2 = _mm256_set1_ps(band.range2);
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const size_t size = cloud.points.size();
+  float* dst = out->data();
+  size_t n = 0, i = 0;
+  for (; i + 8 <= size; i += 8) {
+    const PointLanes8 p = shuffles.Load(cloud.points[i].data());
+    // v - v is 0 exactly when v is finite.
+    const __m256 finite =
+        _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(p.x, p.x), zero, _CMP_EQ_OQ),
+                                    _mm256_cmp_ps(_mm256_sub_ps(p.y, p.y), zero, _CMP_EQ_OQ)),
+                      _mm256_cmp_ps(_mm256_sub_ps(p.z, p.z), zero, _CMP_EQ_OQ));
+    __m256 g[3];
+    for (int row = 0; row < 3; ++row) {
+      g[row] = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(r[row][0], p.x),
+                                           _mm256_add_ps(_mm256_mul_ps(r[row][1], p.y),
+                                                         _mm256_mul_ps(r[row][2], p.z))),
+                             t[row]);
+    }
+    const __m256 in_height = _mm256_and_ps(_mm256_cmp_ps(g[2], z_min, _CMP_GE_OQ),
+                                           _mm256_cmp_ps(g[2], z_max, _CMP_LE_OQ));
+    const __m256 in_range = _mm256_cmp_ps(
+        _mm256_add_ps(_mm256_mul_ps(g[0], g[0]), _mm256_mul_ps(g[1], g[1])), range2, _CMP_LE_OQ);
+    const int keep = _mm256_movemask_ps(_mm256_and_ps(_mm256_and_ps(finite, in_height), in_range));
+    if (keep == 0) continue;
+    const __m256i packed = PackLanes8(keep);
+    shuffles.Store(_mm256_permutevar8x32_ps(g[0], packed), _mm256_permutevar8x32_ps(g[1], packed),
+                   _mm256_permutevar8x32_ps(g[2], packed), dst + 3 * n);
+    if (index != nullptr) {
+      const __m256i at = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(i)), iota);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(index + n),
+                          _mm256_permutevar8x32_epi32(at, packed));
+    }
+    n += static_cast<size_t>(__builtin_popcount(static_cast<unsigned>(keep)));
+  }
+  return SelectRange(cloud, band, i, size, out, index, n);
+}
+
 #else
 size_t SelectAvx512(const PointCloud& cloud, const GroundBand& band, Eigen::Vector3f* out,
                     int* index) {
   return SelectRange(cloud, band, 0, cloud.points.size(), out, index, 0);
 }
+constexpr auto* SelectAvx2 = &SelectAvx512;
 #endif
 
+enum class Path { kScalar, kAvx2, kFastest };
+
 void Select(const PointCloud& cloud, const GroundBand& band, std::vector<Eigen::Vector3f>* out,
-            std::vector<int>* index, bool vectorised) {
+            std::vector<int>* index, Path path) {
   if (cloud.points.empty()) return;  // (and no storage to point into)
   // Room for every point, then cut to those kept.
   const size_t start = out->size();
@@ -92,9 +148,14 @@ void Select(const PointCloud& cloud, const GroundBand& band, std::vector<Eigen::
     index_at = index->data() + start;
   }
   Eigen::Vector3f* out_at = out->data() + start;
-  const size_t n = vectorised && PointLanesAvailable()
-                       ? SelectAvx512(cloud, band, out_at, index_at)
-                       : SelectRange(cloud, band, 0, cloud.points.size(), out_at, index_at, 0);
+  size_t n = 0;
+  if (path == Path::kFastest && PointLanesAvailable()) {
+    n = SelectAvx512(cloud, band, out_at, index_at);
+  } else if (path != Path::kScalar && PointLanes8Available()) {
+    n = SelectAvx2(cloud, band, out_at, index_at);
+  } else {
+    n = SelectRange(cloud, band, 0, cloud.points.size(), out_at, index_at, 0);
+  }
   out->resize(start + n);
   if (index != nullptr) index->resize(start + n);
 }
@@ -103,14 +164,22 @@ void Select(const PointCloud& cloud, const GroundBand& band, std::vector<Eigen::
 
 void SelectGroundBand(const PointCloud& cloud, const GroundBand& band,
                       std::vector<Eigen::Vector3f>* out, std::vector<int>* index) {
-  Select(cloud, band, out, index, /*vectorised=*/true);
+  Select(cloud, band, out, index, Path::kFastest);
+}
+
+void SelectGroundBandAvx2(const PointCloud& cloud, const GroundBand& band,
+                          std::vector<Eigen::Vector3f>* out, std::vector<int>* index) {
+  assert(GroundBandAvx2Available());
+  Select(cloud, band, out, index, Path::kAvx2);
 }
 
 void SelectGroundBandScalar(const PointCloud& cloud, const GroundBand& band,
                             std::vector<Eigen::Vector3f>* out, std::vector<int>* index) {
-  Select(cloud, band, out, index, /*vectorised=*/false);
+  Select(cloud, band, out, index, Path::kScalar);
 }
 
-bool GroundBandVectorised() { return PointLanesAvailable(); }
+bool GroundBandVectorised() { return PointLanesAvailable() || PointLanes8Available(); }
+
+bool GroundBandAvx2Available() { return PointLanes8Available(); }
 
 }  // namespace hpose

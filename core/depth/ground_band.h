@@ -25,14 +25,19 @@ struct GroundBand {
 // the cloud to `index` when given. Every comparison fails for NaN, so only points provably
 // inside pass.
 //
-// With AVX-512 sixteen points a step (GroundBandVectorised()), the scalar loop otherwise:
-// SelectGroundBandScalar, the reference. Both compute g as Eigen does (per row
-// r0 x + (r1 y + r2 z), then + t; no fused multiply-adds), so their points are equal to the bit.
+// With AVX-512 sixteen points a step, with AVX2 eight (GroundBandVectorised() where either),
+// the scalar loop otherwise: SelectGroundBandScalar, the reference. All compute g as Eigen does
+// (per row r0 x + (r1 y + r2 z), then + t; no fused multiply-adds), so their points are equal
+// to the bit. SelectGroundBandAvx2 takes the AVX2 path whatever else the CPU has (only where
+// GroundBandAvx2Available()), for tests and benchmarks.
 void SelectGroundBand(const PointCloud& cloud, const GroundBand& band,
                       std::vector<Eigen::Vector3f>* out, std::vector<int>* index = nullptr);
 void SelectGroundBandScalar(const PointCloud& cloud, const GroundBand& band,
                             std::vector<Eigen::Vector3f>* out, std::vector<int>* index = nullptr);
 bool GroundBandVectorised();
+void SelectGroundBandAvx2(const PointCloud& cloud, const GroundBand& band,
+                          std::vector<Eigen::Vector3f>* out, std::vector<int>* index = nullptr);
+bool GroundBandAvx2Available();
 
 }  // namespace hpose
 

@@ -32,6 +32,17 @@ inline bool PointLanesAvailable() {
 #endif
 }
 
+// Whether this CPU runs the eight-point AVX2 forms of some of those passes (PointShuffles8),
+// taken where it has no AVX-512. Checked once.
+inline bool PointLanes8Available() {
+#ifdef HPOSE_POINT_LANES
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
 }  // namespace hpose
 
 #ifdef HPOSE_POINT_LANES
@@ -141,6 +152,92 @@ class PointInterleaver {
   __m512i xy_[3], z_[3];
   __mmask16 z_lanes_[3];
 };
+
+// Eight points as three AVX2 registers, for the same passes on CPUs with AVX2 but no AVX-512.
+struct PointLanes8 {
+  __m256 x, y, z;
+};
+
+// Lane i of x, y and z is float 3i, 3i + 1 and 3i + 2 of 24. Of the three vectors of 8 floats,
+// each component takes disjoint lanes: two blends put them in one vector, one permutation puts
+// them in order. Store is the inverse: output float f is component f % 3 of point f / 3, so one
+// permutation of each component (the same indices) and two blends make each output vector.
+class PointShuffles8 {
+ public:
+  [[gnu::target("avx2")]] PointShuffles8() {
+    for (int k = 0; k < 3; ++k) {
+      alignas(32) std::int32_t order[8], from_b[8], from_c[8];
+      for (int i = 0; i < 8; ++i) {
+        const int f = 3 * i + k;
+        order[i] = f % 8;
+        from_b[f % 8] = f / 8 == 1 ? -1 : 0;
+        from_c[f % 8] = f / 8 == 2 ? -1 : 0;
+      }
+      load_order_[k] = _mm256_load_si256(reinterpret_cast<const __m256i*>(order));
+      from_b_[k] = _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(from_b)));
+      from_c_[k] = _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(from_c)));
+    }
+    for (int r = 0; r < 3; ++r) {
+      alignas(32) std::int32_t point[8], is_y[8], is_z[8];
+      for (int l = 0; l < 8; ++l) {
+        const int f = 8 * r + l;
+        point[l] = f / 3;
+        is_y[l] = f % 3 == 1 ? -1 : 0;
+        is_z[l] = f % 3 == 2 ? -1 : 0;
+      }
+      store_point_[r] = _mm256_load_si256(reinterpret_cast<const __m256i*>(point));
+      is_y_[r] = _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(is_y)));
+      is_z_[r] = _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(is_z)));
+    }
+  }
+
+  // The eight points from `p` (24 floats).
+  [[gnu::target("avx2")]] PointLanes8 Load(const float* p) const {
+    const __m256 a = _mm256_loadu_ps(p), b = _mm256_loadu_ps(p + 8), c = _mm256_loadu_ps(p + 16);
+    __m256 out[3];
+    for (int k = 0; k < 3; ++k) {
+      const __m256 mixed = _mm256_blendv_ps(_mm256_blendv_ps(a, b, from_b_[k]), c, from_c_[k]);
+      out[k] = _mm256_permutevar8x32_ps(mixed, load_order_[k]);
+    }
+    return {out[0], out[1], out[2]};
+  }
+
+  // All eight lanes written as eight points (24 floats) from `dst`.
+  [[gnu::target("avx2")]] void Store(__m256 x, __m256 y, __m256 z, float* dst) const {
+    for (int r = 0; r < 3; ++r) {
+      const __m256 xy = _mm256_blendv_ps(_mm256_permutevar8x32_ps(x, store_point_[r]),
+                                         _mm256_permutevar8x32_ps(y, store_point_[r]), is_y_[r]);
+      _mm256_storeu_ps(
+          dst + 8 * r,
+          _mm256_blendv_ps(xy, _mm256_permutevar8x32_ps(z, store_point_[r]), is_z_[r]));
+    }
+  }
+
+ private:
+  __m256i load_order_[3], store_point_[3];
+  __m256 from_b_[3], from_c_[3], is_y_[3], is_z_[3];
+};
+
+// The lanes of an 8-bit mask packed to the front: for each mask, the indices of its set bits in
+// order (then zeros), for a permutation that moves the lanes a pass keeps before a store.
+struct PackedLanes8 {
+  alignas(8) std::uint8_t index[256][8] = {};
+  constexpr PackedLanes8() {
+    for (int m = 0; m < 256; ++m) {
+      int n = 0;
+      for (int l = 0; l < 8; ++l) {
+        if ((m >> l) & 1) index[m][n++] = static_cast<std::uint8_t>(l);
+      }
+    }
+  }
+};
+inline constexpr PackedLanes8 kPackedLanes8;
+
+// The permutation that packs the lanes of `mask` (8 bits) to the front.
+[[gnu::target("avx2")]] inline __m256i PackLanes8(int mask) {
+  return _mm256_cvtepu8_epi32(
+      _mm_loadl_epi64(reinterpret_cast<const __m128i*>(kPackedLanes8.index[mask])));
+}
 
 }  // namespace hpose
 

@@ -149,13 +149,13 @@ TEST(DepthToCloudTest, RejectsMismatchedSizesAndBadOptions) {
   EXPECT_EQ(cloud.error().code, ErrorCode::kInvalidArgument);
 }
 
-// The vectorised back-projection (sixteen pixels a step) against the scalar reference, to the
-// bit: widths that are and are not multiples of sixteen, readings below, within and beyond the
-// range (and 0, 65535), organised or not, strides 1 and 2 (2 always takes the scalar loop).
-TEST(DepthToCloudTest, VectorisedEqualsTheScalarReferenceToTheBit) {
-  if (!DepthToCloudVectorised()) {
-    GTEST_SKIP() << "no AVX-512 on this CPU: DepthToCloud is the scalar loop itself";
-  }
+// A vector back-projection against the scalar reference, to the bit: widths that are and are
+// not multiples of sixteen and eight, readings below, within and beyond the range (and 0,
+// 65535), organised or not, strides 1 and 2 (2 always takes the scalar loop).
+void ExpectEqualToTheScalarReference(Result<PointCloud> (*project)(const DepthImage&,
+                                                                   const Intrinsics&,
+                                                                   const DepthToCloudOptions&),
+                                     const char* name) {
   std::mt19937 rng(17);
   const std::uint16_t specials[] = {0, 1, 399, 400, 401, 4500, 4501, 65535};
   int compared = 0;
@@ -177,7 +177,7 @@ TEST(DepthToCloudTest, VectorisedEqualsTheScalarReferenceToTheBit) {
         DepthToCloudOptions o;
         o.keep_organised = organised;
         o.stride = stride;
-        const Result<PointCloud> fast = DepthToCloud(depth, k, o);
+        const Result<PointCloud> fast = project(depth, k, o);
         const Result<PointCloud> ref = DepthToCloudScalar(depth, k, o);
         ASSERT_TRUE(fast.ok() && ref.ok());
         ASSERT_EQ(fast->size(), ref->size()) << w << "x" << h;
@@ -192,7 +192,7 @@ TEST(DepthToCloudTest, VectorisedEqualsTheScalarReferenceToTheBit) {
             continue;
           }
           ASSERT_EQ(std::memcmp(a.data(), b.data(), sizeof(float) * 3), 0)
-              << w << "x" << h << " point " << i << ": " << a.transpose() << " vs "
+              << name << " " << w << "x" << h << " point " << i << ": " << a.transpose() << " vs "
               << b.transpose();
           ++compared;
         }
@@ -200,6 +200,19 @@ TEST(DepthToCloudTest, VectorisedEqualsTheScalarReferenceToTheBit) {
     }
   }
   EXPECT_GT(compared, 400000);
+}
+
+// The dispatched path (sixteen pixels a step with AVX-512, eight with AVX2).
+TEST(DepthToCloudTest, VectorisedEqualsTheScalarReferenceToTheBit) {
+  if (!DepthToCloudVectorised()) {
+    GTEST_SKIP() << "no AVX-512 or AVX2 on this CPU: DepthToCloud is the scalar loop itself";
+  }
+  ExpectEqualToTheScalarReference(DepthToCloud, "dispatched");
+}
+
+TEST(DepthToCloudTest, EightPixelsAStepEqualTheScalarReferenceToTheBit) {
+  if (!DepthToCloudAvx2Available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ExpectEqualToTheScalarReference(DepthToCloudAvx2, "avx2");
 }
 
 }  // namespace

@@ -82,31 +82,44 @@ TEST(GroundBandTest, EmptyAndShortClouds) {
   for (size_t k = 0; k < ref.size(); ++k) EXPECT_EQ(out[2 + k], ref[k]);
 }
 
-// The sixteen-point path against the scalar reference, to the bit, appending after what the
-// output already holds.
-TEST(GroundBandTest, VectorisedEqualsTheScalarReferenceToTheBit) {
-  if (!GroundBandVectorised()) {
-    GTEST_SKIP() << "no AVX-512 on this CPU: SelectGroundBand is the scalar loop itself";
-  }
+// The vector paths against the scalar reference, to the bit, appending after what the output
+// already holds: the dispatched one (AVX-512 or AVX2, whichever the CPU has) and AVX2's.
+void ExpectEqualToTheScalarReference(void (*select)(const PointCloud&, const GroundBand&,
+                                                    std::vector<Eigen::Vector3f>*,
+                                                    std::vector<int>*),
+                                     const char* name) {
   size_t compared = 0;
   for (unsigned seed = 1; seed <= 8; ++seed) {
     const Scene s = RandomScene(seed, 20000 + 5 * static_cast<int>(seed));
     std::vector<Eigen::Vector3f> fast(3, Eigen::Vector3f::Ones()), ref = fast;
     std::vector<int> fast_index(3, -1), ref_index = fast_index;
-    SelectGroundBand(s.cloud, s.band, &fast, &fast_index);
+    select(s.cloud, s.band, &fast, &fast_index);
     SelectGroundBandScalar(s.cloud, s.band, &ref, &ref_index);
-    ASSERT_EQ(fast.size(), ref.size()) << "seed " << seed;
-    EXPECT_EQ(fast_index, ref_index) << "seed " << seed;
+    ASSERT_EQ(fast.size(), ref.size()) << name << " seed " << seed;
+    EXPECT_EQ(fast_index, ref_index) << name << " seed " << seed;
     EXPECT_EQ(std::memcmp(fast.data(), ref.data(), ref.size() * sizeof(Eigen::Vector3f)), 0)
-        << "seed " << seed;
+        << name << " seed " << seed;
     // Without indices: the same points.
     std::vector<Eigen::Vector3f> alone;
-    SelectGroundBand(s.cloud, s.band, &alone);
-    ASSERT_EQ(alone.size() + 3, ref.size());
-    EXPECT_EQ(std::memcmp(alone.data(), ref.data() + 3, alone.size() * sizeof(Eigen::Vector3f)), 0);
+    select(s.cloud, s.band, &alone, nullptr);
+    ASSERT_EQ(alone.size() + 3, ref.size()) << name;
+    EXPECT_EQ(std::memcmp(alone.data(), ref.data() + 3, alone.size() * sizeof(Eigen::Vector3f)), 0)
+        << name;
     compared += ref.size() - 3;
   }
-  EXPECT_GT(compared, 40000u);
+  EXPECT_GT(compared, 40000u) << name;
+}
+
+TEST(GroundBandTest, VectorisedEqualsTheScalarReferenceToTheBit) {
+  if (!GroundBandVectorised()) {
+    GTEST_SKIP() << "no AVX-512 or AVX2 on this CPU: SelectGroundBand is the scalar loop itself";
+  }
+  ExpectEqualToTheScalarReference(SelectGroundBand, "dispatched");
+}
+
+TEST(GroundBandTest, EightPointsAStepEqualTheScalarReferenceToTheBit) {
+  if (!GroundBandAvx2Available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ExpectEqualToTheScalarReference(SelectGroundBandAvx2, "avx2");
 }
 
 }  // namespace
