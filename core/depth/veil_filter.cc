@@ -1,6 +1,7 @@
 #include "core/depth/veil_filter.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cstddef>
 
 #include "core/depth/point_lanes.h"
@@ -130,16 +131,101 @@ class VeilLanes {
   }
   return out;
 }
+// x0 + (x1 + x2), eight lanes (the AVX2 target has no fused multiply-add).
+[[gnu::target("avx2")]] inline __m256 Sum3(__m256 x0, __m256 x1, __m256 x2) {
+  return _mm256_add_ps(x0, _mm256_add_ps(x1, x2));
+}
+
+// VeilLanes with AVX2: eight pixels of one row at once.
+class VeilLanes8 {
+ public:
+  [[gnu::target("avx2")]] VeilLanes8(const PointCloud& cloud, float cos2_veil)
+      : cloud_(cloud), cos2_(_mm256_set1_ps(cos2_veil)) {}
+
+  // The veil bits of pixels first .. first + 7, or false when they do not lie in one row with
+  // room for the loads around them.
+  [[gnu::target("avx2")]] bool Mask(size_t first, unsigned* bits) const {
+    const size_t width = static_cast<size_t>(cloud_.width);
+    const size_t height = static_cast<size_t>(cloud_.height);
+    const size_t n = cloud_.points.size();
+    const size_t s = kVeilPixelStep;
+    const size_t v = first / width, u0 = first % width;
+    if (u0 + 8 > width || first < s || first + 8 + s > n) return false;
+    const PointLanes8 p = shuffles_.Load(cloud_.points[first].data());
+    const __m256 p2 =
+        Sum3(_mm256_mul_ps(p.x, p.x), _mm256_mul_ps(p.y, p.y), _mm256_mul_ps(p.z, p.z));
+    const size_t right = std::min<size_t>(8, width - u0 - std::min(width - u0, s));
+    const size_t left_from = u0 >= s ? 0 : s - u0;
+    unsigned veil = 0;
+    veil |= Test(p, p2, first + s) & ((1u << right) - 1);
+    veil |= Test(p, p2, first - s) & (0xFFu << left_from);
+    if (v + s < height) veil |= Test(p, p2, first + s * width);
+    if (v >= s) veil |= Test(p, p2, first - s * width);
+    *bits = veil & 0xFFu;
+    return true;
+  }
+
+ private:
+  [[gnu::target("avx2")]] unsigned Test(const PointLanes8& p, __m256 p2, size_t from) const {
+    const PointLanes8 q = shuffles_.Load(cloud_.points[from].data());
+    // v - v is 0 exactly when v is finite.
+    const __m256 zero = _mm256_setzero_ps();
+    const __m256 finite =
+        _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(q.x, q.x), zero, _CMP_EQ_OQ),
+                                    _mm256_cmp_ps(_mm256_sub_ps(q.y, q.y), zero, _CMP_EQ_OQ)),
+                      _mm256_cmp_ps(_mm256_sub_ps(q.z, q.z), zero, _CMP_EQ_OQ));
+    const __m256 sx = _mm256_sub_ps(q.x, p.x), sy = _mm256_sub_ps(q.y, p.y),
+                 sz = _mm256_sub_ps(q.z, p.z);
+    const __m256 along =
+        Sum3(_mm256_mul_ps(sx, p.x), _mm256_mul_ps(sy, p.y), _mm256_mul_ps(sz, p.z));
+    const __m256 step2 = Sum3(_mm256_mul_ps(sx, sx), _mm256_mul_ps(sy, sy), _mm256_mul_ps(sz, sz));
+    const __m256 within = _mm256_cmp_ps(_mm256_mul_ps(along, along),
+                                        _mm256_mul_ps(_mm256_mul_ps(cos2_, step2), p2), _CMP_GT_OQ);
+    return static_cast<unsigned>(_mm256_movemask_ps(_mm256_and_ps(finite, within)));
+  }
+
+  const PointCloud& cloud_;
+  const __m256 cos2_;
+  const PointShuffles8 shuffles_;
+};
+
+[[gnu::target("avx2")]] size_t KeepAvx2(const PointCloud& cloud, float cos2_veil,
+                                        Eigen::Vector3f* kept, int* index, size_t count) {
+  const VeilLanes8 veil(cloud, cos2_veil);
+  size_t out = 0;
+  size_t group = ~size_t{0};
+  bool in_lanes = false;
+  unsigned bits = 0;
+  for (size_t k = 0; k < count; ++k) {
+    const size_t pixel = static_cast<size_t>(index[k]);
+    if ((pixel & ~size_t{7}) != group) {
+      group = pixel & ~size_t{7};
+      in_lanes = veil.Mask(group, &bits);
+    }
+    const bool drop = in_lanes ? ((bits >> (pixel & 7)) & 1u) != 0
+                               : VeilAt(cloud, static_cast<int>(pixel), cos2_veil);
+    if (drop) continue;
+    kept[out] = kept[k];
+    index[out] = index[k];
+    ++out;
+  }
+  return out;
+}
 #else
 constexpr auto* KeepAvx512 = &KeepScalar;
+constexpr auto* KeepAvx2 = &KeepScalar;
 #endif
 
+enum class Path { kScalar, kAvx2, kFastest };
+
 void Drop(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>* kept,
-          std::vector<int>* index, bool vectorised) {
+          std::vector<int>* index, Path path) {
   if (!cloud.organised()) return;  // no neighbours to test against.
   const size_t count = std::min(kept->size(), index->size());
-  const size_t out = (vectorised && PointLanesAvailable() ? KeepAvx512 : KeepScalar)(
-      cloud, cos2_veil, kept->data(), index->data(), count);
+  const auto keep = path == Path::kFastest && PointLanesAvailable()   ? KeepAvx512
+                    : path != Path::kScalar && PointLanes8Available() ? KeepAvx2
+                                                                      : KeepScalar;
+  const size_t out = keep(cloud, cos2_veil, kept->data(), index->data(), count);
   kept->resize(out);
   index->resize(out);
 }
@@ -148,14 +234,22 @@ void Drop(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>
 
 void DropVeilPoints(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>* kept,
                     std::vector<int>* index) {
-  Drop(cloud, cos2_veil, kept, index, /*vectorised=*/true);
+  Drop(cloud, cos2_veil, kept, index, Path::kFastest);
+}
+
+void DropVeilPointsAvx2(const PointCloud& cloud, float cos2_veil,
+                        std::vector<Eigen::Vector3f>* kept, std::vector<int>* index) {
+  assert(VeilFilterAvx2Available());
+  Drop(cloud, cos2_veil, kept, index, Path::kAvx2);
 }
 
 void DropVeilPointsScalar(const PointCloud& cloud, float cos2_veil,
                           std::vector<Eigen::Vector3f>* kept, std::vector<int>* index) {
-  Drop(cloud, cos2_veil, kept, index, /*vectorised=*/false);
+  Drop(cloud, cos2_veil, kept, index, Path::kScalar);
 }
 
-bool VeilFilterVectorised() { return PointLanesAvailable(); }
+bool VeilFilterVectorised() { return PointLanesAvailable() || PointLanes8Available(); }
+
+bool VeilFilterAvx2Available() { return PointLanes8Available(); }
 
 }  // namespace hpose

@@ -25,14 +25,19 @@ bool IsVeilPoint(const PointCloud& cloud, int u, int v, float cos2_veil);
 // (a point derived from each pixel, e.g. its ground-frame position, and the pixel). An
 // unorganised cloud has no neighbours to test: nothing is removed.
 //
-// With AVX-512 the test takes sixteen pixels of a row a step (VeilFilterVectorised()), the
-// scalar loop over IsVeilPoint otherwise: DropVeilPointsScalar, the reference. Both add and
-// multiply in Eigen's order, each operation rounded on its own, so they drop the same points.
+// With AVX-512 the test takes sixteen pixels of a row a step, with AVX2 eight
+// (VeilFilterVectorised() where either), the scalar loop over IsVeilPoint otherwise:
+// DropVeilPointsScalar, the reference. All add and multiply in Eigen's order, each operation
+// rounded on its own, so they drop the same points. DropVeilPointsAvx2 takes the AVX2 path
+// whatever else the CPU has (only where VeilFilterAvx2Available()), for tests and benchmarks.
 void DropVeilPoints(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>* kept,
                     std::vector<int>* index);
 void DropVeilPointsScalar(const PointCloud& cloud, float cos2_veil,
                           std::vector<Eigen::Vector3f>* kept, std::vector<int>* index);
 bool VeilFilterVectorised();
+void DropVeilPointsAvx2(const PointCloud& cloud, float cos2_veil,
+                        std::vector<Eigen::Vector3f>* kept, std::vector<int>* index);
+bool VeilFilterAvx2Available();
 
 }  // namespace hpose
 

@@ -61,11 +61,13 @@ void AllFinite(const PointCloud& cloud, std::vector<Eigen::Vector3f>* kept,
   }
 }
 
-TEST(VeilFilterTest, VectorAndScalarDropTheSamePixels) {
-  if (!VeilFilterVectorised()) GTEST_SKIP() << "no AVX-512 on this CPU: only the scalar path runs";
+// A vector path against the scalar reference on random images.
+void ExpectTheScalarDrops(void (*drop)(const PointCloud&, float, std::vector<Eigen::Vector3f>*,
+                                       std::vector<int>*),
+                          const char* name) {
   const float cos2 = std::cos(kVeilAngle) * std::cos(kVeilAngle);
   int dropped_total = 0, kept_total = 0;
-  // Widths with and without a multiple of sixteen, images down to one group a row.
+  // Widths with and without a multiple of sixteen and eight, images down to one group a row.
   for (const auto [width, height] : {std::pair{640, 48}, std::pair{37, 23}, std::pair{16, 9},
                                      std::pair{19, 5}, std::pair{64, 3}, std::pair{5, 40}}) {
     for (unsigned seed = 1; seed <= 3; ++seed) {
@@ -76,9 +78,10 @@ TEST(VeilFilterTest, VectorAndScalarDropTheSamePixels) {
       reference = fast;
       reference_index = fast_index;
       const size_t before = fast.size();
-      DropVeilPoints(cloud, cos2, &fast, &fast_index);
+      drop(cloud, cos2, &fast, &fast_index);
       DropVeilPointsScalar(cloud, cos2, &reference, &reference_index);
-      ASSERT_EQ(fast_index, reference_index) << width << "x" << height << " seed " << seed;
+      ASSERT_EQ(fast_index, reference_index)
+          << name << " " << width << "x" << height << " seed " << seed;
       ASSERT_EQ(fast.size(), fast_index.size());
       for (size_t k = 0; k < fast.size(); ++k) {
         ASSERT_EQ(fast[k], Eigen::Vector3f(static_cast<float>(fast_index[k]), 0.0f, 1.0f));
@@ -89,6 +92,65 @@ TEST(VeilFilterTest, VectorAndScalarDropTheSamePixels) {
   }
   EXPECT_GT(dropped_total, 1000);
   EXPECT_GT(kept_total, 1000);
+}
+
+TEST(VeilFilterTest, VectorAndScalarDropTheSamePixels) {
+  if (!VeilFilterVectorised())
+    GTEST_SKIP() << "no AVX-512 or AVX2 on this CPU: only the scalar path runs";
+  ExpectTheScalarDrops(DropVeilPoints, "dispatched");
+}
+
+TEST(VeilFilterTest, EightPixelsAStepDropWhatTheScalarPathDrops) {
+  if (!VeilFilterAvx2Available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ExpectTheScalarDrops(DropVeilPointsAvx2, "avx2");
+}
+
+// A wall whose row ends are wrapped: pixels (v, 0) and (v, 1) lie behind (v - 1, width - 2) and
+// (v - 1, width - 1), on their rays. Those are the pixels two before and after them in memory,
+// but not their neighbours: no path may test them (the lanes at a row's edges are masked).
+PointCloud WrappedRowEnds(int width, int height) {
+  PointCloud cloud;
+  cloud.width = width;
+  cloud.height = height;
+  cloud.points.resize(static_cast<size_t>(width) * height);
+  const float focal = 0.8f * width, z = 3.0f;
+  const auto wall = [&](int c, int v) {
+    return Eigen::Vector3f((c - 0.5f * width) * z / focal, (v - 0.5f * height) * z / focal, z);
+  };
+  for (int v = 0; v < height; ++v) {
+    for (int c = 0; c < width; ++c) cloud.points[static_cast<size_t>(v) * width + c] = wall(c, v);
+  }
+  for (int v = 1; v < height; ++v) {
+    for (int c = 0; c < 2; ++c) {
+      cloud.points[static_cast<size_t>(v) * width + c] = wall(width - 2 + c, v - 1) * (3.5f / z);
+    }
+  }
+  return cloud;
+}
+
+TEST(VeilFilterTest, PixelsAtARowsEndsAreNoNeighboursOfTheNextRow) {
+  const float cos2 = std::cos(kVeilAngle) * std::cos(kVeilAngle);
+  using Drop = void (*)(const PointCloud&, float, std::vector<Eigen::Vector3f>*, std::vector<int>*);
+  std::vector<Drop> paths;
+  if (VeilFilterVectorised()) paths.push_back(DropVeilPoints);
+  if (VeilFilterAvx2Available()) paths.push_back(DropVeilPointsAvx2);
+  for (const int width : {64, 640}) {
+    const PointCloud cloud = WrappedRowEnds(width, 12);
+    std::vector<Eigen::Vector3f> all, reference;
+    std::vector<int> all_index, reference_index;
+    AllFinite(cloud, &all, &all_index);
+    reference = all;
+    reference_index = all_index;
+    DropVeilPointsScalar(cloud, cos2, &reference, &reference_index);
+    // The scalar path keeps every pixel: the wall's and the wrapped ones.
+    ASSERT_EQ(reference_index, all_index) << width;
+    for (const Drop drop : paths) {
+      std::vector<Eigen::Vector3f> kept = all;
+      std::vector<int> index = all_index;
+      drop(cloud, cos2, &kept, &index);
+      EXPECT_EQ(index, reference_index) << width;
+    }
+  }
 }
 
 // The reference against the definition, written out: a pixel goes when a finite pixel two away
