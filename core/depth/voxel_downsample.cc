@@ -75,8 +75,40 @@ void PackKeysScalar(const Eigen::Vector3f* points, size_t n, float inv_leaf, std
   PackKeysScalar(points + i, n - i, inv_leaf, keys + i);
 }
 
+// PackKeysScalar eight points a step with AVX2: the same product, clamp and floor per axis
+// (_mm256_floor_ps rounds toward -inf exactly), and the cells packed four keys at a time.
+[[gnu::target("avx2")]] void PackKeysAvx2(const Eigen::Vector3f* points, size_t n, float inv_leaf,
+                                          std::uint64_t* keys) {
+  const PointShuffles8 shuffles;
+  const __m256 inv = _mm256_set1_ps(inv_leaf);
+  const float limit_f = static_cast<float>(kAxisLimit);
+  const __m256 hi = _mm256_set1_ps(limit_f), lo = _mm256_set1_ps(-limit_f);
+  const __m256i offset = _mm256_set1_epi32(static_cast<int>(kAxisLimit));
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8) {
+    const PointLanes8 p = shuffles.Load(points[i].data());
+    const __m256 axes[3] = {p.x, p.y, p.z};
+    __m256i cells[3];
+    for (int a = 0; a < 3; ++a) {
+      const __m256 v = _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(axes[a], inv), lo), hi);
+      cells[a] = _mm256_add_epi32(_mm256_cvttps_epi32(_mm256_floor_ps(v)), offset);
+    }
+    for (int half = 0; half < 2; ++half) {
+      __m256i key = _mm256_setzero_si256();
+      for (int a = 0; a < 3; ++a) {
+        const __m128i four =
+            half == 0 ? _mm256_castsi256_si128(cells[a]) : _mm256_extracti128_si256(cells[a], 1);
+        key = _mm256_or_si256(_mm256_slli_epi64(key, 21), _mm256_cvtepu32_epi64(four));
+      }
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(keys + i + 4 * half), key);
+    }
+  }
+  PackKeysScalar(points + i, n - i, inv_leaf, keys + i);
+}
+
 #else
 constexpr auto* PackKeysAvx512 = &PackKeysScalar;
+constexpr auto* PackKeysAvx2 = &PackKeysScalar;
 #endif
 
 std::uint64_t Mix(std::uint64_t key) {
@@ -87,6 +119,25 @@ std::uint64_t Mix(std::uint64_t key) {
 }
 
 }  // namespace
+
+void PackVoxelKeys(const Eigen::Vector3f* points, size_t n, float inv_leaf, std::uint64_t* keys) {
+  (PointLanesAvailable()    ? PackKeysAvx512
+   : PointLanes8Available() ? PackKeysAvx2
+                            : PackKeysScalar)(points, n, inv_leaf, keys);
+}
+
+void PackVoxelKeysScalar(const Eigen::Vector3f* points, size_t n, float inv_leaf,
+                         std::uint64_t* keys) {
+  PackKeysScalar(points, n, inv_leaf, keys);
+}
+
+void PackVoxelKeysAvx2(const Eigen::Vector3f* points, size_t n, float inv_leaf,
+                       std::uint64_t* keys) {
+  assert(VoxelKeysAvx2Available());
+  PackKeysAvx2(points, n, inv_leaf, keys);
+}
+
+bool VoxelKeysAvx2Available() { return PointLanes8Available(); }
 
 void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
                      std::vector<Eigen::Vector3f>* centroids, std::vector<int>* voxel_of_point) {
@@ -121,8 +172,7 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
   // Every point's key first, so that the loop below can ask for the slot of a key kAhead points
   // on while it works on this one: the probes of a 640x480 frame's table miss the cache.
   std::vector<std::uint64_t> point_keys(points.size());
-  (PointLanesAvailable() ? PackKeysAvx512 : PackKeysScalar)(points.data(), points.size(), inv_leaf,
-                                                            point_keys.data());
+  PackVoxelKeys(points.data(), points.size(), inv_leaf, point_keys.data());
   constexpr size_t kAhead = 16;
   // Depth-camera clouds come in scan order, so consecutive points often share a voxel: the
   // last key is remembered to skip the table lookup.

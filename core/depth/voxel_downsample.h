@@ -1,6 +1,8 @@
 #ifndef HPOSE_CORE_DEPTH_VOXEL_DOWNSAMPLE_H_
 #define HPOSE_CORE_DEPTH_VOXEL_DOWNSAMPLE_H_
 
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -18,6 +20,18 @@ namespace hpose {
 void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
                      std::vector<Eigen::Vector3f>* centroids,
                      std::vector<int>* voxel_of_point = nullptr);
+
+// The voxel key of each of points[0 .. n) as VoxelDownsample hashes it (the floored cell per
+// axis, clamped to 21 bits, packed x, y, z from the high bits), into keys[0 .. n). Exposed for
+// the tests of its paths: PackVoxelKeys takes the fastest this CPU has (AVX-512, AVX2),
+// PackVoxelKeysScalar is the reference, PackVoxelKeysAvx2 the AVX2 path whatever else the CPU
+// has (only where VoxelKeysAvx2Available()). All give the same keys for finite points.
+void PackVoxelKeys(const Eigen::Vector3f* points, size_t n, float inv_leaf, std::uint64_t* keys);
+void PackVoxelKeysScalar(const Eigen::Vector3f* points, size_t n, float inv_leaf,
+                         std::uint64_t* keys);
+void PackVoxelKeysAvx2(const Eigen::Vector3f* points, size_t n, float inv_leaf,
+                       std::uint64_t* keys);
+bool VoxelKeysAvx2Available();
 
 }  // namespace hpose
 

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <random>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -115,6 +118,39 @@ TEST(VoxelDownsampleTest, ClampsCellsBeyondTheKeyRange) {
   EXPECT_EQ(owner, expected_owner);
   EXPECT_EQ(centroids.size(), index.size());
   EXPECT_LT(index.size(), 150u);  // clamped corners merged many of them.
+}
+
+// The keys of every vector path equal the scalar reference's: random points at several leaf
+// sizes (cells either side of 0, on cell borders, beyond the 21-bit range, and infinite), counts
+// that are and are not multiples of eight and sixteen.
+TEST(VoxelDownsampleTest, EveryKeyPathEqualsTheScalarReference) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> u(-4.0f, 4.0f);
+  using Pack = void (*)(const Eigen::Vector3f*, size_t, float, std::uint64_t*);
+  std::vector<std::pair<Pack, const char*>> paths = {{PackVoxelKeys, "dispatched"}};
+  if (VoxelKeysAvx2Available()) paths.emplace_back(PackVoxelKeysAvx2, "avx2");
+  int distinct_far = 0;
+  for (const float leaf : {0.008f, 0.02f, 0.1f}) {
+    for (const size_t n : {size_t{0}, size_t{5}, size_t{8}, size_t{16}, size_t{37}, size_t{4099}}) {
+      std::vector<Eigen::Vector3f> points(n);
+      for (size_t i = 0; i < n; ++i) {
+        points[i] = Eigen::Vector3f(u(rng), u(rng), u(rng));
+        if (i % 7 == 0) points[i].x() = std::round(points[i].x() / leaf) * leaf;  // a border.
+        if (i % 11 == 0) points[i].y() = (i % 22 == 0 ? 1.0f : -1.0f) * 1.0e5f;   // beyond range.
+        if (i % 13 == 0) points[i].z() = (i % 26 == 0 ? 1.0f : -1.0f) * INFINITY;
+      }
+      std::vector<std::uint64_t> ref(n + 1, 7), fast(n + 1, 7);
+      PackVoxelKeysScalar(points.data(), n, 1.0f / leaf, ref.data());
+      EXPECT_EQ(ref[n], 7u);  // nothing written past n.
+      for (const auto& [pack, name] : paths) {
+        std::fill(fast.begin(), fast.end(), 7);
+        pack(points.data(), n, 1.0f / leaf, fast.data());
+        EXPECT_EQ(fast, ref) << name << " leaf " << leaf << " n " << n;
+      }
+      for (size_t i = 1; i < n; ++i) distinct_far += ref[i] != ref[i - 1] ? 1 : 0;
+    }
+  }
+  EXPECT_GT(distinct_far, 10000);
 }
 
 }  // namespace
