@@ -46,6 +46,32 @@ size_t KeepScalar(const PointCloud& cloud, float cos2_veil, Eigen::Vector3f* kep
   return out;
 }
 
+// The kept entries (in order) when each pixel's veil bit comes from the group of kGroup pixels
+// it lies in, `lanes.Mask` making the group's bits once per group met; a group the lanes cannot
+// take (across a row's end, or at the image's) leaves its pixels to the scalar test.
+template <size_t kGroup, class Lanes>
+size_t KeepByGroups(const Lanes& lanes, const PointCloud& cloud, float cos2_veil,
+                    Eigen::Vector3f* kept, int* index, size_t count) {
+  size_t out = 0;
+  size_t group = ~size_t{0};
+  bool in_lanes = false;
+  unsigned bits = 0;
+  for (size_t k = 0; k < count; ++k) {
+    const size_t pixel = static_cast<size_t>(index[k]);
+    if ((pixel & ~(kGroup - 1)) != group) {
+      group = pixel & ~(kGroup - 1);
+      in_lanes = lanes.Mask(group, &bits);
+    }
+    const bool drop = in_lanes ? ((bits >> (pixel & (kGroup - 1))) & 1u) != 0
+                               : VeilAt(cloud, static_cast<int>(pixel), cos2_veil);
+    if (drop) continue;
+    kept[out] = kept[k];
+    index[out] = index[k];
+    ++out;
+  }
+  return out;
+}
+
 #ifdef HPOSE_POINT_LANES
 using rounded::Add;
 using rounded::Mul;
@@ -112,24 +138,7 @@ class VeilLanes {
                                                       Eigen::Vector3f* kept, int* index,
                                                       size_t count) {
   const VeilLanes veil(cloud, cos2_veil);
-  size_t out = 0;
-  size_t group = ~size_t{0};
-  bool in_lanes = false;
-  unsigned bits = 0;
-  for (size_t k = 0; k < count; ++k) {
-    const size_t pixel = static_cast<size_t>(index[k]);
-    if ((pixel & ~size_t{15}) != group) {
-      group = pixel & ~size_t{15};
-      in_lanes = veil.Mask(group, &bits);
-    }
-    const bool drop = in_lanes ? ((bits >> (pixel & 15)) & 1u) != 0
-                               : VeilAt(cloud, static_cast<int>(pixel), cos2_veil);
-    if (drop) continue;
-    kept[out] = kept[k];
-    index[out] = index[k];
-    ++out;
-  }
-  return out;
+  return KeepByGroups<16>(veil, cloud, cos2_veil, kept, index, count);
 }
 // x0 + (x1 + x2), eight lanes (the AVX2 target has no fused multiply-add).
 [[gnu::target("avx2")]] inline __m256 Sum3(__m256 x0, __m256 x1, __m256 x2) {
@@ -189,27 +198,11 @@ class VeilLanes8 {
   const PointShuffles8 shuffles_;
 };
 
+// The same with groups of eight.
 [[gnu::target("avx2")]] size_t KeepAvx2(const PointCloud& cloud, float cos2_veil,
                                         Eigen::Vector3f* kept, int* index, size_t count) {
   const VeilLanes8 veil(cloud, cos2_veil);
-  size_t out = 0;
-  size_t group = ~size_t{0};
-  bool in_lanes = false;
-  unsigned bits = 0;
-  for (size_t k = 0; k < count; ++k) {
-    const size_t pixel = static_cast<size_t>(index[k]);
-    if ((pixel & ~size_t{7}) != group) {
-      group = pixel & ~size_t{7};
-      in_lanes = veil.Mask(group, &bits);
-    }
-    const bool drop = in_lanes ? ((bits >> (pixel & 7)) & 1u) != 0
-                               : VeilAt(cloud, static_cast<int>(pixel), cos2_veil);
-    if (drop) continue;
-    kept[out] = kept[k];
-    index[out] = index[k];
-    ++out;
-  }
-  return out;
+  return KeepByGroups<8>(veil, cloud, cos2_veil, kept, index, count);
 }
 #else
 constexpr auto* KeepAvx512 = &KeepScalar;
