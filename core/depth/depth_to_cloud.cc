@@ -203,10 +203,8 @@ size_t ProjectRowsAvx512(const Projection&, Eigen::Vector3f*) { return 0; }
 size_t ProjectRowsAvx2(const Projection&, Eigen::Vector3f*) { return 0; }
 #endif
 
-enum class Path { kScalar, kAvx2, kFastest };
-
 Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics,
-                           const DepthToCloudOptions& options, Path path) {
+                           const DepthToCloudOptions& options, LanePath path) {
   Result<Projection> prepared = Prepare(depth, intrinsics, options);
   if (!prepared.ok()) return prepared.error();
   const Projection& p = *prepared;
@@ -214,9 +212,9 @@ Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics
   Eigen::Vector3f* out = cloud.points.data();
   size_t n = 0;
   if (cloud.points.empty()) return cloud;  // (no storage to point into)
-  if (path == Path::kFastest && p.stride == 1 && PointLanesAvailable()) {
+  if (path == LanePath::kFastest && p.stride == 1 && PointLanesAvailable()) {
     n = ProjectRowsAvx512(p, out);
-  } else if (path != Path::kScalar && p.stride == 1 && PointLanes8Available()) {
+  } else if (path != LanePath::kScalar && p.stride == 1 && PointLanes8Available()) {
     n = ProjectRowsAvx2(p, out);
   } else {
     for (int v = 0; v < depth.height; v += p.stride) n = ProjectRowScalar(p, v, 0, out, n);
@@ -229,18 +227,18 @@ Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics
 
 Result<PointCloud> DepthToCloud(const DepthImage& depth, const Intrinsics& intrinsics,
                                 const DepthToCloudOptions& options) {
-  return Project(depth, intrinsics, options, Path::kFastest);
+  return Project(depth, intrinsics, options, LanePath::kFastest);
 }
 
 Result<PointCloud> DepthToCloudAvx2(const DepthImage& depth, const Intrinsics& intrinsics,
                                     const DepthToCloudOptions& options) {
   assert(DepthToCloudAvx2Available());
-  return Project(depth, intrinsics, options, Path::kAvx2);
+  return Project(depth, intrinsics, options, LanePath::kAvx2);
 }
 
 Result<PointCloud> DepthToCloudScalar(const DepthImage& depth, const Intrinsics& intrinsics,
                                       const DepthToCloudOptions& options) {
-  return Project(depth, intrinsics, options, Path::kScalar);
+  return Project(depth, intrinsics, options, LanePath::kScalar);
 }
 
 bool DepthToCloudVectorised() { return PointLanesAvailable() || PointLanes8Available(); }

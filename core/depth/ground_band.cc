@@ -134,10 +134,8 @@ size_t SelectAvx512(const PointCloud& cloud, const GroundBand& band, Eigen::Vect
 constexpr auto* SelectAvx2 = &SelectAvx512;
 #endif
 
-enum class Path { kScalar, kAvx2, kFastest };
-
 void Select(const PointCloud& cloud, const GroundBand& band, std::vector<Eigen::Vector3f>* out,
-            std::vector<int>* index, Path path) {
+            std::vector<int>* index, LanePath path) {
   if (cloud.points.empty()) return;  // (and no storage to point into)
   // Room for every point, then cut to those kept.
   const size_t start = out->size();
@@ -149,9 +147,9 @@ void Select(const PointCloud& cloud, const GroundBand& band, std::vector<Eigen::
   }
   Eigen::Vector3f* out_at = out->data() + start;
   size_t n = 0;
-  if (path == Path::kFastest && PointLanesAvailable()) {
+  if (path == LanePath::kFastest && PointLanesAvailable()) {
     n = SelectAvx512(cloud, band, out_at, index_at);
-  } else if (path != Path::kScalar && PointLanes8Available()) {
+  } else if (path != LanePath::kScalar && PointLanes8Available()) {
     n = SelectAvx2(cloud, band, out_at, index_at);
   } else {
     n = SelectRange(cloud, band, 0, cloud.points.size(), out_at, index_at, 0);
@@ -164,18 +162,18 @@ void Select(const PointCloud& cloud, const GroundBand& band, std::vector<Eigen::
 
 void SelectGroundBand(const PointCloud& cloud, const GroundBand& band,
                       std::vector<Eigen::Vector3f>* out, std::vector<int>* index) {
-  Select(cloud, band, out, index, Path::kFastest);
+  Select(cloud, band, out, index, LanePath::kFastest);
 }
 
 void SelectGroundBandAvx2(const PointCloud& cloud, const GroundBand& band,
                           std::vector<Eigen::Vector3f>* out, std::vector<int>* index) {
   assert(GroundBandAvx2Available());
-  Select(cloud, band, out, index, Path::kAvx2);
+  Select(cloud, band, out, index, LanePath::kAvx2);
 }
 
 void SelectGroundBandScalar(const PointCloud& cloud, const GroundBand& band,
                             std::vector<Eigen::Vector3f>* out, std::vector<int>* index) {
-  Select(cloud, band, out, index, Path::kScalar);
+  Select(cloud, band, out, index, LanePath::kScalar);
 }
 
 bool GroundBandVectorised() { return PointLanesAvailable() || PointLanes8Available(); }

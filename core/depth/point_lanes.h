@@ -32,6 +32,10 @@ inline bool PointLanesAvailable() {
 #endif
 }
 
+// Which form of a whole-cloud pass to run: the scalar reference, the AVX2 form whatever else the
+// CPU has (for tests; it must be available), or the fastest the CPU has.
+enum class LanePath { kScalar, kAvx2, kFastest };
+
 // Whether this CPU runs the eight-point AVX2 forms of some of those passes (PointShuffles8),
 // taken where it has no AVX-512. Checked once.
 inline bool PointLanes8Available() {

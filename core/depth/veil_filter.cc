@@ -209,15 +209,13 @@ constexpr auto* KeepAvx512 = &KeepScalar;
 constexpr auto* KeepAvx2 = &KeepScalar;
 #endif
 
-enum class Path { kScalar, kAvx2, kFastest };
-
 void Drop(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>* kept,
-          std::vector<int>* index, Path path) {
+          std::vector<int>* index, LanePath path) {
   if (!cloud.organised()) return;  // no neighbours to test against.
   const size_t count = std::min(kept->size(), index->size());
-  const auto keep = path == Path::kFastest && PointLanesAvailable()   ? KeepAvx512
-                    : path != Path::kScalar && PointLanes8Available() ? KeepAvx2
-                                                                      : KeepScalar;
+  const auto keep = path == LanePath::kFastest && PointLanesAvailable()   ? KeepAvx512
+                    : path != LanePath::kScalar && PointLanes8Available() ? KeepAvx2
+                                                                          : KeepScalar;
   const size_t out = keep(cloud, cos2_veil, kept->data(), index->data(), count);
   kept->resize(out);
   index->resize(out);
@@ -227,18 +225,18 @@ void Drop(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>
 
 void DropVeilPoints(const PointCloud& cloud, float cos2_veil, std::vector<Eigen::Vector3f>* kept,
                     std::vector<int>* index) {
-  Drop(cloud, cos2_veil, kept, index, Path::kFastest);
+  Drop(cloud, cos2_veil, kept, index, LanePath::kFastest);
 }
 
 void DropVeilPointsAvx2(const PointCloud& cloud, float cos2_veil,
                         std::vector<Eigen::Vector3f>* kept, std::vector<int>* index) {
   assert(VeilFilterAvx2Available());
-  Drop(cloud, cos2_veil, kept, index, Path::kAvx2);
+  Drop(cloud, cos2_veil, kept, index, LanePath::kAvx2);
 }
 
 void DropVeilPointsScalar(const PointCloud& cloud, float cos2_veil,
                           std::vector<Eigen::Vector3f>* kept, std::vector<int>* index) {
-  Drop(cloud, cos2_veil, kept, index, Path::kScalar);
+  Drop(cloud, cos2_veil, kept, index, LanePath::kScalar);
 }
 
 bool VeilFilterVectorised() { return PointLanesAvailable() || PointLanes8Available(); }
