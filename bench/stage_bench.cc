@@ -1,7 +1,7 @@
 // Cost of a frame's stages outside the pose search: depth to cloud, floor (a fit on every frame
 // and FloorTracker, which reuses the last floor while it still fits), clustering (bucket grid and
 // PCL's kd-tree, the reference), the range image of the free-space score and the free-space cells
-// around every cluster (FreeSpaceCells and its reference). Runs on the
+// around every cluster (FreeSpaceCells, its four-height form and its reference). Runs on the
 // simulated 640x480 frames of frame_bench (a sequence from one fixed sensor mount) and on any
 // real clouds given with --cloud (each replayed --repeat times as a still sequence). Every
 // variant runs on every frame in turn, so drift on a shared machine hits all alike. It also
@@ -160,7 +160,7 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
   constexpr int kFreeGrowCells = 16;
   const double res = options.lattice.resolution_m;
   const Eigen::Isometry3d sensor_from_ground = tracked->ground_from_sensor.inverse();
-  double free_ms = 0.0, free_reference_ms = 0.0;
+  double free_ms = 0.0, free_four_ms = 0.0, free_reference_ms = 0.0;
   bool same = true;
   for (const Cluster& c : *fast) {
     const ClusterVoxels voxels = VoxeliseCluster(c.points, res);
@@ -172,13 +172,19 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
     ClusterVoxels free, reference_free;
     free_ms += TimeMs(
         [&] { free = FreeSpaceCells(range, sensor_from_ground, region, res, options.free_space); });
+    // The four-height form side by side (what FreeSpaceCells ran before the eight-height forms).
+    ClusterVoxels four;
+    free_four_ms += TimeMs([&] {
+      four = FreeSpaceCellsFourLanes(range, sensor_from_ground, region, res, options.free_space);
+    });
     free_reference_ms += TimeMs([&] {
       reference_free =
           FreeSpaceCellsReference(range, sensor_from_ground, region, res, options.free_space);
     });
-    same = same && free.cells == reference_free.cells;
+    same = same && free.cells == reference_free.cells && four.cells == reference_free.cells;
   }
   table->At("free-space cells, every cluster").push_back(free_ms);
+  table->At("free-space cells, four heights a step").push_back(free_four_ms);
   table->At("free-space cells (reference)").push_back(free_reference_ms);
   table->free_mismatches += same ? 0 : 1;
   return Status::Ok();

@@ -163,6 +163,87 @@ using rounded::Mul;
     }
   }
 }
+
+// The same eight heights a step on AVX2, as two vectors of four doubles: the same operations in
+// the same order (this target has no fused multiply-add, and intrinsics are never contracted),
+// the range image read by a masked gather of four floats per half (lanes out of view read
+// nothing), and the kept heights moved to the front of eight int lanes by one permutation.
+[[gnu::target("avx2")]] void EightLanesAvx2(const Sweep& s, const RangeImage& range,
+                                            const FreeSpaceRegion& region, double resolution_m,
+                                            const FreeSpaceOptions& options,
+                                            std::vector<Eigen::Vector3i>* cells) {
+  const __m256d focal = _mm256_set1_pd(range.focal()), u0 = _mm256_set1_pd(range.u0());
+  const __m256d v0 = _mm256_set1_pd(range.v0());
+  const __m256d width = _mm256_set1_pd(range.width()), height = _mm256_set1_pd(range.height());
+  const __m256d tx = _mm256_set1_pd(s.t.x()), ty = _mm256_set1_pd(s.t.y());
+  const __m256d tz = _mm256_set1_pd(s.t.z());
+  const __m256d margin = _mm256_set1_pd(options.margin_m);
+  const __m256d sigma_factor = _mm256_set1_pd(options.sigma_factor);
+  const __m256d axial = _mm256_set1_pd(1.425e-3), min_depth = _mm256_set1_pd(1e-3);
+  const __m256d zero = _mm256_setzero_pd();
+  const __m128i row = _mm_set1_epi32(range.width());
+  const __m256i lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const float* depth = range.depth_data();
+  std::vector<std::int32_t> kept(8 * s.groups + 8);
+  for (int x = s.lo.x(); x <= s.hi.x(); ++x) {
+    const double cx = (x + 0.5) * resolution_m;
+    for (int y = s.lo.y(); y <= s.hi.y(); ++y) {
+      const double cy = (y + 0.5) * resolution_m;
+      const __m256d a0 = _mm256_set1_pd(s.r(0, 0) * cx + s.r(0, 1) * cy);
+      const __m256d a1 = _mm256_set1_pd(s.r(1, 0) * cx + s.r(1, 1) * cy);
+      const __m256d a2 = _mm256_set1_pd(s.r(2, 0) * cx + s.r(2, 1) * cy);
+      const int outside = OutsideCore(region, x, y);
+      // grow >= outside, as grow > outside - 1.
+      const __m256i below = _mm256_set1_epi64x(static_cast<long long>(outside) - 1);
+      int count = 0;
+      for (int g = 0; g < s.groups; ++g) {
+        if (s.group_grow[g] < outside) continue;
+        int keep_bits = 0;
+        for (int half = 0; half < 2; ++half) {
+          const int k = 8 * g + 4 * half;
+          const __m256d real = _mm256_castsi256_pd(_mm256_cmpgt_epi64(
+              _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&s.grow[k])), below));
+          const __m256d sx = _mm256_add_pd(_mm256_add_pd(a0, _mm256_loadu_pd(&s.rz0[k])), tx);
+          const __m256d sy = _mm256_add_pd(_mm256_add_pd(a1, _mm256_loadu_pd(&s.rz1[k])), ty);
+          const __m256d sz = _mm256_add_pd(_mm256_add_pd(a2, _mm256_loadu_pd(&s.rz2[k])), tz);
+          const __m256d uf = _mm256_add_pd(_mm256_mul_pd(_mm256_div_pd(sx, sz), focal), u0);
+          const __m256d vf = _mm256_add_pd(_mm256_mul_pd(_mm256_div_pd(sy, sz), focal), v0);
+          const __m256d inside = _mm256_and_pd(
+              _mm256_and_pd(_mm256_and_pd(real, _mm256_cmp_pd(sz, min_depth, _CMP_GT_OQ)),
+                            _mm256_and_pd(_mm256_cmp_pd(uf, zero, _CMP_GE_OQ),
+                                          _mm256_cmp_pd(vf, zero, _CMP_GE_OQ))),
+              _mm256_and_pd(_mm256_cmp_pd(uf, width, _CMP_LT_OQ),
+                            _mm256_cmp_pd(vf, height, _CMP_LT_OQ)));
+          if (_mm256_movemask_pd(inside) == 0) continue;
+          // Within the image the truncation is the floor, and fits an int; the lanes out of it
+          // are not read.
+          const __m128i bin =
+              _mm_add_epi32(_mm_mullo_epi32(_mm256_cvttpd_epi32(vf), row), _mm256_cvttpd_epi32(uf));
+          // The four 64-bit lane masks as four 32-bit ones (each half of a lane is the lane).
+          const __m128 lanes32 = _mm_shuffle_ps(_mm256_castps256_ps128(_mm256_castpd_ps(inside)),
+                                                _mm256_extractf128_ps(_mm256_castpd_ps(inside), 1),
+                                                _MM_SHUFFLE(2, 0, 2, 0));
+          const __m256d seen =
+              _mm256_cvtps_pd(_mm_mask_i32gather_ps(_mm_setzero_ps(), depth, bin, lanes32, 4));
+          const __m256d needed = _mm256_add_pd(
+              _mm256_add_pd(sz, margin),
+              _mm256_mul_pd(sigma_factor, _mm256_mul_pd(_mm256_mul_pd(axial, seen), seen)));
+          const __m256d keep =
+              _mm256_and_pd(_mm256_and_pd(inside, _mm256_cmp_pd(seen, zero, _CMP_GT_OQ)),
+                            _mm256_cmp_pd(seen, needed, _CMP_GT_OQ));
+          keep_bits |= _mm256_movemask_pd(keep) << (4 * half);
+        }
+        if (keep_bits == 0) continue;
+        // Cells are sorted (x, y, z) as VoxeliseCluster sorts them.
+        const __m256i heights = _mm256_add_epi32(_mm256_set1_epi32(s.lo.z() + 8 * g), lane_index);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(kept.data() + count),
+                            _mm256_permutevar8x32_epi32(heights, PackLanes8(keep_bits)));
+        count += __builtin_popcount(keep_bits);
+      }
+      for (int k = 0; k < count; ++k) cells->emplace_back(x, y, kept[k]);
+    }
+  }
+}
 #endif
 
 // FreeSpaceCellsFourLanes' pass over its sweep (four heights a group).
@@ -274,6 +355,23 @@ ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& s
   if (FreeSpaceEightLanes()) {
     return SweepRegion(range, sensor_from_ground, region, resolution_m, options, 8,
                        EightLanesAvx512);
+  }
+  if (FreeSpaceAvx2Available()) {
+    return SweepRegion(range, sensor_from_ground, region, resolution_m, options, 8, EightLanesAvx2);
+  }
+#endif
+  return FreeSpaceCellsFourLanes(range, sensor_from_ground, region, resolution_m, options);
+}
+
+bool FreeSpaceAvx2Available() { return PointLanes8Available(); }
+
+ClusterVoxels FreeSpaceCellsAvx2(const RangeImage& range,
+                                 const Eigen::Isometry3d& sensor_from_ground,
+                                 const FreeSpaceRegion& region, double resolution_m,
+                                 const FreeSpaceOptions& options) {
+#ifdef HPOSE_POINT_LANES
+  if (FreeSpaceAvx2Available()) {
+    return SweepRegion(range, sensor_from_ground, region, resolution_m, options, 8, EightLanesAvx2);
   }
 #endif
   return FreeSpaceCellsFourLanes(range, sensor_from_ground, region, resolution_m, options);

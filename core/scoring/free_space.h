@@ -37,12 +37,20 @@ ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& s
                              const FreeSpaceRegion& region, double resolution_m,
                              const FreeSpaceOptions& options = {});
 // FreeSpaceCells takes eight heights of a column a step with AVX-512 where the CPU has it
-// (FreeSpaceEightLanes()), else four (FreeSpaceCellsFourLanes, also callable for tests).
+// (FreeSpaceEightLanes()), else eight on AVX2 (FreeSpaceCellsAvx2, where
+// FreeSpaceAvx2Available(); callable for tests whatever else the CPU has, and the four-height
+// form where the CPU lacks AVX2), else four
+// (FreeSpaceCellsFourLanes, also callable for tests).
 ClusterVoxels FreeSpaceCellsFourLanes(const RangeImage& range,
                                       const Eigen::Isometry3d& sensor_from_ground,
                                       const FreeSpaceRegion& region, double resolution_m,
                                       const FreeSpaceOptions& options = {});
+ClusterVoxels FreeSpaceCellsAvx2(const RangeImage& range,
+                                 const Eigen::Isometry3d& sensor_from_ground,
+                                 const FreeSpaceRegion& region, double resolution_m,
+                                 const FreeSpaceOptions& options = {});
 bool FreeSpaceEightLanes();
+bool FreeSpaceAvx2Available();
 // The same cells, one matrix product per cell (the straightforward form the above are tested
 // against).
 ClusterVoxels FreeSpaceCellsReference(const RangeImage& range,

@@ -107,6 +107,11 @@ TEST(FreeSpaceTest, ColumnFormEqualsTheReferenceCellForCell) {
     ASSERT_EQ(FreeSpaceCellsFourLanes(range, sensor_from_ground, box, res, options).cells,
               ref.cells)
         << "trial " << trial;
+    // And the eight-lane AVX2 form (what CPUs with AVX2 but no AVX-512 run).
+    if (FreeSpaceAvx2Available()) {
+      ASSERT_EQ(FreeSpaceCellsAvx2(range, sensor_from_ground, box, res, options).cells, ref.cells)
+          << "trial " << trial;
+    }
     total_free += static_cast<int>(ref.cells.size());
   }
   EXPECT_GT(total_free, 10000);  // the scenes leave plenty of free space to compare.
@@ -135,6 +140,10 @@ TEST(FreeSpaceTest, RegionGrownPerLayerEqualsTheReferenceAndTheBoxWithinIt) {
     ASSERT_EQ(fast.cells, ref.cells) << "trial " << trial;
     ASSERT_EQ(FreeSpaceCellsFourLanes(range, sensor_from_ground, region, res).cells, ref.cells)
         << "trial " << trial;
+    if (FreeSpaceAvx2Available()) {
+      ASSERT_EQ(FreeSpaceCellsAvx2(range, sensor_from_ground, region, res).cells, ref.cells)
+          << "trial " << trial;
+    }
     // The box around the largest growth, filtered to the region.
     const int most = *std::max_element(region.grow.begin(), region.grow.end());
     const Eigen::Vector3i lo(region.core_lo.x() - most, region.core_lo.y() - most, region.z_lo);
