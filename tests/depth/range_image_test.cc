@@ -37,6 +37,26 @@ PointCloud RandomCloud(unsigned seed, int n) {
   return cloud;
 }
 
+// Points within slopes that differ per axis and per side (x in [-0.9, 0.3), y in [-0.2, 0.6)),
+// with NaN holes and points behind the sensor but no extreme slope: an image whose extent, and
+// so its offsets u0 != v0, come from the points rather than from the +-3 clamp.
+PointCloud UnevenCloud(unsigned seed, int n) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> tan_x(-0.9f, 0.3f), tan_y(-0.2f, 0.6f), depth(0.5f, 5.0f);
+  PointCloud cloud;
+  for (int i = 0; i < n; ++i) {
+    const float z = depth(rng), tx = tan_x(rng), ty = tan_y(rng);
+    if (i % 37 == 0) {
+      cloud.points.emplace_back(NAN, NAN, NAN);
+    } else if (i % 53 == 0) {
+      cloud.points.emplace_back(tx * z, ty * z, -z);
+    } else {
+      cloud.points.emplace_back(tx * z, ty * z, z);
+    }
+  }
+  return cloud;
+}
+
 // The reference binning: bin = floor(tan * focal + offset), tan = x / z in float as the sensor
 // frame's points are, over the cloud's own tangent extent
 // (clamped to +-3), nearest z per bin.
@@ -105,18 +125,17 @@ TEST(RangeImageTest, EmptyAndBehindTheSensorGiveAnEmptyImage) {
   EXPECT_FALSE(image.Covers(Eigen::Vector3d(0, 0, 1)));
 }
 
-// The sixteen-lane passes against the four-lane ones, to the bit: the same extent, offsets and
-// depths in every bin, on clouds with NaN, points behind the sensor, near-infinite slopes and
-// infinite coordinates, of sizes with and without a remainder of sixteen.
-TEST(RangeImageTest, SixteenLanesEqualFourLanesToTheBit) {
-  if (!RangeImage::SixteenLanes()) {
-    GTEST_SKIP() << "no AVX-512 on this CPU: FromCloud is the four-lane path itself";
-  }
+// A wider form of the passes (`build`) against the four-lane ones, to the bit: the same extent,
+// offsets and depths in every bin, on clouds with NaN, points behind the sensor, near-infinite
+// slopes and infinite coordinates, and on uneven ones whose extent the points set, of sizes with
+// and without a remainder of sixteen.
+void ExpectEqualToFourLanes(RangeImage (*build)(const PointCloud&, double)) {
   int bins = 0;
-  for (unsigned seed = 1; seed <= 6; ++seed) {
-    const PointCloud cloud = RandomCloud(seed, 30000 + 7 * static_cast<int>(seed));
+  for (unsigned seed = 1; seed <= 8; ++seed) {
+    const PointCloud cloud = seed <= 6 ? RandomCloud(seed, 30000 + 7 * static_cast<int>(seed))
+                                       : UnevenCloud(seed, 20000 + 5 * static_cast<int>(seed));
     for (const double focal : {300.0, 97.5}) {
-      const RangeImage wide = RangeImage::FromCloud(cloud, focal);
+      const RangeImage wide = build(cloud, focal);
       const RangeImage four = RangeImage::FromCloudFourLanes(cloud, focal);
       ASSERT_EQ(wide.width(), four.width());
       ASSERT_EQ(wide.height(), four.height());
@@ -130,6 +149,20 @@ TEST(RangeImageTest, SixteenLanesEqualFourLanesToTheBit) {
     }
   }
   EXPECT_GT(bins, 50000);
+}
+
+TEST(RangeImageTest, SixteenLanesEqualFourLanesToTheBit) {
+  if (!RangeImage::SixteenLanes()) {
+    GTEST_SKIP() << "no AVX-512 on this CPU: FromCloud is the eight- or four-lane path";
+  }
+  ExpectEqualToFourLanes(&RangeImage::FromCloud);
+}
+
+TEST(RangeImageTest, EightLanesOnAvx2EqualFourLanesToTheBit) {
+  if (!RangeImage::EightLanesAvx2()) {
+    GTEST_SKIP() << "no AVX2 on this CPU: FromCloud is the four-lane path itself";
+  }
+  ExpectEqualToFourLanes(&RangeImage::FromCloudAvx2);
 }
 
 }  // namespace
