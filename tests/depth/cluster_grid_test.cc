@@ -209,6 +209,22 @@ TEST(GridClusteringTest, ABridgeBeyondTheSixteenthPointOfABucketJoins) {
   EXPECT_EQ(count, 2);
 }
 
+// One bucket (4 cm cells) holding two groups of eight at opposite corners, more than a tolerance
+// apart (the second group in lanes 8 to 15 of the sixteen distances tested at a time), and a
+// point in the bucket before it close to the second group only: it joins that group, not the
+// first (a distance test that reported a lane as another would join them).
+TEST(GridClusteringTest, APointJoinsTheGroupOfItsOwnLanes) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<float> u(-0.001f, 0.001f);
+  std::vector<Eigen::Vector3f> points;
+  for (int k = 0; k < 8; ++k)
+    points.emplace_back(0.035f + u(rng), 0.002f + u(rng), 0.002f + u(rng));
+  for (int k = 0; k < 8; ++k)
+    points.emplace_back(0.005f + u(rng), 0.038f + u(rng), 0.038f + u(rng));
+  points.emplace_back(-0.005f, 0.038f, 0.038f);
+  ExpectBruteForceLabels(points, 0.04, "two groups in one bucket");
+}
+
 TEST(GridClusteringTest, EmptyInputHasNoClusters) {
   int count = -1;
   EXPECT_TRUE(GridEuclideanClusterLabels({}, 0.04, &count).empty());
