@@ -54,7 +54,6 @@ struct Table {
   int cluster_mismatches = 0;
   int cluster_count = 0;
   int free_mismatches = 0;
-  int range_mismatches = 0;
   int veil_mismatches = 0;
   double worst_floor_angle_deg = 0.0;
   double worst_floor_height_mm = 0.0;
@@ -152,18 +151,6 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
   const double range_ms =
       TimeMs([&] { range = RangeImage::FromCloud(cloud, options.range_image_focal_px); });
   table->At("range image").push_back(range_ms);
-  // Its four-point form side by side (what FromCloud ran before the eight- and sixteen-point
-  // forms), and whether its image is the same.
-  RangeImage four;
-  table->At("range image, four points a step").push_back(TimeMs([&] {
-    four = RangeImage::FromCloudFourLanes(cloud, options.range_image_focal_px);
-  }));
-  const size_t bins = static_cast<size_t>(range.width()) * range.height();
-  table->range_mismatches +=
-      four.width() == range.width() && four.height() == range.height() &&
-              std::equal(range.depth_data(), range.depth_data() + bins, four.depth_data())
-          ? 0
-          : 1;
   table->At("total: cloud + FloorTracker + grid + range image")
       .push_back(cloud_ms + track_ms + cluster_ms + range_ms);
 
@@ -214,10 +201,10 @@ void Print(const Table& t) {
   std::printf(
       "\nFloorTracker refitted on %d of %d frames; tracked floor vs a fresh fit: worst %.2f deg, "
       "%.1f mm. Clusters: %d, grid vs PCL differ on %d frame(s). Free-space cells differ from "
-      "the reference's on %d frame(s). The range image differs from its four-point form's on %d "
-      "frame(s). The veil filter drops other pixels than its reference on %d frame(s).\n",
+      "the reference's on %d frame(s). The veil filter drops other pixels than its reference "
+      "on %d frame(s).\n",
       t.refits, t.frames, t.worst_floor_angle_deg, t.worst_floor_height_mm, t.cluster_count,
-      t.cluster_mismatches, t.free_mismatches, t.range_mismatches, t.veil_mismatches);
+      t.cluster_mismatches, t.free_mismatches, t.veil_mismatches);
   if (t.has_truth) {
     std::printf(
         "Against the true mount, worst over the frames: fit every frame %.2f deg, %.1f mm; "

@@ -19,15 +19,12 @@ class RangeImage {
  public:
   // `focal_px` sets the bin size (300: about 3.3 mm at 1 m, like a 320x240 Kinect). The image
   // spans the cloud's own field of view (tan up to +-3).
-  // Sixteen points a step with AVX-512 where the CPU has it (SixteenLanes()), else eight with
-  // AVX2 (FromCloudAvx2, where EightLanesAvx2(), whatever else the CPU has; four without AVX2),
-  // else four: FromCloudFourLanes, the reference they are tested against. All compute every
-  // slope and bin with the same operations, so their images are equal to the bit.
+  // Sixteen points a step with AVX-512 where the CPU has it (SixteenLanes()), four otherwise:
+  // FromCloudFourLanes, the reference it is tested against. Both compute every slope and bin
+  // with the same operations, so their images are equal to the bit.
   static RangeImage FromCloud(const PointCloud& cloud_sensor, double focal_px = 300.0);
   static RangeImage FromCloudFourLanes(const PointCloud& cloud_sensor, double focal_px = 300.0);
-  static RangeImage FromCloudAvx2(const PointCloud& cloud_sensor, double focal_px = 300.0);
   static bool SixteenLanes();
-  static bool EightLanesAvx2();
 
   // Nearest observed depth (m) along the ray through `p_sensor`, or 0 when unknown (no point
   // in that bin, or p_sensor not in front of the sensor).
@@ -83,8 +80,8 @@ class RangeImage {
   int height() const { return height_; }
 
  private:
-  // FromCloud with the passes of 16 (AVX-512), 8 (AVX2) or 4 lanes.
-  static RangeImage Build(const PointCloud& cloud_sensor, double focal_px, int lanes);
+  // FromCloud with the sixteen-lane passes (wide) or the four-lane ones.
+  static RangeImage Build(const PointCloud& cloud_sensor, double focal_px, bool wide);
   double focal_ = 300.0;
   double u0_ = 0.0;  // bin of tan = 0.
   double v0_ = 0.0;
