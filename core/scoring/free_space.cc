@@ -356,11 +356,8 @@ ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& s
     return SweepRegion(range, sensor_from_ground, region, resolution_m, options, 8,
                        EightLanesAvx512);
   }
-  if (FreeSpaceAvx2Available()) {
-    return SweepRegion(range, sensor_from_ground, region, resolution_m, options, 8, EightLanesAvx2);
-  }
 #endif
-  return FreeSpaceCellsFourLanes(range, sensor_from_ground, region, resolution_m, options);
+  return FreeSpaceCellsAvx2(range, sensor_from_ground, region, resolution_m, options);
 }
 
 bool FreeSpaceAvx2Available() { return PointLanes8Available(); }

@@ -36,11 +36,10 @@ FreeSpaceRegion FreeSpaceRegionAround(const ClusterVoxels& voxels, std::vector<i
 ClusterVoxels FreeSpaceCells(const RangeImage& range, const Eigen::Isometry3d& sensor_from_ground,
                              const FreeSpaceRegion& region, double resolution_m,
                              const FreeSpaceOptions& options = {});
-// FreeSpaceCells takes eight heights of a column a step with AVX-512 where the CPU has it
-// (FreeSpaceEightLanes()), else eight on AVX2 (FreeSpaceCellsAvx2, where
-// FreeSpaceAvx2Available(); callable for tests whatever else the CPU has, and the four-height
-// form where the CPU lacks AVX2), else four
-// (FreeSpaceCellsFourLanes, also callable for tests).
+// FreeSpaceCells takes eight heights of a column a step: with AVX-512 where the CPU has it
+// (FreeSpaceEightLanes()), else with AVX2 (FreeSpaceCellsAvx2, where FreeSpaceAvx2Available()).
+// Without either it takes four (FreeSpaceCellsFourLanes). Both of the latter are callable for
+// tests whatever else the CPU has (FreeSpaceCellsAvx2 takes four heights without AVX2).
 ClusterVoxels FreeSpaceCellsFourLanes(const RangeImage& range,
                                       const Eigen::Isometry3d& sensor_from_ground,
                                       const FreeSpaceRegion& region, double resolution_m,
