@@ -7,19 +7,12 @@
 #include <string>
 #include <vector>
 
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-#include <pcl/sample_consensus/ransac.h>
-#include <pcl/sample_consensus/sac_model_perpendicular_plane.h>
-#include <pcl/search/kdtree.h>
-
 #include "core/depth/floor_plane.h"
+#include "core/depth/local_plane_ransac.h"
 #include "core/depth/voxel_downsample.h"
 
 namespace hpose {
 namespace {
-
-using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
 
 // At most this many near-horizontal planes are extracted one after another (floor, table tops,
 // box tops, seats ...) before the floor is chosen among them.
@@ -40,55 +33,6 @@ constexpr int kMaxRansacPoints = 2000;
 constexpr double kSampleRadiusM = 0.4;
 // Least-squares refinement rounds (re-selecting inliers with the refined plane each time).
 constexpr int kRefineRounds = 3;
-
-// PCL's perpendicular-plane model with a caller-chosen seed (PCL seeds every model with the same
-// constant), so FloorFitterOptions::random_seed has an effect and results stay reproducible.
-// Hypotheses are counted with a vectorisable loop over the whole (small) cloud: the generic PCL
-// loop goes through an index list and dominates the fit otherwise.
-class SeededPerpendicularPlaneModel final
-    : public pcl::SampleConsensusModelPerpendicularPlane<pcl::PointXYZ> {
- public:
-  SeededPerpendicularPlaneModel(const PclCloud::ConstPtr& cloud, unsigned seed)
-      : pcl::SampleConsensusModelPerpendicularPlane<pcl::PointXYZ>(cloud) {
-    rng_alg_.seed(seed);
-    xs_.reserve(cloud->size());
-    ys_.reserve(cloud->size());
-    zs_.reserve(cloud->size());
-    for (const pcl::PointXYZ& p : *cloud) {
-      xs_.push_back(p.x);
-      ys_.push_back(p.y);
-      zs_.push_back(p.z);
-    }
-  }
-
-  std::size_t countWithinDistance(const Eigen::VectorXf& coefficients,
-                                  const double threshold) const override {
-    if (!isModelValid(coefficients)) return 0;
-    const float a = coefficients[0], b = coefficients[1], c = coefficients[2];
-    const float d = coefficients[3];
-    const float t = static_cast<float>(threshold);
-    std::size_t count = 0;
-    const size_t n = xs_.size();
-    for (size_t i = 0; i < n; ++i) {
-      count += std::abs(a * xs_[i] + b * ys_[i] + c * zs_[i] + d) <= t ? 1 : 0;
-    }
-    return count;
-  }
-
- protected:
-  // Same test as PCL's (non-degenerate triangle) without printing an error for every
-  // rejected draw: with local sampling, isolated points often yield degenerate samples.
-  bool isSampleGood(const pcl::Indices& samples) const override {
-    if (samples.size() != 3) return false;
-    const Eigen::Vector3f p0 = (*input_)[samples[0]].getVector3fMap();
-    const Eigen::Vector3f p1 = (*input_)[samples[1]].getVector3fMap();
-    const Eigen::Vector3f p2 = (*input_)[samples[2]].getVector3fMap();
-    return (p1 - p0).cross(p2 - p0).stableNorm() >= Eigen::NumTraits<float>::dummy_precision();
-  }
-
- private:
-  std::vector<float> xs_, ys_, zs_;
-};
 
 struct Candidate {
   Eigen::Vector4d plane;  // unit normal towards the sensor, d > 0.
@@ -188,39 +132,32 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     // RANSAC scores hypotheses on an evenly spread subset (the estimate of a fraction from a
     // couple of thousand points is good enough); the refinement below uses every point.
     const int step = (remaining_count + kMaxRansacPoints - 1) / kMaxRansacPoints;
-    auto round_cloud = std::make_shared<PclCloud>();
-    round_cloud->reserve(remaining_count / step + 1);
+    std::vector<Eigen::Vector3f> round_points;
+    round_points.reserve(remaining_count / step + 1);
     for (int i = 0, k = 0; i < n; ++i) {
       if (taken[i]) continue;
-      if (k++ % step == 0) {
-        round_cloud->push_back(pcl::PointXYZ(sampled[i].x(), sampled[i].y(), sampled[i].z()));
-      }
+      if (k++ % step == 0) round_points.push_back(sampled[i]);
     }
-    if (round_cloud->size() < 3) break;
+    if (round_points.size() < 3) break;
 
     // Local sampling: the 2nd and 3rd points of a hypothesis lie within kSampleRadius of the
     // 1st, so a hypothesis is all-floor with probability ~w (floor fraction) instead of w^3.
     // That keeps a floor that is a minority of the points (people, walls, furniture) findable
     // within a few hundred iterations.
-    auto model = std::make_shared<SeededPerpendicularPlaneModel>(
-        round_cloud, static_cast<unsigned>(options.random_seed) + round);
-    model->setAxis(Eigen::Vector3f(0.0f, -1.0f, 0.0f));
-    model->setEpsAngle(options.max_tilt_rad);
-    auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>(/*sorted=*/false);
-    tree->setInputCloud(round_cloud);
-    model->setSamplesMaxDist(kSampleRadiusM, tree);
-    pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model, options.distance_threshold_m);
-    ransac.setMaxIterations(options.max_iterations);
-    if (!ransac.computeModel()) break;
-    pcl::Indices ransac_inliers;
-    ransac.getInliers(ransac_inliers);
+    LocalPlaneRansacOptions ransac;
+    ransac.distance_threshold_m = options.distance_threshold_m;
+    ransac.sample_radius_m = kSampleRadiusM;
+    ransac.axis = Eigen::Vector3f(0.0f, -1.0f, 0.0f);
+    ransac.max_axis_angle_rad = options.max_tilt_rad;
+    ransac.max_iterations = options.max_iterations;
+    ransac.seed = static_cast<unsigned>(options.random_seed) + round;
+    const LocalPlaneRansacResult fit = FitPlaneLocalRansac(round_points, ransac);
+    if (!fit.found) break;
     // Support as a count of all (downsampled) points, extrapolated from the subset.
-    const int support = static_cast<int>(static_cast<double>(ransac_inliers.size()) * step);
+    const int support = static_cast<int>(static_cast<double>(fit.inliers) * step);
     best_support_seen = std::max(best_support_seen, support);
-    if (support < min_support || ransac_inliers.size() < 3) break;
-    Eigen::VectorXf coefficients;
-    ransac.getModelCoefficients(coefficients);
-    Eigen::Vector4d plane = coefficients.head<4>().cast<double>();
+    if (support < min_support || fit.inliers < 3) break;
+    Eigen::Vector4d plane = fit.plane.cast<double>();
     const double norm = plane.head<3>().norm();
     if (!(norm > 0.0)) break;
     plane /= norm;
