@@ -6,6 +6,8 @@
 #include <limits>
 #include <random>
 
+#include <Eigen/Geometry>
+
 #include "core/depth/neighbour_sampler.h"
 
 namespace hpose {
