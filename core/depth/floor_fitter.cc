@@ -26,7 +26,7 @@ constexpr int kMinPoints = 50;
 // Two candidate planes within this angle are "parallel": the higher one is a table or box top.
 constexpr double kParallelRad = 15.0 * M_PI / 180.0;
 // Larger inputs are thinned to about this many points before the voxel grid.
-constexpr size_t kMaxInputPoints = 80000;
+constexpr size_t kMaxInputPoints = 20000;
 // RANSAC hypotheses are scored on at most this many points per round.
 constexpr int kMaxRansacPoints = 2000;
 // Radius (m) within which the points of one RANSAC hypothesis are drawn.
@@ -229,7 +229,20 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     if (best == nullptr || c.inliers > best->inliers) best = &c;
   }
   // The lowest parallel candidate always survives, so best is set.
-  FloorEstimate floor = FloorEstimate::FromPlane(best->plane);
+  // A last least-squares fit on the thinned pixels rather than the voxel centroids: every 3 cm
+  // of floor weighs the same among the centroids, so the far floor, noisy and quantised, weighs
+  // as much as the near one; among pixels the near floor has more points. On simulated Kinect
+  // frames this halves the fit's error against the true mount (bench/stage_bench.cc).
+  Eigen::Vector4d plane = best->plane;
+  if (options.downsample_leaf_m > 0.0) {  // else the candidates were fitted on these points.
+    std::vector<int> pixel_inliers;
+    SelectFloorInliers(finite, plane, options.distance_threshold_m, &pixel_inliers);
+    Eigen::Vector4d refined;
+    if (FitFloorPlaneLeastSquares(finite, pixel_inliers, options.distance_threshold_m, &refined)) {
+      plane = refined;
+    }
+  }
+  FloorEstimate floor = FloorEstimate::FromPlane(plane);
   floor.inliers = best->inliers;
   floor.fitted = true;
   return floor;
