@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bench/bench_frames.h"
+#include "core/depth/cloud_validation.h"
 #include "core/depth/cluster_extractor.h"
 #include "core/depth/depth_to_cloud.h"
 #include "core/depth/floor_fitter.h"
@@ -100,6 +101,14 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
                 const EstimatorOptions& options, FloorTracker* tracker, Table* table) {
   ++table->frames;
   table->At("cloud").push_back(cloud_ms);
+  std::size_t finite = 0, finite_reference = 0;
+  table->At("cloud check").push_back(TimeMs([&] { (void)ValidateCloud(cloud, {}, &finite); }));
+  table->At("cloud check (scalar reference)").push_back(TimeMs([&] {
+    (void)ValidateCloudScalar(cloud, {}, &finite_reference);
+  }));
+  if (finite != finite_reference) {
+    return MakeError(ErrorCode::kInternal, "the cloud checks count different finite points");
+  }
   Result<FloorEstimate> fitted = MakeError(ErrorCode::kInternal, "not run");
   table->At("floor: fit every frame").push_back(TimeMs([&] {
     fitted = FitFloor(cloud, options.floor_fit);

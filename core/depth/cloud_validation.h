@@ -27,8 +27,17 @@ struct CloudLimits {
 // when it exceeds max_points.
 // With `finite_points`, also counts the points that are not missing (on success: every point
 // that is not NaN), in the same pass.
+//
+// Counted sixteen points a step with AVX-512, eight with AVX2, else one at a time:
+// ValidateCloudScalar is that reference, ValidateCloudAvx2 the AVX2 pass whatever else the CPU
+// has (only where CloudValidationAvx2Available()), for tests. All give the same result.
 Status ValidateCloud(const PointCloud& cloud, const CloudLimits& limits = {},
                      std::size_t* finite_points = nullptr);
+Status ValidateCloudScalar(const PointCloud& cloud, const CloudLimits& limits = {},
+                           std::size_t* finite_points = nullptr);
+Status ValidateCloudAvx2(const PointCloud& cloud, const CloudLimits& limits = {},
+                         std::size_t* finite_points = nullptr);
+bool CloudValidationAvx2Available();
 
 // Checks a floor (fitted or fixed) before points are moved into its ground frame: the plane and
 // ground_from_sensor must be finite, the rotation orthonormal (a floor seen edge-on or along the

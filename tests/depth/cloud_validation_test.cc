@@ -51,10 +51,12 @@ TEST(CloudValidationTest, InfiniteAndHugeCoordinatesNameThePoint) {
   }
 }
 
-// Large clouds (the sixteen-point path where the CPU has it): the count of points that are not
-// missing equals a straightforward count, and one offending point anywhere, alone or among
-// others, is named with the number of them.
-TEST(CloudValidationTest, LargeCloudsCountAndNameLikeTheDefinition) {
+using Validator = Status (*)(const PointCloud&, const CloudLimits&, std::size_t*);
+
+// Large clouds, on every path this CPU has (the sixteen- or eight-point passes, the scalar
+// reference): the count of points that are not missing equals a straightforward count, and one
+// offending point anywhere, alone or among others, is named with the number of them.
+void ExpectCountsAndNames(Validator validate) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-5.0f, 5.0f);
   const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -69,19 +71,19 @@ TEST(CloudValidationTest, LargeCloudsCountAndNameLikeTheDefinition) {
       cloud.points.push_back(p);
     }
     std::size_t finite = 0;
-    ASSERT_TRUE(ValidateCloud(cloud, {}, &finite).ok()) << n;
+    ASSERT_TRUE(validate(cloud, {}, &finite).ok()) << n;
     EXPECT_EQ(finite, expected_finite) << n;
     for (const int at : {0, 17, n / 2 + 5, n - 1}) {
       PointCloud bad = cloud;
       bad.points[at] = Eigen::Vector3f(0.0f, (at % 2) ? 1000.5f : -INFINITY, 1.0f);
-      const Status one = ValidateCloud(bad);
+      const Status one = validate(bad, {}, nullptr);
       ASSERT_FALSE(one.ok()) << n << " at " << at;
       EXPECT_NE(one.error().message.find("point " + std::to_string(at) + " "), std::string::npos)
           << one.error().message;
       EXPECT_NE(one.error().message.find("1 of " + std::to_string(n)), std::string::npos)
           << one.error().message;
       bad.points[n - 2] = Eigen::Vector3f(2000.0f, 0.0f, 0.0f);
-      const Status two = ValidateCloud(bad);
+      const Status two = validate(bad, {}, nullptr);
       ASSERT_FALSE(two.ok());
       const int first = std::min(at, n - 2);
       EXPECT_NE(two.error().message.find("point " + std::to_string(first) + " "), std::string::npos)
@@ -91,6 +93,19 @@ TEST(CloudValidationTest, LargeCloudsCountAndNameLikeTheDefinition) {
           << two.error().message;
     }
   }
+}
+
+TEST(CloudValidationTest, LargeCloudsCountAndNameLikeTheDefinition) {
+  ExpectCountsAndNames(&ValidateCloud);
+}
+
+TEST(CloudValidationTest, ScalarPassCountsAndNamesLikeTheDefinition) {
+  ExpectCountsAndNames(&ValidateCloudScalar);
+}
+
+TEST(CloudValidationTest, Avx2PassCountsAndNamesLikeTheDefinition) {
+  if (!CloudValidationAvx2Available()) GTEST_SKIP() << "this CPU has no AVX2";
+  ExpectCountsAndNames(&ValidateCloudAvx2);
 }
 
 TEST(CloudValidationTest, LimitsAreConfigurable) {
