@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -174,7 +173,7 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     }
     if (!ok || inliers.size() < 3 || plane[3] < 1e-3) continue;  // degenerate or through sensor.
     // The sensor must be above the plane, i.e. its normal towards the sensor points "up":
-    // this rejects ceilings, which PCL's sign-blind axis test lets through.
+    // this rejects ceilings, which the sign-blind axis test of the RANSAC lets through.
     if (plane.head<3>().dot(up_guess) < cos_max_tilt) {
       ++rejected;
       continue;

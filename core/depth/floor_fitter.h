@@ -19,21 +19,22 @@ struct FloorFitterOptions {
   double max_tilt_rad = 1.2217;
   double min_inlier_fraction = 0.05;  // of the (downsampled) points.
   // Voxel grid before RANSAC; 0 disables. 3 cm: voxel centroids of a plane stay on it, and
-  // fewer points make the fit cheap (clouds above 80k points are thinned on a pixel lattice
+  // fewer points make the fit cheap (clouds above 20k points are thinned on a pixel lattice
   // first).
   double downsample_leaf_m = 0.03;
   int random_seed = 0;  // fixed seed: the same frame gives the same floor.
 };
 
-// RANSAC plane fit (PCL) for the floor, among planes nearly perpendicular to the sensor's up
-// guess, preferring the lowest such plane (largest d). Fails with kFailedPrecondition naming why
-// ("no floor: only 37 points", "no floor: best plane has 2% inliers") or kInvalidArgument for an
-// empty cloud or invalid options.
+// RANSAC plane fit (FitPlaneLocalRansac) for the floor, among planes nearly perpendicular to the
+// sensor's up guess, preferring the lowest such plane (largest d). Fails with kFailedPrecondition
+// naming why ("no floor: only 37 points", "no floor: best plane has 2% inliers") or
+// kInvalidArgument for an empty cloud or invalid options.
 // Up to six near-horizontal planes are extracted in turn. One with many points beneath it or a
 // parallel plane clearly below it (table, box top, a slanted cut through walls) is not the
 // floor; among the rest the best supported wins (so a wall seen from a steep pitch does not beat
-// the floor). The winner is refined by weighted least squares. FloorEstimate::inliers counts
-// downsampled points. NaN points are ignored.
+// the floor). The winner is refined by weighted least squares, last on the thinned points rather
+// than the voxel centroids (the near floor, more precise, then weighs more).
+// FloorEstimate::inliers counts downsampled points. NaN points are ignored.
 Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor,
                                const FloorFitterOptions& options = {});
 
