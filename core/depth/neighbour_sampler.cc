@@ -52,7 +52,6 @@ NeighbourSampler::NeighbourSampler(const std::vector<Eigen::Vector3f>& points, f
   }
   cell_start_.push_back(n);
   blocks_.resize(cell_keys_.size());
-  block_made_.assign(cell_keys_.size(), 0);
 }
 
 bool NeighbourSampler::Near(int centre, int i) const {
@@ -62,8 +61,7 @@ bool NeighbourSampler::Near(int centre, int i) const {
 const NeighbourSampler::Block& NeighbourSampler::BlockOf(int centre) {
   const int cell = cell_of_point_[centre];
   Block& block = blocks_[cell];
-  if (block_made_[cell]) return block;
-  block_made_[cell] = 1;
+  if (block.count > 0) return block;  // made: it holds at least the cell's own points.
   const std::array<std::int32_t, 3>& c = coords_[cell];
   for (int dx = -1; dx <= 1; ++dx) {
     for (int dy = -1; dy <= 1; ++dy) {

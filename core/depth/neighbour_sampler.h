@@ -56,8 +56,7 @@ class NeighbourSampler {
   std::vector<int> cell_start_;           // cell k's points: sorted_[cell_start_[k], [k + 1]).
   std::vector<std::int32_t> cell_of_point_;
   std::vector<std::array<std::int32_t, 3>> coords_;  // a cell's integer coordinates.
-  std::vector<Block> blocks_;                        // per cell, made on first use.
-  std::vector<char> block_made_;
+  std::vector<Block> blocks_;  // per cell, made on first use (count 0 until then).
   std::vector<int> scratch_;
 };
 
