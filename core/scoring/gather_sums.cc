@@ -43,18 +43,22 @@ void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, st
 
 void WriteRunTable(const CellRun* runs, int run_count, const std::uint64_t* masks, int cells,
                    int mask_bytes, std::uint64_t* out) {
-  for (int r = 0; r < run_count; ++r) {
-    assert(runs[r].len >= 1 && runs[r].len <= 8 && runs[r].cy < kRunRowBias - 1);
-    out[r] = RunHeader(runs[r].cx, runs[r].cy, runs[r].len, mask_bytes);
-  }
-  out[run_count] = kRunSentinel;
   // The stores below write every byte up to the last mask's 8; the padding's last words are
-  // zeroed first.
+  // zeroed first (and, in a table of a few words, the headers' words too, written after).
   const std::size_t words = RunTableWords(run_count, cells, mask_bytes);
-  const std::size_t pad_from =
-      std::max<std::size_t>(run_count + 1, words - (kRunTablePadding / 8 + 1));
-  std::fill(out + pad_from, out + words, 0);
-  unsigned char* at = reinterpret_cast<unsigned char*>(out + run_count + 1);
+  std::fill(out + (words > kRunTablePadding / 8 + 1 ? words - (kRunTablePadding / 8 + 1) : 0),
+            out + words, 0);
+  unsigned char* at = reinterpret_cast<unsigned char*>(out);
+  for (int r = 0; r <= run_count; ++r, at += sizeof(RunHeaderWord)) {
+    RunHeaderWord h = kRunSentinel;
+    if (r < run_count) {
+      const CellRun& run = runs[r];
+      assert(run.len >= 1 && run.len <= 8 && run.cx >= kRunMinX && run.cx <= kRunMaxX &&
+             run.cy > -kRunRowBias && run.cy < kRunRowBias - 1);
+      h = RunHeader(run.cx, run.cy, run.len);
+    }
+    std::memcpy(at, &h, sizeof h);
+  }
   for (int c = 0; c < cells; ++c, at += mask_bytes) {
     assert(MaskBytes(masks[c]) <= mask_bytes);
     StoreRunMask(at, masks[c]);
@@ -63,24 +67,39 @@ void WriteRunTable(const CellRun* runs, int run_count, const std::uint64_t* mask
 
 namespace {
 
+// A header from its bytes.
+inline RunHeaderWord LoadHeader(const unsigned char* at) {
+  RunHeaderWord h;
+  std::memcpy(&h, at, sizeof h);
+  return h;
+}
+
 // The first header of a run with cy >= cy_lo (or the sentinel), and where its masks start.
-// The sums go on from there while the headers stay within RunRowsTo(cy_hi).
+// The sums go on from there while the headers stay within RunRowsTo(cy_hi): Header() is the
+// current one, Next() moves to the next run's.
 struct RowRuns {
-  const std::uint64_t* header = nullptr;
+  const unsigned char* header = nullptr;
   const unsigned char* masks = nullptr;
+  RunHeaderWord Header() const { return LoadHeader(header); }
+  RunHeaderWord Next() {
+    header += sizeof(RunHeaderWord);
+    return Header();
+  }
 };
 
-RowRuns RunsFromRow(const std::uint64_t* runs, int run_count, int cy_lo) {
-  RowRuns out{runs, RunMasks(runs, run_count)};
-  const std::uint64_t from = RunRowsFrom(cy_lo);
-  for (; *out.header < from; ++out.header) out.masks += RunHeaderBytes(*out.header);
+RowRuns RunsFromRow(const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo) {
+  RowRuns out{reinterpret_cast<const unsigned char*>(runs), RunMasks(runs, run_count)};
+  const RunHeaderWord from = RunRowsFrom(cy_lo);
+  for (RunHeaderWord h = out.Header(); h < from; h = out.Next()) {
+    out.masks += RunHeaderBytes(h, mask_bytes);
+  }
   return out;
 }
 
 // The plane offset of a run's first word: base + cy * row + cx, with the biased cy of its
 // header and `biased_base` = base - kRunRowBias * row.
-inline std::ptrdiff_t RunOffset(std::ptrdiff_t biased_base, std::ptrdiff_t row, std::uint64_t h) {
-  return biased_base + static_cast<std::ptrdiff_t>(h >> 48) * row + RunHeaderX(h);
+inline std::ptrdiff_t RunOffset(std::ptrdiff_t biased_base, std::ptrdiff_t row, RunHeaderWord h) {
+  return biased_base + static_cast<std::ptrdiff_t>(h >> 16) * row + RunHeaderX(h);
 }
 
 }  // namespace
@@ -90,16 +109,16 @@ int RunPopcountSumScalar(const std::uint64_t* plane, std::ptrdiff_t base, std::p
                          const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
                          int cy_hi) {
   int sum = 0;
-  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
-  const std::uint64_t to = RunRowsTo(cy_hi);
+  RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
+  const RunHeaderWord to = RunRowsTo(cy_hi);
   const std::ptrdiff_t biased_base = base - kRunRowBias * row;
-  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+  for (RunHeaderWord h = rr.Header(); h <= to; h = rr.Next()) {
     const std::uint64_t* p = plane + RunOffset(biased_base, row, h);
     const int len = RunHeaderLength(h);
     for (int i = 0; i < len; ++i) {
       sum += __builtin_popcountll(LoadRunMask(rr.masks + i * mask_bytes, mask_bytes) & p[i]);
     }
-    rr.masks += RunHeaderBytes(h);
+    rr.masks += RunHeaderBytes(h, mask_bytes);
   }
   return sum;
 }
@@ -109,10 +128,10 @@ void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std:
                            std::ptrdiff_t dx, std::ptrdiff_t dy, const std::uint64_t* runs,
                            int run_count, int mask_bytes, int cy_lo, int cy_hi, int out[4]) {
   int s00 = 0, s01 = 0, s10 = 0, s11 = 0;
-  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
-  const std::uint64_t to = RunRowsTo(cy_hi);
+  RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
+  const RunHeaderWord to = RunRowsTo(cy_hi);
   const std::ptrdiff_t biased_base = base - kRunRowBias * row;
-  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+  for (RunHeaderWord h = rr.Header(); h <= to; h = rr.Next()) {
     const std::uint64_t* p = plane + RunOffset(biased_base, row, h);
     const int len = RunHeaderLength(h);
     for (int i = 0; i < len; ++i) {
@@ -122,7 +141,7 @@ void RunPopcountSum4Scalar(const std::uint64_t* plane, std::ptrdiff_t base, std:
       s10 += __builtin_popcountll(m & p[i + dx]);
       s11 += __builtin_popcountll(m & p[i + dx + dy]);
     }
-    rr.masks += RunHeaderBytes(h);
+    rr.masks += RunHeaderBytes(h, mask_bytes);
   }
   out[0] = s00;
   out[1] = s01;
@@ -220,6 +239,11 @@ inline std::uint64_t LaneByteMask(int mask_bytes) {
   return 0x0101010101010101ull * ((1u << mask_bytes) - 1u);
 }
 
+// A run's lanes as a load mask: (1 << length) - 1.
+[[gnu::target(HPOSE_RUN_TARGET)]] inline __mmask8 RunLanes(RunHeaderWord h) {
+  return static_cast<__mmask8>((2u << (h & 7)) - 1);
+}
+
 [[gnu::target(HPOSE_RUN_TARGET)]] inline __m512i LoadRunMasks(const unsigned char* masks,
                                                               __mmask64 bytes, __m512i index,
                                                               bool packed) {
@@ -231,7 +255,7 @@ inline std::uint64_t LaneByteMask(int mask_bytes) {
 // offset of biased row 0, and the permutation that spreads masks to their lanes.
 struct RunSum {
   RowRuns rr;
-  std::uint64_t to;
+  RunHeaderWord to;
   std::ptrdiff_t biased_base;
   __mmask64 bytes;
   __m512i index;
@@ -241,8 +265,8 @@ struct RunSum {
                                                             const std::uint64_t* runs,
                                                             int run_count, int mask_bytes,
                                                             int cy_lo, int cy_hi) {
-  return {RunsFromRow(runs, run_count, cy_lo), RunRowsTo(cy_hi), base - kRunRowBias * row,
-          _cvtu64_mask64(LaneByteMask(mask_bytes)),
+  return {RunsFromRow(runs, run_count, mask_bytes, cy_lo), RunRowsTo(cy_hi),
+          base - kRunRowBias * row, _cvtu64_mask64(LaneByteMask(mask_bytes)),
           _mm512_load_si512(kLaneBytes.index[mask_bytes])};
 }
 
@@ -253,12 +277,12 @@ template <bool kPacked>
                                                            int mask_bytes, int cy_lo, int cy_hi) {
   __m512i acc = _mm512_setzero_si512();
   RunSum s = StartRunSum(base, row, runs, run_count, mask_bytes, cy_lo, cy_hi);
-  for (std::uint64_t h = *s.rr.header; h <= s.to; h = *++s.rr.header) {
-    const __m512i words = _mm512_maskz_loadu_epi64(static_cast<__mmask8>(h & 0xFF),
-                                                   plane + RunOffset(s.biased_base, row, h));
+  for (RunHeaderWord h = s.rr.Header(); h <= s.to; h = s.rr.Next()) {
+    const __m512i words =
+        _mm512_maskz_loadu_epi64(RunLanes(h), plane + RunOffset(s.biased_base, row, h));
     const __m512i m = LoadRunMasks(s.rr.masks, s.bytes, s.index, kPacked);
     acc = _mm512_add_epi64(acc, _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
-    s.rr.masks += RunHeaderBytes(h);
+    s.rr.masks += RunHeaderBytes(h, mask_bytes);
   }
   return SumLanes(acc);
 }
@@ -272,15 +296,15 @@ template <bool kPacked>
   __m512i acc[4] = {zero, zero, zero, zero};
   const std::ptrdiff_t offset[4] = {0, dy, dx, dx + dy};
   RunSum s = StartRunSum(base, row, runs, run_count, mask_bytes, cy_lo, cy_hi);
-  for (std::uint64_t h = *s.rr.header; h <= s.to; h = *++s.rr.header) {
-    const __mmask8 k = static_cast<__mmask8>(h & 0xFF);
+  for (RunHeaderWord h = s.rr.Header(); h <= s.to; h = s.rr.Next()) {
+    const __mmask8 k = RunLanes(h);
     const std::uint64_t* p = plane + RunOffset(s.biased_base, row, h);
     const __m512i m = LoadRunMasks(s.rr.masks, s.bytes, s.index, kPacked);
     for (int q = 0; q < 4; ++q) {
       const __m512i words = _mm512_maskz_loadu_epi64(k, p + offset[q]);
       acc[q] = _mm512_add_epi64(acc[q], _mm512_popcnt_epi64(_mm512_and_si512(words, m)));
     }
-    s.rr.masks += RunHeaderBytes(h);
+    s.rr.masks += RunHeaderBytes(h, mask_bytes);
   }
   for (int q = 0; q < 4; ++q) out[q] = SumLanes(acc[q]);
 }
@@ -386,17 +410,17 @@ template <bool kPacked>
 [[gnu::target(HPOSE_RUN_TARGET_AVX2)]] int RunPopcountSumAvx2(
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, const std::uint64_t* runs,
     int run_count, int mask_bytes, int cy_lo, int cy_hi) {
-  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
-  const std::uint64_t to = RunRowsTo(cy_hi);
+  RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
+  const RunHeaderWord to = RunRowsTo(cy_hi);
   const std::ptrdiff_t biased_base = base - kRunRowBias * row;
   const __m256i index =
       _mm256_load_si256(reinterpret_cast<const __m256i*>(kHalfLaneBytes.index[mask_bytes]));
   __m256i acc = _mm256_setzero_si256();
-  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+  for (RunHeaderWord h = rr.Header(); h <= to; h = rr.Next()) {
     const RunWords2 w = LoadRunWords2(plane + RunOffset(biased_base, row, h),
                                       kLengthLanes.lanes[RunHeaderLength(h)]);
     acc = AddRunBits(acc, w, LoadRunMasks2<kPacked>(rr.masks, mask_bytes, index));
-    rr.masks += RunHeaderBytes(h);
+    rr.masks += RunHeaderBytes(h, mask_bytes);
   }
   return SumLanes(acc);
 }
@@ -406,20 +430,20 @@ template <bool kPacked>
     const std::uint64_t* plane, std::ptrdiff_t base, std::ptrdiff_t row, std::ptrdiff_t dx,
     std::ptrdiff_t dy, const std::uint64_t* runs, int run_count, int mask_bytes, int cy_lo,
     int cy_hi, int out[4]) {
-  RowRuns rr = RunsFromRow(runs, run_count, cy_lo);
-  const std::uint64_t to = RunRowsTo(cy_hi);
+  RowRuns rr = RunsFromRow(runs, run_count, mask_bytes, cy_lo);
+  const RunHeaderWord to = RunRowsTo(cy_hi);
   const std::ptrdiff_t biased_base = base - kRunRowBias * row;
   const __m256i index =
       _mm256_load_si256(reinterpret_cast<const __m256i*>(kHalfLaneBytes.index[mask_bytes]));
   const std::ptrdiff_t offset[4] = {0, dy, dx, dx + dy};
   __m256i acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(),
                     _mm256_setzero_si256()};
-  for (std::uint64_t h = *rr.header; h <= to; h = *++rr.header) {
+  for (RunHeaderWord h = rr.Header(); h <= to; h = rr.Next()) {
     const std::uint64_t* p = plane + RunOffset(biased_base, row, h);
     const std::int64_t* lanes = kLengthLanes.lanes[RunHeaderLength(h)];
     const RunMasks2 m = LoadRunMasks2<kPacked>(rr.masks, mask_bytes, index);
     for (int q = 0; q < 4; ++q) acc[q] = AddRunBits(acc[q], LoadRunWords2(p + offset[q], lanes), m);
-    rr.masks += RunHeaderBytes(h);
+    rr.masks += RunHeaderBytes(h, mask_bytes);
   }
   for (int q = 0; q < 4; ++q) out[q] = SumLanes(acc[q]);
 }

@@ -34,43 +34,52 @@ void GatherPopcountSum4Scalar(const std::uint64_t* data, std::ptrdiff_t base, st
                               int out[4]);
 bool GatherPopcountSumVectorised();
 
-// Runs of consecutive cells in one array of words (CellGroups): a header word per run, a
-// sentinel word, then the masks of every run's cells, run after run, each in the same number of
-// bytes (1 to 8: the table's mask width, which its template's highest z bit sets), lowest byte
-// first, then padding (RunTableWords). One array read front to back: a table costs the cache
-// lines it fills, not a miss per field, and a template 37 cells tall fills 5 bytes a cell
-// instead of 8. A header holds what the sums use, each where it is cheapest to take:
-//   bits 0-7    the run's lanes, (1 << length) - 1 (length 1 to 8): a lane mask as it is;
-//   bits 8-15   the bytes of the run's masks (length times the width): where the next run's
-//               masks start;
-//   bits 16-31  its first cell's cx, 16-bit two's complement;
-//   bits 48-63  its cy + 32768 (cy below 32767), so that headers compare as their rows do
-//               (runs come in ascending cy: CellGroups' order).
+// Runs of consecutive cells in one array of words (CellGroups): a 4-byte header per run, a
+// sentinel header, then the masks of every run's cells, run after run, each in the same number
+// of bytes (1 to 8: the table's mask width, which its template's highest z bit sets), lowest
+// byte first, then padding (RunTableWords). One array read front to back: a table costs the
+// cache lines it fills, not a miss per field, and a template 37 cells tall fills 5 bytes a cell
+// instead of 8. A header holds what the sums use:
+//   bits 0-2    the run's length - 1 (lengths 1 to 8);
+//   bits 3-15   its first cell's cx, 13-bit two's complement (-4096 to 4095);
+//   bits 16-31  its cy + 32768 (cy from -32767 to 32766), so that headers compare as their
+//               rows do (runs come in ascending cy: CellGroups' order), and none is 0.
 // The sentinel's row field is 0xFFFF, above every run's: a loop over the runs of rows up to
-// some cy stops there without counting them.
+// some cy stops there without counting them. Headers are read with RunHeaderAt (byte copies:
+// the table's storage is words).
+using RunHeaderWord = std::uint32_t;
 constexpr int kRunRowBias = 32768;
-constexpr std::uint64_t kRunSentinel = std::uint64_t{0xFFFF} << 48;
-inline std::uint64_t RunHeader(int cx, int cy, int len, int mask_bytes) {
-  return ((std::uint64_t{1} << len) - 1) | (static_cast<std::uint64_t>(len * mask_bytes) << 8) |
-         (static_cast<std::uint64_t>(static_cast<std::uint16_t>(cx)) << 16) |
-         (static_cast<std::uint64_t>(cy + kRunRowBias) << 48);
+constexpr int kRunMinX = -4096, kRunMaxX = 4095;
+constexpr RunHeaderWord kRunSentinel = RunHeaderWord{0xFFFF} << 16;
+inline RunHeaderWord RunHeader(int cx, int cy, int len) {
+  return static_cast<RunHeaderWord>(len - 1) | (static_cast<RunHeaderWord>(cx & 0x1FFF) << 3) |
+         (static_cast<RunHeaderWord>(cy + kRunRowBias) << 16);
 }
-inline int RunHeaderX(std::uint64_t h) { return static_cast<std::int16_t>((h >> 16) & 0xFFFF); }
-inline int RunHeaderY(std::uint64_t h) { return static_cast<int>(h >> 48) - kRunRowBias; }
-inline int RunHeaderLength(std::uint64_t h) {  // the lanes' highest bit, + 1.
-  return 32 - __builtin_clz(static_cast<unsigned>(h & 0xFF));
+inline int RunHeaderX(RunHeaderWord h) {  // bits 3-15 moved to the top, shifted back signed.
+  return static_cast<std::int32_t>(h << 16) >> 19;
 }
-inline int RunHeaderBytes(std::uint64_t h) { return static_cast<int>((h >> 8) & 0xFF); }
+inline int RunHeaderY(RunHeaderWord h) { return static_cast<int>(h >> 16) - kRunRowBias; }
+inline int RunHeaderLength(RunHeaderWord h) { return static_cast<int>(h & 7) + 1; }
+// The bytes of the run's masks (where the next run's start), at mask_bytes a mask.
+inline int RunHeaderBytes(RunHeaderWord h, int mask_bytes) {
+  return RunHeaderLength(h) * mask_bytes;
+}
+// Header r of a table (r == run count: the sentinel).
+inline RunHeaderWord RunHeaderAt(const std::uint64_t* table, int r) {
+  RunHeaderWord h;
+  std::memcpy(&h, reinterpret_cast<const unsigned char*>(table) + sizeof h * r, sizeof h);
+  return h;
+}
 // Every header of a run with cy >= cy_lo is at least RunRowsFrom(cy_lo), and every header of a
 // run with cy <= cy_hi (and no other, nor the sentinel) at most RunRowsTo(cy_hi).
-inline std::uint64_t RunRowsFrom(int cy_lo) {
+inline RunHeaderWord RunRowsFrom(int cy_lo) {
   if (cy_lo <= -kRunRowBias) return 0;
-  return static_cast<std::uint64_t>(std::min(cy_lo, kRunRowBias - 1) + kRunRowBias) << 48;
+  return static_cast<RunHeaderWord>(std::min(cy_lo, kRunRowBias - 1) + kRunRowBias) << 16;
 }
-inline std::uint64_t RunRowsTo(int cy_hi) {
-  if (cy_hi < -kRunRowBias) return 0;  // a header's lanes are never 0.
-  return (static_cast<std::uint64_t>(std::min(cy_hi, kRunRowBias - 2) + kRunRowBias) << 48) |
-         ((std::uint64_t{1} << 48) - 1);
+inline RunHeaderWord RunRowsTo(int cy_hi) {
+  if (cy_hi <= -kRunRowBias) return 0;  // no header is 0.
+  return (static_cast<RunHeaderWord>(std::min(cy_hi, kRunRowBias - 2) + kRunRowBias) << 16) |
+         0xFFFF;
 }
 // The bytes a mask needs: those up to its highest set bit (at least 1).
 inline int MaskBytes(std::uint64_t mask) {
@@ -81,13 +90,15 @@ constexpr int kRunTablePadding = 64;
 // The words a table of `runs` runs and `cells` cells takes at `mask_bytes` a mask: headers,
 // sentinel, masks and padding.
 inline std::size_t RunTableWords(int runs, int cells, int mask_bytes) {
-  const std::size_t bytes =
-      static_cast<std::size_t>(cells) * static_cast<std::size_t>(mask_bytes) + kRunTablePadding;
-  return static_cast<std::size_t>(runs) + 1 + (bytes + 7) / 8;
+  const std::size_t bytes = sizeof(RunHeaderWord) * (static_cast<std::size_t>(runs) + 1) +
+                            static_cast<std::size_t>(cells) * static_cast<std::size_t>(mask_bytes) +
+                            kRunTablePadding;
+  return (bytes + 7) / 8;
 }
 // Where the masks of a table of `run_count` runs start.
 inline const unsigned char* RunMasks(const std::uint64_t* runs, int run_count) {
-  return reinterpret_cast<const unsigned char*>(runs + run_count + 1);
+  return reinterpret_cast<const unsigned char*>(runs) +
+         sizeof(RunHeaderWord) * (static_cast<std::size_t>(run_count) + 1);
 }
 // A run as a table's builder gives it: its first cell and its length (1 to 8).
 struct CellRun {

@@ -5,6 +5,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <map>
 #include <utility>
 
@@ -256,6 +257,18 @@ size_t BlockSweptIndex(int level, int ra, int rb, int s) {
   return static_cast<size_t>(s) * s + SweptIndex(level, ra, rb, s);
 }
 
+// The farthest sub-voxel step from the origin, on either axis, that a column of r covers.
+int ColumnReach(const RotatedTemplate& r) {
+  int reach = 0;
+  for (size_t c = 0; c < r.column_q.size(); ++c) {
+    const Eigen::Vector2i& q = r.column_q[c];
+    const int e = r.column_extent.empty() ? 0 : r.column_extent[c];
+    reach = std::max({reach, std::abs(q.x()), std::abs(q.y()), std::abs(q.x() + e) + 1,
+                      std::abs(q.y() + e) + 1});
+  }
+  return reach;
+}
+
 }  // namespace
 
 TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice& lattice)
@@ -385,6 +398,18 @@ void TemplateRotations::PrepareTables() {
   for (int k = 0; k < 31; ++k) {
     if ((1 << k) == lattice_.subdivisions) shift = k;
   }
+  if (shift >= 0) {
+    // The cell tables' runs take cx in [kRunMinX, kRunMaxX] (gather_sums.h) and hold cells
+    // within a translation block's reach of the template's origin. A template reaching farther
+    // (thousands of cells: metres on a lattice of millimetre voxels) goes without them, by the
+    // columns' path.
+    int reach = 0;
+    for (const RotatedTemplate& r : rotations_) reach = std::max(reach, ColumnReach(r));
+    for (const std::vector<RotatedTemplate>& level : blocks_) {
+      for (const RotatedTemplate& r : level) reach = std::max(reach, ColumnReach(r));
+    }
+    if (((reach + (1 << kSweptLevels)) >> shift) + 2 > kRunMaxX) shift = -1;
+  }
   shift_ = shift;
   groups_.resize(rotations_.size());
   pair_tables_.resize(rotations_.size());
@@ -450,13 +475,13 @@ void TemplateRotations::PrepareTables() {
 namespace {
 
 // Lays out a CellGroups from its cells, given row by row (cy, then cx, ascending), each once: a
-// cell right after the previous one in its row extends its run. Cell coordinates must fit 16
-// bits (tables hold cells within a template's reach of its origin). Kept for table after table,
+// cell right after the previous one in its row extends its run. Cell coordinates must fit a run
+// header (kRunMinX to kRunMaxX; PrepareTables sees to it). Kept for table after table,
 // it allocates once per table (the table's exact size).
 class CellGroupsBuilder {
  public:
   void Append(int cx, int cy, std::uint64_t mask) {
-    assert(cx >= INT16_MIN && cx <= INT16_MAX && cy >= INT16_MIN && cy < INT16_MAX);
+    assert(cx >= kRunMinX && cx <= kRunMaxX && cy > -kRunRowBias && cy < kRunRowBias - 1);
     masks_.push_back(mask);
     if (!runs_.empty()) {
       CellRun& r = runs_.back();
@@ -595,7 +620,7 @@ class CellCursor {
       key_ = kDone;
       return;
     }
-    const std::uint64_t h = g_.words[r_];
+    const RunHeaderWord h = RunHeaderAt(g_.words.data(), r_);
     cx_ = RunHeaderX(h);
     cy_ = RunHeaderY(h);
     len_ = RunHeaderLength(h);

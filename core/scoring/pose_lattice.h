@@ -146,7 +146,7 @@ struct CellGroups {
   void ForEachCell(F&& f) const {
     int k = 0;
     for (int r = 0; r < runs; ++r) {
-      const std::uint64_t h = words[r];
+      const RunHeaderWord h = RunHeaderAt(words.data(), r);
       const int cx = RunHeaderX(h), cy = RunHeaderY(h), len = RunHeaderLength(h);
       for (int i = 0; i < len; ++i) f(cx + i, cy, mask(k++));
     }

@@ -125,25 +125,24 @@ std::vector<std::uint64_t> RunTable(const std::vector<CellRun>& runs,
 }
 
 // A header gives back its run's cell, length and bytes; headers order as their rows do, the
-// row limits take exactly the runs of their rows, and the sentinel is above every limit.
+// row limits take exactly the runs of their rows, no header is 0, and the sentinel is above
+// every limit.
 TEST(GatherSumsTest, RunHeadersKeepTheirRunAndOrderByRow) {
-  const int cys[] = {-32768, -300, -1, 0, 1, 77, 32766};
-  const int cxs[] = {-32768, -5, 0, 3, 32767};
+  const int cys[] = {-32767, -300, -1, 0, 1, 77, 32766};
+  const int cxs[] = {kRunMinX, -4095, -5, -1, 0, 3, 4094, kRunMaxX};
   for (const int cy : cys) {
     for (const int cx : cxs) {
       for (int len = 1; len <= 8; ++len) {
-        for (int bytes = 1; bytes <= 8; ++bytes) {
-          const std::uint64_t h = RunHeader(cx, cy, len, bytes);
-          ASSERT_EQ(RunHeaderX(h), cx);
-          ASSERT_EQ(RunHeaderY(h), cy);
-          ASSERT_EQ(RunHeaderLength(h), len);
-          ASSERT_EQ(RunHeaderBytes(h), len * bytes);
-          ASSERT_EQ(h & 0xFF, (1u << len) - 1);  // the lanes, as a mask.
-          ASSERT_LT(h, kRunSentinel);
-          for (const int limit : {INT_MIN, -40000, cy - 1, cy, cy + 1, 40000, INT_MAX}) {
-            ASSERT_EQ(h >= RunRowsFrom(limit), cy >= limit) << cy << " from " << limit;
-            ASSERT_EQ(h <= RunRowsTo(limit), cy <= limit) << cy << " to " << limit;
-          }
+        const RunHeaderWord h = RunHeader(cx, cy, len);
+        ASSERT_EQ(RunHeaderX(h), cx);
+        ASSERT_EQ(RunHeaderY(h), cy);
+        ASSERT_EQ(RunHeaderLength(h), len);
+        for (int bytes = 1; bytes <= 8; ++bytes) ASSERT_EQ(RunHeaderBytes(h, bytes), len * bytes);
+        ASSERT_GT(h, 0u);
+        ASSERT_LT(h, kRunSentinel);
+        for (const int limit : {INT_MIN, -40000, -32768, cy - 1, cy, cy + 1, 40000, INT_MAX}) {
+          ASSERT_EQ(h >= RunRowsFrom(limit), cy >= limit) << cy << " from " << limit;
+          ASSERT_EQ(h <= RunRowsTo(limit), cy <= limit) << cy << " to " << limit;
         }
       }
     }
@@ -168,11 +167,13 @@ TEST(GatherSumsTest, RunMasksOfEveryWidthReadBackAsWritten) {
     const int n = static_cast<int>(runs.size());
     const std::vector<std::uint64_t> words = RunTable(runs, masks, bytes);
     // 64 bytes readable at every mask (a run's first, at most).
-    ASSERT_GE(words.size() * 8, 8 * (n + 1) + (masks.size() - 1) * bytes + 64);
-    EXPECT_EQ(words[n], kRunSentinel);
+    ASSERT_GE(words.size() * 8, 4 * (n + 1) + (masks.size() - 1) * bytes + 64);
+    for (int r = 0; r < n; ++r)
+      ASSERT_EQ(RunHeaderAt(words.data(), r), RunHeader(8 * r, 0, runs[r].len));
+    EXPECT_EQ(RunHeaderAt(words.data(), n), kRunSentinel);
     // Every byte after the masks is written, as 0 (RunTable starts from all ones).
     const auto* bytes_of = reinterpret_cast<const unsigned char*>(words.data());
-    for (size_t b = 8 * (n + 1) + masks.size() * bytes; b < words.size() * 8; ++b) {
+    for (size_t b = 4 * (n + 1) + masks.size() * bytes; b < words.size() * 8; ++b) {
       ASSERT_EQ(bytes_of[b], 0) << "width " << bytes << " byte " << b;
     }
     for (size_t i = 0; i < masks.size(); ++i) {

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/scoring/gather_sums.h"
+
 namespace hpose {
 namespace {
 
@@ -95,6 +97,21 @@ TEST(TemplateRotationsTest, PrecomputesEveryAngle) {
   EXPECT_EQ(rot.Get(0).sub_cells[0].x(), 25);
   // The rim: the far corner (26, 1) of the sub-voxel cell (25, 0), 4 mm steps.
   EXPECT_NEAR(rot.rim_radius_m(), std::hypot(26 * 0.004, 1 * 0.004), 1e-12);
+}
+
+// Cell tables' run headers hold cells up to kRunMaxX (4 095) from the template's origin: a
+// template reaching farther (here 4.2 m on a lattice of 1 mm voxels: 4 200 cells) goes without
+// them, by the columns' path, and one within reach (2.5 m, swept over 16 headings at most 3 100
+// cells) keeps them.
+TEST(TemplateRotationsTest, TablesOnlyForTemplatesWithinARunHeadersReach) {
+  PoseLattice lattice;
+  lattice.resolution_m = 0.001;
+  ASSERT_TRUE(lattice.Validate().ok());
+  for (const float far : {2.5f, 4.2f}) {
+    const std::vector<Eigen::Vector3f> points = {{0.1f, 0.0f, 0.2f}, {far, 0.0f, 0.2f}};
+    const TemplateRotations rot("t", 0.2, points, lattice);
+    EXPECT_EQ(rot.has_cell_groups(), far < 4.0f) << far << " m";
+  }
 }
 
 // Two rotated templates have the same column view: angle, columns and their masks, ranges.
