@@ -213,7 +213,7 @@ namespace {
   }
 }
 
-// A run is one load of its words, masked to its lanes by its header's low byte, and one
+// A run is one load of its words, masked to its lanes by its header's length (RunLanes), and one
 // 64-byte load of its masks. Masks of 8 bytes are in their lanes as loaded; narrower ones are
 // moved there by one byte permutation (byte j of lane l from byte l * width + j, bytes at and
 // above the width zeroed). Lanes past the run hold other runs' masks, but their words are 0.

@@ -126,7 +126,7 @@ struct CellTable {
 // layout, a sentinel and padding included, is gather_sums.h's).
 struct CellGroups {
   static constexpr int kMaxRun = 8;
-  // The runs' header words (RunHeader, gather_sums.h), a sentinel, then every cell's mask, run
+  // The runs' 4-byte headers (RunHeader, gather_sums.h), a sentinel, then every cell's mask, run
   // after run, and padding: one array whose headers load independently of each other.
   TableWords words;
   int runs = 0;
