@@ -35,9 +35,9 @@ Result<RigidFit> FitRigidClosedForm(const std::array<Eigen::Vector3d, 3>& src,
                                     const std::array<Eigen::Vector3d, 3>& dst,
                                     double min_sine = 0.1);
 
-// Least-squares rotation and translation (Kabsch/Horn/Umeyama by SVD, Eigen::umeyama without
-// scale) for three or more points; always a proper rotation. With `weights` (one positive
-// weight per pair) the weighted least-squares problem is solved (weighted Kabsch, Eigen SVD).
+// Least-squares rotation and translation (Kabsch/Horn/Umeyama without scale: the SVD of the 3x3
+// cross-covariance of the centred pairs) for three or more points; always a proper rotation.
+// With `weights` (one positive weight per pair) the weighted least-squares problem is solved.
 // Fails with kInvalidArgument for fewer than 3 points, different counts, non-finite values or
 // non-positive weights, and kFailedPrecondition when the source points are (nearly) collinear.
 Result<RigidFit> FitRigidSvd(const std::vector<Eigen::Vector3d>& src,

@@ -108,6 +108,60 @@ TEST(RigidFitTest, CollinearAndTooFewPointsAreRejected) {
   EXPECT_FALSE(FitRigidClosedForm(nan, kWorld).ok());
 }
 
+TEST(RigidFitTest, SvdFitIsTheLeastSquaresOptimumOfManyNoisyPoints) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  std::uniform_real_distribution<double> spread(-0.5, 0.5);
+  const Eigen::Matrix3d r =
+      Eigen::AngleAxisd(2.5, Eigen::Vector3d(-0.4, 0.3, 0.9).normalized()).toRotationMatrix();
+  const Eigen::Vector3d t(-0.3, 0.8, 1.6);
+  for (const bool planar : {false, true}) {  // planar: the SVD's sign fix decides.
+    std::vector<Eigen::Vector3d> src, dst;
+    for (int i = 0; i < 12; ++i) {
+      src.emplace_back(spread(rng), spread(rng), planar ? 0.0 : spread(rng));
+      dst.push_back(r * src.back() + t + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
+    }
+    auto fit = FitRigidSvd(src, dst);
+    ASSERT_TRUE(fit.ok());
+    EXPECT_NEAR(fit->rotation.determinant(), 1.0, 1e-9);
+    EXPECT_LT(fit->orthonormality_error, 1e-9);
+    EXPECT_LT(AngleBetween(fit->rotation, r), 0.05);
+    auto rms = [&](const Eigen::Matrix3d& rot, const Eigen::Vector3d& tr) {
+      double sum = 0;
+      for (size_t i = 0; i < src.size(); ++i) sum += (rot * src[i] + tr - dst[i]).squaredNorm();
+      return std::sqrt(sum / static_cast<double>(src.size()));
+    };
+    EXPECT_NEAR(rms(fit->rotation, fit->translation), fit->rms_residual_m, 1e-12);
+    // No small turn about any axis, nor shift, fits better.
+    for (int axis = 0; axis < 3; ++axis) {
+      for (const double step : {-1e-3, 1e-3}) {
+        const Eigen::Matrix3d turned =
+            Eigen::AngleAxisd(step, Eigen::Vector3d::Unit(axis)).toRotationMatrix() * fit->rotation;
+        const Eigen::Vector3d mean_src = [&] {
+          Eigen::Vector3d m = Eigen::Vector3d::Zero();
+          for (const auto& p : src) m += p;
+          return Eigen::Vector3d(m / static_cast<double>(src.size()));
+        }();
+        // The best translation for the turned rotation keeps the centroids together.
+        const Eigen::Vector3d shifted = fit->translation + (fit->rotation - turned) * mean_src;
+        EXPECT_GT(rms(turned, shifted), fit->rms_residual_m);
+        EXPECT_GT(rms(fit->rotation, fit->translation + step * Eigen::Vector3d::Unit(axis)),
+                  fit->rms_residual_m);
+      }
+    }
+  }
+  // Many points along a line (with a millimetre's wobble) cannot fix a rotation about it.
+  std::vector<Eigen::Vector3d> line, image;
+  for (int i = 0; i < 8; ++i) {
+    line.emplace_back(0.1 * i, 0.001 * (i % 2), 1.0);
+    image.push_back(r * line.back() + t);
+  }
+  auto collinear = FitRigidSvd(line, image);
+  ASSERT_FALSE(collinear.ok());
+  EXPECT_EQ(collinear.error().code, ErrorCode::kFailedPrecondition);
+  EXPECT_TRUE(FitRigidSvd(line, image, 0.001).ok());  // allowed by a looser limit.
+}
+
 TEST(RigidFitTest, TriangleMinSine) {
   EXPECT_NEAR(TriangleMinSine({0, 0, 0}, {1, 0, 0}, {0.5, std::sqrt(3) / 2, 0}), std::sqrt(3) / 2,
               1e-12);
