@@ -225,10 +225,13 @@ Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>*
         found_here += ok ? 1 : 0;
         ++frames_here;
         if (flags.detail) {
-          std::printf("frame %2zu %-16s %-34s %.2f m clusters %zu searches %zu total %.1f ms%s%s\n",
-                      f, spec.preset.c_str(), v.name.c_str(), distance, e->clusters.size(),
-                      e->candidates.size(), t.total_ms, e->tracking.tracked ? "  (tracked)" : "",
-                      ok ? "" : "  (humanoid missed)");
+          std::printf(
+              "frame %2zu %-16s %-34s %.2f m clusters %zu searches %zu total %.1f ms (search "
+              "%.1f, refinement %.1f, bounds %.1fk)%s%s\n",
+              f, spec.preset.c_str(), v.name.c_str(), distance, e->clusters.size(),
+              e->candidates.size(), t.total_ms, t.search_ms - t.refine_ms, t.refine_ms,
+              v.bounds.back(), e->tracking.tracked ? "  (tracked)" : "",
+              ok ? "" : "  (humanoid missed)");
         }
       }
     }
