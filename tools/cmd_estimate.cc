@@ -1,5 +1,7 @@
 // `hpose estimate`: the depth-template estimator on one depth frame or cloud.
+#include <cctype>
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -20,6 +22,50 @@
 #include "tools/template_paths.h"
 
 namespace hpose::tools {
+namespace {
+
+// A FRAME given without a flag becomes --depth or --cloud by its extension. Returns an exit code
+// for a usage error, or -1.
+int TakePositionalFrame(const std::vector<std::string>& positional, std::string* depth_path,
+                        std::string* cloud_path) {
+  if (positional.empty()) return -1;
+  auto usage = [](const std::string& message) {
+    std::cerr << "hpose estimate: " << message << " (see --help)\n";
+    return kExitUsage;
+  };
+  if (positional.size() > 1) {
+    return usage("one frame at a time, got " + std::to_string(positional.size()) +
+                 " (`hpose replay` takes a directory or a recording)");
+  }
+  const std::string& frame = positional.front();
+  if (!depth_path->empty() || !cloud_path->empty()) {
+    return usage("give the frame once: '" + frame + "' and --" +
+                 (depth_path->empty() ? "cloud" : "depth"));
+  }
+  std::string ext = std::filesystem::path(frame).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".png" || ext == ".tif" || ext == ".tiff" || ext == ".pclzf") {
+    *depth_path = frame;
+  } else if (ext == ".pcd" || ext == ".ply") {
+    *cloud_path = frame;
+  } else {
+    return usage("cannot tell what '" + frame +
+                 "' is from its name: a depth frame ends in .png, .tif, .tiff or .pclzf, a "
+                 "cloud in .pcd or .ply (or say which with --depth or --cloud)");
+  }
+  return -1;
+}
+
+// intrinsics.json in the depth frame's directory, or "" when there is none.
+std::string IntrinsicsBeside(const std::string& depth_path) {
+  const std::filesystem::path dir = std::filesystem::path(depth_path).parent_path();
+  const std::filesystem::path json =
+      (dir.empty() ? std::filesystem::path(".") : dir) / "intrinsics.json";
+  std::error_code ec;
+  return std::filesystem::is_regular_file(json, ec) ? json.string() : std::string();
+}
+
+}  // namespace
 
 int RunEstimate(int argc, char** argv) {
   const std::string cmd = "estimate";
@@ -34,20 +80,24 @@ int RunEstimate(int argc, char** argv) {
   int stride = options.cloud.stride;
 
   FlagParser flags(
-      "hpose estimate (--depth FRAME [--intrinsics CAM.json] | --cloud FRAME.pcd) "
+      "hpose estimate (FRAME | --depth FRAME [--intrinsics CAM.json] | --cloud FRAME.pcd) "
       "[--template FILE.bt ...] [--json]",
       "Finds the humanoid in one depth frame: builds the point cloud, fits the floor, clusters\n"
       "what stands on it and matches every template against every cluster by a search over\n"
       "(x, y, theta). Poses are in the ground frame: origin on the floor below the sensor, x the\n"
-      "optical axis projected on the floor, y left, theta counter-clockwise (0 = facing away).");
+      "optical axis projected on the floor, y left, theta counter-clockwise (0 = facing away).\n"
+      "FRAME alone is read by its extension: .png, .tif, .tiff or .pclzf as --depth, .pcd or\n"
+      ".ply as --cloud.");
+  flags.AllowPositional("FRAME");
   flags.AddString("depth", &depth_path,
                   "depth frame in millimetres (0 = no reading): 16-bit PNG or TIFF, or PCL's "
                   ".pclzf (with its .xml camera parameters beside it)",
                   "FRAME");
   flags.AddString("intrinsics", &intrinsics_path,
                   "the depth camera's intrinsics: hpose's JSON {\"width\",\"height\",\"fx\","
-                  "\"fy\",\"cx\",\"cy\"} or a ROS camera_info YAML; default: a .pclzf's own, "
-                  "else Kinect v1 for the frame's size (a note says so)",
+                  "\"fy\",\"cx\",\"cy\"} or a ROS camera_info YAML; default: intrinsics.json "
+                  "beside the frame (as `hpose replay` and hposed read it), a .pclzf's own, else "
+                  "Kinect v1 for the frame's size (a note says which)",
                   "CAM.json|CAM.yaml");
   flags.AddString("cloud", &cloud_path,
                   "point cloud (.pcd or .ply) in the sensor frame (x right, y down, z forward), "
@@ -91,10 +141,14 @@ int RunEstimate(int argc, char** argv) {
       "exit status: 0 humanoid found, 3 no humanoid passed the threshold, 4 no floor found,\n"
       "             1 bad input (the message names it), 2 usage\n\n"
       "examples:\n"
-      "  hpose simulate --out /tmp/frame && \\\n"
-      "  hpose estimate --depth /tmp/frame/depth.png --intrinsics /tmp/frame/intrinsics.json\n"
+      "  hpose simulate --out /tmp/frame && hpose estimate /tmp/frame/depth.png\n"
+      "  hpose estimate --depth frame.tif --intrinsics camera_info.yaml\n"
       "  hpose estimate --cloud scan.pcd --template my_robot.bt --json");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
+  if (const int code = TakePositionalFrame(flags.positional(), &depth_path, &cloud_path);
+      code >= 0) {
+    return code;
+  }
   const bool have_depth = !depth_path.empty();
   const bool have_cloud = !cloud_path.empty();
   if (have_depth == have_cloud) {
@@ -150,6 +204,12 @@ int RunEstimate(int argc, char** argv) {
       Result<Intrinsics> read = ReadIntrinsicsFile(intrinsics_path);
       if (!read.ok()) return ReportError(cmd, read.error());
       intrinsics = *read;
+    } else if (const std::string beside = IntrinsicsBeside(depth_path); !beside.empty()) {
+      Result<Intrinsics> read = ReadIntrinsicsFile(beside);
+      if (!read.ok()) return ReportError(cmd, read.error());
+      intrinsics = *read;
+      std::cerr << "hpose estimate: note: using the intrinsics beside the frame, " << beside
+                << "\n";
     } else if (!frame->has_intrinsics) {
       intrinsics = Intrinsics::KinectV1(depth->width, depth->height);
       std::cerr << "hpose estimate: note: no --intrinsics given; assuming Kinect v1 intrinsics "

@@ -1,10 +1,12 @@
 // `hpose estimate` and `hpose demo` end to end: a simulated frame gives the humanoid back in the
 // JSON, and every kind of bad input gives a message naming the problem and a non-zero exit.
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -120,6 +122,71 @@ TEST_F(EstimateCliTest, BadInputNamesTheProblem) {
   for (const Case& c : cases) {
     const CliRun run = RunHpose(c.args, *dir_);
     EXPECT_EQ(run.exit_code, c.exit_code) << c.args << "\n" << run.err;
+    EXPECT_NE(run.err.find(c.says), std::string::npos) << c.args << "\n" << run.err;
+  }
+}
+
+// `hpose estimate FRAME`: the kind of frame from its extension, and the intrinsics.json beside
+// a depth frame used as `hpose replay` and hposed use it (a note names it), before Kinect v1's.
+TEST_F(EstimateCliTest, AFrameAloneIsReadByItsExtensionWithTheIntrinsicsBesideIt) {
+  namespace fs = std::filesystem;
+  auto pose_y = [](const CliRun& run) {
+    const nlohmann::json j = nlohmann::json::parse(run.out);
+    return j.at("depth_template")
+        .at("detections")
+        .at(0)
+        .at("best")
+        .at("pose")
+        .at("y")
+        .get<double>();
+  };
+  const CliRun depth = RunHpose("estimate '" + Frame("depth.png") + "' --json", *dir_);
+  ASSERT_EQ(depth.exit_code, 0) << depth.err;
+  EXPECT_NE(depth.err.find("intrinsics beside the frame, " + Frame("intrinsics.json")),
+            std::string::npos)
+      << depth.err;
+  EXPECT_EQ(depth.err.find("assuming Kinect v1"), std::string::npos) << depth.err;
+  EXPECT_NEAR(pose_y(depth), -0.1, 0.03);
+  const CliRun cloud = RunHpose("estimate '" + Frame("cloud.pcd") + "' --json", *dir_);
+  ASSERT_EQ(cloud.exit_code, 0) << cloud.err;
+  EXPECT_NEAR(pose_y(cloud), -0.1, 0.03);
+
+  // The same frame alone in a directory: Kinect v1's intrinsics, said so. Beside it intrinsics
+  // whose principal point is 25 px to the left: the whole scene, the humanoid too, is seen
+  // about 5 cm further to the right. A broken intrinsics.json beside it is an error naming it.
+  for (const char* sub : {"alone", "shifted", "broken"}) {
+    fs::create_directories(*dir_ / sub);
+    fs::copy_file(Frame("depth.png"), *dir_ / (std::string(sub) + "/depth.png"),
+                  fs::copy_options::overwrite_existing);
+  }
+  std::ofstream(*dir_ / "shifted/intrinsics.json")
+      << R"({"width":640,"height":480,"fx":594.2,"fy":591.0,"cx":314.3,"cy":242.7})";
+  std::ofstream(*dir_ / "broken/intrinsics.json") << R"({"width":640,"height":480})";
+  const CliRun alone = RunHpose("estimate '" + (*dir_ / "alone/depth.png") + "' --json", *dir_);
+  ASSERT_EQ(alone.exit_code, 0) << alone.err;
+  EXPECT_NE(alone.err.find("assuming Kinect v1 intrinsics for 640x480"), std::string::npos)
+      << alone.err;
+  EXPECT_NEAR(pose_y(alone), pose_y(depth), 0.005);
+  const CliRun shifted = RunHpose("estimate '" + (*dir_ / "shifted/depth.png") + "' --json", *dir_);
+  ASSERT_EQ(shifted.exit_code, 0) << shifted.err;
+  EXPECT_NEAR(pose_y(shifted) - pose_y(depth), -0.05, 0.015);
+  const CliRun broken = RunHpose("estimate '" + (*dir_ / "broken/depth.png") + "'", *dir_);
+  EXPECT_EQ(broken.exit_code, 1);
+  EXPECT_NE(broken.err.find(*dir_ / "broken/intrinsics.json"), std::string::npos) << broken.err;
+
+  struct Case {
+    std::string args;
+    std::string says;
+  };
+  const std::vector<Case> usage = {
+      {"estimate '" + Frame("depth.png") + "' '" + Frame("cloud.pcd") + "'", "one frame at a time"},
+      {"estimate '" + Frame("depth.png") + "' --cloud '" + Frame("cloud.pcd") + "'",
+       "give the frame once"},
+      {"estimate '" + Frame("truth.json") + "'", "cannot tell what"},
+  };
+  for (const Case& c : usage) {
+    const CliRun run = RunHpose(c.args, *dir_);
+    EXPECT_EQ(run.exit_code, 2) << c.args << "\n" << run.err;
     EXPECT_NE(run.err.find(c.says), std::string::npos) << c.args << "\n" << run.err;
   }
 }
