@@ -1,5 +1,4 @@
 // `hpose estimate`: the depth-template estimator on one depth frame or cloud.
-#include <cctype>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +10,7 @@
 #include "core/io/depth_frame_io.h"
 #include "core/io/frame_file_time.h"
 #include "core/io/intrinsics_file.h"
+#include "core/io/intrinsics_json.h"
 #include "core/search/estimator.h"
 #include "server/message_json.h"
 #include "server/proto_convert.h"
@@ -42,11 +42,9 @@ int TakePositionalFrame(const std::vector<std::string>& positional, std::string*
     return usage("give the frame once: '" + frame + "' and --" +
                  (depth_path->empty() ? "cloud" : "depth"));
   }
-  std::string ext = std::filesystem::path(frame).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".png" || ext == ".tif" || ext == ".tiff" || ext == ".pclzf") {
+  if (IsDepthFrameFile(frame)) {
     *depth_path = frame;
-  } else if (ext == ".pcd" || ext == ".ply") {
+  } else if (IsCloudFile(frame)) {
     *cloud_path = frame;
   } else {
     return usage("cannot tell what '" + frame +
@@ -54,15 +52,6 @@ int TakePositionalFrame(const std::vector<std::string>& positional, std::string*
                  "cloud in .pcd or .ply (or say which with --depth or --cloud)");
   }
   return -1;
-}
-
-// intrinsics.json in the depth frame's directory, or "" when there is none.
-std::string IntrinsicsBeside(const std::string& depth_path) {
-  const std::filesystem::path dir = std::filesystem::path(depth_path).parent_path();
-  const std::filesystem::path json =
-      (dir.empty() ? std::filesystem::path(".") : dir) / "intrinsics.json";
-  std::error_code ec;
-  return std::filesystem::is_regular_file(json, ec) ? json.string() : std::string();
 }
 
 }  // namespace
@@ -200,16 +189,20 @@ int RunEstimate(int argc, char** argv) {
     if (!frame.ok()) return ReportError(cmd, frame.error());
     const DepthImage* depth = &frame->depth;
     Intrinsics intrinsics = frame->intrinsics;  // a pclzf's own .xml, when it has one.
-    if (!intrinsics_path.empty()) {
-      Result<Intrinsics> read = ReadIntrinsicsFile(intrinsics_path);
+    // --intrinsics, else the intrinsics.json beside the frame (as replay and hposed read it).
+    std::string intrinsics_file = intrinsics_path;
+    std::error_code ec;
+    const bool beside = intrinsics_file.empty() &&
+                        std::filesystem::is_regular_file(IntrinsicsJsonBeside(depth_path), ec);
+    if (beside) intrinsics_file = IntrinsicsJsonBeside(depth_path);
+    if (!intrinsics_file.empty()) {
+      Result<Intrinsics> read = ReadIntrinsicsFile(intrinsics_file);
       if (!read.ok()) return ReportError(cmd, read.error());
       intrinsics = *read;
-    } else if (const std::string beside = IntrinsicsBeside(depth_path); !beside.empty()) {
-      Result<Intrinsics> read = ReadIntrinsicsFile(beside);
-      if (!read.ok()) return ReportError(cmd, read.error());
-      intrinsics = *read;
-      std::cerr << "hpose estimate: note: using the intrinsics beside the frame, " << beside
-                << "\n";
+      if (beside) {
+        std::cerr << "hpose estimate: note: using the intrinsics beside the frame, "
+                  << intrinsics_file << "\n";
+      }
     } else if (!frame->has_intrinsics) {
       intrinsics = Intrinsics::KinectV1(depth->width, depth->height);
       std::cerr << "hpose estimate: note: no --intrinsics given; assuming Kinect v1 intrinsics "

@@ -305,9 +305,7 @@ Result<v1::EstimateRequest> MakeRequest(const std::string& path,
     Result<DepthImage> depth = ReadDepthPng(path);
     if (!depth.ok()) return depth.error();
     const std::string kpath =
-        !intrinsics_path.empty()
-            ? intrinsics_path
-            : (std::filesystem::path(path).parent_path() / "intrinsics.json").string();
+        !intrinsics_path.empty() ? intrinsics_path : IntrinsicsJsonBeside(path);
     Result<Intrinsics> k = ReadIntrinsicsJson(kpath);
     if (!k.ok()) return k.error();
     server::DepthToProto(*depth, *k, request.mutable_depth());

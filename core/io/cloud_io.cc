@@ -26,11 +26,16 @@ std::string LowerExtension(const std::string& path) {
 
 }  // namespace
 
+bool IsCloudFile(const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  return ext == "pcd" || ext == "ply";
+}
+
 Result<PointCloud> ReadCloud(const std::string& path) {
   Result<std::uint64_t> size = CheckInputFile(path);  // regular files only: no FIFO waits.
   if (!size.ok()) return size.error();
   const std::string ext = LowerExtension(path);
-  if (ext != "pcd" && ext != "ply") {
+  if (!IsCloudFile(path)) {
     return MakeError(ErrorCode::kInvalidArgument,
                      path + ": unknown cloud file extension '" + ext + "' (expected .pcd or .ply)");
   }

@@ -13,6 +13,9 @@ namespace hpose {
 // (corrupt or truncated), or kInvalidArgument (no x/y/z fields, unknown extension).
 Result<PointCloud> ReadCloud(const std::string& path);
 
+// Whether ReadCloud reads `path` by its extension (.pcd or .ply, any case).
+bool IsCloudFile(const std::string& path);
+
 // Writes a binary PCD (XYZ) atomically, organised when the cloud is.
 Status WritePcd(const PointCloud& cloud, const std::string& path);
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <exception>
+#include <filesystem>
 #include <set>
 #include <string>
 
@@ -103,6 +104,11 @@ Status WriteIntrinsicsJson(const Intrinsics& intrinsics, const std::string& path
     return MakeError(ErrorCode::kInvalidArgument, path + ": " + valid.error().message);
   }
   return WriteFileAtomically(path, IntrinsicsToJson(intrinsics));
+}
+
+std::string IntrinsicsJsonBeside(const std::string& frame_path) {
+  const std::filesystem::path dir = std::filesystem::path(frame_path).parent_path();
+  return ((dir.empty() ? std::filesystem::path(".") : dir) / "intrinsics.json").string();
 }
 
 }  // namespace hpose

@@ -115,10 +115,11 @@ Result<RigidFit> FitRigidSvd(const std::vector<Eigen::Vector3d>& src,
   }
   // Weighted Kabsch (Umeyama without scale when the weights are equal): R = U diag(1, 1, det)
   // V^T from the SVD of the weighted cross-covariance of the centred pairs.
+  const auto weight = [&weights](size_t i) { return weights.empty() ? 1.0 : weights[i]; };
   double sum = 0;
   Eigen::Vector3d ms = Eigen::Vector3d::Zero(), md = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < n; ++i) {
-    const double w = weights.empty() ? 1.0 : weights[i];
+    const double w = weight(i);
     sum += w;
     ms += w * src[i];
     md += w * dst[i];
@@ -127,8 +128,7 @@ Result<RigidFit> FitRigidSvd(const std::vector<Eigen::Vector3d>& src,
   md /= sum;
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   for (size_t i = 0; i < n; ++i) {
-    const double w = weights.empty() ? 1.0 : weights[i];
-    cov += w * (dst[i] - md) * (src[i] - ms).transpose();
+    cov += weight(i) * (dst[i] - md) * (src[i] - ms).transpose();
   }
   const Eigen::JacobiSVD<Eigen::Matrix3d> k(cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d fix = Eigen::Matrix3d::Identity();
