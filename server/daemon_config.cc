@@ -269,6 +269,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("roll_rad", &f.roll_rad));
     HPOSE_RETURN_IF_ERROR(
         r.ReadDouble("distance_threshold_m", &c->estimator.floor_fit.distance_threshold_m));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_width_m", &c->estimator.floor_fit.min_width_m));
     HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
   }
   {
@@ -557,6 +558,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "pitch_rad" << YAML::Value << c.floor.pitch_rad;
   out << YAML::Key << "roll_rad" << YAML::Value << c.floor.roll_rad;
   out << YAML::Key << "distance_threshold_m" << YAML::Value << e.floor_fit.distance_threshold_m;
+  out << YAML::Key << "min_width_m" << YAML::Value << e.floor_fit.min_width_m;
   out << YAML::EndMap;
   const StereoConfig& st = c.stereo;
   out << YAML::Key << "stereo" << YAML::Value << YAML::BeginMap;

@@ -119,6 +119,10 @@ int RunEstimate(int argc, char** argv) {
   flags.AddDouble("floor-pitch-deg", &floor_pitch_deg,
                   "with --floor-height: optical axis below the horizon, degrees", "DEG");
   flags.AddDouble("floor-roll-deg", &floor_roll_deg, "with --floor-height: roll, degrees", "DEG");
+  flags.AddDouble("floor-min-width", &options.floor_fit.min_width_m,
+                  "a fitted floor's inliers must spread at least this wide, metres (narrower "
+                  "planes are strips through objects when no floor is in view; 0: no check)",
+                  "M");
   flags.AddString("picture", &picture, "also draw the match (top and front views) to a PNG",
                   "OUT.png");
   flags.AddInt("threads", &options.threads,
@@ -167,6 +171,10 @@ int RunEstimate(int argc, char** argv) {
   Result<ScoreKind> score_kind = ParseScoreKind(score);
   if (!score_kind.ok()) return ReportError(cmd, score_kind.error());
   options.score = *score_kind;
+  if (!(options.floor_fit.min_width_m >= 0.0 && options.floor_fit.min_width_m < 100.0)) {
+    std::cerr << "hpose estimate: --floor-min-width must be within [0, 100) m\n";
+    return kExitUsage;
+  }
   if (flags.Seen("floor-height")) {
     if (!(floor_height > 0.0 && floor_height < 10.0)) {
       std::cerr << "hpose estimate: --floor-height must be within (0, 10) m\n";

@@ -67,6 +67,9 @@ Status ValidateOptions(const FloorFitterOptions& o) {
   if (!(o.downsample_leaf_m >= 0.0) || !std::isfinite(o.downsample_leaf_m)) {
     return bad("downsample_leaf_m must be finite and >= 0");
   }
+  if (!(o.min_width_m >= 0.0) || !std::isfinite(o.min_width_m)) {
+    return bad("min_width_m must be finite and >= 0");
+  }
   return Status::Ok();
 }
 
@@ -122,7 +125,9 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
   std::vector<Candidate> candidates;
   std::vector<char> taken(n, 0);
   int best_support_seen = 0;
-  int rejected = 0;  // planes found with support but not acceptable as a floor.
+  // Planes found with support but not acceptable as a floor, by reason.
+  int sensor_below = 0, points_beneath = 0, narrow = 0;
+  double widest_narrow = 0.0;
   std::vector<int> inliers;
   for (int round = 0; round < kMaxCandidatePlanes; ++round) {
     int remaining_count = 0;
@@ -175,7 +180,7 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     // The sensor must be above the plane, i.e. its normal towards the sensor points "up":
     // this rejects ceilings, which the sign-blind axis test of the RANSAC lets through.
     if (plane.head<3>().dot(up_guess) < cos_max_tilt) {
-      ++rejected;
+      ++sensor_below;
       continue;
     }
     for (const int i : inliers) taken[i] = 1;
@@ -183,18 +188,36 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     // slanted plane cutting through walls and people.
     if (CountBelowFloorPlane(sampled, plane, options.distance_threshold_m) >
         std::max(kMaxBelowFraction * inliers.size(), kMaxBelowFractionOfAll * n)) {
-      ++rejected;
+      ++points_beneath;
       continue;
+    }
+    if (options.min_width_m > 0.0) {
+      const double width = FloorInlierWidth(sampled, inliers, plane);
+      if (width < options.min_width_m) {
+        ++narrow;
+        widest_narrow = std::max(widest_narrow, width);
+        continue;
+      }
     }
     candidates.push_back(Candidate{plane, static_cast<int>(inliers.size())});
   }
 
   if (candidates.empty()) {
-    if (rejected > 0) {
+    if (sensor_below + points_beneath + narrow > 0) {
+      std::string why;
+      auto add = [&why](int count, const std::string& what) {
+        if (count == 0) return;
+        why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + what;
+      };
+      add(sensor_below, "with the sensor below it");
+      add(points_beneath, "with many points beneath it");
+      char narrow_text[96];
+      std::snprintf(narrow_text, sizeof(narrow_text), "in strips up to %.2f m wide (need %.2f m)",
+                    widest_narrow, options.min_width_m);
+      add(narrow, narrow_text);
       return MakeError(ErrorCode::kFailedPrecondition,
-                       "no floor: " + std::to_string(rejected) +
-                           " near-horizontal plane(s) found, but each has the sensor below it "
-                           "or many points beneath it");
+                       "no floor: " + std::to_string(sensor_below + points_beneath + narrow) +
+                           " near-horizontal plane(s) found, none a floor: " + why);
     }
     if (best_support_seen == 0) {
       return MakeError(ErrorCode::kFailedPrecondition,
@@ -237,7 +260,10 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     std::vector<int> pixel_inliers;
     SelectFloorInliers(finite, plane, options.distance_threshold_m, &pixel_inliers);
     Eigen::Vector4d refined;
-    if (FitFloorPlaneLeastSquares(finite, pixel_inliers, options.distance_threshold_m, &refined)) {
+    // Kept only within the tilt the candidates were held to: the pixels' fit can lean a plane
+    // at the limit past it.
+    if (FitFloorPlaneLeastSquares(finite, pixel_inliers, options.distance_threshold_m, &refined) &&
+        refined.head<3>().dot(up_guess) >= cos_max_tilt) {
       plane = refined;
     }
   }

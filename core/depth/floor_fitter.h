@@ -18,6 +18,11 @@ struct FloorFitterOptions {
   // frame): rejects walls. 70 degrees allows a 60 degree pitch combined with some roll.
   double max_tilt_rad = 1.2217;
   double min_inlier_fraction = 0.05;  // of the (downsampled) points.
+  // A floor's inliers spread at least this wide across their longest direction (FloorInlierWidth,
+  // metres). Seen from a Kinect's minimum range of 0.8 m on, the floor is a patch over half a metre
+  // wide even at a steep pitch; with no floor in view (a sensor pitched up), the planes left are
+  // strips cut through the sides of objects, 0.1-0.3 m wide. 0 disables the check.
+  double min_width_m = 0.35;
   // Voxel grid before RANSAC; 0 disables. 3 cm: voxel centroids of a plane stay on it, and
   // fewer points make the fit cheap (clouds above 20k points are thinned on a pixel lattice
   // first).
@@ -29,12 +34,13 @@ struct FloorFitterOptions {
 // sensor's up guess, preferring the lowest such plane (largest d). Fails with kFailedPrecondition
 // naming why ("no floor: only 37 points", "no floor: best plane has 2% inliers") or
 // kInvalidArgument for an empty cloud or invalid options.
-// Up to six near-horizontal planes are extracted in turn. One with many points beneath it or a
-// parallel plane clearly below it (table, box top, a slanted cut through walls) is not the
-// floor; among the rest the best supported wins (so a wall seen from a steep pitch does not beat
-// the floor). The winner is refined by weighted least squares, last on the thinned points rather
-// than the voxel centroids (the near floor, more precise, then weighs more).
-// FloorEstimate::inliers counts downsampled points. NaN points are ignored.
+// Up to six near-horizontal planes are extracted in turn. One with many points beneath it, a
+// parallel plane clearly below it (table, box top, a slanted cut through walls) or inliers in a
+// narrow strip (min_width_m) is not the floor; among the rest the best supported wins (so a wall
+// seen from a steep pitch does not beat the floor). The winner is refined by weighted least
+// squares, last on the thinned points rather than the voxel centroids (the near floor, more
+// precise, then weighs more), and kept within max_tilt_rad. FloorEstimate::inliers counts
+// downsampled points. NaN points are ignored.
 Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor,
                                const FloorFitterOptions& options = {});
 

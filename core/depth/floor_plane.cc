@@ -1,5 +1,6 @@
 #include "core/depth/floor_plane.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
@@ -62,6 +63,36 @@ size_t CountBelowFloorPlane(const std::vector<Eigen::Vector3f>& points,
     if (n.dot(p) + d < -(2.0f * FloorInlierBand(t, p.squaredNorm()) + 0.03f)) ++below;
   }
   return below;
+}
+
+double FloorInlierWidth(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& indices,
+                        const Eigen::Vector4d& plane) {
+  if (indices.size() < 3) return 0.0;
+  const Eigen::Vector3d normal = plane.head<3>().normalized();
+  const Eigen::Vector3d u = normal.unitOrthogonal();
+  const Eigen::Vector3d v = normal.cross(u);
+  std::vector<Eigen::Vector2d> in_plane;
+  in_plane.reserve(indices.size());
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const int i : indices) {
+    const Eigen::Vector3d p = points[i].cast<double>();
+    in_plane.emplace_back(u.dot(p), v.dot(p));
+    mean += in_plane.back();
+  }
+  mean /= static_cast<double>(in_plane.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const Eigen::Vector2d& q : in_plane) scatter += (q - mean) * (q - mean).transpose();
+  // The eigenvector of the smaller eigenvalue (SelfAdjointEigenSolver sorts them ascending).
+  const Eigen::Vector2d minor =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvectors().col(0);
+  std::vector<double> offsets;
+  offsets.reserve(in_plane.size());
+  for (const Eigen::Vector2d& q : in_plane) offsets.push_back(minor.dot(q));
+  const size_t lo = offsets.size() * 5 / 100, hi = offsets.size() * 95 / 100;
+  std::nth_element(offsets.begin(), offsets.begin() + lo, offsets.end());
+  const double low = offsets[lo];
+  std::nth_element(offsets.begin(), offsets.begin() + hi, offsets.end());
+  return offsets[hi] - low;
 }
 
 }  // namespace hpose

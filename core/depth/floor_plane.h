@@ -39,6 +39,13 @@ void SelectFloorInliers(const std::vector<Eigen::Vector3f>& points, const Eigen:
 size_t CountBelowFloorPlane(const std::vector<Eigen::Vector3f>& points,
                             const Eigen::Vector4d& plane, double threshold_m);
 
+// How wide the points[indices] spread over the plane across their longest direction (metres):
+// the 5th to 95th percentile of their in-plane offsets along the minor principal axis. A floor
+// seen from a sensor's minimum range on is a broad patch; a plane that cuts a strip through the
+// sides of objects (when no floor is in view) is narrow. 0 for fewer than 3 points.
+double FloorInlierWidth(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& indices,
+                        const Eigen::Vector4d& plane);
+
 }  // namespace hpose
 
 #endif  // HPOSE_CORE_DEPTH_FLOOR_PLANE_H_

@@ -259,6 +259,22 @@ TEST_F(EstimateCliTest, NoFloorAndNoHumanoidHaveTheirOwnExitStatus) {
   run = RunHpose("estimate --cloud '" + (*dir_ / "wall.pcd") + "'", *dir_);
   EXPECT_EQ(run.exit_code, 4) << run.out << run.err;
   EXPECT_NE(run.err.find("floor"), std::string::npos) << run.err;
+  // A sensor pitched up sees no floor in range, only clutter: the planes through the clutter's
+  // sides are strips, no floor (exit 4). Without the width check one was taken for a floor
+  // (and no humanoid stood on it: exit 3).
+  const CliRun up = RunHpose("simulate --out '" + (*dir_ / "up") +
+                                 "' --sensor-height 0.9 --pitch-deg -10 --clutter 6 --seed 1",
+                             *dir_);
+  ASSERT_EQ(up.exit_code, 0) << up.err;
+  const std::string frame = "estimate '" + (*dir_ / "up/depth.png") + "'";
+  run = RunHpose(frame, *dir_);
+  EXPECT_EQ(run.exit_code, 4) << run.out << run.err;
+  EXPECT_NE(run.err.find("strips up to"), std::string::npos) << run.err;
+  run = RunHpose(frame + " --floor-min-width 0", *dir_);
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  run = RunHpose(frame + " --floor-min-width -1", *dir_);
+  EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
+  EXPECT_NE(run.err.find("--floor-min-width"), std::string::npos) << run.err;
 }
 
 TEST(DemoCliTest, RunsWithoutInput) {
