@@ -22,6 +22,10 @@ constexpr double kMaxBelowFraction = 0.1;
 constexpr double kMaxBelowFractionOfAll = 0.01;
 // Fewer (downsampled) points than this cannot give a trustworthy floor.
 constexpr int kMinPoints = 50;
+// No depth sensor's optical centre sits closer than this to the floor below it (its own housing
+// is taller), and a floor that close would be seen only at grazing angles, where structured light
+// returns nothing. Planes passing nearer run through objects beside the sensor.
+constexpr double kMinSensorHeightM = 0.05;
 // Two candidate planes within this angle are "parallel": the higher one is a table or box top.
 constexpr double kParallelRad = 15.0 * M_PI / 180.0;
 // Larger inputs are thinned to about this many points before the voxel grid.
@@ -126,7 +130,7 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
   std::vector<char> taken(n, 0);
   int best_support_seen = 0;
   // Planes found with support but not acceptable as a floor, by reason.
-  int sensor_below = 0, points_beneath = 0, narrow = 0;
+  int sensor_below = 0, points_beneath = 0, narrow = 0, at_sensor = 0;
   double widest_narrow = 0.0;
   std::vector<int> inliers;
   for (int round = 0; round < kMaxCandidatePlanes; ++round) {
@@ -176,7 +180,11 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
       if (!ok) break;
       SelectFloorInliers(sampled, plane, options.distance_threshold_m, &inliers);
     }
-    if (!ok || inliers.size() < 3 || plane[3] < 1e-3) continue;  // degenerate or through sensor.
+    if (!ok || inliers.size() < 3) continue;  // degenerate.
+    if (plane[3] < kMinSensorHeightM) {
+      ++at_sensor;
+      continue;
+    }
     // The sensor must be above the plane, i.e. its normal towards the sensor points "up":
     // this rejects ceilings, which the sign-blind axis test of the RANSAC lets through.
     if (plane.head<3>().dot(up_guess) < cos_max_tilt) {
@@ -203,7 +211,7 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
   }
 
   if (candidates.empty()) {
-    if (sensor_below + points_beneath + narrow > 0) {
+    if (sensor_below + points_beneath + narrow + at_sensor > 0) {
       std::string why;
       auto add = [&why](int count, const std::string& what) {
         if (count == 0) return;
@@ -211,13 +219,15 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
       };
       add(sensor_below, "with the sensor below it");
       add(points_beneath, "with many points beneath it");
+      add(at_sensor, "passing within 0.05 m of the sensor");
       char narrow_text[96];
       std::snprintf(narrow_text, sizeof(narrow_text), "in strips up to %.2f m wide (need %.2f m)",
                     widest_narrow, options.min_width_m);
       add(narrow, narrow_text);
-      return MakeError(ErrorCode::kFailedPrecondition,
-                       "no floor: " + std::to_string(sensor_below + points_beneath + narrow) +
-                           " near-horizontal plane(s) found, none a floor: " + why);
+      return MakeError(
+          ErrorCode::kFailedPrecondition,
+          "no floor: " + std::to_string(sensor_below + points_beneath + narrow + at_sensor) +
+              " near-horizontal plane(s) found, none a floor: " + why);
     }
     if (best_support_seen == 0) {
       return MakeError(ErrorCode::kFailedPrecondition,
@@ -260,10 +270,10 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     std::vector<int> pixel_inliers;
     SelectFloorInliers(finite, plane, options.distance_threshold_m, &pixel_inliers);
     Eigen::Vector4d refined;
-    // Kept only within the tilt the candidates were held to: the pixels' fit can lean a plane
-    // at the limit past it.
+    // Kept only within the tilt and height the candidates were held to: the pixels' fit can
+    // lean a plane at the limit past it.
     if (FitFloorPlaneLeastSquares(finite, pixel_inliers, options.distance_threshold_m, &refined) &&
-        refined.head<3>().dot(up_guess) >= cos_max_tilt) {
+        refined.head<3>().dot(up_guess) >= cos_max_tilt && refined[3] >= kMinSensorHeightM) {
       plane = refined;
     }
   }

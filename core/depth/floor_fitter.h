@@ -35,12 +35,12 @@ struct FloorFitterOptions {
 // naming why ("no floor: only 37 points", "no floor: best plane has 2% inliers") or
 // kInvalidArgument for an empty cloud or invalid options.
 // Up to six near-horizontal planes are extracted in turn. One with many points beneath it, a
-// parallel plane clearly below it (table, box top, a slanted cut through walls) or inliers in a
-// narrow strip (min_width_m) is not the floor; among the rest the best supported wins (so a wall
-// seen from a steep pitch does not beat the floor). The winner is refined by weighted least
-// squares, last on the thinned points rather than the voxel centroids (the near floor, more
-// precise, then weighs more), and kept within max_tilt_rad. FloorEstimate::inliers counts
-// downsampled points. NaN points are ignored.
+// parallel plane clearly below it (table, box top, a slanted cut through walls), inliers in a
+// narrow strip (min_width_m) or passing within 5 cm of the sensor is not the floor; among the
+// rest the best supported wins (so a wall seen from a steep pitch does not beat the floor). The
+// winner is refined by weighted least squares, last on the thinned points rather than the voxel
+// centroids (the near floor, more precise, then weighs more), keeping the candidates' tilt and
+// height limits. FloorEstimate::inliers counts downsampled points. NaN points are ignored.
 Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor,
                                const FloorFitterOptions& options = {});
 

@@ -300,6 +300,24 @@ TEST(FloorFitterTest, ASensorPitchedUpAtClutterFindsNoFloor) {
   }
 }
 
+// A plane a few centimetres below the sensor is no floor (no sensor's optical centre sits that
+// close to the floor beneath it): in this frame of the same mount one passes 3 cm below.
+TEST(FloorFitterTest, APlaneRightBelowTheSensorIsNoFloor) {
+  FrameSpec spec;
+  spec.sensor_height_m = 0.9;
+  spec.sensor_pitch_rad = -10.0 * kDeg;
+  spec.clutter = 6;
+  spec.seed = 15;
+  const Result<SimulatedFrame> frame = SimulateFrame(spec);
+  ASSERT_TRUE(frame.ok()) << frame.error().ToString();
+  const Result<PointCloud> cloud = DepthToCloud(frame->depth, spec.intrinsics);
+  ASSERT_TRUE(cloud.ok()) << cloud.error().ToString();
+  const Result<FloorEstimate> floor = FitFloor(*cloud);
+  ASSERT_FALSE(floor.ok()) << "a floor " << floor->height_m << " m below";
+  EXPECT_NE(floor.error().message.find("within 0.05 m of the sensor"), std::string::npos)
+      << floor.error().message;
+}
+
 TEST(FloorFitterTest, InlierWidthIsTheSpreadAcrossTheLongestDirection) {
   // A 2 m x 0.4 m grid of points on a tilted plane, turned 30 degrees within it.
   const Eigen::Vector3d normal = Eigen::Vector3d(0.1, -0.9, 0.3).normalized();
