@@ -219,11 +219,12 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
       };
       add(sensor_below, "with the sensor below it");
       add(points_beneath, "with many points beneath it");
-      add(at_sensor, "passing within 0.05 m of the sensor");
-      char narrow_text[96];
-      std::snprintf(narrow_text, sizeof(narrow_text), "in strips up to %.2f m wide (need %.2f m)",
-                    widest_narrow, options.min_width_m);
-      add(narrow, narrow_text);
+      char text[96];
+      std::snprintf(text, sizeof(text), "passing within %.2f m of the sensor", kMinSensorHeightM);
+      add(at_sensor, text);
+      std::snprintf(text, sizeof(text), "in strips up to %.2f m wide (need %.2f m)", widest_narrow,
+                    options.min_width_m);
+      add(narrow, text);
       return MakeError(
           ErrorCode::kFailedPrecondition,
           "no floor: " + std::to_string(sensor_below + points_beneath + narrow + at_sensor) +

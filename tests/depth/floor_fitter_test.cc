@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -270,6 +272,22 @@ TEST(FloorFitterTest, KinectFramesFitWithinMillimetres) {
   }
 }
 
+// A simulated frame from a sensor 0.9 m up, pitched 10 degrees up, among 6 clutter objects: no
+// floor within the sensor's range (it enters the view 4.4 m out). Null when nothing is in range.
+std::optional<PointCloud> PitchedUpFrame(int seed) {
+  FrameSpec spec;
+  spec.sensor_height_m = 0.9;
+  spec.sensor_pitch_rad = -10.0 * kDeg;
+  spec.clutter = 6;
+  spec.seed = static_cast<std::uint64_t>(seed);
+  const Result<SimulatedFrame> frame = SimulateFrame(spec);
+  EXPECT_TRUE(frame.ok()) << frame.error().ToString();
+  if (!frame.ok()) return std::nullopt;
+  Result<PointCloud> cloud = DepthToCloud(frame->depth, spec.intrinsics);
+  if (!cloud.ok()) return std::nullopt;
+  return std::move(*cloud);
+}
+
 // A sensor pitched 10 degrees up from 0.9 m sees no floor within its range (the floor enters
 // the view 4.4 m out), only the humanoid and the sides of the clutter. Planes through those are
 // mostly strips, which the fit without the width check takes for floors: in 13 of these 40
@@ -278,15 +296,8 @@ TEST(FloorFitterTest, KinectFramesFitWithinMillimetres) {
 TEST(FloorFitterTest, ASensorPitchedUpAtClutterFindsNoFloor) {
   int floors_without = 0, floors_with = 0;
   for (int seed = 1; seed <= 40; ++seed) {
-    FrameSpec spec;
-    spec.sensor_height_m = 0.9;
-    spec.sensor_pitch_rad = -10.0 * kDeg;
-    spec.clutter = 6;
-    spec.seed = static_cast<std::uint64_t>(seed);
-    const Result<SimulatedFrame> frame = SimulateFrame(spec);
-    ASSERT_TRUE(frame.ok()) << frame.error().ToString();
-    const Result<PointCloud> cloud = DepthToCloud(frame->depth, spec.intrinsics);
-    if (!cloud.ok()) continue;  // nothing in range at all.
+    const std::optional<PointCloud> cloud = PitchedUpFrame(seed);
+    if (!cloud) continue;  // nothing in range at all.
     SCOPED_TRACE("seed " + std::to_string(seed));
     FloorFitterOptions no_width;
     no_width.min_width_m = 0.0;
@@ -310,15 +321,8 @@ TEST(FloorFitterTest, ASensorPitchedUpAtClutterFindsNoFloor) {
 // A plane a few centimetres below the sensor is no floor (no sensor's optical centre sits that
 // close to the floor beneath it): in this frame of the same mount one passes 3 cm below.
 TEST(FloorFitterTest, APlaneRightBelowTheSensorIsNoFloor) {
-  FrameSpec spec;
-  spec.sensor_height_m = 0.9;
-  spec.sensor_pitch_rad = -10.0 * kDeg;
-  spec.clutter = 6;
-  spec.seed = 15;
-  const Result<SimulatedFrame> frame = SimulateFrame(spec);
-  ASSERT_TRUE(frame.ok()) << frame.error().ToString();
-  const Result<PointCloud> cloud = DepthToCloud(frame->depth, spec.intrinsics);
-  ASSERT_TRUE(cloud.ok()) << cloud.error().ToString();
+  const std::optional<PointCloud> cloud = PitchedUpFrame(15);
+  ASSERT_TRUE(cloud.has_value());
   const Result<FloorEstimate> floor = FitFloor(*cloud);
   ASSERT_FALSE(floor.ok()) << "a floor " << floor->height_m << " m below";
   EXPECT_NE(floor.error().message.find("within 0.05 m of the sensor"), std::string::npos)
