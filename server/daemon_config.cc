@@ -459,6 +459,15 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
         c.estimator.tracked_score_threshold <= 100.0)) {
     return fail("search.tracked_score_threshold", "must be in [0, 100]");
   }
+  if (!c.floor.fixed) {
+    const FloorFitterOptions& fit = c.estimator.floor_fit;
+    if (!(fit.distance_threshold_m > 0.0 && std::isfinite(fit.distance_threshold_m))) {
+      return fail("floor.distance_threshold_m", "must be a finite length > 0 (metres)");
+    }
+    if (!(fit.min_width_m >= 0.0 && fit.min_width_m < 100.0)) {
+      return fail("floor.min_width_m", "must be in [0, 100) metres (0: no width check)");
+    }
+  }
   if (c.floor.fixed) {
     if (!(c.floor.height_m > 0.0 && c.floor.height_m < 10.0)) {
       return fail("floor.height_m", "must be in (0, 10) metres");

@@ -32,7 +32,9 @@ namespace {
 
 using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
 
-Status ValidateOptions(const ClusterOptions& o) {
+}  // namespace
+
+Status ValidateClusterOptions(const ClusterOptions& o) {
   auto bad = [](const std::string& what) {
     return Status(MakeError(ErrorCode::kInvalidArgument, "cluster options: " + what));
   };
@@ -71,6 +73,8 @@ Status ValidateOptions(const ClusterOptions& o) {
   }
   return Status::Ok();
 }
+
+namespace {
 
 // The reference path: pcl::EuclideanClusterExtraction (kd-tree radius searches) on `points`;
 // labels per point, clusters numbered in PCL's order.
@@ -247,7 +251,7 @@ GroundBand ClusterGroundBand(const FloorEstimate& floor, const ClusterOptions& o
 Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
                                              const FloorEstimate& floor,
                                              const ClusterOptions& options) {
-  const Status valid = ValidateOptions(options);
+  const Status valid = ValidateClusterOptions(options);
   if (!valid.ok()) return valid.error();
   const Status valid_floor = ValidateFloor(floor);
   if (!valid_floor.ok()) return valid_floor.error();

@@ -61,6 +61,10 @@ struct ClusterOptions {
   double merge_hidden_max_fraction = 0.5;
 };
 
+// kInvalidArgument naming the first option out of range ("cluster options: tolerance_m must be >
+// 0"); ExtractClusters checks this first, Estimator::Create at start.
+Status ValidateClusterOptions(const ClusterOptions& options);
+
 // Transforms the cloud to the ground frame, keeps points above the floor, downsamples and
 // splits them into Euclidean clusters (PCL), filtered by size and height. Clusters are sorted by
 // point count, largest first. An empty result is not an error. Fails (kInvalidArgument) only on

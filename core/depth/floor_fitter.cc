@@ -54,7 +54,9 @@ std::string Degrees(double rad) {
   return text;
 }
 
-Status ValidateOptions(const FloorFitterOptions& o) {
+}  // namespace
+
+Status ValidateFloorFitterOptions(const FloorFitterOptions& o) {
   auto bad = [](const std::string& what) {
     return Status(MakeError(ErrorCode::kInvalidArgument, "floor fitter options: " + what));
   };
@@ -77,10 +79,8 @@ Status ValidateOptions(const FloorFitterOptions& o) {
   return Status::Ok();
 }
 
-}  // namespace
-
 Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitterOptions& options) {
-  const Status valid = ValidateOptions(options);
+  const Status valid = ValidateFloorFitterOptions(options);
   if (!valid.ok()) return valid.error();
   if (cloud_sensor.empty()) {
     return MakeError(ErrorCode::kInvalidArgument, "floor fitter: the cloud is empty");

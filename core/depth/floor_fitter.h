@@ -30,6 +30,10 @@ struct FloorFitterOptions {
   int random_seed = 0;  // fixed seed: the same frame gives the same floor.
 };
 
+// kInvalidArgument naming the first option out of range ("floor fitter options: min_width_m must
+// be finite and >= 0"); FitFloor checks this first, Estimator::Create at start.
+Status ValidateFloorFitterOptions(const FloorFitterOptions& options);
+
 // RANSAC plane fit (FitPlaneLocalRansac) for the floor, among planes nearly perpendicular to the
 // sensor's up guess, preferring the lowest such plane (largest d). Fails with kFailedPrecondition
 // naming why ("no floor: only 37 points", "no floor: best plane has 2% inliers") or

@@ -357,6 +357,12 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
   }
   Status st = options.lattice.Validate();
   if (!st.ok()) return st.error();
+  // Options that every frame would otherwise refuse are refused once, here.
+  st = options.use_fixed_floor ? ValidateFloor(options.fixed_floor)
+                               : ValidateFloorFitterOptions(options.floor_fit);
+  if (!st.ok()) return st.error();
+  st = ValidateClusterOptions(options.clusters);
+  if (!st.ok()) return st.error();
   std::set<std::string> names;
   for (const VoxelTemplate& t : templates) {
     if (!names.insert(t.name).second) {

@@ -2,6 +2,8 @@
 // the paper's accuracy (SPEC §1: standing, theta -3..+6 deg, x -30..-14 mm, y -7..+19 mm; we ask
 // for |theta| <= 6 deg and position within 30 mm).
 #include <cstdint>
+#include <limits>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -261,6 +263,35 @@ TEST(EstimatorTest, CreateValidates) {
   VoxelTemplate coarse = t;
   coarse.resolution_m = 0.02;
   EXPECT_FALSE(Estimator::Create(DefaultEstimatorOptions(), {coarse}).ok());
+}
+
+// Floor and cluster options that every frame would refuse are refused when the estimator is made,
+// naming the option; a fixed floor is checked instead of the fit's options.
+TEST(EstimatorTest, CreateRefusesFloorAndClusterOptionsEveryFrameWouldRefuse) {
+  const VoxelTemplate t = ModelTemplate("standing");
+  auto message = [&](const EstimatorOptions& o) {
+    Result<std::unique_ptr<Estimator>> e = Estimator::Create(o, {t});
+    return e.ok() ? std::string("created") : e.error().message;
+  };
+  EstimatorOptions o = DefaultEstimatorOptions();
+  ASSERT_EQ(message(o), "created");
+  o.floor_fit.min_width_m = -0.1;
+  EXPECT_NE(message(o).find("min_width_m"), std::string::npos) << message(o);
+  o = DefaultEstimatorOptions();
+  o.floor_fit.distance_threshold_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(message(o).find("distance_threshold_m"), std::string::npos) << message(o);
+  // With a fixed floor the fit's options are unused; the floor itself must have a ground frame.
+  o.use_fixed_floor = true;
+  o.fixed_floor = FloorEstimate::FromHeightPitchRoll(0.6, 0.3, 0.0);
+  EXPECT_EQ(message(o), "created");
+  o.fixed_floor.ground_from_sensor.linear() = Eigen::Matrix3d::Zero();
+  EXPECT_NE(message(o), "created");
+  o = DefaultEstimatorOptions();
+  o.clusters.tolerance_m = 0.0;
+  EXPECT_NE(message(o).find("tolerance_m"), std::string::npos) << message(o);
+  o = DefaultEstimatorOptions();
+  o.clusters.max_points = o.clusters.min_points - 1;
+  EXPECT_NE(message(o).find("max_points"), std::string::npos) << message(o);
 }
 
 }  // namespace

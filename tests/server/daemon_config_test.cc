@@ -131,6 +131,15 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.tracked_score_threshold"),
             std::string::npos);
   bad = c;
+  bad.estimator.floor_fit.min_width_m = -1.0;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("floor.min_width_m"), std::string::npos);
+  bad.floor.fixed = true;  // a fixed floor fits nothing: the fit's options do not matter.
+  EXPECT_TRUE(ValidateDaemonConfig(bad).ok());
+  bad = c;
+  bad.estimator.floor_fit.distance_threshold_m = 0.0;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("floor.distance_threshold_m"),
+            std::string::npos);
+  bad = c;
   bad.source.reconnect_max_backoff_s = 0.1;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("reconnect_max_backoff_s"),
             std::string::npos);
