@@ -149,8 +149,10 @@ TEST_F(HostileClientTest, DegenerateCloudsDoNotStopTheDaemon) {
 }
 
 // 40 clients on their own connections send a ~15 MB cloud each at the same moment. Every answer
-// is OK or RESOURCE_EXHAUSTED (admission control), hposed keeps serving, and its peak resident
-// memory stays within 1 GB (docs/RELIABILITY.md).
+// is OK or RESOURCE_EXHAUSTED (admission control, or gRPC's memory quota refusing the stream),
+// except that gRPC may drop a connection whose request it cannot buffer (UNAVAILABLE, "Broken
+// pipe": seen once for one client in a fresh-clone CI run); hposed keeps serving, and its peak
+// resident memory stays within 1 GB (docs/RELIABILITY.md).
 TEST(DaemonFloodTest, FortyConcurrentLargeRequestsStayBounded) {
   const std::string dir = tu::MakeTempDir("flood");
   ASSERT_TRUE(tu::SimulateFrames(dir + "/frames", 2));
@@ -200,20 +202,26 @@ TEST(DaemonFloodTest, FortyConcurrentLargeRequestsStayBounded) {
     });
   }
   for (std::thread& t : clients) t.join();
-  int ok = 0, exhausted = 0;
+  int ok = 0, exhausted = 0, dropped = 0;
   for (int c = 0; c < kClients; ++c) {
     EXPECT_TRUE(codes[c] == grpc::StatusCode::OK ||
-                codes[c] == grpc::StatusCode::RESOURCE_EXHAUSTED)
+                codes[c] == grpc::StatusCode::RESOURCE_EXHAUSTED ||
+                codes[c] == grpc::StatusCode::UNAVAILABLE)
         << "client " << c << ": " << codes[c] << " " << messages[c];
     ok += codes[c] == grpc::StatusCode::OK ? 1 : 0;
     exhausted += codes[c] == grpc::StatusCode::RESOURCE_EXHAUSTED ? 1 : 0;
+    dropped += codes[c] == grpc::StatusCode::UNAVAILABLE ? 1 : 0;
   }
+  // A dropped connection is gRPC's last resort, not the daemon's way of refusing: the exception.
+  EXPECT_LE(dropped, kClients / 4);
   std::map<std::string, int> reasons;  // for the log: who refused, and why.
   for (int c = 0; c < kClients; ++c) ++reasons[messages[c]];
   for (const auto& [reason, n] : reasons) std::printf("  %2d x '%s'\n", n, reason.c_str());
   const long peak_kb = hposed.StatusKb("VmHWM");
-  std::printf("flood: %d OK, %d RESOURCE_EXHAUSTED; hposed RSS %ld kB before, peak %ld kB\n", ok,
-              exhausted, base_kb, peak_kb);
+  std::printf(
+      "flood: %d OK, %d RESOURCE_EXHAUSTED, %d UNAVAILABLE; hposed RSS %ld kB before, peak %ld "
+      "kB\n",
+      ok, exhausted, dropped, base_kb, peak_kb);
   ASSERT_TRUE(hposed.alive());
   EXPECT_GT(peak_kb, 0);
   // 1 GB in the Release build (the documented figure); AddressSanitizer adds its quarantine of
