@@ -467,8 +467,7 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
     if (!(fit.min_width_m >= 0.0 && fit.min_width_m < 100.0)) {
       return fail("floor.min_width_m", "must be in [0, 100) metres (0: no width check)");
     }
-  }
-  if (c.floor.fixed) {
+  } else {
     if (!(c.floor.height_m > 0.0 && c.floor.height_m < 10.0)) {
       return fail("floor.height_m", "must be in (0, 10) metres");
     }
