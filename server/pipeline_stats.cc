@@ -10,10 +10,6 @@ namespace {
 constexpr size_t kLatencyWindow = 256;  // latencies kept for the median and p99.
 constexpr double kRateWindowS = 3.0;    // rates are measured over this many seconds.
 
-double Seconds(PipelineStats::Clock::duration d) {
-  return std::chrono::duration<double>(d).count();
-}
-
 void Trim(std::deque<PipelineStats::Clock::time_point>* times,
           PipelineStats::Clock::time_point now) {
   while (!times->empty() && Seconds(now - times->front()) > kRateWindowS) times->pop_front();

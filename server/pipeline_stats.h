@@ -7,6 +7,11 @@
 
 namespace hpose::server {
 
+// A steady-clock span in seconds, as the pipelines report durations.
+inline double Seconds(std::chrono::steady_clock::duration d) {
+  return std::chrono::duration<double>(d).count();
+}
+
 // Rates and latencies as GetStatus reports them.
 struct StatsSnapshot {
   double input_rate_hz = 0.0;     // frames arriving, over the last few seconds.

@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/search/pose_tracker.h"
+#include "server/pipeline_stats.h"
 
 namespace hpose::server {
 
@@ -16,8 +17,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr int kMaxConsecutiveBadFrames = 100;
-
-double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
 }  // namespace
 

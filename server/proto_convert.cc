@@ -7,13 +7,19 @@
 
 namespace hpose::server {
 
-namespace {
-
 void SetVector(const Eigen::Vector3d& v, v1::Vector3* out) {
   out->set_x(v.x());
   out->set_y(v.y());
   out->set_z(v.z());
 }
+
+void SetPose2D(const Pose2D& p, v1::Pose2D* out) {
+  out->set_x(p.x);
+  out->set_y(p.y);
+  out->set_theta(p.theta);
+}
+
+namespace {
 
 void SetPose3D(const Eigen::Isometry3d& t, v1::Pose3D* out) {
   SetVector(t.translation(), out->mutable_position());
@@ -23,12 +29,6 @@ void SetPose3D(const Eigen::Isometry3d& t, v1::Pose3D* out) {
   out->mutable_orientation()->set_x(q.x());
   out->mutable_orientation()->set_y(q.y());
   out->mutable_orientation()->set_z(q.z());
-}
-
-void SetPose2D(const Pose2D& p, v1::Pose2D* out) {
-  out->set_x(p.x);
-  out->set_y(p.y);
-  out->set_theta(p.theta);
 }
 
 void SetFit(const FitSummary& f, v1::Fit* out) {

@@ -4,6 +4,9 @@
 #include <chrono>
 #include <string>
 
+#include <Eigen/Core>
+
+#include "core/common/pose2d.h"
 #include "core/common/status.h"
 #include "core/depth/depth_image.h"
 #include "core/depth/floor_estimate.h"
@@ -22,6 +25,8 @@ void FloorToProto(const FloorEstimate& floor, v1::FloorFrame* out);
 void EstimateToProto(const Estimate& estimate, v1::DepthTemplateResult* out);
 void TimingsToProto(const StageTimings& timings, v1::Timings* out);
 void SetTimestamp(std::chrono::system_clock::time_point t, google::protobuf::Timestamp* out);
+void SetVector(const Eigen::Vector3d& v, v1::Vector3* out);
+void SetPose2D(const Pose2D& p, v1::Pose2D* out);
 
 // Fills a PoseEstimate from one frame's outcome: `result` set, or `error` when the frame
 // failed.

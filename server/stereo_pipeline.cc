@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "server/pipeline_stats.h"
+
 namespace hpose::server {
 
 namespace {
@@ -14,8 +16,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr int kMaxConsecutiveBadPairs = 100;
-
-double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
 }  // namespace
 

@@ -10,18 +10,6 @@ namespace hpose::server {
 
 namespace {
 
-void SetVector(const Eigen::Vector3d& v, v1::Vector3* out) {
-  out->set_x(v.x());
-  out->set_y(v.y());
-  out->set_z(v.z());
-}
-
-void SetPose2D(const Pose2D& p, v1::Pose2D* out) {
-  out->set_x(p.x);
-  out->set_y(p.y);
-  out->set_theta(p.theta);
-}
-
 // The closed-form fit's matrix need not be orthonormal: report the nearest rotation.
 Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& m) {
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);

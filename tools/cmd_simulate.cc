@@ -27,19 +27,14 @@
 #include "core/sim/sim_truth.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
+#include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
 #include "tools/robot_flags.h"
 
 namespace hpose::tools {
 namespace {
 
-const char kCmd[] = "simulate";
-
-std::string Fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
-}
+const char kSimulateCmd[] = "simulate";
 
 std::string FrameName(const std::string& stem, const std::string& ext, int index, int frames) {
   if (frames == 1) return stem + ext;
@@ -145,41 +140,42 @@ int RunSimulate(int argc, char** argv) {
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
 
   // Values.
-  if (out_dir.empty()) return UsageError(kCmd, "--out DIR is required");
+  if (out_dir.empty()) return UsageError(kSimulateCmd, "--out DIR is required");
   if (std::abs(x) > 20.0 || std::abs(y) > 20.0) {
-    return UsageError(kCmd, "--x and --y must be within +-20 m");
+    return UsageError(kSimulateCmd, "--x and --y must be within +-20 m");
   }
   if (!(sensor_height > 0.05 && sensor_height <= 3.0)) {
-    return UsageError(kCmd,
+    return UsageError(kSimulateCmd,
                       "--sensor-height must be in (0.05, 3] m, got " + Fixed(sensor_height, 3));
   }
   if (std::abs(pitch_deg) > 60.0)
-    return UsageError(kCmd, "--pitch-deg must be within +-60 degrees");
-  if (std::abs(roll_deg) > 45.0) return UsageError(kCmd, "--roll-deg must be within +-45 degrees");
-  if (clutter < 0 || clutter > 50) return UsageError(kCmd, "--clutter must be in [0, 50]");
-  if (seed < 0) return UsageError(kCmd, "--seed must be >= 0");
+    return UsageError(kSimulateCmd, "--pitch-deg must be within +-60 degrees");
+  if (std::abs(roll_deg) > 45.0)
+    return UsageError(kSimulateCmd, "--roll-deg must be within +-45 degrees");
+  if (clutter < 0 || clutter > 50) return UsageError(kSimulateCmd, "--clutter must be in [0, 50]");
+  if (seed < 0) return UsageError(kSimulateCmd, "--seed must be >= 0");
   if (width < 16 || width > 4096 || height < 16 || height > 4096) {
-    return UsageError(kCmd, "--width and --height must be in [16, 4096] pixels");
+    return UsageError(kSimulateCmd, "--width and --height must be in [16, 4096] pixels");
   }
-  if (frames < 1 || frames > 1000) return UsageError(kCmd, "--frames must be in [1, 1000]");
+  if (frames < 1 || frames > 1000) return UsageError(kSimulateCmd, "--frames must be in [1, 1000]");
   if (std::abs(turn_deg) > 180.0)
-    return UsageError(kCmd, "--turn-deg must be within +-180 degrees");
-  if (std::abs(step_m) > 1.0) return UsageError(kCmd, "--step-m must be within +-1 m");
+    return UsageError(kSimulateCmd, "--turn-deg must be within +-180 degrees");
+  if (std::abs(step_m) > 1.0) return UsageError(kSimulateCmd, "--step-m must be within +-1 m");
   MainRobot robot;
   if (!robot_urdf.empty()) {
     if (flags.Seen("pose") || flags.Seen("body")) {
-      return UsageError(kCmd,
+      return UsageError(kSimulateCmd,
                         "--pose and --body describe the parametric humanoid: not with --robot");
     }
     Result<std::shared_ptr<const MeshBvh>> mesh =
-        LoadPosedRobotMesh(robot_flags, robot_urdf, kCmd, &robot.label);
-    if (!mesh.ok()) return ReportError(kCmd, mesh.error());
+        LoadPosedRobotMesh(robot_flags, robot_urdf, kSimulateCmd, &robot.label);
+    if (!mesh.ok()) return ReportError(kSimulateCmd, mesh.error());
     robot.mesh = *mesh;
   } else {
     Result<HumanoidDimensions> dimensions = HumanoidDimensions::Variant(body);
-    if (!dimensions.ok()) return UsageError(kCmd, "--body: " + dimensions.error().message);
+    if (!dimensions.ok()) return UsageError(kSimulateCmd, "--body: " + dimensions.error().message);
     Result<HumanoidModel> model = HumanoidModel::FromPreset(pose_name, *dimensions);
-    if (!model.ok()) return UsageError(kCmd, "--pose: " + model.error().message);
+    if (!model.ok()) return UsageError(kSimulateCmd, "--pose: " + model.error().message);
     robot.model = *model;
     robot.label = body == "nao" ? pose_name : pose_name + "/" + body;
   }
@@ -187,11 +183,11 @@ int RunSimulate(int argc, char** argv) {
   if (!second_at.empty() || flags.Seen("second-pose")) {
     Pose2D p;
     if (!ParsePoseTriple(second_at, &p)) {
-      return UsageError(kCmd,
+      return UsageError(kSimulateCmd,
                         "--second-at needs X,Y,THETA_DEG (e.g. 2,0.5,90), got '" + second_at + "'");
     }
     Result<HumanoidModel> m = HumanoidModel::FromPreset(second_pose);
-    if (!m.ok()) return UsageError(kCmd, "--second-pose: " + m.error().message);
+    if (!m.ok()) return UsageError(kSimulateCmd, "--second-pose: " + m.error().message);
     others.push_back({*m, p, second_pose});
   }
 
@@ -208,7 +204,7 @@ int RunSimulate(int argc, char** argv) {
     for (const Pose2D& p : poses) {
       const double gap = std::hypot(o.pose.x - p.x, o.pose.y - p.y);
       if (gap < FootprintRadius(o.model.bounds()) + FootprintRadius(robot.Bounds())) {
-        return UsageError(kCmd, "--second-at: the second humanoid would overlap the first");
+        return UsageError(kSimulateCmd, "--second-at: the second humanoid would overlap the first");
       }
     }
   }
@@ -220,7 +216,7 @@ int RunSimulate(int argc, char** argv) {
     for (const Pose2D& p : poses) robot.AddTo(&layout, p);
     for (const PlacedHumanoid& o : others) layout.AddHumanoid(o.model, o.pose);
     const Status s = layout.AddRandomClutter(clutter, static_cast<std::uint64_t>(seed));
-    if (!s.ok()) return UsageError(kCmd, "--clutter: " + s.error().message);
+    if (!s.ok()) return UsageError(kSimulateCmd, "--clutter: " + s.error().message);
     clutter_objects = layout.clutter();
   }
 
@@ -228,17 +224,18 @@ int RunSimulate(int argc, char** argv) {
       FloorEstimate::FromHeightPitchRoll(sensor_height, DegToRad(pitch_deg), DegToRad(roll_deg));
   const Intrinsics intrinsics = Intrinsics::KinectV1(width, height);
   Result<DepthRenderer> renderer = DepthRenderer::Create(intrinsics, mount);
-  if (!renderer.ok()) return ReportError(kCmd, renderer.error());
+  if (!renderer.ok()) return ReportError(kSimulateCmd, renderer.error());
   KinectNoiseOptions noise_options;
   noise_options.noise_enabled = !no_noise;
   Result<KinectNoiseModel> noise = KinectNoiseModel::Create(noise_options);
-  if (!noise.ok()) return ReportError(kCmd, noise.error());
+  if (!noise.ok()) return ReportError(kSimulateCmd, noise.error());
 
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec || !std::filesystem::is_directory(out_dir)) {
-    return ReportError(kCmd, MakeError(ErrorCode::kInternal,
-                                       "cannot create directory " + out_dir + ": " + ec.message()));
+    return ReportError(kSimulateCmd,
+                       MakeError(ErrorCode::kInternal,
+                                 "cannot create directory " + out_dir + ": " + ec.message()));
   }
   const std::filesystem::path dir(out_dir);
 
@@ -258,13 +255,13 @@ int RunSimulate(int argc, char** argv) {
   for (int i = 0; i < argc; ++i) truth.command += (i ? " " : "") + std::string(argv[i]);
 
   if (Status s = WriteIntrinsicsJson(intrinsics, (dir / "intrinsics.json").string()); !s.ok()) {
-    return ReportError(kCmd, s.error());
+    return ReportError(kSimulateCmd, s.error());
   }
   double render_seconds = 0.0;
   for (int i = 0; i < frames; ++i) {
     Scene scene;
     if (Status s = robot.AddTo(&scene, poses[i]); !s.ok()) {
-      return ReportError(kCmd, s.error());
+      return ReportError(kSimulateCmd, s.error());
     }
     for (const PlacedHumanoid& o : others) scene.AddHumanoid(o.model, o.pose, o.preset);
     for (const Primitive& c : clutter_objects) scene.AddClutter(c);
@@ -282,7 +279,7 @@ int RunSimulate(int argc, char** argv) {
     render_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (Status s = WriteDepthPng(depth, (dir / frame.depth_file).string()); !s.ok()) {
-      return ReportError(kCmd, s.error());
+      return ReportError(kSimulateCmd, s.error());
     }
     if (!no_cloud) {
       DepthToCloudOptions cloud_options;
@@ -290,9 +287,9 @@ int RunSimulate(int argc, char** argv) {
       cloud_options.max_range_m = 65.535;
       cloud_options.keep_organised = true;
       Result<PointCloud> cloud = DepthToCloud(depth, intrinsics, cloud_options);
-      if (!cloud.ok()) return ReportError(kCmd, cloud.error());
+      if (!cloud.ok()) return ReportError(kSimulateCmd, cloud.error());
       if (Status s = WritePcd(*cloud, (dir / frame.cloud_file).string()); !s.ok()) {
-        return ReportError(kCmd, s.error());
+        return ReportError(kSimulateCmd, s.error());
       }
     }
     size_t valid = 0;
@@ -305,7 +302,7 @@ int RunSimulate(int argc, char** argv) {
   }
   if (Status s = WriteFileAtomically((dir / "truth.json").string(), SimTruthToJson(truth));
       !s.ok()) {
-    return ReportError(kCmd, s.error());
+    return ReportError(kSimulateCmd, s.error());
   }
   std::cout << "wrote " << frames << " frame(s), intrinsics.json and truth.json to " << out_dir
             << " (rendering " << Fixed(render_seconds * 1000.0 / frames, 0) << " ms per frame)\n";

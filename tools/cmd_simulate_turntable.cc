@@ -23,7 +23,7 @@
 namespace hpose::tools {
 namespace {
 
-const char kCmd[] = "simulate turntable";
+const char kTurntableCmd[] = "simulate turntable";
 
 // "X,Y" -> two finite numbers.
 bool ParsePair(const std::string& text, double* a, double* b) {
@@ -89,20 +89,21 @@ int RunSimulateTurntable(int argc, char** argv) {
       "--hand-error-deg 10\n"
       "\nexit status: 0 ok, 1 error writing the files, 2 bad flags or values");
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
-  if (out_dir.empty()) return UsageError(kCmd, "--out DIR is required");
+  if (out_dir.empty()) return UsageError(kTurntableCmd, "--out DIR is required");
   if (!ParsePair(offset, &spec.robot_on_table.x, &spec.robot_on_table.y)) {
-    return UsageError(kCmd,
+    return UsageError(kTurntableCmd,
                       "--robot-offset needs X,Y in metres (e.g. 0.03,-0.02), got '" + offset + "'");
   }
   if (std::abs(axis_x) > 10.0 || std::abs(axis_y) > 10.0) {
-    return UsageError(kCmd, "--axis-x and --axis-y must be within +-10 m");
+    return UsageError(kTurntableCmd, "--axis-x and --axis-y must be within +-10 m");
   }
   if (!(std::abs(step_deg) <= 360.0) || !(std::abs(error_deg) <= 90.0)) {
-    return UsageError(kCmd, "--step-deg must be within +-360 and --hand-error-deg within [0, 90]");
+    return UsageError(kTurntableCmd,
+                      "--step-deg must be within +-360 and --hand-error-deg within [0, 90]");
   }
-  if (seed < 0) return UsageError(kCmd, "--seed must be >= 0");
+  if (seed < 0) return UsageError(kTurntableCmd, "--seed must be >= 0");
   if (width < 16 || width > 4096 || height < 16 || height > 4096) {
-    return UsageError(kCmd, "--width and --height must be in [16, 4096] pixels");
+    return UsageError(kTurntableCmd, "--width and --height must be in [16, 4096] pixels");
   }
   spec.preset = pose_name;
   spec.axis_ground = Eigen::Vector2d(axis_x, axis_y);
@@ -129,20 +130,21 @@ int RunSimulateTurntable(int argc, char** argv) {
   Result<TurntableCaptures> captures = SimulateTurntableCaptures(spec);
   if (!captures.ok()) {
     if (captures.error().code == ErrorCode::kInvalidArgument) {
-      return UsageError(kCmd, captures.error().message);
+      return UsageError(kTurntableCmd, captures.error().message);
     }
-    return ReportError(kCmd, captures.error());
+    return ReportError(kTurntableCmd, captures.error());
   }
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec || !std::filesystem::is_directory(out_dir)) {
-    return ReportError(kCmd, MakeError(ErrorCode::kInternal,
-                                       "cannot create directory " + out_dir + ": " + ec.message()));
+    return ReportError(kTurntableCmd,
+                       MakeError(ErrorCode::kInternal,
+                                 "cannot create directory " + out_dir + ": " + ec.message()));
   }
   const std::filesystem::path dir(out_dir);
   if (Status s = WriteIntrinsicsJson(spec.intrinsics, (dir / "intrinsics.json").string());
       !s.ok()) {
-    return ReportError(kCmd, s.error());
+    return ReportError(kTurntableCmd, s.error());
   }
   const Eigen::Isometry3d sensor_from_ground = captures->sensor_mount.ground_from_sensor.inverse();
   const Eigen::Vector3d axis_point = sensor_from_ground * Eigen::Vector3d(axis_x, axis_y, 0.0);
@@ -173,7 +175,7 @@ int RunSimulateTurntable(int argc, char** argv) {
     char name[32];
     std::snprintf(name, sizeof(name), "depth_%03d.png", i);
     if (Status s = WriteDepthPng(captures->depth[i], (dir / name).string()); !s.ok()) {
-      return ReportError(kCmd, s.error());
+      return ReportError(kTurntableCmd, s.error());
     }
     truth["views"].push_back({{"depth_file", name},
                               {"table_angle_rad", captures->table_angles_rad[i]},
@@ -188,7 +190,7 @@ int RunSimulateTurntable(int argc, char** argv) {
   }
   if (Status s = WriteFileAtomically((dir / "truth.json").string(), truth.dump(2) + "\n");
       !s.ok()) {
-    return ReportError(kCmd, s.error());
+    return ReportError(kTurntableCmd, s.error());
   }
   std::cout << "wrote " << spec.views << " captures, intrinsics.json and truth.json to " << out_dir
             << "\n";

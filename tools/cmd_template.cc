@@ -13,18 +13,13 @@
 #include "core/templates/voxel_template.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
+#include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
 
 namespace hpose::tools {
 namespace {
 
-const char kCmd[] = "template";
-
-std::string Fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
-}
+const char kTemplateCmd[] = "template";
 
 void PrintSaved(const VoxelTemplate& tpl, const std::string& path) {
   std::cout << "wrote " << path << " and " << TemplateSidecarPath(path) << ": '" << tpl.name
@@ -71,7 +66,7 @@ int Generate(int argc, char** argv) {
                              Fixed(model->Height(), 3) + " m tall)";
   Result<VoxelTemplate> tpl = MakeTemplateFromPoints(*points, name, resolution, pose, source);
   if (!tpl.ok()) return UsageError("template generate", tpl.error().message);
-  if (Status s = SaveTemplate(*tpl, out); !s.ok()) return ReportError(kCmd, s.error());
+  if (Status s = SaveTemplate(*tpl, out); !s.ok()) return ReportError(kTemplateCmd, s.error());
   PrintSaved(*tpl, out);
   return kExitOk;
 }
@@ -100,13 +95,13 @@ int FromCloud(int argc, char** argv) {
   }
   const std::string cloud_path = flags.positional().front();
   Result<PointCloud> cloud = ReadCloud(cloud_path);
-  if (!cloud.ok()) return ReportError(kCmd, cloud.error());
+  if (!cloud.ok()) return ReportError(kTemplateCmd, cloud.error());
   const std::string source =
       "hpose template from-cloud " + std::filesystem::path(cloud_path).filename().string();
   Result<VoxelTemplate> tpl = MakeTemplateFromPoints(cloud->points, name, resolution,
                                                      variant.empty() ? name : variant, source);
-  if (!tpl.ok()) return ReportError(kCmd, tpl.error());
-  if (Status s = SaveTemplate(*tpl, out); !s.ok()) return ReportError(kCmd, s.error());
+  if (!tpl.ok()) return ReportError(kTemplateCmd, tpl.error());
+  if (Status s = SaveTemplate(*tpl, out); !s.ok()) return ReportError(kTemplateCmd, s.error());
   PrintSaved(*tpl, out);
   return kExitOk;
 }

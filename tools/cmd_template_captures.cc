@@ -25,6 +25,7 @@
 #include "core/templates/template_io.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
+#include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
 #include "tools/picture_png.h"
 
@@ -33,17 +34,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char kCmd[] = "template from-captures";
+const char kCapturesCmd[] = "template from-captures";
 
 int Fail(const Error& error) {
-  std::cerr << "hpose " << kCmd << ": " << error.message << "\n";
+  std::cerr << "hpose " << kCapturesCmd << ": " << error.message << "\n";
   return kExitError;
-}
-
-std::string Fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
 }
 
 bool ParseList(const std::string& text, std::vector<double>* out) {
@@ -284,32 +279,34 @@ int RunTemplateFromCaptures(int argc, char** argv) {
       "2 bad flags");
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
 
-  if (flags.positional().empty()) return UsageError(kCmd, "give the capture files or a directory");
-  if (name.empty()) return UsageError(kCmd, "--name N is required");
-  if (out.empty()) return UsageError(kCmd, "--out FILE.bt is required");
+  if (flags.positional().empty())
+    return UsageError(kCapturesCmd, "give the capture files or a directory");
+  if (name.empty()) return UsageError(kCapturesCmd, "--name N is required");
+  if (out.empty()) return UsageError(kCapturesCmd, "--out FILE.bt is required");
   const bool hand = !headings_text.empty();
   if (turntable == hand) {
-    return UsageError(kCmd, "say how the robot was turned: --turntable or --headings-deg");
+    return UsageError(kCapturesCmd, "say how the robot was turned: --turntable or --headings-deg");
   }
   if (hand && (flags.Seen("step-deg") || !angles_text.empty())) {
-    return UsageError(kCmd, "--step-deg and --angles-deg are for --turntable");
+    return UsageError(kCapturesCmd, "--step-deg and --angles-deg are for --turntable");
   }
   if (!(resolution >= 0.001 && resolution <= 0.5)) {
-    return UsageError(kCmd, "--resolution must be in [0.001, 0.5] m");
+    return UsageError(kCapturesCmd, "--resolution must be in [0.001, 0.5] m");
   }
   if (!(table_height >= 0.0 && table_height <= 1.5)) {
-    return UsageError(kCmd, "--table-height must be in [0, 1.5] m");
+    return UsageError(kCapturesCmd, "--table-height must be in [0, 1.5] m");
   }
   if (origin_name != "centroid" && origin_name != "axis") {
-    return UsageError(kCmd, "--origin must be centroid or axis, got '" + origin_name + "'");
+    return UsageError(kCapturesCmd, "--origin must be centroid or axis, got '" + origin_name + "'");
   }
-  if (origin_name == "axis" && hand) return UsageError(kCmd, "--origin axis needs --turntable");
+  if (origin_name == "axis" && hand)
+    return UsageError(kCapturesCmd, "--origin axis needs --turntable");
   if (!(max_rms_mm > 0.0) || !(min_inliers >= 0.0 && min_inliers <= 1.0)) {
-    return UsageError(kCmd, "--max-rms-mm must be > 0 and --min-inliers in [0, 1]");
+    return UsageError(kCapturesCmd, "--max-rms-mm must be > 0 and --min-inliers in [0, 1]");
   }
   if (!(axis_search >= 0.0 && axis_search <= 2.0) ||
       !(heading_search_deg >= 0.0 && heading_search_deg <= 90.0)) {
-    return UsageError(kCmd,
+    return UsageError(kCapturesCmd,
                       "--axis-search-m must be in [0, 2] and --heading-search-deg in [0, 90]");
   }
 
@@ -319,23 +316,23 @@ int RunTemplateFromCaptures(int argc, char** argv) {
   std::vector<double> angles_deg;
   if (hand) {
     if (!ParseList(headings_text, &angles_deg)) {
-      return UsageError(
-          kCmd, "--headings-deg needs comma-separated degrees, got '" + headings_text + "'");
+      return UsageError(kCapturesCmd, "--headings-deg needs comma-separated degrees, got '" +
+                                          headings_text + "'");
     }
   } else if (!angles_text.empty()) {
     if (!ParseList(angles_text, &angles_deg)) {
-      return UsageError(kCmd,
+      return UsageError(kCapturesCmd,
                         "--angles-deg needs comma-separated degrees, got '" + angles_text + "'");
     }
   } else {
     for (int i = 0; i < n; ++i) angles_deg.push_back(i * step_deg);
   }
   if (static_cast<int>(angles_deg.size()) != n) {
-    return UsageError(
-        kCmd, std::to_string(angles_deg.size()) + " angles for " + std::to_string(n) + " captures");
+    return UsageError(kCapturesCmd, std::to_string(angles_deg.size()) + " angles for " +
+                                        std::to_string(n) + " captures");
   }
   if (front_view < 0 || front_view >= n) {
-    return UsageError(kCmd, "--front-view must be in [0, " + std::to_string(n - 1) + "]");
+    return UsageError(kCapturesCmd, "--front-view must be in [0, " + std::to_string(n - 1) + "]");
   }
 
   const auto start = std::chrono::steady_clock::now();

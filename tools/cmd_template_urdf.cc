@@ -12,6 +12,7 @@
 #include "core/templates/voxel_template.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
+#include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
 #include "tools/robot_flags.h"
 
@@ -19,12 +20,6 @@ namespace hpose::tools {
 namespace {
 
 const char kSub[] = "template from-urdf";
-
-std::string Fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
-}
 
 // Lists the joints a user may set, with their limits and mimics.
 void PrintJoints(const UrdfRobot& robot) {

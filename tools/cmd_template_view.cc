@@ -10,17 +10,12 @@
 #include "core/templates/voxel_template.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
+#include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
 #include "tools/template_picture.h"
 
 namespace hpose::tools {
 namespace {
-
-std::string Fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
-}
 
 const char kAsymmetryHelp[] =
     "Asymmetry: orthographic depth images of the voxels are compared cell by cell (a cell\n"

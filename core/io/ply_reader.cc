@@ -55,13 +55,13 @@ struct PlyHeader {
   std::size_t data_offset = 0;
 };
 
-Error Corrupt(const std::string& path, const std::string& what) {
+Error PlyCorrupt(const std::string& path, const std::string& what) {
   return MakeError(ErrorCode::kDataLoss, path + ": " + what);
 }
 
-Result<PlyHeader> ParseHeader(const std::string& file, const std::string& path) {
+Result<PlyHeader> ParsePlyHeader(const std::string& file, const std::string& path) {
   if (file.compare(0, 3, "ply") != 0 || file.size() < 4 || (file[3] != '\n' && file[3] != '\r')) {
-    return Corrupt(path, "not a PLY file (it does not start with 'ply')");
+    return PlyCorrupt(path, "not a PLY file (it does not start with 'ply')");
   }
   PlyHeader h;
   bool have_format = false, ended = false;
@@ -73,7 +73,7 @@ Result<PlyHeader> ParseHeader(const std::string& file, const std::string& path) 
     at = end + 1;
     if (t.empty()) continue;
     if (t[0] == "format") {
-      if (t.size() < 2) return Corrupt(path, "PLY format line has no format");
+      if (t.size() < 2) return PlyCorrupt(path, "PLY format line has no format");
       if (t[1] == "ascii") {
         h.format = PlyFormat::kAscii;
       } else if (t[1] == "binary_little_endian") {
@@ -81,13 +81,13 @@ Result<PlyHeader> ParseHeader(const std::string& file, const std::string& path) 
       } else if (t[1] == "binary_big_endian") {
         h.format = PlyFormat::kBinaryBigEndian;
       } else {
-        return Corrupt(path, "unknown PLY format '" + t[1] + "'");
+        return PlyCorrupt(path, "unknown PLY format '" + t[1] + "'");
       }
       have_format = true;
     } else if (t[0] == "element") {
       std::uint64_t count = 0;
       if (t.size() != 3 || !ParseUnsigned(t[2], &count)) {
-        return Corrupt(path, "PLY element line has no name and non-negative count");
+        return PlyCorrupt(path, "PLY element line has no name and non-negative count");
       }
       if (count > kMaxCloudFilePoints) {
         return MakeError(ErrorCode::kOutOfRange, path + ": PLY element '" + t[1] + "' count " +
@@ -97,7 +97,7 @@ Result<PlyHeader> ParseHeader(const std::string& file, const std::string& path) 
       }
       h.elements.push_back(PlyElement{t[1], count, {}});
     } else if (t[0] == "property") {
-      if (h.elements.empty()) return Corrupt(path, "PLY property before any element");
+      if (h.elements.empty()) return PlyCorrupt(path, "PLY property before any element");
       PlyProperty p;
       p.list = t.size() == 5 && t[1] == "list";
       if (p.list) {
@@ -105,16 +105,16 @@ Result<PlyHeader> ParseHeader(const std::string& file, const std::string& path) 
         p.type = TypeNamed(t[3]);
         p.name = t[4];
         if (p.count_type.bytes == 0 || p.count_type.is_float) {
-          return Corrupt(path, "PLY list property '" + p.name + "' has no integer length type");
+          return PlyCorrupt(path, "PLY list property '" + p.name + "' has no integer length type");
         }
       } else if (t.size() == 3) {
         p.type = TypeNamed(t[1]);
         p.name = t[2];
       } else {
-        return Corrupt(path, "PLY property line with " + std::to_string(t.size()) + " words");
+        return PlyCorrupt(path, "PLY property line with " + std::to_string(t.size()) + " words");
       }
       if (p.type.bytes == 0)
-        return Corrupt(path, "PLY property '" + p.name + "' has an unknown type");
+        return PlyCorrupt(path, "PLY property '" + p.name + "' has an unknown type");
       h.elements.back().properties.push_back(p);
     } else if (t[0] == "obj_info" && t.size() == 3 && (t[1] == "num_cols" || t[1] == "num_rows")) {
       ParseUnsigned(t[2], t[1] == "num_cols" ? &h.columns : &h.rows);
@@ -122,8 +122,8 @@ Result<PlyHeader> ParseHeader(const std::string& file, const std::string& path) 
       ended = true;
     }
   }
-  if (!ended) return Corrupt(path, "the PLY header has no end_header");
-  if (!have_format) return Corrupt(path, "the PLY header has no format line");
+  if (!ended) return PlyCorrupt(path, "the PLY header has no end_header");
+  if (!have_format) return PlyCorrupt(path, "the PLY header has no format line");
   h.data_offset = std::min(at, file.size());
   return h;
 }
@@ -215,7 +215,7 @@ int PropertyIndex(const PlyElement& element, const std::string& name) {
 Result<PointCloud> ReadPly(const std::string& path) {
   Result<std::string> file = ReadFile(path);
   if (!file.ok()) return file.error();
-  Result<PlyHeader> header = ParseHeader(*file, path);
+  Result<PlyHeader> header = ParsePlyHeader(*file, path);
   if (!header.ok()) return header.error();
   const PlyHeader& h = *header;
   const auto vertex = std::find_if(h.elements.begin(), h.elements.end(),
@@ -240,9 +240,9 @@ Result<PointCloud> ReadPly(const std::string& path) {
   // Every record takes a byte at least: a count beyond the data is refused before allocating.
   const std::size_t remaining = file->size() - h.data_offset;
   if (vertex->count > remaining) {
-    return Corrupt(path, "the PLY announces " + std::to_string(vertex->count) +
-                             " vertices but only " + std::to_string(remaining) +
-                             " bytes follow the header");
+    return PlyCorrupt(path, "the PLY announces " + std::to_string(vertex->count) +
+                                " vertices but only " + std::to_string(remaining) +
+                                " bytes follow the header");
   }
   PointCloud cloud;
   cloud.points.resize(vertex->count);
@@ -255,8 +255,8 @@ Result<PointCloud> ReadPly(const std::string& path) {
     const bool is_vertex = &e == &*vertex;
     for (std::uint64_t r = 0; r < e.count; ++r) {
       if (!ReadRecord(e, &cursor, &values)) {
-        return Corrupt(path, "corrupt or truncated PLY element '" + e.name + "' (record " +
-                                 std::to_string(r) + " of " + std::to_string(e.count) + ")");
+        return PlyCorrupt(path, "corrupt or truncated PLY element '" + e.name + "' (record " +
+                                    std::to_string(r) + " of " + std::to_string(e.count) + ")");
       }
       if (is_vertex) {
         for (int c = 0; c < 3; ++c) cloud.points[r][c] = static_cast<float>(values[xyz[c]]);

@@ -14,9 +14,9 @@ namespace {
 
 // The objective at the poses of one refinement: the prepared evaluation (RefineObjective) by
 // default, or the reference one when the options ask for it.
-class Evaluator {
+class RefineEvaluator {
  public:
-  Evaluator(const SurfaceModel& model, const Observation& obs, const RefineOptions& o)
+  RefineEvaluator(const SurfaceModel& model, const Observation& obs, const RefineOptions& o)
       : model_(model), obs_(obs), options_(o) {
     if (!o.reference_evaluation) prepared_.emplace(model, obs, o);
   }
@@ -51,14 +51,14 @@ double PoseEvidence::Fit() const { return 100.0 * Explained() * (1.0 - Contradic
 
 PoseEvidence EvaluatePose(const SurfaceModel& model, const Observation& obs, const Pose2D& pose,
                           const RefineOptions& options) {
-  return Evaluator(model, obs, options).At(pose).evidence;
+  return RefineEvaluator(model, obs, options).At(pose).evidence;
 }
 
 RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const Pose2D& start,
                        const RefineOptions& o) {
   RefinedPose out;
   out.pose = start;
-  Evaluator evaluate(model, obs, o);
+  RefineEvaluator evaluate(model, obs, o);
   Linearisation lin = evaluate.At(start);
   out.evaluations = 1;
   if (!o.enabled) {

@@ -4,11 +4,12 @@
 #include <cassert>
 #include <cmath>
 
+#include "core/common/pose2d.h"
+
 namespace hpose {
 namespace {
 
 constexpr double kEps = 1e-12;
-constexpr double kPiD = 3.14159265358979323846;
 
 // Keeps the nearest candidate with t in (t_min, t_max).
 struct HitCollector {
@@ -66,8 +67,8 @@ void OfferTube(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double r, dou
 
 // Points on a sphere of radius r around the origin, roughly `spacing` apart (Fibonacci lattice).
 std::vector<Eigen::Vector3d> FibonacciSphere(double r, double spacing) {
-  const int n = std::max(8, static_cast<int>(std::ceil(4.0 * kPiD * r * r / (spacing * spacing))));
-  const double golden_angle = kPiD * (3.0 - std::sqrt(5.0));
+  const int n = std::max(8, static_cast<int>(std::ceil(4.0 * kPi * r * r / (spacing * spacing))));
+  const double golden_angle = kPi * (3.0 - std::sqrt(5.0));
   std::vector<Eigen::Vector3d> out;
   out.reserve(n);
   for (int i = 0; i < n; ++i) {
@@ -85,12 +86,12 @@ int Steps(double length, double spacing) {
 
 // Rings of points on a z-aligned tube of radius r for z in [-h, h].
 void SampleTube(double r, double h, double spacing, std::vector<Eigen::Vector3d>* out) {
-  const int n_theta = std::max(6, Steps(2.0 * kPiD * r, spacing));
+  const int n_theta = std::max(6, Steps(2.0 * kPi * r, spacing));
   const int n_z = Steps(2.0 * h, spacing);
   for (int k = 0; k <= n_z; ++k) {
     const double z = -h + 2.0 * h * k / n_z;
     for (int j = 0; j < n_theta; ++j) {
-      const double a = 2.0 * kPiD * j / n_theta;
+      const double a = 2.0 * kPi * j / n_theta;
       out->emplace_back(r * std::cos(a), r * std::sin(a), z);
     }
   }
@@ -101,9 +102,9 @@ void SampleDisc(double r, double z, double spacing, std::vector<Eigen::Vector3d>
   const int n_r = Steps(r, spacing);
   for (int j = 0; j <= n_r; ++j) {
     const double rho = r * j / n_r;
-    const int n_theta = std::max(1, Steps(2.0 * kPiD * rho, spacing));
+    const int n_theta = std::max(1, Steps(2.0 * kPi * rho, spacing));
     for (int k = 0; k < n_theta; ++k) {
-      const double a = 2.0 * kPiD * k / n_theta;
+      const double a = 2.0 * kPi * k / n_theta;
       out->emplace_back(rho * std::cos(a), rho * std::sin(a), z);
     }
   }

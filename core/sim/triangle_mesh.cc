@@ -7,10 +7,10 @@
 #include <tuple>
 #include <unordered_set>
 
+#include "core/common/pose2d.h"
+
 namespace hpose {
 namespace {
-
-constexpr double kPiD = 3.14159265358979323846;
 
 // Adds a ring-by-ring surface of revolution around the local z axis: `rings` holds (radius, z)
 // pairs from bottom to top; a zero radius is a pole. The result is closed when the first and
@@ -21,7 +21,7 @@ void AddRevolution(const std::vector<Eigen::Vector2d>& rings, int segments, Tria
     first_index.push_back(static_cast<int>(mesh->vertices.size()));
     const int count = rz.x() > 0.0 ? segments : 1;
     for (int s = 0; s < count; ++s) {
-      const double a = 2.0 * kPiD * s / segments;
+      const double a = 2.0 * kPi * s / segments;
       mesh->vertices.emplace_back(static_cast<float>(rz.x() * std::cos(a)),
                                   static_cast<float>(rz.x() * std::sin(a)),
                                   static_cast<float>(rz.y()));
@@ -134,14 +134,14 @@ TriangleMesh TessellatePrimitive(const Primitive& p, double max_edge_m) {
   const Eigen::Vector3d& h = p.half_size;
   const double r = h.x();
   const int segments =
-      std::max(12, static_cast<int>(std::ceil(2.0 * kPiD * std::max(r, 1e-6) / max_edge_m)));
+      std::max(12, static_cast<int>(std::ceil(2.0 * kPi * std::max(r, 1e-6) / max_edge_m)));
   // Rings of a hemisphere of radius r centred at z = zc, from the equator towards the pole on
   // side `sign` (the equator itself excluded).
   auto hemisphere = [&](double zc, int sign) {
     std::vector<Eigen::Vector2d> rings;
     const int steps = std::max(3, segments / 4);
     for (int i = 1; i <= steps; ++i) {
-      const double a = 0.5 * kPiD * i / steps;
+      const double a = 0.5 * kPi * i / steps;
       rings.emplace_back(i == steps ? 0.0 : r * std::cos(a), zc + sign * r * std::sin(a));
     }
     return rings;

@@ -25,7 +25,7 @@ std::map<Cell, int> CountCells(const std::vector<Eigen::Vector3f>& points, doubl
   return cells;
 }
 
-Cell CellOf(const Eigen::Vector3f& p, double resolution_m) {
+Cell CellTupleOf(const Eigen::Vector3f& p, double resolution_m) {
   const double inv = 1.0 / resolution_m;
   return {static_cast<int>(std::floor(inv * p.x())), static_cast<int>(std::floor(inv * p.y())),
           static_cast<int>(std::floor(inv * p.z()))};
@@ -84,7 +84,7 @@ std::vector<Eigen::Vector3f> DropSparseVoxels(const std::vector<Eigen::Vector3f>
   out.reserve(points.size());
   for (const Eigen::Vector3f& p : points) {
     if (!p.allFinite()) continue;
-    if (cells.at(CellOf(p, resolution_m)) >= min_points_per_voxel) out.push_back(p);
+    if (cells.at(CellTupleOf(p, resolution_m)) >= min_points_per_voxel) out.push_back(p);
   }
   return out;
 }
