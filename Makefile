@@ -102,7 +102,6 @@ san-configure: deps
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SAN_FLAGS)" -DCMAKE_C_FLAGS_RELWITHDEBINFO="$(SAN_FLAGS)" \
 	  -DHPOSE_FUZZ=ON -DHPOSE_BUILD_BENCH=OFF -DHPOSE_FUZZ_SECONDS=$(FUZZ_SECONDS) \
-	  -DHPOSE_UNITY_BUILD=ON \
 	  > $(SAN_DIR).configure.log 2>&1 || { cat $(SAN_DIR).configure.log; exit 1; }
 
 # libFuzzer targets for every file reader and the Estimate request path, seeded with real files;
