@@ -14,21 +14,18 @@ namespace {
 
 using Cell = std::tuple<int, int, int>;
 
-std::map<Cell, int> CountCells(const std::vector<Eigen::Vector3f>& points, double resolution_m) {
-  std::map<Cell, int> cells;
-  const double inv = 1.0 / resolution_m;
-  for (const Eigen::Vector3f& p : points) {
-    if (!p.allFinite()) continue;
-    ++cells[{static_cast<int>(std::floor(inv * p.x())), static_cast<int>(std::floor(inv * p.y())),
-             static_cast<int>(std::floor(inv * p.z()))}];
-  }
-  return cells;
-}
-
 Cell CellTupleOf(const Eigen::Vector3f& p, double resolution_m) {
   const double inv = 1.0 / resolution_m;
   return {static_cast<int>(std::floor(inv * p.x())), static_cast<int>(std::floor(inv * p.y())),
           static_cast<int>(std::floor(inv * p.z()))};
+}
+
+std::map<Cell, int> CountCells(const std::vector<Eigen::Vector3f>& points, double resolution_m) {
+  std::map<Cell, int> cells;
+  for (const Eigen::Vector3f& p : points) {
+    if (p.allFinite()) ++cells[CellTupleOf(p, resolution_m)];
+  }
+  return cells;
 }
 
 }  // namespace
