@@ -87,16 +87,15 @@ std::vector<int> PclEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& p
     (*pcl_cloud)[i].y = points[i].y();
     (*pcl_cloud)[i].z = points[i].z();
   }
+  // What pcl::EuclideanClusterExtraction::extract does with a kd-tree given, called directly: its
+  // class also instantiates PCL's organized-cloud search, which doubled this file's compile time.
   auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>(/*sorted=*/false);
   tree->setInputCloud(pcl_cloud);
-  pcl::EuclideanClusterExtraction<pcl::PointXYZ> extraction;
-  extraction.setClusterTolerance(tolerance_m);
-  extraction.setMinClusterSize(1);  // sizes are checked on the fine points.
-  extraction.setMaxClusterSize(std::numeric_limits<int>::max());
-  extraction.setSearchMethod(tree);
-  extraction.setInputCloud(pcl_cloud);
   std::vector<pcl::PointIndices> found;
-  extraction.extract(found);
+  // Sizes are checked on the fine points: no limits here.
+  pcl::extractEuclideanClusters(*pcl_cloud, tree, static_cast<float>(tolerance_m), found, 1,
+                                std::numeric_limits<int>::max());
+  std::sort(found.rbegin(), found.rend(), pcl::comparePointClusters);  // largest first.
   std::vector<int> labels(points.size(), -1);
   for (size_t c = 0; c < found.size(); ++c) {
     for (const int i : found[c].indices) labels[i] = static_cast<int>(c);
