@@ -112,7 +112,7 @@ fuzz: san-configure
 
 # The whole test suite under the sanitizers, and every fuzz target for TEST_FUZZ_SECONDS (a
 # short run with the suite, seeded as `make fuzz` seeds; `make fuzz` runs longer).
-TEST_FUZZ_SECONDS ?= 20
+TEST_FUZZ_SECONDS ?= 10
 test-asan: san-configure
 	cmake --build $(SAN_DIR) -j $(JOBS)
 	cd $(SAN_DIR) && $(SAN_ENV) HPOSE_FUZZ_SECONDS=$(TEST_FUZZ_SECONDS) \
