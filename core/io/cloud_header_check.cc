@@ -16,10 +16,6 @@ constexpr std::size_t kMaxHeaderBytes = 64 * 1024;
 // LZF (PCD binary_compressed) expands at most ~90x; anything claiming more is forged.
 constexpr std::uint64_t kMaxCompressionRatio = 100;
 
-Error Bad(const std::string& path, const std::string& what) {
-  return MakeError(ErrorCode::kDataLoss, path + ": " + what);
-}
-
 // Parses a decimal integer (possibly negative) that must fill the whole token.
 bool ParseInt(const std::string& token, long long* out) {
   if (token.empty()) return false;
@@ -39,7 +35,7 @@ std::vector<std::string> Split(const std::string& line) {
 
 // Checks a count against the limit; `what` names it in the message.
 Status CheckCount(const std::string& path, const std::string& what, long long count) {
-  if (count < 0) return Bad(path, what + " " + std::to_string(count) + " is negative");
+  if (count < 0) return FileDataLoss(path, what + " " + std::to_string(count) + " is negative");
   if (static_cast<std::uint64_t>(count) > kMaxCloudFilePoints) {
     return MakeError(ErrorCode::kOutOfRange,
                      path + ": " + what + " " + std::to_string(count) + " is more than the " +
@@ -50,9 +46,9 @@ Status CheckCount(const std::string& path, const std::string& what, long long co
 
 Status ShortData(const std::string& path, std::uint64_t points, std::uint64_t need,
                  std::uint64_t have) {
-  return Bad(path, "the header announces " + std::to_string(points) + " points (" +
-                       std::to_string(need) + " bytes at least) but only " + std::to_string(have) +
-                       " bytes follow it");
+  return FileDataLoss(path, "the header announces " + std::to_string(points) + " points (" +
+                                std::to_string(need) + " bytes at least) but only " +
+                                std::to_string(have) + " bytes follow it");
 }
 
 Status CheckPcd(const std::string& path, const std::string& head, std::uint64_t file_bytes) {
@@ -72,7 +68,8 @@ Status CheckPcd(const std::string& path, const std::string& head, std::uint64_t 
       for (std::size_t i = 1; i < t.size(); ++i) {
         long long v;
         if (!ParseInt(t[i], &v) || v < 1 || v > 1 << 20) {
-          return Bad(path, "PCD " + t[0] + " value '" + t[i] + "' is not a positive integer");
+          return FileDataLoss(path,
+                              "PCD " + t[0] + " value '" + t[i] + "' is not a positive integer");
         }
         out->push_back(v);
       }
@@ -88,7 +85,7 @@ Status CheckPcd(const std::string& path, const std::string& head, std::uint64_t 
     if (!st.ok()) return st;
     if (scalar != nullptr) {
       if (t.size() != 2 || !ParseInt(t[1], scalar)) {
-        return Bad(path, "PCD " + t[0] + " is not an integer");
+        return FileDataLoss(path, "PCD " + t[0] + " is not an integer");
       }
       st = CheckCount(path, "PCD " + t[0], *scalar);
       if (!st.ok()) return st;
@@ -99,9 +96,11 @@ Status CheckPcd(const std::string& path, const std::string& head, std::uint64_t 
       break;
     }
   }
-  if (data.empty()) return Bad(path, "no DATA line within the first 64 KiB (not a PCD header)");
+  if (data.empty())
+    return FileDataLoss(path, "no DATA line within the first 64 KiB (not a PCD header)");
   if (counts.empty()) counts.assign(sizes.size(), 1);
-  if (counts.size() != sizes.size()) return Bad(path, "PCD SIZE and COUNT differ in length");
+  if (counts.size() != sizes.size())
+    return FileDataLoss(path, "PCD SIZE and COUNT differ in length");
   for (std::size_t i = 0; i < sizes.size(); ++i) {
     point_step += static_cast<std::uint64_t>(sizes[i]) * counts[i];
     values += static_cast<std::uint64_t>(counts[i]);
@@ -121,26 +120,28 @@ Status CheckPcd(const std::string& path, const std::string& head, std::uint64_t 
   } else if (data == "binary_compressed") {
     if (remaining < 8) return ShortData(path, n, 8, remaining);
     const auto* p = reinterpret_cast<const unsigned char*>(head.data() + data_offset);
-    if (data_offset + 8 > head.size()) return Bad(path, "truncated binary_compressed sizes");
+    if (data_offset + 8 > head.size())
+      return FileDataLoss(path, "truncated binary_compressed sizes");
     const std::uint64_t compressed = p[0] | p[1] << 8 | p[2] << 16 | std::uint64_t{p[3]} << 24;
     const std::uint64_t uncompressed = p[4] | p[5] << 8 | p[6] << 16 | std::uint64_t{p[7]} << 24;
     if (compressed > remaining - 8) {
-      return Bad(path, "binary_compressed data claims " + std::to_string(compressed) +
-                           " compressed bytes but only " + std::to_string(remaining - 8) +
-                           " follow");
+      return FileDataLoss(path, "binary_compressed data claims " + std::to_string(compressed) +
+                                    " compressed bytes but only " + std::to_string(remaining - 8) +
+                                    " follow");
     }
     if (n > 0 && uncompressed != n * point_step) {
-      return Bad(path, "binary_compressed data unpacks to " + std::to_string(uncompressed) +
-                           " bytes, but " + std::to_string(n) + " points of " +
-                           std::to_string(point_step) + " bytes need " +
-                           std::to_string(n * point_step));
+      return FileDataLoss(path, "binary_compressed data unpacks to " +
+                                    std::to_string(uncompressed) + " bytes, but " +
+                                    std::to_string(n) + " points of " + std::to_string(point_step) +
+                                    " bytes need " + std::to_string(n * point_step));
     }
     if (uncompressed > kMaxCompressionRatio * (compressed + 1)) {
-      return Bad(path, "binary_compressed data claims to unpack " + std::to_string(compressed) +
-                           " bytes into " + std::to_string(uncompressed) + " (more than LZF can)");
+      return FileDataLoss(path, "binary_compressed data claims to unpack " +
+                                    std::to_string(compressed) + " bytes into " +
+                                    std::to_string(uncompressed) + " (more than LZF can)");
     }
   } else {
-    return Bad(path, "unknown PCD DATA kind '" + data + "'");
+    return FileDataLoss(path, "unknown PCD DATA kind '" + data + "'");
   }
   return Status::Ok();
 }
@@ -177,7 +178,7 @@ Status CheckPly(const std::string& path, const std::string& head, std::uint64_t 
     if (t[0] == "element") {
       long long count;
       if (t.size() != 3 || !ParseInt(t[2], &count)) {
-        return Bad(path, "PLY element line '" + line + "' has no integer count");
+        return FileDataLoss(path, "PLY element line '" + line + "' has no integer count");
       }
       const Status st = CheckCount(path, "PLY element '" + t[1] + "' count", count);
       if (!st.ok()) return st;
@@ -185,7 +186,7 @@ Status CheckPly(const std::string& path, const std::string& head, std::uint64_t 
     }
     if (t[0] == "property" && !elements.empty() && t.size() >= 3) {
       const int bytes = PlyTypeBytes(t[1] == "list" ? t[2] : t[1]);
-      if (bytes == 0) return Bad(path, "PLY property type '" + t[1] + "' is unknown");
+      if (bytes == 0) return FileDataLoss(path, "PLY property type '" + t[1] + "' is unknown");
       elements.back().min_bytes += static_cast<std::uint64_t>(bytes);
       elements.back().values += 1;
     }
@@ -195,7 +196,7 @@ Status CheckPly(const std::string& path, const std::string& head, std::uint64_t 
       break;
     }
   }
-  if (!ended) return Bad(path, "no end_header within the first 64 KiB (not a PLY header)");
+  if (!ended) return FileDataLoss(path, "no end_header within the first 64 KiB (not a PLY header)");
   const std::uint64_t remaining = file_bytes - std::min<std::uint64_t>(file_bytes, data_offset);
   std::uint64_t need = 0, points = 0;
   for (const Element& e : elements) {

@@ -71,4 +71,8 @@ Result<std::string> ReadFileHead(const std::string& path, std::size_t max_bytes)
   return head;
 }
 
+Error FileDataLoss(const std::string& path, const std::string& what) {
+  return MakeError(ErrorCode::kDataLoss, path + ": " + what);
+}
+
 }  // namespace hpose

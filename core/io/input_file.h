@@ -18,6 +18,9 @@ constexpr std::uint64_t kMaxInputFileBytes = std::uint64_t{2} << 30;
 Result<std::uint64_t> CheckInputFile(const std::string& path,
                                      std::uint64_t max_bytes = kMaxInputFileBytes);
 
+// The error for a file whose contents are not what its format says (kDataLoss): "<path>: <what>".
+Error FileDataLoss(const std::string& path, const std::string& what);
+
 // Reads at most `max_bytes` from the start of a file that passed CheckInputFile.
 Result<std::string> ReadFileHead(const std::string& path, std::size_t max_bytes);
 

@@ -8,15 +8,12 @@
 #include <fstream>
 #include <vector>
 
+#include "core/io/input_file.h"
 #include "core/io/intrinsics_json.h"
 
 namespace hpose {
 
 namespace {
-
-Error Malformed(const std::string& path, const std::string& what) {
-  return MakeError(ErrorCode::kDataLoss, path + ": " + what);
-}
 
 // The first of `keys` that `node` has, or an undefined node.
 YAML::Node FirstOf(const YAML::Node& node, std::initializer_list<const char*> keys) {
@@ -35,19 +32,19 @@ Result<Intrinsics> ReadCameraInfoYaml(const std::string& path) {
   try {
     root = YAML::LoadFile(path);
   } catch (const std::exception& e) {
-    return Malformed(path, std::string("not valid YAML (") + e.what() + ")");
+    return FileDataLoss(path, std::string("not valid YAML (") + e.what() + ")");
   }
-  if (!root.IsMap()) return Malformed(path, "expected a ROS camera_info mapping");
+  if (!root.IsMap()) return FileDataLoss(path, "expected a ROS camera_info mapping");
   const YAML::Node width = FirstOf(root, {"image_width", "width"});
   const YAML::Node height = FirstOf(root, {"image_height", "height"});
   if (!width || !height) {
-    return Malformed(path, "missing image_width/image_height (or width/height)");
+    return FileDataLoss(path, "missing image_width/image_height (or width/height)");
   }
   YAML::Node matrix = FirstOf(root, {"camera_matrix", "K", "k"});
-  if (!matrix) return Malformed(path, "missing camera_matrix (or K)");
+  if (!matrix) return FileDataLoss(path, "missing camera_matrix (or K)");
   if (matrix.IsMap()) matrix = matrix["data"];
   if (!matrix || !matrix.IsSequence() || matrix.size() != 9) {
-    return Malformed(path, "camera_matrix: expected 9 numbers (row-major 3x3)");
+    return FileDataLoss(path, "camera_matrix: expected 9 numbers (row-major 3x3)");
   }
   Intrinsics k;
   try {
@@ -60,7 +57,7 @@ Result<Intrinsics> ReadCameraInfoYaml(const std::string& path) {
     k.fy = m[4];
     k.cy = m[5];
   } catch (const std::exception&) {
-    return Malformed(path, "image size and camera_matrix must be numbers");
+    return FileDataLoss(path, "image size and camera_matrix must be numbers");
   }
   Status valid = k.Validate();
   if (!valid.ok()) {

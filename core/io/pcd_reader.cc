@@ -8,6 +8,7 @@
 #include "core/io/atomic_file.h"
 #include "core/io/cloud_header_check.h"
 #include "core/io/cloud_text.h"
+#include "core/io/input_file.h"
 #include "core/io/lzf.h"
 
 namespace hpose {
@@ -31,14 +32,10 @@ struct PcdHeader {
   int xyz[3] = {-1, -1, -1};    // indices of the x, y and z fields.
 };
 
-Error PcdCorrupt(const std::string& path, const std::string& what) {
-  return MakeError(ErrorCode::kDataLoss, path + ": " + what);
-}
-
 Result<std::uint64_t> HeaderCount(const std::vector<std::string>& t, const std::string& path) {
   std::uint64_t value = 0;
   if (t.size() != 2 || !ParseUnsigned(t[1], &value)) {
-    return PcdCorrupt(path, "PCD " + t[0] + " is not a non-negative integer");
+    return FileDataLoss(path, "PCD " + t[0] + " is not a non-negative integer");
   }
   return value;
 }
@@ -75,23 +72,24 @@ Result<PcdHeader> ParsePcdHeader(const std::string& file, const std::string& pat
       h.data_offset = std::min(at, file.size());
     }
   }
-  if (h.data.empty()) return PcdCorrupt(path, "not a valid PCD file (the header has no DATA line)");
-  if (h.fields.empty()) return PcdCorrupt(path, "not a valid PCD file (no FIELDS)");
+  if (h.data.empty())
+    return FileDataLoss(path, "not a valid PCD file (the header has no DATA line)");
+  if (h.fields.empty()) return FileDataLoss(path, "not a valid PCD file (no FIELDS)");
   if (sizes.size() != h.fields.size() || types.size() != h.fields.size() ||
       (!counts.empty() && counts.size() != h.fields.size())) {
-    return PcdCorrupt(path, "PCD FIELDS, SIZE, TYPE and COUNT differ in length");
+    return FileDataLoss(path, "PCD FIELDS, SIZE, TYPE and COUNT differ in length");
   }
   for (std::size_t i = 0; i < h.fields.size(); ++i) {
     PcdField& f = h.fields[i];
     std::uint64_t size = 0, count = 1;
     if (!ParseUnsigned(sizes[i], &size) || (size != 1 && size != 2 && size != 4 && size != 8)) {
-      return PcdCorrupt(path, "PCD SIZE of field '" + f.name + "' is not 1, 2, 4 or 8");
+      return FileDataLoss(path, "PCD SIZE of field '" + f.name + "' is not 1, 2, 4 or 8");
     }
     if (types[i].size() != 1 || std::string("IUF").find(types[i][0]) == std::string::npos) {
-      return PcdCorrupt(path, "PCD TYPE of field '" + f.name + "' is not I, U or F");
+      return FileDataLoss(path, "PCD TYPE of field '" + f.name + "' is not I, U or F");
     }
     if (!counts.empty() && (!ParseUnsigned(counts[i], &count) || count < 1 || count > 1 << 20)) {
-      return PcdCorrupt(path, "PCD COUNT of field '" + f.name + "' is not a positive integer");
+      return FileDataLoss(path, "PCD COUNT of field '" + f.name + "' is not a positive integer");
     }
     f.size = static_cast<int>(size);
     f.type = types[i][0];
@@ -127,9 +125,9 @@ Result<PcdHeader> ParsePcdHeader(const std::string& file, const std::string& pat
     h.height = 1;
   }
   if (h.width * h.height != h.points) {
-    return PcdCorrupt(path, "PCD WIDTH x HEIGHT (" + std::to_string(h.width) + " x " +
-                                std::to_string(h.height) + ") is not POINTS (" +
-                                std::to_string(h.points) + ")");
+    return FileDataLoss(path, "PCD WIDTH x HEIGHT (" + std::to_string(h.width) + " x " +
+                                  std::to_string(h.height) + ") is not POINTS (" +
+                                  std::to_string(h.points) + ")");
   }
   return h;
 }
@@ -189,15 +187,15 @@ Status ReadAscii(const PcdHeader& h, const std::string& file, const std::string&
       at = end + 1;
     }
     if (t.size() != tokens) {
-      return PcdCorrupt(path, t.empty() ? "the PCD ends after " + std::to_string(p) + " of " +
-                                              std::to_string(h.points) + " points"
-                                        : "PCD point " + std::to_string(p) + " has " +
-                                              std::to_string(t.size()) + " values, not " +
-                                              std::to_string(tokens));
+      return FileDataLoss(path, t.empty() ? "the PCD ends after " + std::to_string(p) + " of " +
+                                                std::to_string(h.points) + " points"
+                                          : "PCD point " + std::to_string(p) + " has " +
+                                                std::to_string(t.size()) + " values, not " +
+                                                std::to_string(tokens));
     }
     for (int c = 0; c < 3; ++c) {
       if (!ParseFloat(t[token_of[c]], &cloud->points[p][c])) {
-        return PcdCorrupt(
+        return FileDataLoss(
             path, "PCD point " + std::to_string(p) + ": '" + t[token_of[c]] + "' is not a number");
       }
     }
@@ -219,34 +217,35 @@ Result<PointCloud> ReadPcd(const std::string& path) {
 
   PointCloud cloud;
   if (h.data == "ascii") {
-    if (h.points > remaining) return PcdCorrupt(path, "corrupt or truncated PCD point data");
+    if (h.points > remaining) return FileDataLoss(path, "corrupt or truncated PCD point data");
     cloud.points.resize(h.points);
     if (Status s = ReadAscii(h, *file, path, &cloud); !s.ok()) return s.error();
   } else if (h.data == "binary") {
     if (bytes > remaining) {
-      return PcdCorrupt(path, "corrupt or truncated PCD point data: " + std::to_string(h.points) +
-                                  " points need " + std::to_string(bytes) + " bytes, " +
-                                  std::to_string(remaining) + " follow the header");
+      return FileDataLoss(path, "corrupt or truncated PCD point data: " + std::to_string(h.points) +
+                                    " points need " + std::to_string(bytes) + " bytes, " +
+                                    std::to_string(remaining) + " follow the header");
     }
     cloud.points.resize(h.points);
     ReadRecords(h, data, /*field_blocks=*/false, &cloud);
   } else if (h.data == "binary_compressed") {
-    if (remaining < 8) return PcdCorrupt(path, "truncated binary_compressed sizes");
+    if (remaining < 8) return FileDataLoss(path, "truncated binary_compressed sizes");
     std::uint32_t sizes[2];
     std::memcpy(sizes, data, sizeof(sizes));
     if (sizes[0] > remaining - 8 || sizes[1] != bytes) {
-      return PcdCorrupt(path, "binary_compressed sizes (" + std::to_string(sizes[0]) + " packed, " +
-                                  std::to_string(sizes[1]) + " unpacked) do not fit the file and " +
-                                  std::to_string(h.points) + " points");
+      return FileDataLoss(path, "binary_compressed sizes (" + std::to_string(sizes[0]) +
+                                    " packed, " + std::to_string(sizes[1]) +
+                                    " unpacked) do not fit the file and " +
+                                    std::to_string(h.points) + " points");
     }
     std::vector<std::uint8_t> unpacked(bytes);
     if (bytes > 0 && !LzfDecompress(data + 8, sizes[0], unpacked.data(), unpacked.size())) {
-      return PcdCorrupt(path, "corrupt binary_compressed data (LZF)");
+      return FileDataLoss(path, "corrupt binary_compressed data (LZF)");
     }
     cloud.points.resize(h.points);
     ReadRecords(h, unpacked.data(), /*field_blocks=*/true, &cloud);
   } else {
-    return PcdCorrupt(path, "unknown PCD DATA kind '" + h.data + "'");
+    return FileDataLoss(path, "unknown PCD DATA kind '" + h.data + "'");
   }
   if (h.width > 1 && h.height > 1) {
     cloud.width = static_cast<int>(h.width);

@@ -9,6 +9,7 @@
 #include "core/io/atomic_file.h"
 #include "core/io/cloud_header_check.h"
 #include "core/io/cloud_text.h"
+#include "core/io/input_file.h"
 
 namespace hpose {
 namespace {
@@ -55,13 +56,9 @@ struct PlyHeader {
   std::size_t data_offset = 0;
 };
 
-Error PlyCorrupt(const std::string& path, const std::string& what) {
-  return MakeError(ErrorCode::kDataLoss, path + ": " + what);
-}
-
 Result<PlyHeader> ParsePlyHeader(const std::string& file, const std::string& path) {
   if (file.compare(0, 3, "ply") != 0 || file.size() < 4 || (file[3] != '\n' && file[3] != '\r')) {
-    return PlyCorrupt(path, "not a PLY file (it does not start with 'ply')");
+    return FileDataLoss(path, "not a PLY file (it does not start with 'ply')");
   }
   PlyHeader h;
   bool have_format = false, ended = false;
@@ -73,7 +70,7 @@ Result<PlyHeader> ParsePlyHeader(const std::string& file, const std::string& pat
     at = end + 1;
     if (t.empty()) continue;
     if (t[0] == "format") {
-      if (t.size() < 2) return PlyCorrupt(path, "PLY format line has no format");
+      if (t.size() < 2) return FileDataLoss(path, "PLY format line has no format");
       if (t[1] == "ascii") {
         h.format = PlyFormat::kAscii;
       } else if (t[1] == "binary_little_endian") {
@@ -81,13 +78,13 @@ Result<PlyHeader> ParsePlyHeader(const std::string& file, const std::string& pat
       } else if (t[1] == "binary_big_endian") {
         h.format = PlyFormat::kBinaryBigEndian;
       } else {
-        return PlyCorrupt(path, "unknown PLY format '" + t[1] + "'");
+        return FileDataLoss(path, "unknown PLY format '" + t[1] + "'");
       }
       have_format = true;
     } else if (t[0] == "element") {
       std::uint64_t count = 0;
       if (t.size() != 3 || !ParseUnsigned(t[2], &count)) {
-        return PlyCorrupt(path, "PLY element line has no name and non-negative count");
+        return FileDataLoss(path, "PLY element line has no name and non-negative count");
       }
       if (count > kMaxCloudFilePoints) {
         return MakeError(ErrorCode::kOutOfRange, path + ": PLY element '" + t[1] + "' count " +
@@ -97,7 +94,7 @@ Result<PlyHeader> ParsePlyHeader(const std::string& file, const std::string& pat
       }
       h.elements.push_back(PlyElement{t[1], count, {}});
     } else if (t[0] == "property") {
-      if (h.elements.empty()) return PlyCorrupt(path, "PLY property before any element");
+      if (h.elements.empty()) return FileDataLoss(path, "PLY property before any element");
       PlyProperty p;
       p.list = t.size() == 5 && t[1] == "list";
       if (p.list) {
@@ -105,16 +102,17 @@ Result<PlyHeader> ParsePlyHeader(const std::string& file, const std::string& pat
         p.type = TypeNamed(t[3]);
         p.name = t[4];
         if (p.count_type.bytes == 0 || p.count_type.is_float) {
-          return PlyCorrupt(path, "PLY list property '" + p.name + "' has no integer length type");
+          return FileDataLoss(path,
+                              "PLY list property '" + p.name + "' has no integer length type");
         }
       } else if (t.size() == 3) {
         p.type = TypeNamed(t[1]);
         p.name = t[2];
       } else {
-        return PlyCorrupt(path, "PLY property line with " + std::to_string(t.size()) + " words");
+        return FileDataLoss(path, "PLY property line with " + std::to_string(t.size()) + " words");
       }
       if (p.type.bytes == 0)
-        return PlyCorrupt(path, "PLY property '" + p.name + "' has an unknown type");
+        return FileDataLoss(path, "PLY property '" + p.name + "' has an unknown type");
       h.elements.back().properties.push_back(p);
     } else if (t[0] == "obj_info" && t.size() == 3 && (t[1] == "num_cols" || t[1] == "num_rows")) {
       ParseUnsigned(t[2], t[1] == "num_cols" ? &h.columns : &h.rows);
@@ -122,8 +120,8 @@ Result<PlyHeader> ParsePlyHeader(const std::string& file, const std::string& pat
       ended = true;
     }
   }
-  if (!ended) return PlyCorrupt(path, "the PLY header has no end_header");
-  if (!have_format) return PlyCorrupt(path, "the PLY header has no format line");
+  if (!ended) return FileDataLoss(path, "the PLY header has no end_header");
+  if (!have_format) return FileDataLoss(path, "the PLY header has no format line");
   h.data_offset = std::min(at, file.size());
   return h;
 }
@@ -240,9 +238,9 @@ Result<PointCloud> ReadPly(const std::string& path) {
   // Every record takes a byte at least: a count beyond the data is refused before allocating.
   const std::size_t remaining = file->size() - h.data_offset;
   if (vertex->count > remaining) {
-    return PlyCorrupt(path, "the PLY announces " + std::to_string(vertex->count) +
-                                " vertices but only " + std::to_string(remaining) +
-                                " bytes follow the header");
+    return FileDataLoss(path, "the PLY announces " + std::to_string(vertex->count) +
+                                  " vertices but only " + std::to_string(remaining) +
+                                  " bytes follow the header");
   }
   PointCloud cloud;
   cloud.points.resize(vertex->count);
@@ -255,8 +253,8 @@ Result<PointCloud> ReadPly(const std::string& path) {
     const bool is_vertex = &e == &*vertex;
     for (std::uint64_t r = 0; r < e.count; ++r) {
       if (!ReadRecord(e, &cursor, &values)) {
-        return PlyCorrupt(path, "corrupt or truncated PLY element '" + e.name + "' (record " +
-                                    std::to_string(r) + " of " + std::to_string(e.count) + ")");
+        return FileDataLoss(path, "corrupt or truncated PLY element '" + e.name + "' (record " +
+                                      std::to_string(r) + " of " + std::to_string(e.count) + ")");
       }
       if (is_vertex) {
         for (int c = 0; c < 3; ++c) cloud.points[r][c] = static_cast<float>(values[xyz[c]]);
