@@ -25,6 +25,7 @@
 #include "core/stereo/world_from_ground_fit.h"
 #include "server/daemon_config.h"
 #include "server/frame_source.h"
+#include "tools/cmd_calibrate_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
@@ -61,52 +62,28 @@ std::string Base(const std::string& path) {
 }
 
 int RunCalibrateStereo(int argc, char** argv) {
-  std::vector<std::string> lefts, rights;
-  std::string dir, out;
-  ChessboardOptions board;
-  FlagParser flags(
-      "hpose calibrate stereo --out CAL.yaml (--dir DIR | --left L1 --right R1 ...)",
-      "Calibrates a stereo pair from views of a chessboard held still in front of both cameras "
-      "(OpenCV: findChessboardCorners, cornerSubPix, calibrateCamera per camera, "
-      "stereoCalibrate, stereoRectify). Writes the calibration that `hpose estimate-stereo "
-      "--calibration` and hposed read (M1 D1 M2 D2 R T in metres, the image size, R1 R2 P1 P2 "
-      "Q and the RMS error), and prints the RMS reprojection error with a per-pair table. "
-      "Use 10 or more pairs with the board tilted and spread over the whole image.");
-  flags.AddString(
-      "dir", &dir,
-      "directory of pairs named left<N>.<ext> / right<N>.<ext> (N: digits, e.g. left01.jpg)",
-      "DIR");
-  flags.AddStrings("left", &lefts, "left image of one pair (repeat, in the order of --right)",
-                   "IMAGE");
-  flags.AddStrings("right", &rights, "right image of one pair (repeat)", "IMAGE");
-  flags.AddInt("cols", &board.inner_columns, "inner corners along a board row");
-  flags.AddInt("rows", &board.inner_rows, "inner corners along a board column");
-  flags.AddDouble("square", &board.square_m, "side of one chessboard square", "M");
-  flags.AddString("out", &out, "calibration file to write (.yaml or .xml)", "FILE");
-  flags.SetEpilog(
-      "exit status: 0 ok; 1 bad input or too few usable pairs; 2 usage.\n"
-      "example:\n  hpose calibrate stereo --dir ./chessboard --cols 9 --rows 6 --square 0.025 "
-      "--out stereo.yaml\n");
+  CalibrateStereoFlags f;
+  FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::string cmd = "calibrate stereo";
-  if (out.empty()) {
+  if (f.out.empty()) {
     std::cerr << "hpose " << cmd << ": --out is required\n";
     return kExitUsage;
   }
-  if (lefts.size() != rights.size()) {
+  if (f.lefts.size() != f.rights.size()) {
     std::cerr << "hpose " << cmd << ": give as many --left as --right images\n";
     return kExitUsage;
   }
   std::vector<std::pair<std::string, std::string>> files;
-  if (!dir.empty()) {
-    files = PairsInDirectory(dir);
+  if (!f.dir.empty()) {
+    files = PairsInDirectory(f.dir);
     if (files.empty()) {
-      std::cerr << "hpose " << cmd << ": " << dir
+      std::cerr << "hpose " << cmd << ": " << f.dir
                 << ": no left<N>/right<N> image pairs (or not a directory)\n";
       return kExitError;
     }
   }
-  for (size_t i = 0; i < lefts.size(); ++i) files.emplace_back(lefts[i], rights[i]);
+  for (size_t i = 0; i < f.lefts.size(); ++i) files.emplace_back(f.lefts[i], f.rights[i]);
   if (files.empty()) {
     std::cerr << "hpose " << cmd << ": give --dir or --left/--right pairs (see --help)\n";
     return kExitUsage;
@@ -124,13 +101,13 @@ int RunCalibrateStereo(int argc, char** argv) {
     views.push_back(std::move(v));
   }
   size_t searched = 0;
-  auto report = CalibrateStereo(views, board, [&](const StereoCalibrationReport::View& v) {
+  auto report = CalibrateStereo(views, f.board, [&](const StereoCalibrationReport::View& v) {
     std::cerr << "\r  corners: " << ++searched << "/" << views.size() << " pairs" << std::flush;
     (void)v;
   });
   std::cerr << "\n";
   if (!report.ok()) return ReportError(cmd, report.error());
-  Status s = WriteStereoCalibrationReport(*report, out);
+  Status s = WriteStereoCalibrationReport(*report, f.out);
   if (!s.ok()) return ReportError(cmd, s.error());
   char line[256];
   std::cout << "| pair | board found | left RMS (px) | right RMS (px) |\n|---|---|---|---|\n";
@@ -152,7 +129,7 @@ int RunCalibrateStereo(int argc, char** argv) {
                 report->rms_px, used, report->views.size(), report->left_rms_px,
                 report->right_rms_px, c.BaselineM() * 1e3, c.left.camera_matrix(0, 0),
                 c.right.camera_matrix(0, 0), c.image_width, c.image_height);
-  std::cout << line << "wrote " << out << "\n";
+  std::cout << line << "wrote " << f.out << "\n";
   return kExitOk;
 }
 
@@ -183,12 +160,12 @@ Result<std::vector<GroundWorldPair>> ReadPairs(const std::string& path) {
   return pairs;
 }
 
-// Where a recording's two halves are and how to estimate them (hposed's config keys).
+// Where a recording's two halves are and how to estimate them (hposed's config keys): the
+// --depth, --stereo, --max-dt and --stereo-time-offset of WorldFromGroundFlags and the config.
 struct RecordingInputs {
-  std::string depth;   // depth frames (any recording hposed's source.path takes).
-  std::string stereo;  // stereo sequence directory.
+  std::string depth, stereo;
   server::DaemonConfig config;
-  double max_dt_s = 0.05;
+  double max_dt_s = 0.0;
   double stereo_time_offset_s = 0.0;
 };
 
@@ -294,75 +271,25 @@ Status WritePairs(const std::vector<GroundWorldPair>& pairs, const std::string& 
 }
 
 int RunCalibrateWorldFromGround(int argc, char** argv) {
-  std::string pairs_path, recording, config_path, pairs_out, stereo_options, stereo_calibration;
-  RecordingInputs in;
-  std::vector<std::string> templates;
-  WorldFromGroundOptions options;
-  FlagParser flags(
-      "hpose calibrate world-from-ground (--pairs PAIRS.csv | --recording DIR | --depth DIR "
-      "--stereo DIR)",
-      "Finds where the depth sensor's ground frame lies in the landmarks' world frame "
-      "(world_from_ground: x, y, yaw) from a recording in which both estimators saw the robot: "
-      "a least-squares 2D rigid fit of the depth poses onto the stereo poses with outlier "
-      "rejection. Both poses must be of the same robot point (set the stereo estimator's "
-      "head_to_reference_m). Prints the placement for hposed's world_from_ground, the "
-      "residuals, and what the robot's motion made observable: walk it around the field; a "
-      "robot standing still gives the yaw only through its headings. The poses come from a "
-      "CSV (--pairs), or from the recording itself: both estimators run over it offline and "
-      "each depth pose is paired with the stereo pose nearest in time (within --max-dt).");
-  flags.AddString("pairs", &pairs_path,
-                  "CSV rows: timestamp_s, ground_x_m, ground_y_m, ground_theta_rad, world_x_m, "
-                  "world_y_m, world_theta_rad (header and # lines skipped)",
-                  "FILE");
-  flags.AddString("recording", &recording,
-                  "recording with DIR/depth (depth frames) and DIR/stereo (stereo pairs), as "
-                  "`hpose simulate stereo --depth-sensor` writes",
-                  "DIR");
-  flags.AddString("depth", &in.depth,
-                  "depth recording (a directory of depth frames or clouds, or an .oni file; frame "
-                  "times from the file names, else source.fps of --config)",
-                  "PATH");
-  flags.AddString("stereo", &in.stereo,
-                  "stereo sequence directory (frames.csv or left/ + right/, calibration.yaml)",
-                  "DIR");
-  flags.AddDouble("max-dt", &in.max_dt_s,
-                  "pair a depth pose with the nearest stereo pose at most this far apart in time",
-                  "S");
-  flags.AddDouble("stereo-time-offset", &in.stereo_time_offset_s,
-                  "added to the stereo times to put them on the depth recording's clock", "S");
-  flags.AddString("config", &config_path,
-                  "hposed YAML config: templates, search, floor, source.fps/intrinsics and the "
-                  "stereo calibration and options used on the recording",
-                  "FILE");
-  flags.AddStrings("template", &templates,
-                   "humanoid template, .bt file or shipped name (default: config's, else the "
-                   "shipped templates)",
-                   "FILE.bt");
-  flags.AddString("stereo-calibration", &stereo_calibration,
-                  "stereo calibration (default: config's, else the sequence's calibration.yaml)",
-                  "FILE");
-  flags.AddString("stereo-options", &stereo_options,
-                  "stereo estimator options (head_to_reference_m, landmarks, ...)", "FILE");
-  flags.AddString("pairs-out", &pairs_out, "write the paired poses of a recording as a --pairs CSV",
-                  "FILE");
-  flags.AddDouble("outlier", &options.outlier_threshold_m,
-                  "position residual beyond which (and 3 robust sigmas) a pair is dropped", "M");
-  flags.SetEpilog(
-      "exit status: 0 ok; 1 bad input or no usable pairs; 2 usage.\n"
-      "examples:\n  hpose calibrate world-from-ground --pairs pairs.csv\n"
-      "  hpose calibrate world-from-ground --recording rec --config hposed.yaml\n");
+  WorldFromGroundFlags f;
+  FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
+  RecordingInputs in;
+  in.depth = f.depth;
+  in.stereo = f.stereo;
+  in.max_dt_s = f.max_dt_s;
+  in.stereo_time_offset_s = f.stereo_time_offset_s;
   const std::string cmd = "calibrate world-from-ground";
-  if (!recording.empty()) {
+  if (!f.recording.empty()) {
     if (!in.depth.empty() || !in.stereo.empty()) {
       std::cerr << "hpose " << cmd << ": --recording or --depth/--stereo, not both\n";
       return kExitUsage;
     }
-    in.depth = recording + "/depth";
-    in.stereo = recording + "/stereo";
+    in.depth = f.recording + "/depth";
+    in.stereo = f.recording + "/stereo";
   }
   const bool from_recording = !in.depth.empty() || !in.stereo.empty();
-  if (from_recording == !pairs_path.empty() ||
+  if (from_recording == !f.pairs_path.empty() ||
       (from_recording && (in.depth.empty() || in.stereo.empty()))) {
     std::cerr << "hpose " << cmd
               << ": give --pairs, or --recording, or both --depth and --stereo (see --help)\n";
@@ -373,19 +300,19 @@ int RunCalibrateWorldFromGround(int argc, char** argv) {
     return kExitUsage;
   }
   Result<std::vector<GroundWorldPair>> pairs = std::vector<GroundWorldPair>();
-  std::string origin = pairs_path;
+  std::string origin = f.pairs_path;
   if (!from_recording) {
-    pairs = ReadPairs(pairs_path);
+    pairs = ReadPairs(f.pairs_path);
     if (!pairs.ok()) return ReportError(cmd, pairs.error());
   } else {
-    if (!config_path.empty()) {
-      Result<server::DaemonConfig> loaded = server::LoadDaemonConfig(config_path);
+    if (!f.config_path.empty()) {
+      Result<server::DaemonConfig> loaded = server::LoadDaemonConfig(f.config_path);
       if (!loaded.ok()) return ReportError(cmd, loaded.error());
       in.config = std::move(*loaded);
     }
-    if (!templates.empty()) in.config.templates = templates;
-    if (!stereo_calibration.empty()) in.config.stereo.calibration = stereo_calibration;
-    if (!stereo_options.empty()) in.config.stereo.options = stereo_options;
+    if (!f.templates.empty()) in.config.templates = f.templates;
+    if (!f.stereo_calibration.empty()) in.config.stereo.calibration = f.stereo_calibration;
+    if (!f.stereo_options.empty()) in.config.stereo.options = f.stereo_options;
     int depth_frames = 0, stereo_frames = 0;
     Result<std::vector<TimedPose>> ground = DepthPoses(in, &depth_frames);
     if (!ground.ok()) return ReportError(cmd, ground.error());
@@ -401,13 +328,13 @@ int RunCalibrateWorldFromGround(int argc, char** argv) {
                 << " s (do the two clocks agree? see --stereo-time-offset)\n";
       return kExitError;
     }
-    if (!pairs_out.empty()) {
-      if (Status s = WritePairs(*pairs, pairs_out); !s.ok()) return ReportError(cmd, s.error());
-      std::cout << "wrote " << pairs_out << "\n";
+    if (!f.pairs_out.empty()) {
+      if (Status s = WritePairs(*pairs, f.pairs_out); !s.ok()) return ReportError(cmd, s.error());
+      std::cout << "wrote " << f.pairs_out << "\n";
     }
-    origin = recording.empty() ? in.depth + " + " + in.stereo : recording;
+    origin = f.recording.empty() ? in.depth + " + " + in.stereo : f.recording;
   }
-  auto fit = FitWorldFromGround(*pairs, options);
+  auto fit = FitWorldFromGround(*pairs, f.options);
   if (!fit.ok()) {
     Error e = fit.error();
     e.message = origin + ": " + e.message;
@@ -439,21 +366,7 @@ int RunCalibrateWorldFromGround(int argc, char** argv) {
 }  // namespace
 
 int RunCalibrate(int argc, char** argv) {
-  const std::string usage =
-      "usage: hpose calibrate stereo|world-from-ground [--help] [options]\n"
-      "  stereo             stereo pair calibration from chessboard views\n"
-      "  world-from-ground  the depth sensor's place in the landmarks' frame\n";
-  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
-    (argc < 2 ? std::cerr : std::cout) << usage;
-    return argc < 2 ? kExitUsage : kExitOk;
-  }
-  const std::string sub = argv[1];
-  std::string prog = "hpose calibrate " + sub;
-  argv[1] = prog.data();
-  if (sub == "stereo") return RunCalibrateStereo(argc - 1, argv + 1);
-  if (sub == "world-from-ground") return RunCalibrateWorldFromGround(argc - 1, argv + 1);
-  std::cerr << "hpose calibrate: unknown target '" << sub << "'\n" << usage;
-  return kExitUsage;
+  return RunCalibrateSubcommand({RunCalibrateStereo, RunCalibrateWorldFromGround}, argc, argv);
 }
 
 }  // namespace hpose::tools

@@ -24,6 +24,7 @@
 #include "server/message_json.h"
 #include "server/proto_convert.h"
 #include "server/stereo_proto_convert.h"
+#include "tools/cmd_query_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
@@ -327,55 +328,8 @@ Result<v1::EstimateRequest> MakeRequest(const std::string& path,
 }  // namespace
 
 int RunQuery(int argc, char** argv) {
-  std::string server = "127.0.0.1:50051", intrinsics, estimator = "all";
-  std::vector<std::string> templates;
-  std::string tls_ca, tls_cert, tls_key, token_file;
-  bool json = false, compare = false;
-  int count = 0;
-  double timeout_s = 10.0, max_dt_s = 0.05;
-  FlagParser flags(
-      "hpose query [--server ADDR] (latest | stream | estimate FILE | estimate-stereo LEFT RIGHT "
-      "| status | templates)",
-      "Asks a running hposed. latest: the newest estimate of the daemon's source (--estimator); "
-      "stream: estimates of both estimators as they are made, each line marked depth or stereo, "
-      "until Ctrl-C (or --count); with --compare each line shows the newest world-frame robot "
-      "pose of both estimators side by side and the difference between the poses both made of "
-      "the same instant (frames that reached the daemon within --max-dt), with a summary at the "
-      "end; estimate FILE: sends a depth "
-      "PNG (millimetres; intrinsics.json beside it or --intrinsics) or a PCD cloud and prints "
-      "the estimate; estimate-stereo LEFT RIGHT: sends a stereo pair of colour images to the "
-      "stereo-marker estimator; status: source states, counters, rates, latency, floor, world "
-      "frame; templates: the loaded templates. Poses are printed in mm and degrees, world-frame "
-      "poses after a '|'; --json prints the API messages (SI units).");
-  flags.AddString("server", &server, "daemon address", "ADDR");
-  flags.AddBool("json", &json, "print JSON (one object per line) instead of text");
-  flags.AddInt("count", &count, "stream: stop after N estimates (0 = until Ctrl-C)", "N");
-  flags.AddDouble("timeout", &timeout_s, "deadline of each call, seconds (stream: none)", "S");
-  flags.AddString("intrinsics", &intrinsics, "estimate: intrinsics.json of a PNG", "FILE");
-  flags.AddString("estimator", &estimator,
-                  "latest, stream: depth, stereo or all (latest: all = the depth source when "
-                  "there is one)",
-                  "NAME");
-  flags.AddBool("compare", &compare,
-                "stream: both estimators' world-frame poses side by side (text output)");
-  flags.AddDouble("max-dt", &max_dt_s,
-                  "stream --compare: frames of the two estimators at most this far apart in "
-                  "arrival time are of the same instant",
-                  "S");
-  flags.AddStrings("template", &templates, "estimate: only these templates (repeatable)", "NAME");
-  flags.AddString("tls-ca", &tls_ca,
-                  "PEM CA that signed the daemon's certificate: connect with TLS", "FILE");
-  flags.AddString("tls-cert", &tls_cert, "PEM client certificate (mutual TLS; with --tls-key)",
-                  "FILE");
-  flags.AddString("tls-key", &tls_key, "PEM private key of --tls-cert", "FILE");
-  flags.AddString("token-file", &token_file,
-                  "file holding the bearer token sent with every call (first line)", "FILE");
-  flags.AllowPositional("COMMAND [FILE...]");
-  flags.SetEpilog(
-      "examples:\n  hpose query status\n  hpose query stream --count 10\n"
-      "  hpose query stream --compare\n"
-      "  hpose query --server 127.0.0.1:50051 estimate frames/depth_000.png\n"
-      "  hpose query estimate-stereo seq/left/000000.png seq/right/000000.png\n");
+  QueryFlags f;
+  FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::vector<std::string>& args = flags.positional();
   if (args.empty()) {
@@ -393,12 +347,12 @@ int RunQuery(int argc, char** argv) {
     return kExitUsage;
   }
   v1::EstimatorKind kind = v1::ESTIMATOR_KIND_UNSPECIFIED;
-  if (estimator == "depth") {
+  if (f.estimator == "depth") {
     kind = v1::ESTIMATOR_KIND_DEPTH_TEMPLATE;
-  } else if (estimator == "stereo") {
+  } else if (f.estimator == "stereo") {
     kind = v1::ESTIMATOR_KIND_STEREO_MARKER;
-  } else if (estimator != "all") {
-    std::cerr << "hpose query: --estimator must be depth, stereo or all, got '" << estimator
+  } else if (f.estimator != "all") {
+    std::cerr << "hpose query: --estimator must be depth, stereo or all, got '" << f.estimator
               << "'\n";
     return kExitUsage;
   }
@@ -411,50 +365,50 @@ int RunQuery(int argc, char** argv) {
   channel_args.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
   channel_args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, 1);
   Result<std::shared_ptr<grpc::ChannelCredentials>> credentials =
-      ClientCredentials(tls_ca, tls_cert, tls_key);
+      ClientCredentials(f.tls_ca, f.tls_cert, f.tls_key);
   if (!credentials.ok()) return ReportError("query", credentials.error());
-  if (!token_file.empty()) {
-    Result<std::string> token = ReadFile(token_file);
+  if (!f.token_file.empty()) {
+    Result<std::string> token = ReadFile(f.token_file);
     if (!token.ok()) return ReportError("query", token.error());
     const std::string first = token->substr(0, token->find('\n'));
     if (first.empty()) {
       return ReportError("query", MakeError(ErrorCode::kInvalidArgument,
-                                            token_file + ": the first line holds no token"));
+                                            f.token_file + ": the first line holds no token"));
     }
     BearerMetadata() = "Bearer " + first;
   }
-  auto channel = grpc::CreateCustomChannel(server, *credentials, channel_args);
+  auto channel = grpc::CreateCustomChannel(f.server, *credentials, channel_args);
   // Wait for the daemon (it may still be starting) up to the timeout.
   if (!channel->WaitForConnected(std::chrono::system_clock::now() +
                                  std::chrono::milliseconds(static_cast<long>(
-                                     (timeout_s > 0 ? timeout_s : 10.0) * 1000)))) {
-    std::cerr << "hpose query: cannot reach hposed at " << server << "\n";
+                                     (f.timeout_s > 0 ? f.timeout_s : 10.0) * 1000)))) {
+    std::cerr << "hpose query: cannot reach hposed at " << f.server << "\n";
     return kExitUnavailable;
   }
   std::unique_ptr<v1::PoseService::Stub> stub = v1::PoseService::NewStub(channel);
 
   if (cmd == "latest") {
     grpc::ClientContext ctx;
-    PrepareCall(&ctx, timeout_s);
+    PrepareCall(&ctx, f.timeout_s);
     v1::GetLatestResponse response;
     v1::GetLatestRequest request;
     request.set_estimator(kind);
     grpc::Status s = stub->GetLatest(&ctx, request, &response);
     if (!s.ok()) return Fail("latest", s);
-    PrintEstimate(response.estimate(), json);
+    PrintEstimate(response.estimate(), f.json);
     return kExitOk;
   }
   if (cmd == "stream") {
     grpc::ClientContext ctx;
     PrepareCall(&ctx, 0.0);  // a stream runs until stopped: no deadline.
     v1::StreamPosesRequest request;
-    request.set_max_estimates(count > 0 ? static_cast<std::uint32_t>(count) : 0);
+    request.set_max_estimates(f.count > 0 ? static_cast<std::uint32_t>(f.count) : 0);
     if (kind != v1::ESTIMATOR_KIND_UNSPECIFIED) request.add_estimators(kind);
-    if (!(max_dt_s > 0.0)) {
+    if (!(f.max_dt_s > 0.0)) {
       std::cerr << "hpose query: --max-dt must be more than 0 seconds\n";
       return kExitUsage;
     }
-    Comparison comparison(max_dt_s);
+    Comparison comparison(f.max_dt_s);
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
     std::atomic<bool> done{false};
@@ -466,17 +420,17 @@ int RunQuery(int argc, char** argv) {
     v1::PoseEstimate e;
     long received = 0;
     while (reader->Read(&e)) {
-      if (compare && !json) {
+      if (f.compare && !f.json) {
         std::cout << comparison.Update(e) << std::endl;
       } else {
-        PrintEstimate(e, json);
+        PrintEstimate(e, f.json);
       }
       ++received;
     }
     grpc::Status s = reader->Finish();
     done = true;
     watcher.join();
-    if (compare && !json) std::cout << comparison.Summary() << std::endl;
+    if (f.compare && !f.json) std::cout << comparison.Summary() << std::endl;
     if (g_interrupted || s.error_code() == grpc::StatusCode::CANCELLED) {
       std::cerr << "hpose query stream: stopped after " << received << " estimate(s)\n";
       return kExitOk;
@@ -485,15 +439,15 @@ int RunQuery(int argc, char** argv) {
     return kExitOk;
   }
   if (cmd == "estimate") {
-    Result<v1::EstimateRequest> request = MakeRequest(args[1], intrinsics);
+    Result<v1::EstimateRequest> request = MakeRequest(args[1], f.intrinsics);
     if (!request.ok()) return ReportError("query", request.error());
-    for (const std::string& t : templates) request->add_templates(t);
+    for (const std::string& t : f.templates) request->add_templates(t);
     grpc::ClientContext ctx;
-    PrepareCall(&ctx, timeout_s);
+    PrepareCall(&ctx, f.timeout_s);
     v1::EstimateResponse response;
     grpc::Status s = stub->Estimate(&ctx, *request, &response);
     if (!s.ok()) return Fail("estimate", s);
-    PrintEstimate(response.estimate(), json);
+    PrintEstimate(response.estimate(), f.json);
     const auto& r = response.estimate().depth_template();
     return r.humanoid_found() ? kExitOk : kExitNoHumanoid;
   }
@@ -505,20 +459,20 @@ int RunQuery(int argc, char** argv) {
       server::ColorImageToProto(*image, i == 0 ? request.mutable_left() : request.mutable_right());
     }
     grpc::ClientContext ctx;
-    PrepareCall(&ctx, timeout_s);
+    PrepareCall(&ctx, f.timeout_s);
     v1::EstimateResponse response;
     grpc::Status s = stub->EstimateStereo(&ctx, request, &response);
     if (!s.ok()) return Fail("estimate-stereo", s);
-    PrintEstimate(response.estimate(), json);
+    PrintEstimate(response.estimate(), f.json);
     return response.estimate().stereo_marker().robot_found() ? kExitOk : kExitNoHumanoid;
   }
   if (cmd == "status") {
     grpc::ClientContext ctx;
-    PrepareCall(&ctx, timeout_s);
+    PrepareCall(&ctx, f.timeout_s);
     v1::GetStatusResponse st;
     grpc::Status s = stub->GetStatus(&ctx, v1::GetStatusRequest(), &st);
     if (!s.ok()) return Fail("status", s);
-    if (json) {
+    if (f.json) {
       std::cout << ToJson(st) << std::endl;
       return kExitOk;
     }
@@ -569,11 +523,11 @@ int RunQuery(int argc, char** argv) {
   }
   if (cmd == "templates") {
     grpc::ClientContext ctx;
-    PrepareCall(&ctx, timeout_s);
+    PrepareCall(&ctx, f.timeout_s);
     v1::ListTemplatesResponse list;
     grpc::Status s = stub->ListTemplates(&ctx, v1::ListTemplatesRequest(), &list);
     if (!s.ok()) return Fail("templates", s);
-    if (json) {
+    if (f.json) {
       std::cout << ToJson(list) << std::endl;
       return kExitOk;
     }

@@ -22,6 +22,7 @@
 #include "server/frame_source.h"
 #include "server/message_json.h"
 #include "server/proto_convert.h"
+#include "tools/cmd_replay_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
@@ -80,98 +81,57 @@ void DrawProgress(long done, long total, double elapsed_s) {
 }  // namespace
 
 int RunReplay(int argc, char** argv) {
-  std::string out_path, format, config_path, intrinsics_path, rate = "fast", initial_pose;
-  std::vector<std::string> templates;
-  int max_frames = 0;
-  double fps = 30.0;
-  bool progress = isatty(STDERR_FILENO) != 0, no_progress = false;
-  FlagParser flags(
-      "hpose replay RECORDING [--template FILE.bt ...] [--out FILE] [--format jsonl|csv]",
-      "Estimates the humanoid's pose in every frame of a recording and writes one record per "
-      "frame: JSON Lines (hpose.v1.PoseEstimate in the schema of docs/API.md, every field "
-      "present, SI units) or CSV. A recording is an .oni file; a directory of 16-bit depth "
-      "frames (PNG with intrinsics.json, TIFF, or PCL's *_depth.pclzf with their .xml) or of PCD "
-      "clouds; or a single frame file of one of these formats. Frame times come from the file "
-      "names when they record one (frame_20121214T142255.814212.pcd, 1355495775.81.png), else "
-      "from --fps. Prints a progress bar and a summary on stderr.");
-  flags.AddStrings(
-      "template", &templates,
-      "humanoid template: a .bt file or a shipped template's name (default: the shipped templates)",
-      "FILE.bt");
-  flags.AddString("out", &out_path, "output file (default: standard output)", "FILE");
-  flags.AddString("format", &format, "jsonl or csv (default: from --out's extension, else jsonl)",
-                  "FMT");
-  flags.AddString("config", &config_path, "hposed YAML config for search and floor settings",
-                  "FILE");
-  flags.AddString("rate", &rate, "fast (as fast as possible) or recorded", "RATE");
-  flags.AddDouble("fps", &fps, "frame rate of files whose names record no time (source_time)",
-                  "HZ");
-  flags.AddString("intrinsics", &intrinsics_path,
-                  "depth camera intrinsics for every frame: hpose's intrinsics.json or a ROS "
-                  "camera_info YAML (default: intrinsics.json beside the frames, a pclzf's .xml, "
-                  "else Kinect v1 for TIFF)",
-                  "FILE");
-  flags.AddInt("max-frames", &max_frames, "stop after N frames (0 = all)", "N");
-  flags.AddString("initial-pose", &initial_pose,
-                  "where the robot stands at the start, ground frame (metres, degrees): until "
-                  "it is first found, frames are searched as if the one before had seen it there, "
-                  "so a robot too far to pass the score threshold cold is found "
-                  "(search.tracked_score_threshold); default: source.initial_pose of --config",
-                  "X,Y,DEG");
-  flags.AddBool("no-progress", &no_progress, "no progress bar");
-  flags.AllowPositional("RECORDING");
-  flags.SetEpilog(
-      "examples:\n  hpose replay walk.oni --template templates/standing.bt --out walk.jsonl\n"
-      "  hpose replay grabber_sequences/tiff/ --out poses.jsonl\n"
-      "  hpose replay frame_20121214T142255.814212.pcd\n"
-      "  hpose replay frames/ --template templates/standing.bt --format csv > poses.csv\n");
+  bool progress = isatty(STDERR_FILENO) != 0;
+  ReplayFlags f;
+  FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   if (flags.positional().size() != 1) {
     std::cerr << flags.Help() << "\nerror: expected exactly one RECORDING\n";
     return kExitUsage;
   }
-  if (format.empty()) {
-    format = out_path.size() > 4 && out_path.compare(out_path.size() - 4, 4, ".csv") == 0 ? "csv"
-                                                                                          : "jsonl";
+  if (f.format.empty()) {
+    f.format = f.out_path.size() > 4 && f.out_path.compare(f.out_path.size() - 4, 4, ".csv") == 0
+                   ? "csv"
+                   : "jsonl";
   }
-  if (format != "jsonl" && format != "csv") {
-    std::cerr << "hpose replay: --format: expected jsonl or csv, got '" << format << "'\n";
+  if (f.format != "jsonl" && f.format != "csv") {
+    std::cerr << "hpose replay: --format: expected jsonl or csv, got '" << f.format << "'\n";
     return kExitUsage;
   }
   Pose2D start_pose;
-  const bool has_start = !initial_pose.empty();
-  if (has_start && !ParsePoseTriple(initial_pose, &start_pose)) {
+  const bool has_start = !f.initial_pose.empty();
+  if (has_start && !ParsePoseTriple(f.initial_pose, &start_pose)) {
     std::cerr << "hpose replay: --initial-pose: expected X,Y,DEG (e.g. 3.2,0.4,90), got '"
-              << initial_pose << "'\n";
+              << f.initial_pose << "'\n";
     return kExitUsage;
   }
-  if (rate != "fast" && rate != "recorded") {
-    std::cerr << "hpose replay: --rate: expected fast or recorded, got '" << rate << "'\n";
+  if (f.rate != "fast" && f.rate != "recorded") {
+    std::cerr << "hpose replay: --rate: expected fast or recorded, got '" << f.rate << "'\n";
     return kExitUsage;
   }
-  if (no_progress) progress = false;
-  if (!(fps > 0.0 && fps <= 10000.0)) {
+  if (f.no_progress) progress = false;
+  if (!(f.fps > 0.0 && f.fps <= 10000.0)) {
     std::cerr
         << "hpose replay: --fps: the frame rate must be more than 0 and at most 10000 frames per "
            "second, got "
-        << fps << "\n";
+        << f.fps << "\n";
     return kExitUsage;
   }
-  if (!out_path.empty()) {  // before the work: results that cannot be written are an error.
-    const Status writable = CheckOutputPath(out_path);
+  if (!f.out_path.empty()) {  // before the work: results that cannot be written are an error.
+    const Status writable = CheckOutputPath(f.out_path);
     if (!writable.ok()) return ReportError("replay", writable.error());
   }
 
   server::DaemonConfig config;
-  if (!config_path.empty()) {
-    Result<server::DaemonConfig> loaded = server::LoadDaemonConfig(config_path);
+  if (!f.config_path.empty()) {
+    Result<server::DaemonConfig> loaded = server::LoadDaemonConfig(f.config_path);
     if (!loaded.ok()) return ReportError("replay", loaded.error());
     config = std::move(*loaded);
   }
-  if (!templates.empty()) config.templates = templates;
+  if (!f.templates.empty()) config.templates = f.templates;
   if (config.templates.empty()) config.templates = DefaultTemplatePaths();
   config.templates = ResolveTemplateNames(config.templates);
-  if (intrinsics_path.empty()) intrinsics_path = config.source.intrinsics;
+  if (f.intrinsics_path.empty()) f.intrinsics_path = config.source.intrinsics;
   std::vector<VoxelTemplate> loaded;
   for (const std::string& path : config.templates) {
     Result<VoxelTemplate> t = LoadTemplate(path);
@@ -189,11 +149,11 @@ int RunReplay(int argc, char** argv) {
   }
 
   server::ReplayOptions replay;
-  replay.realtime = rate == "recorded";
+  replay.realtime = f.rate == "recorded";
   replay.loop = false;
-  replay.fps = fps;
-  if (!intrinsics_path.empty()) {
-    Result<Intrinsics> k = ReadIntrinsicsFile(intrinsics_path);
+  replay.fps = f.fps;
+  if (!f.intrinsics_path.empty()) {
+    Result<Intrinsics> k = ReadIntrinsicsFile(f.intrinsics_path);
     if (!k.ok()) return ReportError("replay", k.error());
     replay.has_intrinsics = true;
     replay.intrinsics = *k;
@@ -210,21 +170,21 @@ int RunReplay(int argc, char** argv) {
   if (!opened.ok()) return ReportError("replay", opened.error());
 
   std::ofstream file;
-  if (!out_path.empty()) {
-    file.open(out_path, std::ios::binary | std::ios::trunc);
+  if (!f.out_path.empty()) {
+    file.open(f.out_path, std::ios::binary | std::ios::trunc);
     if (!file) {
-      return ReportError("replay", MakeError(ErrorCode::kInternal, out_path + ": cannot write"));
+      return ReportError("replay", MakeError(ErrorCode::kInternal, f.out_path + ": cannot write"));
     }
   }
-  std::ostream& out = out_path.empty() ? std::cout : file;
-  if (format == "csv") out << kCsvHeader;
+  std::ostream& out = f.out_path.empty() ? std::cout : file;
+  if (f.format == "csv") out << kCsvHeader;
 
   long total = (*source)->frame_count();
-  if (max_frames > 0 && (total < 0 || total > max_frames)) total = max_frames;
+  if (f.max_frames > 0 && (total < 0 || total > f.max_frames)) total = f.max_frames;
   long frames = 0, estimated = 0, failed = 0, unreadable = 0, humanoids = 0;
   std::vector<double> times_ms;
   const auto start = std::chrono::steady_clock::now();
-  while (max_frames <= 0 || frames < max_frames) {
+  while (f.max_frames <= 0 || frames < f.max_frames) {
     Result<server::Frame> frame = (*source)->Next();
     if (!frame.ok()) {
       if (frame.error().code == ErrorCode::kOutOfRange) break;
@@ -257,14 +217,14 @@ int RunReplay(int argc, char** argv) {
     } else {
       ++failed;
     }
-    if (format == "csv") {
+    if (f.format == "csv") {
       out << CsvRow(msg);
     } else {
       out << server::MessageToJsonLine(msg) << "\n";
     }
     if (!out) {  // a full disk or a closed pipe: stop instead of estimating for nothing.
       return ReportError("replay", MakeError(ErrorCode::kInternal,
-                                             (out_path.empty() ? "standard output" : out_path) +
+                                             (f.out_path.empty() ? "standard output" : f.out_path) +
                                                  ": write failed: " + std::strerror(errno)));
     }
     if (progress) {
@@ -283,10 +243,10 @@ int RunReplay(int argc, char** argv) {
                "(e.g. no floor), %ld unreadable; humanoid found in %ld; median estimate %.1f ms\n",
                frames, wall, wall > 0 ? frames / wall : 0.0, estimated, failed, unreadable,
                humanoids, median);
-  if (!out_path.empty()) file.close();
-  if (!out || (!out_path.empty() && file.fail())) {
+  if (!f.out_path.empty()) file.close();
+  if (!out || (!f.out_path.empty() && file.fail())) {
     return ReportError("replay", MakeError(ErrorCode::kInternal,
-                                           (out_path.empty() ? "standard output" : out_path) +
+                                           (f.out_path.empty() ? "standard output" : f.out_path) +
                                                ": write failed: " + std::strerror(errno)));
   }
   return frames > 0 ? kExitOk : kExitError;

@@ -18,6 +18,7 @@
 #include "core/stereo/stereo_sequence.h"
 #include "core/stereo/stereo_sim_sequence.h"
 #include "core/stereo/stereo_tracker.h"
+#include "tools/cmd_stereo_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
@@ -135,76 +136,44 @@ void PrintFrameText(const StereoFrameResult& f, const StereoTrackState& t, size_
 }  // namespace
 
 int RunEstimateStereo(int argc, char** argv) {
-  std::vector<std::string> calibration_paths;
-  std::string left, right, sequence, options_path, method, calib_unit = "m";
-  double fps = 15.0;
-  bool json = false;
-  FlagParser flags(
-      "hpose estimate-stereo --calibration CAL.yaml (--left L.png --right R.png | --sequence DIR)",
-      "Locates the robot (its stereo head projected on the floor, or the point set by the "
-      "options' head_to_reference_m) and the ball in the field frame of three same-coloured "
-      "landmarks, from one stereo pair or a sequence directory "
-      "(layout: DIR/frames.csv or DIR/left/*.png + DIR/right/*.png, optional "
-      "DIR/calibration.yaml). Over a sequence it also averages the robot pose over 8 frames, "
-      "detects when the ball starts moving and predicts its straight path. The landmarks are "
-      "chosen among all blobs of their colour by geometry (epipolar match, size for the "
-      "distance, spacing of the known layout), the ball as the most ball-like blob pair; a "
-      "partly hidden landmark is down-weighted, and every rejected frame names its reason.");
-  flags.AddStrings("calibration", &calibration_paths,
-                   "OpenCV stereo calibration (YAML/XML: M1 D1 M2 D2 R T); give two files for "
-                   "separate intrinsics and extrinsics",
-                   "FILE");
-  flags.AddString("calib-unit", &calib_unit, "unit of T in the calibration: m or mm", "UNIT");
-  flags.AddString("left", &left, "left image of a single pair", "IMAGE");
-  flags.AddString("right", &right, "right image of a single pair", "IMAGE");
-  flags.AddString("sequence", &sequence, "directory of frame pairs", "DIR");
-  flags.AddDouble("fps", &fps, "frame rate when the sequence has no frames.csv", "HZ");
-  flags.AddString("options", &options_path,
-                  "estimator options (YAML: colours, landmark positions, thresholds)", "FILE");
-  flags.AddString("method", &method,
-                  "camera->world fit: svd, closed_form or covariance (default: the options file's)",
-                  "NAME");
-  flags.AddBool("json", &json, "print one JSON object per frame (SI units) instead of text");
-  flags.SetEpilog(
-      "exit status: 0 ok; 1 bad input; 2 usage; 3 a single pair gave no robot pose.\n"
-      "example:\n  hpose simulate stereo --out /tmp/seq && hpose estimate-stereo --sequence "
-      "/tmp/seq --json\n");
+  EstimateStereoFlags f;
+  FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::string cmd = "estimate-stereo";
-  const bool single = !left.empty() || !right.empty();
-  if (single == !sequence.empty() || (single && (left.empty() || right.empty()))) {
+  const bool single = !f.left.empty() || !f.right.empty();
+  if (single == !f.sequence.empty() || (single && (f.left.empty() || f.right.empty()))) {
     std::cerr << "hpose " << cmd
               << ": give either --left and --right, or --sequence (see --help)\n";
     return kExitUsage;
   }
-  if (calib_unit != "m" && calib_unit != "mm") {
+  if (f.calib_unit != "m" && f.calib_unit != "mm") {
     std::cerr << "hpose " << cmd << ": --calib-unit must be m or mm\n";
     return kExitUsage;
   }
   Result<StereoSequence> seq = MakeError(ErrorCode::kNotFound, "");
   if (!single) {
-    seq = StereoSequence::Open(sequence, fps);
+    seq = StereoSequence::Open(f.sequence, f.fps);
     if (!seq.ok()) return ReportError(cmd, seq.error());
-    if (calibration_paths.empty() && !seq->calibration_path().empty()) {
-      calibration_paths.push_back(seq->calibration_path());
+    if (f.calibration_paths.empty() && !seq->calibration_path().empty()) {
+      f.calibration_paths.push_back(seq->calibration_path());
     }
   }
-  if (calibration_paths.empty()) {
+  if (f.calibration_paths.empty()) {
     std::cerr << "hpose " << cmd << ": --calibration is required\n";
     return kExitUsage;
   }
   StereoCalibrationReadOptions read_options;
-  read_options.translation_unit_m = calib_unit == "mm" ? 0.001 : 1.0;
-  auto calibration = ReadStereoCalibration(calibration_paths, read_options);
+  read_options.translation_unit_m = f.calib_unit == "mm" ? 0.001 : 1.0;
+  auto calibration = ReadStereoCalibration(f.calibration_paths, read_options);
   if (!calibration.ok()) return ReportError(cmd, calibration.error());
   StereoMarkerOptions options;
-  if (!options_path.empty()) {
-    auto loaded = LoadStereoMarkerOptions(options_path);
+  if (!f.options_path.empty()) {
+    auto loaded = LoadStereoMarkerOptions(f.options_path);
     if (!loaded.ok()) return ReportError(cmd, loaded.error());
     options = *loaded;
   }
-  if (!method.empty()) {
-    auto parsed = ParseRigidFitMethod(method);
+  if (!f.method.empty()) {
+    auto parsed = ParseRigidFitMethod(f.method);
     if (!parsed.ok()) {
       std::cerr << "hpose " << cmd << ": --method: " << parsed.error().message << "\n";
       return kExitUsage;
@@ -223,9 +192,9 @@ int RunEstimateStereo(int argc, char** argv) {
     RgbImage l, r;
     double t = 0.0;
     if (single) {
-      auto li = ReadRgbImage(left);
+      auto li = ReadRgbImage(f.left);
       if (!li.ok()) return ReportError(cmd, li.error());
-      auto ri = ReadRgbImage(right);
+      auto ri = ReadRgbImage(f.right);
       if (!ri.ok()) return ReportError(cmd, ri.error());
       l = std::move(li).value();
       r = std::move(ri).value();
@@ -240,9 +209,9 @@ int RunEstimateStereo(int argc, char** argv) {
     auto result = (*estimator)->Process(l, r, t, tracker.ObjectPrior(&prior) ? &prior : nullptr);
     if (!result.ok()) {
       Error e = result.error();
-      e.message = (single ? left + ", " + right : seq->frame(i).left_path) + ": " + e.message;
+      e.message = (single ? f.left + ", " + f.right : seq->frame(i).left_path) + ": " + e.message;
       if (e.message.find("calibration") != std::string::npos) {
-        e.message += " (" + calibration_paths.front() + ")";
+        e.message += " (" + f.calibration_paths.front() + ")";
       }
       return ReportError(cmd, e);
     }
@@ -250,13 +219,13 @@ int RunEstimateStereo(int argc, char** argv) {
     if (result->ok()) ++ok_frames;
     last_status = result->status;
     last_reason = result->reason;
-    if (json) {
+    if (f.json) {
       std::cout << FrameJson(*result, state, i).dump() << "\n";
     } else {
       PrintFrameText(*result, state, i);
     }
   }
-  if (!json && !single) {
+  if (!f.json && !single) {
     std::cout << ok_frames << " of " << n << " frame pairs gave a robot pose\n";
   }
   if (ok_frames == 0) {
@@ -268,154 +237,89 @@ int RunEstimateStereo(int argc, char** argv) {
 }
 
 int RunSimulateStereo(int argc, char** argv) {
-  StereoSimSequenceSpec spec;
-  std::string out, scenario = "rolling", rig = "paper";
-  bool no_distractors = false, no_sway = false, hard = false;
-  int seed = 1;
-  PairedDepthSensorSpec depth;
-  std::string depth_sensor, depth_size;
-  double depth_pitch_deg = 0.0;
-  double noise = spec.noise.pixel_noise_sigma;
-  FlagParser flags(
-      "hpose simulate-stereo --out DIR [--scenario rolling|walking|grid]",
-      "Renders stereo pairs (PNG) of the field seen from the robot's head: floor with a grid "
-      "sheet, three blue landmark discs at the paper's positions, an orange ball, optional "
-      "distractor colours, with lens distortion, image noise, lighting variation and head sway "
-      "while walking. Writes DIR/calibration.yaml (OpenCV), DIR/left/, DIR/right/, "
-      "DIR/frames.csv and DIR/ground_truth.csv (SI units). --hard adds what real rigs see: "
-      "carpet texture, vignetting, Bayer sensor noise with demosaicing, JPEG, speckles, "
-      "distractors of the landmark and ball colours (40 % of placements) and occluders over "
-      "part of a landmark (15 %); ground_truth.csv then records the occluded fraction of each "
-      "landmark and the number of same-coloured distractors.");
-  flags.AddString("out", &out, "output directory (created)", "DIR");
-  flags.AddString("rig", &rig,
-                  "stereo head: paper (512x240, 70 mm baseline) or vga (640x480, strong "
-                  "k1 k2 p1 p2 k3 distortion, 76 mm baseline); camera flags override it",
-                  "NAME");
-  flags.AddBool("hard", &hard, "realistic sensor and cluttered scenes (see above)");
-  flags.AddString("scenario", &scenario,
-                  "rolling: ball kicked towards a standing robot; walking: robot walks, ball at "
-                  "rest; grid: the paper's grid of robot positions",
-                  "NAME");
-  flags.AddInt("frames", &spec.frames, "frames (rolling, walking)");
-  flags.AddDouble("fps", &spec.fps, "frame rate", "HZ");
-  flags.AddInt("width", &spec.camera.width, "image width", "PX");
-  flags.AddInt("height", &spec.camera.height, "image height", "PX");
-  flags.AddDouble("hfov", &spec.camera.hfov_deg, "horizontal field of view", "DEG");
-  flags.AddDouble("baseline", &spec.camera.baseline_m, "stereo baseline", "M");
-  flags.AddDouble("head-height", &spec.camera.head_height_m, "head height above the floor", "M");
-  flags.AddDouble("tilt", &spec.camera.head_tilt_deg, "head tilt below horizontal", "DEG");
-  flags.AddDouble("noise", &noise, "image noise sigma, grey levels", "LEVELS");
-  flags.AddDouble("robot-x", &spec.robot_start.x, "robot start x (world)", "M");
-  flags.AddDouble("robot-y", &spec.robot_start.y, "robot start y (world)", "M");
-  flags.AddDouble("robot-theta", &spec.robot_start.theta, "robot start heading (world)", "RAD");
-  flags.AddDouble("kick-time", &spec.kick_time_s, "when the ball is kicked (rolling)", "S");
-  flags.AddDouble("ball-vx", &spec.ball_velocity_mps.x(), "ball velocity after the kick, x", "M/S");
-  flags.AddDouble("ball-vy", &spec.ball_velocity_mps.y(), "ball velocity after the kick, y", "M/S");
-  flags.AddInt("frames-per-position", &spec.frames_per_position, "frames per grid position");
-  flags.AddBool("no-distractors", &no_distractors, "no distractor colours on the floor");
-  flags.AddBool("no-sway", &no_sway, "no head sway");
-  flags.AddInt("seed", &seed, "random seed");
-  flags.AddDouble("speed", &spec.robot_speed_mps, "robot walking speed (walking)", "M/S");
-  flags.AddString("depth-sensor", &depth_sensor,
-                  "also render a depth sensor (Kinect v1 model) watching the robot, its ground "
-                  "frame at X,Y (world, metres) facing YAW degrees from world +x: writes "
-                  "DIR/stereo/ and DIR/depth/ (see below)",
-                  "X,Y,YAW");
-  flags.AddDouble("depth-mount-height", &depth.height_m,
-                  "depth sensor's optical centre above the floor", "M");
-  flags.AddDouble("depth-pitch", &depth_pitch_deg, "depth sensor pitch (+ looks down)", "DEG");
-  flags.AddString("depth-size", &depth_size, "depth image size", "WxH");
-  flags.AddInt("depth-every", &depth.every, "one depth frame per N stereo frames", "N");
-  flags.SetEpilog(
-      "With --depth-sensor the output is a recording both estimators see: DIR/stereo/ (the "
-      "layout above) and DIR/depth/ (16-bit depth PNGs named by their time in seconds on the "
-      "stereo clock, intrinsics.json, truth.csv with the humanoid's ground and world poses). "
-      "The humanoid stands where the robot's stereo head is (head_to_reference_m = 0). Use it "
-      "with `hpose calibrate world-from-ground --recording DIR`, and as hposed's source.path "
-      "(DIR/depth) and stereo.source (DIR/stereo).\n"
-      "example:\n  hpose simulate stereo --out rec --scenario walking --frames 90 --fps 10 "
-      "--speed 0.08 --robot-y -1.35 --depth-sensor -1.1,-2.1,45\n");
+  SimulateStereoFlags f;
+  FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   const std::string cmd = "simulate-stereo";
-  if (!depth_size.empty() &&
-      std::sscanf(depth_size.c_str(), "%dx%d", &depth.width, &depth.height) != 2) {
-    std::cerr << "hpose " << cmd << ": --depth-size must be WxH (e.g. 320x240), got '" << depth_size
-              << "'\n";
+  if (!f.depth_size.empty() &&
+      std::sscanf(f.depth_size.c_str(), "%dx%d", &f.depth.width, &f.depth.height) != 2) {
+    std::cerr << "hpose " << cmd << ": --depth-size must be WxH (e.g. 320x240), got '"
+              << f.depth_size << "'\n";
     return kExitUsage;
   }
-  if (!depth_sensor.empty()) {
+  if (!f.depth_sensor.empty()) {
     double yaw_deg = 0;
     char end = 0;
-    if (std::sscanf(depth_sensor.c_str(), "%lf,%lf,%lf%c", &depth.world_from_ground.x,
-                    &depth.world_from_ground.y, &yaw_deg, &end) != 3) {
+    if (std::sscanf(f.depth_sensor.c_str(), "%lf,%lf,%lf%c", &f.depth.world_from_ground.x,
+                    &f.depth.world_from_ground.y, &yaw_deg, &end) != 3) {
       std::cerr << "hpose " << cmd
-                << ": --depth-sensor must be X,Y,YAW_DEG (e.g. -1.1,-2.1,45), got '" << depth_sensor
-                << "'\n";
+                << ": --depth-sensor must be X,Y,YAW_DEG (e.g. -1.1,-2.1,45), got '"
+                << f.depth_sensor << "'\n";
       return kExitUsage;
     }
-    depth.world_from_ground.theta = NormalizeAngle(DegToRad(yaw_deg));
-    depth.pitch_rad = DegToRad(depth_pitch_deg);
+    f.depth.world_from_ground.theta = NormalizeAngle(DegToRad(yaw_deg));
+    f.depth.pitch_rad = DegToRad(f.depth_pitch_deg);
   } else if (flags.Seen("depth-mount-height") || flags.Seen("depth-pitch") ||
              flags.Seen("depth-size") || flags.Seen("depth-every")) {
     std::cerr << "hpose " << cmd << ": the --depth-* flags need --depth-sensor\n";
     return kExitUsage;
   }
-  if (rig != "paper" && rig != "vga") {
+  if (f.rig != "paper" && f.rig != "vga") {
     std::cerr << "hpose " << cmd << ": --rig must be paper or vga\n";
     return kExitUsage;
   }
-  if (rig == "vga") {
+  if (f.rig == "vga") {
     // The rig's camera, with any camera flag given explicitly kept.
-    const StereoSimCameraOptions given = spec.camera;
-    spec.camera = VgaRigCameraOptions();
-    if (flags.Seen("width")) spec.camera.width = given.width;
-    if (flags.Seen("height")) spec.camera.height = given.height;
-    if (flags.Seen("hfov")) spec.camera.hfov_deg = given.hfov_deg;
-    if (flags.Seen("baseline")) spec.camera.baseline_m = given.baseline_m;
-    if (flags.Seen("head-height")) spec.camera.head_height_m = given.head_height_m;
-    if (flags.Seen("tilt")) spec.camera.head_tilt_deg = given.head_tilt_deg;
+    const StereoSimCameraOptions given = f.spec.camera;
+    f.spec.camera = VgaRigCameraOptions();
+    if (flags.Seen("width")) f.spec.camera.width = given.width;
+    if (flags.Seen("height")) f.spec.camera.height = given.height;
+    if (flags.Seen("hfov")) f.spec.camera.hfov_deg = given.hfov_deg;
+    if (flags.Seen("baseline")) f.spec.camera.baseline_m = given.baseline_m;
+    if (flags.Seen("head-height")) f.spec.camera.head_height_m = given.head_height_m;
+    if (flags.Seen("tilt")) f.spec.camera.head_tilt_deg = given.head_tilt_deg;
   }
-  if (out.empty()) {
+  if (f.out.empty()) {
     std::cerr << "hpose " << cmd << ": --out is required\n";
     return kExitUsage;
   }
-  auto parsed = ParseStereoSimScenario(scenario);
+  auto parsed = ParseStereoSimScenario(f.scenario);
   if (!parsed.ok()) {
     std::cerr << "hpose " << cmd << ": " << parsed.error().message << "\n";
     return kExitUsage;
   }
-  spec.scenario = *parsed;
-  spec.distractors = !no_distractors;
-  spec.sway_enabled = !no_sway;
-  spec.noise.pixel_noise_sigma = noise;
-  if (hard) {
-    MakeStereoSimHard(&spec);
-    if (flags.Seen("noise")) spec.noise.pixel_noise_sigma = noise;
+  f.spec.scenario = *parsed;
+  f.spec.distractors = !f.no_distractors;
+  f.spec.sway_enabled = !f.no_sway;
+  f.spec.noise.pixel_noise_sigma = f.noise;
+  if (f.hard) {
+    MakeStereoSimHard(&f.spec);
+    if (flags.Seen("noise")) f.spec.noise.pixel_noise_sigma = f.noise;
   }
-  spec.seed = static_cast<std::uint64_t>(seed);
-  if (depth_sensor.empty()) {
-    Status s = WriteStereoSimSequence(spec, out);
+  f.spec.seed = static_cast<std::uint64_t>(f.seed);
+  if (f.depth_sensor.empty()) {
+    Status s = WriteStereoSimSequence(f.spec, f.out);
     if (!s.ok()) return ReportError(cmd, s.error());
-    std::cout << "wrote " << StereoSimFrameCount(spec) << " stereo pairs (" << spec.camera.width
-              << "x" << spec.camera.height << ", scenario " << StereoSimScenarioName(spec.scenario)
-              << ") to " << out << "\n";
+    std::cout << "wrote " << StereoSimFrameCount(f.spec) << " stereo pairs (" << f.spec.camera.width
+              << "x" << f.spec.camera.height << ", scenario "
+              << StereoSimScenarioName(f.spec.scenario) << ") to " << f.out << "\n";
     return kExitOk;
   }
-  Status s = WritePairedSimRecording(spec, depth, out, [](int done, int total) {
+  Status s = WritePairedSimRecording(f.spec, f.depth, f.out, [](int done, int total) {
     if (done % 10 == 0 || done == total) {
       std::cerr << "\r  rendered " << done << "/" << total << " frames" << std::flush;
     }
   });
   std::cerr << "\n";
   if (!s.ok()) return ReportError(cmd, s.error());
-  const int frames = StereoSimFrameCount(spec);
-  std::cout << "wrote " << frames << " stereo pairs (" << spec.camera.width << "x"
-            << spec.camera.height << ", scenario " << StereoSimScenarioName(spec.scenario)
-            << ") to " << out << "/stereo and " << (frames + depth.every - 1) / depth.every
-            << " depth frames (" << depth.width << "x" << depth.height << ") to " << out
-            << "/depth; world_from_ground x " << depth.world_from_ground.x << " m, y "
-            << depth.world_from_ground.y << " m, yaw " << depth.world_from_ground.theta << " rad\n";
+  const int frames = StereoSimFrameCount(f.spec);
+  std::cout << "wrote " << frames << " stereo pairs (" << f.spec.camera.width << "x"
+            << f.spec.camera.height << ", scenario " << StereoSimScenarioName(f.spec.scenario)
+            << ") to " << f.out << "/stereo and " << (frames + f.depth.every - 1) / f.depth.every
+            << " depth frames (" << f.depth.width << "x" << f.depth.height << ") to " << f.out
+            << "/depth; world_from_ground x " << f.depth.world_from_ground.x << " m, y "
+            << f.depth.world_from_ground.y << " m, yaw " << f.depth.world_from_ground.theta
+            << " rad\n";
   return kExitOk;
 }
 

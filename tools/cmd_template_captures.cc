@@ -23,6 +23,7 @@
 #include "core/templates/capture_template.h"
 #include "core/templates/capture_views.h"
 #include "core/templates/template_io.h"
+#include "tools/cmd_template_captures_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/fixed_text.h"
@@ -192,120 +193,38 @@ Status WriteRegistrationPicture(const CaptureRegistration& reg, const CaptureTem
 }  // namespace
 
 int RunTemplateFromCaptures(int argc, char** argv) {
-  std::string out, name, variant, intrinsics, headings_text, angles_text, origin_name = "centroid";
-  std::string report_path, picture_path;
-  double step_deg = 30.0, resolution = 0.016, table_height = 0.0, front_yaw_deg = 0.0;
-  double max_rms_mm = 6.0, min_inliers = 0.6, axis_search = 0.3, heading_search_deg = 17.0;
-  int front_view = 0;
-  bool turntable = false, drop_bad = false;
-  FlagParser flags(
-      "hpose template from-captures DIR_OR_FILES... --name N --out FILE.bt "
-      "(--turntable [--step-deg D | --angles-deg A,B,...] | --headings-deg A,B,...) "
-      "[--table-height M] [--origin centroid|axis] [--front-view K] [--report FILE.json]",
-      "Makes a 360 degree template from depth captures of the robot standing on a turntable,\n"
-      "or turned by hand, all taken by one fixed sensor (the one that will watch it).\n"
-      "Captures: 16-bit depth PNGs in mm (with intrinsics.json beside them, or --intrinsics)\n"
-      "or .pcd/.ply clouds in the sensor frame; a directory gives its PNGs sorted by name.\n"
-      "\n"
-      "1. Every capture: the floor is fitted (the captures must agree on it: one fixed sensor),\n"
-      "   the objects standing on it are clustered, and the robot is the object at least\n"
-      "   15 cm tall nearest the middle of the image (where the others see it); clutter\n"
-      "   elsewhere does not matter. Points below --table-height + 25 mm are cut with the table.\n"
-      "2. Registration. --turntable: view i is at table angle i * --step-deg (or --angles-deg).\n"
-      "   The turntable axis is calibrated from the captures themselves: its direction is the\n"
-      "   floor normal and its position on the floor is estimated jointly over all views (grid\n"
-      "   search, then point-to-plane least squares). A rotation about a vertical axis cannot\n"
-      "   reveal a translation along it (nor the table's zero angle): the report says so; z = 0\n"
-      "   is the table top instead. --headings-deg (hand-turned): every view gets its own\n"
-      "   x, y, theta on the floor, searched within +-17 deg of its rough heading and refined\n"
-      "   jointly with the others.\n"
-      "3. Every view's residual against the others (point-to-plane RMS, fraction of its\n"
-      "   points with a neighbour within 15 mm) is printed; a view that does not fit (RMS over\n"
-      "   --max-rms-mm or fewer than --min-inliers) stops the command, naming it, unless\n"
-      "   --drop-bad-views leaves it out.\n"
-      "4. Template frame: z = 0 on the table top (floor); origin below the centroid of the\n"
-      "   merged body's voxels (--origin centroid, reproducible on any template of the robot)\n"
-      "   or on the axis (--origin axis); +x = the direction the robot faced in capture K\n"
-      "   (--front-view K, counted from 0 in the order above: it faced the sensor then),\n"
-      "   turned by --front-yaw-deg. Voxels with a single merged point are dropped as noise.");
-  flags.AllowPositional("DIR_OR_FILES");
-  flags.AddString("name", &name, "template name ([A-Za-z0-9_.-])", "N");
-  flags.AddString("out", &out, "template file to write (.bt, with its .json sidecar)", "FILE.bt");
-  flags.AddString("variant", &variant, "shape label, e.g. standing [default: the name]", "V");
-  flags.AddDouble("resolution", &resolution, "voxel edge, metres", "M");
-  flags.AddString("intrinsics", &intrinsics,
-                  "intrinsics of the depth PNGs [default: intrinsics.json beside each]", "FILE");
-  flags.AddBool("turntable", &turntable, "the robot was turned by a turntable");
-  flags.AddDouble("step-deg", &step_deg,
-                  "turntable: table turn between consecutive captures, degrees (CCW from above)",
-                  "D");
-  flags.AddString("angles-deg", &angles_text, "turntable: every capture's table angle, degrees",
-                  "A,B,...");
-  flags.AddString("headings-deg", &headings_text,
-                  "hand-turned: every capture's rough robot heading, degrees (CCW from above)",
-                  "A,B,...");
-  flags.AddDouble("heading-search-deg", &heading_search_deg,
-                  "hand-turned: how far each heading may be off, degrees", "D");
-  flags.AddDouble("axis-search-m", &axis_search,
-                  "turntable: how far the axis may be from the robot's mean position, metres", "M");
-  flags.AddDouble("table-height", &table_height,
-                  "turntable top above the floor, metres (0: the robot stands on the floor)", "M");
-  flags.AddString("origin", &origin_name, "template origin: centroid or axis", "WHERE");
-  flags.AddInt("front-view", &front_view, "capture (from 0) in which the robot faced the sensor",
-               "K");
-  flags.AddDouble("front-yaw-deg", &front_yaw_deg,
-                  "turn the template x axis by this from that direction, degrees", "D");
-  flags.AddDouble("max-rms-mm", &max_rms_mm, "a view fits when its RMS residual is below", "MM");
-  flags.AddDouble("min-inliers", &min_inliers,
-                  "... and this fraction of its points meets another view", "F");
-  flags.AddBool("drop-bad-views", &drop_bad,
-                "leave out captures that do not fit (no floor, no robot, residual too high) "
-                "instead of stopping");
-  flags.AddString("report", &report_path,
-                  "write the calibration, residual table and unobservable directions as JSON",
-                  "FILE.json");
-  flags.AddString("picture", &picture_path,
-                  "draw the registered captures (one colour each) from above and the side, "
-                  "with the template origin, +x and the axis",
-                  "FILE.png");
-  flags.SetEpilog(
-      "examples:\n"
-      "  hpose simulate turntable --out tt --views 12 --step-deg 30\n"
-      "  hpose template from-captures tt --turntable --step-deg 30 --table-height 0.02 \\\n"
-      "      --name my_robot --out my_robot.bt --report my_robot_report.json\n"
-      "  hpose template from-captures a.png b.png c.png d.png --headings-deg 0,90,180,270 \\\n"
-      "      --name my_robot --out my_robot.bt\n"
-      "\nexit status: 0 written, 1 bad captures (the message names them) or cannot write,\n"
-      "2 bad flags");
+  TemplateFromCapturesFlags f;
+  FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
 
   if (flags.positional().empty())
     return UsageError(kCapturesCmd, "give the capture files or a directory");
-  if (name.empty()) return UsageError(kCapturesCmd, "--name N is required");
-  if (out.empty()) return UsageError(kCapturesCmd, "--out FILE.bt is required");
-  const bool hand = !headings_text.empty();
-  if (turntable == hand) {
+  if (f.name.empty()) return UsageError(kCapturesCmd, "--name N is required");
+  if (f.out.empty()) return UsageError(kCapturesCmd, "--out FILE.bt is required");
+  const bool hand = !f.headings_text.empty();
+  if (f.turntable == hand) {
     return UsageError(kCapturesCmd, "say how the robot was turned: --turntable or --headings-deg");
   }
-  if (hand && (flags.Seen("step-deg") || !angles_text.empty())) {
+  if (hand && (flags.Seen("step-deg") || !f.angles_text.empty())) {
     return UsageError(kCapturesCmd, "--step-deg and --angles-deg are for --turntable");
   }
-  if (!(resolution >= 0.001 && resolution <= 0.5)) {
+  if (!(f.resolution >= 0.001 && f.resolution <= 0.5)) {
     return UsageError(kCapturesCmd, "--resolution must be in [0.001, 0.5] m");
   }
-  if (!(table_height >= 0.0 && table_height <= 1.5)) {
+  if (!(f.table_height >= 0.0 && f.table_height <= 1.5)) {
     return UsageError(kCapturesCmd, "--table-height must be in [0, 1.5] m");
   }
-  if (origin_name != "centroid" && origin_name != "axis") {
-    return UsageError(kCapturesCmd, "--origin must be centroid or axis, got '" + origin_name + "'");
+  if (f.origin_name != "centroid" && f.origin_name != "axis") {
+    return UsageError(kCapturesCmd,
+                      "--origin must be centroid or axis, got '" + f.origin_name + "'");
   }
-  if (origin_name == "axis" && hand)
+  if (f.origin_name == "axis" && hand)
     return UsageError(kCapturesCmd, "--origin axis needs --turntable");
-  if (!(max_rms_mm > 0.0) || !(min_inliers >= 0.0 && min_inliers <= 1.0)) {
+  if (!(f.max_rms_mm > 0.0) || !(f.min_inliers >= 0.0 && f.min_inliers <= 1.0)) {
     return UsageError(kCapturesCmd, "--max-rms-mm must be > 0 and --min-inliers in [0, 1]");
   }
-  if (!(axis_search >= 0.0 && axis_search <= 2.0) ||
-      !(heading_search_deg >= 0.0 && heading_search_deg <= 90.0)) {
+  if (!(f.axis_search >= 0.0 && f.axis_search <= 2.0) ||
+      !(f.heading_search_deg >= 0.0 && f.heading_search_deg <= 90.0)) {
     return UsageError(kCapturesCmd,
                       "--axis-search-m must be in [0, 2] and --heading-search-deg in [0, 90]");
   }
@@ -315,23 +234,23 @@ int RunTemplateFromCaptures(int argc, char** argv) {
   const int n = static_cast<int>(files->size());
   std::vector<double> angles_deg;
   if (hand) {
-    if (!ParseList(headings_text, &angles_deg)) {
+    if (!ParseList(f.headings_text, &angles_deg)) {
       return UsageError(kCapturesCmd, "--headings-deg needs comma-separated degrees, got '" +
-                                          headings_text + "'");
+                                          f.headings_text + "'");
     }
-  } else if (!angles_text.empty()) {
-    if (!ParseList(angles_text, &angles_deg)) {
+  } else if (!f.angles_text.empty()) {
+    if (!ParseList(f.angles_text, &angles_deg)) {
       return UsageError(kCapturesCmd,
-                        "--angles-deg needs comma-separated degrees, got '" + angles_text + "'");
+                        "--angles-deg needs comma-separated degrees, got '" + f.angles_text + "'");
     }
   } else {
-    for (int i = 0; i < n; ++i) angles_deg.push_back(i * step_deg);
+    for (int i = 0; i < n; ++i) angles_deg.push_back(i * f.step_deg);
   }
   if (static_cast<int>(angles_deg.size()) != n) {
     return UsageError(kCapturesCmd, std::to_string(angles_deg.size()) + " angles for " +
                                         std::to_string(n) + " captures");
   }
-  if (front_view < 0 || front_view >= n) {
+  if (f.front_view < 0 || f.front_view >= n) {
     return UsageError(kCapturesCmd, "--front-view must be in [0, " + std::to_string(n - 1) + "]");
   }
 
@@ -339,16 +258,16 @@ int RunTemplateFromCaptures(int argc, char** argv) {
   auto progress = [](const std::string& line) { std::cout << "  " << line << "\n" << std::flush; };
   std::cout << "reading " << n << " captures\n";
   std::vector<CaptureView> captures;
-  for (const fs::path& f : *files) {
-    Result<CaptureView> v = LoadCapture(f, intrinsics);
+  for (const fs::path& file : *files) {
+    Result<CaptureView> v = LoadCapture(file, f.intrinsics);
     if (!v.ok()) return Fail(v.error());
     captures.push_back(std::move(*v));
   }
 
   std::cout << "cutting the robot out of every capture\n";
   CaptureViewOptions view_options;
-  view_options.table_height_m = table_height;
-  view_options.drop_bad_views = drop_bad;
+  view_options.table_height_m = f.table_height;
+  view_options.drop_bad_views = f.drop_bad;
   Result<CaptureViews> views = ExtractRobotViews(captures, view_options, progress);
   if (!views.ok()) return Fail(views.error());
   std::cout << "  common floor: sensor " << Fixed(views->floor.height_m * 1000.0, 0)
@@ -359,11 +278,11 @@ int RunTemplateFromCaptures(int argc, char** argv) {
   CaptureRegistrationOptions reg_options;
   reg_options.motion = hand ? CaptureMotion::kHandTurned : CaptureMotion::kTurntable;
   for (const double d : angles_deg) reg_options.angles_rad.push_back(DegToRad(d));
-  reg_options.axis_search_radius_m = axis_search;
-  reg_options.heading_search_rad = DegToRad(heading_search_deg);
-  reg_options.max_rms_m = max_rms_mm / 1000.0;
-  reg_options.min_inlier_fraction = min_inliers;
-  reg_options.drop_bad_views = drop_bad;
+  reg_options.axis_search_radius_m = f.axis_search;
+  reg_options.heading_search_rad = DegToRad(f.heading_search_deg);
+  reg_options.max_rms_m = f.max_rms_mm / 1000.0;
+  reg_options.min_inlier_fraction = f.min_inliers;
+  reg_options.drop_bad_views = f.drop_bad;
   Result<CaptureRegistration> reg = RegisterCaptureViews(*views, reg_options, progress);
   if (!reg.ok()) return Fail(reg.error());
 
@@ -381,25 +300,25 @@ int RunTemplateFromCaptures(int argc, char** argv) {
   }
 
   CaptureTemplateOptions tpl_options;
-  tpl_options.name = name;
-  tpl_options.variant = variant;
-  tpl_options.resolution_m = resolution;
+  tpl_options.name = f.name;
+  tpl_options.variant = f.variant;
+  tpl_options.resolution_m = f.resolution;
   tpl_options.origin =
-      origin_name == "axis" ? TemplateOrigin::kAxis : TemplateOrigin::kVoxelCentroid;
-  tpl_options.front_view = front_view;
-  tpl_options.front_yaw_rad = DegToRad(front_yaw_deg);
+      f.origin_name == "axis" ? TemplateOrigin::kAxis : TemplateOrigin::kVoxelCentroid;
+  tpl_options.front_view = f.front_view;
+  tpl_options.front_yaw_rad = DegToRad(f.front_yaw_deg);
   tpl_options.source = "hpose template from-captures (" + std::to_string(reg->views.size()) + " " +
-                       (hand ? "hand-turned" : "turntable") + " captures, origin " + origin_name +
-                       ", front view " + std::to_string(front_view) + ")";
+                       (hand ? "hand-turned" : "turntable") + " captures, origin " + f.origin_name +
+                       ", front view " + std::to_string(f.front_view) + ")";
   Result<CaptureTemplate> tpl = MakeCaptureTemplate(*reg, tpl_options);
   if (!tpl.ok()) return Fail(tpl.error());
-  if (Status s = SaveTemplate(tpl->tpl, out); !s.ok()) return Fail(s.error());
+  if (Status s = SaveTemplate(tpl->tpl, f.out); !s.ok()) return Fail(s.error());
 
-  if (!report_path.empty()) {
+  if (!f.report_path.empty()) {
     nlohmann::json report = {{"format", "hpose-capture-report"},
                              {"version", 1},
                              {"motion", hand ? "hand_turned" : "turntable"},
-                             {"template", out},
+                             {"template", f.out},
                              {"captures", n}};
     report["floor"] = {{"plane_sensor",
                         {views->floor.plane_sensor[0], views->floor.plane_sensor[1],
@@ -433,9 +352,9 @@ int RunTemplateFromCaptures(int argc, char** argv) {
     for (const DroppedView& d : views->dropped) {
       report["views"].push_back({{"file", d.name}, {"dropped", true}, {"reason", d.reason}});
     }
-    report["template_frame"] = {{"origin", origin_name},
-                                {"front_view", front_view},
-                                {"front_yaw_rad", DegToRad(front_yaw_deg)},
+    report["template_frame"] = {{"origin", f.origin_name},
+                                {"front_view", f.front_view},
+                                {"front_yaw_rad", DegToRad(f.front_yaw_deg)},
                                 {"table_from_template",
                                  {{"x", tpl->table_from_template.x},
                                   {"y", tpl->table_from_template.y},
@@ -444,15 +363,15 @@ int RunTemplateFromCaptures(int argc, char** argv) {
                                 {"voxels", tpl->tpl.voxels.size()},
                                 {"noise_voxels_dropped", tpl->noise_voxels_dropped},
                                 {"merged_points", tpl->merged_points}};
-    if (Status s = WriteFileAtomically(report_path, report.dump(2) + "\n"); !s.ok()) {
+    if (Status s = WriteFileAtomically(f.report_path, report.dump(2) + "\n"); !s.ok()) {
       return Fail(s.error());
     }
   }
-  if (!picture_path.empty()) {
-    if (Status s = WriteRegistrationPicture(*reg, *tpl, picture_path); !s.ok()) {
+  if (!f.picture_path.empty()) {
+    if (Status s = WriteRegistrationPicture(*reg, *tpl, f.picture_path); !s.ok()) {
       return Fail(s.error());
     }
-    std::cout << "drew " << picture_path << "\n";
+    std::cout << "drew " << f.picture_path << "\n";
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -462,11 +381,11 @@ int RunTemplateFromCaptures(int argc, char** argv) {
               << " mm on the floor (ground frame), along the floor normal; not observable: "
                  "translation along the axis and the table's zero angle\n";
   }
-  std::cout << "wrote " << out << " and " << TemplateSidecarPath(out) << ": '" << name << "', "
-            << tpl->tpl.voxels.size() << " voxels of " << Fixed(resolution * 1000.0, 1)
+  std::cout << "wrote " << f.out << " and " << TemplateSidecarPath(f.out) << ": '" << f.name
+            << "', " << tpl->tpl.voxels.size() << " voxels of " << Fixed(f.resolution * 1000.0, 1)
             << " mm, height " << Fixed(tpl->tpl.Height() * 1000.0, 0) << " mm from "
             << reg->views.size() << " captures";
-  if (!report_path.empty()) std::cout << "; report " << report_path;
+  if (!f.report_path.empty()) std::cout << "; report " << f.report_path;
   std::cout << " (" << Fixed(seconds, 1) << " s)\n";
   return kExitOk;
 }

@@ -8,6 +8,7 @@
 #include "core/templates/template_io.h"
 #include "core/templates/template_shape.h"
 #include "core/templates/voxel_template.h"
+#include "tools/cmd_template_view_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/fixed_text.h"
@@ -15,34 +16,17 @@
 #include "tools/template_picture.h"
 
 namespace hpose::tools {
-namespace {
-
-const char kAsymmetryHelp[] =
-    "Asymmetry: orthographic depth images of the voxels are compared cell by cell (a cell\n"
-    "matches when both images have a surface there within one voxel of depth); the number is\n"
-    "the share of occupied cells that do not match. front/back: the robot facing the sensor vs\n"
-    "facing away (small: 180-degree flips are likely); left/right sides: its left side vs its\n"
-    "right side (small: +-90-degree flips); mirror: the front view vs its mirror image (0 for a\n"
-    "left/right symmetric robot, whose left and right arms cannot be told apart).";
-
-}  // namespace
 
 int TemplateInfo(int argc, char** argv) {
-  bool json = false;
-  FlagParser flags(
-      "hpose template info FILE.bt [--json]",
-      std::string("Prints a template's name, variant, source, resolution, voxel count,\n"
-                  "height, widths, bounding box (template frame) and asymmetry.\n\n") +
-          kAsymmetryHelp);
-  flags.AllowPositional("FILE.bt");
-  flags.AddBool("json", &json, "print one JSON object (SI units) instead of text");
+  TemplateInfoFlags f;
+  FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
   if (flags.positional().size() != 1)
     return UsageError("template info", "give exactly one FILE.bt");
   Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
   if (!tpl.ok()) return ReportError("template info", tpl.error());
   const TemplateShape s = DescribeTemplate(*tpl);
-  if (json) {
+  if (f.json) {
     nlohmann::ordered_json j;
     j["file"] = flags.positional().front();
     j["name"] = tpl->name;
@@ -82,41 +66,24 @@ int TemplateInfo(int argc, char** argv) {
 }
 
 int TemplateShow(int argc, char** argv) {
-  std::string picture;
-  TemplatePictureOptions options;
-  FlagParser flags(
-      "hpose template show FILE.bt --picture OUT.png [--distance M --sensor-height M "
-      "--heading-deg D]",
-      "Draws a template: its voxels from the front, from the side (its left) and from above,\n"
-      "shaded by depth (nearer is brighter), and as a level Kinect v1 sees them; the template\n"
-      "frame's origin and axes (x red, y green, z blue) drawn in each view, and the figures of\n"
-      "`hpose template info` underneath.");
-  flags.AllowPositional("FILE.bt");
-  flags.AddString("picture", &picture, "PNG file to write", "OUT.png");
-  flags.AddDouble("distance", &options.sensor_distance_m,
-                  "Kinect view: horizontal distance to the template origin, metres", "M");
-  flags.AddDouble("sensor-height", &options.sensor_height_m,
-                  "Kinect view: optical centre above the floor, metres", "M");
-  flags.AddDouble("heading-deg", &options.heading_deg,
-                  "Kinect view: robot heading, degrees (0 = facing away, 180 = facing the "
-                  "sensor)",
-                  "D");
+  TemplateShowFlags f;
+  FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
   if (flags.positional().size() != 1)
     return UsageError("template show", "give exactly one FILE.bt");
-  if (picture.empty()) return UsageError("template show", "--picture OUT.png is required");
-  if (!(options.sensor_distance_m >= 0.3 && options.sensor_distance_m <= 10.0)) {
+  if (f.picture.empty()) return UsageError("template show", "--picture OUT.png is required");
+  if (!(f.options.sensor_distance_m >= 0.3 && f.options.sensor_distance_m <= 10.0)) {
     return UsageError("template show", "--distance must be in [0.3, 10] m");
   }
-  if (!(options.sensor_height_m > 0.0 && options.sensor_height_m <= 3.0)) {
+  if (!(f.options.sensor_height_m > 0.0 && f.options.sensor_height_m <= 3.0)) {
     return UsageError("template show", "--sensor-height must be in (0, 3] m");
   }
   Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
   if (!tpl.ok()) return ReportError("template show", tpl.error());
-  if (Status s = WriteTemplatePicture(*tpl, picture, options); !s.ok()) {
+  if (Status s = WriteTemplatePicture(*tpl, f.picture, f.options); !s.ok()) {
     return ReportError("template show", s.error());
   }
-  std::cout << "picture " << picture << "\n";
+  std::cout << "picture " << f.picture << "\n";
   return kExitOk;
 }
 

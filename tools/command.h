@@ -3,11 +3,14 @@
 
 namespace hpose::tools {
 
+// A command's entry point: argv[0] names it ("hpose <name>"), its flags follow.
+using CommandFn = int (*)(int argc, char** argv);
+
 // One `hpose <name> ...` subcommand. `run` receives argv with argv[0] = "hpose <name>".
 struct Command {
   const char* name;
   const char* summary;
-  int (*run)(int argc, char** argv);
+  CommandFn run;
 };
 
 // Runs `hpose <c.name> ...` with argv[1] = c.name, as `hpose` and the command programs do:

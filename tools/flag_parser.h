@@ -13,10 +13,6 @@ namespace hpose::tools {
 // numbers.
 bool ParsePoseTriple(const std::string& text, Pose2D* pose);
 
-// What a command returns in the `hpose` front end when its flags parsed: "run me for real".
-// Never an exit status.
-inline constexpr int kFlagsAccepted = 1000;
-
 // A small GNU-style flag parser shared by every command: `--name value`, `--name=value`,
 // boolean `--name`, repeatable flags, positional arguments, and a generated --help.
 class FlagParser {
@@ -47,11 +43,7 @@ class FlagParser {
   Outcome Parse(int argc, char** argv, int first = 1);
 
   // Parse() for a command's entry point: -1 to go on, else the status to exit with (0 after
-  // --help, 2 after a usage error, already reported). In the `hpose` front end (built with
-  // HPOSE_TOOLS_FLAGS_ONLY) a successful parse ends the command with kFlagsAccepted instead:
-  // the compiler then drops everything after the parse, so the front end prints help and
-  // rejects bad flags without loading the libraries the command's work needs, and hands the
-  // command line on to the command's own program (see hpose_main.cc).
+  // --help, 2 after a usage error, already reported).
   int ParseOrExitCode(int argc, char** argv, int first = 1) {
     switch (Parse(argc, argv, first)) {
       case Outcome::kHelpShown:
@@ -61,11 +53,7 @@ class FlagParser {
       case Outcome::kOk:
         break;
     }
-#ifdef HPOSE_TOOLS_FLAGS_ONLY
-    return kFlagsAccepted;
-#else
     return -1;
-#endif
   }
 
   const std::vector<std::string>& positional() const { return positional_; }

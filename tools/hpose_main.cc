@@ -1,6 +1,6 @@
 // `hpose`: the command line of hpose, a thin front end that starts instantly. It holds every
-// command's flags (the cmd_*.cc files built with HPOSE_TOOLS_FLAGS_ONLY, see flag_parser.h) but
-// none of their work: it prints the help, rejects unknown commands and bad flags itself, and
+// command's flags (tools/cmd_*_flags.h: the flags, their defaults and help, without the work)
+// and none of their work: it prints the help, rejects unknown commands and bad flags itself, and
 // runs an accepted command line in the command's own program, `hpose-<command>` (beside this
 // one in the build tree, in ../libexec/hpose once installed), which loads only the libraries
 // that command needs.
@@ -12,6 +12,19 @@
 #include <string>
 #include <vector>
 
+#include "tools/cmd_calibrate_flags.h"
+#include "tools/cmd_demo_flags.h"
+#include "tools/cmd_estimate_flags.h"
+#include "tools/cmd_query_flags.h"
+#include "tools/cmd_record_flags.h"
+#include "tools/cmd_replay_flags.h"
+#include "tools/cmd_simulate_flags.h"
+#include "tools/cmd_simulate_turntable_flags.h"
+#include "tools/cmd_stereo_flags.h"
+#include "tools/cmd_template_captures_flags.h"
+#include "tools/cmd_template_flags.h"
+#include "tools/cmd_template_urdf_flags.h"
+#include "tools/cmd_template_view_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
@@ -19,24 +32,62 @@
 namespace {
 
 using hpose::tools::Command;
+namespace tools = hpose::tools;
+
+// What a command returns here when its flags parsed: "run it in its program". Never an exit
+// status.
+constexpr int kFlagsAccepted = 1000;
+
+// A command as the front end runs it: its flags (Flags::Parser()) parsed from argv[first] on;
+// the exit status of --help or of a usage error (already reported), else kFlagsAccepted.
+template <typename Flags, int kFirst = 1>
+int CheckFlags(int argc, char** argv) {
+  Flags flags;
+  const int code = flags.Parser().ParseOrExitCode(argc, argv, kFirst);
+  return code >= 0 ? code : kFlagsAccepted;
+}
+
+int CheckSimulate(int argc, char** argv) {
+  return tools::RunSimulateSubcommand(
+      {CheckFlags<tools::SimulateFlags>, CheckFlags<tools::SimulateStereoFlags>,
+       CheckFlags<tools::TurntableFlags>},
+      argc, argv);
+}
+
+int CheckCalibrate(int argc, char** argv) {
+  return tools::RunCalibrateSubcommand(
+      {CheckFlags<tools::CalibrateStereoFlags>, CheckFlags<tools::WorldFromGroundFlags>}, argc,
+      argv);
+}
+
+// `hpose template`'s subcommands parse their flags from argv[2] (argv[1] names them).
+int CheckTemplate(int argc, char** argv) {
+  return tools::RunTemplateSubcommand(
+      {CheckFlags<tools::TemplateGenerateFlags, 2>, CheckFlags<tools::TemplateFromCloudFlags, 2>,
+       CheckFlags<tools::TemplateFromCapturesFlags, 2>, CheckFlags<tools::TemplateFromUrdfFlags, 2>,
+       CheckFlags<tools::TemplateInfoFlags, 2>, CheckFlags<tools::TemplateShowFlags, 2>},
+      argc, argv);
+}
 
 const Command kCommands[] = {
     {"demo", "simulate a frame and estimate the humanoid in it (no input needed)",
-     hpose::tools::RunDemo},
+     CheckFlags<tools::DemoFlags>},
     {"estimate", "estimate the humanoid's pose in one depth frame or cloud",
-     hpose::tools::RunEstimate},
-    {"simulate", "render simulated Kinect frames of a humanoid scene", hpose::tools::RunSimulate},
+     CheckFlags<tools::EstimateFlags>},
+    {"simulate", "render simulated Kinect frames of a humanoid scene", CheckSimulate},
     {"estimate-stereo", "locate robot and ball from stereo pairs and three landmarks",
-     hpose::tools::RunEstimateStereo},
+     CheckFlags<tools::EstimateStereoFlags>},
     {"simulate-stereo", "render simulated stereo pairs of the landmark field",
-     hpose::tools::RunSimulateStereo},
+     CheckFlags<tools::SimulateStereoFlags>},
     {"calibrate", "stereo pair from chessboards; depth sensor's place in the landmark frame",
-     hpose::tools::RunCalibrate},
-    {"template", "make, inspect and regenerate humanoid templates", hpose::tools::RunTemplate},
+     CheckCalibrate},
+    {"template", "make, inspect and regenerate humanoid templates", CheckTemplate},
     {"record", "record depth from an OpenNI2 device to .oni or PNG frames",
-     hpose::tools::RunRecord},
-    {"replay", "estimate every frame of a recording (JSON Lines or CSV)", hpose::tools::RunReplay},
-    {"query", "ask a running hposed: latest, stream, estimate, status", hpose::tools::RunQuery},
+     CheckFlags<tools::RecordFlags>},
+    {"replay", "estimate every frame of a recording (JSON Lines or CSV)",
+     CheckFlags<tools::ReplayFlags>},
+    {"query", "ask a running hposed: latest, stream, estimate, status",
+     CheckFlags<tools::QueryFlags>},
 };
 
 void PrintHelp() {
@@ -91,7 +142,7 @@ int main(int argc, char** argv) {
   for (const Command& c : kCommands) {
     if (args[1] != c.name) continue;
     const int code = hpose::tools::RunCommand(c, argc, argv);
-    return code == hpose::tools::kFlagsAccepted ? ExecCommandProgram(c.name, args) : code;
+    return code == kFlagsAccepted ? ExecCommandProgram(c.name, args) : code;
   }
   std::cerr << "hpose: unknown command '" << argv[1] << "' (see hpose --help)\n";
   return hpose::tools::kExitUsage;

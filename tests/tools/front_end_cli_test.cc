@@ -60,13 +60,9 @@ TEST(FrontEndCliTest, HelpAndFlagErrorsNeedNoCommandProgram) {
   EXPECT_NE(missing.err.find("cannot start"), std::string::npos) << missing.err;
 }
 
-// What makes the help instant: the front end records no heavy library. Only an optimised build
-// drops the commands' work from it (see tools/flag_parser.h), so other builds skip. (The test
-// code's own level is not the programs': the sanitized build compiles tests at -O0.)
+// What makes the help instant: the front end records no heavy library. It holds the commands'
+// flags (tools/cmd_*_flags.h) and none of their work, whatever the build's optimisation.
 TEST(FrontEndCliTest, FrontEndLinksNoHeavyLibrary) {
-#ifndef HPOSE_PROGRAMS_OPTIMIZED
-  GTEST_SKIP() << "unoptimised build: the front end keeps the commands' code and libraries";
-#endif
   TempDir dir("front_end_needed");
   const CliRun needed = RunProgram("readelf", "-d '" + kToolsDir + "/hpose'", dir);
   if (needed.exit_code == 127) GTEST_SKIP() << "readelf (binutils) not installed";

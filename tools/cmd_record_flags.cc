@@ -1,0 +1,24 @@
+#include "tools/cmd_record_flags.h"
+
+namespace hpose::tools {
+
+FlagParser RecordFlags::Parser() {
+  FlagParser flags(
+      "hpose record --out FILE.oni|DIR [--device openni2://[URI]] [--frames N] [--duration S]",
+      "Records depth frames from an OpenNI2 device. An --out ending in .oni is written by "
+      "OpenNI2's recorder (replayable by hposed, hpose replay and any OpenNI2 tool); anything "
+      "else is a directory of 16-bit PNG frames in millimetres plus intrinsics.json (from the "
+      "stream's field of view). Stops after --frames, --duration or Ctrl-C.");
+  flags.AddString("out", &out, "output .oni file or directory", "PATH");
+  flags.AddString("device", &device, "openni2:// (any device) or openni2://URI", "SPEC");
+  flags.AddInt("frames", &frames, "number of frames (0 = no limit)", "N");
+  flags.AddDouble("duration", &duration_s, "seconds to record (0 = no limit)", "S");
+  flags.AddDouble("timeout", &timeout_s, "fail when no frame arrives for this long, seconds", "S");
+  flags.AddBool("quiet", &quiet, "no progress output");
+  flags.SetEpilog(
+      "examples:\n  hpose record --out walk.oni --duration 10\n"
+      "  hpose record --out frames/ --frames 300\n");
+  return flags;
+}
+
+}  // namespace hpose::tools
