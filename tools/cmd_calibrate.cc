@@ -160,38 +160,30 @@ Result<std::vector<GroundWorldPair>> ReadPairs(const std::string& path) {
   return pairs;
 }
 
-// Where a recording's two halves are and how to estimate them (hposed's config keys): the
-// --depth, --stereo, --max-dt and --stereo-time-offset of WorldFromGroundFlags and the config.
-struct RecordingInputs {
-  std::string depth, stereo;
-  server::DaemonConfig config;
-  double max_dt_s = 0.0;
-  double stereo_time_offset_s = 0.0;
-};
-
 // The depth estimator's robot poses (ground frame) over the whole depth recording.
-Result<std::vector<TimedPose>> DepthPoses(const RecordingInputs& in, int* frames) {
-  std::vector<std::string> paths = in.config.templates;
+Result<std::vector<TimedPose>> DepthPoses(const std::string& depth,
+                                          const server::DaemonConfig& config, int* frames) {
+  std::vector<std::string> paths = config.templates;
   if (paths.empty()) paths = DefaultTemplatePaths();
   Result<std::vector<VoxelTemplate>> templates = LoadTemplates(ResolveTemplateNames(paths));
   if (!templates.ok()) return templates.error();
   Result<std::unique_ptr<Estimator>> estimator =
-      Estimator::Create(server::EffectiveEstimatorOptions(in.config), std::move(*templates));
+      Estimator::Create(server::EffectiveEstimatorOptions(config), std::move(*templates));
   if (!estimator.ok()) return estimator.error();
   server::ReplayOptions replay;
   replay.realtime = false;
-  replay.fps = in.config.source.fps;
-  if (!in.config.source.intrinsics.empty()) {
-    Result<Intrinsics> k = ReadIntrinsicsFile(in.config.source.intrinsics);
+  replay.fps = config.source.fps;
+  if (!config.source.intrinsics.empty()) {
+    Result<Intrinsics> k = ReadIntrinsicsFile(config.source.intrinsics);
     if (!k.ok()) return k.error();
     replay.has_intrinsics = true;
     replay.intrinsics = *k;
   }
-  Result<std::unique_ptr<server::FrameSource>> source = server::MakeFrameSource(in.depth, replay);
+  Result<std::unique_ptr<server::FrameSource>> source = server::MakeFrameSource(depth, replay);
   if (!source.ok()) return source.error();
   if ((*source)->live()) {
     return MakeError(ErrorCode::kInvalidArgument,
-                     in.depth + ": a live device; record it first (hpose record)");
+                     depth + ": a live device; record it first (hpose record)");
   }
   if (Status s = (*source)->Open(); !s.ok()) return s.error();
   const long total = (*source)->frame_count();
@@ -218,22 +210,23 @@ Result<std::vector<TimedPose>> DepthPoses(const RecordingInputs& in, int* frames
 }
 
 // The stereo estimator's robot poses (world frame) over the whole stereo sequence.
-Result<std::vector<TimedPose>> StereoPoses(const RecordingInputs& in, int* frames) {
-  Result<StereoSequence> seq = StereoSequence::Open(in.stereo, in.config.stereo.fps);
+Result<std::vector<TimedPose>> StereoPoses(const std::string& stereo, double time_offset_s,
+                                           const server::DaemonConfig& config, int* frames) {
+  Result<StereoSequence> seq = StereoSequence::Open(stereo, config.stereo.fps);
   if (!seq.ok()) return seq.error();
-  std::string calibration = in.config.stereo.calibration;
+  std::string calibration = config.stereo.calibration;
   if (calibration.empty()) calibration = seq->calibration_path();
   if (calibration.empty()) {
     return MakeError(ErrorCode::kNotFound,
-                     in.stereo + " holds no calibration.yaml; give --stereo-calibration FILE");
+                     stereo + " holds no calibration.yaml; give --stereo-calibration FILE");
   }
   StereoCalibrationReadOptions read;
-  read.translation_unit_m = in.config.stereo.calibration_unit == "mm" ? 0.001 : 1.0;
+  read.translation_unit_m = config.stereo.calibration_unit == "mm" ? 0.001 : 1.0;
   Result<StereoCalibration> cal = ReadStereoCalibration({calibration}, read);
   if (!cal.ok()) return cal.error();
   StereoMarkerOptions options;
-  if (!in.config.stereo.options.empty()) {
-    Result<StereoMarkerOptions> loaded = LoadStereoMarkerOptions(in.config.stereo.options);
+  if (!config.stereo.options.empty()) {
+    Result<StereoMarkerOptions> loaded = LoadStereoMarkerOptions(config.stereo.options);
     if (!loaded.ok()) return loaded.error();
     options = *loaded;
   }
@@ -244,7 +237,7 @@ Result<std::vector<TimedPose>> StereoPoses(const RecordingInputs& in, int* frame
   for (size_t i = 0; i < seq->size(); ++i) {
     Result<std::pair<RgbImage, RgbImage>> pair = seq->Load(i);
     if (!pair.ok()) return pair.error();
-    const double t = seq->frame(i).timestamp_s + in.stereo_time_offset_s;
+    const double t = seq->frame(i).timestamp_s + time_offset_s;
     Result<StereoFrameResult> r = (*estimator)->Process(pair->first, pair->second, t);
     if (!r.ok()) return Error{r.error().code, seq->frame(i).left_path + ": " + r.error().message};
     if (r->ok()) poses.push_back({t, r->robot});
@@ -274,28 +267,23 @@ int RunCalibrateWorldFromGround(int argc, char** argv) {
   WorldFromGroundFlags f;
   FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
-  RecordingInputs in;
-  in.depth = f.depth;
-  in.stereo = f.stereo;
-  in.max_dt_s = f.max_dt_s;
-  in.stereo_time_offset_s = f.stereo_time_offset_s;
   const std::string cmd = "calibrate world-from-ground";
   if (!f.recording.empty()) {
-    if (!in.depth.empty() || !in.stereo.empty()) {
+    if (!f.depth.empty() || !f.stereo.empty()) {
       std::cerr << "hpose " << cmd << ": --recording or --depth/--stereo, not both\n";
       return kExitUsage;
     }
-    in.depth = f.recording + "/depth";
-    in.stereo = f.recording + "/stereo";
+    f.depth = f.recording + "/depth";
+    f.stereo = f.recording + "/stereo";
   }
-  const bool from_recording = !in.depth.empty() || !in.stereo.empty();
+  const bool from_recording = !f.depth.empty() || !f.stereo.empty();
   if (from_recording == !f.pairs_path.empty() ||
-      (from_recording && (in.depth.empty() || in.stereo.empty()))) {
+      (from_recording && (f.depth.empty() || f.stereo.empty()))) {
     std::cerr << "hpose " << cmd
               << ": give --pairs, or --recording, or both --depth and --stereo (see --help)\n";
     return kExitUsage;
   }
-  if (!(in.max_dt_s > 0.0 && in.max_dt_s <= 10.0)) {
+  if (!(f.max_dt_s > 0.0 && f.max_dt_s <= 10.0)) {
     std::cerr << "hpose " << cmd << ": --max-dt must be in (0, 10] seconds\n";
     return kExitUsage;
   }
@@ -305,26 +293,28 @@ int RunCalibrateWorldFromGround(int argc, char** argv) {
     pairs = ReadPairs(f.pairs_path);
     if (!pairs.ok()) return ReportError(cmd, pairs.error());
   } else {
+    server::DaemonConfig config;  // hposed's config keys: how to estimate the two halves.
     if (!f.config_path.empty()) {
       Result<server::DaemonConfig> loaded = server::LoadDaemonConfig(f.config_path);
       if (!loaded.ok()) return ReportError(cmd, loaded.error());
-      in.config = std::move(*loaded);
+      config = std::move(*loaded);
     }
-    if (!f.templates.empty()) in.config.templates = f.templates;
-    if (!f.stereo_calibration.empty()) in.config.stereo.calibration = f.stereo_calibration;
-    if (!f.stereo_options.empty()) in.config.stereo.options = f.stereo_options;
+    if (!f.templates.empty()) config.templates = f.templates;
+    if (!f.stereo_calibration.empty()) config.stereo.calibration = f.stereo_calibration;
+    if (!f.stereo_options.empty()) config.stereo.options = f.stereo_options;
     int depth_frames = 0, stereo_frames = 0;
-    Result<std::vector<TimedPose>> ground = DepthPoses(in, &depth_frames);
+    Result<std::vector<TimedPose>> ground = DepthPoses(f.depth, config, &depth_frames);
     if (!ground.ok()) return ReportError(cmd, ground.error());
-    Result<std::vector<TimedPose>> world = StereoPoses(in, &stereo_frames);
+    Result<std::vector<TimedPose>> world =
+        StereoPoses(f.stereo, f.stereo_time_offset_s, config, &stereo_frames);
     if (!world.ok()) return ReportError(cmd, world.error());
-    *pairs = PairPosesByTime(*ground, *world, in.max_dt_s);
+    *pairs = PairPosesByTime(*ground, *world, f.max_dt_s);
     std::cout << "depth: robot found in " << ground->size() << " of " << depth_frames
               << " frames; stereo: robot pose in " << world->size() << " of " << stereo_frames
-              << " pairs; " << pairs->size() << " pairs within " << in.max_dt_s * 1e3 << " ms\n";
+              << " pairs; " << pairs->size() << " pairs within " << f.max_dt_s * 1e3 << " ms\n";
     if (pairs->size() < 3) {
-      std::cerr << "hpose " << cmd << ": " << in.depth << " and " << in.stereo
-                << ": fewer than 3 pose pairs within --max-dt " << in.max_dt_s
+      std::cerr << "hpose " << cmd << ": " << f.depth << " and " << f.stereo
+                << ": fewer than 3 pose pairs within --max-dt " << f.max_dt_s
                 << " s (do the two clocks agree? see --stereo-time-offset)\n";
       return kExitError;
     }
@@ -332,7 +322,7 @@ int RunCalibrateWorldFromGround(int argc, char** argv) {
       if (Status s = WritePairs(*pairs, f.pairs_out); !s.ok()) return ReportError(cmd, s.error());
       std::cout << "wrote " << f.pairs_out << "\n";
     }
-    origin = f.recording.empty() ? in.depth + " + " + in.stereo : f.recording;
+    origin = f.recording.empty() ? f.depth + " + " + f.stereo : f.recording;
   }
   auto fit = FitWorldFromGround(*pairs, f.options);
   if (!fit.ok()) {
