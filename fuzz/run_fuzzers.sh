@@ -41,6 +41,9 @@ if [ ! -f "$seeds/.done" ]; then
   find "$seeds/stereo" -name '*.png' | head -n 2 | while read -r f; do
     cp "$f" "$seeds/rgb_image_tiff/$(basename "$(dirname "$f")")_$(basename "$f")"
   done
+  # A grey and a colour JPEG: OpenCV's sample images, when Debian's opencv-doc is installed.
+  samples=/usr/share/doc/opencv-doc/examples/data
+  cp "$samples/left01.jpg" "$samples/baboon.jpg" "$seeds/rgb_image_tiff/" 2> /dev/null || true
   cp "$seeds/frame/cloud.pcd" "$seeds/cloud_pcd/"
   printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 1\n0.1 0 1\n0 0.1 1\n' \
     > "$seeds/cloud_ply/small.ply"

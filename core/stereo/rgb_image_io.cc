@@ -1,93 +1,106 @@
 #include "core/stereo/rgb_image_io.h"
 
-#include <sys/stat.h>
-
-#include <cstdio>
+#include <cstring>
 #include <fstream>
-#include <vector>
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
+#include "core/io/atomic_file.h"
+#include "core/io/decoded_image.h"
 #include "core/io/image_header.h"
+#include "core/io/jpeg_codec.h"
+#include "core/io/png_codec.h"
+#include "core/io/tiff_reader.h"
 
 namespace hpose {
+namespace {
 
-Result<RgbImage> ReadRgbImage(const std::string& path) {
-  // Only PNG, JPEG and TIFF reach OpenCV: it picks a decoder by content, and some of the others
-  // it links (e.g. GDCM's DICOM reader) abort on damaged files instead of failing.
-  const Result<ImageSize> kind = ReadImageSize(path);
-  if (!kind.ok()) return kind.error();
-  if (!kind->known) {
-    return MakeError(ErrorCode::kDataLoss, path + ": not a PNG, JPEG or TIFF image");
+enum class ImageFormat { kOther, kPng, kJpeg, kTiff };
+
+// The format a file's first bytes announce (its name is not consulted).
+ImageFormat SniffFormat(const std::string& path) {
+  unsigned char head[8] = {};
+  std::ifstream in(path, std::ios::binary);
+  in.read(reinterpret_cast<char*>(head), sizeof head);
+  const std::streamsize got = in.gcount();
+  static constexpr unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  if (got >= 8 && std::memcmp(head, kPng, 8) == 0) return ImageFormat::kPng;
+  if (got >= 3 && head[0] == 0xFF && head[1] == 0xD8 && head[2] == 0xFF) return ImageFormat::kJpeg;
+  if (got >= 4 && ((head[0] == 'I' && head[1] == 'I' && head[2] == 42 && head[3] == 0) ||
+                   (head[0] == 'M' && head[1] == 'M' && head[2] == 0 && head[3] == 42))) {
+    return ImageFormat::kTiff;
   }
-  const Status size = CheckImageSize(path);  // regular file, sides <= 8192 px, before decoding.
-  if (!size.ok()) return size.error();
-  cv::Mat raw;
-  try {
-    raw = cv::imread(path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    return MakeError(ErrorCode::kDataLoss, path + ": cannot decode image (" + e.what() + ")");
-  }
-  if (raw.empty()) {
-    return MakeError(ErrorCode::kDataLoss, path + ": not a decodable image (corrupt or truncated)");
-  }
-  cv::Mat eight;
-  if (raw.depth() == CV_8U) {
-    eight = raw;
-  } else if (raw.depth() == CV_16U) {
-    raw.convertTo(eight, CV_8U, 1.0 / 257.0);
-  } else {
+  return ImageFormat::kOther;
+}
+
+// 8-bit red, green, blue from a decoded image: grey repeated in all three, alpha dropped, 16-bit
+// samples scaled by 1/257 to the nearest integer.
+Result<RgbImage> ToRgb(const DecodedImage& image, const std::string& path) {
+  if (image.bits_per_sample != 8 && image.bits_per_sample != 16) {
     return MakeError(ErrorCode::kDataLoss, path + ": unsupported pixel depth (need 8 or 16 bit)");
   }
-  RgbImage out(eight.cols, eight.rows);
-  cv::Mat dst(out.height, out.width, CV_8UC3, out.pixels.data());
-  switch (eight.channels()) {
-    case 1:
-      cv::cvtColor(eight, dst, cv::COLOR_GRAY2RGB);
-      break;
-    case 3:
-      cv::cvtColor(eight, dst, cv::COLOR_BGR2RGB);
-      break;
-    case 4:
-      cv::cvtColor(eight, dst, cv::COLOR_BGRA2RGB);
-      break;
-    default:
-      return MakeError(ErrorCode::kDataLoss,
-                       path + ": unsupported channel count " + std::to_string(eight.channels()));
+  if (image.channels < 1 || image.channels > 4 ||
+      image.bytes.size() != image.RowBytes() * static_cast<size_t>(image.height)) {
+    return MakeError(ErrorCode::kDataLoss,
+                     path + ": unsupported channel count " + std::to_string(image.channels));
+  }
+  RgbImage out(image.width, image.height);
+  const size_t pixels = static_cast<size_t>(image.width) * image.height;
+  const int c = image.channels;
+  const bool wide = image.bits_per_sample == 16;
+  for (size_t i = 0; i < pixels; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const size_t sample = i * c + (c >= 3 ? k : 0);
+      std::uint8_t value;
+      if (wide) {
+        std::uint16_t v;
+        std::memcpy(&v, image.bytes.data() + 2 * sample, sizeof v);
+        value = static_cast<std::uint8_t>((2u * v + 257u) / 514u);
+      } else {
+        value = image.bytes[sample];
+      }
+      out.pixels[3 * i + k] = value;
+    }
   }
   return out;
+}
+
+}  // namespace
+
+Result<RgbImage> ReadRgbImage(const std::string& path) {
+  const Result<ImageSize> kind = ReadImageSize(path);
+  if (!kind.ok()) return kind.error();
+  Result<DecodedImage> decoded =
+      MakeError(ErrorCode::kDataLoss, path + ": not a PNG, JPEG or TIFF image");
+  switch (kind->known ? SniffFormat(path) : ImageFormat::kOther) {
+    case ImageFormat::kPng:
+      decoded = ReadPng(path);
+      break;
+    case ImageFormat::kJpeg:
+      decoded = ReadJpeg(path);
+      break;
+    case ImageFormat::kTiff:
+      decoded = ReadTiff(path);
+      break;
+    case ImageFormat::kOther:
+      break;
+  }
+  if (!decoded.ok()) return decoded.error();
+  return ToRgb(*decoded, path);
 }
 
 Status WriteRgbPng(const RgbImage& image, const std::string& path) {
   if (!image.valid()) {
     return MakeError(ErrorCode::kInvalidArgument, path + ": image buffer does not match its size");
   }
-  const cv::Mat rgb(image.height, image.width, CV_8UC3,
-                    const_cast<std::uint8_t*>(image.pixels.data()));
-  cv::Mat bgr;
-  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-  std::vector<std::uint8_t> encoded;
-  if (!cv::imencode(".png", bgr, encoded, {cv::IMWRITE_PNG_COMPRESSION, 1})) {
-    return MakeError(ErrorCode::kInternal, path + ": cannot encode PNG");
-  }
-  // Write beside the target and rename, so readers never see a half-written image.
-  const std::string temp = path + ".partial";
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(encoded.data()),
-              static_cast<std::streamsize>(encoded.size()));
-    if (!out) {
-      std::remove(temp.c_str());
-      return MakeError(ErrorCode::kInternal, path + ": cannot write file");
-    }
-  }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    std::remove(temp.c_str());
-    return MakeError(ErrorCode::kInternal, path + ": cannot rename temporary file into place");
-  }
-  return Status::Ok();
+  DecodedImage rgb;
+  rgb.width = image.width;
+  rgb.height = image.height;
+  rgb.channels = 3;
+  rgb.bits_per_sample = 8;
+  rgb.bytes = image.pixels;
+  Result<std::string> encoded = EncodePng(rgb, 1);
+  if (!encoded.ok()) return encoded.error();
+  // Written beside the target and renamed: readers never see a half-written image.
+  return WriteFileAtomically(path, *encoded);
 }
 
 }  // namespace hpose

@@ -8,9 +8,11 @@
 
 namespace hpose {
 
-// Reads a colour image (PNG, JPEG, PPM, ... anything OpenCV decodes). Grey images are expanded
-// to three equal channels; an alpha channel is dropped; 16-bit images are scaled to 8 bits.
-// Fails with kNotFound (no such file) or kDataLoss (not a decodable image), naming the path.
+// Reads a colour image: PNG (libpng), JPEG (libjpeg) or TIFF (libtiff), told apart by their
+// first bytes. Grey images are expanded to three equal channels; an alpha channel is dropped;
+// 16-bit images are scaled to 8 bits. Fails with kNotFound (no such file), kDataLoss (another
+// format, or not decodable: corrupt or truncated), kOutOfRange (a side above kMaxImageSide) or
+// kInvalidArgument (a layout the readers do not decode, e.g. a CMYK JPEG), naming the path.
 Result<RgbImage> ReadRgbImage(const std::string& path);
 
 // Writes an 8-bit colour PNG atomically. Fails with kInvalidArgument for an invalid image and

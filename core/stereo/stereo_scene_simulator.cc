@@ -7,8 +7,10 @@
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "core/io/decoded_image.h"
+#include "core/io/jpeg_codec.h"
 
 namespace hpose {
 namespace {
@@ -297,13 +299,18 @@ void StereoSceneSimulator::ApplySensor(RgbImage* image, std::uint64_t seed) cons
     cv::demosaicing(raw, rgb, cv::COLOR_BayerBG2RGB_EA);
   }
   if (noise_.jpeg_quality > 0) {
-    cv::Mat rgb(h, w, CV_8UC3, image->pixels.data()), bgr;
-    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-    std::vector<std::uint8_t> encoded;
-    cv::imencode(".jpg", bgr, encoded, {cv::IMWRITE_JPEG_QUALITY, noise_.jpeg_quality});
-    const cv::Mat decoded = cv::imdecode(encoded, cv::IMREAD_COLOR);
-    assert(decoded.rows == h && decoded.cols == w);
-    cv::cvtColor(decoded, rgb, cv::COLOR_BGR2RGB);
+    DecodedImage rgb;
+    rgb.width = w;
+    rgb.height = h;
+    rgb.channels = 3;
+    rgb.bits_per_sample = 8;
+    rgb.bytes = image->pixels;
+    // The image is valid and the quality in range: neither step can fail but for memory.
+    const Result<std::string> encoded = EncodeJpeg(rgb, std::clamp(noise_.jpeg_quality, 1, 100));
+    Result<DecodedImage> decoded = encoded.ok() ? DecodeJpeg(*encoded, "the simulated image")
+                                                : Result<DecodedImage>(encoded.error());
+    assert(decoded.ok() && decoded->width == w && decoded->height == h && decoded->channels == 3);
+    if (decoded.ok()) image->pixels = std::move(decoded->bytes);
   }
 }
 
