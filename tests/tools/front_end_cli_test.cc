@@ -74,16 +74,22 @@ TEST(FrontEndCliTest, FrontEndLinksNoHeavyLibrary) {
   }
 }
 
-// What keeps `hpose estimate` and `hpose replay` quick to start: depth frames, pictures and
-// clouds are read and written with libpng, libtiff and hpose's own readers, so these programs
-// load neither OpenCV's image codecs (GDAL and ~100 more) nor PCL's io (VTK), not even through
-// another library (ldd lists every library loaded).
-TEST(FrontEndCliTest, FrameProgramsLoadNoImageCodecsNorPclIo) {
-  TempDir dir("front_end_frame_programs");
-  for (const char* program : {"hpose-estimate", "hpose-replay", "hpose-record", "hpose-demo"}) {
-    const CliRun loaded = RunProgram("ldd", "'" + kToolsDir + "/" + program + "'", dir);
+// What keeps every program quick to start: depth frames, colour images, pictures and clouds
+// are read and written with libpng, libjpeg, libtiff and hpose's own readers, so neither a
+// command's program nor the daemon loads OpenCV's image codecs (GDAL and ~100 more) or PCL's io
+// (VTK), not even through another library (ldd lists every library loaded).
+TEST(FrontEndCliTest, ProgramsLoadNoImageCodecsNorPclIo) {
+  TempDir dir("front_end_programs_loaded");
+  std::vector<std::string> programs;
+  for (const char* command : {"estimate", "replay", "record", "demo", "simulate", "template",
+                              "estimate-stereo", "simulate-stereo", "calibrate", "query"}) {
+    programs.push_back(kToolsDir + "/hpose-" + command);
+  }
+  programs.push_back(std::string(HPOSE_BINARY_DIR) + "/server/hposed");
+  for (const std::string& program : programs) {
+    const CliRun loaded = RunProgram("ldd", "'" + program + "'", dir);
     if (loaded.exit_code == 127) GTEST_SKIP() << "ldd not installed";
-    ASSERT_EQ(loaded.exit_code, 0) << loaded.err;
+    ASSERT_EQ(loaded.exit_code, 0) << program << ": " << loaded.err;
     ASSERT_NE(loaded.out.find("libc.so"), std::string::npos) << loaded.out;
     for (const char* heavy : {"libopencv_imgcodecs", "libpcl_io", "libvtk", "libgdal"}) {
       EXPECT_EQ(loaded.out.find(heavy), std::string::npos) << program << " loads " << heavy << ":\n"
