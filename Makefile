@@ -5,8 +5,8 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 
 PACKAGES := build-essential cmake ninja-build lld pkg-config ccache git \
-  libeigen3-dev libpcl-dev liboctomap-dev libopencv-dev libpng-dev libjpeg-dev libtiff-dev libopenni2-dev \
-  libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc \
+  libeigen3-dev libpcl-dev liboctomap-dev libopencv-dev libpng-dev libjpeg-dev libtiff-dev \
+  libopenni2-dev libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc \
   nlohmann-json3-dev libyaml-cpp-dev liburdfdom-dev libassimp-dev libgtest-dev libgmock-dev \
   libbenchmark-dev python3 python3-grpcio python3-protobuf python3-numpy python3-venv \
   python3-setuptools python3-pip opencv-doc openssl systemd \
