@@ -6,6 +6,8 @@
 #include <cstdlib>
 
 #include <jpeglib.h>
+// After jpeglib.h: the message codes (JWRN_...).
+#include <jerror.h>
 
 #include <csetjmp>
 #include <memory>
@@ -23,7 +25,7 @@ struct JpegErrors {
   jpeg_error_mgr manager;  // first: libjpeg's pointer to it points to the whole struct.
   std::jmp_buf jump;
   char message[JMSG_LENGTH_MAX];
-  bool corrupt;  // a warning said the data is damaged (the first one's text is in message).
+  bool corrupt;  // a warning said the pixels are damaged (the first one's text is in message).
 };
 
 void OnJpegError(j_common_ptr cinfo) {
@@ -32,12 +34,30 @@ void OnJpegError(j_common_ptr cinfo) {
   std::longjmp(errors->jump, 1);
 }
 
-// Level -1 is a warning, and libjpeg's warnings are about damaged data: corrupt entropy-coded
-// data, or a premature end (after which libjpeg would fill the rest of the image with grey).
-// Higher levels are trace messages. Nothing is printed.
+// Whether a warning of libjpeg's means wrong pixels: a premature end (after which libjpeg fills
+// the rest of the image with grey), bad entropy codes, lost synchronisation, an inconsistent
+// progression. Others leave the pixels as the encoder meant them: stray bytes between markers
+// (which some cameras write, and OpenCV's reader accepts), an unknown JFIF revision or colour
+// transform, a damaged ICC profile.
+bool DamagesPixels(int code) {
+  switch (code) {
+    case JWRN_JPEG_EOF:
+    case JWRN_HIT_MARKER:
+    case JWRN_HUFF_BAD_CODE:
+    case JWRN_ARITH_BAD_CODE:
+    case JWRN_MUST_RESYNC:
+    case JWRN_BOGUS_PROGRESSION:
+    case JWRN_NOT_SEQUENTIAL:
+      return true;
+    default:
+      return false;
+  }
+}
+
+// Level -1 is a warning, higher levels are trace messages. Nothing is printed.
 void OnJpegMessage(j_common_ptr cinfo, int level) {
   auto* errors = reinterpret_cast<JpegErrors*>(cinfo->err);
-  if (level < 0 && !errors->corrupt) {
+  if (level < 0 && !errors->corrupt && DamagesPixels(cinfo->err->msg_code)) {
     errors->corrupt = true;
     (*cinfo->err->format_message)(cinfo, errors->message);
   }

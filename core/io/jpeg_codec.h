@@ -13,8 +13,9 @@ namespace hpose {
 // (YCbCr or RGB) as three, red, green, blue. The decoder's settings are libjpeg's defaults (the
 // accurate integer DCT, smooth chroma upsampling), as OpenCV's reader uses them.
 // Refuses before decoding anything but a regular file and images with a side above `max_side`
-// (kOutOfRange, via CheckImageSize). Fails with kNotFound (missing), kDataLoss (not a JPEG,
-// corrupt or truncated data) or kInvalidArgument (CMYK and YCCK images), naming the path.
+// (kOutOfRange, via CheckImageSize). Fails with kNotFound (missing), kDataLoss (not a JPEG; data
+// libjpeg finds damaged: truncated, bad codes, a marker inside it) or kInvalidArgument (CMYK and
+// YCCK images), naming the path. Stray bytes between markers are read past, as OpenCV does.
 Result<DecodedImage> ReadJpeg(const std::string& path, int max_side = kMaxImageSide);
 
 // The same for a JPEG file's bytes in memory; `name` stands for the path in messages.

@@ -126,10 +126,33 @@ TEST(JpegCodecTest, DamagedForeignAndOversizedFilesFailNamingTheProblem) {
          "not a decodable JPEG", "text");
   expect(ReadJpeg(dir.Write("cut.jpg", good.substr(0, good.size() / 2))), ErrorCode::kDataLoss,
          "corrupt or truncated", "cut in half");
+  // Stray bytes before the end marker (some cameras write them): libjpeg warns, the pixels are
+  // whole, and they are read as OpenCV reads them.
+  std::string stray = good;
+  stray.insert(stray.size() - 2, std::string("\x01\x02\x03", 3));
+  const Result<DecodedImage> with_stray = ReadJpeg(dir.Write("stray.jpg", stray));
+  ASSERT_TRUE(with_stray.ok()) << with_stray.error().ToString();
+  const cv::Mat stray_reference =
+      cv::imdecode(std::vector<unsigned char>(stray.begin(), stray.end()), cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(stray_reference.empty());
+  ExpectSameImage(*with_stray, FromMat(stray_reference), "stray bytes before the end marker");
+  // A marker in the middle of the entropy-coded data: libjpeg stops the segment there.
+  std::string marker = good;
+  marker.insert(good.size() / 2, std::string("\xFF\xD3", 2));
+  expect(ReadJpeg(dir.Write("marker.jpg", marker)), ErrorCode::kDataLoss, "corrupt or truncated",
+         "a marker in the data");
+  // Flipped bits of the entropy-coded data often decode to other pixels without a warning; then
+  // the image keeps its size.
   std::string flipped = good;
   for (size_t i = good.size() / 3; i < good.size() - 2; i += 97) flipped[i] ^= 0x5A;
   const Result<DecodedImage> damaged = ReadJpeg(dir.Write("flipped.jpg", flipped));
-  EXPECT_FALSE(damaged.ok()) << "bytes of the entropy-coded data flipped";
+  if (damaged.ok()) {
+    EXPECT_EQ(damaged->width, 64);
+    EXPECT_EQ(damaged->height, 64);
+    EXPECT_EQ(damaged->bytes.size(), 64u * 64u * 3u);
+  } else {
+    EXPECT_EQ(damaged.error().code, ErrorCode::kDataLoss) << damaged.error().ToString();
+  }
   // Wider than hpose decodes: refused after the header, before the pixels are allocated.
   DecodedImage wide;
   wide.width = 9000;
