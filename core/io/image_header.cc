@@ -123,13 +123,19 @@ Result<ImageSize> ReadImageSize(const std::string& path) {
   if (!head.ok()) return head.error();
   const std::string& h = *head;
   static const char kPng[] = "\x89PNG\r\n\x1a\n";
-  if (h.size() >= 8 && h.compare(0, 8, kPng, 8) == 0) return PngSize(h, path);
+  // A known size with the format it was read from.
+  const auto as = [](Result<ImageSize> size, ImageFormat format) {
+    if (size.ok() && size->known) size->format = format;
+    return size;
+  };
+  if (h.size() >= 8 && h.compare(0, 8, kPng, 8) == 0)
+    return as(PngSize(h, path), ImageFormat::kPng);
   if (h.size() >= 8 && (h.compare(0, 2, "II") == 0 || h.compare(0, 2, "MM") == 0)) {
-    return TiffSize(h, path);
+    return as(TiffSize(h, path), ImageFormat::kTiff);
   }
   if (h.size() >= 3 && static_cast<unsigned char>(h[0]) == 0xFF &&
       static_cast<unsigned char>(h[1]) == 0xD8 && static_cast<unsigned char>(h[2]) == 0xFF) {
-    return JpegSize(h, path);
+    return as(JpegSize(h, path), ImageFormat::kJpeg);
   }
   return ImageSize{};
 }

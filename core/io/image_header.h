@@ -10,16 +10,19 @@ namespace hpose {
 // The largest image side hpose decodes (pixels); as Intrinsics allow.
 constexpr int kMaxImageSide = 8192;
 
+enum class ImageFormat { kOther, kPng, kJpeg, kTiff };
+
 struct ImageSize {
   bool known = false;  // false: a format whose header is not parsed here (BMP, PPM, ...).
   int width = 0;       // pixels.
   int height = 0;
+  ImageFormat format = ImageFormat::kOther;  // what the first bytes announce, when known.
 };
 
-// Reads an image's size from its header, without decoding it: PNG (IHDR), JPEG (SOF) and TIFF
-// (the first IFD's ImageWidth / ImageLength). Other formats give known = false. Fails with
-// kDataLoss when a recognised header is truncated or inconsistent, like CheckInputFile
-// (regular files only) otherwise.
+// Reads an image's size and format from its header, without decoding it: PNG (IHDR), JPEG (SOF)
+// and TIFF (the first IFD's ImageWidth / ImageLength), told apart by their first bytes. Other
+// formats give known = false. Fails with kDataLoss when a recognised header is truncated or
+// inconsistent, like CheckInputFile (regular files only) otherwise.
 Result<ImageSize> ReadImageSize(const std::string& path);
 
 // Refuses, before any decoding, a file that is not a regular file or an image with a side

@@ -1,7 +1,6 @@
 #include "core/stereo/rgb_image_io.h"
 
 #include <cstring>
-#include <fstream>
 
 #include "core/io/atomic_file.h"
 #include "core/io/decoded_image.h"
@@ -12,24 +11,6 @@
 
 namespace hpose {
 namespace {
-
-enum class ImageFormat { kOther, kPng, kJpeg, kTiff };
-
-// The format a file's first bytes announce (its name is not consulted).
-ImageFormat SniffFormat(const std::string& path) {
-  unsigned char head[8] = {};
-  std::ifstream in(path, std::ios::binary);
-  in.read(reinterpret_cast<char*>(head), sizeof head);
-  const std::streamsize got = in.gcount();
-  static constexpr unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  if (got >= 8 && std::memcmp(head, kPng, 8) == 0) return ImageFormat::kPng;
-  if (got >= 3 && head[0] == 0xFF && head[1] == 0xD8 && head[2] == 0xFF) return ImageFormat::kJpeg;
-  if (got >= 4 && ((head[0] == 'I' && head[1] == 'I' && head[2] == 42 && head[3] == 0) ||
-                   (head[0] == 'M' && head[1] == 'M' && head[2] == 0 && head[3] == 42))) {
-    return ImageFormat::kTiff;
-  }
-  return ImageFormat::kOther;
-}
 
 // 8-bit red, green, blue from a decoded image: grey repeated in all three, alpha dropped, 16-bit
 // samples scaled by 1/257 to the nearest integer.
@@ -70,7 +51,7 @@ Result<RgbImage> ReadRgbImage(const std::string& path) {
   if (!kind.ok()) return kind.error();
   Result<DecodedImage> decoded =
       MakeError(ErrorCode::kDataLoss, path + ": not a PNG, JPEG or TIFF image");
-  switch (kind->known ? SniffFormat(path) : ImageFormat::kOther) {
+  switch (kind->format) {
     case ImageFormat::kPng:
       decoded = ReadPng(path);
       break;

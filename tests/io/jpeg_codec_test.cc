@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/io/image_header.h"
 #include "core/stereo/rgb_image_io.h"
 #include "tests/io/cv_reference.h"
 #include "tests/io/temp_dir.h"
@@ -204,6 +205,12 @@ TEST(RgbImageIoTest, ReadsPngJpegAndTiffAsOpenCvDid) {
       // The name does not say the format: the first bytes do.
       const std::string path = dir.Write("image" + std::to_string(files++) + ".img",
                                          CvEncode(ext, Picture(48, 64, type, seed++)));
+      const Result<ImageSize> header = ReadImageSize(path);
+      ASSERT_TRUE(header.ok()) << what << ": " << header.error().ToString();
+      EXPECT_EQ(header->format, ext == ".png"   ? ImageFormat::kPng
+                                : ext == ".jpg" ? ImageFormat::kJpeg
+                                                : ImageFormat::kTiff)
+          << what;
       const Result<RgbImage> ours = ReadRgbImage(path);
       ASSERT_TRUE(ours.ok()) << what << ": " << ours.error().ToString();
       const RgbImage reference = ReadWithOpenCv(path);
