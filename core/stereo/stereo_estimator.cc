@@ -22,28 +22,6 @@ std::string SizeText(const RgbImage& image) {
 
 }  // namespace
 
-const char* StereoFrameStatusName(StereoFrameStatus status) {
-  switch (status) {
-    case StereoFrameStatus::kOk:
-      return "ok";
-    case StereoFrameStatus::kMissingLandmark:
-      return "missing_landmark";
-    case StereoFrameStatus::kTooManyLandmarks:
-      return "too_many_landmarks";
-    case StereoFrameStatus::kNoConsistentMatch:
-      return "no_consistent_match";
-    case StereoFrameStatus::kAmbiguousMatch:
-      return "ambiguous_match";
-    case StereoFrameStatus::kCollinearLandmarks:
-      return "collinear_landmarks";
-    case StereoFrameStatus::kPoorFit:
-      return "poor_fit";
-    case StereoFrameStatus::kOccludedLandmark:
-      return "occluded_landmark";
-  }
-  return "unknown";
-}
-
 Result<std::unique_ptr<StereoEstimator>> StereoEstimator::Create(
     const StereoCalibration& calibration, const StereoMarkerOptions& options) {
   Status valid = ValidateStereoMarkerOptions(options);

@@ -9,27 +9,6 @@
 
 namespace hpose {
 
-const char* RigidFitMethodName(RigidFitMethod method) {
-  switch (method) {
-    case RigidFitMethod::kSvd:
-      return "svd";
-    case RigidFitMethod::kClosedForm:
-      return "closed_form";
-    case RigidFitMethod::kCovariance:
-      return "covariance";
-  }
-  return "unknown";
-}
-
-Result<RigidFitMethod> ParseRigidFitMethod(const std::string& name) {
-  for (RigidFitMethod m :
-       {RigidFitMethod::kSvd, RigidFitMethod::kClosedForm, RigidFitMethod::kCovariance}) {
-    if (name == RigidFitMethodName(m)) return m;
-  }
-  return MakeError(ErrorCode::kInvalidArgument,
-                   "unknown fit method '" + name + "' (svd, closed_form or covariance)");
-}
-
 Status ValidateStereoMarkerOptions(const StereoMarkerOptions& o) {
   auto bad = [](const std::string& what) {
     return Status(MakeError(ErrorCode::kInvalidArgument, "stereo options: " + what));

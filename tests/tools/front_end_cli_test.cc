@@ -98,6 +98,22 @@ TEST(FrontEndCliTest, ProgramsLoadNoImageCodecsNorPclIo) {
   }
 }
 
+// Programs whose work touches no image load no OpenCV at all: `hpose query` prints the stereo
+// estimator's results by the names of its enums, not with the estimator (core/stereo/
+// stereo_names.cc), and recording and replay move depth frames as they are.
+TEST(FrontEndCliTest, ProgramsWithoutImageWorkLoadNoOpenCv) {
+  TempDir dir("front_end_no_opencv");
+  for (const char* command : {"query", "record", "replay"}) {
+    const std::string program = kToolsDir + "/hpose-" + command;
+    const CliRun loaded = RunProgram("ldd", "'" + program + "'", dir);
+    if (loaded.exit_code == 127) GTEST_SKIP() << "ldd not installed";
+    ASSERT_EQ(loaded.exit_code, 0) << program << ": " << loaded.err;
+    ASSERT_NE(loaded.out.find("libc.so"), std::string::npos) << loaded.out;
+    EXPECT_EQ(loaded.out.find("libopencv"), std::string::npos) << program << " loads OpenCV:\n"
+                                                               << loaded.out;
+  }
+}
+
 TEST(FrontEndCliTest, EveryCommandHasAProgramWithTheSameFlags) {
   TempDir dir("front_end_programs");
   const CliRun top = RunHpose("--help", dir);
