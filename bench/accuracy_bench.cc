@@ -261,6 +261,11 @@ std::vector<Variant> AllVariants() {
   EstimatorOptions all_runner_ups = DefaultEstimatorOptions();
   all_runner_ups.refine.runner_up_fit_sigmas = 0.0;
   out.push_back({"all-runner-ups", all_runner_ups, true});
+  // The runner-up of a template far behind on its cluster searched for and evaluated where it
+  // lies (before RefineOptions::search_far_behind_runner_up).
+  EstimatorOptions far_runner_ups = DefaultEstimatorOptions();
+  far_runner_ups.refine.search_far_behind_runner_up = true;
+  out.push_back({"far-runner-ups", far_runner_ups, true});
   // The refinement's steps shorter than a standard error evaluated too (before
   // RefineOptions::converged_sigmas).
   EstimatorOptions short_steps = DefaultEstimatorOptions();

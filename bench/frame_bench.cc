@@ -416,6 +416,11 @@ std::vector<Variant> ScatteredVariants() {
                  o->refine.min_retry_damping = 0.0;
                  o->heading_views.settle_by_gauss_newton = false;
                }});
+  v.push_back(
+      {"exact search, far-behind templates' runner-ups searched (before)", [](EstimatorOptions* o) {
+         Exact(o);
+         o->refine.search_far_behind_runner_up = true;
+       }});
   v.push_back({"exact search, every template's runner-up (before)", [](EstimatorOptions* o) {
                  Exact(o);
                  o->refine.runner_up_fit_sigmas = 0.0;
@@ -477,6 +482,12 @@ std::vector<Variant> SequenceVariants() {
                [](EstimatorOptions* o) {
                  Exact(o);
                  o->exact.slabs = false;
+               },
+               true});
+  v.push_back({"walk, tracked, far-behind templates' runner-ups searched (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->refine.search_far_behind_runner_up = true;
                },
                true});
   v.push_back({"walk, tracked, 2 threads",

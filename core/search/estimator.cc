@@ -468,6 +468,10 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   t = Clock::now();
   const bool use_free_space = options_.score == ScoreKind::kFreeSpace;
   const bool refine = options_.refine.enabled;
+  // Runner-ups are searched for once the refined fits are known: only the templates that
+  // contend on their cluster need them.
+  const bool defer_runner_ups = refine && !options_.refine.search_far_behind_runner_up &&
+                                options_.refine.runner_up_fit_sigmas > 0.0;
   const Eigen::Isometry3d sensor_from_ground = est.floor.ground_from_sensor.inverse();
   RangeImage range;
   if (use_free_space || refine) {
@@ -498,6 +502,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     double refine_ms = 0.0;
     // The search's scorer, kept for the rescore of a runner-up that wins.
     std::unique_ptr<PoseScorer> scorer;
+    // The runner-up's search, left until the refined fits say whether it is needed.
+    std::unique_ptr<RunnerUpSearch> runner_up;
   };
   const int cluster_count = static_cast<int>(clusters->size());
   std::vector<ClusterWork> work(cluster_count);
@@ -597,7 +603,12 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
       problem.incumbent = &incumbent;
       prior_theta = &prior->pose.theta;
     }
-    const SearchResult r = search_->Search(problem);
+    SearchResult r;
+    if (defer_runner_ups) {
+      task.runner_up = search_->SearchBest(problem, &r);
+    } else {
+      r = search_->Search(problem);
+    }
     task.seeded = r.incumbent_used;
     Candidate& cand = task.cand;
     cand.template_name = rot.name();
@@ -663,23 +674,36 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   }
 
   // The runner-up headings, once every template of a cluster has its refined fit: a template
-  // whose fit is far behind the cluster's best has its runner-up only evaluated.
+  // whose fit is far behind the cluster's best has its runner-up only evaluated, or (unless
+  // RefineOptions::search_far_behind_runner_up) not even searched for.
   // (Copies: the runner-ups may change the candidates' fits meanwhile.)
-  std::vector<FitSummary> leader(cluster_count);
-  std::vector<bool> has_leader(cluster_count, false);
-  for (const Task& task : tasks) {
-    if (!task.cand.refined) continue;
-    if (!has_leader[task.cluster] || task.cand.fit.fit > leader[task.cluster].fit) {
-      leader[task.cluster] = task.cand.fit;
-      has_leader[task.cluster] = true;
+  const auto leaders = [&] {
+    std::vector<std::optional<FitSummary>> leader(cluster_count);
+    for (const Task& task : tasks) {
+      if (!task.cand.refined) continue;
+      std::optional<FitSummary>& l = leader[task.cluster];
+      if (!l || task.cand.fit.fit > l->fit) l = task.cand.fit;
     }
-  }
-  std::vector<int> refined_tasks;
-  for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
-    if (tasks[k].cand.refined && tasks[k].cand.has_runner_up) refined_tasks.push_back(k);
-  }
-  pool_->ParallelFor(static_cast<int>(refined_tasks.size()), [&](int i) {
-    Task& task = tasks[refined_tasks[i]];
+    return leader;
+  };
+  const auto contends = [&](const Task& task, const std::vector<std::optional<FitSummary>>& l) {
+    return Contends(task.cand.fit, *l[task.cluster], options_.refine.runner_up_fit_sigmas);
+  };
+  // The runner-up's search, if it was left until now.
+  const auto find_runner_up = [](Task& task) {
+    if (task.runner_up == nullptr) return;
+    SearchResult r;
+    task.runner_up->Find(&r);
+    task.runner_up.reset();
+    Candidate& cand = task.cand;
+    cand.has_runner_up = r.has_runner_up;
+    cand.runner_up_pose = r.runner_up_pose;
+    cand.runner_up_score = r.runner_up_score;
+    cand.poses_evaluated += r.poses_evaluated;
+    cand.bounds_evaluated += r.bounds_evaluated;
+  };
+  const auto refine_runner_up = [&](Task& task, bool contend) {
+    if (!task.cand.refined || !task.cand.has_runner_up) return;
     const Clock::time_point t_refine = Clock::now();
     const Cluster& c = (*clusters)[task.cluster];
     const ClusterWork& w = work[task.cluster];
@@ -698,14 +722,48 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
               : 0;
       cd->coverage = n > 0 ? 100.0 * cd->hits / n : 0.0;
     };
-    const bool contend =
-        Contends(task.cand.fit, leader[task.cluster], options_.refine.runner_up_fit_sigmas);
     const PreparedCluster* prepared = w.prepared ? &*w.prepared : nullptr;
     RefineRunnerUp(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground, prepared},
                    options_.refine, options_.heading_views,
                    task.has_prior ? &task.prior_theta : nullptr, contend, rescore, &task.cand);
     task.refine_ms += MsSince(t_refine);
+  };
+  const std::vector<std::optional<FitSummary>> leader = leaders();
+  std::vector<int> with_runner_up;
+  for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
+    const Task& task = tasks[k];
+    if (task.runner_up != nullptr || (task.cand.refined && task.cand.has_runner_up)) {
+      with_runner_up.push_back(k);
+    }
+  }
+  pool_->ParallelFor(static_cast<int>(with_runner_up.size()), [&](int i) {
+    Task& task = tasks[with_runner_up[i]];
+    const bool contend = !task.cand.refined || contends(task, leader);
+    if (!contend && task.runner_up != nullptr) return;  // perhaps later, see below.
+    find_runner_up(task);
+    refine_runner_up(task, contend);
   });
+  // A cluster's leading template may have gone to its other heading with a poorer fit (the
+  // depth images decided), and a template left behind may then be chosen: it gets its
+  // runner-up, evaluated where it lies, as every template far behind did before.
+  if (defer_runner_ups) {
+    const std::vector<std::optional<FitSummary>> now = leaders();
+    std::vector<int> again;
+    for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
+      Task& task = tasks[k];
+      if (task.runner_up == nullptr) continue;
+      if (contends(task, now)) {
+        again.push_back(k);
+      } else {
+        task.runner_up.reset();
+      }
+    }
+    pool_->ParallelFor(static_cast<int>(again.size()), [&](int i) {
+      Task& task = tasks[again[i]];
+      find_runner_up(task);
+      refine_runner_up(task, false);
+    });
+  }
   double refine_ms = 0.0;  // summed over the candidates (CPU time, whatever the threads).
   for (Task& task : tasks) {
     if (!task.kept) continue;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "core/scoring/column_occupancy.h"
@@ -227,20 +228,46 @@ class Evaluator {
   std::vector<PartEvaluator> parts_;
 };
 
-// The queue and the deferred nodes of this thread's search, emptied: a search pushes tens of
-// thousands of nodes, and reusing their memory saves allocating it anew every search. One
-// BranchAndBound at a time per thread (a search never starts another).
-SearchQueue& ThreadQueue() {
-  thread_local SearchQueue queue;
-  queue.clear();
-  return queue;
-}
+// A search's queue and the nodes it defers. A search pushes tens of thousands of nodes; their
+// memory is reused search after search rather than allocated anew: searches take the buffers
+// from a pool and give them back when done. A search whose runner-up is pending keeps its own,
+// so several may be out at once.
+struct QueueBuffers {
+  SearchQueue queue;
+  std::vector<PackedNode> deferred;
+};
 
-std::vector<PackedNode>& ThreadDeferred() {
-  thread_local std::vector<PackedNode> deferred;
-  deferred.clear();
-  return deferred;
-}
+class QueuePool {
+ public:
+  static std::unique_ptr<QueueBuffers> Take() {
+    QueuePool& pool = Instance();
+    {
+      const std::lock_guard<std::mutex> lock(pool.mutex_);
+      if (!pool.free_.empty()) {
+        std::unique_ptr<QueueBuffers> b = std::move(pool.free_.back());
+        pool.free_.pop_back();
+        return b;
+      }
+    }
+    return std::make_unique<QueueBuffers>();
+  }
+  static void Give(std::unique_ptr<QueueBuffers> b) {
+    b->queue.clear();
+    b->deferred.clear();
+    QueuePool& pool = Instance();
+    const std::lock_guard<std::mutex> lock(pool.mutex_);
+    if (pool.free_.size() < kKept) pool.free_.push_back(std::move(b));
+  }
+
+ private:
+  static constexpr size_t kKept = 16;  // more than the searches of a frame held at once.
+  static QueuePool& Instance() {
+    static QueuePool pool;
+    return pool;
+  }
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<QueueBuffers>> free_;
+};
 
 // Best-first branch and bound over thetas and the translation region. Next() returns the
 // best remaining pose among the currently allowed thetas; calling it again with fewer thetas
@@ -273,6 +300,10 @@ class BranchAndBound {
       }
     }
   }
+
+  ~BranchAndBound() { QueuePool::Give(std::move(buffers_)); }
+  BranchAndBound(const BranchAndBound&) = delete;
+  BranchAndBound& operator=(const BranchAndBound&) = delete;
 
   // After Next() stopped below min_value: the best pose whose exact value was computed, or
   // (when none was) the pose reached by following the highest child bound down from the best
@@ -516,10 +547,10 @@ class BranchAndBound {
   std::vector<bool> allowed_;
   bool all_allowed_ = true;
   // The queue, plus nodes kept out of it while they cannot beat the incumbent: they join it
-  // once its best falls below defer_below_. One pair per thread (ThreadQueue), reused search
-  // after search.
-  SearchQueue& queue_ = ThreadQueue();
-  std::vector<PackedNode>& deferred_ = ThreadDeferred();
+  // once its best falls below defer_below_. From QueuePool, given back by the destructor.
+  std::unique_ptr<QueueBuffers> buffers_ = QueuePool::Take();
+  SearchQueue& queue_ = buffers_->queue;
+  std::vector<PackedNode>& deferred_ = buffers_->deferred;
   int defer_below_;
   const int theta_split_lead_;
   const double theta_split_ratio_;
@@ -707,8 +738,65 @@ std::shared_ptr<const SearchGrids> ExactSearch::MakeGridsIn(
   return grids;
 }
 
+namespace {
+
+// The rest of an exact search once its optimum is known: the same branch and bound, continued
+// over the headings more than 30 degrees from the optimum's. Owns what the search made for
+// itself (grids, evaluator, queue) and counts its own poses and bounds.
+class ExactRunnerUp final : public RunnerUpSearch {
+ public:
+  ExactRunnerUp(const PoseLattice& lattice, int n_weighted)
+      : lattice_(lattice), n_weighted_(n_weighted) {}
+
+  void Find(SearchResult* result) override {
+    if (bnb == nullptr) return;
+    counters = SearchResult();
+    std::vector<bool> others(lattice_.angle_steps, false);
+    for (int t = 0; t < lattice_.angle_steps; ++t) {
+      const double sep = std::abs(
+          AngleDiff(t * lattice_.angle_step_rad(), best_itheta * lattice_.angle_step_rad()));
+      others[t] = sep > kRunnerUpMinSeparationRad;
+    }
+    bnb->set_allowed(std::move(others));
+    const BranchAndBoundResult runner = bnb->Next();
+    if (runner.found) {
+      result->has_runner_up = true;
+      result->runner_up_pose = ToPose(lattice_, runner.best);
+      result->runner_up_score = 100.0 * runner.value / n_weighted_;
+    } else if (runner.below_min) {
+      result->runner_up_score = 100.0 * runner.upper_bound / n_weighted_;  // an upper bound only.
+    }
+    result->poses_evaluated += counters.poses_evaluated;
+    result->bounds_evaluated += counters.bounds_evaluated;
+    bnb.reset();  // its queue back to the pool.
+  }
+
+  // What the search made for itself: grids (the cluster's when not shared), the evaluator that
+  // reads them, and the branch and bound over them (in this order: each reads the one before).
+  std::vector<std::unique_ptr<ColumnOccupancy>> own;
+  std::unique_ptr<Evaluator> eval;
+  SearchResult counters;  // the branch and bound's counts.
+  std::unique_ptr<BranchAndBound> bnb;
+  int best_itheta = 0;
+
+ private:
+  const PoseLattice& lattice_;
+  const int n_weighted_;
+};
+
+}  // namespace
+
 SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   SearchResult result;
+  const std::unique_ptr<RunnerUpSearch> runner_up = SearchBest(problem, &result);
+  if (runner_up != nullptr) runner_up->Find(&result);
+  return result;
+}
+
+std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(const SearchProblem& problem,
+                                                        SearchResult* out) const {
+  SearchResult& result = *out;
+  result = SearchResult();
   const ClusterVoxels& cluster = *problem.cluster;
   const TemplateRotations& rotations = *problem.rotations;
   const PoseLattice& lattice = rotations.lattice();
@@ -716,7 +804,7 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   // The region is the whole template's; a tall template is evaluated slab by slab, each slab
   // with grids of its own z frame, levels and lookups.
   const Region region = TranslationRegion(cluster, rotations);
-  if (region.ix_max < region.ix_min || n == 0) return result;
+  if (region.ix_max < region.ix_min || n == 0) return nullptr;
   std::vector<const TemplateRotations*> parts;
   if (BySlabs(rotations)) {
     for (const std::unique_ptr<TemplateRotations>& slab : rotations.slabs())
@@ -725,11 +813,13 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
     parts.push_back(&rotations);
   }
   int top = 0;
+  const int n_weighted = n * problem.hit_weight;  // the score's denominator.
+  auto state = std::make_unique<ExactRunnerUp>(lattice, n_weighted);
 
   // Each part's cluster occupancy and its free space's: the shared ones when they serve it,
   // else made here.
   const bool with_free = problem.free_space != nullptr;
-  std::vector<std::unique_ptr<ColumnOccupancy>> own;
+  std::vector<std::unique_ptr<ColumnOccupancy>>& own = state->own;
   std::vector<PartEvaluator> part_evaluators;
   for (size_t k = 0; k < parts.size(); ++k) {
     const TemplateRotations* part = parts[k];
@@ -762,8 +852,8 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
                                  *part, options_.swept_bounds, options_.free_bound_max_level,
                                  options_.theta_block_free_part);
   }
-  const Evaluator eval(std::move(part_evaluators));
-  const int n_weighted = n * problem.hit_weight;  // the score's denominator.
+  state->eval = std::make_unique<Evaluator>(std::move(part_evaluators));
+  const Evaluator& eval = *state->eval;
 
   // A known pose's value (e.g. the previous frame's): nodes whose bound cannot reach it stay
   // out of the queue until the search gets down to them (if ever). Same result, fewer heap
@@ -779,35 +869,32 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
       defer_below = std::max(defer_below, result.incumbent_value);
     }
   }
-  BranchAndBound bnb(&eval, rotations, region, top, options_.top_theta_level, problem.min_value,
-                     defer_below, options_.theta_split_lead, options_.theta_split_ratio, &result);
+  state->bnb = std::make_unique<BranchAndBound>(
+      &eval, rotations, region, top, options_.top_theta_level, problem.min_value, defer_below,
+      options_.theta_split_lead, options_.theta_split_ratio, &state->counters);
+  BranchAndBound& bnb = *state->bnb;
+  const auto take_counts = [&] {
+    result.poses_evaluated += state->counters.poses_evaluated;
+    result.bounds_evaluated += state->counters.bounds_evaluated;
+    state->counters = SearchResult();
+  };
   const BranchAndBoundResult best = bnb.Next();
+  take_counts();
   if (best.below_min) {
     result.below_min_value = true;
     result.value_upper_bound = best.upper_bound;
     result.score_upper_bound = 100.0 * best.upper_bound / n_weighted;
   }
-  const BranchAndBoundResult found = best.below_min ? bnb.BestEvaluated() : best;
-  if (!found.found) return result;
-  SetPose(found, eval, lattice, n, n_weighted, &result);
-  if (best.below_min) return result;
-
-  std::vector<bool> others(lattice.angle_steps, false);
-  for (int t = 0; t < lattice.angle_steps; ++t) {
-    const double sep = std::abs(
-        AngleDiff(t * lattice.angle_step_rad(), best.best.itheta * lattice.angle_step_rad()));
-    others[t] = sep > kRunnerUpMinSeparationRad;
+  if (best.below_min) {
+    const BranchAndBoundResult found = bnb.BestEvaluated();
+    take_counts();
+    if (found.found) SetPose(found, eval, lattice, n, n_weighted, &result);
+    return nullptr;
   }
-  bnb.set_allowed(std::move(others));
-  const BranchAndBoundResult runner = bnb.Next();
-  if (runner.found) {
-    result.has_runner_up = true;
-    result.runner_up_pose = ToPose(lattice, runner.best);
-    result.runner_up_score = 100.0 * runner.value / n_weighted;
-  } else if (runner.below_min) {
-    result.runner_up_score = 100.0 * runner.upper_bound / n_weighted;  // an upper bound only.
-  }
-  return result;
+  if (!best.found) return nullptr;
+  SetPose(best, eval, lattice, n, n_weighted, &result);
+  state->best_itheta = best.best.itheta;
+  return state;
 }
 
 }  // namespace hpose

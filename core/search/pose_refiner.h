@@ -78,6 +78,10 @@ struct RefineOptions {
   // standard errors of about 1.3) would need its other heading to fit better by as much to be
   // chosen. 0: the runner-ups of every template (before).
   double runner_up_fit_sigmas = 3.0;
+  // ... and such a template's runner-up is not even searched for: its search stops at the
+  // optimum (the runner-up's bounds were about two fifths of a tracked frame's), and it has no
+  // runner-up. true: searched, and evaluated where it lies (before).
+  bool search_far_behind_runner_up = false;
   // A cluster point is matched with a visible template point around its ray within this or 4
   // axial sigmas, whichever is larger; points with none are unexplained.
   double association_gate_m = 0.03;

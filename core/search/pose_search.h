@@ -9,6 +9,7 @@
 
 #include "core/scoring/pose_lattice.h"
 #include "core/scoring/pose_scorer.h"
+#include "core/search/runner_up_search.h"
 #include "core/search/search_result.h"
 
 namespace hpose {
@@ -68,6 +69,14 @@ class PoseSearch {
  public:
   virtual ~PoseSearch() = default;
   virtual SearchResult Search(const SearchProblem& problem) const = 0;
+  // Search's optimum alone, into `result`, and what finding its runner-up takes, for a caller
+  // that may not need it (null: `result` holds the runner-up already, or there is none to
+  // find). By default Search, whole.
+  virtual std::unique_ptr<RunnerUpSearch> SearchBest(const SearchProblem& problem,
+                                                     SearchResult* result) const {
+    *result = Search(problem);
+    return nullptr;
+  }
   // How far outside the box of the cluster's voxel cells the search may place the template's
   // origin (metres): what it reads lies within this plus the template's own reach.
   virtual double OriginMargin(const TemplateRotations& rotations) const = 0;

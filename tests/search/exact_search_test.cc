@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <climits>
 #include <map>
+#include <memory>
 #include <random>
 #include <set>
 #include <tuple>
@@ -530,6 +531,73 @@ TEST(ExactSearchTest, EqualsExhaustiveSearchOnRandomScenes) {
     EXPECT_NEAR(single.runner_up_score, r.runner_up_score, 1e-9) << "scene " << scene;
     EXPECT_GT(std::abs(AngleDiff(r.runner_up_pose.theta, r.pose.theta)), DegToRad(30));
     EXPECT_LT(r.poses_evaluated + r.bounds_evaluated, brute.poses);
+  }
+}
+
+// The runner-up's search left for later (SearchBest, then RunnerUpSearch::Find) finds what one
+// Search finds, with the same counts, however many such searches wait at once and whatever other
+// searches run meanwhile (each keeps its own queue).
+TEST(ExactSearchTest, RunnerUpFoundLaterEqualsOneSearch) {
+  std::mt19937 rng(5);
+  PoseLattice lattice;
+  lattice.angle_steps = 24;
+  struct Scene {
+    std::unique_ptr<TemplateRotations> rot;
+    ClusterVoxels cluster, free;
+    std::unique_ptr<FastScorer> scorer;
+    SearchProblem problem;
+  };
+  std::vector<Scene> scenes(4);
+  for (unsigned k = 0; k < scenes.size(); ++k) {
+    Scene& sc = scenes[k];
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(300 + k), "t", lattice.resolution_m);
+    const Pose2D truth{1.2, -0.1, DegToRad(-120.0 + 70.0 * k)};
+    sc.cluster = VoxeliseCluster(
+        testing::VisibleCluster(testing::RandomRobotPoints(300 + k), truth, 0.004f, k),
+        lattice.resolution_m);
+    ASSERT_FALSE(sc.cluster.cells.empty());
+    sc.free = RandomFreeCells(sc.cluster, 2000, 40, &rng);
+    sc.rot = std::make_unique<TemplateRotations>(tpl, lattice);
+    sc.scorer = std::make_unique<FastScorer>(sc.cluster, lattice);
+    sc.problem = SearchProblem{&sc.cluster, sc.scorer.get(), sc.rot.get(), {truth.x, truth.y}};
+    sc.problem.free_space = &sc.free;
+  }
+  ExactSearchOptions opts;
+  opts.margin_m = 0.08;
+  const ExactSearch search(opts);
+  std::vector<SearchResult> whole;
+  for (const Scene& sc : scenes) whole.push_back(search.Search(sc.problem));
+
+  std::vector<SearchResult> later(scenes.size());
+  std::vector<std::unique_ptr<RunnerUpSearch>> pending;
+  for (size_t k = 0; k < scenes.size(); ++k) {
+    pending.push_back(search.SearchBest(scenes[k].problem, &later[k]));
+    ASSERT_NE(pending.back(), nullptr) << "scene " << k;
+    EXPECT_FALSE(later[k].has_runner_up) << "scene " << k;
+    EXPECT_EQ(later[k].value, whole[k].value) << "scene " << k;
+    EXPECT_EQ(later[k].best.itheta, whole[k].best.itheta) << "scene " << k;
+    EXPECT_EQ(later[k].best.ix, whole[k].best.ix) << "scene " << k;
+    EXPECT_EQ(later[k].best.iy, whole[k].best.iy) << "scene " << k;
+    EXPECT_LT(later[k].bounds_evaluated, whole[k].bounds_evaluated) << "scene " << k;
+  }
+  // Other searches while those wait, then the runner-ups in the reverse order.
+  for (size_t k = 0; k < scenes.size(); ++k) {
+    EXPECT_EQ(search.Search(scenes[k].problem).runner_up_score, whole[k].runner_up_score);
+  }
+  for (size_t k = scenes.size(); k-- > 0;) {
+    pending[k]->Find(&later[k]);
+    pending[k].reset();
+    const SearchResult& a = later[k];
+    const SearchResult& b = whole[k];
+    ASSERT_TRUE(b.has_runner_up) << "scene " << k;
+    EXPECT_TRUE(a.has_runner_up) << "scene " << k;
+    EXPECT_EQ(a.runner_up_score, b.runner_up_score) << "scene " << k;
+    EXPECT_EQ(a.runner_up_pose.x, b.runner_up_pose.x) << "scene " << k;
+    EXPECT_EQ(a.runner_up_pose.y, b.runner_up_pose.y) << "scene " << k;
+    EXPECT_EQ(a.runner_up_pose.theta, b.runner_up_pose.theta) << "scene " << k;
+    EXPECT_EQ(a.poses_evaluated, b.poses_evaluated) << "scene " << k;
+    EXPECT_EQ(a.bounds_evaluated, b.bounds_evaluated) << "scene " << k;
   }
 }
 

@@ -297,15 +297,19 @@ bool SamePose(const Pose2D& a, const Pose2D& b) {
   return a.x == b.x && a.y == b.y && a.theta == b.theta;
 }
 
-// A template whose refined fit is far behind the best one on its cluster has its runner-up only
-// evaluated where the search left it; the leading template is refined, compared and chosen
-// exactly as when every template's runner-up is refined.
-TEST(PoseRefinerTest, ATemplateFarBehindOnItsClusterKeepsItsRunnerUpWhereTheSearchLeftIt) {
+// A template whose refined fit is far behind the best one on its cluster has no runner-up: its
+// search stops at the optimum. With search_far_behind_runner_up its runner-up is searched and
+// only evaluated where the search left it. Either way the leading template is refined, compared
+// and chosen exactly as when every template's runner-up is refined.
+TEST(PoseRefinerTest, ATemplateFarBehindOnItsClusterHasNoRunnerUp) {
   const std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
                                                 ModelTemplate("right_arm_raised")};
   EstimatorOptions options = DefaultEstimatorOptions();
   ASSERT_GT(options.refine.runner_up_fit_sigmas, 0.0);
+  ASSERT_FALSE(options.refine.search_far_behind_runner_up);
   auto now = std::move(Estimator::Create(options, templates).value());
+  options.refine.search_far_behind_runner_up = true;
+  auto searched = std::move(Estimator::Create(options, templates).value());
   options.refine.runner_up_fit_sigmas = 0.0;
   auto every = std::move(Estimator::Create(options, templates).value());
   options.refine.enabled = false;
@@ -325,20 +329,27 @@ TEST(PoseRefinerTest, ATemplateFarBehindOnItsClusterKeepsItsRunnerUpWhereTheSear
     spec.clutter = 2;
     const SimulatedFrame frame = *SimulateFrame(spec);
     const Estimate a = *now->EstimateDepth(frame.depth, spec.intrinsics);
+    const Estimate s = *searched->EstimateDepth(frame.depth, spec.intrinsics);
     const Estimate b = *every->EstimateDepth(frame.depth, spec.intrinsics);
     const Estimate l = *lattice->EstimateDepth(frame.depth, spec.intrinsics);
-    const std::vector<Detection> humanoids_a = a.Humanoids(), humanoids_b = b.Humanoids();
+    const std::vector<Detection> humanoids_a = a.Humanoids(), humanoids_s = s.Humanoids(),
+                                 humanoids_b = b.Humanoids();
     ASSERT_FALSE(humanoids_a.empty()) << k.preset;
+    ASSERT_FALSE(humanoids_s.empty()) << k.preset;
     ASSERT_FALSE(humanoids_b.empty()) << k.preset;
+    for (const Detection* d : {&humanoids_a.front(), &humanoids_s.front()}) {
+      const Candidate& best = d->best;
+      const Candidate& best_b = humanoids_b.front().best;
+      EXPECT_EQ(best.template_name, k.preset);
+      EXPECT_EQ(best.template_name, best_b.template_name);
+      EXPECT_TRUE(SamePose(best.pose, best_b.pose)) << k.preset;
+      EXPECT_TRUE(SamePose(best.runner_up_pose, best_b.runner_up_pose)) << k.preset;
+      EXPECT_EQ(best.heading_ambiguous, best_b.heading_ambiguous) << k.preset;
+    }
     const Candidate& best_a = humanoids_a.front().best;
-    const Candidate& best_b = humanoids_b.front().best;
-    EXPECT_EQ(best_a.template_name, k.preset);
-    EXPECT_EQ(best_a.template_name, best_b.template_name);
-    EXPECT_TRUE(SamePose(best_a.pose, best_b.pose)) << k.preset;
-    EXPECT_TRUE(SamePose(best_a.runner_up_pose, best_b.runner_up_pose)) << k.preset;
-    EXPECT_EQ(best_a.heading_ambiguous, best_b.heading_ambiguous) << k.preset;
     ASSERT_EQ(a.candidates.size(), l.candidates.size());
-    for (const Candidate& c : a.candidates) {
+    ASSERT_EQ(a.candidates.size(), s.candidates.size());
+    for (const Candidate& c : s.candidates) {
       if (c.cluster_index != best_a.cluster_index || !c.refined || !c.has_runner_up) continue;
       const double behind = best_a.fit.fit - c.fit.fit;
       if (behind <=
@@ -353,6 +364,17 @@ TEST(PoseRefinerTest, ATemplateFarBehindOnItsClusterKeepsItsRunnerUpWhereTheSear
         EXPECT_TRUE(SamePose(c.runner_up_pose, u.runner_up_pose) ||
                     SamePose(c.lattice_pose, u.runner_up_pose))
             << k.preset << " " << c.template_name;
+      }
+      // By default: the search's optimum refined, no runner-up, and fewer bounds.
+      for (const Candidate& n : a.candidates) {
+        if (n.cluster_index != c.cluster_index || n.template_name != c.template_name) continue;
+        EXPECT_FALSE(n.has_runner_up) << k.preset << " " << c.template_name;
+        EXPECT_FALSE(n.heading_ambiguous) << k.preset << " " << c.template_name;
+        EXPECT_LT(n.bounds_evaluated, c.bounds_evaluated) << k.preset << " " << c.template_name;
+        for (const Candidate& u : l.candidates) {
+          if (u.cluster_index != n.cluster_index || u.template_name != n.template_name) continue;
+          EXPECT_TRUE(SamePose(n.lattice_pose, u.pose)) << k.preset << " " << n.template_name;
+        }
       }
     }
   }
