@@ -43,9 +43,12 @@ struct Candidate {
   double score_upper_bound = 0.0;
   int hits = 0;
   int cluster_voxels = 0;
-  bool has_runner_up = false;  // best pose with theta more than 30 deg away.
-  // Refined like `pose`, unless it or its template is far behind (RefineOptions::
-  // runner_up_score_window, runner_up_fit_sigmas): then where the search left it.
+  // The best pose with theta more than 30 deg away; not searched for when the template's refined
+  // fit is far behind another's on the cluster (RefineOptions::runner_up_fit_sigmas,
+  // search_far_behind_runner_up).
+  bool has_runner_up = false;
+  // Refined like `pose`, unless it is far behind in score (RefineOptions::
+  // runner_up_score_window) or its template far behind in fit: then where the search left it.
   Pose2D runner_up_pose;
   double runner_up_score = 0.0;
   double refine_ms = 0.0;  // what refining `pose` and the runner-up took (wall time).

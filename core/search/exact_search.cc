@@ -884,8 +884,6 @@ std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(const SearchProblem& pro
     result.below_min_value = true;
     result.value_upper_bound = best.upper_bound;
     result.score_upper_bound = 100.0 * best.upper_bound / n_weighted;
-  }
-  if (best.below_min) {
     const BranchAndBoundResult found = bnb.BestEvaluated();
     take_counts();
     if (found.found) SetPose(found, eval, lattice, n, n_weighted, &result);

@@ -80,7 +80,9 @@ struct RefineOptions {
   double runner_up_fit_sigmas = 3.0;
   // ... and such a template's runner-up is not even searched for: its search stops at the
   // optimum (the runner-up's bounds were about two fifths of a tracked frame's), and it has no
-  // runner-up. true: searched, and evaluated where it lies (before).
+  // runner-up. Should the leading template then take a heading that fits worse (the depth
+  // images decide), a template that contends with it after all has its runner-up searched and
+  // evaluated. true: every template's runner-up searched, as before.
   bool search_far_behind_runner_up = false;
   // A cluster point is matched with a visible template point around its ray within this or 4
   // axial sigmas, whichever is larger; points with none are unexplained.
