@@ -367,6 +367,11 @@ std::vector<Variant> ScatteredVariants() {
   v.push_back({"exact search, two-word columns (before slabs)", [](EstimatorOptions* o) {
                  Exact(o);
                  o->exact.slabs = false;
+                 o->max_height_voxels = 0;  // a tall body on its own voxels.
+               }});
+  v.push_back({"exact search, the templates' own voxels (before)", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->max_height_voxels = 0;
                }});
   v.push_back({"exact search, 2 threads", [](EstimatorOptions* o) {
                  Exact(o);
@@ -482,6 +487,13 @@ std::vector<Variant> SequenceVariants() {
                [](EstimatorOptions* o) {
                  Exact(o);
                  o->exact.slabs = false;
+                 o->max_height_voxels = 0;  // a tall body on its own voxels.
+               },
+               true});
+  v.push_back({"walk, tracked, the templates' own voxels (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->max_height_voxels = 0;
                },
                true});
   v.push_back({"walk, tracked, far-behind templates' runner-ups searched (before)",

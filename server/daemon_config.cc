@@ -244,7 +244,13 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_humanoid_fit", &e.min_humanoid_fit));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("tracked_score_threshold", &e.tracked_score_threshold));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("max_height_ratio_error", &e.max_height_ratio_error));
-    HPOSE_RETURN_IF_ERROR(r.ReadDouble("resolution_m", &e.lattice.resolution_m));
+    // 0: the templates' own edge (coarser for a tall body), EstimatorOptions::
+    // resolution_from_templates.
+    double resolution_m = e.resolution_from_templates ? 0.0 : e.lattice.resolution_m;
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("resolution_m", &resolution_m));
+    e.resolution_from_templates = resolution_m == 0.0;
+    if (!e.resolution_from_templates) e.lattice.resolution_m = resolution_m;
+    HPOSE_RETURN_IF_ERROR(r.Read("max_height_voxels", &e.max_height_voxels, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_range_m", &e.cloud.min_range_m));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("max_range_m", &e.cloud.max_range_m));
     HPOSE_RETURN_IF_ERROR(r.Read("stride", &e.cloud.stride, "an integer"));
@@ -487,7 +493,13 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
     return fail("world_from_ground", "x_m, y_m and yaw_rad must be finite");
   }
   Status lattice = c.estimator.lattice.Validate();
-  if (!lattice.ok()) return fail("search.resolution_m", lattice.error().message);
+  if (!c.estimator.resolution_from_templates && !lattice.ok()) {
+    return fail("search.resolution_m", lattice.error().message + " (0: the templates' own)");
+  }
+  const int tall = c.estimator.max_height_voxels;
+  if (tall != 0 && (tall < 8 || tall > 1024)) {
+    return fail("search.max_height_voxels", "must be 0 (off) or within [8, 1024]");
+  }
   return Status::Ok();
 }
 
@@ -554,7 +566,9 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "min_humanoid_fit" << YAML::Value << e.min_humanoid_fit;
   out << YAML::Key << "tracked_score_threshold" << YAML::Value << e.tracked_score_threshold;
   out << YAML::Key << "max_height_ratio_error" << YAML::Value << e.max_height_ratio_error;
-  out << YAML::Key << "resolution_m" << YAML::Value << e.lattice.resolution_m;
+  out << YAML::Key << "resolution_m" << YAML::Value
+      << (e.resolution_from_templates ? 0.0 : e.lattice.resolution_m);
+  out << YAML::Key << "max_height_voxels" << YAML::Value << e.max_height_voxels;
   out << YAML::Key << "min_range_m" << YAML::Value << e.cloud.min_range_m;
   out << YAML::Key << "max_range_m" << YAML::Value << e.cloud.max_range_m;
   out << YAML::Key << "stride" << YAML::Value << e.cloud.stride;

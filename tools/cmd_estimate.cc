@@ -113,6 +113,9 @@ int RunEstimate(int argc, char** argv) {
   if (!templates.ok()) return ReportError(cmd, templates.error());
   Result<std::unique_ptr<Estimator>> estimator = Estimator::Create(f.options, *templates);
   if (!estimator.ok()) return ReportError(cmd, estimator.error());
+  if (const std::string note = SearchVoxelsNote(**estimator); !note.empty()) {
+    std::cerr << "hpose estimate: note: " << note << "\n";
+  }
 
   PointCloud cloud;
   Result<Estimate> estimate = MakeError(ErrorCode::kInternal, "not run");

@@ -24,6 +24,7 @@
 #include "server/proto_convert.h"
 #include "tools/cmd_replay_flags.h"
 #include "tools/command.h"
+#include "tools/estimate_report.h"
 #include "tools/exit_codes.h"
 #include "tools/flag_parser.h"
 #include "tools/template_paths.h"
@@ -141,6 +142,9 @@ int RunReplay(int argc, char** argv) {
   EstimatorOptions options = server::EffectiveEstimatorOptions(config);
   Result<std::unique_ptr<Estimator>> estimator = Estimator::Create(options, std::move(loaded));
   if (!estimator.ok()) return ReportError("replay", estimator.error());
+  if (const std::string note = SearchVoxelsNote(**estimator); !note.empty()) {
+    std::cerr << "hpose replay: note: " << note << "\n";
+  }
   PoseTracker tracker(estimator->get());
   if (has_start) {
     tracker.SetInitialPose(start_pose);

@@ -1,8 +1,11 @@
 #include "tools/estimate_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+
+#include "core/search/estimator.h"
 
 namespace hpose::tools {
 namespace {
@@ -90,6 +93,33 @@ std::string EstimateToText(const Estimate& e) {
      << " ms, search " << Fmt("%.1f", e.timings.search_ms) << " ms, total "
      << Fmt("%.1f", e.timings.total_ms) << " ms\n";
   return os.str();
+}
+
+std::string SearchVoxelsNote(const Estimator& estimator) {
+  const EstimatorOptions& o = estimator.options();
+  const double edge = o.lattice.resolution_m;
+  std::string names;
+  double finest = edge, tallest = 0.0;
+  for (const VoxelTemplate& t : estimator.templates()) {
+    tallest = std::max(tallest, t.Height());
+    if (t.resolution_m >= edge - 1e-9) continue;
+    names += (names.empty() ? "'" : ", '") + t.name + "'";
+    finest = std::min(finest, t.resolution_m);
+  }
+  if (names.empty()) return "";
+  char buf[320];
+  if (o.resolution_from_templates && o.max_height_voxels > 0 &&
+      tallest > o.max_height_voxels * finest + 1e-9) {
+    std::snprintf(buf, sizeof(buf),
+                  "%.1f mm voxels, as the body is %.2f m tall: more than max_height_voxels (%d) "
+                  "of its own %.1f mm (0: search on those)",
+                  edge * 1000.0, tallest, o.max_height_voxels, finest * 1000.0);
+  } else {
+    std::snprintf(buf, sizeof(buf), "%.1f mm voxels, the search's edge (finest template %.1f mm)",
+                  edge * 1000.0, finest * 1000.0);
+  }
+  return "template" + std::string(names.find(',') == std::string::npos ? " " : "s ") + names +
+         " searched on " + buf + "; poses are still fitted to their own surface";
 }
 
 }  // namespace hpose::tools

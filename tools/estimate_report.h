@@ -5,11 +5,20 @@
 
 #include "core/search/estimate.h"
 
+namespace hpose {
+class Estimator;
+}  // namespace hpose
+
 namespace hpose::tools {
 
 // A few lines for people: the floor, the humanoid(s) with pose in m and degrees, the runner-up,
 // the other candidates and the stage timings.
 std::string EstimateToText(const Estimate& estimate);
+
+// A sentence for a note when templates are searched on coarser voxels than they were made
+// with (a tall body, EstimatorOptions::max_height_voxels, or the search's edge set coarser);
+// empty otherwise.
+std::string SearchVoxelsNote(const Estimator& estimator);
 
 }  // namespace hpose::tools
 

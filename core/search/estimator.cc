@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <set>
+#include <string>
 #include <utility>
 
 #include "core/common/task_pool.h"
@@ -233,6 +235,38 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
   return out;
 }
 
+// "16.0 mm".
+std::string Millimetres(double m) {
+  char buf[48];
+  std::snprintf(buf, sizeof(buf), "%.1f mm", m * 1000.0);
+  return buf;
+}
+
+// The search's voxel edge (EstimatorOptions::resolution_from_templates, max_height_voxels).
+Result<double> SearchEdge(const EstimatorOptions& o, const std::vector<VoxelTemplate>& templates) {
+  if (!o.resolution_from_templates) {
+    for (const VoxelTemplate& t : templates) {
+      if (t.resolution_m > o.lattice.resolution_m + 1e-9) {
+        return MakeError(ErrorCode::kInvalidArgument,
+                         "template '" + t.name + "' has voxels of " + Millimetres(t.resolution_m) +
+                             ", coarser than the search's " + Millimetres(o.lattice.resolution_m) +
+                             " (its resolution): make the template at that edge or finer, or "
+                             "search at the templates' own");
+      }
+    }
+    return o.lattice.resolution_m;
+  }
+  double edge = 0.0, tallest = 0.0;
+  for (const VoxelTemplate& t : templates) {
+    edge = std::max(edge, t.resolution_m);
+    tallest = std::max(tallest, t.Height());
+  }
+  if (o.max_height_voxels > 0 && tallest > o.max_height_voxels * edge + 1e-9) {
+    edge = std::ceil(tallest / o.max_height_voxels * 1000.0 - 1e-6) / 1000.0;
+  }
+  return edge;
+}
+
 // Whether a pose (e.g. the previous frame's) stands on the cluster: within a hand of its
 // footprint.
 bool StandsOn(const Cluster& c, const Pose2D& pose) {
@@ -277,8 +311,10 @@ double ApparentWidth(const Cluster& c) {
 }  // namespace
 
 Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates,
-                     const std::vector<TemplateModels>& shared)
-    : options_(std::move(options)), templates_(std::move(templates)) {
+                     std::vector<VoxelTemplate> searched, const std::vector<TemplateModels>& shared)
+    : options_(std::move(options)),
+      templates_(std::move(templates)),
+      searched_(std::move(searched)) {
   pool_ = std::make_unique<TaskPool>(TaskPool::Resolve(options_.threads));
   // Each template's rotations and surface, two tasks per template for the threads; taken from
   // `shared` where they were made alike.
@@ -288,7 +324,7 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
   silhouette_widths_.resize(count);
   const double spacing = options_.refine.surface_spacing_m;
   for (int j = 0; j < count; ++j) {
-    const VoxelTemplate& t = templates_[j];
+    const VoxelTemplate& t = searched_[j];
     for (const TemplateModels& m : shared) {
       const PoseLattice& a = m.lattice;
       const PoseLattice& b = options_.lattice;
@@ -303,24 +339,26 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
       break;
     }
   }
+  // The search's models from the templates at its edge; the refinement's surface from each
+  // template as it was made.
   pool_->ParallelFor(2 * count, [&](int k) {
-    const VoxelTemplate& t = templates_[k / 2];
+    const VoxelTemplate& t = searched_[k / 2];
     if (k % 2 == 0) {
       if (rotations_[k / 2] == nullptr) {
         rotations_[k / 2] = std::make_shared<const TemplateRotations>(t, options_.lattice);
       }
     } else {
       if (surfaces_[k / 2] == nullptr) {
-        surfaces_[k / 2] = std::make_shared<const SurfaceModel>(t, spacing);
+        surfaces_[k / 2] = std::make_shared<const SurfaceModel>(templates_[k / 2], spacing);
       }
       silhouette_widths_[k / 2] = SilhouetteWidths(t, options_.clusters.min_height_above_floor_m);
     }
   });
   search_ = MakeSearch(options_);
   // The free space every template's search may read, height by height.
-  for (size_t j = 0; j < templates_.size() && search_ != nullptr; ++j) {
-    const std::vector<int> grow = FreeSpaceGrow(
-        templates_[j], search_->OriginMargin(*rotations_[j]), options_.lattice.resolution_m);
+  for (size_t j = 0; j < searched_.size() && search_ != nullptr; ++j) {
+    const std::vector<int> grow = FreeSpaceGrow(searched_[j], search_->OriginMargin(*rotations_[j]),
+                                                options_.lattice.resolution_m);
     if (grow.size() > free_grow_.size()) free_grow_.resize(grow.size(), -1);
     for (size_t z = 0; z < grow.size(); ++z) free_grow_[z] = std::max(free_grow_[z], grow[z]);
   }
@@ -355,11 +393,10 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
   if (templates.empty()) {
     return MakeError(ErrorCode::kInvalidArgument, "no templates given (at least one is needed)");
   }
-  Status st = options.lattice.Validate();
-  if (!st.ok()) return st.error();
-  // Options that every frame would otherwise refuse are refused once, here.
-  st = options.use_fixed_floor ? ValidateFloor(options.fixed_floor)
-                               : ValidateFloorFitterOptions(options.floor_fit);
+  // Options that every frame would otherwise refuse are refused once, here (the lattice once
+  // its edge is known).
+  Status st = options.use_fixed_floor ? ValidateFloor(options.fixed_floor)
+                                      : ValidateFloorFitterOptions(options.floor_fit);
   if (!st.ok()) return st.error();
   st = ValidateClusterOptions(options.clusters);
   if (!st.ok()) return st.error();
@@ -372,12 +409,31 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
     if (t.voxels.empty()) {
       return MakeError(ErrorCode::kInvalidArgument, "template '" + t.name + "' has no voxels");
     }
-    if (std::abs(t.resolution_m - options.lattice.resolution_m) > 1e-9) {
-      return MakeError(ErrorCode::kInvalidArgument,
-                       "template '" + t.name + "' has resolution " +
-                           std::to_string(t.resolution_m) + " m but the search uses " +
-                           std::to_string(options.lattice.resolution_m) + " m");
+  }
+  if (options.max_height_voxels != 0 &&
+      (options.max_height_voxels < 8 || options.max_height_voxels > 1024)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "max_height_voxels must be 0 (off) or within [8, 1024], got " +
+                         std::to_string(options.max_height_voxels));
+  }
+  if (!options.resolution_from_templates) {
+    st = options.lattice.Validate();
+    if (!st.ok()) return st.error();
+  }
+  Result<double> edge = SearchEdge(options, templates);
+  if (!edge.ok()) return edge.error();
+  options.lattice.resolution_m = *edge;
+  st = options.lattice.Validate();
+  if (!st.ok()) return st.error();
+  std::vector<VoxelTemplate> searched;
+  for (const VoxelTemplate& t : templates) {
+    if (std::abs(t.resolution_m - *edge) <= 1e-9) {
+      searched.push_back(t);
+      continue;
     }
+    Result<VoxelTemplate> again = VoxeliseAgain(t, *edge);
+    if (!again.ok()) return again.error();
+    searched.push_back(std::move(*again));
   }
   if (options.threads < 0 || options.threads > 256) {
     return MakeError(ErrorCode::kInvalidArgument,
@@ -394,7 +450,8 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
     return MakeError(ErrorCode::kInvalidArgument,
                      "tracked_score_threshold must be within [0, 100]");
   }
-  std::unique_ptr<Estimator> e(new Estimator(std::move(options), std::move(templates), shared));
+  std::unique_ptr<Estimator> e(
+      new Estimator(std::move(options), std::move(templates), std::move(searched), shared));
   if (e->search_ == nullptr) {
     return MakeError(ErrorCode::kInvalidArgument, std::string("search '") +
                                                       SearchKindName(e->options_.search) +
@@ -576,7 +633,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     const int n = w.n;
     const double threshold = task.threshold;
     if (threshold > 0.0 && n > 0 &&
-        100.0 * static_cast<double>(templates_[j].voxels.size()) / n < threshold) {
+        100.0 * static_cast<double>(searched_[j].voxels.size()) / n < threshold) {
       return;
     }
     task.kept = true;

@@ -51,7 +51,25 @@ struct EstimatorOptions {
   bool use_fixed_floor = false;  // true: `fixed_floor` instead of fitting every frame.
   FloorEstimate fixed_floor;
   ClusterOptions clusters;
+  // The search's lattice. Its voxel edge (resolution_m) follows the templates unless
+  // resolution_from_templates is false.
   PoseLattice lattice;
+  // true: the search's voxel edge is the templates' own (the coarsest of them when they
+  // differ), coarser still for a tall body (max_height_voxels); lattice.resolution_m is then
+  // ignored (Estimator::options() holds the edge chosen). false: lattice.resolution_m as set.
+  // Either way a template made at a finer edge than the search's is voxelised again at it from
+  // its surface points (VoxeliseAgain), and one made at a coarser edge is refused. The
+  // refinement fits every template's own surface, whatever edge it is searched at.
+  bool resolution_from_templates = true;
+  // A body taller than this many voxels of the templates' edge is searched on coarser voxels:
+  // the tallest template's height / max_height_voxels, rounded up to a millimetre. A bound's
+  // work grows with a template's columns (its surface over the edge squared), and columns of
+  // more than 64 voxels are searched slab by slab: a 1.23 m humanoid made at 16 mm (83 voxels
+  // with an arm raised) took 2-4x a Nao's frame; searched at 28 mm, about what a Nao's takes,
+  // with headings and positions as accurate (docs/BENCHMARKS.md). The shipped Nao templates
+  // (40 voxels with an arm raised) and smaller bodies keep their edge. 0: never coarser than
+  // the templates' own. Used with resolution_from_templates only.
+  int max_height_voxels = 48;
   SearchKind search = SearchKind::kExact;
   ScorerKind scorer = ScorerKind::kFast;  // equal scores; kOctomapReference is slow.
   PaperSearchOptions paper;
@@ -144,8 +162,9 @@ struct FramePrior {
 // cluster. Thread-compatible: one Estimate call at a time per instance.
 class Estimator {
  public:
-  // Fails (kInvalidArgument) without templates, with duplicate names, with a template whose
-  // resolution differs from the lattice's, or with invalid options.
+  // Fails (kInvalidArgument) without templates, with duplicate names, with a template made at
+  // a coarser voxel edge than the lattice's (resolution_from_templates false), or with invalid
+  // options.
   // With `shared` (another estimator's models(), made from the same templates), a template's
   // models are taken from there instead of made again where they were made alike (same name and
   // voxel count, lattice and surface spacing): estimators of one process then hold one copy of
@@ -175,12 +194,14 @@ class Estimator {
 
  private:
   Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates,
-            const std::vector<TemplateModels>& shared);
+            std::vector<VoxelTemplate> searched, const std::vector<TemplateModels>& shared);
   Result<Estimate> Run(const PointCloud& cloud_sensor, double cloud_ms,
                        const FramePrior* prior) const;
 
   EstimatorOptions options_;
   std::vector<VoxelTemplate> templates_;
+  // The same templates at the search's voxel edge (voxelised again where theirs is finer).
+  std::vector<VoxelTemplate> searched_;
   std::vector<std::shared_ptr<const TemplateRotations>> rotations_;  // one per template.
   // Narrowest and widest horizontal silhouette of each template over all headings (metres),
   // counting voxels above the clusters' floor band only.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <tuple>
 
@@ -39,6 +40,13 @@ std::vector<Eigen::Vector3f> CellCentroids(const std::vector<Eigen::Vector3f>& p
   out.reserve(sums.size());
   for (const auto& [cell, sn] : sums) out.push_back((sn.first / sn.second).cast<float>());
   return out;
+}
+
+// "16.0 mm".
+std::string Millimetres(double m) {
+  char buf[48];
+  std::snprintf(buf, sizeof(buf), "%.1f mm", m * 1000.0);
+  return buf;
 }
 
 }  // namespace
@@ -132,6 +140,16 @@ Result<VoxelTemplate> MakeTemplateFromPoints(const std::vector<Eigen::Vector3f>&
   }
   tpl.surface = CellCentroids(points, tpl.SurfaceCellM());
   return tpl;
+}
+
+Result<VoxelTemplate> VoxeliseAgain(const VoxelTemplate& tpl, double resolution_m) {
+  if (!(resolution_m >= tpl.resolution_m - 1e-12)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "template '" + tpl.name + "' has voxels of " + Millimetres(tpl.resolution_m) +
+                         " and cannot be voxelised again at a finer " + Millimetres(resolution_m));
+  }
+  return MakeTemplateFromPoints(tpl.SurfaceOrVoxels(), tpl.name, resolution_m, tpl.variant,
+                                tpl.source);
 }
 
 }  // namespace hpose

@@ -51,6 +51,12 @@ Result<VoxelTemplate> MakeTemplateFromPoints(const std::vector<Eigen::Vector3f>&
                                              const std::string& variant = "",
                                              const std::string& source = "");
 
+// The same body on coarser voxels of edge `resolution_m` (at least the template's own): its
+// voxels and surface made again from its surface points (its voxel centres when it has none), as
+// MakeTemplateFromPoints would from them. Fails (kInvalidArgument) for a finer edge (the voxels
+// cannot be refined) or one outside [1 mm, 0.5 m].
+Result<VoxelTemplate> VoxeliseAgain(const VoxelTemplate& tpl, double resolution_m);
+
 // Surface points reduced to the centroid of the points in each cell of edge `cell_m` (how
 // VoxelTemplate::surface is kept), in cell order. Non-finite points are skipped.
 std::vector<Eigen::Vector3f> ReduceSurfacePoints(const std::vector<Eigen::Vector3f>& points,

@@ -11,13 +11,14 @@
 
 namespace hpose::testing {
 
-// The template of a humanoid joint preset ("standing", "right_arm_raised"), 16 mm voxels, of the
-// proportions `body` (HumanoidDimensions::Variant).
-inline VoxelTemplate ModelTemplate(const std::string& preset, const std::string& body = "nao") {
+// The template of a humanoid joint preset ("standing", "right_arm_raised"), voxels of
+// `resolution_m` (16 mm), of the proportions `body` (HumanoidDimensions::Variant).
+inline VoxelTemplate ModelTemplate(const std::string& preset, const std::string& body = "nao",
+                                   double resolution_m = 0.016) {
   const HumanoidModel model =
       *HumanoidModel::FromPreset(preset, *HumanoidDimensions::Variant(body));
   const std::vector<Eigen::Vector3f> pts = *model.SampleSurface(0.004);
-  return *MakeTemplateFromPoints(pts, preset, 0.016, preset, "test");
+  return *MakeTemplateFromPoints(pts, preset, resolution_m, preset, "test");
 }
 
 }  // namespace hpose::testing

@@ -1,6 +1,7 @@
 // End to end: simulate a humanoid at a known pose, estimate it, and the pose comes back within
 // the paper's accuracy (SPEC §1: standing, theta -3..+6 deg, x -30..-14 mm, y -7..+19 mm; we ask
 // for |theta| <= 6 deg and position within 30 mm).
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -8,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "core/search/estimator.h"
+#include "core/search/surface_model.h"
+#include "core/search/template_models.h"
 #include "core/sim/frame_simulator.h"
 #include "core/sim/humanoid_model.h"
 #include "tests/search/model_templates.h"
@@ -188,10 +191,14 @@ TEST(EstimatorTest, SharedTemplateModelsGiveTheSameCandidates) {
 TEST(RoundTripTest, TallHumanoidIsFoundSlabBySlabAsWithoutSlabs) {
   const std::vector<VoxelTemplate> tpls = {ModelTemplate("standing", "tall"),
                                            ModelTemplate("right_arm_raised", "tall")};
+  // Searched at its own 16 mm (by default a body this tall is searched on coarser voxels).
   EstimatorOptions options = DefaultEstimatorOptions();
+  options.max_height_voxels = 0;
   options.make_tables_at_start = true;
   options.threads = 2;
-  EstimatorOptions no_slabs = DefaultEstimatorOptions();
+  EstimatorOptions no_slabs = options;
+  no_slabs.make_tables_at_start = false;
+  no_slabs.threads = 1;
   no_slabs.exact.slabs = false;
   auto slabs = std::move(Estimator::Create(options, tpls).value());
   auto columns = std::move(Estimator::Create(no_slabs, tpls).value());
@@ -221,6 +228,99 @@ TEST(RoundTripTest, TallHumanoidIsFoundSlabBySlabAsWithoutSlabs) {
   }
   // The slabs' cell tables and swept bounds are what make them pay.
   EXPECT_LT(bounds_a, bounds_b);
+  EXPECT_EQ(slabs->options().lattice.resolution_m, 0.016);
+}
+
+// By default a body taller than max_height_voxels (48) voxels is searched on coarser voxels:
+// the 1.23 m humanoid's tallest template (1.33 m with its arm raised, 83 voxels of 16 mm) at
+// 28 mm, one slab. The templates are voxelised again from their surface points, the refinement
+// still fits their own 16 mm surface, and the humanoid is found as accurately.
+TEST(RoundTripTest, TallHumanoidIsSearchedOnCoarserVoxels) {
+  const std::vector<VoxelTemplate> tpls = {ModelTemplate("standing", "tall"),
+                                           ModelTemplate("right_arm_raised", "tall")};
+  ASSERT_GT(tpls[1].Height(), 48 * 0.016);
+  auto coarse = std::move(Estimator::Create(DefaultEstimatorOptions(), tpls).value());
+  const double edge = std::ceil(tpls[1].Height() / 48 * 1000.0 - 1e-6) / 1000.0;
+  EXPECT_EQ(coarse->options().lattice.resolution_m, edge);
+  EXPECT_NEAR(edge, 0.028, 1e-12);
+  // What it searches: the templates voxelised again; what users gave: kept as given.
+  for (size_t j = 0; j < tpls.size(); ++j) {
+    const TemplateModels m = coarse->models()[j];
+    EXPECT_EQ(m.lattice.resolution_m, edge);
+    EXPECT_EQ(m.rotations->Get(0).sub_cells.size(), VoxeliseAgain(tpls[j], edge)->voxels.size());
+    EXPECT_LE(m.rotations->height_m(), 48 * edge + 1e-9);
+    EXPECT_EQ(m.surface->points().size(), SurfaceModel(tpls[j]).points().size());
+    EXPECT_EQ(m.surface->spacing_m(), 0.008);
+    EXPECT_EQ(coarse->templates()[j].resolution_m, 0.016);
+  }
+  for (const double heading_deg : {40.0, -150.0}) {
+    FrameSpec spec;
+    spec.body = "tall";
+    spec.preset = "right_arm_raised";
+    spec.humanoid_pose = Pose2D{2.6, -0.2, DegToRad(heading_deg)};
+    spec.sensor_height_m = 0.9;
+    spec.sensor_pitch_rad = DegToRad(20.0);
+    spec.clutter = 2;
+    spec.seed = 6;
+    const SimulatedFrame frame = *SimulateFrame(spec);
+    const Estimate e = *coarse->EstimateDepth(frame.depth, spec.intrinsics);
+    const std::vector<Detection> humans = e.Humanoids();
+    ASSERT_FALSE(humans.empty()) << heading_deg;
+    const Candidate& c = humans.front().best;
+    EXPECT_EQ(c.template_name, "right_arm_raised") << heading_deg;
+    EXPECT_LT(std::abs(RadToDeg(AngleDiff(c.pose.theta, spec.humanoid_pose.theta))), 2.0)
+        << heading_deg;
+    EXPECT_LT(std::hypot(c.pose.x - spec.humanoid_pose.x, c.pose.y - spec.humanoid_pose.y), 0.01)
+        << heading_deg;
+  }
+}
+
+// The search's voxel edge follows the templates: templates made at 20 mm are searched at 20 mm
+// (the edge of EstimatorOptions::lattice is not theirs), templates at 16 and 20 mm at the
+// coarser (the finer voxelised again). With resolution_from_templates off the lattice's edge
+// holds: finer templates are voxelised again at it, a coarser one is refused by name.
+TEST(EstimatorTest, SearchEdgeFollowsTheTemplates) {
+  const VoxelTemplate fine = ModelTemplate("standing");
+  const VoxelTemplate twenty = ModelTemplate("right_arm_raised", "nao", 0.020);
+  const EstimatorOptions options = DefaultEstimatorOptions();
+  ASSERT_EQ(options.lattice.resolution_m, 0.016);
+  auto own = Estimator::Create(options, {twenty});
+  ASSERT_TRUE(own.ok()) << own.error().ToString();
+  EXPECT_EQ((*own)->options().lattice.resolution_m, 0.020);
+  EXPECT_EQ((*own)->models()[0].rotations->Get(0).sub_cells.size(), twenty.voxels.size());
+  auto mixed = Estimator::Create(options, {fine, twenty});
+  ASSERT_TRUE(mixed.ok()) << mixed.error().ToString();
+  EXPECT_EQ((*mixed)->options().lattice.resolution_m, 0.020);
+  EXPECT_EQ((*mixed)->models()[0].rotations->Get(0).sub_cells.size(),
+            VoxeliseAgain(fine, 0.020)->voxels.size());
+  EXPECT_NE(VoxeliseAgain(fine, 0.020)->voxels.size(), fine.voxels.size());
+
+  // The humanoid is found on the 20 mm search.
+  const FrameSpec spec = ClutteredSpec();
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  const Estimate e = *(*mixed)->EstimateDepth(frame.depth, spec.intrinsics);
+  ASSERT_FALSE(e.Humanoids().empty());
+  const Pose2D p = e.Humanoids().front().best.pose;
+  EXPECT_LT(std::hypot(p.x - spec.humanoid_pose.x, p.y - spec.humanoid_pose.y), 0.02);
+
+  EstimatorOptions fixed = options;
+  fixed.resolution_from_templates = false;
+  auto refused = Estimator::Create(fixed, {fine, twenty});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(refused.error().message.find("'right_arm_raised' has voxels of 20.0 mm"),
+            std::string::npos)
+      << refused.error().message;
+  fixed.lattice.resolution_m = 0.024;
+  auto coarser = Estimator::Create(fixed, {fine, twenty});
+  ASSERT_TRUE(coarser.ok()) << coarser.error().ToString();
+  EXPECT_EQ((*coarser)->options().lattice.resolution_m, 0.024);
+  EXPECT_EQ((*coarser)->models()[1].rotations->Get(0).sub_cells.size(),
+            VoxeliseAgain(twenty, 0.024)->voxels.size());
+
+  EstimatorOptions bad = options;
+  bad.max_height_voxels = 3;
+  EXPECT_FALSE(Estimator::Create(bad, {fine}).ok());
 }
 
 TEST(RoundTripTest, EmptyFloorHasNoHumanoid) {
@@ -260,9 +360,15 @@ TEST(EstimatorTest, CreateValidates) {
   EXPECT_FALSE(Estimator::Create(DefaultEstimatorOptions(), {}).ok());
   VoxelTemplate t = ModelTemplate("standing");
   EXPECT_FALSE(Estimator::Create(DefaultEstimatorOptions(), {t, t}).ok());
+  // A template coarser than a fixed search edge (by default the edge follows the templates:
+  // EstimatorTest.SearchEdgeFollowsTheTemplates).
   VoxelTemplate coarse = t;
   coarse.resolution_m = 0.02;
-  EXPECT_FALSE(Estimator::Create(DefaultEstimatorOptions(), {coarse}).ok());
+  EstimatorOptions fixed = DefaultEstimatorOptions();
+  fixed.resolution_from_templates = false;
+  EXPECT_FALSE(Estimator::Create(fixed, {coarse}).ok());
+  fixed.lattice.resolution_m = 0.0;
+  EXPECT_FALSE(Estimator::Create(fixed, {t}).ok());
 }
 
 // Floor and cluster options that every frame would refuse are refused when the estimator is made,

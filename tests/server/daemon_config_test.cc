@@ -57,6 +57,32 @@ TEST(DaemonConfigTest, SearchThreadsDefaultToOnePerCore) {
   EXPECT_EQ(d->estimator.threads, 0);
 }
 
+// The search's voxel edge: by default the templates' own (0), coarser for a tall body; a
+// positive resolution_m fixes it. Both print and parse back.
+TEST(DaemonConfigTest, SearchEdgeFollowsTheTemplatesUnlessSet) {
+  Result<DaemonConfig> d = ParseDaemonConfig("templates: [standing]", "x", "/base");
+  ASSERT_TRUE(d.ok()) << d.error().ToString();
+  EXPECT_TRUE(d->estimator.resolution_from_templates);
+  EXPECT_EQ(d->estimator.max_height_voxels, 48);
+  Result<DaemonConfig> c =
+      ParseDaemonConfig("search: {resolution_m: 0.024, max_height_voxels: 0}", "x", "/base");
+  ASSERT_TRUE(c.ok()) << c.error().ToString();
+  EXPECT_FALSE(c->estimator.resolution_from_templates);
+  EXPECT_DOUBLE_EQ(c->estimator.lattice.resolution_m, 0.024);
+  EXPECT_EQ(c->estimator.max_height_voxels, 0);
+  for (const DaemonConfig& config : {*c, *d}) {
+    Result<DaemonConfig> back = ParseDaemonConfig(DaemonConfigToYaml(config), "printed", "");
+    ASSERT_TRUE(back.ok()) << back.error().ToString();
+    EXPECT_EQ(back->estimator.resolution_from_templates,
+              config.estimator.resolution_from_templates);
+    EXPECT_EQ(back->estimator.lattice.resolution_m, config.estimator.lattice.resolution_m);
+    EXPECT_EQ(back->estimator.max_height_voxels, config.estimator.max_height_voxels);
+  }
+  Result<DaemonConfig> zero = ParseDaemonConfig("search: {resolution_m: 0}", "x", "/base");
+  ASSERT_TRUE(zero.ok()) << zero.error().ToString();
+  EXPECT_TRUE(zero->estimator.resolution_from_templates);
+}
+
 TEST(DaemonConfigTest, DeviceSpecIsNotResolved) {
   Result<DaemonConfig> c = ParseDaemonConfig("source: {path: 'openni2://'}", "x", "/base");
   ASSERT_TRUE(c.ok());
@@ -138,6 +164,17 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   bad = c;
   bad.estimator.floor_fit.distance_threshold_m = 0.0;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("floor.distance_threshold_m"),
+            std::string::npos);
+  bad = c;
+  bad.estimator.resolution_from_templates = false;
+  bad.estimator.lattice.resolution_m = -0.01;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.resolution_m"),
+            std::string::npos);
+  bad.estimator.resolution_from_templates = true;  // the edge set is then not used.
+  EXPECT_TRUE(ValidateDaemonConfig(bad).ok());
+  bad = c;
+  bad.estimator.max_height_voxels = 5;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.max_height_voxels"),
             std::string::npos);
   bad = c;
   bad.source.reconnect_max_backoff_s = 0.1;

@@ -43,6 +43,53 @@ TEST(TemplateCliTest, GenerateThenInfo) {
   EXPECT_NE(info.out.find("bbox"), std::string::npos);
 }
 
+// Templates made at another edge than 16 mm are searched at theirs (`hpose estimate` refused
+// them before: "the search uses 0.016 m"), and a tall body's 16 mm templates on coarser voxels,
+// which a note says; --max-height-voxels 0 keeps their own.
+TEST(TemplateCliTest, EstimateSearchesAtTheTemplatesEdgeAndATallBodyCoarser) {
+  TempDir dir("template_cli_edge");
+  for (const char* pose : {"standing", "right_arm_raised"}) {
+    const CliRun gen = RunHpose(std::string("template generate --pose ") + pose +
+                                    " --resolution 0.02 --out '" + (dir / pose) + "20.bt'",
+                                dir);
+    ASSERT_EQ(gen.exit_code, 0) << gen.err;
+    const CliRun tall = RunHpose(std::string("template generate --body tall --pose ") + pose +
+                                     " --out '" + (dir / pose) + "_tall.bt'",
+                                 dir);
+    ASSERT_EQ(tall.exit_code, 0) << tall.err;
+  }
+  const CliRun sim = RunHpose("simulate --x 1.6 --theta-deg 30 --out '" + (dir / "nao") + "'", dir);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const CliRun twenty =
+      RunHpose("estimate '" + (dir / "nao") + "/depth.png' --template '" + (dir / "standing") +
+                   "20.bt' --template '" + (dir / "right_arm_raised") + "20.bt'",
+               dir);
+  ASSERT_EQ(twenty.exit_code, 0) << twenty.err << twenty.out;
+  EXPECT_NE(twenty.out.find("humanoid  standing at x 1.6"), std::string::npos) << twenty.out;
+  EXPECT_EQ(twenty.err.find("searched on"), std::string::npos) << twenty.err;
+
+  const CliRun tall_sim =
+      RunHpose("simulate --body tall --x 2.2 --theta-deg -60 --out '" + (dir / "tall") + "'", dir);
+  ASSERT_EQ(tall_sim.exit_code, 0) << tall_sim.err;
+  const std::string tall_estimate = "estimate '" + (dir / "tall") + "/depth.png' --template '" +
+                                    (dir / "standing") + "_tall.bt' --template '" +
+                                    (dir / "right_arm_raised") + "_tall.bt'";
+  const CliRun coarse = RunHpose(tall_estimate, dir);
+  ASSERT_EQ(coarse.exit_code, 0) << coarse.err << coarse.out;
+  EXPECT_NE(coarse.out.find("humanoid  standing at x 2.2"), std::string::npos) << coarse.out;
+  EXPECT_NE(coarse.err.find("note: templates 'standing', 'right_arm_raised' searched on 28.0 mm "
+                            "voxels, as the body is 1.33 m tall"),
+            std::string::npos)
+      << coarse.err;
+  // On its own 16 mm voxels the body scores under the threshold of 50 at 2.2 m (the depth noise
+  // spreads its surface over more small voxels): found from 40.
+  const CliRun own = RunHpose(tall_estimate + " --max-height-voxels 0 --threshold 40", dir);
+  ASSERT_EQ(own.exit_code, 0) << own.err << own.out;
+  EXPECT_NE(own.out.find("humanoid  standing at x 2.2"), std::string::npos) << own.out;
+  EXPECT_EQ(own.err.find("searched on"), std::string::npos) << own.err;
+  EXPECT_EQ(RunHpose(tall_estimate + " --max-height-voxels 3", dir).exit_code, 1);
+}
+
 TEST(TemplateCliTest, FromCloudVoxelisesTheCloud) {
   TempDir dir("template_cli_cloud");
   const auto model = HumanoidModel::FromPreset("standing");
