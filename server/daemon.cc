@@ -150,6 +150,8 @@ std::string Daemon::http_address() const {
   return impl_->http ? impl_->http->address() : std::string();
 }
 
+double Daemon::search_resolution_m() const { return impl_->pool->options().lattice.resolution_m; }
+
 std::string Daemon::address() const { return impl_->host + ":" + std::to_string(impl_->port); }
 
 Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {

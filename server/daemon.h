@@ -26,6 +26,9 @@ class Daemon {
   // The web view's bound address ("" / 0 when http.listen is off).
   int http_port() const;
   std::string http_address() const;
+  // The voxel edge the templates are searched at, metres (EstimatorOptions::
+  // resolution_from_templates, max_height_voxels).
+  double search_resolution_m() const;
 
   // Marks the service NOT_SERVING, ends streams, waits up to `grace_s` for calls in flight,
   // then stops the source. Idempotent.

@@ -17,6 +17,11 @@ Result<std::unique_ptr<EstimatorPool>> EstimatorPool::Create(EstimatorOptions op
   // Validate once by building the first instance.
   Result<std::unique_ptr<Estimator>> first = Estimator::Create(options, templates);
   if (!first.ok()) return first.error();
+  // Estimators for a subset of the templates search at the whole set's voxel edge (a subset
+  // without the tallest template would otherwise choose a finer one): the same results for a
+  // template whichever others are asked for, and the same shared models.
+  options.lattice.resolution_m = (*first)->options().lattice.resolution_m;
+  options.resolution_from_templates = false;
   std::unique_ptr<EstimatorPool> pool(
       new EstimatorPool(std::move(options), std::move(templates), max_instances));
   pool->models_ = (*first)->models();

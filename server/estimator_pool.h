@@ -34,6 +34,8 @@ class EstimatorPool {
                                  std::chrono::steady_clock::time_point deadline);
 
   const std::vector<VoxelTemplate>& templates() const { return templates_; }
+  // The options every estimator of the pool is made with: the search's voxel edge is fixed to
+  // the one the whole set of templates gave (EstimatorOptions::resolution_from_templates off).
   const EstimatorOptions& options() const { return options_; }
   // The templates' models (rotations, search tables, surfaces) every estimator of the pool
   // shares, made with its first: for other estimators of the process (Estimator::Create).

@@ -210,10 +210,12 @@ int main(int argc, char** argv) {
   hpose::Result<std::unique_ptr<hpose::server::Daemon>> daemon =
       hpose::server::Daemon::Start(config);
   if (!daemon.ok()) return hpose::tools::ReportProgramError("hposed", daemon.error());
-  spdlog::info("hposed: listening on {} with {} template(s), source {}, stereo source {}",
-               (*daemon)->address(), config.templates.size(),
-               config.source.path.empty() ? "(none)" : config.source.path,
-               config.stereo.source.empty() ? "(none)" : config.stereo.source);
+  spdlog::info(
+      "hposed: listening on {} with {} template(s) searched on {:.1f} mm voxels, source "
+      "{}, stereo source {}",
+      (*daemon)->address(), config.templates.size(), 1000.0 * (*daemon)->search_resolution_m(),
+      config.source.path.empty() ? "(none)" : config.source.path,
+      config.stereo.source.empty() ? "(none)" : config.stereo.source);
   if ((*daemon)->http_port() > 0) {
     spdlog::info("hposed: web view on http://{}/ (metrics on /metrics)", (*daemon)->http_address());
   }

@@ -3,6 +3,7 @@
 #include "server/estimator_pool.h"
 
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -60,6 +61,49 @@ TEST(EstimatorPoolTest, SubsetsShareThePoolsModelsAndEstimateAsTheirOwn) {
   ASSERT_FALSE(unknown.ok());
   EXPECT_EQ(unknown.error().code, ErrorCode::kNotFound);
   EXPECT_NE(unknown.error().message.find("waving"), std::string::npos);
+}
+
+// A tall body's templates are searched on coarser voxels, chosen from the whole set (28 mm for
+// the 1.23 m body's two); a subset is searched at the same edge, not at the one it would give
+// alone (26 mm without the raised arm), so a template's results do not depend on which others a
+// call asks for, and the subset shares the pool's models.
+TEST(EstimatorPoolTest, SubsetsOfATallBodySearchAtTheWholeSetsEdge) {
+  const std::vector<VoxelTemplate> tpls = {ModelTemplate("standing", "tall"),
+                                           ModelTemplate("right_arm_raised", "tall")};
+  std::unique_ptr<EstimatorPool> pool =
+      std::move(EstimatorPool::Create(DefaultEstimatorOptions(), tpls, 2).value());
+  EXPECT_NEAR(pool->options().lattice.resolution_m, 0.028, 1e-12);
+  EXPECT_FALSE(pool->options().resolution_from_templates);
+  EXPECT_NEAR(Estimator::Create(DefaultEstimatorOptions(), {tpls[0]})
+                  .value()
+                  ->options()
+                  .lattice.resolution_m,
+              0.026, 1e-12);
+
+  FrameSpec spec;
+  spec.body = "tall";
+  spec.humanoid_pose = Pose2D{2.4, 0.3, DegToRad(-30.0)};
+  spec.clutter = 2;
+  spec.seed = 8;
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(1);
+  const Result<Estimate> subset =
+      pool->EstimateDepth(frame.depth, spec.intrinsics, {"standing"}, deadline);
+  ASSERT_TRUE(subset.ok()) << subset.error().message;
+  EstimatorOptions at_28 = DefaultEstimatorOptions();
+  at_28.resolution_from_templates = false;
+  at_28.lattice.resolution_m = 0.028;
+  const Estimate own =
+      *Estimator::Create(at_28, {tpls[0]}).value()->EstimateDepth(frame.depth, spec.intrinsics);
+  ASSERT_FALSE(own.Humanoids().empty());
+  ASSERT_EQ(subset->candidates.size(), own.candidates.size());
+  for (size_t i = 0; i < own.candidates.size(); ++i) {
+    EXPECT_EQ(subset->candidates[i].lattice_pose.x, own.candidates[i].lattice_pose.x) << i;
+    EXPECT_EQ(subset->candidates[i].lattice_pose.theta, own.candidates[i].lattice_pose.theta) << i;
+    EXPECT_EQ(subset->candidates[i].score, own.candidates[i].score) << i;
+  }
+  const Pose2D p = own.Humanoids().front().best.pose;
+  EXPECT_LT(std::hypot(p.x - spec.humanoid_pose.x, p.y - spec.humanoid_pose.y), 0.01);
 }
 
 }  // namespace
