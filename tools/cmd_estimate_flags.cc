@@ -46,7 +46,7 @@ FlagParser EstimateFlags::Parser() {
   flags.AddInt("max-height-voxels", &options.max_height_voxels,
                "the search runs on the templates' voxels, or on coarser ones for a body taller "
                "than N of them (its height / N, to the mm; a note says so): a 1.23 m robot made "
-               "at 16 mm is searched at 28 mm, about as fast as a Nao and as accurate; 0: always "
+               "at 16 mm is searched at 28 mm in about half the time, as accurately; 0: always "
                "the templates' own",
                "N");
   flags.AddDouble("threshold", &options.score_threshold,

@@ -65,8 +65,8 @@ struct EstimatorOptions {
   // the tallest template's height / max_height_voxels, rounded up to a millimetre. A bound's
   // work grows with a template's columns (its surface over the edge squared), and columns of
   // more than 64 voxels are searched slab by slab: a 1.23 m humanoid made at 16 mm (83 voxels
-  // with an arm raised) took 2-4x a Nao's frame; searched at 28 mm, about what a Nao's takes,
-  // with headings and positions as accurate (docs/BENCHMARKS.md). The shipped Nao templates
+  // with an arm raised) is searched at 28 mm in 0.50-0.65x the time, with headings and positions
+  // as accurate, and found farther away (docs/BENCHMARKS.md). The shipped Nao templates
   // (40 voxels with an arm raised) and smaller bodies keep their edge. 0: never coarser than
   // the templates' own. Used with resolution_from_templates only.
   int max_height_voxels = 48;

@@ -148,8 +148,12 @@ Result<VoxelTemplate> VoxeliseAgain(const VoxelTemplate& tpl, double resolution_
                      "template '" + tpl.name + "' has voxels of " + Millimetres(tpl.resolution_m) +
                          " and cannot be voxelised again at a finer " + Millimetres(resolution_m));
   }
-  return MakeTemplateFromPoints(tpl.SurfaceOrVoxels(), tpl.name, resolution_m, tpl.variant,
-                                tpl.source);
+  // Made under a placeholder name: the template's own was accepted when it was loaded.
+  Result<VoxelTemplate> again =
+      MakeTemplateFromPoints(tpl.SurfaceOrVoxels(), "t", resolution_m, tpl.variant, tpl.source);
+  if (!again.ok()) return again.error();
+  again->name = tpl.name;
+  return again;
 }
 
 }  // namespace hpose

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -41,6 +43,43 @@ TEST(MakeTemplateFromPointsTest, RejectsBadInput) {
   // Millimetres passed as metres are caught, not silently voxelised.
   EXPECT_EQ(MakeTemplateFromPoints({{580.0f, 0, 0}}, "x", 0.016).error().code,
             ErrorCode::kInvalidArgument);
+}
+
+// A template voxelised again at a coarser edge: from its surface points (so the same as made
+// from them at that edge), its names and source kept whatever they are; from its voxel centres
+// when it has no surface; never at a finer edge.
+TEST(VoxeliseAgainTest, CoarserFromTheSurfaceNeverFiner) {
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < 200; ++i) {
+    const float a = 0.0314f * static_cast<float>(i);
+    pts.emplace_back(0.1f * std::cos(a), 0.05f * std::sin(a), 0.003f * static_cast<float>(i));
+  }
+  Result<VoxelTemplate> t = MakeTemplateFromPoints(pts, "ring", 0.016, "spiral", "test");
+  ASSERT_TRUE(t.ok()) << t.error().ToString();
+  t->name = "loaded name";  // as a sidecar may give it; not one MakeTemplateFromPoints takes.
+  Result<VoxelTemplate> again = VoxeliseAgain(*t, 0.028);
+  ASSERT_TRUE(again.ok()) << again.error().ToString();
+  const VoxelTemplate direct = *MakeTemplateFromPoints(t->surface, "ring", 0.028, "spiral", "test");
+  EXPECT_EQ(again->name, "loaded name");
+  EXPECT_EQ(again->variant, "spiral");
+  EXPECT_EQ(again->source, "test");
+  EXPECT_EQ(again->resolution_m, 0.028);
+  EXPECT_EQ(again->voxels, direct.voxels);
+  EXPECT_EQ(again->surface, direct.surface);
+  EXPECT_LT(again->voxels.size(), t->voxels.size());
+  EXPECT_NEAR(again->Height(), std::ceil(t->Height() / 0.028 - 1e-6) * 0.028, 0.0281);
+
+  VoxelTemplate bare = *t;
+  bare.surface.clear();
+  Result<VoxelTemplate> from_centres = VoxeliseAgain(bare, 0.032);
+  ASSERT_TRUE(from_centres.ok());
+  EXPECT_EQ(from_centres->voxels, MakeTemplateFromPoints(bare.voxels, "c", 0.032)->voxels);
+
+  Result<VoxelTemplate> finer = VoxeliseAgain(*t, 0.010);
+  ASSERT_FALSE(finer.ok());
+  EXPECT_EQ(finer.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(finer.error().message.find("16.0 mm"), std::string::npos) << finer.error().message;
+  EXPECT_TRUE(VoxeliseAgain(*t, 0.016).ok());
 }
 
 }  // namespace
