@@ -98,6 +98,34 @@ TEST(PoseTrackerTest, KeepsTheFloorOfAFixedSensor) {
   EXPECT_FALSE(fresh.tracking.prior_given);
 }
 
+// A robot turned about in place between two frames (picked up and put down facing the other
+// way while the stream ran on) is seen facing its new way in the first frame that shows it:
+// the search is still seeded there (same spot), but the depth images decide front from back in
+// every frame, and the previous heading only breaks ties a frame cannot decide.
+TEST(PoseTrackerTest, ARobotTurnedAboutInPlaceIsSeenTurnedAtOnce) {
+  auto estimator =
+      std::move(Estimator::Create(DefaultEstimatorOptions(),
+                                  {ModelTemplate("standing"), ModelTemplate("right_arm_raised")})
+                    .value());
+  const Intrinsics intrinsics = FrameSpec().intrinsics;
+  for (const double heading_deg : {50.0, -100.0}) {
+    PoseTracker tracker(estimator.get());
+    for (int k = 0; k < 4; ++k) {
+      const double turned = k >= 2 ? 180.0 : 0.0;
+      const Pose2D truth{1.6, 0.1, NormalizeAngle(DegToRad(heading_deg + turned + 2.0 * k))};
+      const Estimate e = *tracker.EstimateDepth(Frame(truth, 50 + k).depth, intrinsics);
+      ASSERT_FALSE(e.Humanoids().empty()) << heading_deg << " frame " << k;
+      const Candidate& c = e.Humanoids().front().best;
+      EXPECT_LT(std::abs(RadToDeg(AngleDiff(c.pose.theta, truth.theta))), 5.0)
+          << heading_deg << " frame " << k << ": " << RadToDeg(c.pose.theta);
+      if (k == 2) {
+        EXPECT_TRUE(e.tracking.tracked) << heading_deg;
+        EXPECT_FALSE(c.heading_from_prior) << heading_deg;
+      }
+    }
+  }
+}
+
 TEST(PoseTrackerTest, AFrameWithoutHumanoidDropsThePrior) {
   auto estimator =
       std::move(Estimator::Create(DefaultEstimatorOptions(), {ModelTemplate("standing")}).value());
