@@ -16,6 +16,7 @@
 #include "tools/exit_codes.h"
 #include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
+#include "tools/template_saved.h"
 
 namespace hpose::tools {
 namespace {
@@ -23,9 +24,7 @@ namespace {
 const char kTemplateCmd[] = "template";
 
 void PrintSaved(const VoxelTemplate& tpl, const std::string& path) {
-  std::cout << "wrote " << path << " and " << TemplateSidecarPath(path) << ": '" << tpl.name
-            << "', " << tpl.voxels.size() << " voxels of " << Fixed(tpl.resolution_m * 1000.0, 1)
-            << " mm, height " << Fixed(tpl.Height() * 1000.0, 0) << " mm\n";
+  std::cout << SavedTemplateLines(tpl, path);
 }
 
 int Generate(int argc, char** argv) {

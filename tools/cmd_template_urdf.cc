@@ -13,9 +13,9 @@
 #include "tools/cmd_template_urdf_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
-#include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
 #include "tools/robot_flags.h"
+#include "tools/template_saved.h"
 
 namespace hpose::tools {
 namespace {
@@ -100,10 +100,7 @@ int TemplateFromUrdf(int argc, char** argv) {
     const std::string path =
         to_directory ? (std::filesystem::path(f.out) / (set.name + ".bt")).string() : f.out;
     if (Status s = SaveTemplate(*tpl, path); !s.ok()) return ReportError(kSub, s.error());
-    std::cout << "wrote " << path << " and " << TemplateSidecarPath(path) << ": '" << tpl->name
-              << "', " << tpl->voxels.size() << " voxels of "
-              << Fixed(tpl->resolution_m * 1000.0, 1) << " mm, height "
-              << Fixed(tpl->Height() * 1000.0, 0) << " mm\n";
+    std::cout << SavedTemplateLines(*tpl, path);
   }
   return kExitOk;
 }

@@ -261,10 +261,7 @@ Result<double> SearchEdge(const EstimatorOptions& o, const std::vector<VoxelTemp
     edge = std::max(edge, t.resolution_m);
     tallest = std::max(tallest, t.Height());
   }
-  if (o.max_height_voxels > 0 && tallest > o.max_height_voxels * edge + 1e-9) {
-    edge = std::ceil(tallest / o.max_height_voxels * 1000.0 - 1e-6) / 1000.0;
-  }
-  return edge;
+  return TallBodySearchEdge(tallest, edge, o.max_height_voxels);
 }
 
 // Whether a pose (e.g. the previous frame's) stands on the cluster: within a hand of its
@@ -309,6 +306,13 @@ double ApparentWidth(const Cluster& c) {
 }
 
 }  // namespace
+
+double TallBodySearchEdge(double height_m, double resolution_m, int max_height_voxels) {
+  if (max_height_voxels <= 0 || !(height_m > max_height_voxels * resolution_m + 1e-9)) {
+    return resolution_m;
+  }
+  return std::ceil(height_m / max_height_voxels * 1000.0 - 1e-6) / 1000.0;
+}
 
 Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates,
                      std::vector<VoxelTemplate> searched, const std::vector<TemplateModels>& shared)

@@ -145,6 +145,11 @@ struct EstimatorOptions {
 // Default options (the paper's settings, Kinect v1) in one place.
 EstimatorOptions DefaultEstimatorOptions();
 
+// The voxel edge a body `height_m` tall, made at `resolution_m`, is searched at: its own, or
+// for a body taller than `max_height_voxels` (> 0) of them its height / max_height_voxels,
+// rounded up to a millimetre (EstimatorOptions::max_height_voxels).
+double TallBodySearchEdge(double height_m, double resolution_m, int max_height_voxels);
+
 // What a stream's earlier frames tell the next one (PoseTracker keeps it): the pose of the
 // humanoid found in the previous frame (ground frame), and the stream's floor tracker, which
 // keeps the floor while it still fits instead of fitting it every frame.

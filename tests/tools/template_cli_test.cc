@@ -57,6 +57,13 @@ TEST(TemplateCliTest, EstimateSearchesAtTheTemplatesEdgeAndATallBodyCoarser) {
                                      " --out '" + (dir / pose) + "_tall.bt'",
                                  dir);
     ASSERT_EQ(tall.exit_code, 0) << tall.err;
+    // Authoring says which edge a tall body is searched at.
+    EXPECT_EQ(gen.out.find("note:"), std::string::npos) << gen.out;
+    EXPECT_NE(tall.out.find("note: taller than 48 of its voxels: searched on " +
+                            std::string(pose == std::string("standing") ? "26.0" : "28.0") +
+                            " mm voxels by default"),
+              std::string::npos)
+        << tall.out;
   }
   const CliRun sim = RunHpose("simulate --x 1.6 --theta-deg 30 --out '" + (dir / "nao") + "'", dir);
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
