@@ -3,6 +3,7 @@
 #include "core/search/pose_tracker.h"
 
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -114,8 +115,9 @@ TEST(PoseTrackerTest, ARobotTurnedAboutInPlaceIsSeenTurnedAtOnce) {
       const double turned = k >= 2 ? 180.0 : 0.0;
       const Pose2D truth{1.6, 0.1, NormalizeAngle(DegToRad(heading_deg + turned + 2.0 * k))};
       const Estimate e = *tracker.EstimateDepth(Frame(truth, 50 + k).depth, intrinsics);
-      ASSERT_FALSE(e.Humanoids().empty()) << heading_deg << " frame " << k;
-      const Candidate& c = e.Humanoids().front().best;
+      const std::vector<Detection> humans = e.Humanoids();
+      ASSERT_FALSE(humans.empty()) << heading_deg << " frame " << k;
+      const Candidate& c = humans.front().best;
       EXPECT_LT(std::abs(RadToDeg(AngleDiff(c.pose.theta, truth.theta))), 5.0)
           << heading_deg << " frame " << k << ": " << RadToDeg(c.pose.theta);
       if (k == 2) {
