@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -235,21 +234,15 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
   return out;
 }
 
-// "16.0 mm".
-std::string Millimetres(double m) {
-  char buf[48];
-  std::snprintf(buf, sizeof(buf), "%.1f mm", m * 1000.0);
-  return buf;
-}
-
 // The search's voxel edge (EstimatorOptions::resolution_from_templates, max_height_voxels).
 Result<double> SearchEdge(const EstimatorOptions& o, const std::vector<VoxelTemplate>& templates) {
   if (!o.resolution_from_templates) {
     for (const VoxelTemplate& t : templates) {
       if (t.resolution_m > o.lattice.resolution_m + 1e-9) {
         return MakeError(ErrorCode::kInvalidArgument,
-                         "template '" + t.name + "' has voxels of " + Millimetres(t.resolution_m) +
-                             ", coarser than the search's " + Millimetres(o.lattice.resolution_m) +
+                         "template '" + t.name + "' has voxels of " +
+                             VoxelEdgeText(t.resolution_m) + ", coarser than the search's " +
+                             VoxelEdgeText(o.lattice.resolution_m) +
                              " (its resolution): make the template at that edge or finer, or "
                              "search at the templates' own");
       }

@@ -42,14 +42,13 @@ std::vector<Eigen::Vector3f> CellCentroids(const std::vector<Eigen::Vector3f>& p
   return out;
 }
 
-// "16.0 mm".
-std::string Millimetres(double m) {
+}  // namespace
+
+std::string VoxelEdgeText(double m) {
   char buf[48];
   std::snprintf(buf, sizeof(buf), "%.1f mm", m * 1000.0);
   return buf;
 }
-
-}  // namespace
 
 std::vector<Eigen::Vector3f> ReduceSurfacePoints(const std::vector<Eigen::Vector3f>& points,
                                                  double cell_m) {
@@ -144,9 +143,10 @@ Result<VoxelTemplate> MakeTemplateFromPoints(const std::vector<Eigen::Vector3f>&
 
 Result<VoxelTemplate> VoxeliseAgain(const VoxelTemplate& tpl, double resolution_m) {
   if (!(resolution_m >= tpl.resolution_m - 1e-12)) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "template '" + tpl.name + "' has voxels of " + Millimetres(tpl.resolution_m) +
-                         " and cannot be voxelised again at a finer " + Millimetres(resolution_m));
+    return MakeError(ErrorCode::kInvalidArgument, "template '" + tpl.name + "' has voxels of " +
+                                                      VoxelEdgeText(tpl.resolution_m) +
+                                                      " and cannot be voxelised again at a finer " +
+                                                      VoxelEdgeText(resolution_m));
   }
   // Made under a placeholder name: the template's own was accepted when it was loaded.
   Result<VoxelTemplate> again =

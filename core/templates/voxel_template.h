@@ -57,6 +57,9 @@ Result<VoxelTemplate> MakeTemplateFromPoints(const std::vector<Eigen::Vector3f>&
 // cannot be refined) or one outside [1 mm, 0.5 m].
 Result<VoxelTemplate> VoxeliseAgain(const VoxelTemplate& tpl, double resolution_m);
 
+// A voxel edge (metres) as people read it in messages: "16.0 mm".
+std::string VoxelEdgeText(double m);
+
 // Surface points reduced to the centroid of the points in each cell of edge `cell_m` (how
 // VoxelTemplate::surface is kept), in cell order. Non-finite points are skipped.
 std::vector<Eigen::Vector3f> ReduceSurfacePoints(const std::vector<Eigen::Vector3f>& points,
