@@ -17,6 +17,9 @@
 //   taskset -c 0 frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]
 //                            [--repeat N] [--only VARIANT] [--frames-detail] [--dump]
 //                            [--body NAME] [--sensor-height M] [--pitch-deg D] [--walk-far M]
+//                            [--cloud FILE]...
+// With --cloud, recorded point clouds (no truth) go through the scattered frames' variants too,
+// each cold, --repeat times.
 // With --body other than nao the humanoid has those proportions and the two templates are made
 // from them (BodyTemplates) instead of the shipped ones.
 #include <time.h>
@@ -36,6 +39,7 @@
 #include <vector>
 
 #include "bench/bench_frames.h"
+#include "core/io/cloud_io.h"
 #include "core/search/estimator.h"
 #include "core/search/pose_tracker.h"
 
@@ -56,6 +60,7 @@ struct Variant {
   int false_humanoids = 0;  // humanoid detections more than 0.3 m from the truth.
   int frames = 0;
   int tracked = 0;
+  int searches = 0;  // recorded clouds: (cluster, template) searches of the first run.
   std::uint64_t digest = 1469598103934665603ull;  // FNV-1a.
 };
 
@@ -237,6 +242,52 @@ Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>*
     }
   }
   return Status::Ok();
+}
+
+// Runs every cloud through every variant (cloud-major), cold, `repeat` times.
+Status RunClouds(const std::vector<PointCloud>& clouds, const RunFlags& flags,
+                 std::vector<Variant>* variants) {
+  for (int r = 0; r < flags.repeat; ++r) {
+    for (size_t f = 0; f < clouds.size(); ++f) {
+      for (Variant& v : *variants) {
+        Result<Estimate> e = v.estimator->EstimateCloud(clouds[f]);
+        if (!e.ok()) {
+          return MakeError(e.error().code,
+                           "cloud " + std::to_string(f) + ", " + v.name + ": " + e.error().message);
+        }
+        const StageTimings& t = e->timings;
+        v.floor.push_back(t.floor_ms);
+        v.cluster.push_back(t.cluster_ms);
+        v.search.push_back(t.search_ms);
+        v.refine.push_back(t.refine_ms);
+        v.total.push_back(t.total_ms);
+        double bounds = 0.0;
+        for (const Candidate& c : e->candidates) bounds += static_cast<double>(c.bounds_evaluated);
+        v.bounds.push_back(bounds / 1000.0);
+        if (r > 0) continue;
+        ++v.frames;
+        v.found += static_cast<int>(e->Humanoids().size());
+        v.searches += static_cast<int>(e->candidates.size());
+        MixEstimate(&v.digest, *e);
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+// The clouds' table: no truth, so the humanoids detected rather than found.
+void PrintCloudTable(const std::vector<Variant>& variants) {
+  std::printf(
+      "| variant | floor | clustering | search (incl. refinement) | refinement | total | total "
+      "p99 | bounds (k) | searches | humanoids detected | digest |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Variant& v : variants) {
+    std::printf("| %s | %s | %s | %s | %s | %s | %.1f | %s | %d | %d | %016llx |\n", v.name.c_str(),
+                Cell(v.floor).c_str(), Cell(v.cluster).c_str(), Cell(v.search).c_str(),
+                Cell(v.refine, 2).c_str(), Cell(v.total).c_str(), Percentile(v.total, 99.0),
+                Cell(v.bounds).c_str(), v.searches, v.found,
+                static_cast<unsigned long long>(v.digest));
+  }
 }
 
 void PrintTable(const std::vector<Variant>& variants) {
@@ -516,7 +567,7 @@ int Usage(FILE* out) {
                "usage: frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]\n"
                "                   [--repeat N] [--only VARIANT] [--frames-detail] [--dump]\n"
                "                   [--body NAME] [--sensor-height M] [--pitch-deg D]\n"
-               "                   [--walk-far M]\n"
+               "                   [--walk-far M] [--cloud FILE]...\n"
                "  --frames N        scattered frames, every variant cold (default 30; 0: none)\n"
                "  --sequence N      frames of the walk, cold and tracked (default 30; 0: none)\n"
                "  --clutter N       clutter objects per frame (default 4)\n"
@@ -531,7 +582,10 @@ int Usage(FILE* out) {
                "  --sensor-height M optical centre above the floor, metres (0.34)\n"
                "  --pitch-deg D     sensor pitch, degrees, + looks down (0)\n"
                "  --walk-far M      farthest point of the walk's circle, metres (3.0; it starts\n"
-               "                    at 1.4 m and gets there after 72 frames)\n");
+               "                    at 1.4 m and gets there after 72 frames)\n"
+               "  --cloud FILE      a recorded point cloud (.pcd/.ply, sensor frame) for the\n"
+               "                    scattered frames' variants, each cold, --repeat times; may be\n"
+               "                    repeated (use --frames 0 --sequence 0 for clouds only)\n");
   return out == stdout ? 0 : 2;
 }
 
@@ -545,6 +599,7 @@ int Run(int argc, char** argv) {
   double sensor_height = 0.34, pitch_deg = 0.0;
   RunFlags flags;
   std::vector<std::string> only;
+  std::vector<std::string> cloud_paths;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
@@ -576,6 +631,8 @@ int Run(int argc, char** argv) {
       pitch_deg = std::atof(argv[++i]);
     } else if (a == "--only") {
       only.push_back(argv[++i]);
+    } else if (a == "--cloud") {
+      cloud_paths.push_back(argv[++i]);
     } else {
       std::fprintf(stderr, "frame_bench: unknown flag %s\n", a.c_str());
       return Usage(stderr);
@@ -603,14 +660,25 @@ int Run(int argc, char** argv) {
       frames > 0 ? Only(ScatteredVariants(), only) : std::vector<Variant>{};
   std::vector<Variant> walk =
       sequence > 0 ? Only(SequenceVariants(), only) : std::vector<Variant>{};
-  if (scattered.empty() && walk.empty()) {
+  std::vector<Variant> recorded =
+      !cloud_paths.empty() ? Only(ScatteredVariants(), only) : std::vector<Variant>{};
+  std::vector<PointCloud> clouds;
+  for (const std::string& path : cloud_paths) {
+    Result<PointCloud> cloud = ReadCloud(path);
+    if (!cloud.ok()) {
+      std::fprintf(stderr, "frame_bench: %s\n", cloud.error().message.c_str());
+      return 1;
+    }
+    clouds.push_back(std::move(*cloud));
+  }
+  if (scattered.empty() && walk.empty() && recorded.empty()) {
     std::string names;
     for (const std::string& name : only) names += (names.empty() ? " named '" : "', '") + name;
     std::fprintf(stderr, "frame_bench: no variant to run%s\n",
                  only.empty() ? "" : (names + "'").c_str());
     return 2;
   }
-  for (std::vector<Variant>* set : {&scattered, &walk}) {
+  for (std::vector<Variant>* set : {&scattered, &walk, &recorded}) {
     const Status st = Prepare(*templates, set);
     if (!st.ok()) {
       std::fprintf(stderr, "frame_bench: %s\n", st.error().message.c_str());
@@ -650,6 +718,19 @@ int Run(int argc, char** argv) {
         sequence, body.c_str(), walk_far, sensor_height, pitch_deg, clutter, flags.repeat);
     PrintTable(walk);
     PrintFoundByDistance(walk);
+  }
+  if (!recorded.empty()) {
+    const Status st = RunClouds(clouds, flags, &recorded);
+    if (!st.ok()) {
+      std::fprintf(stderr, "frame_bench: %s\n", st.error().message.c_str());
+      return 1;
+    }
+    std::printf("\n%zu recorded cloud(s), each cold, %d run(s) each; median / p90 in ms\n\n",
+                clouds.size(), flags.repeat);
+    PrintCloudTable(recorded);
+    std::printf(
+        "\nsearches: (cluster, template) searches over the clouds' first run; humanoids "
+        "detected: detections that passed the score and fit thresholds there.\n");
   }
   std::printf(
       "\nCPU per frame: process CPU time of the call, all threads. tracked: frames whose search "
