@@ -378,6 +378,12 @@ void ExactNoThetaBlockFreePart(EstimatorOptions* o) {
   Exact(o);
   o->exact.theta_block_free_part = false;
 }
+// Theta blocks with a free-space part at single translations only (before the part over blocks
+// of 2 steps).
+void ExactThetaBlockFreePartAtPointsBefore(EstimatorOptions* o) {
+  Exact(o);
+  o->exact.theta_block_pair_free_part = false;
+}
 // The exact search before top_theta_level: blocks of 16 headings at the top, split in theta
 // before translation.
 void ExactThetaBlocksBefore(EstimatorOptions* o) {
@@ -401,6 +407,8 @@ std::vector<Variant> ScatteredVariants() {
   v.push_back({"exact search, single headings from the top (before)", ExactSingleHeadingsBefore});
   v.push_back(
       {"exact search, theta blocks without a free-space part (before)", ExactNoThetaBlockFreePart});
+  v.push_back({"exact search, theta blocks' free part at single translations (before)",
+               ExactThetaBlockFreePartAtPointsBefore});
   v.push_back({"exact search, tables made on first use", [](EstimatorOptions* o) {
                  Exact(o);
                  o->make_tables_at_start = false;
@@ -514,6 +522,8 @@ std::vector<Variant> SequenceVariants() {
       {"walk, tracked, single headings from the top (before)", ExactSingleHeadingsBefore, true});
   v.push_back({"walk, tracked, theta blocks without a free-space part (before)",
                ExactNoThetaBlockFreePart, true});
+  v.push_back({"walk, tracked, theta blocks' free part at single translations (before)",
+               ExactThetaBlockFreePartAtPointsBefore, true});
   v.push_back({"walk, tracked, free part of every block (before)", ExactBoundsBefore, true});
   v.push_back({"walk, tracked, theta blocks at the top (before)", ExactThetaBlocksBefore, true});
   v.push_back({"walk, tracked, column bounds (before)",

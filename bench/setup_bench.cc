@@ -104,6 +104,7 @@ void DigestTables(const TemplateRotations& rot, Digest* d) {
       for (int level = 1; level <= TemplateRotations::kSweptLevels; ++level) {
         residues(level, [&](int ra, int rb) { d->Add(part->SweptGroups(i, level, ra, rb)); });
       }
+      residues(1, [&](int ra, int rb) { d->Add(part->CommonPairGroups(0, i, ra, rb)); });
     }
     for (int t = 1; t < TemplateRotations::kThetaLevels; ++t) {
       for (int first = 0; first < steps; first += 1 << t) {
@@ -113,6 +114,7 @@ void DigestTables(const TemplateRotations& rot, Digest* d) {
           });
         }
         residues(0, [&](int ra, int rb) { d->Add(part->CommonBlockGroups(t, first, ra, rb)); });
+        residues(1, [&](int ra, int rb) { d->Add(part->CommonPairGroups(t, first, ra, rb)); });
       }
     }
   }

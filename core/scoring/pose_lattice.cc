@@ -425,6 +425,16 @@ void TemplateRotations::PrepareTables() {
       swept_blocks_.emplace_back(tables);
       swept_blocks_once_.push_back(std::make_unique<std::once_flag[]>(tables));
     }
+    pair_tables_per_block_ = static_cast<size_t>(SweptResidues(1, s)) * SweptResidues(1, s);
+    size_t pair_entries = 0;
+    for (int t = 0; t < kThetaLevels; ++t) {
+      const size_t blocks = (rotations_.size() + (size_t{1} << t) - 1) >> t;
+      common_pairs_.emplace_back(blocks);
+      common_pairs_once_.push_back(std::make_unique<std::once_flag[]>(blocks));
+      pair_offset_[t] = pair_entries;
+      pair_entries += blocks * pair_tables_per_block_;
+    }
+    pair_refs_ = std::make_unique<TableRef[]>(pair_entries);
     // The directory: level 0's rotations, then each theta level's blocks.
     size_t entries = 0;
     for (int t = 0; t < kThetaLevels; ++t) {
@@ -546,6 +556,38 @@ CellGroups ReachedCells(const RotatedTemplate& r, int rx, int ry, int size, int 
       cell = 0;
       if (m == 0) continue;
       ThreadBuilder().Append(x + x_lo, y + y_lo, m);
+    }
+  }
+  return ThreadBuilder().Take(arena, mask_bytes);
+}
+
+// The cells r's columns cover at every translation of a block of `size` steps per side from
+// residue (rx, ry), relative to the block's first cell as ReachedCells's, each with the bits
+// set there at all of them (cells left with none are left out).
+CellGroups CommonCells(const RotatedTemplate& r, int rx, int ry, int size, int shift,
+                       int mask_bytes, TableArena* arena) {
+  thread_local std::vector<std::uint64_t> common, placed;
+  const int x_lo = (r.q_min.x() + rx) >> shift, y_lo = (r.q_min.y() + ry) >> shift;
+  const int nx = ((r.q_max.x() + rx + size - 1) >> shift) - x_lo + 1;
+  const int ny = ((r.q_max.y() + ry + size - 1) >> shift) - y_lo + 1;
+  const size_t cells = static_cast<size_t>(nx) * ny;
+  common.assign(cells, ~std::uint64_t{0});
+  placed.resize(cells);
+  for (int i = 0; i < size; ++i) {
+    for (int j = 0; j < size; ++j) {
+      std::fill(placed.begin(), placed.begin() + static_cast<std::ptrdiff_t>(cells), 0);
+      for (size_t c = 0; c < r.column_q.size(); ++c) {
+        const int x = ((r.column_q[c].x() + rx + i) >> shift) - x_lo;
+        const int y = ((r.column_q[c].y() + ry + j) >> shift) - y_lo;
+        placed[static_cast<size_t>(y) * nx + x] |= r.column_masks[c];
+      }
+      for (size_t k = 0; k < cells; ++k) common[k] &= placed[k];
+    }
+  }
+  for (int y = 0; y < ny; ++y) {  // rows in the order of the occupancy's layout.
+    for (int x = 0; x < nx; ++x) {
+      const std::uint64_t m = common[static_cast<size_t>(y) * nx + x];
+      if (m != 0) ThreadBuilder().Append(x + x_lo, y + y_lo, m);
     }
   }
   return ThreadBuilder().Take(arena, mask_bytes);
@@ -713,6 +755,7 @@ void TemplateRotations::MakeTables(int max_tlevel, int begin, int end) const {
   for (int i = std::max(0, begin); i < std::min(end, steps); ++i) {
     Groups(i, 0, 0);
     SweptGroups(i, 1, 0, 0);
+    CommonPairGroups(0, i, 0, 0);
     // Theta blocks whose last rotation is i: their halves are made by then.
     for (int t = 1; t <= max_tlevel; ++t) {
       const int first = i & ~((1 << t) - 1);
@@ -726,8 +769,41 @@ void TemplateRotations::MakeTables(int max_tlevel, int begin, int end) const {
       for (int ra = 0; ra < s; ++ra) {
         for (int rb = 0; rb < s; ++rb) CommonBlockGroups(t, first, ra, rb);
       }
+      CommonPairGroups(t, first, 0, 0);  // every residue.
     }
   }
+}
+
+const CellGroups& TemplateRotations::CommonPairGroups(int tlevel, int itheta0, int ra,
+                                                      int rb) const {
+  assert(has_cell_groups() && tlevel >= 0 && tlevel < kThetaLevels &&
+         (itheta0 & ((1 << tlevel) - 1)) == 0);
+  const int s = 1 << shift_;
+  assert(ra >= 0 && rb >= 0 && ra < s && rb < s && (ra | rb) % std::min(2, s) == 0);
+  const size_t block = static_cast<size_t>(itheta0) >> tlevel;
+  std::call_once(common_pairs_once_[tlevel][block], [&] {
+    std::vector<CellGroups>& out = common_pairs_[tlevel][block];
+    const int half = tlevel > 0 ? 1 << (tlevel - 1) : 0;
+    const int step = std::min(2, s);
+    const int residues = SweptResidues(1, s);
+    for (int i = 0; i < residues * residues; ++i) {
+      const int rx = (i / residues) * step, ry = (i % residues) * step;
+      if (tlevel == 0) {
+        out.push_back(
+            CommonCells(rotations_[itheta0], rx, ry, 2, shift_, mask_bytes_, pair_arena_.get()));
+        continue;
+      }
+      // Both halves' (made on first use too), their common bits; the last block may have one.
+      const CellGroups& first = CommonPairGroups(tlevel - 1, itheta0, rx, ry);
+      if (itheta0 + half >= static_cast<int>(rotations_.size())) {
+        out.push_back(first);
+        continue;
+      }
+      out.push_back(MergeCellGroups(first, CommonPairGroups(tlevel - 1, itheta0 + half, rx, ry),
+                                    /*unite=*/false, pair_arena_.get()));
+    }
+  });
+  return common_pairs_[tlevel][block][PairIndex(ra, rb)];
 }
 
 const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, int rb) const {

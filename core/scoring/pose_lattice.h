@@ -224,6 +224,13 @@ class TemplateRotations {
   // pose of the block at that translation places, so their free-space hits are a lower bound of
   // each pose's. tlevel 0 is Groups. Made with SweptBlockGroups.
   const CellGroups& CommonBlockGroups(int tlevel, int itheta0, int ra, int rb) const;
+  // The cells every pose of the theta block (tlevel, itheta0; tlevel 0: rotation itheta0)
+  // covers at all four translations of a block of 2 x 2 steps whose first step has residue
+  // (ra, rb) (multiples of min(2, S) below S), as SweptGroups(itheta, 1, ra, rb) relative to the
+  // block's first cell, each with the z bits all of those poses set there: voxels every pose of
+  // the block places, so their free-space hits are a lower bound of each pose's. Made on first
+  // use (thread-safe), every residue of a block at once.
+  const CellGroups& CommonPairGroups(int tlevel, int itheta0, int ra, int rb) const;
   // SweptBlockGroups and CommonBlockGroups as their CellTable, through a directory of every
   // table's words and run count filled as the tables are made: a made table costs one load of
   // 16 bytes (the search asks for one per bound) instead of its once_flag's and its header's,
@@ -249,10 +256,23 @@ class TemplateRotations {
     }
     return Publish(ref, CommonBlockGroups(tlevel, itheta0, ra, rb));
   }
+  // CommonPairGroups as its CellTable, through a directory of its own as SweptTable's.
+  CellTable CommonPairTable(int tlevel, int itheta0, int ra, int rb) const {
+    TableRef& ref =
+        pair_refs_[pair_offset_[tlevel] +
+                   (static_cast<std::size_t>(itheta0) >> tlevel) * pair_tables_per_block_ +
+                   PairIndex(ra, rb)];
+    const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
+    if (words != nullptr) {
+      return {words, ref.runs.load(std::memory_order_relaxed),
+              ref.size.load(std::memory_order_relaxed), mask_bytes_};
+    }
+    return Publish(ref, CommonPairGroups(tlevel, itheta0, ra, rb));
+  }
   // Makes now every table the getters above make on first use (Groups, PairTable, SweptGroups,
-  // and SweptBlockGroups and CommonBlockGroups of theta levels up to max_tlevel), so that no
-  // search pays for them; a no-op without cell groups. Thread-safe; rotations [begin, end)
-  // only, so that threads can share the work.
+  // CommonPairGroups, and SweptBlockGroups, CommonBlockGroups and CommonPairGroups of theta
+  // levels up to max_tlevel), so that no search pays for them; a no-op without cell groups.
+  // Thread-safe; rotations [begin, end) only, so that threads can share the work.
   void MakeTables(int max_tlevel, int begin, int end) const;
   // A template taller than 64 z cells (z_words() > 1) has none of the cell tables above; its
   // slabs do: its points cut at every 64th z cell from its lowest, each run of 64 cells a
@@ -281,6 +301,9 @@ class TemplateRotations {
   // The memory of the cell tables' words (CellGroups), in huge pages where the system allows.
   // Declared first: destroyed last, after every container holding its memory.
   std::unique_ptr<TableArena> arena_ = std::make_unique<TableArena>();
+  // CommonPairGroups' words, apart from the bounds' tables (which the searches read far more
+  // often), so that those stay on as few pages as before.
+  std::unique_ptr<TableArena> pair_arena_ = std::make_unique<TableArena>();
   std::string name_;
   double height_m_ = 0.0;
   double rim_radius_m_ = 0.0;
@@ -307,6 +330,14 @@ class TemplateRotations {
   mutable std::vector<std::vector<CellGroups>> swept_blocks_;
   mutable std::vector<std::unique_ptr<std::once_flag[]>> swept_blocks_once_;
   size_t block_tables_ = 0;
+  // CommonPairGroups per theta level t (0 .. kThetaLevels - 1) and block (itheta0 >> t), its
+  // residues in the order of swept_'s level 1, made together under the block's once_flag.
+  mutable std::vector<std::vector<std::vector<CellGroups>>> common_pairs_;
+  mutable std::vector<std::unique_ptr<std::once_flag[]>> common_pairs_once_;
+  // CommonPairTable's directory: per theta level t from pair_offset_[t], block after block,
+  // pair_tables_per_block_ each.
+  std::size_t pair_tables_per_block_ = 0;
+  std::size_t pair_offset_[kThetaLevels] = {};
   // The directory of SweptTable and CommonTable: per theta level t (0 .. kThetaLevels - 1; level
   // 0 holds Groups and SweptGroups) from table_offset_[t], block after block, block_tables_ each
   // in the order of swept_blocks_. An entry's words stay null until its table is made (every
@@ -317,6 +348,7 @@ class TemplateRotations {
     std::atomic<int> size{0};
   };
   std::unique_ptr<TableRef[]> table_refs_;
+  std::unique_ptr<TableRef[]> pair_refs_;
   std::size_t table_offset_[kThetaLevels] = {};
   // BlockSweptIndex of (level, ra, rb) at [(level * S + ra) * S + rb], level 0 .. kSweptLevels.
   std::vector<std::uint16_t> block_index_;
@@ -335,6 +367,11 @@ class TemplateRotations {
   std::size_t TableId(int tlevel, int itheta0, std::size_t index) const {
     return table_offset_[tlevel] + (static_cast<std::size_t>(itheta0) >> tlevel) * block_tables_ +
            index;
+  }
+  // Where residue (ra, rb) of blocks of 2 steps lies in a block's CommonPairGroups.
+  std::size_t PairIndex(int ra, int rb) const {
+    const int half = std::max(1, (1 << shift_) / 2);
+    return static_cast<std::size_t>(ra / 2) * half + rb / 2;
   }
   std::size_t BlockSweptIndexOf(int level, int ra, int rb) const {
     return block_index_[(((static_cast<std::size_t>(level) << shift_) + ra) << shift_) + rb];

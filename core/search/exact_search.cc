@@ -48,7 +48,7 @@ class PartEvaluator {
 
   PartEvaluator(const ColumnOccupancy* cluster, const ColumnOccupancy* free, int free_weight,
                 int hit_weight, const TemplateRotations& rotations, bool swept_bounds,
-                int free_bound_max_level, bool common_free_part)
+                int free_bound_max_level, bool common_free_part, bool common_pair_free_part)
       : cluster_(cluster),
         free_(free),
         free_weight_(free_weight),
@@ -59,6 +59,7 @@ class PartEvaluator {
         pairs_ok_(grouped_ && rotations.lattice().subdivisions >= 4),
         swept_ok_(swept_bounds && cluster->aligned() && rotations.has_cell_groups()),
         common_ok_(swept_ok_ && free != nullptr && free->aligned() && common_free_part),
+        common_pairs_ok_(common_ok_ && common_pair_free_part),
         free_bound_max_level_(free_bound_max_level) {}
 
   int Value(int itheta, int a, int b) const {
@@ -118,14 +119,24 @@ class PartEvaluator {
   }
 
   // Single rotations over blocks of 2 .. 2^free_bound_max_level steps; theta blocks at single
-  // translations (with their common cells) when the layouts allow.
+  // translations (with their common cells) and, with theta_block_pair_free_part, over blocks of
+  // 2 steps (with the cells common to their four translations) when the layouts allow.
   bool HasFreePart(int tlevel, int level) const {
     if (free_ == nullptr) return false;
-    if (tlevel > 0) return level == 0 && common_ok_;
+    if (tlevel > 0) {
+      return (level == 0 && common_ok_) ||
+             (level == 1 && common_pairs_ok_ && free_bound_max_level_ >= 1);
+    }
     return level > 0 && level <= free_bound_max_level_;
   }
   // Weighted lower bound of the free hits of the block's poses (with HasFreePart).
   int FreePart(int tlevel, int itheta, int a, int b, int level) const {
+    if (tlevel > 0 && level > 0) {  // the voxels every pose of the block places.
+      const int mask = rotations_->lattice().subdivisions - 1;
+      return free_weight_ *
+             free_->HitsGrouped(rotations_->CommonPairTable(tlevel, itheta, a & mask, b & mask), a,
+                                b);
+    }
     if (tlevel > 0) {  // the voxels every rotation of the block places at (a, b).
       const int mask = rotations_->lattice().subdivisions - 1;
       return free_weight_ *
@@ -179,6 +190,7 @@ class PartEvaluator {
   bool pairs_ok_;
   bool swept_ok_;
   bool common_ok_;
+  bool common_pairs_ok_;
   int free_bound_max_level_;
 };
 
@@ -850,7 +862,8 @@ std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(const SearchProblem& pro
     }
     part_evaluators.emplace_back(occ_ptr, free_ptr, problem.free_space_weight, problem.hit_weight,
                                  *part, options_.swept_bounds, options_.free_bound_max_level,
-                                 options_.theta_block_free_part);
+                                 options_.theta_block_free_part,
+                                 options_.theta_block_pair_free_part);
   }
   state->eval = std::make_unique<Evaluator>(std::move(part_evaluators));
   const Evaluator& eval = *state->eval;

@@ -30,6 +30,15 @@ struct ExactSearchOptions {
   // A free-space part for theta blocks at single translations: the free cells that every
   // heading of the block places a voxel in (TemplateRotations::CommonBlockGroups).
   bool theta_block_free_part = true;
+  // A free-space part for theta blocks over translation blocks of 2 x 2 steps too (with
+  // free_bound_max_level >= 1): the free cells every pose of the block places a voxel in
+  // (TemplateRotations::CommonPairGroups). It refutes blocks whose cluster hits could still
+  // reach the best while every pose of the block would stand where the sensor saw through:
+  // mostly low clusters (things the top of the image cuts off, as a sensor looking steeply down
+  // sees them) and clutter near the threshold. Larger blocks keep few common cells (on the
+  // real-time protocol's frames their part refuted none). false: theta blocks take the part at
+  // single translations only, as before.
+  bool theta_block_pair_free_part = true;
   // A block of 2^t headings (t > 0) and 2^L steps is split in theta while the widest arc its
   // template columns sweep over its headings (TemplateRotations::block_extent(t), in lattice
   // steps) is at least theta_split_ratio x 2^L, in translation otherwise; always in theta at

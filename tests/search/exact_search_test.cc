@@ -397,6 +397,79 @@ TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
   EXPECT_EQ(lazy.block_extent(0), 0);
 }
 
+// A theta block's common pair cells are, cell by cell, the z bits every rotation of the block
+// places there at all four translations of a block of 2 x 2 steps (from the voxels themselves),
+// at three subdivisions; made ahead (MakeTables) or on first use, and through the directory
+// (CommonPairTable), the same tables.
+TEST(ColumnOccupancyTest, CommonPairCellsAreThoseEveryPoseOfTheBlockPlaces) {
+  using Cells = std::map<std::pair<int, int>, std::uint64_t>;
+  int checked = 0, common_cells = 0;
+  for (const int s : {2, 4, 8}) {
+    PoseLattice lattice;
+    lattice.angle_steps = 90;  // the last block of 16 holds only the 10 headings left.
+    lattice.subdivisions = s;
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(78), "t", lattice.resolution_m);
+    const TemplateRotations lazy(tpl, lattice);
+    const TemplateRotations ahead(tpl, lattice);
+    ahead.MakeTables(TemplateRotations::kThetaLevels - 1, 0, lattice.angle_steps);
+    const auto placed = [&](int itheta, int ix, int iy) {
+      Cells out;
+      const RotatedTemplate& r = lazy.Get(itheta);
+      for (const Eigen::Vector3i& q : r.sub_cells) {
+        const Eigen::Vector3i c = PlacedCell(q, ix, iy, s);
+        out[{c.x(), c.y()}] |= std::uint64_t{1} << (c.z() - r.z_base);
+      }
+      return out;
+    };
+    for (int t = 0; t < TemplateRotations::kThetaLevels; ++t) {
+      for (int first = 0; first < lattice.angle_steps; first += 1 << t) {
+        if (first % 11 != 0 && first + (1 << t) < lattice.angle_steps) continue;  // a sample.
+        for (int ra = 0; ra < s; ra += std::min(2, s)) {
+          for (int rb = 0; rb < s; rb += std::min(2, s)) {
+            Cells expected;
+            bool first_pose = true;
+            for (int i = first; i < std::min(first + (1 << t), lattice.angle_steps); ++i) {
+              for (int da = 0; da < 2; ++da) {
+                for (int db = 0; db < 2; ++db) {
+                  const Cells own = placed(i, ra + da, rb + db);
+                  if (first_pose) {
+                    expected = own;
+                    first_pose = false;
+                    continue;
+                  }
+                  Cells kept;
+                  for (const auto& [cell, mask] : expected) {
+                    const auto it = own.find(cell);
+                    if (it != own.end() && (mask & it->second) != 0) kept[cell] = mask & it->second;
+                  }
+                  expected = kept;
+                }
+              }
+            }
+            Cells got;
+            const CellGroups& g = lazy.CommonPairGroups(t, first, ra, rb);
+            g.ForEachCell([&](int cx, int cy, std::uint64_t mask) {
+              EXPECT_TRUE(got.emplace(std::pair{cx, cy}, mask).second) << "a cell listed twice";
+            });
+            ASSERT_EQ(got, expected) << "s " << s << " theta level " << t << " block " << first
+                                     << " residue " << ra << "," << rb;
+            EXPECT_EQ(ahead.CommonPairGroups(t, first, ra, rb).words, g.words);
+            const CellTable table = lazy.CommonPairTable(t, first, ra, rb);
+            EXPECT_EQ(table.words, g.words.data());
+            EXPECT_EQ(table.runs, g.runs);
+            EXPECT_EQ(table.size, static_cast<int>(g.words.size()));
+            common_cells += static_cast<int>(expected.size());
+            ++checked;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 100);
+  EXPECT_GT(common_cells, 200);
+}
+
 // The directory of SweptTable and CommonTable returns each table's own words, run count and
 // size (those of SweptBlockGroups and CommonBlockGroups), on first use (the slow way, which
 // enters it) and after, for every theta level, block, translation level and residue, at three
@@ -662,11 +735,13 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
       for (const double ratio : {0.25, 4.0, 1e9}) {
         opts.top_theta_level = top;
         opts.theta_split_ratio = ratio;
-        for (const bool common : {false, true}) {
+        for (const auto& [common, pairs] : {std::pair{false, false}, {true, false}, {true, true}}) {
           opts.theta_block_free_part = common;
+          opts.theta_block_pair_free_part = pairs;
           const SearchResult other = ExactSearch(opts).Search(problem);
-          EXPECT_EQ(other.value, best) << "scene " << scene << ", top theta level " << top
-                                       << ", ratio " << ratio << ", common cells " << common;
+          EXPECT_EQ(other.value, best)
+              << "scene " << scene << ", top theta level " << top << ", ratio " << ratio
+              << ", common cells " << common << ", over pairs of steps " << pairs;
           EXPECT_TRUE(same_pose(other)) << "scene " << scene << ", top theta level " << top;
         }
       }
@@ -674,6 +749,53 @@ TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
     EXPECT_EQ(r.value, problem.hit_weight * r.hits - problem.free_space_weight * r.free_hits);
     EXPECT_NEAR(r.score, 100.0 * r.value / (problem.hit_weight * scorer.cluster_voxels()), 1e-9);
   }
+}
+
+// A cluster the template covers whole from many poses (a low box, as the feet of something the
+// image border cuts off) with the free space the sensor saw around it: the hits alone leave
+// thousands of blocks above the optimum, and the theta blocks' free part over pairs of steps
+// refutes many of them. The same optimum as exhaustive evaluation, with fewer bounds.
+TEST(ExactSearchTest, PairFreePartRefutesBlocksAroundASmallClusterExactly) {
+  PoseLattice lattice;
+  lattice.angle_steps = 48;
+  const VoxelTemplate tpl =
+      *MakeTemplateFromPoints(testing::RandomRobotPoints(5), "t", lattice.resolution_m);
+  const TemplateRotations rot(tpl, lattice);
+  ClusterVoxels cluster, free;
+  const int x0 = 62, y0 = 6;  // about (1.0, 0.1) m.
+  for (int x = 0; x < 6; ++x) {
+    for (int y = 0; y < 8; ++y) {
+      for (int z = 0; z < 3; ++z) {
+        if (x == 0 || y == 0 || y == 7 || z == 2) cluster.cells.emplace_back(x0 + x, y0 + y, z);
+      }
+    }
+  }
+  for (int x = -14; x < 20; ++x) {  // the air around the box, up to where the view ends.
+    for (int y = -14; y < 22; ++y) {
+      if (x >= 0 && x < 6 && y >= 0 && y < 8) continue;
+      for (int z = 0; z < 6; ++z) free.cells.emplace_back(x0 + x, y0 + y, z);
+    }
+  }
+  const FastScorer scorer(cluster, lattice);
+  const FastScorer free_scorer(free, lattice);
+  ExactSearchOptions opts;
+  opts.margin_m = 0.06;
+  const ExactSearch search(opts);
+  SearchProblem problem{&cluster, &scorer, &rot, {(x0 + 3) * 0.016, (y0 + 4) * 0.016}};
+  problem.free_space = &free;
+  const SearchResult with = search.Search(problem);
+  opts.theta_block_pair_free_part = false;
+  const SearchResult without = ExactSearch(opts).Search(problem);
+  const WeightedOptimum brute =
+      BruteWeighted(scorer, free_scorer, rot, search.TranslationRegion(cluster, rot),
+                    problem.hit_weight, problem.free_space_weight);
+  for (const SearchResult* r : {&with, &without}) {
+    EXPECT_EQ(r->value, brute.value);
+    EXPECT_EQ(r->best.ix, brute.first.ix);
+    EXPECT_EQ(r->best.iy, brute.first.iy);
+    EXPECT_EQ(r->best.itheta, brute.first.itheta);
+  }
+  EXPECT_LT(with.bounds_evaluated, without.bounds_evaluated);
 }
 
 // A template taller than 64 z cells (two-word columns) is searched as the sum of its slabs of
