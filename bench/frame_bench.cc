@@ -163,6 +163,20 @@ double HumanoidRefineMs(const Estimate& e, const Pose2D& truth) {
   return ms;
 }
 
+// Adds an estimate's stage times and bounds (thousands) to the variant's.
+void RecordStages(const Estimate& e, Variant* v) {
+  const StageTimings& t = e.timings;
+  v->cloud.push_back(t.cloud_ms);
+  v->floor.push_back(t.floor_ms);
+  v->cluster.push_back(t.cluster_ms);
+  v->search.push_back(t.search_ms);
+  v->refine.push_back(t.refine_ms);
+  v->total.push_back(t.total_ms);
+  double bounds = 0.0;
+  for (const Candidate& c : e.candidates) bounds += static_cast<double>(c.bounds_evaluated);
+  v->bounds.push_back(bounds / 1000.0);
+}
+
 // Runs every frame through every variant (frame-major), collecting times and results.
 Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>* variants) {
   for (int r = 0; r < flags.repeat; ++r) {
@@ -182,18 +196,10 @@ Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>*
                            "frame " + std::to_string(f) + ", " + v.name + ": " + e.error().message);
         }
         const StageTimings& t = e->timings;
-        v.cloud.push_back(t.cloud_ms);
-        v.floor.push_back(t.floor_ms);
-        v.cluster.push_back(t.cluster_ms);
-        v.search.push_back(t.search_ms);
-        v.refine.push_back(t.refine_ms);
+        RecordStages(*e, &v);
         const double humanoid_refine_ms = HumanoidRefineMs(*e, spec.humanoid_pose);
         if (humanoid_refine_ms >= 0.0) v.refine_humanoid.push_back(humanoid_refine_ms);
-        v.total.push_back(t.total_ms);
         v.cpu.push_back(cpu);
-        double bounds = 0.0;
-        for (const Candidate& c : e->candidates) bounds += static_cast<double>(c.bounds_evaluated);
-        v.bounds.push_back(bounds / 1000.0);
         const Pose2D& truth = spec.humanoid_pose;
         const int decimetres = static_cast<int>(std::lround(10.0 * std::hypot(truth.x, truth.y)));
         v.total_by_distance[decimetres].push_back(t.total_ms);
@@ -255,15 +261,7 @@ Status RunClouds(const std::vector<PointCloud>& clouds, const RunFlags& flags,
           return MakeError(e.error().code,
                            "cloud " + std::to_string(f) + ", " + v.name + ": " + e.error().message);
         }
-        const StageTimings& t = e->timings;
-        v.floor.push_back(t.floor_ms);
-        v.cluster.push_back(t.cluster_ms);
-        v.search.push_back(t.search_ms);
-        v.refine.push_back(t.refine_ms);
-        v.total.push_back(t.total_ms);
-        double bounds = 0.0;
-        for (const Candidate& c : e->candidates) bounds += static_cast<double>(c.bounds_evaluated);
-        v.bounds.push_back(bounds / 1000.0);
+        RecordStages(*e, &v);
         if (r > 0) continue;
         ++v.frames;
         v.found += static_cast<int>(e->Humanoids().size());

@@ -57,6 +57,19 @@ ClusterVoxels RandomFreeCells(const ClusterVoxels& cluster, int count, int z_max
   return free;
 }
 
+// Cells (cx, cy) of a cell table with their z bits.
+using CellMasks = std::map<std::pair<int, int>, std::uint64_t>;
+
+// The cells of both with the bits both set there (cells left with none left out).
+CellMasks CommonCells(const CellMasks& a, const CellMasks& b) {
+  CellMasks kept;
+  for (const auto& [cell, mask] : a) {
+    const auto it = b.find(cell);
+    if (it != b.end() && (mask & it->second) != 0) kept[cell] = mask & it->second;
+  }
+  return kept;
+}
+
 // The optimum of hit_weight * hits - free_weight * free hits over every heading and the region,
 // and among the poses of its value the first in (itheta, ix, iy) order: the one the search
 // returns, whatever its options.
@@ -332,7 +345,7 @@ TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
   const TemplateRotations ahead(tpl, lattice);
   ahead.MakeTables(TemplateRotations::kThetaLevels - 1, 0, 50);
   ahead.MakeTables(TemplateRotations::kThetaLevels - 1, 50, lattice.angle_steps);
-  using Cells = std::map<std::pair<int, int>, std::uint64_t>;
+  using Cells = CellMasks;
   const auto cells_of = [](const CellGroups& g) {
     Cells out;
     g.ForEachCell([&](int cx, int cy, std::uint64_t mask) {
@@ -363,17 +376,8 @@ TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
               bool first_rotation = true;
               for (int i = first; i < std::min(first + (1 << t), lattice.angle_steps); ++i) {
                 const Cells own = cells_of(lazy.Groups(i, ra, rb));
-                if (first_rotation) {
-                  common = own;
-                  first_rotation = false;
-                  continue;
-                }
-                Cells kept;
-                for (const auto& [cell, mask] : common) {
-                  const auto it = own.find(cell);
-                  if (it != own.end() && (mask & it->second) != 0) kept[cell] = mask & it->second;
-                }
-                common = kept;
+                common = first_rotation ? own : CommonCells(common, own);
+                first_rotation = false;
               }
               EXPECT_EQ(cells_of(lazy.CommonBlockGroups(t, first, ra, rb)), common)
                   << "theta level " << t << " block " << first << " residue " << ra << "," << rb;
@@ -402,7 +406,6 @@ TEST(ColumnOccupancyTest, ThetaBlockSweptGroupsUniteTheirRotations) {
 // at three subdivisions; made ahead (MakeTables) or on first use, and through the directory
 // (CommonPairTable), the same tables.
 TEST(ColumnOccupancyTest, CommonPairCellsAreThoseEveryPoseOfTheBlockPlaces) {
-  using Cells = std::map<std::pair<int, int>, std::uint64_t>;
   int checked = 0, common_cells = 0;
   for (const int s : {2, 4, 8}) {
     PoseLattice lattice;
@@ -414,7 +417,7 @@ TEST(ColumnOccupancyTest, CommonPairCellsAreThoseEveryPoseOfTheBlockPlaces) {
     const TemplateRotations ahead(tpl, lattice);
     ahead.MakeTables(TemplateRotations::kThetaLevels - 1, 0, lattice.angle_steps);
     const auto placed = [&](int itheta, int ix, int iy) {
-      Cells out;
+      CellMasks out;
       const RotatedTemplate& r = lazy.Get(itheta);
       for (const Eigen::Vector3i& q : r.sub_cells) {
         const Eigen::Vector3i c = PlacedCell(q, ix, iy, s);
@@ -427,27 +430,18 @@ TEST(ColumnOccupancyTest, CommonPairCellsAreThoseEveryPoseOfTheBlockPlaces) {
         if (first % 11 != 0 && first + (1 << t) < lattice.angle_steps) continue;  // a sample.
         for (int ra = 0; ra < s; ra += std::min(2, s)) {
           for (int rb = 0; rb < s; rb += std::min(2, s)) {
-            Cells expected;
+            CellMasks expected;
             bool first_pose = true;
             for (int i = first; i < std::min(first + (1 << t), lattice.angle_steps); ++i) {
               for (int da = 0; da < 2; ++da) {
                 for (int db = 0; db < 2; ++db) {
-                  const Cells own = placed(i, ra + da, rb + db);
-                  if (first_pose) {
-                    expected = own;
-                    first_pose = false;
-                    continue;
-                  }
-                  Cells kept;
-                  for (const auto& [cell, mask] : expected) {
-                    const auto it = own.find(cell);
-                    if (it != own.end() && (mask & it->second) != 0) kept[cell] = mask & it->second;
-                  }
-                  expected = kept;
+                  const CellMasks own = placed(i, ra + da, rb + db);
+                  expected = first_pose ? own : CommonCells(expected, own);
+                  first_pose = false;
                 }
               }
             }
-            Cells got;
+            CellMasks got;
             const CellGroups& g = lazy.CommonPairGroups(t, first, ra, rb);
             g.ForEachCell([&](int cx, int cy, std::uint64_t mask) {
               EXPECT_TRUE(got.emplace(std::pair{cx, cy}, mask).second) << "a cell listed twice";
