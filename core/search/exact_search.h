@@ -36,8 +36,9 @@ struct ExactSearchOptions {
   // reach the best while every pose of the block would stand where the sensor saw through:
   // mostly low clusters (things the top of the image cuts off, as a sensor looking steeply down
   // sees them) and clutter near the threshold. Larger blocks keep few common cells (on the
-  // real-time protocol's frames their part refuted none). false: theta blocks take the part at
-  // single translations only, as before.
+  // real-time protocol's frames, blocks of 4 and 8 steps took 28.7 k bounds a frame to 28.6 k,
+  // for more time than they saved). false: theta blocks take the part at single translations
+  // only, as before.
   bool theta_block_pair_free_part = true;
   // A block of 2^t headings (t > 0) and 2^L steps is split in theta while the widest arc its
   // template columns sweep over its headings (TemplateRotations::block_extent(t), in lattice
