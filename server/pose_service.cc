@@ -471,6 +471,7 @@ void PoseServiceImpl::ReadTemplates(v1::ListTemplatesResponse* response) const {
     info->set_voxels(static_cast<int>(t.voxels.size()));
     info->set_height(t.Height());
     info->set_source(t.source);
+    info->set_search_resolution(pool_->options().lattice.resolution_m);
   }
 }
 

@@ -532,8 +532,14 @@ int RunQuery(int argc, char** argv) {
       return kExitOk;
     }
     for (const v1::TemplateInfo& t : list.templates()) {
-      std::printf("%-20s variant %-18s %6d voxels of %.0f mm, height %.0f mm\n", t.name().c_str(),
+      std::printf("%-20s variant %-18s %6d voxels of %.0f mm, height %.0f mm", t.name().c_str(),
                   t.variant().c_str(), t.voxels(), t.resolution() * 1e3, t.height() * 1e3);
+      // A daemon before search_resolution sends 0: nothing to add then.
+      const double search = t.search_resolution();
+      if (search > 0.0 && std::abs(search - t.resolution()) > 1e-9) {
+        std::printf(", searched on %.0f mm voxels", search * 1e3);
+      }
+      std::printf("\n");
     }
     return kExitOk;
   }

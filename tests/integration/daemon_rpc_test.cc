@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -278,6 +279,10 @@ TEST_F(DaemonRpcTest, ListTemplatesAndStatus) {
   EXPECT_EQ(list.templates(1).name(), "right_arm_raised");
   EXPECT_GT(list.templates(0).voxels(), 100);
   EXPECT_NEAR(list.templates(0).resolution(), 0.016, 1e-9);
+  // The shipped Nao's templates are searched on their own voxels.
+  for (const v1::TemplateInfo& t : list.templates()) {
+    EXPECT_NEAR(t.search_resolution(), 0.016, 1e-9) << t.name();
+  }
 
   {  // Make sure at least one frame went through.
     grpc::ClientContext wait;
@@ -362,6 +367,43 @@ TEST(DaemonFinishedRecordingTest, LastEstimateIsStaleWithTheReason) {
       << latest.estimate().stale_reason();
   (*daemon)->Shutdown();
   std::filesystem::remove_all(dir);
+}
+
+// A daemon whose templates are taller than search.max_height_voxels of their voxels searches on
+// coarser ones: ListTemplates says which edge, next to each template's own, and `hpose query
+// templates` prints it.
+TEST(DaemonSearchEdgeTest, ListTemplatesReportsTheCoarserSearchEdge) {
+  DaemonConfig config;
+  config.grpc.listen = "127.0.0.1:0";
+  config.templates = {tu::TemplatePath("standing"), tu::TemplatePath("right_arm_raised")};
+  config.estimator.max_height_voxels = 20;  // the Nao is 36-41 voxels of 16 mm high.
+  Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
+  ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
+  const double edge = (*daemon)->search_resolution_m();
+  EXPECT_GT(edge, 0.016 * 36 / 20 - 1e-9);
+  EXPECT_LT(edge, 0.040);
+
+  std::unique_ptr<v1::PoseService::Stub> stub = Connect((*daemon)->port());
+  grpc::ClientContext ctx;
+  SetDeadline(&ctx, 60s);
+  v1::ListTemplatesResponse list;
+  ASSERT_TRUE(stub->ListTemplates(&ctx, v1::ListTemplatesRequest(), &list).ok());
+  ASSERT_EQ(list.templates_size(), 2);
+  for (const v1::TemplateInfo& t : list.templates()) {
+    EXPECT_NEAR(t.resolution(), 0.016, 1e-9) << t.name();
+    EXPECT_DOUBLE_EQ(t.search_resolution(), edge) << t.name();
+  }
+
+  std::string out;
+  const int code = tu::RunCommand(
+      tu::HposeProgram() +
+          " query templates --timeout 20 --server 127.0.0.1:" + std::to_string((*daemon)->port()),
+      &out);
+  EXPECT_EQ(code, 0) << out;
+  char expected[64];
+  std::snprintf(expected, sizeof(expected), "searched on %.0f mm voxels", edge * 1e3);
+  EXPECT_NE(out.find("voxels of 16 mm"), std::string::npos) << out;
+  EXPECT_NE(out.find(expected), std::string::npos) << out;
 }
 
 }  // namespace
