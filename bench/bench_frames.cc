@@ -169,7 +169,10 @@ std::string VectorPaths() {
          (run == RunSumPath::kAvx512 ? "AVX-512"
           : run == RunSumPath::kAvx2 ? "AVX2"
                                      : "scalar") +
-         ", whole-cloud passes " + (PointLanesAvailable() ? "AVX-512" : "scalar");
+         ", whole-cloud passes " +
+         (PointLanesAvailable()    ? "AVX-512"
+          : PointLanes8Available() ? "AVX2 (the grid clustering's distances scalar)"
+                                   : "scalar");
 }
 
 }  // namespace hpose::bench

@@ -211,12 +211,14 @@ Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>*
           for (const Candidate& c : e->candidates) {
             std::printf(
                 "dump %s frame %zu cluster %d %s: x %.4f y %.4f theta %.4f score %.4f "
-                "hits %d free %d bound %d runner %d %.4f bounds %lld poses %lld\n",
+                "hits %d free %d bound %d runner %d %.4f bounds %lld poses %lld fit %.1f "
+                "runner-up fit %.1f refine %.2f ms\n",
                 v.name.c_str(), f, c.cluster_index, c.template_name.c_str(), c.pose.x, c.pose.y,
                 c.pose.theta, c.score, c.hits, c.free_space_hits, c.stopped_below_threshold ? 1 : 0,
                 c.has_runner_up ? 1 : 0, c.runner_up_score,
                 static_cast<long long>(c.bounds_evaluated),
-                static_cast<long long>(c.poses_evaluated));
+                static_cast<long long>(c.poses_evaluated), c.fit.fit, c.runner_up_fit.fit,
+                c.refine_ms);
           }
         }
         const std::vector<Detection> humans = e->Humanoids();
