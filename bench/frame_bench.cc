@@ -17,7 +17,7 @@
 //   taskset -c 0 frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]
 //                            [--repeat N] [--only VARIANT] [--frames-detail] [--dump]
 //                            [--body NAME] [--sensor-height M] [--pitch-deg D] [--walk-far M]
-//                            [--cloud FILE]...
+//                            [--noise-correlation SHARE] [--cloud FILE]...
 // With --cloud, recorded point clouds (no truth) go through the scattered frames' variants too,
 // each cold, --repeat times.
 // With --body other than nao the humanoid has those proportions and the two templates are made
@@ -577,7 +577,7 @@ int Usage(FILE* out) {
                "usage: frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]\n"
                "                   [--repeat N] [--only VARIANT] [--frames-detail] [--dump]\n"
                "                   [--body NAME] [--sensor-height M] [--pitch-deg D]\n"
-               "                   [--walk-far M] [--cloud FILE]...\n"
+               "                   [--walk-far M] [--noise-correlation SHARE] [--cloud FILE]...\n"
                "  --frames N        scattered frames, every variant cold (default 30; 0: none)\n"
                "  --sequence N      frames of the walk, cold and tracked (default 30; 0: none)\n"
                "  --clutter N       clutter objects per frame (default 4)\n"
@@ -593,6 +593,9 @@ int Usage(FILE* out) {
                "  --pitch-deg D     sensor pitch, degrees, + looks down (0)\n"
                "  --walk-far M      farthest point of the walk's circle, metres (3.0; it starts\n"
                "                    at 1.4 m and gets there after 72 frames)\n"
+               "  --noise-correlation SHARE  share (0-1) of the simulated depth noise that\n"
+               "                    neighbouring pixels share, as a real Kinect's does (0.9\n"
+               "                    resembles one; default 0: every pixel independent)\n"
                "  --cloud FILE      a recorded point cloud (.pcd/.ply, sensor frame) for the\n"
                "                    scattered frames' variants, each cold, --repeat times; may be\n"
                "                    repeated (use --frames 0 --sequence 0 for clouds only)\n");
@@ -606,7 +609,7 @@ int Run(int argc, char** argv) {
   double max_distance = 3.5;
   double walk_far = 3.0;
   std::string body = "nao";
-  double sensor_height = 0.34, pitch_deg = 0.0;
+  double sensor_height = 0.34, pitch_deg = 0.0, noise_correlation = 0.0;
   RunFlags flags;
   std::vector<std::string> only;
   std::vector<std::string> cloud_paths;
@@ -639,6 +642,8 @@ int Run(int argc, char** argv) {
       sensor_height = std::atof(argv[++i]);
     } else if (a == "--pitch-deg") {
       pitch_deg = std::atof(argv[++i]);
+    } else if (a == "--noise-correlation") {
+      noise_correlation = std::atof(argv[++i]);
     } else if (a == "--only") {
       only.push_back(argv[++i]);
     } else if (a == "--cloud") {
@@ -655,9 +660,11 @@ int Run(int argc, char** argv) {
                  "1, --max-distance within [0.9, 8] m, --walk-far within [1.6, 8] m\n");
     return 2;
   }
-  if (!(sensor_height > 0.0 && sensor_height <= 3.0) || !(std::abs(pitch_deg) <= 60.0)) {
+  if (!(sensor_height > 0.0 && sensor_height <= 3.0) || !(std::abs(pitch_deg) <= 60.0) ||
+      !(noise_correlation >= 0.0 && noise_correlation <= 1.0)) {
     std::fprintf(stderr,
-                 "frame_bench: --sensor-height must be in (0, 3] m, --pitch-deg in [-60, 60]\n");
+                 "frame_bench: --sensor-height must be in (0, 3] m, --pitch-deg in [-60, 60], "
+                 "--noise-correlation in [0, 1]\n");
     return 2;
   }
   Result<std::vector<VoxelTemplate>> templates =
@@ -701,6 +708,7 @@ int Run(int argc, char** argv) {
       spec.body = body;
       spec.sensor_height_m = sensor_height;
       spec.sensor_pitch_rad = DegToRad(pitch_deg);
+      spec.noise_correlated_share = noise_correlation;
     }
     Result<Frames> f = Render(std::move(specs));
     const Status st = f.ok() ? RunAll(*f, flags, set) : Status(f.error());

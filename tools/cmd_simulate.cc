@@ -86,6 +86,13 @@ int RunSimulateScene(int argc, char** argv) {
   }
   if (f.frames < 1 || f.frames > 1000)
     return UsageError(kSimulateCmd, "--frames must be in [1, 1000]");
+  if (!(f.noise_correlation >= 0.0 && f.noise_correlation <= 1.0)) {
+    return UsageError(kSimulateCmd, "--noise-correlation must be in [0, 1], got " +
+                                        Fixed(f.noise_correlation, 3));
+  }
+  if (f.noise_correlation_px < 1 || f.noise_correlation_px > 64) {
+    return UsageError(kSimulateCmd, "--noise-correlation-px must be in [1, 64]");
+  }
   if (std::abs(f.turn_deg) > 180.0)
     return UsageError(kSimulateCmd, "--turn-deg must be within +-180 degrees");
   if (std::abs(f.step_m) > 1.0) return UsageError(kSimulateCmd, "--step-m must be within +-1 m");
@@ -155,6 +162,8 @@ int RunSimulateScene(int argc, char** argv) {
   if (!renderer.ok()) return ReportError(kSimulateCmd, renderer.error());
   KinectNoiseOptions noise_options;
   noise_options.noise_enabled = !f.no_noise;
+  noise_options.correlated_share = f.noise_correlation;
+  noise_options.correlation_radius_px = f.noise_correlation_px;
   Result<KinectNoiseModel> noise = KinectNoiseModel::Create(noise_options);
   if (!noise.ok()) return ReportError(kSimulateCmd, noise.error());
 
@@ -177,6 +186,7 @@ int RunSimulateScene(int argc, char** argv) {
   truth.sensor_roll_rad = DegToRad(f.roll_deg);
   truth.intrinsics = intrinsics;
   truth.noise_enabled = !f.no_noise;
+  truth.noise_correlated_share = f.noise_correlation;
   truth.seed = static_cast<std::uint64_t>(f.seed);
   truth.clutter_count = f.clutter;
   truth.clutter = clutter_objects;

@@ -11,7 +11,7 @@ FlagParser SimulateFlags::Parser() {
       "--pitch-deg D --roll-deg D] [--clutter N --seed S] [--frames N --turn-deg D --step-m M]",
       "Renders simulated Kinect v1 depth frames of the parametric humanoid (or, with --robot, a\n"
       "robot described by a URDF and its meshes) standing on a floor,\n"
-      "optionally among clutter (a ball, boxes, cylinders) and a second humanoid, with the\n"
+      "optionally among clutter (a ball, boxes, cylinders) and a second humanoid, with\n"
       "a Kinect v1 sensor model: axial noise 1.425e-3 z^2 m, 0.8 px lateral jitter, 11-bit\n"
       "disparity quantisation, no reading outside 0.8-4.0 m or beyond 80 degrees incidence.\n"
       "Writes DIR/depth.png (16-bit, mm), DIR/intrinsics.json, DIR/cloud.pcd (sensor frame, m)\n"
@@ -41,6 +41,15 @@ FlagParser SimulateFlags::Parser() {
   flags.AddBool("no-noise", &no_noise,
                 "exact depth: no random noise or quantisation (range and incidence limits "
                 "still apply)");
+  flags.AddDouble("noise-correlation", &noise_correlation,
+                  "share (0-1) of the axial noise's variance that neighbouring pixels share, as a "
+                  "real Kinect's window-matched disparities do (0.8 resembles one; 0: every "
+                  "pixel independent)",
+                  "SHARE");
+  flags.AddInt("noise-correlation-px", &noise_correlation_px,
+               "with --noise-correlation: the shared part is the mean over the pixels within "
+               "this many of each pixel (a square), so errors stay alike over about twice that",
+               "R");
   flags.AddInt("frames", &frames, "number of frames; the humanoid moves between them", "N");
   flags.AddDouble("turn-deg", &turn_deg, "humanoid turn per frame, degrees (counter-clockwise)",
                   "D");

@@ -19,6 +19,8 @@ struct SimulateFlags {
   double sensor_height = 0.34, pitch_deg = 0.0, roll_deg = 0.0;
   int clutter = 0, seed = 1, width = 640, height = 480, frames = 1;
   bool no_noise = false, no_cloud = false;
+  double noise_correlation = 0.0;
+  int noise_correlation_px = 4;
   double turn_deg = 0.0, step_m = 0.0;
   std::string second_at, second_pose = "standing";
 

@@ -106,11 +106,20 @@ DepthImage DepthRenderer::Render(const Scene& scene, const KinectNoiseModel* noi
 
   const Intrinsics& k = intrinsics_;
   DepthImage image(k.width, k.height);
+  // Spatially correlated errors, when asked for, come from the whole image's fields.
+  const std::vector<KinectNoiseModel::PixelDraw> draws =
+      noise != nullptr && noise->options().correlated_share > 0.0
+          ? noise->Draws(seed, k.width, k.height)
+          : std::vector<KinectNoiseModel::PixelDraw>();
   for (int v = 0; v < k.height; ++v) {
     for (int u = 0; u < k.width; ++u) {
       const std::uint64_t index = static_cast<std::uint64_t>(v) * k.width + u;
       KinectNoiseModel::PixelDraw draw;
-      if (noise != nullptr) draw = noise->Draw(seed, index);
+      if (!draws.empty()) {
+        draw = draws[index];
+      } else if (noise != nullptr) {
+        draw = noise->Draw(seed, index);
+      }
       const Eigen::Vector3d dir =
           Eigen::Vector3d((u + draw.du_px - k.cx) / k.fx, (v + draw.dv_px - k.cy) / k.fy, 1.0)
               .normalized();

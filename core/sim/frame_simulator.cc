@@ -36,7 +36,9 @@ Result<SimulatedFrame> SimulateFrame(const FrameSpec& spec) {
   frame.sensor_mount = mount;
   frame.humanoid_height_m = height_m;
   if (spec.noise) {
-    Result<KinectNoiseModel> noise = KinectNoiseModel::Create(KinectNoiseOptions{});
+    KinectNoiseOptions noise_options;
+    noise_options.correlated_share = spec.noise_correlated_share;
+    Result<KinectNoiseModel> noise = KinectNoiseModel::Create(noise_options);
     if (!noise.ok()) return noise.error();
     frame.depth = renderer->Render(scene, &*noise, spec.seed);
   } else {

@@ -29,9 +29,10 @@ struct FrameSpec {
   double sensor_pitch_rad = 0.0;  // + looks down.
   double sensor_roll_rad = 0.0;
   Intrinsics intrinsics = Intrinsics::KinectV1(640, 480);
-  int clutter = 0;         // random clutter objects (a ball, boxes, cylinders).
-  std::uint64_t seed = 0;  // clutter and noise.
-  bool noise = true;       // Kinect v1 noise model (SPEC §5).
+  int clutter = 0;                      // random clutter objects (a ball, boxes, cylinders).
+  std::uint64_t seed = 0;               // clutter and noise.
+  bool noise = true;                    // Kinect v1 noise model (SPEC §5).
+  double noise_correlated_share = 0.0;  // KinectNoiseOptions::correlated_share.
 };
 
 struct SimulatedFrame {

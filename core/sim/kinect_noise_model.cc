@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace hpose {
 namespace {
@@ -41,6 +42,12 @@ Status KinectNoiseOptions::Validate() const {
       max_incidence_rad > 1.5707963267948966) {
     return bad("max_incidence_rad must be in (0, pi/2]");
   }
+  if (!std::isfinite(correlated_share) || correlated_share < 0.0 || correlated_share > 1.0) {
+    return bad("correlated_share must be in [0, 1]");
+  }
+  if (correlation_radius_px < 1 || correlation_radius_px > 64) {
+    return bad("correlation_radius_px must be in [1, 64]");
+  }
   return Status::Ok();
 }
 
@@ -65,6 +72,82 @@ KinectNoiseModel::PixelDraw KinectNoiseModel::Draw(std::uint64_t seed,
   draw.dv_px = options_.lateral_sigma_px * r1 * std::sin(kTwoPi * u2);
   draw.axial_normal = r2 * std::cos(kTwoPi * u4);
   return draw;
+}
+
+namespace {
+
+// Sums of `in` (width x height, row by row) over the windows of `radius` around each pixel,
+// clipped by the image, divided by the square root of their pixel count: the windows' means of
+// independent unit normals scaled back to unit variance.
+std::vector<double> WindowField(const std::vector<double>& in, int width, int height, int radius) {
+  const size_t n = in.size();
+  std::vector<double> rows(n), out(n);
+  const auto count = [radius](int i, int size) {
+    return std::min(size - 1, i + radius) - std::max(0, i - radius) + 1;
+  };
+  for (int v = 0; v < height; ++v) {
+    const double* src = &in[static_cast<size_t>(v) * width];
+    double* sum = &rows[static_cast<size_t>(v) * width];
+    double run = 0.0;
+    for (int u = 0; u <= std::min(width - 1, radius); ++u) run += src[u];
+    for (int u = 0; u < width; ++u) {
+      sum[u] = run;
+      if (u + radius + 1 < width) run += src[u + radius + 1];
+      if (u - radius >= 0) run -= src[u - radius];
+    }
+  }
+  for (int u = 0; u < width; ++u) {
+    double run = 0.0;
+    for (int v = 0; v <= std::min(height - 1, radius); ++v) {
+      run += rows[static_cast<size_t>(v) * width + u];
+    }
+    for (int v = 0; v < height; ++v) {
+      out[static_cast<size_t>(v) * width + u] =
+          run / std::sqrt(static_cast<double>(count(u, width)) * count(v, height));
+      if (v + radius + 1 < height) run += rows[static_cast<size_t>(v + radius + 1) * width + u];
+      if (v - radius >= 0) run -= rows[static_cast<size_t>(v - radius) * width + u];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<KinectNoiseModel::PixelDraw> KinectNoiseModel::Draws(std::uint64_t seed, int width,
+                                                                 int height) const {
+  std::vector<PixelDraw> out;
+  if (width <= 0 || height <= 0) return out;
+  const size_t n = static_cast<size_t>(width) * height;
+  out.resize(n);
+  if (!options_.noise_enabled) return out;
+  for (size_t i = 0; i < n; ++i) out[i] = Draw(seed, i);
+  const double share = options_.correlated_share;
+  if (!(share > 0.0)) return out;
+  // The fields' own unit normals: three more of the same hash's streams (Draw uses 1-4).
+  std::vector<double> own[3];
+  for (std::vector<double>& o : own) o.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const std::uint64_t state = SplitMix64(SplitMix64(seed) ^ (i * 0xd1b54a32d192ed03ULL));
+    const double r1 = std::sqrt(-2.0 * std::log(UnitOpen(SplitMix64(state + 5))));
+    const double r2 = std::sqrt(-2.0 * std::log(UnitOpen(SplitMix64(state + 7))));
+    const double a1 = kTwoPi * UnitOpen(SplitMix64(state + 6));
+    own[0][i] = r1 * std::cos(a1);
+    own[1][i] = r1 * std::sin(a1);
+    own[2][i] = r2 * std::cos(kTwoPi * UnitOpen(SplitMix64(state + 8)));
+  }
+  const int radius = options_.correlation_radius_px;
+  const std::vector<double> du = WindowField(own[0], width, height, radius);
+  const std::vector<double> dv = WindowField(own[1], width, height, radius);
+  const std::vector<double> axial = WindowField(own[2], width, height, radius);
+  const double a = std::sqrt(1.0 - share), b = std::sqrt(share);
+  const double lateral = options_.lateral_sigma_px;
+  for (size_t i = 0; i < n; ++i) {
+    PixelDraw& d = out[i];
+    d.du_px = a * d.du_px + b * lateral * du[i];
+    d.dv_px = a * d.dv_px + b * lateral * dv[i];
+    d.axial_normal = a * d.axial_normal + b * axial[i];
+  }
+  return out;
 }
 
 std::uint16_t KinectNoiseModel::Measure(double z_m, double incidence_rad,

@@ -2,6 +2,7 @@
 #define HPOSE_CORE_SIM_KINECT_NOISE_MODEL_H_
 
 #include <cstdint>
+#include <vector>
 
 #include "core/common/status.h"
 
@@ -17,6 +18,15 @@ struct KinectNoiseOptions {
   double min_range_m = 0.8;             // nearer readings are dropped (0).
   double max_range_m = 4.0;             // farther readings are dropped (0).
   double max_incidence_rad = 1.3963;    // 80 degrees: steeper (grazing) surfaces give no reading.
+  // Share of the axial noise's and the ray jitter's variance that is spatially correlated: that
+  // part is the mean of independent normals over the (2 correlation_radius_px + 1)^2 pixels
+  // around each pixel, scaled back to the same variance, so neighbouring pixels err alike. 0: every
+  // pixel independent (before). A real Kinect v1 computes each disparity from a window of pixels,
+  // so its errors are correlated: on PCL's five-people frame the floor's height residuals at 2.5-3
+  // m keep 91% of their rms when averaged over 3 x 3 pixels and 87% over 5 x 5, where independent
+  // errors keep 33% and 20% (docs/BENCHMARKS.md, "Spatially correlated depth noise").
+  double correlated_share = 0.0;
+  int correlation_radius_px = 4;
 
   // Names the offending field when a value is negative, non-finite or inconsistent.
   Status Validate() const;
@@ -44,6 +54,14 @@ class KinectNoiseModel final {
     double axial_normal = 0.0;
   };
   PixelDraw Draw(std::uint64_t seed, std::uint64_t pixel_index) const;
+
+  // The draws of a width x height image, row by row: Draw's for each pixel when
+  // correlated_share is 0, else mixed with correlated fields: sqrt(1 - share) Draw's +
+  // sqrt(share) field, a field being the window mean of other independent normals per pixel
+  // (windows cut by the image's border average fewer pixels), scaled back to the draw's
+  // variance; the ray jitter and the axial error alike. A pure function of (seed, options,
+  // size). All zero when noise is disabled.
+  std::vector<PixelDraw> Draws(std::uint64_t seed, int width, int height) const;
 
   // The reading in millimetres (0 = none) for a surface at ideal depth z_m (along the optical
   // axis) seen at `incidence_rad` from its normal: adds axial_normal * sigma(z), quantises to

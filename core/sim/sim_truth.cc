@@ -80,6 +80,9 @@ std::string SimTruthToJson(const SimTruth& truth) {
   j["intrinsics"] = {{"width", k.width}, {"height", k.height}, {"fx", k.fx},
                      {"fy", k.fy},       {"cx", k.cx},         {"cy", k.cy}};
   j["noise"] = {{"enabled", truth.noise_enabled}, {"seed", truth.seed}};
+  if (truth.noise_correlated_share > 0.0) {
+    j["noise"]["correlated_share"] = truth.noise_correlated_share;
+  }
   j["clutter_count"] = truth.clutter_count;
   j["clutter"] = Json::array();
   for (const Primitive& p : truth.clutter) j["clutter"].push_back(PrimitiveToJson(p));
@@ -126,6 +129,7 @@ Result<SimTruth> ParseSimTruthJson(const std::string& text, const std::string& o
     t.intrinsics.cy = k.at("cy").get<double>();
     t.noise_enabled = j.at("noise").at("enabled").get<bool>();
     t.seed = j.at("noise").at("seed").get<std::uint64_t>();
+    t.noise_correlated_share = j.at("noise").value("correlated_share", 0.0);
     t.clutter_count = j.at("clutter_count").get<int>();
     for (const Json& c : j.at("clutter")) t.clutter.push_back(PrimitiveFromJson(c));
     for (const Json& f : j.at("frames")) {

@@ -39,9 +39,10 @@ struct SimTruth {
   double sensor_roll_rad = 0.0;
   Intrinsics intrinsics;
   bool noise_enabled = true;
-  std::uint64_t seed = 0;          // clutter and noise seed given by the user.
-  int clutter_count = 0;           // requested random clutter objects.
-  std::vector<Primitive> clutter;  // ground frame.
+  double noise_correlated_share = 0.0;  // KinectNoiseOptions::correlated_share.
+  std::uint64_t seed = 0;               // clutter and noise seed given by the user.
+  int clutter_count = 0;                // requested random clutter objects.
+  std::vector<Primitive> clutter;       // ground frame.
   std::vector<SimFrameTruth> frames;
   std::string command;  // the command line that produced the frames.
 };

@@ -133,6 +133,81 @@ TEST(KinectNoiseModelTest, DrawsAreReproducibleAndDisabledNoiseIsExact) {
   EXPECT_EQ(exact.Measure(4.5, 0.0, 0.0), 0);  // range limits still apply.
 }
 
+// Correlation of the axial normals of pixels `du` apart in a row, and their variance.
+struct FieldStats {
+  double variance = 0.0;
+  double correlation = 0.0;
+};
+FieldStats AxialFieldStats(const std::vector<KinectNoiseModel::PixelDraw>& d, int width, int height,
+                           int du) {
+  double sum2 = 0.0, cross = 0.0;
+  int n = 0, pairs = 0;
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) {
+      const double a = d[static_cast<size_t>(v) * width + u].axial_normal;
+      sum2 += a * a;
+      ++n;
+      if (u + du < width) {
+        cross += a * d[static_cast<size_t>(v) * width + u + du].axial_normal;
+        ++pairs;
+      }
+    }
+  }
+  FieldStats s;
+  s.variance = sum2 / n;
+  s.correlation = (cross / pairs) / s.variance;
+  return s;
+}
+
+// Without a correlated share the image's draws are each pixel's own; with one, neighbouring
+// pixels err alike (the share times the windows' overlap), farther ones less, and the variance
+// of both the axial error and the ray jitter stays what the model says.
+TEST(KinectNoiseModelTest, CorrelatedShareMakesNeighboursErrAlikeAtTheSameVariance) {
+  constexpr int kWidth = 160, kHeight = 120;
+  const KinectNoiseModel independent = Model();
+  const std::vector<KinectNoiseModel::PixelDraw> own = independent.Draws(3, kWidth, kHeight);
+  ASSERT_EQ(own.size(), static_cast<size_t>(kWidth * kHeight));
+  for (size_t i = 0; i < own.size(); i += 97) {
+    const KinectNoiseModel::PixelDraw d = independent.Draw(3, i);
+    EXPECT_EQ(own[i].du_px, d.du_px);
+    EXPECT_EQ(own[i].dv_px, d.dv_px);
+    EXPECT_EQ(own[i].axial_normal, d.axial_normal);
+  }
+  const FieldStats flat = AxialFieldStats(own, kWidth, kHeight, 1);
+  EXPECT_NEAR(flat.variance, 1.0, 0.05);
+  EXPECT_LT(std::abs(flat.correlation), 0.03);
+
+  KinectNoiseOptions o;
+  o.correlated_share = 0.9;
+  o.correlation_radius_px = 4;
+  const KinectNoiseModel correlated = Model(o);
+  const std::vector<KinectNoiseModel::PixelDraw> mixed = correlated.Draws(3, kWidth, kHeight);
+  EXPECT_EQ(mixed.size(), own.size());
+  const FieldStats near = AxialFieldStats(mixed, kWidth, kHeight, 1);
+  const FieldStats far = AxialFieldStats(mixed, kWidth, kHeight, 6);
+  const FieldStats beyond = AxialFieldStats(mixed, kWidth, kHeight, 12);
+  EXPECT_NEAR(near.variance, 1.0, 0.1);
+  // A window of 9 pixels shifted by 1 keeps 8 of them: 0.9 * 8 / 9 = 0.8; by 6, 0.9 * 3 / 9.
+  EXPECT_NEAR(near.correlation, 0.8, 0.08);
+  EXPECT_NEAR(far.correlation, 0.3, 0.08);
+  EXPECT_LT(std::abs(beyond.correlation), 0.08);
+  std::vector<double> du;
+  for (const KinectNoiseModel::PixelDraw& d : mixed) du.push_back(d.du_px);
+  EXPECT_NEAR(ComputeStats(du).std, 0.8, 0.08);
+  // A pure function of the seed.
+  const std::vector<KinectNoiseModel::PixelDraw> again = correlated.Draws(3, kWidth, kHeight);
+  const std::vector<KinectNoiseModel::PixelDraw> other = correlated.Draws(4, kWidth, kHeight);
+  EXPECT_EQ(again[777].axial_normal, mixed[777].axial_normal);
+  EXPECT_NE(other[777].axial_normal, mixed[777].axial_normal);
+
+  KinectNoiseOptions off = o;
+  off.noise_enabled = false;
+  for (const KinectNoiseModel::PixelDraw& d : Model(off).Draws(3, 8, 8)) {
+    EXPECT_EQ(d.axial_normal, 0.0);
+    EXPECT_EQ(d.du_px, 0.0);
+  }
+}
+
 TEST(KinectNoiseModelTest, InvalidOptionsAreRejected) {
   KinectNoiseOptions o;
   o.max_range_m = 0.5;  // below min_range_m.
@@ -142,6 +217,17 @@ TEST(KinectNoiseModelTest, InvalidOptionsAreRejected) {
   const auto r = KinectNoiseModel::Create(o);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("lateral_sigma_px"), std::string::npos);
+  o = {};
+  o.correlated_share = 1.5;
+  const auto share = KinectNoiseModel::Create(o);
+  ASSERT_FALSE(share.ok());
+  EXPECT_NE(share.error().message.find("correlated_share"), std::string::npos);
+  o = {};
+  o.correlated_share = 0.5;
+  o.correlation_radius_px = 0;
+  const auto radius = KinectNoiseModel::Create(o);
+  ASSERT_FALSE(radius.ok());
+  EXPECT_NE(radius.error().message.find("correlation_radius_px"), std::string::npos);
 }
 
 }  // namespace

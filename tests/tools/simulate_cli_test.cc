@@ -147,12 +147,48 @@ TEST(SimulateCliTest, SeedReproducesTheFrame) {
   EXPECT_NE(a->mm, c->mm);
 }
 
+// --noise-correlation: neighbouring readings of the same surfaces differ less than with every
+// pixel's noise its own (same seed, same scene), and truth.json says which noise was drawn.
+TEST(SimulateCliTest, NoiseCorrelationMakesNeighbouringReadingsAlike) {
+  TempDir dir("simulate_cli_correlated");
+  const std::string common =
+      " --seed 5 --x 3 --sensor-height 1.3 --pitch-deg 5 --width 320 --height 240 --no-cloud";
+  ASSERT_EQ(RunHpose("simulate --out '" + (dir / "own") + "'" + common, dir).exit_code, 0);
+  const CliRun run =
+      RunHpose("simulate --out '" + (dir / "shared") + "' --noise-correlation 0.9" + common, dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Result<DepthImage> own = ReadDepthPng(dir / "own/depth.png");
+  const Result<DepthImage> shared = ReadDepthPng(dir / "shared/depth.png");
+  ASSERT_TRUE(own.ok() && shared.ok());
+  // Mean absolute difference of horizontal neighbours on the floor and the robot (both read,
+  // less than 5 cm apart: no depth edge between them).
+  const auto neighbour_step = [](const DepthImage& d) {
+    double sum = 0.0;
+    int n = 0;
+    for (int v = 0; v < d.height; ++v) {
+      for (int u = 0; u + 1 < d.width; ++u) {
+        const int a = d.at(u, v), b = d.at(u + 1, v);
+        if (a == 0 || b == 0 || std::abs(a - b) >= 50) continue;
+        sum += std::abs(a - b);
+        ++n;
+      }
+    }
+    return n > 0 ? sum / n : 0.0;
+  };
+  const double own_step = neighbour_step(*own), shared_step = neighbour_step(*shared);
+  EXPECT_GT(own_step, 0.0);
+  EXPECT_LT(shared_step, 0.75 * own_step) << own_step << " mm vs " << shared_step << " mm";
+  EXPECT_NEAR(ReadTruth(dir / "shared/truth.json").noise_correlated_share, 0.9, 1e-12);
+  EXPECT_EQ(ReadTruth(dir / "own/truth.json").noise_correlated_share, 0.0);
+}
+
 TEST(SimulateCliTest, BadFlagsExitWithUsageStatus) {
   TempDir dir("simulate_cli_bad");
   const std::string out = dir / "never";
   for (const std::string bad :
        {"--sensor-height -1", "--pose dancing", "--frames 0", "--no-such-flag", "--x abc",
-        "--pitch-deg 90", "--clutter -2", "--width 5", "--second-at 1,2", "--x nan"}) {
+        "--pitch-deg 90", "--clutter -2", "--width 5", "--second-at 1,2", "--x nan",
+        "--noise-correlation 1.5", "--noise-correlation-px 0"}) {
     const CliRun run = RunHpose("simulate --out '" + out + "' " + bad, dir);
     EXPECT_EQ(run.exit_code, 2) << bad << ": " << run.err;
     EXPECT_FALSE(run.err.empty()) << bad;
