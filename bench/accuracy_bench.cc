@@ -348,7 +348,8 @@ std::vector<double> ParseList(const std::string& s) {
   return out;
 }
 
-Result<DepthImage> RenderTrial(const Trial& t, const Body& body, int clutter, bool noise_on) {
+Result<DepthImage> RenderTrial(const Trial& t, const Body& body, int clutter, bool noise_on,
+                               double noise_correlation) {
   FrameSpec spec;
   spec.preset = kShapes[t.shape];
   if (body.meshes.empty()) {
@@ -362,6 +363,7 @@ Result<DepthImage> RenderTrial(const Trial& t, const Body& body, int clutter, bo
   spec.clutter = clutter;
   spec.seed = 1000 + t.seed;
   spec.noise = noise_on;
+  spec.noise_correlated_share = noise_correlation;
   Result<SimulatedFrame> frame = SimulateFrame(spec);
   if (!frame.ok()) return frame.error();
   return frame->depth;
@@ -423,6 +425,7 @@ Outcome Evaluate(const Estimate& e, const Trial& t) {
 int main(int argc, char** argv) {
   int seeds = 5, clutter = 3, threads = 2, step_deg = 30;
   bool noise_on = true, list_failures = false;
+  double noise_correlation = 0.0;
   std::vector<double> distances = {1.0, 1.5, 2.0, 2.5, 3.0, 3.5};
   std::vector<std::string> body_filter, variant_filter;
   for (int i = 1; i < argc; ++i) {
@@ -440,6 +443,12 @@ int main(int argc, char** argv) {
       list_failures = true;
     } else if (a == "--noise") {
       noise_on = v != "off", ++i;
+    } else if (a == "--noise-correlation") {
+      noise_correlation = std::atof(v.c_str()), ++i;
+      if (!(noise_correlation >= 0.0 && noise_correlation <= 1.0)) {
+        std::fprintf(stderr, "accuracy_bench: --noise-correlation must be in [0, 1]\n");
+        return 2;
+      }
     } else if (a == "--distances") {
       distances = ParseList(v), ++i;
     } else if (a == "--bodies") {
@@ -450,9 +459,12 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: accuracy_bench [--seeds N] [--clutter N] [--threads N] [--bodies a,b]\n"
                    "                      [--variants a,b] [--noise on|off] [--distances 1,2]\n"
-                   "                      [--step-deg D] [--failures]\n"
+                   "                      [--step-deg D] [--noise-correlation SHARE]\n"
+                   "                      [--failures]\n"
                    "  --bodies: nao, long_legs, darwin_op (default: all three) and tall\n"
                    "            (1.23 m, only when named)\n"
+                   "  --noise-correlation: share (0-1) of the depth noise neighbouring pixels\n"
+                   "            share, as a real Kinect's (0.9 resembles one; default 0)\n"
                    "  --failures: classify the frames each variant got wrong (a table on stdout)\n"
                    "              and list them one per line on stderr (heading, runner-up,\n"
                    "              scores and refined fits of both, template chosen)\n");
@@ -537,7 +549,8 @@ int main(int argc, char** argv) {
     }
     for (size_t i = next++; i < trials.size(); i = next++) {
       Trial& t = trials[i];
-      const Result<DepthImage> depth = RenderTrial(t, bodies[t.body], clutter, noise_on);
+      const Result<DepthImage> depth =
+          RenderTrial(t, bodies[t.body], clutter, noise_on, noise_correlation);
       if (!depth.ok()) {
         ++failed;
         std::fprintf(stderr, "\nsimulate: %s\n", depth.error().message.c_str());
@@ -558,8 +571,10 @@ int main(int argc, char** argv) {
   for (std::thread& th : pool) th.join();
   std::fprintf(stderr, "\n");
 
-  std::printf("noise %s, clutter %d, %d seed(s), headings every %d°, distances",
-              noise_on ? "on" : "off", clutter, seeds, step_deg);
+  std::printf("noise %s", noise_on ? "on" : "off");
+  if (noise_on && noise_correlation > 0.0)
+    std::printf(" (correlated share %.2f)", noise_correlation);
+  std::printf(", clutter %d, %d seed(s), headings every %d°, distances", clutter, seeds, step_deg);
   for (double d : distances) std::printf(" %.1f", d);
   std::printf(" m; %zu frame(s) could not be simulated (counted as misses)\n", failed.load());
 
