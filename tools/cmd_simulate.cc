@@ -187,6 +187,7 @@ int RunSimulateScene(int argc, char** argv) {
   truth.intrinsics = intrinsics;
   truth.noise_enabled = !f.no_noise;
   truth.noise_correlated_share = f.noise_correlation;
+  truth.noise_correlation_radius_px = f.noise_correlation_px;
   truth.seed = static_cast<std::uint64_t>(f.seed);
   truth.clutter_count = f.clutter;
   truth.clutter = clutter_objects;

@@ -42,9 +42,9 @@ FlagParser SimulateFlags::Parser() {
                 "exact depth: no random noise or quantisation (range and incidence limits "
                 "still apply)");
   flags.AddDouble("noise-correlation", &noise_correlation,
-                  "share (0-1) of the axial noise's variance that neighbouring pixels share, as a "
-                  "real Kinect's window-matched disparities do (0.8 resembles one; 0: every "
-                  "pixel independent)",
+                  "share (0-1) of the depth noise (axial error and ray jitter) that neighbouring "
+                  "pixels share, as a real Kinect's window-matched disparities do (0.9 resembles "
+                  "one; 0: every pixel independent)",
                   "SHARE");
   flags.AddInt("noise-correlation-px", &noise_correlation_px,
                "with --noise-correlation: the shared part is the mean over the pixels within "

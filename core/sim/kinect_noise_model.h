@@ -18,13 +18,15 @@ struct KinectNoiseOptions {
   double min_range_m = 0.8;             // nearer readings are dropped (0).
   double max_range_m = 4.0;             // farther readings are dropped (0).
   double max_incidence_rad = 1.3963;    // 80 degrees: steeper (grazing) surfaces give no reading.
-  // Share of the axial noise's and the ray jitter's variance that is spatially correlated: that
+  // Share of the axial error's and the ray jitter's variance that is spatially correlated: that
   // part is the mean of independent normals over the (2 correlation_radius_px + 1)^2 pixels
-  // around each pixel, scaled back to the same variance, so neighbouring pixels err alike. 0: every
-  // pixel independent (before). A real Kinect v1 computes each disparity from a window of pixels,
-  // so its errors are correlated: on PCL's five-people frame the floor's height residuals at 2.5-3
-  // m keep 91% of their rms when averaged over 3 x 3 pixels and 87% over 5 x 5, where independent
-  // errors keep 33% and 20% (docs/BENCHMARKS.md, "Spatially correlated depth noise").
+  // around each pixel, scaled back to the same variance, so neighbouring pixels err alike. 0:
+  // every pixel independent (before). A real Kinect v1 computes each disparity by matching a
+  // window of pixels, so its errors are correlated: on PCL's five-people frame the rms height
+  // difference of floor pixels next to each other is 0.40-0.50 of that of pixels 12 apart,
+  // where independent errors give 1, and 0.9 with a radius of 4 gives 0.57-0.60
+  // (docs/BENCHMARKS.md, "High and steep mounts, and a real Kinect's errors against the
+  // simulator's").
   double correlated_share = 0.0;
   int correlation_radius_px = 4;
 

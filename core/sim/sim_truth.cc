@@ -82,6 +82,7 @@ std::string SimTruthToJson(const SimTruth& truth) {
   j["noise"] = {{"enabled", truth.noise_enabled}, {"seed", truth.seed}};
   if (truth.noise_correlated_share > 0.0) {
     j["noise"]["correlated_share"] = truth.noise_correlated_share;
+    j["noise"]["correlation_radius_px"] = truth.noise_correlation_radius_px;
   }
   j["clutter_count"] = truth.clutter_count;
   j["clutter"] = Json::array();
@@ -130,6 +131,7 @@ Result<SimTruth> ParseSimTruthJson(const std::string& text, const std::string& o
     t.noise_enabled = j.at("noise").at("enabled").get<bool>();
     t.seed = j.at("noise").at("seed").get<std::uint64_t>();
     t.noise_correlated_share = j.at("noise").value("correlated_share", 0.0);
+    t.noise_correlation_radius_px = j.at("noise").value("correlation_radius_px", 4);
     t.clutter_count = j.at("clutter_count").get<int>();
     for (const Json& c : j.at("clutter")) t.clutter.push_back(PrimitiveFromJson(c));
     for (const Json& f : j.at("frames")) {

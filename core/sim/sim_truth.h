@@ -39,7 +39,8 @@ struct SimTruth {
   double sensor_roll_rad = 0.0;
   Intrinsics intrinsics;
   bool noise_enabled = true;
-  double noise_correlated_share = 0.0;  // KinectNoiseOptions::correlated_share.
+  double noise_correlated_share = 0.0;  // KinectNoiseOptions::correlated_share ...
+  int noise_correlation_radius_px = 4;  // ... and correlation_radius_px.
   std::uint64_t seed = 0;               // clutter and noise seed given by the user.
   int clutter_count = 0;                // requested random clutter objects.
   std::vector<Primitive> clutter;       // ground frame.

@@ -154,8 +154,9 @@ TEST(SimulateCliTest, NoiseCorrelationMakesNeighbouringReadingsAlike) {
   const std::string common =
       " --seed 5 --x 3 --sensor-height 1.3 --pitch-deg 5 --width 320 --height 240 --no-cloud";
   ASSERT_EQ(RunHpose("simulate --out '" + (dir / "own") + "'" + common, dir).exit_code, 0);
-  const CliRun run =
-      RunHpose("simulate --out '" + (dir / "shared") + "' --noise-correlation 0.9" + common, dir);
+  const CliRun run = RunHpose("simulate --out '" + (dir / "shared") +
+                                  "' --noise-correlation 0.9 --noise-correlation-px 3" + common,
+                              dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const Result<DepthImage> own = ReadDepthPng(dir / "own/depth.png");
   const Result<DepthImage> shared = ReadDepthPng(dir / "shared/depth.png");
@@ -178,7 +179,9 @@ TEST(SimulateCliTest, NoiseCorrelationMakesNeighbouringReadingsAlike) {
   const double own_step = neighbour_step(*own), shared_step = neighbour_step(*shared);
   EXPECT_GT(own_step, 0.0);
   EXPECT_LT(shared_step, 0.75 * own_step) << own_step << " mm vs " << shared_step << " mm";
-  EXPECT_NEAR(ReadTruth(dir / "shared/truth.json").noise_correlated_share, 0.9, 1e-12);
+  const SimTruth truth = ReadTruth(dir / "shared/truth.json");
+  EXPECT_NEAR(truth.noise_correlated_share, 0.9, 1e-12);
+  EXPECT_EQ(truth.noise_correlation_radius_px, 3);
   EXPECT_EQ(ReadTruth(dir / "own/truth.json").noise_correlated_share, 0.0);
 }
 
