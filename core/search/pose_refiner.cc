@@ -122,7 +122,10 @@ RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const 
   const Eigen::Matrix3d h = lin.h + 1e-12 * Eigen::Matrix3d::Identity();
   const int n = std::max(1, lin.evidence.data_inliers + lin.evidence.model_free - 3);
   const double scale = std::max(1.0, 2.0 * lin.evidence.cost / n);
-  out.covariance = scale * h.inverse();
+  const Eigen::Vector3d at =
+      obs.sensor_from_ground * Eigen::Vector3d(out.pose.x, out.pose.y, model.centre().z());
+  const double shared = o.covariance_scale_at_sensor + o.covariance_scale_per_m2 * at.squaredNorm();
+  out.covariance = shared * scale * h.inverse();
   return out;
 }
 

@@ -258,6 +258,38 @@ TEST(PoseRefinerTest, CovarianceIsPositiveAndGrowsWithDistance) {
   EXPECT_GT(var_far, var_near);
 }
 
+// The covariance reported is the information's (covariance_scale_at_sensor 1, per_m2 0)
+// inflated for errors the points share, by 2.5 + 0.4 r^2 at the template centre's distance r
+// from the sensor: the same pose and evidence, the covariance scaled, more the farther.
+TEST(PoseRefinerTest, CovarianceIsInflatedForSharedErrorsByDistance) {
+  const SurfaceModel model(ModelTemplate("standing"));
+  RefineOptions information;
+  information.covariance_scale_at_sensor = 1.0;
+  information.covariance_scale_per_m2 = 0.0;
+  const RefineOptions defaults;
+  for (const double d : {1.0, 3.0}) {
+    const Pose2D truth{d, 0.2, DegToRad(-40.0)};
+    const Scene s = MakeScene(truth, /*noise=*/true);
+    const RefinedPose own = RefinePose(model, s.Obs(), truth, information);
+    const RefinedPose shared = RefinePose(model, s.Obs(), truth, defaults);
+    EXPECT_TRUE(own.pose.x == shared.pose.x && own.pose.y == shared.pose.y &&
+                own.pose.theta == shared.pose.theta)
+        << d;
+    EXPECT_EQ(own.evidence.cost, shared.evidence.cost) << d;
+    const Eigen::Vector3d centre =
+        s.sensor_from_ground * Eigen::Vector3d(shared.pose.x, shared.pose.y, model.centre().z());
+    const double factor = 2.5 + 0.4 * centre.squaredNorm();
+    EXPECT_GT(factor, d < 2.0 ? 2.8 : 6.0) << d;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(shared.covariance(r, c), factor * own.covariance(r, c),
+                    1e-9 * std::abs(factor * own.covariance(r, c)) + 1e-30)
+            << d << " " << r << c;
+      }
+    }
+  }
+}
+
 TEST(PoseRefinerTest, EstimatorReportsRefinedAndLatticePoses) {
   EstimatorOptions options = DefaultEstimatorOptions();
   auto refined = std::move(Estimator::Create(options, {ModelTemplate("standing")}).value());
