@@ -8,6 +8,7 @@
 //   depth_noise_bench ../shared/data/kinect/five_people.pcd sim/cloud.pcd
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <string>
 #include <vector>
 

@@ -22,6 +22,11 @@ double UnitOpen(std::uint64_t bits) {
   return (static_cast<double>(bits >> 11) + 1.0) * (1.0 / 9007199254740992.0);
 }
 
+// The hash state a pixel's random numbers are drawn from (stream k: SplitMix64(state + k)).
+std::uint64_t PixelState(std::uint64_t seed, std::uint64_t pixel_index) {
+  return SplitMix64(SplitMix64(seed) ^ (pixel_index * 0xd1b54a32d192ed03ULL));
+}
+
 }  // namespace
 
 Status KinectNoiseOptions::Validate() const {
@@ -60,7 +65,7 @@ KinectNoiseModel::PixelDraw KinectNoiseModel::Draw(std::uint64_t seed,
                                                    std::uint64_t pixel_index) const {
   PixelDraw draw;
   if (!options_.noise_enabled) return draw;
-  const std::uint64_t state = SplitMix64(SplitMix64(seed) ^ (pixel_index * 0xd1b54a32d192ed03ULL));
+  const std::uint64_t state = PixelState(seed, pixel_index);
   // Two Box-Muller pairs from four independent uniforms.
   const double u1 = UnitOpen(SplitMix64(state + 1));
   const double u2 = UnitOpen(SplitMix64(state + 2));
@@ -127,7 +132,7 @@ std::vector<KinectNoiseModel::PixelDraw> KinectNoiseModel::Draws(std::uint64_t s
   std::vector<double> own[3];
   for (std::vector<double>& o : own) o.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    const std::uint64_t state = SplitMix64(SplitMix64(seed) ^ (i * 0xd1b54a32d192ed03ULL));
+    const std::uint64_t state = PixelState(seed, i);
     const double r1 = std::sqrt(-2.0 * std::log(UnitOpen(SplitMix64(state + 5))));
     const double r2 = std::sqrt(-2.0 * std::log(UnitOpen(SplitMix64(state + 7))));
     const double a1 = kTwoPi * UnitOpen(SplitMix64(state + 6));
