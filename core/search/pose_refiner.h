@@ -111,13 +111,14 @@ struct RefineOptions {
   // The reported covariance is the information matrix's inverse (scaled up where the residuals
   // are wider than the noise model) times covariance_scale_at_sensor + covariance_scale_per_m2
   // r^2, r the distance from the sensor to the template's centre at the pose. The information
-  // counts every point's error as its own, but a depth camera's neighbouring pixels share theirs (a
-  // Kinect matches a window of its pattern per disparity), as do all points of a template's shape
-  // errors, and the refinement stops within about one standard error: with the simulator's errors
-  // shared as a real Kinect's (docs/BENCHMARKS.md, "The reported covariance"), the errors at 1-3.5
-  // m were 2-3.4 times the former standard deviations in x and 1.3-2.6 times in theta, e' C^-1 e (3
-  // degrees of freedom) a median of 6.5-17.6 instead of 2.37. A shared error grows with the points
-  // within a correlation window, which grows with r^2. 1 and 0: the former covariance.
+  // counts every point's error as its own, but a depth camera's neighbouring pixels share
+  // theirs (a Kinect matches a window of its pattern per disparity), as do all points of a
+  // template's shape errors, and the refinement stops within about one standard error. With
+  // the simulator's errors shared as a real Kinect's, the errors at 1-3.5 m were 2-3.4 times
+  // the former standard deviations in x and 1.3-2.6 times in theta, and e' C^-1 e (3 degrees
+  // of freedom) had medians of 6.5-17.6 instead of 2.37 (docs/BENCHMARKS.md, "The reported
+  // covariance against the errors"). A shared error grows with the points within a correlation
+  // window, which grows with r^2. 1 and 0: the former covariance.
   double covariance_scale_at_sensor = 2.5;
   double covariance_scale_per_m2 = 0.4;
 };
