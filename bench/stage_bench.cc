@@ -166,6 +166,15 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
   const double range_ms =
       TimeMs([&] { range = RangeImage::FromCloud(cloud, options.range_image_focal_px); });
   table->At("range image").push_back(range_ms);
+  RangeImage range_four;
+  table->At("range image (four lanes, reference)").push_back(TimeMs([&] {
+    range_four = RangeImage::FromCloudFourLanes(cloud, options.range_image_focal_px);
+  }));
+  const size_t bins = static_cast<size_t>(range.width()) * range.height();
+  if (range_four.width() != range.width() || range_four.height() != range.height() ||
+      !std::equal(range.depth_data(), range.depth_data() + bins, range_four.depth_data())) {
+    return MakeError(ErrorCode::kInternal, "the range image differs from its four-lane reference");
+  }
   table->At("total: cloud + FloorTracker + grid + range image")
       .push_back(cloud_ms + track_ms + cluster_ms + range_ms);
 

@@ -1,6 +1,7 @@
 #include "core/depth/range_image.h"
 
 #include <algorithm>
+#include <cassert>
 #include <climits>
 #include <cmath>
 #include <cstdint>
@@ -208,20 +209,118 @@ __attribute__((target_clones("avx2", "default"))) void SlopeExtent(const Eigen::
   }
 }
 
+// BinNearest eight points a step with AVX2 (CPUs without AVX-512): the same float slopes, the
+// same double products and sums (separate roundings: this target has no fused multiply-add),
+// the same comparisons and truncations, lane by lane; the bins' minimum then taken point by
+// point as BinNearestAvx512 does. The rest by BinNearest.
+[[gnu::target("avx2")]] void BinNearestAvx2(const Eigen::Vector3f* points, size_t n, double focal,
+                                            double u0, double v0, int width, int height,
+                                            float* depth) {
+  const PointShuffles8 lanes;
+  const __m256d f = _mm256_set1_pd(focal), uo = _mm256_set1_pd(u0), vo = _mm256_set1_pd(v0);
+  const __m256d w = _mm256_set1_pd(width), h = _mm256_set1_pd(height);
+  const __m256d zero_d = _mm256_setzero_pd();
+  const __m256 far = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+  const __m128i row = _mm_set1_epi32(width);
+  const bool eights = static_cast<std::int64_t>(width) * height <= INT32_MAX;
+  size_t i = 0;
+  alignas(32) std::int32_t bins[8];
+  alignas(32) float zs[8];
+  for (; eights && i + 8 <= n; i += 8) {
+    const PointLanes8 p = lanes.Load(points[i].data());
+    const __m256 tx = _mm256_div_ps(p.x, p.z), ty = _mm256_div_ps(p.y, p.z);
+    const __m256 front = _mm256_cmp_ps(p.z, _mm256_setzero_ps(), _CMP_GT_OQ);
+    __m128i in_half[2];
+    __m128i bin_half[2];
+    for (int half = 0; half < 2; ++half) {
+      const __m128 sx = half == 0 ? _mm256_castps256_ps128(tx) : _mm256_extractf128_ps(tx, 1);
+      const __m128 sy = half == 0 ? _mm256_castps256_ps128(ty) : _mm256_extractf128_ps(ty, 1);
+      const __m256d uf = _mm256_add_pd(_mm256_mul_pd(_mm256_cvtps_pd(sx), f), uo);
+      const __m256d vf = _mm256_add_pd(_mm256_mul_pd(_mm256_cvtps_pd(sy), f), vo);
+      const __m256d in = _mm256_and_pd(
+          _mm256_and_pd(_mm256_cmp_pd(uf, zero_d, _CMP_GE_OQ),
+                        _mm256_cmp_pd(vf, zero_d, _CMP_GE_OQ)),
+          _mm256_and_pd(_mm256_cmp_pd(uf, w, _CMP_LT_OQ), _mm256_cmp_pd(vf, h, _CMP_LT_OQ)));
+      // The four 64-bit masks as four 32-bit ones (their low halves).
+      const __m256i in32 = _mm256_permutevar8x32_epi32(_mm256_castpd_si256(in),
+                                                       _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6));
+      in_half[half] = _mm256_castsi256_si128(in32);
+      bin_half[half] =
+          _mm_add_epi32(_mm_mullo_epi32(_mm256_cvttpd_epi32(vf), row), _mm256_cvttpd_epi32(uf));
+    }
+    const __m256 inside =
+        _mm256_and_ps(front, _mm256_castsi256_ps(_mm256_set_m128i(in_half[1], in_half[0])));
+    if (_mm256_movemask_ps(inside) == 0) continue;
+    // Every lane, branch-free: one outside the image takes min(depth[0], inf), no change.
+    _mm256_store_si256(
+        reinterpret_cast<__m256i*>(bins),
+        _mm256_and_si256(_mm256_set_m128i(bin_half[1], bin_half[0]), _mm256_castps_si256(inside)));
+    _mm256_store_ps(zs, _mm256_blendv_ps(far, p.z, inside));
+    for (int k = 0; k < 8; ++k) {
+      float* dk = depth + bins[k];
+      _mm_store_ss(dk, _mm_min_ss(_mm_load_ss(zs + k), _mm_load_ss(dk)));
+    }
+  }
+  BinNearest(points + i, n - i, focal, u0, v0, width, height, depth);
+}
+
+// SlopeExtent eight points a step with AVX2: the same slopes; the minimum and maximum of the
+// valid lanes' (min_ps(t, lo) is t < lo ? t : lo, as SlopeExtent's), then the rest by
+// SlopeExtent.
+[[gnu::target("avx2")]] void SlopeExtentAvx2(const Eigen::Vector3f* points, size_t n,
+                                             float out[4]) {
+  const PointShuffles8 lanes;
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  __m256 x_lo = _mm256_set1_ps(kInf), x_hi = _mm256_set1_ps(-kInf);
+  __m256 y_lo = x_lo, y_hi = x_hi;
+  const __m256 zero = _mm256_setzero_ps();
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8) {
+    const PointLanes8 p = lanes.Load(points[i].data());
+    // v - v is 0 exactly when v is finite.
+    const __m256 valid =
+        _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(p.x, p.x), zero, _CMP_EQ_OQ),
+                                    _mm256_cmp_ps(_mm256_sub_ps(p.y, p.y), zero, _CMP_EQ_OQ)),
+                      _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(p.z, p.z), zero, _CMP_EQ_OQ),
+                                    _mm256_cmp_ps(p.z, zero, _CMP_GT_OQ)));
+    const __m256 tx = _mm256_div_ps(p.x, p.z), ty = _mm256_div_ps(p.y, p.z);
+    x_lo = _mm256_blendv_ps(x_lo, _mm256_min_ps(tx, x_lo), valid);
+    x_hi = _mm256_blendv_ps(x_hi, _mm256_max_ps(tx, x_hi), valid);
+    y_lo = _mm256_blendv_ps(y_lo, _mm256_min_ps(ty, y_lo), valid);
+    y_hi = _mm256_blendv_ps(y_hi, _mm256_max_ps(ty, y_hi), valid);
+  }
+  SlopeExtent(points + i, n - i, out);
+  alignas(32) float extent[4][8];
+  _mm256_store_ps(extent[0], x_lo);
+  _mm256_store_ps(extent[1], x_hi);
+  _mm256_store_ps(extent[2], y_lo);
+  _mm256_store_ps(extent[3], y_hi);
+  for (int k = 0; k < 8; ++k) {
+    out[0] = std::min(out[0], extent[0][k]);
+    out[1] = std::max(out[1], extent[1][k]);
+    out[2] = std::min(out[2], extent[2][k]);
+    out[3] = std::max(out[3], extent[3][k]);
+  }
+}
+
 #else
 constexpr auto* BinNearestAvx512 = &BinNearest;
 constexpr auto* SlopeExtentAvx512 = &SlopeExtent;
+constexpr auto* BinNearestAvx2 = &BinNearest;
+constexpr auto* SlopeExtentAvx2 = &SlopeExtent;
 #endif
 
 }  // namespace
 
-RangeImage RangeImage::Build(const PointCloud& cloud, double focal_px, bool wide) {
+RangeImage RangeImage::Build(const PointCloud& cloud, double focal_px, Lanes lanes) {
   RangeImage r;
   r.focal_ = focal_px;
   constexpr double kMaxTan = 3.0;
   constexpr float kInf = std::numeric_limits<float>::infinity();
   float extent[4];
-  (wide ? SlopeExtentAvx512 : SlopeExtent)(cloud.points.data(), cloud.points.size(), extent);
+  (lanes == Lanes::kSixteen ? SlopeExtentAvx512
+   : lanes == Lanes::kEight ? SlopeExtentAvx2
+                            : SlopeExtent)(cloud.points.data(), cloud.points.size(), extent);
   const float tx_lo_f = extent[0], tx_hi_f = extent[1], ty_lo_f = extent[2], ty_hi_f = extent[3];
   if (!(tx_lo_f <= tx_hi_f)) return r;  // no point in front of the sensor.
   const double tx_lo = std::clamp<double>(tx_lo_f, -kMaxTan, kMaxTan);
@@ -234,21 +333,33 @@ RangeImage RangeImage::Build(const PointCloud& cloud, double focal_px, bool wide
   r.height_ = static_cast<int>((ty_hi - ty_lo) * focal_px) + 1;
   // Nearest depth per bin, +inf while empty (0 = unknown once done).
   r.depth_.assign(static_cast<size_t>(r.width_) * r.height_, kInf);
-  (wide ? BinNearestAvx512 : BinNearest)(cloud.points.data(), cloud.points.size(), focal_px, r.u0_,
-                                         r.v0_, r.width_, r.height_, r.depth_.data());
+  (lanes == Lanes::kSixteen ? BinNearestAvx512
+   : lanes == Lanes::kEight ? BinNearestAvx2
+                            : BinNearest)(cloud.points.data(), cloud.points.size(), focal_px, r.u0_,
+                                          r.v0_, r.width_, r.height_, r.depth_.data());
   for (float& d : r.depth_) d = d == kInf ? 0.0f : d;
   return r;
 }
 
 RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
-  return Build(cloud, focal_px, PointLanesAvailable());
+  return Build(cloud, focal_px,
+               PointLanesAvailable()    ? Lanes::kSixteen
+               : PointLanes8Available() ? Lanes::kEight
+                                        : Lanes::kFour);
 }
 
 RangeImage RangeImage::FromCloudFourLanes(const PointCloud& cloud, double focal_px) {
-  return Build(cloud, focal_px, false);
+  return Build(cloud, focal_px, Lanes::kFour);
+}
+
+RangeImage RangeImage::FromCloudEightLanes(const PointCloud& cloud, double focal_px) {
+  assert(EightLanes());
+  return Build(cloud, focal_px, Lanes::kEight);
 }
 
 bool RangeImage::SixteenLanes() { return PointLanesAvailable(); }
+
+bool RangeImage::EightLanes() { return PointLanes8Available(); }
 
 bool RangeImage::Covers(const Eigen::Vector3d& p) const {
   return p.z() > 1e-3 && CoversRay(p.x() / p.z(), p.y() / p.z());

@@ -19,12 +19,16 @@ class RangeImage {
  public:
   // `focal_px` sets the bin size (300: about 3.3 mm at 1 m, like a 320x240 Kinect). The image
   // spans the cloud's own field of view (tan up to +-3).
-  // Sixteen points a step with AVX-512 where the CPU has it (SixteenLanes()), four otherwise:
-  // FromCloudFourLanes, the reference it is tested against. Both compute every slope and bin
-  // with the same operations, so their images are equal to the bit.
+  // Sixteen points a step with AVX-512 where the CPU has it (SixteenLanes()), eight with AVX2
+  // where it has only that (EightLanes(); FromCloudEightLanes takes that path whatever else the
+  // CPU has, for the tests), four otherwise: FromCloudFourLanes, the reference they are tested
+  // against. All compute every slope and bin with the same operations, so their images are
+  // equal to the bit.
   static RangeImage FromCloud(const PointCloud& cloud_sensor, double focal_px = 300.0);
   static RangeImage FromCloudFourLanes(const PointCloud& cloud_sensor, double focal_px = 300.0);
+  static RangeImage FromCloudEightLanes(const PointCloud& cloud_sensor, double focal_px = 300.0);
   static bool SixteenLanes();
+  static bool EightLanes();
 
   // Nearest observed depth (m) along the ray through `p_sensor`, or 0 when unknown (no point
   // in that bin, or p_sensor not in front of the sensor).
@@ -80,8 +84,9 @@ class RangeImage {
   int height() const { return height_; }
 
  private:
-  // FromCloud with the sixteen-lane passes (wide) or the four-lane ones.
-  static RangeImage Build(const PointCloud& cloud_sensor, double focal_px, bool wide);
+  // Points a step of the passes over the cloud.
+  enum class Lanes { kFour, kEight, kSixteen };
+  static RangeImage Build(const PointCloud& cloud_sensor, double focal_px, Lanes lanes);
   double focal_ = 300.0;
   double u0_ = 0.0;  // bin of tan = 0.
   double v0_ = 0.0;

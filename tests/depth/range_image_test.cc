@@ -127,20 +127,18 @@ TEST(RangeImageTest, EmptyAndBehindTheSensorGiveAnEmptyImage) {
   EXPECT_FALSE(image.Covers(Eigen::Vector3d(0, 0, 1)));
 }
 
-// The sixteen-lane passes against the four-lane ones, to the bit: the same extent, offsets and
+// A wider pass (`build`) against the four-lane one, to the bit: the same extent, offsets and
 // depths in every bin, on clouds with NaN, points behind the sensor, near-infinite slopes and
 // infinite coordinates, and on uneven ones whose extent the points set, of sizes with and
-// without a remainder of sixteen.
-TEST(RangeImageTest, SixteenLanesEqualFourLanesToTheBit) {
-  if (!RangeImage::SixteenLanes()) {
-    GTEST_SKIP() << "no AVX-512 on this CPU: FromCloud is the four-lane path itself";
-  }
+// without a remainder of sixteen (and of eight).
+template <typename Build>
+void ExpectEqualToFourLanes(const Build& build) {
   int bins = 0;
   for (unsigned seed = 1; seed <= 8; ++seed) {
     const PointCloud cloud = seed <= 6 ? RandomCloud(seed, 30000 + 7 * static_cast<int>(seed))
                                        : UnevenCloud(seed, 20000 + 5 * static_cast<int>(seed));
     for (const double focal : {300.0, 97.5}) {
-      const RangeImage wide = RangeImage::FromCloud(cloud, focal);
+      const RangeImage wide = build(cloud, focal);
       const RangeImage four = RangeImage::FromCloudFourLanes(cloud, focal);
       ASSERT_EQ(wide.width(), four.width());
       ASSERT_EQ(wide.height(), four.height());
@@ -154,6 +152,20 @@ TEST(RangeImageTest, SixteenLanesEqualFourLanesToTheBit) {
     }
   }
   EXPECT_GT(bins, 50000);
+}
+
+TEST(RangeImageTest, SixteenLanesEqualFourLanesToTheBit) {
+  if (!RangeImage::SixteenLanes()) {
+    GTEST_SKIP() << "no AVX-512 on this CPU: FromCloud does not take the sixteen-lane path";
+  }
+  ExpectEqualToFourLanes(
+      [](const PointCloud& c, double focal) { return RangeImage::FromCloud(c, focal); });
+}
+
+TEST(RangeImageTest, EightLanesEqualFourLanesToTheBit) {
+  if (!RangeImage::EightLanes()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ExpectEqualToFourLanes(
+      [](const PointCloud& c, double focal) { return RangeImage::FromCloudEightLanes(c, focal); });
 }
 
 }  // namespace
