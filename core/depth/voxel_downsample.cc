@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "core/depth/point_lanes.h"
 
@@ -111,6 +112,24 @@ constexpr auto* PackKeysAvx512 = &PackKeysScalar;
 constexpr auto* PackKeysAvx2 = &PackKeysScalar;
 #endif
 
+// VoxelDownsample's working arrays, kept by each thread between calls.
+struct VoxelScratch {
+  struct Slot {
+    std::uint64_t key;  // kEmpty when free.
+    std::int32_t voxel;
+  };
+  struct Sum {
+    float x, y, z;
+    std::int32_t count;
+  };
+  std::vector<std::uint64_t> keys;           // per point, then per run.
+  std::vector<std::int32_t> run_of;          // per point.
+  std::vector<Slot> table;                   // empty between calls.
+  std::vector<std::int32_t> run_voxel;       // per run.
+  std::vector<std::uint32_t> slot_of_voxel;  // the table slots a call filled.
+  std::vector<Sum> sums;                     // per voxel.
+};
+
 std::uint64_t Mix(std::uint64_t key) {
   key ^= key >> 33;
   key *= 0xff51afd7ed558ccdULL;
@@ -146,77 +165,81 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
   centroids->clear();
   if (voxel_of_point != nullptr) voxel_of_point->resize(points.size());
   if (points.empty()) return;
+  const size_t n = points.size();
+  // The working arrays of a 640x480 frame take megabytes: allocated anew each frame they would
+  // be faulted in (and zeroed) by the kernel each time, which costs more than the work. Each
+  // thread keeps its own, grown as needed; the hash table is left empty after every call.
+  thread_local VoxelScratch scratch;
+  std::vector<std::uint64_t>& keys = scratch.keys;
+  std::vector<std::int32_t>& run_of = scratch.run_of;
+  keys.resize(n);
+  run_of.resize(n);
 
-  // Open addressing, at most half full: the keys in one array (what a probe reads) and each
-  // key's voxel in another (read once the key matches). Sized for a quarter of the points as
-  // voxels (depth clouds have several points per voxel) and doubled when that is exceeded: a
-  // table sized for every point would not fit in the cache for a 640x480 frame and would cost
-  // more than it saves.
-  size_t capacity = 64;
-  while (capacity < points.size() / 2) capacity <<= 1;
-  size_t mask = capacity - 1;
-  std::vector<std::uint64_t> table(capacity, kEmpty);
-  std::vector<int> table_voxel(capacity);
-  std::vector<std::uint64_t> keys;  // of each voxel, to rehash.
-  std::vector<int> counts;
-  counts.reserve(points.size() / 4 + 16);
-  keys.reserve(points.size() / 4 + 16);
-  centroids->reserve(points.size() / 4 + 16);
-  auto find_slot = [&](std::uint64_t key) {
-    size_t slot = Mix(key) & mask;
-    while (table[slot] != kEmpty && table[slot] != key) slot = (slot + 1) & mask;
-    return slot;
-  };
+  // 1. Every point's key.
+  PackVoxelKeys(points.data(), n, 1.0f / leaf_m, keys.data());
 
-  const float inv_leaf = 1.0f / leaf_m;
-  // Every point's key first, so that the loop below can ask for the slot of a key kAhead points
-  // on while it works on this one: the probes of a 640x480 frame's table miss the cache.
-  std::vector<std::uint64_t> point_keys(points.size());
-  PackVoxelKeys(points.data(), points.size(), inv_leaf, point_keys.data());
-  constexpr size_t kAhead = 16;
-  // Depth-camera clouds come in scan order, so consecutive points often share a voxel: the
-  // last key is remembered to skip the table lookup.
-  std::uint64_t last_key = kEmpty;
-  int last_voxel = -1;
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3f& p = points[i];
-    const std::uint64_t key = point_keys[i];
-    if (i + kAhead < points.size()) {
-      __builtin_prefetch(&table[Mix(point_keys[i + kAhead]) & mask]);
-    }
-    int voxel = last_voxel;
-    if (key != last_key) {
-      const size_t slot = find_slot(key);
-      if (table[slot] == key) {
-        voxel = table_voxel[slot];
-      } else {
-        voxel = static_cast<int>(centroids->size());
-        table[slot] = key;
-        table_voxel[slot] = voxel;
-        centroids->push_back(Eigen::Vector3f::Zero());
-        counts.push_back(0);
-        keys.push_back(key);
-        if (2 * keys.size() > capacity) {
-          capacity <<= 1;
-          mask = capacity - 1;
-          table.assign(capacity, kEmpty);
-          table_voxel.resize(capacity);
-          for (size_t v = 0; v < keys.size(); ++v) {
-            const size_t to = find_slot(keys[v]);
-            table[to] = keys[v];
-            table_voxel[to] = static_cast<int>(v);
-          }
-        }
-      }
-      last_key = key;
-      last_voxel = voxel;
-    }
-    (*centroids)[voxel] += p;
-    ++counts[voxel];
-    if (voxel_of_point != nullptr) (*voxel_of_point)[i] = voxel;
+  // 2. Runs of consecutive points with one key (a depth camera's cloud comes in scan order, so
+  // neighbouring points often share a voxel): point i lies in run run_of[i], and keys[r] becomes
+  // run r's key (r <= i: written after it is read). Branch-free: whether a run ends is as good as
+  // random on a far scene.
+  size_t last = 0;
+  run_of[0] = 0;
+  std::uint64_t previous = keys[0];
+  for (size_t i = 1; i < n; ++i) {
+    const std::uint64_t key = keys[i];
+    last += key != previous ? 1 : 0;
+    keys[last] = key;
+    run_of[i] = static_cast<std::int32_t>(last);
+    previous = key;
   }
-  for (size_t v = 0; v < centroids->size(); ++v) {
-    (*centroids)[v] /= static_cast<float>(counts[v]);
+  const size_t runs = last + 1;
+
+  // 3. Each run's voxel, numbered as first met, from a hash table of the keys (open addressing,
+  // a slot holding its key and voxel: one cache line a probe). At least twice the runs, so at
+  // most half full whatever the voxels (no rehash); the probe for a run kAhead runs on is asked
+  // for early, as a 640x480 frame's table is larger than the cache.
+  size_t capacity = 64;
+  while (capacity < 2 * runs) capacity <<= 1;
+  const size_t mask = capacity - 1;
+  std::vector<VoxelScratch::Slot>& table = scratch.table;
+  if (table.size() < capacity) table.assign(capacity, VoxelScratch::Slot{kEmpty, 0});
+  std::vector<std::int32_t>& run_voxel = scratch.run_voxel;
+  std::vector<std::uint32_t>& slot_of_voxel = scratch.slot_of_voxel;
+  run_voxel.resize(runs);
+  slot_of_voxel.clear();
+  constexpr size_t kAhead = 12;
+  for (size_t r = 0; r < runs; ++r) {
+    if (r + kAhead < runs) __builtin_prefetch(&table[Mix(keys[r + kAhead]) & mask]);
+    const std::uint64_t key = keys[r];
+    size_t slot = Mix(key) & mask;
+    while (table[slot].key != kEmpty && table[slot].key != key) slot = (slot + 1) & mask;
+    if (table[slot].key == key) {
+      run_voxel[r] = table[slot].voxel;
+    } else {
+      run_voxel[r] = static_cast<std::int32_t>(slot_of_voxel.size());
+      table[slot] = VoxelScratch::Slot{key, run_voxel[r]};
+      slot_of_voxel.push_back(static_cast<std::uint32_t>(slot));
+    }
+  }
+  for (const std::uint32_t slot : slot_of_voxel) table[slot].key = kEmpty;
+
+  // 4. The sums, point by point in their order (so each centroid's floats add up as they always
+  // did), without a branch.
+  std::vector<VoxelScratch::Sum>& sums = scratch.sums;
+  sums.assign(slot_of_voxel.size(), VoxelScratch::Sum{0.0f, 0.0f, 0.0f, 0});
+  for (size_t i = 0; i < n; ++i) {
+    const std::int32_t v = run_voxel[static_cast<size_t>(run_of[i])];
+    VoxelScratch::Sum& s = sums[static_cast<size_t>(v)];
+    s.x += points[i].x();
+    s.y += points[i].y();
+    s.z += points[i].z();
+    ++s.count;
+    if (voxel_of_point != nullptr) (*voxel_of_point)[i] = v;
+  }
+  centroids->resize(sums.size());
+  for (size_t v = 0; v < sums.size(); ++v) {
+    const VoxelScratch::Sum& s = sums[v];
+    (*centroids)[v] = Eigen::Vector3f(s.x, s.y, s.z) / static_cast<float>(s.count);
   }
 }
 

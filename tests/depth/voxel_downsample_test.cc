@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <random>
+#include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -46,8 +47,38 @@ TEST(VoxelDownsampleTest, HandlesLargeExtentsAndEmptyInput) {
   EXPECT_EQ(centroids.size(), 2u);
 }
 
-// The reference: an ordered map from std::floor cell indices, centroids in first-seen order,
-// sums in point order (so the floats must agree exactly).
+// VoxelDownsample against the reference: an ordered map from std::floor cell indices, centroids
+// in first-seen order, sums in point order (so the floats must agree exactly).
+void ExpectEqualsReference(const std::vector<Eigen::Vector3f>& points, float leaf,
+                           const std::string& what) {
+  std::vector<Eigen::Vector3f> centroids;
+  std::vector<int> owner;
+  VoxelDownsample(points, leaf, &centroids, &owner);
+
+  std::map<std::tuple<long, long, long>, int> index;
+  std::vector<Eigen::Vector3f> sums;
+  std::vector<int> counts, expected_owner;
+  const float inv = 1.0f / leaf;
+  for (const Eigen::Vector3f& p : points) {
+    const auto key = std::make_tuple(static_cast<long>(std::floor(p.x() * inv)),
+                                     static_cast<long>(std::floor(p.y() * inv)),
+                                     static_cast<long>(std::floor(p.z() * inv)));
+    auto [it, inserted] = index.emplace(key, static_cast<int>(sums.size()));
+    if (inserted) {
+      sums.push_back(Eigen::Vector3f::Zero());
+      counts.push_back(0);
+    }
+    sums[it->second] += p;
+    ++counts[it->second];
+    expected_owner.push_back(it->second);
+  }
+  ASSERT_EQ(centroids.size(), sums.size()) << what;
+  EXPECT_EQ(owner, expected_owner) << what;
+  for (size_t v = 0; v < sums.size(); ++v) {
+    ASSERT_EQ(centroids[v], sums[v] / static_cast<float>(counts[v])) << what << ", voxel " << v;
+  }
+}
+
 TEST(VoxelDownsampleTest, EqualsAStraightforwardReferenceOnLargeClouds) {
   std::mt19937 rng(7);
   for (const int n : {10, 5000, 200000}) {
@@ -63,33 +94,29 @@ TEST(VoxelDownsampleTest, EqualsAStraightforwardReferenceOnLargeClouds) {
         points.emplace_back(u(rng), u(rng), 0.5f * u(rng));
       }
     }
-    const float leaf = 0.008f;
-    std::vector<Eigen::Vector3f> centroids;
-    std::vector<int> owner;
-    VoxelDownsample(points, leaf, &centroids, &owner);
+    ExpectEqualsReference(points, 0.008f, std::to_string(n) + " points");
+  }
+}
 
-    std::map<std::tuple<long, long, long>, int> index;
-    std::vector<Eigen::Vector3f> sums;
-    std::vector<int> counts, expected_owner;
-    const float inv = 1.0f / leaf;
-    for (const Eigen::Vector3f& p : points) {
-      const auto key = std::make_tuple(static_cast<long>(std::floor(p.x() * inv)),
-                                       static_cast<long>(std::floor(p.y() * inv)),
-                                       static_cast<long>(std::floor(p.z() * inv)));
-      auto [it, inserted] = index.emplace(key, static_cast<int>(sums.size()));
-      if (inserted) {
-        sums.push_back(Eigen::Vector3f::Zero());
-        counts.push_back(0);
+// Clouds in scan order, as a depth camera's come: rows of a surface whose neighbouring points
+// share a voxel in runs of one to several, and whose next row comes back to the voxels of the
+// last; with a gap (no points) now and then, and at two leaves.
+TEST(VoxelDownsampleTest, EqualsTheReferenceOnScanOrderedClouds) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> jitter(-0.0005f, 0.0005f);
+  std::uniform_real_distribution<float> step(0.002f, 0.012f);
+  for (const float leaf : {0.008f, 0.02f}) {
+    std::vector<Eigen::Vector3f> points;
+    for (int row = 0; row < 240; ++row) {
+      float x = -1.0f;
+      for (int col = 0; col < 320; ++col) {
+        x += step(rng);
+        if ((row * 7 + col) % 53 == 0) continue;  // a pixel without a return.
+        points.emplace_back(x + jitter(rng), 0.004f * row + jitter(rng),
+                            1.5f + 0.1f * std::sin(3.0f * x) + jitter(rng));
       }
-      sums[it->second] += p;
-      ++counts[it->second];
-      expected_owner.push_back(it->second);
     }
-    ASSERT_EQ(centroids.size(), sums.size()) << n << " points";
-    EXPECT_EQ(owner, expected_owner) << n << " points";
-    for (size_t v = 0; v < sums.size(); ++v) {
-      ASSERT_EQ(centroids[v], sums[v] / static_cast<float>(counts[v])) << "voxel " << v;
-    }
+    ExpectEqualsReference(points, leaf, "leaf " + std::to_string(leaf));
   }
 }
 
