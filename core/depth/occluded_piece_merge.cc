@@ -82,6 +82,9 @@ void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptio
   const std::vector<bool> involved = MayMerge(sensor, options, *clusters);
   if (std::none_of(involved.begin(), involved.end(), [](bool b) { return b; })) return;
   std::vector<Seen> seen;
+  size_t total = 0;
+  for (int c = 0; c < n; ++c) total += involved[c] ? (*clusters)[c].points.size() : 0;
+  seen.reserve(total);
   float nearest = std::numeric_limits<float>::max();
   for (int c = 0; c < n; ++c) {
     if (!involved[c]) continue;
