@@ -167,7 +167,7 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
   if (points.empty()) return;
   const size_t n = points.size();
   // The working arrays of a 640x480 frame take megabytes (about 7 MB for a room's 133 k band
-  // points, at most about 25 MB were all 307 200 points in the band): allocated anew each frame
+  // points, at most about 28 MB were all 307 200 points in the band): allocated anew each frame
   // they would be faulted in (and zeroed) by the kernel each time, which costs more than the
   // work. Each thread keeps its own, grown as needed (never shrunk); the hash table is left
   // empty after every call.
