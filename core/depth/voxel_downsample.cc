@@ -209,6 +209,9 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
   std::vector<std::uint32_t>& slot_of_voxel = scratch.slot_of_voxel;
   run_voxel.resize(runs);
   slot_of_voxel.clear();
+  // Room for every run, so that nothing below allocates (or throws) between filling a slot and
+  // recording it: the table must be left empty for the next call.
+  slot_of_voxel.reserve(runs);
   constexpr size_t kAhead = 12;
   for (size_t r = 0; r < runs; ++r) {
     if (r + kAhead < runs) __builtin_prefetch(&table[Mix(keys[r + kAhead]) & mask]);
