@@ -16,7 +16,9 @@ namespace hpose {
 // copy into a PCL cloud. All points must be finite.
 //
 // `voxel_of_point` (optional) receives, for every input point, the index of its centroid.
-// Runs in O(n) with a hash table of the voxels; `centroids` is cleared first.
+// Runs in O(n) with a hash table of the voxels; `centroids` is cleared first. Each calling
+// thread keeps its working arrays for its next call (grown as needed, never shrunk: about 7 MB
+// for a room seen by a 640x480 sensor, at most about 28 MB).
 void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
                      std::vector<Eigen::Vector3f>* centroids,
                      std::vector<int>* voxel_of_point = nullptr);
