@@ -120,12 +120,13 @@ struct Estimate {
   int cloud_points = 0;
   std::vector<ClusterSummary> clusters;
   std::vector<Candidate> candidates;  // every (cluster, template), best score first.
-  // One per searched cluster: the humanoids (is_humanoid) first, each part by score.
+  // One per searched cluster: the humanoids (is_humanoid) first, the one with the most evidence
+  // first (DetectionBefore), then the others by score.
   std::vector<Detection> detections;
   StageTimings timings;
   TrackingInfo tracking;
 
-  // Detections that pass the thresholds (is_humanoid), best score first.
+  // Detections that pass the thresholds (is_humanoid), in the order of `detections`.
   std::vector<Detection> Humanoids() const;
 };
 

@@ -14,6 +14,7 @@
 #include "core/common/task_pool.h"
 #include "core/depth/cloud_validation.h"
 #include "core/depth/floor_tracker.h"
+#include "core/search/detection_order.h"
 #include "core/search/exact_search.h"
 #include "core/search/free_space_grow.h"
 #include "core/search/prepared_cluster.h"
@@ -191,8 +192,8 @@ void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const Ref
 }
 
 // One detection per cluster: among its templates with a pose, the one whose pose the refined
-// evidence supports best (highest fit; the search score when not refined); humanoids first,
-// then by search score.
+// evidence supports best (highest fit; the search score when not refined); in the order of
+// DetectionBefore.
 std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
                                        const std::vector<double>& thresholds, double min_fit) {
   std::map<int, std::vector<const Candidate*>> by_cluster;
@@ -225,12 +226,9 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
     }
     out.push_back(d);
   }
-  // Humanoids first (a clutter cluster may outscore the humanoid and fail the fit), then by
-  // score.
-  std::stable_sort(out.begin(), out.end(), [](const Detection& a, const Detection& b) {
-    if (a.is_humanoid != b.is_humanoid) return a.is_humanoid;
-    return a.best.score > b.best.score;
-  });
+  // Humanoids first (a clutter cluster may outscore the humanoid and fail the fit), the one with
+  // the most evidence first (HumanoidEvidence: a high score alone may be a small object).
+  std::stable_sort(out.begin(), out.end(), DetectionBefore);
   return out;
 }
 
