@@ -44,81 +44,24 @@
 #include <cstdlib>
 #include <map>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include <Eigen/LU>
 
-#include "core/robot/joint_sets.h"
-#include "core/robot/urdf_robot.h"
+#include "bench/bench_bodies.h"
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
-#include "core/sim/humanoid_model.h"
-#include "core/sim/mesh_bvh.h"
-#include "core/sim/triangle_mesh.h"
 
 namespace {
 
 using namespace hpose;
 
-const char* const kShapes[] = {"standing", "right_arm_raised"};
-
-// A humanoid body: a parametric one (HumanoidDimensions::Variant) or a mesh robot from a URDF,
-// with its two shapes' templates made from its own model.
-struct Body {
-  std::string name;
-  std::string variant;                                 // parametric body; empty for a mesh.
-  std::vector<std::shared_ptr<const MeshBvh>> meshes;  // per shape, mesh robots only.
-  std::vector<VoxelTemplate> templates;                // per shape.
-};
-
-Body ParametricBody(const std::string& variant) {
-  Body b;
-  b.name = variant;
-  b.variant = variant;
-  const HumanoidDimensions dims = HumanoidDimensions::Variant(variant).value();
-  for (const char* shape : kShapes) {
-    const HumanoidModel model = HumanoidModel::FromPreset(shape, dims).value();
-    b.templates.push_back(MakeTemplateFromPoints(model.SampleSurface(0.004).value(), shape, 0.016,
-                                                 shape, "accuracy_bench " + variant)
-                              .value());
-  }
-  return b;
-}
-
-// The Darwin-OP of the shared data (its missing head mesh skipped, as `template from-urdf
-// --allow-missing` does), posed with the joint sets of docs/examples/darwin_op_joints.yaml.
-Result<Body> DarwinBody() {
-  UrdfLoadOptions load;
-  load.allow_missing = true;
-  Result<UrdfRobot> robot = UrdfRobot::Load(
-      std::string(HPOSE_SHARED_DATA_DIR) + "/darwin_op/robots/robotis_op.urdf", load);
-  if (!robot.ok()) return robot.error();
-  Result<std::vector<NamedJointSet>> sets =
-      LoadJointSetsFile(std::string(HPOSE_SOURCE_DIR) + "/docs/examples/darwin_op_joints.yaml");
-  if (!sets.ok()) return sets.error();
-  Body b;
-  b.name = "darwin_op";
-  for (const char* shape : kShapes) {
-    auto set = std::find_if(sets->begin(), sets->end(),
-                            [&](const NamedJointSet& n) { return n.name == shape; });
-    if (set == sets->end()) {
-      return MakeError(ErrorCode::kNotFound, std::string("no joint set '") + shape + "'");
-    }
-    Result<PosedRobot> posed = robot->Pose(set->joints);
-    if (!posed.ok()) return posed.error();
-    Result<std::shared_ptr<const MeshBvh>> bvh = MeshBvh::Build(posed->mesh);
-    if (!bvh.ok()) return bvh.error();
-    b.meshes.push_back(*bvh);
-    Result<VoxelTemplate> tpl =
-        MakeMeshTemplate(posed->mesh, shape, 0.016, shape, "accuracy_bench darwin_op");
-    if (!tpl.ok()) return tpl.error();
-    b.templates.push_back(*tpl);
-  }
-  return b;
-}
+using bench::Body;
+using bench::kShapes;
+using bench::ParametricBody;
+using bench::ParseNames;
 
 struct Mount {
   const char* name;
@@ -340,14 +283,6 @@ double Mean(const std::vector<double>& v) {
   return v.empty() ? NAN : s / v.size();
 }
 
-std::vector<std::string> ParseNames(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) out.push_back(item);
-  return out;
-}
-
 std::vector<double> ParseList(const std::string& s) {
   std::vector<double> out;
   for (const std::string& item : ParseNames(s)) out.push_back(std::atof(item.c_str()));
@@ -498,7 +433,7 @@ int main(int argc, char** argv) {
     bodies.push_back(ParametricBody("tall"));
   }
   if (wanted("darwin_op")) {
-    Result<Body> darwin = DarwinBody();
+    Result<Body> darwin = bench::DarwinBody(HPOSE_SHARED_DATA_DIR, HPOSE_SOURCE_DIR);
     if (darwin.ok()) {
       bodies.push_back(*darwin);
     } else {

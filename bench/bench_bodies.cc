@@ -1,0 +1,75 @@
+#include "bench/bench_bodies.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "core/robot/joint_sets.h"
+#include "core/robot/urdf_robot.h"
+#include "core/sim/humanoid_model.h"
+#include "core/sim/triangle_mesh.h"
+
+namespace hpose::bench {
+
+const char* const kShapes[2] = {"standing", "right_arm_raised"};
+
+Body ParametricBody(const std::string& variant) {
+  Body b;
+  b.name = variant;
+  b.variant = variant;
+  const HumanoidDimensions dims = HumanoidDimensions::Variant(variant).value();
+  for (const char* shape : kShapes) {
+    const HumanoidModel model = HumanoidModel::FromPreset(shape, dims).value();
+    b.templates.push_back(MakeTemplateFromPoints(model.SampleSurface(0.004).value(), shape, 0.016,
+                                                 shape, "bench " + variant)
+                              .value());
+  }
+  return b;
+}
+
+Result<Body> DarwinBody(const std::string& shared_data_dir, const std::string& source_dir) {
+  UrdfLoadOptions load;
+  load.allow_missing = true;
+  Result<UrdfRobot> robot =
+      UrdfRobot::Load(shared_data_dir + "/darwin_op/robots/robotis_op.urdf", load);
+  if (!robot.ok()) return robot.error();
+  Result<std::vector<NamedJointSet>> sets =
+      LoadJointSetsFile(source_dir + "/docs/examples/darwin_op_joints.yaml");
+  if (!sets.ok()) return sets.error();
+  Body b;
+  b.name = "darwin_op";
+  for (const char* shape : kShapes) {
+    auto set = std::find_if(sets->begin(), sets->end(),
+                            [&](const NamedJointSet& n) { return n.name == shape; });
+    if (set == sets->end()) {
+      return MakeError(ErrorCode::kNotFound, std::string("no joint set '") + shape + "'");
+    }
+    Result<PosedRobot> posed = robot->Pose(set->joints);
+    if (!posed.ok()) return posed.error();
+    Result<std::shared_ptr<const MeshBvh>> bvh = MeshBvh::Build(posed->mesh);
+    if (!bvh.ok()) return bvh.error();
+    b.meshes.push_back(*bvh);
+    Result<VoxelTemplate> tpl =
+        MakeMeshTemplate(posed->mesh, shape, 0.016, shape, "bench darwin_op");
+    if (!tpl.ok()) return tpl.error();
+    b.templates.push_back(*tpl);
+  }
+  return b;
+}
+
+Result<Body> BodyByName(const std::string& name, const std::string& shared_data_dir,
+                        const std::string& source_dir) {
+  if (name == "darwin_op") return DarwinBody(shared_data_dir, source_dir);
+  if (!HumanoidDimensions::Variant(name).ok()) {
+    return MakeError(ErrorCode::kNotFound, "unknown body '" + name + "'");
+  }
+  return ParametricBody(name);
+}
+
+std::vector<std::string> ParseNames(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream ss(list);
+  for (std::string item; std::getline(ss, item, ',');) out.push_back(item);
+  return out;
+}
+
+}  // namespace hpose::bench
