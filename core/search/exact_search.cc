@@ -320,11 +320,15 @@ class BranchAndBound {
   // After Next() stopped below min_value: the best pose whose exact value was computed, or
   // (when none was) the pose reached by following the highest child bound down from the best
   // remaining node, evaluated exactly. Always a real pose of the lattice with its exact value.
+  // The nodes it takes from the queue go back to it afterwards (their subtrees bounded again
+  // when expanded), so that the search can still be lowered.
   BranchAndBoundResult BestEvaluated() {
     if (best_exact_.found) return best_exact_;
     defer_below_ = std::numeric_limits<int>::min();  // nothing is deferred from here on.
     MergeDeferredIfNeeded();
+    std::vector<PackedNode> taken;
     while (!best_exact_.found && !Empty()) {
+      taken.push_back(Top());
       Node n = Unpack(Top());
       Pop();
       if (!AnyAllowed(n.itheta, n.tlevel)) continue;
@@ -336,7 +340,16 @@ class BranchAndBound {
                               [](const Node& x, const Node& y) { return x.value < y.value; });
       }
     }
+    for (const PackedNode& p : taken) queue_.push(p);
     return best_exact_;
+  }
+
+  // After Next() stopped below min_value: goes on down to a lower `min_value`, from the node it
+  // stopped at and the rest of the queue.
+  void Lower(int min_value) {
+    min_value_ = min_value;
+    if (has_stopped_) Enqueue(stopped_);
+    has_stopped_ = false;
   }
 
   void set_allowed(std::vector<bool> allowed) {
@@ -362,6 +375,8 @@ class BranchAndBound {
         }
       }
       if (n.value < min_value_) {  // the best that remains cannot reach min_value.
+        stopped_ = n;
+        has_stopped_ = true;
         out.below_min = true;
         out.upper_bound = n.value;
         return out;
@@ -553,7 +568,9 @@ class BranchAndBound {
   const Evaluator& eval_;
   const TemplateRotations& rotations_;
   const ExactSearch::Region region_;
-  const int min_value_;
+  int min_value_;
+  Node stopped_{};  // the node Next() stopped at (has_stopped_), for Lower.
+  bool has_stopped_ = false;
   SearchResult* counters_;
   const int steps_;
   std::vector<bool> allowed_;
@@ -783,6 +800,31 @@ class ExactRunnerUp final : public RunnerUpSearch {
     bnb.reset();  // its queue back to the pool.
   }
 
+  // The branch and bound's next optimum into `result` (its counts added): the pose, or the
+  // stop below min_value with the best pose evaluated. False when there is neither.
+  bool Next(SearchResult* result) {
+    const auto take_counts = [&] {
+      result->poses_evaluated += counters.poses_evaluated;
+      result->bounds_evaluated += counters.bounds_evaluated;
+      counters = SearchResult();
+    };
+    const BranchAndBoundResult best = bnb->Next();
+    take_counts();
+    if (best.below_min) {
+      result->below_min_value = true;
+      result->value_upper_bound = best.upper_bound;
+      result->score_upper_bound = 100.0 * best.upper_bound / n_weighted_;
+      const BranchAndBoundResult found = bnb->BestEvaluated();
+      take_counts();
+      if (found.found) SetPose(found, *eval, lattice_, n, n_weighted_, result);
+      return true;
+    }
+    if (!best.found) return false;
+    SetPose(best, *eval, lattice_, n, n_weighted_, result);
+    best_itheta = best.best.itheta;
+    return true;
+  }
+
   // What the search made for itself: grids (the cluster's when not shared), the evaluator that
   // reads them, and the branch and bound over them (in this order: each reads the one before).
   std::vector<std::unique_ptr<ColumnOccupancy>> own;
@@ -790,10 +832,36 @@ class ExactRunnerUp final : public RunnerUpSearch {
   SearchResult counters;  // the branch and bound's counts.
   std::unique_ptr<BranchAndBound> bnb;
   int best_itheta = 0;
+  int n = 0;  // cluster voxels.
 
  private:
   const PoseLattice& lattice_;
   const int n_weighted_;
+};
+
+// A search stopped below its min_value, with its queue: lowered, the same branch and bound goes
+// on from where it stopped.
+class ExactStopped final : public StoppedSearch {
+ public:
+  ExactStopped(std::unique_ptr<ExactRunnerUp> state, const SearchResult& first)
+      : state_(std::move(state)), first_(first) {}
+
+  std::unique_ptr<RunnerUpSearch> Lower(int min_value, SearchResult* result) override {
+    *result = SearchResult();
+    result->incumbent_used = first_.incumbent_used;
+    result->incumbent_value = first_.incumbent_value;
+    result->poses_evaluated = first_.poses_evaluated;
+    result->bounds_evaluated = first_.bounds_evaluated;
+    if (state_ == nullptr) return nullptr;
+    std::unique_ptr<ExactRunnerUp> state = std::move(state_);
+    state->bnb->Lower(min_value);
+    if (!state->Next(result) || result->below_min_value) return nullptr;
+    return state;
+  }
+
+ private:
+  std::unique_ptr<ExactRunnerUp> state_;
+  SearchResult first_;
 };
 
 }  // namespace
@@ -805,8 +873,9 @@ SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   return result;
 }
 
-std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(const SearchProblem& problem,
-                                                        SearchResult* out) const {
+std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(
+    const SearchProblem& problem, SearchResult* out,
+    std::unique_ptr<StoppedSearch>* stopped) const {
   SearchResult& result = *out;
   result = SearchResult();
   const ClusterVoxels& cluster = *problem.cluster;
@@ -885,26 +954,12 @@ std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(const SearchProblem& pro
   state->bnb = std::make_unique<BranchAndBound>(
       &eval, rotations, region, top, options_.top_theta_level, problem.min_value, defer_below,
       options_.theta_split_lead, options_.theta_split_ratio, &state->counters);
-  BranchAndBound& bnb = *state->bnb;
-  const auto take_counts = [&] {
-    result.poses_evaluated += state->counters.poses_evaluated;
-    result.bounds_evaluated += state->counters.bounds_evaluated;
-    state->counters = SearchResult();
-  };
-  const BranchAndBoundResult best = bnb.Next();
-  take_counts();
-  if (best.below_min) {
-    result.below_min_value = true;
-    result.value_upper_bound = best.upper_bound;
-    result.score_upper_bound = 100.0 * best.upper_bound / n_weighted;
-    const BranchAndBoundResult found = bnb.BestEvaluated();
-    take_counts();
-    if (found.found) SetPose(found, eval, lattice, n, n_weighted, &result);
+  state->n = n;
+  if (!state->Next(&result)) return nullptr;
+  if (result.below_min_value) {
+    if (stopped != nullptr) *stopped = std::make_unique<ExactStopped>(std::move(state), result);
     return nullptr;
   }
-  if (!best.found) return nullptr;
-  SetPose(best, eval, lattice, n, n_weighted, &result);
-  state->best_itheta = best.best.itheta;
   return state;
 }
 

@@ -81,9 +81,12 @@ class ExactSearch final : public PoseSearch {
   explicit ExactSearch(ExactSearchOptions options = {}) : options_(options) {}
   SearchResult Search(const SearchProblem& problem) const override;
   // The runner-up's search continues from the optimum's queue (every bound computed for the
-  // optimum serves it): the same runner-up as Search's.
-  std::unique_ptr<RunnerUpSearch> SearchBest(const SearchProblem& problem,
-                                             SearchResult* result) const override;
+  // optimum serves it): the same runner-up as Search's. A search stopped below min_value keeps
+  // its queue in `stopped` when given; lowered, it gives what a search down to the lower value
+  // gives, bounding only what the first part had not.
+  std::unique_ptr<RunnerUpSearch> SearchBest(
+      const SearchProblem& problem, SearchResult* result,
+      std::unique_ptr<StoppedSearch>* stopped = nullptr) const override;
   double OriginMargin(const TemplateRotations& rotations) const override;
   // The cluster's occupancy grid and its free space's, with the levels and extent every given
   // template's search reads (null when the templates' z layouts differ or the grids would not

@@ -71,9 +71,12 @@ class PoseSearch {
   virtual SearchResult Search(const SearchProblem& problem) const = 0;
   // Search's optimum alone, into `result`, and what finding its runner-up takes, for a caller
   // that may not need it (null: `result` holds the runner-up already, or there is none to
-  // find). By default Search, whole.
-  virtual std::unique_ptr<RunnerUpSearch> SearchBest(const SearchProblem& problem,
-                                                     SearchResult* result) const {
+  // find). When the search stops below problem.min_value and `stopped` is given, it may keep
+  // what it bounded there, to go on to a lower value (left null: search again). By default
+  // Search, whole.
+  virtual std::unique_ptr<RunnerUpSearch> SearchBest(
+      const SearchProblem& problem, SearchResult* result,
+      std::unique_ptr<StoppedSearch>* /*stopped*/ = nullptr) const {
     *result = Search(problem);
     return nullptr;
   }

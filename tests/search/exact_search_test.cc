@@ -668,6 +668,77 @@ TEST(ExactSearchTest, RunnerUpFoundLaterEqualsOneSearch) {
   }
 }
 
+// A search stopped below a min_value and lowered (SearchBest's StoppedSearch) gives what one
+// search down to the lower value gives: the same optimum, pose and runner-up, or the same stop
+// when the lower value is still above the optimum. Stopped at once (no pose evaluated yet, the
+// best evaluated found by descending) or after some work, lowered once or after a second stop.
+TEST(ExactSearchTest, LoweredStoppedSearchEqualsOneStraightDown) {
+  std::mt19937 rng(17);
+  PoseLattice lattice;
+  lattice.angle_steps = 24;
+  ExactSearchOptions opts;
+  opts.margin_m = 0.08;
+  const ExactSearch search(opts);
+  int lowered_to_optimum = 0;
+  for (unsigned k = 0; k < 4; ++k) {
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(500 + k), "t", lattice.resolution_m);
+    const Pose2D truth{1.1, 0.1, DegToRad(-100.0 + 60.0 * k)};
+    const ClusterVoxels cluster = VoxeliseCluster(
+        testing::VisibleCluster(testing::RandomRobotPoints(500 + k), truth, 0.004f, k),
+        lattice.resolution_m);
+    ASSERT_FALSE(cluster.cells.empty()) << "scene " << k;
+    const ClusterVoxels free = RandomFreeCells(cluster, 2000, 40, &rng);
+    const TemplateRotations rot(tpl, lattice);
+    const FastScorer scorer(cluster, lattice);
+    SearchProblem problem{&cluster, &scorer, &rot, {truth.x, truth.y}};
+    problem.free_space = &free;
+    problem.hit_weight = 2;
+    const int optimum = search.Search(problem).value;
+    // min_values: far above (stopped at once), just above the optimum, then lowered.
+    const std::vector<std::pair<int, int>> steps = {{10 * optimum + 100, optimum - 5},
+                                                    {optimum + 1, optimum - 5},
+                                                    {optimum + 1, optimum},
+                                                    {optimum + 3, optimum + 1}};
+    for (const auto& [high, low] : steps) {
+      SCOPED_TRACE(::testing::Message() << "scene " << k << ", " << high << " -> " << low);
+      SearchProblem first = problem;
+      first.min_value = high;
+      SearchResult r;
+      std::unique_ptr<StoppedSearch> stopped;
+      EXPECT_EQ(search.SearchBest(first, &r, &stopped), nullptr);
+      ASSERT_TRUE(r.below_min_value);
+      ASSERT_NE(stopped, nullptr);
+      SearchResult lowered;
+      std::unique_ptr<RunnerUpSearch> runner_up = stopped->Lower(low, &lowered);
+      SearchProblem straight = problem;
+      straight.min_value = low;
+      const SearchResult direct = search.Search(straight);
+      EXPECT_EQ(lowered.below_min_value, direct.below_min_value);
+      if (direct.below_min_value) {
+        EXPECT_EQ(runner_up, nullptr);
+        EXPECT_LT(lowered.value_upper_bound, low);
+        EXPECT_LE(lowered.value, optimum);  // a real pose's value, not the optimum's bound.
+        EXPECT_GE(lowered.value_upper_bound, optimum);
+        continue;
+      }
+      ++lowered_to_optimum;
+      ASSERT_NE(runner_up, nullptr);
+      runner_up->Find(&lowered);
+      EXPECT_EQ(lowered.value, optimum);
+      EXPECT_EQ(lowered.value, direct.value);
+      EXPECT_EQ(lowered.best.itheta, direct.best.itheta);
+      EXPECT_EQ(lowered.best.ix, direct.best.ix);
+      EXPECT_EQ(lowered.best.iy, direct.best.iy);
+      EXPECT_EQ(lowered.has_runner_up, direct.has_runner_up);
+      EXPECT_EQ(lowered.runner_up_score, direct.runner_up_score);
+      EXPECT_EQ(lowered.runner_up_pose.theta, direct.runner_up_pose.theta);
+      EXPECT_GE(lowered.bounds_evaluated, r.bounds_evaluated);  // both parts counted.
+    }
+  }
+  EXPECT_EQ(lowered_to_optimum, 12);
+}
+
 // With free-space evidence the value is hits - w * free hits; still equal to brute force.
 TEST(ExactSearchTest, WithFreeSpaceEqualsExhaustiveSearch) {
   std::mt19937 rng(11);
