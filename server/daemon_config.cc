@@ -243,6 +243,9 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("score_threshold", &e.score_threshold));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_humanoid_fit", &e.min_humanoid_fit));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("tracked_score_threshold", &e.tracked_score_threshold));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("far_range_m", &e.far_range_m));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("far_score_ratio", &e.far_score_ratio));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("far_min_evidence", &e.far_min_evidence));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("max_height_ratio_error", &e.max_height_ratio_error));
     // 0: the templates' own edge (coarser for a tall body), EstimatorOptions::
     // resolution_from_templates.
@@ -465,6 +468,15 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
         c.estimator.tracked_score_threshold <= 100.0)) {
     return fail("search.tracked_score_threshold", "must be in [0, 100]");
   }
+  if (!(c.estimator.far_range_m >= 0.0)) {
+    return fail("search.far_range_m", "must be at least 0 metres (.inf: no far clusters)");
+  }
+  if (!(c.estimator.far_score_ratio >= 0.0 && c.estimator.far_score_ratio <= 1.0)) {
+    return fail("search.far_score_ratio", "must be in [0, 1] (1: one threshold at every range)");
+  }
+  if (!(c.estimator.far_min_evidence >= 0.0 && c.estimator.far_min_evidence <= 1.0)) {
+    return fail("search.far_min_evidence", "must be in [0, 1]");
+  }
   if (!c.floor.fixed) {
     const FloorFitterOptions& fit = c.estimator.floor_fit;
     if (!(fit.distance_threshold_m > 0.0 && std::isfinite(fit.distance_threshold_m))) {
@@ -565,6 +577,9 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "score_threshold" << YAML::Value << e.score_threshold;
   out << YAML::Key << "min_humanoid_fit" << YAML::Value << e.min_humanoid_fit;
   out << YAML::Key << "tracked_score_threshold" << YAML::Value << e.tracked_score_threshold;
+  out << YAML::Key << "far_range_m" << YAML::Value << e.far_range_m;
+  out << YAML::Key << "far_score_ratio" << YAML::Value << e.far_score_ratio;
+  out << YAML::Key << "far_min_evidence" << YAML::Value << e.far_min_evidence;
   out << YAML::Key << "max_height_ratio_error" << YAML::Value << e.max_height_ratio_error;
   out << YAML::Key << "resolution_m" << YAML::Value
       << (e.resolution_from_templates ? 0.0 : e.lattice.resolution_m);

@@ -173,7 +173,7 @@ int RunEstimate(int argc, char** argv) {
   }
   if (!estimate.ok()) return ReportError(cmd, estimate.error());
   if (!f.json) {
-    std::cout << EstimateToText(*estimate);
+    std::cout << EstimateToText(*estimate, &f.options);
   }
   if (!f.picture.empty()) {
     Status st = WriteMatchPicture(*estimate, *templates, cloud, f.picture);

@@ -55,6 +55,12 @@ FlagParser EstimateFlags::Parser() {
                   "refined fit (0-100) a cluster's pose also needs to count as the humanoid: the "
                   "share of its points on the template times the share of the template not seen "
                   "through (0: the score alone)");
+  flags.AddDouble("far-ratio", &options.far_score_ratio,
+                  "when nothing passes --threshold, a cluster 2.5 m or more from the sensor "
+                  "(where depth noise lowers a humanoid's score) passes from this share of it, "
+                  "if its pose covers enough of the template, fitting well (0-1; 1: one "
+                  "threshold at every range)",
+                  "R");
   flags.AddInt("stride", &stride,
                "use every N-th depth pixel (2: 640x480 -> 320x240 like the paper)");
   flags.AddDouble("floor-height", &floor_height,

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/search/detection_order.h"
 #include "core/search/estimator.h"
 
 namespace hpose::tools {
@@ -18,7 +19,7 @@ std::string Fmt(const char* fmt, double a) {
 
 }  // namespace
 
-std::string EstimateToText(const Estimate& e) {
+std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
   std::ostringstream os;
   const FloorEstimate& f = e.floor;
   os << "floor     sensor " << Fmt("%.3f", f.height_m) << " m above it, pitch "
@@ -45,16 +46,25 @@ std::string EstimateToText(const Estimate& e) {
       } else if (low_score) {
         os << "score " << Fmt("%.1f", c.score) << ", below " << Fmt("%.0f", d.score_threshold)
            << ")\n";
+      } else if (options != nullptr && c.refined && c.fit.fit >= options->min_humanoid_fit &&
+                 c.score < options->score_threshold) {
+        os << "score " << Fmt("%.1f", c.score) << " and a refined fit of " << Fmt("%.1f", c.fit.fit)
+           << ", but it covers " << Fmt("%.3f", HumanoidEvidenceShare(c))
+           << " of the template (by the fit^8), below the "
+           << Fmt("%.2f", options->far_min_evidence) << " a far cluster under score "
+           << Fmt("%.0f", options->score_threshold) << " needs)\n";
       } else {
         os << "score " << Fmt("%.1f", c.score) << " but a refined fit of " << Fmt("%.1f", c.fit.fit)
            << ", below the fit threshold: --min-fit)\n";
       }
       if (low_score && distance >= 2.5) {
-        os << "          far humanoids score less (depth noise thickens them): over a stream "
-              "(hposed,\n"
-              "          hpose replay) one found nearer stays found as it walks away; "
-              "--threshold lowers\n"
-              "          the bar for this frame (clutter may then pass too)\n";
+        os << "          far humanoids score less (depth noise thickens them): when nothing "
+              "passes, a cluster\n"
+              "          2.5 m away or more passes from a lower score on strong evidence "
+              "(--far-ratio); over\n"
+              "          a stream (hposed, hpose replay) one found nearer stays found as it "
+              "walks away;\n"
+              "          --threshold lowers the bar for this frame (clutter may then pass too)\n";
       }
     } else {
       os << "\n";

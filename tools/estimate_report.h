@@ -7,13 +7,15 @@
 
 namespace hpose {
 class Estimator;
+struct EstimatorOptions;
 }  // namespace hpose
 
 namespace hpose::tools {
 
 // A few lines for people: the floor, the humanoid(s) with pose in m and degrees, the runner-up,
-// the other candidates and the stage timings.
-std::string EstimateToText(const Estimate& estimate);
+// the other candidates and the stage timings. With the estimator's options, a frame without a
+// humanoid also says which of them refused the nearest miss.
+std::string EstimateToText(const Estimate& estimate, const EstimatorOptions* options = nullptr);
 
 // A sentence for a note when templates are searched on coarser voxels than they were made
 // with (a tall body, EstimatorOptions::max_height_voxels, or the search's edge set coarser);

@@ -9,6 +9,10 @@ double HumanoidEvidence(const Candidate& c) {
   return c.hits * (f4 * f4);
 }
 
+double HumanoidEvidenceShare(const Candidate& c) {
+  return c.template_voxels > 0 ? HumanoidEvidence(c) / c.template_voxels : 0.0;
+}
+
 bool DetectionBefore(const Detection& a, const Detection& b) {
   if (a.is_humanoid != b.is_humanoid) return a.is_humanoid;
   if (a.is_humanoid) {

@@ -16,6 +16,12 @@ namespace hpose {
 // docs/BENCHMARKS.md). 0 when not refined.
 double HumanoidEvidence(const Candidate& c);
 
+// HumanoidEvidence over the template's voxels (Candidate::template_voxels): the share of the
+// template its pose covers, weighed by the fit, comparable between bodies and voxel edges. What a
+// far cluster that passes only by EstimatorOptions::far_score_ratio must reach. 0 when not
+// refined or the template's size is unknown.
+double HumanoidEvidenceShare(const Candidate& c);
+
 // Whether `a` goes before `b` in Estimate::detections: humanoids (is_humanoid) first; among
 // them the refined ones, by HumanoidEvidence, then by search score (unrefined); the others by
 // search score. A strict weak order (for std::stable_sort).

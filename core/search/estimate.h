@@ -43,6 +43,7 @@ struct Candidate {
   double score_upper_bound = 0.0;
   int hits = 0;
   int cluster_voxels = 0;
+  int template_voxels = 0;  // voxels of the template as searched (its lattice's voxel edge).
   // The best pose with theta more than 30 deg away; not searched for when the template's refined
   // fit is far behind another's on the cluster (RefineOptions::runner_up_fit_sigmas,
   // search_far_behind_runner_up).

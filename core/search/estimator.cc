@@ -195,7 +195,8 @@ void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const Ref
 // evidence supports best (highest fit; the search score when not refined); in the order of
 // DetectionBefore.
 std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
-                                       const std::vector<double>& thresholds, double min_fit) {
+                                       const std::vector<double>& thresholds,
+                                       const std::vector<char>& far, const EstimatorOptions& o) {
   std::map<int, std::vector<const Candidate*>> by_cluster;
   for (const Candidate& c : candidates) by_cluster[c.cluster_index].push_back(&c);
   std::vector<Detection> out;
@@ -211,7 +212,12 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
     d.best = *cands.front();
     d.score_threshold = thresholds[cluster];
     d.is_humanoid = !d.best.stopped_below_threshold && d.best.score >= d.score_threshold &&
-                    (!d.best.refined || d.best.fit.fit >= min_fit);
+                    (!d.best.refined || d.best.fit.fit >= o.min_humanoid_fit);
+    // A far cluster below the full threshold passes on strong refined evidence only.
+    if (far[cluster] && d.best.score < o.score_threshold &&
+        HumanoidEvidenceShare(d.best) < o.far_min_evidence) {
+      d.is_humanoid = false;
+    }
     if (cands.size() > 1) {
       const Candidate& second = *cands[1];
       d.second_template = second.template_name;
@@ -445,6 +451,16 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
     return MakeError(ErrorCode::kInvalidArgument,
                      "tracked_score_threshold must be within [0, 100]");
   }
+  if (!(options.far_range_m >= 0.0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "far_range_m must be at least 0 (metres; infinity: no far clusters)");
+  }
+  if (!(options.far_score_ratio >= 0.0 && options.far_score_ratio <= 1.0)) {
+    return MakeError(ErrorCode::kInvalidArgument, "far_score_ratio must be within [0, 1]");
+  }
+  if (!(options.far_min_evidence >= 0.0 && options.far_min_evidence <= 1.0)) {
+    return MakeError(ErrorCode::kInvalidArgument, "far_min_evidence must be within [0, 1]");
+  }
   std::unique_ptr<Estimator> e(
       new Estimator(std::move(options), std::move(templates), std::move(searched), shared));
   if (e->search_ == nullptr) {
@@ -547,7 +563,10 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     int tpl = 0;
     double threshold = 0.0;  // the score threshold it is searched down to.
     bool kept = false;       // passed the voxel-count bound.
-    bool seeded = false;     // the prior pose lay in its search region.
+    bool far = false;        // a far cluster's (EstimatorOptions::far_range_m), not the held one.
+    // A far task's search that stopped below score_threshold, kept to go on below it.
+    std::unique_ptr<StoppedSearch> stopped;
+    bool seeded = false;  // the prior pose lay in its search region.
     Candidate cand;
     bool has_prior = false;  // the previous frame's pose stood on this cluster.
     double prior_theta = 0.0;
@@ -616,6 +635,45 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     }
   });
 
+  // The refinement of a task's optimum.
+  const auto refine_task = [&](Task& task) {
+    const Cluster& c = (*clusters)[task.cluster];
+    ClusterWork& w = work[task.cluster];
+    const Clock::time_point t_refine = Clock::now();
+    std::call_once(w.prepare_once,
+                   [&] { w.prepared.emplace(c.points, sensor_from_ground, options_.refine); });
+    RefineBest(*surfaces_[task.tpl],
+               Observation{&c.points, &range, sensor_from_ground, &*w.prepared}, options_.refine,
+               &task.cand);
+    task.refine_ms = MsSince(t_refine);
+  };
+  // The task's candidate from its search's result, refined when the search did not stop.
+  const auto finish_task = [&](Task& task, const SearchResult& r) {
+    task.seeded = r.incumbent_used;
+    Candidate& cand = task.cand;
+    cand.template_name = rotations_[task.tpl]->name();
+    cand.cluster_index = task.cluster;
+    cand.pose = r.pose;
+    cand.lattice_pose = r.pose;
+    cand.score = r.score;
+    cand.coverage = r.coverage;
+    cand.stopped_below_threshold = r.below_min_value;
+    cand.score_upper_bound = r.below_min_value ? r.score_upper_bound : r.score;
+    cand.free_space_hits = r.free_hits;
+    cand.hits = r.hits;
+    cand.cluster_voxels = work[task.cluster].n;
+    cand.template_voxels = static_cast<int>(searched_[task.tpl].voxels.size());
+    cand.has_runner_up = r.has_runner_up;
+    cand.runner_up_pose = r.runner_up_pose;
+    cand.runner_up_score = r.runner_up_score;
+    cand.poses_evaluated = r.poses_evaluated;
+    cand.bounds_evaluated = r.bounds_evaluated;
+    if (refine && !r.below_min_value) refine_task(task);
+  };
+  // A score threshold as the search's min_value on a cluster of n voxels.
+  const auto min_value_of = [&](double threshold, int n) {
+    return static_cast<int>(std::ceil(threshold * options_.hit_weight * n / 100.0 - 1e-9));
+  };
   // Every (cluster, template) search and its refinement, one per thread; each task has its own
   // scorer (scorers keep scratch space).
   const auto search_task = [&](Task& task) {
@@ -642,61 +700,38 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     problem.grids = w.grids.get();
     problem.free_space_weight = options_.free_space_weight;
     problem.hit_weight = options_.hit_weight;
-    if (options_.stop_below_threshold) {
-      problem.min_value =
-          static_cast<int>(std::ceil(threshold * options_.hit_weight * n / 100.0 - 1e-9));
-    }
+    if (options_.stop_below_threshold) problem.min_value = min_value_of(threshold, n);
     // The prior pose seeds the search of the cluster it stands on (within a hand of its
     // footprint), for every template: the bodies differ little.
     LatticePose incumbent;
-    const double* prior_theta = nullptr;
     if (prior != nullptr && prior->has_pose && StandsOn(c, prior->pose)) {
       incumbent = NearestLatticePose(options_.lattice, prior->pose);
       problem.incumbent = &incumbent;
-      prior_theta = &prior->pose.theta;
+      task.has_prior = true;
+      task.prior_theta = prior->pose.theta;
     }
     SearchResult r;
-    if (defer_runner_ups) {
-      task.runner_up = search_->SearchBest(problem, &r);
-    } else {
-      r = search_->Search(problem);
+    task.runner_up = search_->SearchBest(problem, &r, task.far ? &task.stopped : nullptr);
+    if (!defer_runner_ups && task.runner_up != nullptr) {
+      task.runner_up->Find(&r);
+      task.runner_up.reset();
     }
-    task.seeded = r.incumbent_used;
-    Candidate& cand = task.cand;
-    cand.template_name = rot.name();
-    cand.cluster_index = task.cluster;
-    cand.pose = r.pose;
-    cand.lattice_pose = r.pose;
-    cand.score = r.score;
-    cand.coverage = r.coverage;
-    cand.stopped_below_threshold = r.below_min_value;
-    cand.score_upper_bound = r.below_min_value ? r.score_upper_bound : r.score;
-    cand.free_space_hits = r.free_hits;
-    cand.hits = r.hits;
-    cand.cluster_voxels = n;
-    cand.has_runner_up = r.has_runner_up;
-    cand.runner_up_pose = r.runner_up_pose;
-    cand.runner_up_score = r.runner_up_score;
-    cand.poses_evaluated = r.poses_evaluated;
-    cand.bounds_evaluated = r.bounds_evaluated;
-    if (refine && !r.below_min_value) {
-      const Clock::time_point t_refine = Clock::now();
-      std::call_once(w.prepare_once,
-                     [&] { w.prepared.emplace(c.points, sensor_from_ground, options_.refine); });
-      RefineBest(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground, &*w.prepared},
-                 options_.refine, &cand);
-      task.refine_ms = MsSince(t_refine);
-    }
-    if (prior_theta != nullptr) {
-      task.has_prior = true;
-      task.prior_theta = *prior_theta;
-    }
+    finish_task(task, r);
   };
   // A prior that passed by the lower threshold itself: its cluster goes straight down to it.
   if (held_cluster >= 0 && prior->score < options_.score_threshold) {
     thresholds[held_cluster] = tracked_threshold;
   }
-  for (Task& task : tasks) task.threshold = thresholds[task.cluster];
+  // Far clusters other than the held one (EstimatorOptions::far_range_m) keep their stopped
+  // searches, to go on below score_threshold if nothing passes it.
+  const double far_threshold = options_.far_score_ratio * options_.score_threshold;
+  const Eigen::Vector3d sensor_in_ground(0.0, 0.0, est.floor.height_m);
+  for (Task& task : tasks) {
+    task.threshold = thresholds[task.cluster];
+    task.far = refine && task.cluster != held_cluster && far_threshold < task.threshold &&
+               ((*clusters)[task.cluster].centroid.cast<double>() - sensor_in_ground).norm() >=
+                   options_.far_range_m;
+  }
   pool_->ParallelFor(static_cast<int>(tasks.size()), [&](int k) { search_task(tasks[k]); });
   // Hysteresis: when none of the held cluster's templates reached score_threshold, those whose
   // search stopped below it or that its voxel count ruled out are searched again down to
@@ -724,6 +759,54 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
       });
     }
   }
+  // Far clusters when nothing in the frame passed (a humanoid, or clutter refused by the fit):
+  // Kinect noise lowers a far humanoid's score (EstimatorOptions::far_score_ratio). Their
+  // searches that stopped below score_threshold go on down to the far threshold from where they
+  // stopped; those its voxel count ruled out are searched. ChooseTemplates then asks strong
+  // refined evidence of what passes only by the far threshold.
+  std::vector<char> far(cluster_count, 0);
+  bool passed = false;
+  for (const Task& task : tasks) {
+    const Candidate& c = task.cand;
+    passed =
+        passed || (task.kept && !c.stopped_below_threshold && c.score >= thresholds[task.cluster] &&
+                   (!c.refined || c.fit.fit >= options_.min_humanoid_fit));
+  }
+  std::vector<int> lower;
+  for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
+    Task& task = tasks[k];
+    if (!passed && task.far) {
+      far[task.cluster] = 1;
+      thresholds[task.cluster] = far_threshold;
+      // Not searched, or stopped: on down to the far threshold. (Not stopped: its optimum.)
+      if (!(task.kept && !task.cand.stopped_below_threshold)) {
+        lower.push_back(k);
+        continue;
+      }
+    }
+    task.stopped.reset();  // its queue back to the pool.
+  }
+  pool_->ParallelFor(static_cast<int>(lower.size()), [&](int i) {
+    Task& task = tasks[lower[i]];
+    task.threshold = far_threshold;
+    if (task.stopped == nullptr) {  // not searched (its voxel count), or it kept nothing.
+      Task fresh;
+      fresh.cluster = task.cluster;
+      fresh.tpl = task.tpl;
+      fresh.threshold = far_threshold;
+      task = std::move(fresh);
+      search_task(task);
+      return;
+    }
+    SearchResult r;
+    task.runner_up = task.stopped->Lower(min_value_of(far_threshold, work[task.cluster].n), &r);
+    task.stopped.reset();
+    if (!defer_runner_ups && task.runner_up != nullptr) {
+      task.runner_up->Find(&r);
+      task.runner_up.reset();
+    }
+    finish_task(task, r);
+  });
 
   // The runner-up headings, once every template of a cluster has its refined fit: a template
   // whose fit is far behind the cluster's best has its runner-up only evaluated, or (unless
@@ -830,7 +913,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
 
   std::stable_sort(est.candidates.begin(), est.candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-  est.detections = ChooseTemplates(est.candidates, thresholds, options_.min_humanoid_fit);
+  est.detections = ChooseTemplates(est.candidates, thresholds, far, options_);
   est.timings.total_ms = cloud_ms + MsSince(t_start);
   return est;
 }

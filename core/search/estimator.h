@@ -105,6 +105,19 @@ struct EstimatorOptions {
   // below score_threshold), so frames whose humanoid passes are searched as without it. Used up
   // to score_threshold: at or above it, no hysteresis.
   double tracked_score_threshold = 35.0;
+  // A far cluster, cold: Kinect noise lowers a humanoid's score there too (above), and a cold
+  // frame has no prior to hold it by. A cluster whose centroid lies at least far_range_m from
+  // the sensor's optical centre is searched down to far_score_ratio * score_threshold, and passes
+  // below score_threshold only on strong refined evidence: the share of the template's voxels
+  // its pose covers times the refined fit (0-1) to the eighth (HumanoidEvidenceShare) at least
+  // far_min_evidence. Clutter scores as much far away as near, but covers less of the template or
+  // fits it worse (random scenes of bench/cluster_choice_bench.cc: far robots scoring 40-50
+  // reach a median of 0.18-0.21, such clutter at most 0.054; docs/BENCHMARKS.md). The fit
+  // threshold still applies; the held cluster of a tracked stream keeps its own threshold.
+  // far_score_ratio = 1 (or far_range_m = infinity): every cluster held to score_threshold.
+  double far_range_m = 2.5;
+  double far_score_ratio = 0.8;
+  double far_min_evidence = 0.08;
   // true: the exact search stops proving a cluster below the threshold as soon as it has (its
   // candidate then carries the best pose it evaluated and the bound, stopped_below_threshold).
   // false: every candidate's exact

@@ -30,10 +30,11 @@ class PipelineThreadsTest : public ::testing::Test {
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
   // A pipeline over the frames of `dir` (default: the test's), starting from `initial` (source.
-  // initial_pose) when given.
+  // initial_pose) when given; `one_threshold`: search.far_score_ratio 1.
   std::unique_ptr<PosePipeline> MakePipeline(bool realtime, double fps, int threads,
                                              const std::string& dir = "",
-                                             const Pose2D* initial = nullptr) {
+                                             const Pose2D* initial = nullptr,
+                                             bool one_threshold = false) {
     ReplayOptions replay;
     replay.realtime = realtime;
     replay.fps = fps;
@@ -47,8 +48,9 @@ class PipelineThreadsTest : public ::testing::Test {
     }
     std::vector<std::unique_ptr<Estimator>> estimators;
     for (int i = 0; i < threads; ++i) {
-      Result<std::unique_ptr<Estimator>> e =
-          Estimator::Create(DefaultEstimatorOptions(), templates);
+      EstimatorOptions options = DefaultEstimatorOptions();
+      if (one_threshold) options.far_score_ratio = 1.0;
+      Result<std::unique_ptr<Estimator>> e = Estimator::Create(options, templates);
       EXPECT_TRUE(e.ok());
       estimators.push_back(std::move(*e));
     }
@@ -130,7 +132,8 @@ TEST_F(PipelineThreadsTest, PacedReplayNeverPublishesAnOlderFrameAfterANewerOne)
 }
 
 // A robot too far to pass the score threshold cold (3.5 m from a sensor 0.9 m high looking 20
-// degrees down): found in every frame when the config says where it starts, in none without.
+// degrees down, one score threshold at every range: the far clusters' lower one would find it):
+// found in every frame when the config says where it starts, in none without.
 TEST_F(PipelineThreadsTest, AnInitialPoseFindsAFarRobotInEveryFrame) {
   const std::string far = testing_util::MakeTempDir("pipeline_far");
   ASSERT_FALSE(far.empty());
@@ -141,7 +144,8 @@ TEST_F(PipelineThreadsTest, AnInitialPoseFindsAFarRobotInEveryFrame) {
   const Pose2D start{3.5, 0.0, DegToRad(60.0)};
   for (const bool given : {false, true}) {
     std::unique_ptr<PosePipeline> pipeline =
-        MakePipeline(/*realtime=*/false, 30.0, 1, far, given ? &start : nullptr);
+        MakePipeline(/*realtime=*/false, 30.0, 1, far, given ? &start : nullptr,
+                     /*one_threshold=*/true);
     pipeline->Start();
     const auto seen = FollowEstimates(pipeline.get());
     pipeline->Stop();

@@ -37,11 +37,14 @@ struct Fixture {
   std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
                                           ModelTemplate("right_arm_raised")};
 
-  // The sensor's true mount as the floor, so that runs differ only in what is tested.
+  // The sensor's true mount as the floor, so that runs differ only in what is tested. One score
+  // threshold at every range: the far clusters' lower one would find this robot cold
+  // (far_threshold_test.cc).
   EstimatorOptions Options() const {
     EstimatorOptions o = DefaultEstimatorOptions();
     o.use_fixed_floor = true;
     o.fixed_floor = frame.sensor_mount;
+    o.far_score_ratio = 1.0;
     return o;
   }
   Estimate Run(const EstimatorOptions& o, const FramePrior* prior) const {

@@ -1,5 +1,7 @@
 #include "server/daemon_config.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace hpose::server {
@@ -14,7 +16,7 @@ source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
          initial_pose: {x_m: 3.2, y_m: -0.4, theta_deg: 90}}
 templates: [t/standing.bt, /abs/arm.bt]
 search: {score_threshold: 55, min_humanoid_fit: 70, tracked_score_threshold: 42,
-         scorer: reference}
+         scorer: reference, far_range_m: 3.0, far_score_ratio: 0.9, far_min_evidence: 0.1}
 floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
 )";
   Result<DaemonConfig> c = ParseDaemonConfig(yaml, "test.yaml", "/etc/hpose");
@@ -38,6 +40,9 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_DOUBLE_EQ(c->estimator.score_threshold, 55.0);
   EXPECT_DOUBLE_EQ(c->estimator.min_humanoid_fit, 70.0);
   EXPECT_DOUBLE_EQ(c->estimator.tracked_score_threshold, 42.0);
+  EXPECT_DOUBLE_EQ(c->estimator.far_range_m, 3.0);
+  EXPECT_DOUBLE_EQ(c->estimator.far_score_ratio, 0.9);
+  EXPECT_DOUBLE_EQ(c->estimator.far_min_evidence, 0.1);
   EXPECT_EQ(c->estimator.scorer, ScorerKind::kOctomapReference);
   EXPECT_TRUE(c->floor.fixed);
   EXPECT_DOUBLE_EQ(c->floor.height_m, 0.5);
@@ -155,6 +160,18 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   bad = c;
   bad.estimator.tracked_score_threshold = 120.0;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.tracked_score_threshold"),
+            std::string::npos);
+  bad = c;
+  bad.estimator.far_score_ratio = 1.5;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.far_score_ratio"),
+            std::string::npos);
+  bad = c;
+  bad.estimator.far_range_m = std::nan("");
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.far_range_m"),
+            std::string::npos);
+  bad = c;
+  bad.estimator.far_min_evidence = -0.1;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.far_min_evidence"),
             std::string::npos);
   bad = c;
   bad.estimator.floor_fit.min_width_m = -1.0;
