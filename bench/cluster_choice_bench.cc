@@ -11,13 +11,19 @@
 // counts the scenes whose first detection in the estimate is not DetectionBefore's first (should
 // be none).
 //
+// A column counts the scenes with a humanoid detection 0.3 m or more from the robot (clutter
+// taken for one). --far-ratio sets EstimatorOptions::far_score_ratio (1: one score threshold at
+// every range, as before far clusters had their own), to compare both in runs of the same seed.
+//
 // usage: cluster_choice_bench [--scenes N] [--bodies a,b] [--seed S] [--threads N]
+//                             [--far-ratio R]
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <thread>
@@ -43,8 +49,9 @@ struct Scene {
 // A humanoid detection as the orders see it.
 struct Seen {
   Detection detection;
-  bool on_robot = false;  // within 5 cm of the truth.
-  bool pose_ok = false;   // and its heading within 10 degrees.
+  bool on_robot = false;   // within 5 cm of the truth.
+  bool off_robot = false;  // 0.3 m or more from it.
+  bool pose_ok = false;    // and its heading within 10 degrees.
 };
 
 struct Outcome {
@@ -125,7 +132,9 @@ Outcome Run(const Scene& s, const Body& body, const Estimator& estimator) {
   for (const Detection& d : e->Humanoids()) {
     Seen seen;
     seen.detection = d;
-    seen.on_robot = std::hypot(d.best.pose.x - s.truth.x, d.best.pose.y - s.truth.y) < 0.05;
+    const double miss = std::hypot(d.best.pose.x - s.truth.x, d.best.pose.y - s.truth.y);
+    seen.on_robot = miss < 0.05;
+    seen.off_robot = miss >= 0.3;
     seen.pose_ok =
         seen.on_robot && std::abs(AngleDiff(d.best.pose.theta, s.truth.theta)) < DegToRad(10.0);
     o.humanoids.push_back(seen);
@@ -137,6 +146,7 @@ Outcome Run(const Scene& s, const Body& body, const Estimator& estimator) {
 
 int main(int argc, char** argv) {
   int scenes_per_body = 100, threads = 2;
+  double far_ratio = DefaultEstimatorOptions().far_score_ratio;
   std::uint64_t seed = 1;
   std::vector<std::string> body_names = {"nao", "long_legs", "darwin_op"};
   for (int i = 1; i < argc; ++i) {
@@ -150,15 +160,20 @@ int main(int argc, char** argv) {
       seed = std::strtoull(v.c_str(), nullptr, 10), ++i;
     } else if (a == "--threads" && !v.empty()) {
       threads = std::max(1, std::atoi(v.c_str())), ++i;
+    } else if (a == "--far-ratio" && !v.empty()) {
+      far_ratio = std::atof(v.c_str()), ++i;
     } else {
       std::fprintf(stderr,
                    "usage: cluster_choice_bench [--scenes N] [--bodies a,b] [--seed S] "
-                   "[--threads N]\n"
+                   "[--threads N] [--far-ratio R]\n"
                    "  --scenes N   random scenes per body (default 100)\n"
                    "  --bodies     nao, long_legs, tall, darwin_op (default: all but tall;\n"
                    "               darwin_op needs the shared data, skipped without it)\n"
                    "  --seed S     seed of the scene draws (default 1)\n"
-                   "  --threads N  scenes estimated at once (default 2)\n");
+                   "  --threads N  scenes estimated at once (default 2)\n"
+                   "  --far-ratio R  EstimatorOptions::far_score_ratio (default the "
+                   "estimator's; 1: one\n"
+                   "               score threshold at every range)\n");
       return a == "--help" ? 0 : 2;
     }
   }
@@ -186,8 +201,16 @@ int main(int argc, char** argv) {
   std::atomic<size_t> next{0}, done{0};
   auto worker = [&]() {
     std::vector<std::unique_ptr<Estimator>> estimators;  // one per body, this thread's.
-    for (const Body& b : bodies)
-      estimators.push_back(Estimator::Create(DefaultEstimatorOptions(), b.templates).value());
+    EstimatorOptions options = DefaultEstimatorOptions();
+    options.far_score_ratio = far_ratio;
+    for (const Body& b : bodies) {
+      Result<std::unique_ptr<Estimator>> e = Estimator::Create(options, b.templates);
+      if (!e.ok()) {
+        std::fprintf(stderr, "cluster_choice_bench: %s\n", e.error().message.c_str());
+        std::exit(2);
+      }
+      estimators.push_back(std::move(*e));
+    }
     for (size_t i = next++; i < scenes.size(); i = next++) {
       outcomes[i] = Run(scenes[i], bodies[scenes[i].body], *estimators[scenes[i].body]);
       const size_t n = ++done;
@@ -204,17 +227,17 @@ int main(int argc, char** argv) {
   const long not_estimated = std::count_if(outcomes.begin(), outcomes.end(),
                                            [](const Outcome& o) { return !o.estimated; });
   std::printf(
-      "%d scenes a body (seed %llu), %ld not estimated (no floor found, or not simulated); a cell: "
-      "scenes whose "
-      "first humanoid detection is on the robot / also within 10 degrees of its heading\n\n| "
-      "body | scenes | robot among the humanoids | 2+ humanoids |",
-      scenes_per_body, static_cast<unsigned long long>(seed), not_estimated);
+      "%d scenes a body (seed %llu, far_score_ratio %.2f), %ld not estimated (no floor found, or "
+      "not simulated); a cell: scenes whose first humanoid detection is on the robot / also "
+      "within 10 degrees of its heading\n\n| body | scenes | robot among the humanoids | 2+ "
+      "humanoids | clutter taken for one |",
+      scenes_per_body, static_cast<unsigned long long>(seed), far_ratio, not_estimated);
   for (const Order& o : orders) std::printf(" %s |", o.name.c_str());
-  std::printf(" estimator's own order differs |\n|---|---|---|---|");
+  std::printf(" estimator's own order differs |\n|---|---|---|---|---|");
   for (size_t k = 0; k < orders.size(); ++k) std::printf("---|");
   std::printf("---|\n");
   for (int b = -1; b < static_cast<int>(bodies.size()); ++b) {  // -1: all bodies.
-    int n = 0, robot_among = 0, several = 0, differs = 0;
+    int n = 0, robot_among = 0, several = 0, differs = 0, clutter = 0;
     std::vector<int> cluster_ok(orders.size(), 0), pose_ok(orders.size(), 0);
     for (size_t i = 0; i < scenes.size(); ++i) {
       if (b >= 0 && scenes[i].body != b) continue;
@@ -222,6 +245,7 @@ int main(int argc, char** argv) {
       const std::vector<Seen>& h = outcomes[i].humanoids;
       if (h.empty()) continue;
       robot_among += std::any_of(h.begin(), h.end(), [](const Seen& s) { return s.on_robot; });
+      clutter += std::any_of(h.begin(), h.end(), [](const Seen& s) { return s.off_robot; });
       several += h.size() >= 2 ? 1 : 0;
       for (size_t k = 0; k < orders.size(); ++k) {
         const Seen* first = &h[0];
@@ -237,8 +261,8 @@ int main(int argc, char** argv) {
       }
       differs += own != &h[0] ? 1 : 0;
     }
-    std::printf("| %s | %d | %d | %d |", b < 0 ? "all" : bodies[b].name.c_str(), n, robot_among,
-                several);
+    std::printf("| %s | %d | %d | %d | %d |", b < 0 ? "all" : bodies[b].name.c_str(), n,
+                robot_among, several, clutter);
     for (size_t k = 0; k < orders.size(); ++k) std::printf(" %d / %d |", cluster_ok[k], pose_ok[k]);
     std::printf(" %d |\n", differs);
   }

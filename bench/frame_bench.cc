@@ -503,6 +503,11 @@ std::vector<Variant> ScatteredVariants() {
                  o->refine.runner_up_fit_sigmas = 0.0;
                  o->heading_views.settle_converged_sigmas = 0.0;
                }});
+  v.push_back(
+      {"exact search, one score threshold at every range (before)", [](EstimatorOptions* o) {
+         Exact(o);
+         o->far_score_ratio = 1.0;
+       }});
   v.push_back({"exact search, no refinement", [](EstimatorOptions* o) {
                  Exact(o);
                  o->refine.enabled = false;
@@ -542,6 +547,12 @@ std::vector<Variant> SequenceVariants() {
                [](EstimatorOptions* o) {
                  Exact(o);
                  o->tracked_score_threshold = o->score_threshold;
+               },
+               true});
+  v.push_back({"walk, tracked, one score threshold at every range (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->far_score_ratio = 1.0;
                },
                true});
   v.push_back({"walk, tracked, two-word columns (before slabs)",
