@@ -718,6 +718,16 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     }
     finish_task(task, r);
   };
+  // A task searched anew down to `threshold` (its earlier search stopped above it, or its voxel
+  // count ruled it out there).
+  const auto search_again = [&](Task& task, double threshold) {
+    Task fresh;
+    fresh.cluster = task.cluster;
+    fresh.tpl = task.tpl;
+    fresh.threshold = threshold;
+    task = std::move(fresh);
+    search_task(task);
+  };
   // A prior that passed by the lower threshold itself: its cluster goes straight down to it.
   if (held_cluster >= 0 && prior->score < options_.score_threshold) {
     thresholds[held_cluster] = tracked_threshold;
@@ -748,15 +758,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     }
     if (!passed) {
       thresholds[held_cluster] = tracked_threshold;
-      pool_->ParallelFor(static_cast<int>(again.size()), [&](int i) {
-        Task& task = tasks[again[i]];
-        Task fresh;
-        fresh.cluster = task.cluster;
-        fresh.tpl = task.tpl;
-        fresh.threshold = tracked_threshold;
-        task = std::move(fresh);
-        search_task(task);
-      });
+      pool_->ParallelFor(static_cast<int>(again.size()),
+                         [&](int i) { search_again(tasks[again[i]], tracked_threshold); });
     }
   }
   // Far clusters when nothing in the frame passed (a humanoid, or clutter refused by the fit):
@@ -790,12 +793,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     Task& task = tasks[lower[i]];
     task.threshold = far_threshold;
     if (task.stopped == nullptr) {  // not searched (its voxel count), or it kept nothing.
-      Task fresh;
-      fresh.cluster = task.cluster;
-      fresh.tpl = task.tpl;
-      fresh.threshold = far_threshold;
-      task = std::move(fresh);
-      search_task(task);
+      search_again(task, far_threshold);
       return;
     }
     SearchResult r;

@@ -13,6 +13,7 @@
 #include "core/search/detection_order.h"
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
+#include "tests/search/far_nao_scene.h"
 #include "tests/search/model_templates.h"
 
 namespace hpose {
@@ -20,19 +21,9 @@ namespace {
 
 using testing::ModelTemplate;
 
-// A Nao 3.3 m from a sensor 0.9 m high looking 20 degrees down: depth noise spreads its surfaces
-// over more voxels than the template covers, and it scores below 50.
+// The far Nao of far_nao_scene.h, found cold only by the far threshold.
 struct Fixture {
-  FrameSpec spec = [] {
-    FrameSpec s;
-    s.preset = "standing";
-    s.humanoid_pose = Pose2D{3.3, 0.2, DegToRad(120.0)};
-    s.sensor_height_m = 0.9;
-    s.sensor_pitch_rad = DegToRad(20.0);
-    s.clutter = 3;
-    s.seed = 3;
-    return s;
-  }();
+  FrameSpec spec = testing::FarNaoSpec();
   SimulatedFrame frame = *SimulateFrame(spec);
   std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
                                           ModelTemplate("right_arm_raised")};

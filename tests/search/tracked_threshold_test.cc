@@ -11,6 +11,7 @@
 #include "core/search/estimator.h"
 #include "core/search/pose_tracker.h"
 #include "core/sim/frame_simulator.h"
+#include "tests/search/far_nao_scene.h"
 #include "tests/search/model_templates.h"
 
 namespace hpose {
@@ -18,21 +19,8 @@ namespace {
 
 using testing::ModelTemplate;
 
-// A Nao 3.3 m from a sensor 0.9 m high looking 20 degrees down: the depth noise spreads its
-// surfaces over more voxels than the template covers, and it scores below 50.
-FrameSpec FarSpec() {
-  FrameSpec spec;
-  spec.preset = "standing";
-  spec.humanoid_pose = Pose2D{3.3, 0.2, DegToRad(120.0)};
-  spec.sensor_height_m = 0.9;
-  spec.sensor_pitch_rad = DegToRad(20.0);
-  spec.clutter = 3;
-  spec.seed = 3;
-  return spec;
-}
-
 struct Fixture {
-  FrameSpec spec = FarSpec();
+  FrameSpec spec = testing::FarNaoSpec();
   SimulatedFrame frame = *SimulateFrame(spec);
   std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
                                           ModelTemplate("right_arm_raised")};
