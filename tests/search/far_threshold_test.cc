@@ -22,29 +22,7 @@ namespace {
 using testing::ModelTemplate;
 
 // The far Nao of far_nao_scene.h, found cold only by the far threshold.
-struct Fixture {
-  FrameSpec spec = testing::FarNaoSpec();
-  SimulatedFrame frame = *SimulateFrame(spec);
-  std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
-                                          ModelTemplate("right_arm_raised")};
-
-  void Simulate() { frame = *SimulateFrame(spec); }
-  // The sensor's true mount as the floor, so that runs differ only in what is tested.
-  EstimatorOptions Options() const {
-    EstimatorOptions o = DefaultEstimatorOptions();
-    o.use_fixed_floor = true;
-    o.fixed_floor = frame.sensor_mount;
-    return o;
-  }
-  Estimate Run(const EstimatorOptions& o) const {
-    return *Estimator::Create(o, templates).value()->EstimateDepth(frame.depth, spec.intrinsics);
-  }
-  bool NearTruth(const Detection& d) const {
-    return std::hypot(d.best.pose.x - spec.humanoid_pose.x, d.best.pose.y - spec.humanoid_pose.y) <
-               0.05 &&
-           std::abs(RadToDeg(AngleDiff(d.best.pose.theta, spec.humanoid_pose.theta))) < 10.0;
-  }
-};
+using Fixture = testing::FarNaoFrame;
 
 TEST(FarThresholdTest, AFarRobotIsFoundColdOnStrongEvidence) {
   const Fixture f;

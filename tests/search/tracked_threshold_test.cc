@@ -12,33 +12,17 @@
 #include "core/search/pose_tracker.h"
 #include "core/sim/frame_simulator.h"
 #include "tests/search/far_nao_scene.h"
-#include "tests/search/model_templates.h"
 
 namespace hpose {
 namespace {
 
-using testing::ModelTemplate;
-
-struct Fixture {
-  FrameSpec spec = testing::FarNaoSpec();
-  SimulatedFrame frame = *SimulateFrame(spec);
-  std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
-                                          ModelTemplate("right_arm_raised")};
-
-  // The sensor's true mount as the floor, so that runs differ only in what is tested. One score
-  // threshold at every range: the far clusters' lower one would find this robot cold
-  // (far_threshold_test.cc).
+// The far Nao's frame with one score threshold at every range: the far clusters' lower one
+// would find this robot cold (far_threshold_test.cc).
+struct Fixture : testing::FarNaoFrame {
   EstimatorOptions Options() const {
-    EstimatorOptions o = DefaultEstimatorOptions();
-    o.use_fixed_floor = true;
-    o.fixed_floor = frame.sensor_mount;
+    EstimatorOptions o = FarNaoFrame::Options();
     o.far_score_ratio = 1.0;
     return o;
-  }
-  Estimate Run(const EstimatorOptions& o, const FramePrior* prior) const {
-    return *Estimator::Create(o, templates)
-                .value()
-                ->EstimateDepth(frame.depth, spec.intrinsics, prior);
   }
   // Where the previous frame saw the robot: 3 cm and 2 degrees off this frame's pose.
   FramePrior Prior(double score) const {
@@ -49,11 +33,6 @@ struct Fixture {
                     spec.humanoid_pose.theta - DegToRad(2.0)};
     p.score = score;
     return p;
-  }
-  bool NearTruth(const Detection& d) const {
-    return std::hypot(d.best.pose.x - spec.humanoid_pose.x, d.best.pose.y - spec.humanoid_pose.y) <
-               0.05 &&
-           std::abs(RadToDeg(AngleDiff(d.best.pose.theta, spec.humanoid_pose.theta))) < 10.0;
   }
 };
 
