@@ -134,16 +134,19 @@ bool Contends(const FitSummary& fit, const FitSummary& leader, double sigmas) {
 // enough in search score to be refined too, the depth images decide (CompareViews) when their
 // likelihood ratio is decisive, and the heading is ambiguous when it is not (the pose is then the
 // one the ratio leans to, or with undecided_follow_ratio off the one with the higher refined
-// fit). Otherwise the higher refined fit wins and the heading is ambiguous when the fits are
-// within two standard errors of each other. A candidate that does not `contend` (its template's
+// fit). Otherwise, and when neither refined fit reaches `humanoid_fit` (the cluster is no
+// humanoid whichever heading it is given, so the depth images are not asked), the higher
+// refined fit wins and the heading is ambiguous when the fits are within two standard errors of
+// each other. A candidate that does not `contend` (its template's
 // fit is far behind another template's on the cluster) has its runner-up only evaluated where
 // it lies, like a runner-up far behind in score. An ambiguous heading with `prior_theta` (the
 // previous frame's heading, when it stood on this cluster) is the one nearer to it. `rescore`
 // recomputes the search's counts at the lattice pose of a runner-up that wins.
 template <typename Rescore>
 void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
-                    const ViewComparisonOptions& views, const double* prior_theta, bool contend,
-                    const Rescore& rescore, Candidate* cand) {
+                    const ViewComparisonOptions& views, double humanoid_fit,
+                    const double* prior_theta, bool contend, const Rescore& rescore,
+                    Candidate* cand) {
   if (!cand->has_runner_up) return;
   const Pose2D other_lattice = cand->runner_up_pose;
   RefinedPose other;
@@ -158,7 +161,7 @@ void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const Ref
   bool take_other = other_fit.fit > cand->fit.fit;
   bool ambiguous = WithinNoise(cand->fit, other_fit);
   ViewComparison cmp;
-  if (views.enabled && close) {
+  if (views.enabled && close && std::max(cand->fit.fit, other_fit.fit) >= humanoid_fit) {
     cmp = CompareViews(model, obs, cand->pose, other.pose, o, views);
     const bool decisive =
         cmp.sigma > 0.0 && std::abs(cmp.log_likelihood_ratio) >= views.decisive_sigmas * cmp.sigma;
@@ -857,7 +860,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     };
     const PreparedCluster* prepared = w.prepared ? &*w.prepared : nullptr;
     RefineRunnerUp(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground, prepared},
-                   options_.refine, options_.heading_views,
+                   options_.refine, options_.heading_views, options_.min_humanoid_fit,
                    task.has_prior ? &task.prior_theta : nullptr, contend, rescore, &task.cand);
     task.refine_ms += MsSince(t_refine);
   };

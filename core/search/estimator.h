@@ -148,7 +148,8 @@ struct EstimatorOptions {
   // chooses between the runner-up heading and between templates (pose_refiner.h).
   RefineOptions refine;
   // How the depth images decide between a refined heading and its refined runner-up (front /
-  // back): view_comparison.h.
+  // back): view_comparison.h. Asked only when either heading's refined fit reaches
+  // min_humanoid_fit: for clutter that fails the fit either way, the higher fit is reported.
   ViewComparisonOptions heading_views;
   // Threads for the (cluster, template) searches and refinements of a frame, the calling
   // thread included; 0: one per core. Results do not depend on it.

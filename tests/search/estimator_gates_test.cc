@@ -1,5 +1,6 @@
 // The estimator's pre-filters skip only what cannot match: a robot whose top the image border
 // cuts off is still searched with the template it shows part of.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -133,6 +134,63 @@ TEST(EstimatorGatesTest, ClutterThatFitsPoorlyIsNoHumanoid) {
   EXPECT_GT(outscored, 0);         // and the order.
   gated.min_humanoid_fit = 101.0;
   EXPECT_FALSE(Estimator::Create(gated, templates).ok());
+}
+
+// The depth images are asked to choose between a heading and its runner-up only where either
+// could make the cluster a humanoid: clutter whose two refined headings both fail the fit gate
+// reports the better-fitting one, uncompared, while the humanoid's headings are still compared.
+TEST(EstimatorGatesTest, HeadingsOfClutterThatFailsTheFitEitherWayAreNotCompared) {
+  const std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
+                                                ModelTemplate("right_arm_raised")};
+  // frame_bench's frame 23: two boxes pass the score and fail the fit, the Nao 3.5 m away.
+  FrameSpec spec;
+  spec.preset = "right_arm_raised";
+  spec.humanoid_pose = Pose2D{3.5, -0.05, DegToRad(151.0)};
+  spec.clutter = 4;
+  spec.seed = 24;
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  const EstimatorOptions gated = DefaultEstimatorOptions();
+  EstimatorOptions every = gated;  // no fit gate: every close runner-up is compared.
+  every.min_humanoid_fit = 0.0;
+  const auto estimate = [&](const EstimatorOptions& o) {
+    return *Estimator::Create(o, templates).value()->EstimateDepth(frame.depth, spec.intrinsics);
+  };
+  const auto near_truth = [&](const Candidate& c) {
+    return std::hypot(c.pose.x - spec.humanoid_pose.x, c.pose.y - spec.humanoid_pose.y) < 0.1;
+  };
+  // A refined candidate whose refined runner-up was close enough in score to be compared.
+  const double window = gated.refine.runner_up_score_window;
+  const auto close_runner_up = [&](const Candidate& c) {
+    return c.refined && c.has_runner_up && std::abs(c.score - c.runner_up_score) <= window;
+  };
+
+  const Estimate a = estimate(gated);
+  int uncompared = 0, humanoid_compared = 0;
+  for (const Candidate& c : a.candidates) {
+    if (!close_runner_up(c)) continue;
+    if (near_truth(c)) {
+      humanoid_compared += c.heading_log_likelihood_sigma > 0.0 ? 1 : 0;
+      continue;
+    }
+    if (std::max(c.fit.fit, c.runner_up_fit.fit) >= gated.min_humanoid_fit) continue;
+    ++uncompared;
+    EXPECT_EQ(c.heading_log_likelihood_sigma, 0.0) << c.template_name << " " << c.cluster_index;
+    EXPECT_GE(c.fit.fit, c.runner_up_fit.fit) << "the better-fitting heading is reported";
+  }
+  EXPECT_GT(uncompared, 0);  // the frame does have such clutter,
+  EXPECT_GT(humanoid_compared, 0);
+  ASSERT_FALSE(a.Humanoids().empty());
+  EXPECT_LT(std::hypot(a.Humanoids().front().best.pose.x - spec.humanoid_pose.x,
+                       a.Humanoids().front().best.pose.y - spec.humanoid_pose.y),
+            0.05);
+
+  // Without the gate the same clutter's headings are compared by the depth images.
+  const Estimate b = estimate(every);
+  int compared = 0;
+  for (const Candidate& c : b.candidates) {
+    if (close_runner_up(c) && !near_truth(c)) compared += c.heading_log_likelihood_sigma > 0.0;
+  }
+  EXPECT_GT(compared, 0);
 }
 
 }  // namespace
