@@ -19,6 +19,16 @@ VoxelTemplate ModelTemplate(const std::string& preset) {
   return *MakeTemplateFromPoints(*model.SampleSurface(0.004), preset, 0.016, preset, "test");
 }
 
+// frame_bench's frame 23: a Nao 3.5 m away, which scores less than a box 2 m away.
+FrameSpec FarNaoBehindClutter() {
+  FrameSpec spec;
+  spec.preset = "right_arm_raised";
+  spec.humanoid_pose = Pose2D{3.5, -0.05, DegToRad(151.0)};
+  spec.clutter = 4;
+  spec.seed = 24;
+  return spec;
+}
+
 int CandidatesOf(const Estimate& e, const std::string& name) {
   int n = 0;
   for (const Candidate& c : e.candidates) n += c.template_name == name;
@@ -92,13 +102,7 @@ TEST(EstimatorGatesTest, ClutterThatFitsPoorlyIsNoHumanoid) {
     spec.seed = seed;
     specs.push_back(spec);
   }
-  // A humanoid 3.5 m away scores less than a box 2 m away (frame 23 of frame_bench).
-  FrameSpec far;
-  far.preset = "right_arm_raised";
-  far.humanoid_pose = Pose2D{3.5, -0.05, DegToRad(151.0)};
-  far.clutter = 4;
-  far.seed = 24;
-  specs.push_back(far);
+  specs.push_back(FarNaoBehindClutter());
   int clutter_by_score = 0, outscored = 0;
   for (size_t seed = 0; seed < specs.size(); ++seed) {
     const FrameSpec& spec = specs[seed];
@@ -142,12 +146,8 @@ TEST(EstimatorGatesTest, ClutterThatFitsPoorlyIsNoHumanoid) {
 TEST(EstimatorGatesTest, HeadingsOfClutterThatFailsTheFitEitherWayAreNotCompared) {
   const std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
                                                 ModelTemplate("right_arm_raised")};
-  // frame_bench's frame 23: two boxes pass the score and fail the fit, the Nao 3.5 m away.
-  FrameSpec spec;
-  spec.preset = "right_arm_raised";
-  spec.humanoid_pose = Pose2D{3.5, -0.05, DegToRad(151.0)};
-  spec.clutter = 4;
-  spec.seed = 24;
+  // Two boxes there pass the score and fail the fit.
+  const FrameSpec spec = FarNaoBehindClutter();
   const SimulatedFrame frame = *SimulateFrame(spec);
   const EstimatorOptions gated = DefaultEstimatorOptions();
   EstimatorOptions every = gated;  // no fit gate: every close runner-up is compared.
