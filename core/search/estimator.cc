@@ -137,9 +137,9 @@ bool Contends(const FitSummary& fit, const FitSummary& leader, double sigmas) {
 // fit). Otherwise, and when neither refined fit reaches `humanoid_fit` (the cluster is no
 // humanoid whichever heading it is given, so the depth images are not asked), the higher
 // refined fit wins and the heading is ambiguous when the fits are within two standard errors of
-// each other. A candidate that does not `contend` (its template's
-// fit is far behind another template's on the cluster) has its runner-up only evaluated where
-// it lies, like a runner-up far behind in score. An ambiguous heading with `prior_theta` (the
+// each other. A candidate that does not `contend` (its template's fit is far behind another
+// template's on the cluster) has its runner-up only evaluated where it lies, like a runner-up
+// far behind in score. An ambiguous heading with `prior_theta` (the
 // previous frame's heading, when it stood on this cluster) is the one nearer to it. `rescore`
 // recomputes the search's counts at the lattice pose of a runner-up that wins.
 template <typename Rescore>
