@@ -139,9 +139,9 @@ bool Contends(const FitSummary& fit, const FitSummary& leader, double sigmas) {
 // refined fit wins and the heading is ambiguous when the fits are within two standard errors of
 // each other. A candidate that does not `contend` (its template's fit is far behind another
 // template's on the cluster) has its runner-up only evaluated where it lies, like a runner-up
-// far behind in score. An ambiguous heading with `prior_theta` (the
-// previous frame's heading, when it stood on this cluster) is the one nearer to it. `rescore`
-// recomputes the search's counts at the lattice pose of a runner-up that wins.
+// far behind in score. An ambiguous heading with `prior_theta` (the previous frame's heading,
+// when it stood on this cluster) is the one nearer to it. `rescore` recomputes the search's
+// counts at the lattice pose of a runner-up that wins.
 template <typename Rescore>
 void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
                     const ViewComparisonOptions& views, double humanoid_fit,

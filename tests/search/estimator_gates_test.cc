@@ -10,15 +10,12 @@
 
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
-#include "core/sim/humanoid_model.h"
+#include "tests/search/model_templates.h"
 
 namespace hpose {
 namespace {
 
-VoxelTemplate ModelTemplate(const std::string& preset) {
-  const HumanoidModel model = *HumanoidModel::FromPreset(preset);
-  return *MakeTemplateFromPoints(*model.SampleSurface(0.004), preset, 0.016, preset, "test");
-}
+using testing::ModelTemplate;
 
 // frame_bench's frame 23: a Nao 3.5 m away, which scores less than a box 2 m away.
 FrameSpec FarNaoBehindClutter() {
