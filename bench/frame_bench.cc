@@ -19,7 +19,8 @@
 //                            [--body NAME] [--sensor-height M] [--pitch-deg D] [--walk-far M]
 //                            [--noise-correlation SHARE] [--cloud FILE]...
 // With --cloud, recorded point clouds (no truth) go through the scattered frames' variants too,
-// each cold, --repeat times.
+// each cold, --repeat times. With --repeat 2 or more, a second table sets each frame's least
+// total over its runs beside the totals of every run (LeastOfRuns).
 // With --body other than nao the humanoid has those proportions and the two templates are made
 // from them (BodyTemplates) instead of the shipped ones.
 #include <time.h>
@@ -305,6 +306,36 @@ void PrintTable(const std::vector<Variant>& variants) {
         Cell(v.total).c_str(), Percentile(v.total, 99.0), Cell(v.cpu).c_str(),
         Cell(v.bounds).c_str(), v.tracked, v.found, v.frames, v.false_humanoids,
         static_cast<unsigned long long>(v.digest));
+  }
+}
+
+// Each frame's least total over the runs (`total` holds run after run of the same frames): what
+// a frame costs where the host took nothing from it in at least one run. A shared host (a
+// virtual machine among others) stretches single runs by tens of percent; the least of a few
+// runs moves far less from one session to the next.
+std::vector<double> LeastOfRuns(const std::vector<double>& total, int runs) {
+  const size_t frames = runs > 0 ? total.size() / static_cast<size_t>(runs) : 0;
+  std::vector<double> least(frames);
+  for (size_t f = 0; f < frames; ++f) {
+    least[f] = total[f];
+    for (int r = 1; r < runs; ++r) least[f] = std::min(least[f], total[r * frames + f]);
+  }
+  return least;
+}
+
+// Per variant, the median / p90 and p99 of the frames' totals as measured (every run) and as
+// the least of the runs, side by side.
+void PrintLeastOfRuns(const std::vector<Variant>& variants, int runs) {
+  if (runs < 2) return;
+  std::printf(
+      "\nTotal ms per frame, every run against each frame's least of its %d runs (the same "
+      "frames and results):\n\n| variant | total, every run | p99 | total, least of the runs "
+      "| p99 |\n|---|---|---|---|---|\n",
+      runs);
+  for (const Variant& v : variants) {
+    const std::vector<double> least = LeastOfRuns(v.total, runs);
+    std::printf("| %s | %s | %.1f | %s | %.1f |\n", v.name.c_str(), Cell(v.total).c_str(),
+                Percentile(v.total, 99.0), Cell(least).c_str(), Percentile(least, 99.0));
   }
 }
 
@@ -594,7 +625,8 @@ int Usage(FILE* out) {
                "  --clutter N       clutter objects per frame (default 4)\n"
                "  --max-distance M  farthest humanoid of the scattered frames, metres (3.5)\n"
                "  --repeat N        run every frame N times (times of all runs, results of the "
-               "first)\n"
+               "first;\n"
+               "                    from 2, also each frame's least total of its runs)\n"
                "  --only VARIANT    run this variant (by its name in the tables); repeat the flag\n"
                "                    for several, which then run side by side\n"
                "  --body NAME       humanoid proportions (nao, long_legs, tall); other than nao,\n"
@@ -735,6 +767,7 @@ int Run(int argc, char** argv) {
         "in ms\n\n",
         frames, body.c_str(), max_distance, sensor_height, pitch_deg, clutter, flags.repeat);
     PrintTable(scattered);
+    PrintLeastOfRuns(scattered, flags.repeat);
     PrintByDistance(scattered);
     PrintFoundByDistance(scattered);
   }
@@ -746,6 +779,7 @@ int Run(int argc, char** argv) {
         "clutter objects), %d run(s) each; median / p90 in ms\n\n",
         sequence, body.c_str(), walk_far, sensor_height, pitch_deg, clutter, flags.repeat);
     PrintTable(walk);
+    PrintLeastOfRuns(walk, flags.repeat);
     PrintFoundByDistance(walk);
   }
   if (!recorded.empty()) {
@@ -760,6 +794,7 @@ int Run(int argc, char** argv) {
     std::printf(
         "\nsearches: (cluster, template) searches over the clouds' first run; humanoids "
         "detected: detections that passed the score and fit thresholds there.\n");
+    PrintLeastOfRuns(recorded, flags.repeat);
   }
   std::printf(
       "\nCPU per frame: process CPU time of the call, all threads. tracked: frames whose search "
