@@ -126,7 +126,7 @@ struct VoxelScratch {
   std::vector<std::int32_t> run_of;          // per point.
   std::vector<Slot> table;                   // empty between calls.
   std::vector<std::int32_t> run_voxel;       // per run.
-  std::vector<std::uint32_t> slot_of_voxel;  // the table slots a call filled.
+  std::vector<std::uint32_t> slot_of_voxel;  // room for a slot per run: those a call filled.
   std::vector<Sum> sums;                     // per voxel.
 };
 
@@ -172,13 +172,15 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
   // work. Each thread keeps its own, grown as needed (never shrunk); the hash table is left
   // empty after every call.
   thread_local VoxelScratch scratch;
-  std::vector<std::uint64_t>& keys = scratch.keys;
-  std::vector<std::int32_t>& run_of = scratch.run_of;
-  keys.resize(n);
-  run_of.resize(n);
+  scratch.keys.resize(n);
+  scratch.run_of.resize(n);
+  // The loops below go through plain pointers taken once: through the thread-local vectors the
+  // compiler would fetch the thread's block and each vector's data again at every step.
+  std::uint64_t* const keys = scratch.keys.data();
+  std::int32_t* const run_of = scratch.run_of.data();
 
   // 1. Every point's key.
-  PackVoxelKeys(points.data(), n, 1.0f / leaf_m, keys.data());
+  PackVoxelKeys(points.data(), n, 1.0f / leaf_m, keys);
 
   // 2. Runs of consecutive points with one key (a depth camera's cloud comes in scan order, so
   // neighbouring points often share a voxel): point i lies in run run_of[i], and keys[r] becomes
@@ -199,19 +201,20 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
   // 3. Each run's voxel, numbered as first met, from a hash table of the keys (open addressing,
   // a slot holding its key and voxel: one cache line a probe). At least twice the runs, so at
   // most half full whatever the voxels (no rehash); the probe for a run kAhead runs on is asked
-  // for early, as a 640x480 frame's table is larger than the cache.
+  // for early, as a 640x480 frame's table is larger than the cache. Nothing below allocates (or
+  // throws) between filling a slot and recording it: the table must be left empty for the next
+  // call.
   size_t capacity = 64;
   while (capacity < 2 * runs) capacity <<= 1;
   const size_t mask = capacity - 1;
-  std::vector<VoxelScratch::Slot>& table = scratch.table;
-  if (table.size() < capacity) table.assign(capacity, VoxelScratch::Slot{kEmpty, 0});
-  std::vector<std::int32_t>& run_voxel = scratch.run_voxel;
-  std::vector<std::uint32_t>& slot_of_voxel = scratch.slot_of_voxel;
-  run_voxel.resize(runs);
-  slot_of_voxel.clear();
-  // Room for every run, so that nothing below allocates (or throws) between filling a slot and
-  // recording it: the table must be left empty for the next call.
-  slot_of_voxel.reserve(runs);
+  if (scratch.table.size() < capacity)
+    scratch.table.assign(capacity, VoxelScratch::Slot{kEmpty, 0});
+  scratch.run_voxel.resize(runs);
+  scratch.slot_of_voxel.resize(std::max(scratch.slot_of_voxel.size(), runs));
+  VoxelScratch::Slot* const table = scratch.table.data();
+  std::int32_t* const run_voxel = scratch.run_voxel.data();
+  std::uint32_t* const slot_of_voxel = scratch.slot_of_voxel.data();
+  std::int32_t voxels = 0;
   constexpr size_t kAhead = 12;
   for (size_t r = 0; r < runs; ++r) {
     if (r + kAhead < runs) __builtin_prefetch(&table[Mix(keys[r + kAhead]) & mask]);
@@ -221,17 +224,18 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
     if (table[slot].key == key) {
       run_voxel[r] = table[slot].voxel;
     } else {
-      run_voxel[r] = static_cast<std::int32_t>(slot_of_voxel.size());
-      table[slot] = VoxelScratch::Slot{key, run_voxel[r]};
-      slot_of_voxel.push_back(static_cast<std::uint32_t>(slot));
+      run_voxel[r] = voxels;
+      table[slot] = VoxelScratch::Slot{key, voxels};
+      slot_of_voxel[voxels++] = static_cast<std::uint32_t>(slot);
     }
   }
-  for (const std::uint32_t slot : slot_of_voxel) table[slot].key = kEmpty;
+  for (std::int32_t v = 0; v < voxels; ++v) table[slot_of_voxel[v]].key = kEmpty;
 
   // 4. The sums, point by point in their order (so each centroid's floats add up as they always
   // did), without a branch.
-  std::vector<VoxelScratch::Sum>& sums = scratch.sums;
-  sums.assign(slot_of_voxel.size(), VoxelScratch::Sum{0.0f, 0.0f, 0.0f, 0});
+  scratch.sums.assign(static_cast<size_t>(voxels), VoxelScratch::Sum{0.0f, 0.0f, 0.0f, 0});
+  VoxelScratch::Sum* const sums = scratch.sums.data();
+  int* const voxel_out = voxel_of_point != nullptr ? voxel_of_point->data() : nullptr;
   for (size_t i = 0; i < n; ++i) {
     const std::int32_t v = run_voxel[static_cast<size_t>(run_of[i])];
     VoxelScratch::Sum& s = sums[static_cast<size_t>(v)];
@@ -239,12 +243,13 @@ void VoxelDownsample(const std::vector<Eigen::Vector3f>& points, float leaf_m,
     s.y += points[i].y();
     s.z += points[i].z();
     ++s.count;
-    if (voxel_of_point != nullptr) (*voxel_of_point)[i] = v;
+    if (voxel_out != nullptr) voxel_out[i] = v;
   }
-  centroids->resize(sums.size());
-  for (size_t v = 0; v < sums.size(); ++v) {
+  centroids->resize(static_cast<size_t>(voxels));
+  Eigen::Vector3f* const out = centroids->data();
+  for (std::int32_t v = 0; v < voxels; ++v) {
     const VoxelScratch::Sum& s = sums[v];
-    (*centroids)[v] = Eigen::Vector3f(s.x, s.y, s.z) / static_cast<float>(s.count);
+    out[v] = Eigen::Vector3f(s.x, s.y, s.z) / static_cast<float>(s.count);
   }
 }
 
