@@ -312,7 +312,7 @@ void PrintTable(const std::vector<Variant>& variants) {
 // Each frame's least total over the runs (`total` holds run after run of the same frames): what
 // a frame costs where the host took nothing from it in at least one run. A shared host (a
 // virtual machine among others) stretches single runs by tens of percent; the least of a few
-// runs moves far less from one session to the next.
+// runs leaves out its short interruptions, not a load that lasts the whole run.
 std::vector<double> LeastOfRuns(const std::vector<double>& total, int runs) {
   const size_t frames = runs > 0 ? total.size() / static_cast<size_t>(runs) : 0;
   std::vector<double> least(frames);
