@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 
 namespace hpose {
@@ -23,7 +24,10 @@ constexpr double kMaxFocalPx = 1e6;
 std::string Num(double value) {
   if (std::isnan(value)) return "NaN";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  return std::to_string(value);
+  std::ostringstream out;  // 594.2, 1e+308: not to_string's fixed six decimals.
+  out.precision(10);
+  out << value;
+  return out.str();
 }
 
 // Range checks of one image axis ("x": width, fx, cx). The principal point must lie within one

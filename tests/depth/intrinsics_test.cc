@@ -63,6 +63,13 @@ TEST(IntrinsicsTest, ValidateNamesTheOffendingField) {
     EXPECT_EQ(status.error().code, ErrorCode::kInvalidArgument);
     EXPECT_NE(status.error().message.find(c.field), std::string::npos) << status.error().message;
   }
+  // Numbers as a person writes them, not in six fixed decimals (1e30 ran to 37 digits).
+  Intrinsics k = Intrinsics::KinectV1();
+  k.fy = 1e30;
+  const Status huge = k.Validate();
+  ASSERT_FALSE(huge.ok());
+  EXPECT_NE(huge.error().message.find("fy 1e+30 is outside [24.27, 1000000] px"), std::string::npos)
+      << huge.error().message;
 }
 
 TEST(IntrinsicsTest, PrincipalPointOutsideTheImageIsAllowed) {
