@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -28,11 +29,16 @@ class CapturingOutput final : public console_bridge::OutputHandler {
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
     if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN)
       messages_ += (messages_.empty() ? "" : "; ") + text;
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) has_error_ = true;
   }
   const std::string& messages() const { return messages_; }
+  // An error was logged: urdfdom logs one and leaves out what it could not read (a visual or
+  // collision element whose numbers it cannot parse) yet still returns a model.
+  bool has_error() const { return has_error_; }
 
  private:
   std::string messages_;
+  bool has_error_ = false;
 };
 
 Eigen::Isometry3d ToIsometry(const urdf::Pose& p) {
@@ -42,6 +48,27 @@ Eigen::Isometry3d ToIsometry(const urdf::Pose& p) {
                    .toRotationMatrix();
   t.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
   return t;
+}
+
+// Lengths of a URDF shape (sizes, radii, scales): an error naming `what` unless all are finite and
+// not negative. urdfdom reads "nan" and "-1" as numbers; such a shape would silently vanish
+// from the template or turn it inside out.
+bool CheckLengths(const std::string& link, const std::string& what,
+                  std::initializer_list<double> values, Error* error) {
+  for (const double v : values) {
+    if (std::isfinite(v) && v >= 0.0) continue;
+    std::ostringstream msg;
+    msg << "link '" << link << "': " << what << " (";
+    const char* sep = "";
+    for (const double x : values) {
+      msg << sep << x;
+      sep = " ";
+    }
+    msg << ") must be finite and not negative";
+    *error = MakeError(ErrorCode::kInvalidArgument, msg.str());
+    return false;
+  }
+  return true;
 }
 
 const char* JointTypeName(int type) {
@@ -114,6 +141,7 @@ struct GeometryLoader {
     switch (geometry.type) {
       case urdf::Geometry::BOX: {
         const auto& box = static_cast<const urdf::Box&>(geometry);
+        if (!CheckLengths(link, "box size", {box.dim.x, box.dim.y, box.dim.z}, error)) return false;
         *out = TessellatePrimitive(
             Primitive::Box(link, Eigen::Vector3d(box.dim.x, box.dim.y, box.dim.z),
                            Eigen::Isometry3d::Identity()),
@@ -122,12 +150,16 @@ struct GeometryLoader {
       }
       case urdf::Geometry::CYLINDER: {
         const auto& c = static_cast<const urdf::Cylinder&>(geometry);
+        if (!CheckLengths(link, "cylinder radius and length", {c.radius, c.length}, error)) {
+          return false;
+        }
         *out = TessellatePrimitive(
             Primitive::Cylinder(link, c.radius, c.length, Eigen::Isometry3d::Identity()), edge);
         return true;
       }
       case urdf::Geometry::SPHERE: {
         const auto& s = static_cast<const urdf::Sphere&>(geometry);
+        if (!CheckLengths(link, "sphere radius", {s.radius}, error)) return false;
         *out =
             TessellatePrimitive(Primitive::Sphere(link, s.radius, Eigen::Vector3d::Zero()), edge);
         return true;
@@ -140,6 +172,14 @@ struct GeometryLoader {
   }
 
   bool LoadMesh(const std::string& link, const urdf::Mesh& mesh, TriangleMesh* out, Error* error) {
+    if (!std::isfinite(mesh.scale.x) || !std::isfinite(mesh.scale.y) ||
+        !std::isfinite(mesh.scale.z)) {
+      std::ostringstream msg;
+      msg << "link '" << link << "': mesh " << mesh.filename << ": scale (" << mesh.scale.x << " "
+          << mesh.scale.y << " " << mesh.scale.z << ") must be finite";
+      *error = MakeError(ErrorCode::kInvalidArgument, msg.str());
+      return false;
+    }
     Result<std::string> path = ResolveUrdfResource(mesh.filename, urdf_dir, options.package_paths);
     std::string reason;
     if (!path.ok()) {
@@ -205,6 +245,10 @@ Result<UrdfRobot> UrdfRobot::Load(const std::string& urdf_path, const UrdfLoadOp
                        urdf_path + " is not a valid URDF" +
                            (output.messages().empty() ? "" : ": " + output.messages()));
     }
+    if (output.has_error()) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       urdf_path + ": the URDF parser left parts of it out: " + output.messages());
+    }
   }
   if (!(options.primitive_max_edge_m > 0.0)) {
     return MakeError(ErrorCode::kInvalidArgument, "primitive_max_edge_m must be positive");
@@ -240,6 +284,10 @@ Result<UrdfRobot> UrdfRobot::Load(const std::string& urdf_path, const UrdfLoadOp
       }
       joint.parent_from_origin = ToIsometry(j.parent_to_joint_origin_transform);
       const Eigen::Vector3d axis(j.axis.x, j.axis.y, j.axis.z);
+      if (!joint.parent_from_origin.matrix().allFinite() || !axis.allFinite()) {
+        return MakeError(ErrorCode::kInvalidArgument,
+                         "joint '" + j.name + "': its origin or axis is not finite");
+      }
       joint.axis = axis.norm() > 0.0 ? axis.normalized() : Eigen::Vector3d::UnitX();
       for (size_t p = 0; p < robot.links_.size(); ++p) {
         if (robot.links_[p].name == j.parent_link_name) joint.parent_link = static_cast<int>(p);
@@ -254,7 +302,12 @@ Result<UrdfRobot> UrdfRobot::Load(const std::string& urdf_path, const UrdfLoadOp
       TriangleMesh shape;
       Error error;
       if (!loader.Load(link->name, *geometry, &shape, &error)) return error;
-      l.shapes.Append(shape, ToIsometry(origin));
+      const Eigen::Isometry3d link_from_shape = ToIsometry(origin);
+      if (!link_from_shape.matrix().allFinite()) {
+        return MakeError(ErrorCode::kInvalidArgument,
+                         "link '" + link->name + "': a shape's origin is not finite");
+      }
+      l.shapes.Append(shape, link_from_shape);
       return Status::Ok();
     };
     if (options.geometry == UrdfGeometryKind::kVisual) {

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <sstream>
 #include <tuple>
 #include <unordered_set>
 
@@ -93,6 +94,26 @@ std::int64_t CellKey(std::int64_t x, std::int64_t y, std::int64_t z) {
   return ((z + kBias) << 42) | ((y + kBias) << 21) | (x + kBias);
 }
 
+// The steps of SampleMeshSurface's lattice along a triangle's edges: its longest edge in steps
+// of at most `spacing_m`, at least one.
+double LatticeSteps(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                    double spacing_m) {
+  const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+  return std::max(1.0, std::ceil(longest / spacing_m));
+}
+
+// The samples SampleMeshSurface takes of `mesh` at `spacing_m`, counted without taking them.
+double SampleCount(const TriangleMesh& mesh, double spacing_m) {
+  double count = 0.0;
+  for (const Eigen::Vector3i& tri : mesh.triangles) {
+    const double n =
+        LatticeSteps(mesh.vertices[tri[0]].cast<double>(), mesh.vertices[tri[1]].cast<double>(),
+                     mesh.vertices[tri[2]].cast<double>(), spacing_m);
+    count += 0.5 * (n + 1.0) * (n + 2.0);
+  }
+  return count;
+}
+
 }  // namespace
 
 void TriangleMesh::Append(const TriangleMesh& other, const Eigen::Isometry3d& this_from_other) {
@@ -169,6 +190,40 @@ TriangleMesh TessellatePrimitive(const Primitive& p, double max_edge_m) {
   return local;
 }
 
+Status CheckMeshForTemplate(const TriangleMesh& mesh, const std::string& name,
+                            double resolution_m) {
+  if (!mesh.IsValid()) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "template '" + name + "': the body's mesh has non-finite vertices or " +
+                         "triangles that name missing vertices");
+  }
+  if (!(resolution_m > 0.0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "template '" + name + "': the voxel size must be positive");
+  }
+  if (mesh.triangles.empty()) return Status::Ok();  // MakeTemplateFromPoints names it.
+  const Eigen::Vector3d size = mesh.Bounds().sizes();
+  if (size.maxCoeff() > kMaxTemplateBodyM) {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "template '" << name << "': the body spans " << size.x() << " x " << size.y() << " x "
+        << size.z() << " m, more than the " << kMaxTemplateBodyM
+        << " m a template may span; are its meshes in millimetres (a mesh scale of 0.001 "
+        << "converts them) or is a shape far from the others?";
+    return MakeError(ErrorCode::kInvalidArgument, msg.str());
+  }
+  const double samples = SampleCount(mesh, 0.25 * resolution_m);
+  if (samples > kMaxTemplateSurfaceSamples) {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "template '" << name << "': its surface would take " << samples
+        << " samples on voxels of " << resolution_m * 1000.0 << " mm (at most "
+        << kMaxTemplateSurfaceSamples << "); choose larger voxels";
+    return MakeError(ErrorCode::kInvalidArgument, msg.str());
+  }
+  return Status::Ok();
+}
+
 std::vector<Eigen::Vector3f> SampleMeshSurface(const TriangleMesh& mesh, double spacing_m) {
   assert(spacing_m > 0.0);
   std::vector<Eigen::Vector3f> points;
@@ -176,8 +231,7 @@ std::vector<Eigen::Vector3f> SampleMeshSurface(const TriangleMesh& mesh, double 
     const Eigen::Vector3d a = mesh.vertices[tri[0]].cast<double>();
     const Eigen::Vector3d b = mesh.vertices[tri[1]].cast<double>();
     const Eigen::Vector3d c = mesh.vertices[tri[2]].cast<double>();
-    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing_m)));
+    const int n = static_cast<int>(LatticeSteps(a, b, c, spacing_m));
     for (int i = 0; i <= n; ++i) {
       for (int j = 0; i + j <= n; ++j) {
         // Non-negative weights: a point never leaves the half-spaces its vertices share
@@ -195,6 +249,7 @@ std::vector<Eigen::Vector3f> SampleMeshSurface(const TriangleMesh& mesh, double 
 Result<VoxelTemplate> MakeMeshTemplate(const TriangleMesh& mesh, const std::string& name,
                                        double resolution_m, const std::string& variant,
                                        const std::string& source) {
+  if (Status s = CheckMeshForTemplate(mesh, name, resolution_m); !s.ok()) return s.error();
   Result<VoxelTemplate> tpl = MakeTemplateFromPoints(VoxelizeMeshSurface(mesh, resolution_m), name,
                                                      resolution_m, variant, source);
   if (!tpl.ok()) return tpl;

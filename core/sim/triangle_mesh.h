@@ -48,9 +48,21 @@ std::vector<Eigen::Vector3f> SampleMeshSurface(const TriangleMesh& mesh, double 
 // sorted (by z, then y, then x). resolution_m must be positive (asserts).
 std::vector<Eigen::Vector3f> VoxelizeMeshSurface(const TriangleMesh& mesh, double resolution_m);
 
+// The largest body a mesh template may span along any axis, and the most surface samples
+// (SampleMeshSurface at a quarter voxel) it may take: a humanoid is a few metres at most, and a
+// mesh far larger is one in other units (millimetres) or a misplaced shape.
+inline constexpr double kMaxTemplateBodyM = 5.0;
+inline constexpr double kMaxTemplateSurfaceSamples = 20e6;
+
+// Ok when MakeMeshTemplate can voxelise `mesh` at `resolution_m`: finite vertices, triangles
+// that name existing vertices, a body within kMaxTemplateBodyM and a surface within
+// kMaxTemplateSurfaceSamples; otherwise an error naming what is wrong.
+Status CheckMeshForTemplate(const TriangleMesh& mesh, const std::string& name, double resolution_m);
+
 // A template of a mesh body (in the template frame): the voxels of VoxelizeMeshSurface and the
 // surface kept from samples a quarter voxel apart (VoxelTemplate::surface), so the search and the
-// refinement see the mesh's sub-voxel shape. Fails as MakeTemplateFromPoints does.
+// refinement see the mesh's sub-voxel shape. Fails as CheckMeshForTemplate and
+// MakeTemplateFromPoints do.
 Result<VoxelTemplate> MakeMeshTemplate(const TriangleMesh& mesh, const std::string& name,
                                        double resolution_m, const std::string& variant = "",
                                        const std::string& source = "");

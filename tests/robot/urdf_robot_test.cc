@@ -250,6 +250,48 @@ TEST(UrdfRobotTest, BadFilesAreClearErrors) {
   EXPECT_NE(bad_mesh.error().message.find("bad.stl"), std::string::npos);
 }
 
+// Numbers urdfdom cannot read make it leave the element out and still return a model; numbers
+// it reads but no shape can have (negative sizes) pass through it. Both are errors naming the
+// link, not a template silently missing a part.
+TEST(UrdfRobotTest, UnreadableOrImpossibleShapeNumbersAreErrors) {
+  TempDir dir;
+  const auto robot = [](const std::string& head_geometry) {
+    return std::string(
+               "<robot name=\"r\"><link name=\"base\"><visual><origin xyz=\"0 0 0.3\"/>"
+               "<geometry><box size=\"0.2 0.2 0.6\"/></geometry></visual></link>"
+               "<link name=\"head\"><visual><geometry>") +
+           head_geometry +
+           "</geometry></visual></link><joint name=\"neck\" type=\"fixed\"><parent "
+           "link=\"base\"/><child link=\"head\"/><origin xyz=\"0 0 0.7\"/></joint></robot>";
+  };
+  ASSERT_TRUE(UrdfRobot::Load(dir.Write("ok.urdf", robot("<sphere radius=\"0.1\"/>"))).ok());
+
+  const Result<UrdfRobot> nan =
+      UrdfRobot::Load(dir.Write("nan.urdf", robot("<sphere radius=\"nan\"/>")));
+  ASSERT_FALSE(nan.ok());
+  EXPECT_EQ(nan.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(nan.error().message.find("nan.urdf"), std::string::npos) << nan.error().message;
+  EXPECT_NE(nan.error().message.find("[head]"), std::string::npos) << nan.error().message;
+
+  const Result<UrdfRobot> negative =
+      UrdfRobot::Load(dir.Write("neg.urdf", robot("<sphere radius=\"-0.1\"/>")));
+  ASSERT_FALSE(negative.ok());
+  EXPECT_NE(negative.error().message.find("link 'head': sphere radius (-0.1)"), std::string::npos)
+      << negative.error().message;
+
+  const Result<UrdfRobot> box =
+      UrdfRobot::Load(dir.Write("box.urdf", robot("<box size=\"0.1 -0.1 0.1\"/>")));
+  ASSERT_FALSE(box.ok());
+  EXPECT_NE(box.error().message.find("link 'head': box size"), std::string::npos)
+      << box.error().message;
+
+  const Result<UrdfRobot> cylinder =
+      UrdfRobot::Load(dir.Write("cyl.urdf", robot("<cylinder radius=\"0.1\" length=\"-1\"/>")));
+  ASSERT_FALSE(cylinder.ok());
+  EXPECT_NE(cylinder.error().message.find("link 'head': cylinder"), std::string::npos)
+      << cylinder.error().message;
+}
+
 TEST(UrdfRobotTest, DarwinVisualMissingHeadIsAnErrorNamingLinkAndPath) {
   if (!HaveDarwin()) GTEST_SKIP() << "shared Darwin-OP data not found at " << kDarwinUrdf;
   Result<UrdfRobot> robot = UrdfRobot::Load(kDarwinUrdf);

@@ -105,6 +105,44 @@ TEST(TriangleMeshTest, TessellatedPrimitivesMatchTheirShapes) {
   }
 }
 
+// A body far larger than a humanoid (a mesh in millimetres, a shape placed far away), a surface
+// too fine to sample in memory and a broken mesh are errors naming the cause, before any
+// sampling; a humanoid-sized body at the same voxels is a template.
+TEST(TriangleMeshTest, MeshTemplatesRefuseBodiesTooLargeOrTooFineOrBroken) {
+  const auto box = [](double side) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation().z() = 0.5 * side;
+    return TessellatePrimitive(Primitive::Box("b", Eigen::Vector3d::Constant(side), pose), side);
+  };
+  Result<VoxelTemplate> ok = MakeMeshTemplate(box(0.5), "small", 0.016);
+  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  EXPECT_GT(ok->voxels.size(), 100u);
+
+  // A 1.2 m robot read in millimetres.
+  const Result<VoxelTemplate> in_mm = MakeMeshTemplate(box(1200.0), "in_mm", 0.016);
+  ASSERT_FALSE(in_mm.ok());
+  EXPECT_EQ(in_mm.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(in_mm.error().message.find("'in_mm'"), std::string::npos) << in_mm.error().message;
+  EXPECT_NE(in_mm.error().message.find("1.2e+03 x"), std::string::npos) << in_mm.error().message;
+  EXPECT_NE(in_mm.error().message.find("millimetres"), std::string::npos);
+  EXPECT_TRUE(CheckMeshForTemplate(box(kMaxTemplateBodyM * 0.99), "edge", 0.016).ok());
+
+  // 2 m of body on 1 mm voxels: 7.7e8 samples a quarter voxel apart.
+  const Result<VoxelTemplate> fine = MakeMeshTemplate(box(2.0), "fine", 0.001);
+  ASSERT_FALSE(fine.ok());
+  EXPECT_NE(fine.error().message.find("samples"), std::string::npos) << fine.error().message;
+  EXPECT_NE(fine.error().message.find("1 mm"), std::string::npos) << fine.error().message;
+
+  TriangleMesh broken = box(0.5);
+  broken.vertices[3].y() = std::nanf("");
+  const Result<VoxelTemplate> nan = MakeMeshTemplate(broken, "nan", 0.016);
+  ASSERT_FALSE(nan.ok());
+  EXPECT_NE(nan.error().message.find("non-finite"), std::string::npos) << nan.error().message;
+  broken = box(0.5);
+  broken.triangles[0].z() = static_cast<int>(broken.vertices.size());
+  EXPECT_FALSE(MakeMeshTemplate(broken, "index", 0.016).ok());
+}
+
 TEST(MeshBvhTest, IntersectEqualsBruteForce) {
   const TriangleMesh mesh = RandomTriangles(2000, 11);
   Result<std::shared_ptr<const MeshBvh>> bvh = MeshBvh::Build(mesh);

@@ -106,6 +106,18 @@ TEST(RobotCliTest, FromUrdfRejectsBadFiles) {
       "template from-urdf '" + (dir / "none.urdf") + "' --out '" + (dir / "g.bt") + "'", dir);
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("none.urdf"), std::string::npos) << missing.err;
+
+  // A body in millimetres: a clear error (it once aborted on memory), and no file written.
+  {
+    std::ofstream mm(dir / "mm.urdf");
+    mm << "<robot name=\"mm\"><link name=\"base\"><visual><origin xyz=\"0 0 300\"/>"
+          "<geometry><box size=\"200 200 600\"/></geometry></visual></link></robot>";
+  }
+  const CliRun huge = RunHpose(
+      "template from-urdf '" + (dir / "mm.urdf") + "' --out '" + (dir / "mm.bt") + "'", dir);
+  EXPECT_EQ(huge.exit_code, 1);
+  EXPECT_NE(huge.err.find("millimetres"), std::string::npos) << huge.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "mm.bt"));
 }
 
 TEST(RobotCliTest, SimulateRobotFramesAreFoundWithTheRobotsTemplate) {
