@@ -49,7 +49,9 @@ bool ParseList(const std::string& text, std::vector<double>* out) {
   while (std::getline(in, item, ',')) {
     char* end = nullptr;
     const double v = std::strtod(item.c_str(), &end);
-    if (item.empty() || end == item.c_str() || *end != '\0' || !std::isfinite(v)) return false;
+    if (item.empty() || end == item.c_str() || *end != '\0' || !(std::abs(v) <= 3600.0)) {
+      return false;
+    }
     out->push_back(v);
   }
   return !out->empty();
@@ -208,6 +210,10 @@ int RunTemplateFromCaptures(int argc, char** argv) {
   if (hand && (flags.Seen("step-deg") || !f.angles_text.empty())) {
     return UsageError(kCapturesCmd, "--step-deg and --angles-deg are for --turntable");
   }
+  if (!(std::abs(f.step_deg) > 0.0 && std::abs(f.step_deg) <= 360.0)) {
+    // Captures all at one table angle cannot be told apart, nor place the table's axis.
+    return UsageError(kCapturesCmd, "--step-deg must be a turn within +-360 degrees, not 0");
+  }
   if (!(f.resolution >= 0.001 && f.resolution <= 0.5)) {
     return UsageError(kCapturesCmd, "--resolution must be in [0.001, 0.5] m");
   }
@@ -235,13 +241,15 @@ int RunTemplateFromCaptures(int argc, char** argv) {
   std::vector<double> angles_deg;
   if (hand) {
     if (!ParseList(f.headings_text, &angles_deg)) {
-      return UsageError(kCapturesCmd, "--headings-deg needs comma-separated degrees, got '" +
-                                          f.headings_text + "'");
+      return UsageError(kCapturesCmd,
+                        "--headings-deg needs comma-separated degrees (within +-3600), got '" +
+                            f.headings_text + "'");
     }
   } else if (!f.angles_text.empty()) {
     if (!ParseList(f.angles_text, &angles_deg)) {
       return UsageError(kCapturesCmd,
-                        "--angles-deg needs comma-separated degrees, got '" + f.angles_text + "'");
+                        "--angles-deg needs comma-separated degrees (within +-3600), got '" +
+                            f.angles_text + "'");
     }
   } else {
     for (int i = 0; i < n; ++i) angles_deg.push_back(i * f.step_deg);

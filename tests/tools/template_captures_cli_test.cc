@@ -112,6 +112,18 @@ TEST(TemplateCapturesCliTest, BadInputsAreNamed) {
                  dir);
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("3 angles for 2 captures"), std::string::npos) << run.err;
+  // Angles no turn can have: a table that never turned, a heading of 1e300 degrees.
+  run = RunHpose("template from-captures '" + (dir / "tt") +
+                     "' --turntable --step-deg 0 --name r --out '" + (dir / "r.bt") + "'",
+                 dir);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--step-deg must be a turn"), std::string::npos) << run.err;
+  run = RunHpose("template from-captures '" + (dir / "tt") +
+                     "' --headings-deg 0,1e300 --name r --out '" + (dir / "r.bt") + "'",
+                 dir);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("within +-3600"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "r.bt"));
 }
 
 TEST(TemplateCapturesCliTest, HelpExplainsTheFrameAndWhatIsNotObservable) {
