@@ -27,6 +27,7 @@
 #include "tools/cmd_query_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
+#include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
 
 namespace hpose::tools {
@@ -134,10 +135,8 @@ std::string DescribeStereo(const v1::PoseEstimate& e) {
                     r.path().velocity().y() * 1000.0);
       line += buf;
       if (r.path().has_closest_approach()) {
-        std::snprintf(buf, sizeof(buf), ", passes %.0f mm from the robot in %.2f s",
-                      r.path().closest_approach_distance() * 1000.0,
-                      r.path().closest_approach_time() - e.source_time());
-        line += buf;
+        line += ApproachText(r.path().closest_approach_distance(),
+                             r.path().closest_approach_time() - e.source_time());
       }
     }
   }

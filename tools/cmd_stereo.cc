@@ -21,6 +21,7 @@
 #include "tools/cmd_stereo_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
+#include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
 
 namespace hpose::tools {
@@ -122,9 +123,7 @@ void PrintFrameText(const StereoFrameResult& f, const StereoTrackState& t, size_
       std::cout << buf;
       if (t.robot_valid) {
         const auto a = t.path.ClosestApproach(Eigen::Vector2d(t.robot_mean.x, t.robot_mean.y));
-        std::snprintf(buf, sizeof(buf), ", passes %.0f mm from the robot in %.2f s",
-                      a.distance_m * 1e3, a.t_s - f.timestamp_s);
-        std::cout << buf;
+        std::cout << ApproachText(a.distance_m, a.t_s - f.timestamp_s);
       }
     }
     std::cout << "\n";

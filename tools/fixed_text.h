@@ -9,6 +9,11 @@ namespace hpose::tools {
 // figures in their reports.
 std::string Fixed(double v, int decimals);
 
+// A moving object's closest approach to the robot, `distance_m` away and `in_s` from now, as
+// the commands append it to a line: ", passes 313 mm from the robot in 0.45 s", or once that
+// moment is past, ", passed 313 mm from the robot 0.45 s ago".
+std::string ApproachText(double distance_m, double in_s);
+
 }  // namespace hpose::tools
 
 #endif  // HPOSE_TOOLS_FIXED_TEXT_H_
