@@ -20,9 +20,8 @@ FlagParser CalibrateStereoFlags::Parser() {
       "dir", &dir,
       "directory of pairs named left<N>.<ext> / right<N>.<ext> (N: digits, e.g. left01.jpg)",
       "DIR");
-  flags.AddStrings("left", &lefts, "left image of one pair (repeat, in the order of --right)",
-                   "IMAGE");
-  flags.AddStrings("right", &rights, "right image of one pair (repeat)", "IMAGE");
+  flags.AddStrings("left", &lefts, "left image of one pair, in the order of --right", "IMAGE");
+  flags.AddStrings("right", &rights, "right image of one pair", "IMAGE");
   flags.AddInt("cols", &board.inner_columns, "inner corners along a board row");
   flags.AddInt("rows", &board.inner_rows, "inner corners along a board column");
   flags.AddDouble("square", &board.square_m, "side of one chessboard square", "M");

@@ -32,7 +32,7 @@ FlagParser QueryFlags::Parser() {
                   "stream --compare: frames of the two estimators at most this far apart in "
                   "arrival time are of the same instant",
                   "S");
-  flags.AddStrings("template", &templates, "estimate: only these templates (repeatable)", "NAME");
+  flags.AddStrings("template", &templates, "estimate: only these templates", "NAME");
   flags.AddString("tls-ca", &tls_ca,
                   "PEM CA that signed the daemon's certificate: connect with TLS", "FILE");
   flags.AddString("tls-cert", &tls_cert, "PEM client certificate (mutual TLS; with --tls-key)",
