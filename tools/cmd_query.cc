@@ -316,6 +316,13 @@ Result<v1::EstimateRequest> MakeRequest(const std::string& path,
     for (const auto& p : cloud->points) {
       if (p.allFinite()) finite.points.push_back(p);
     }
+    if (finite.points.empty()) {  // said here: the daemon would only see an empty cloud.
+      return MakeError(ErrorCode::kInvalidArgument,
+                       path + (cloud->points.empty() ? std::string(": the cloud holds no points")
+                                                     : ": the cloud has no finite points (all " +
+                                                           std::to_string(cloud->points.size()) +
+                                                           " are NaN or infinite)"));
+    }
     server::CloudToProto(finite, request.mutable_cloud());
   } else {
     return MakeError(ErrorCode::kInvalidArgument,

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
@@ -138,6 +139,25 @@ TEST_F(DaemonRpcTest, EstimateCloudAndTemplateSubset) {
   const v1::DepthTemplateResult& r = response.estimate().depth_template();
   ASSERT_GT(r.candidates_size(), 0);
   for (const v1::Candidate& c : r.candidates()) EXPECT_EQ(c.template_name(), "standing");
+}
+
+// `hpose query estimate` of a cloud with no finite point says so, naming the file, rather than
+// sending an empty cloud for the daemon to call empty; the daemon is not asked and serves on.
+TEST_F(DaemonRpcTest, QueryOfACloudWithoutFinitePointsNamesTheFile) {
+  const std::string pcd = *dir_ + "/nan.pcd";
+  std::ofstream(pcd) << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+                        "COUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\n"
+                        "DATA ascii\nnan nan nan\nnan 1 inf\n";
+  std::string out;
+  const int code = tu::RunCommand(
+      tu::HposeProgram() + " query estimate '" + pcd +
+          "' --timeout 20 --server 127.0.0.1:" + std::to_string(daemon_->port()) + " 2>&1",
+      &out);
+  EXPECT_EQ(code, 1) << out;
+  EXPECT_NE(out.find("nan.pcd: the cloud has no finite points (all 2 are NaN or infinite)"),
+            std::string::npos)
+      << out;
+  ExpectStillServing();
 }
 
 TEST_F(DaemonRpcTest, UnknownTemplateIsNotFound) {
