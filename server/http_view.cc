@@ -3,6 +3,7 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
+#include <cstddef>
 #include <nlohmann/json.hpp>
 #include <utility>
 
@@ -27,6 +28,7 @@ using Clock = std::chrono::steady_clock;
 constexpr auto kEventWaitSlice = std::chrono::milliseconds(250);   // stop checks this often.
 constexpr auto kEventHeartbeat = std::chrono::seconds(1);          // a message at least this often.
 constexpr auto kEventMinInterval = std::chrono::milliseconds(50);  // at most 20 messages/s.
+constexpr std::size_t kMaxRequestBodyBytes = 64 * 1024;            // no route takes a body.
 
 const char* kJson = "application/json";
 
@@ -110,6 +112,9 @@ Result<std::unique_ptr<HttpView>> HttpView::Start(const HttpConfig& config,
   std::unique_ptr<HttpView> view(new HttpView(config, std::move(sources)));
   const int threads = config.max_event_clients + 4;  // /events streams hold a thread each.
   view->server_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  // Every route is a GET: a request body is never read, but without a limit the library would
+  // buffer one of any announced size before answering (300 MB in, 650 MB of memory).
+  view->server_->set_payload_max_length(kMaxRequestBodyBytes);
   view->Routes();
   const int bound = port == 0 ? view->server_->bind_to_any_port(host)
                               : (view->server_->bind_to_port(host, port) ? port : -1);

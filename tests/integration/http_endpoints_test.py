@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """hposed's HTTP side without a browser: /metrics (promtool check metrics when Debian's
 prometheus package provides it; counters moving as frames flow), /healthz, the JSON endpoints,
-/events, and the refusal of a non-loopback --http address without --insecure.
+/events, a request body far too large, and the refusal of a non-loopback --http address
+without --insecure.
 
 usage: http_endpoints_test.py HPOSED HPOSE SOURCE_DIR
 """
@@ -10,6 +11,7 @@ import json
 import os
 import re
 import shutil
+import socket
 import subprocess
 import sys
 import tempfile
@@ -136,6 +138,17 @@ class HttpEndpointsTest(unittest.TestCase):
         # No external assets: nothing is loaded from another host.
         self.assertIsNone(re.search(r"(src|href)=\"(https?:)?//", page), "external asset")
         self.assertIn("new EventSource(\"events\")", page)
+
+    def test_a_huge_request_body_is_refused_unread(self):
+        # Every route is a GET; a body announced as 2 GB is refused at once (413), not buffered,
+        # and the daemon serves on.
+        host, port = self.http[len("http://"):].rsplit(":", 1)
+        with socket.create_connection((host, int(port)), timeout=30) as conn:
+            conn.sendall(b"POST /api/latest HTTP/1.1\r\nHost: x\r\n"
+                         b"Content-Length: 2000000000\r\n\r\n" + b"a" * 65536)
+            reply = conn.recv(200).decode(errors="replace")
+        self.assertTrue(reply.startswith("HTTP/1.1 413"), reply)
+        self.assertEqual(get(self.http + "/healthz")[0], 200)
 
     def test_non_loopback_http_needs_insecure(self):
         run = subprocess.run([HPOSED, "--http", "0.0.0.0:0", "--print-config"],
