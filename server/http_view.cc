@@ -29,6 +29,7 @@ constexpr auto kEventWaitSlice = std::chrono::milliseconds(250);   // stop check
 constexpr auto kEventHeartbeat = std::chrono::seconds(1);          // a message at least this often.
 constexpr auto kEventMinInterval = std::chrono::milliseconds(50);  // at most 20 messages/s.
 constexpr std::size_t kMaxRequestBodyBytes = 64 * 1024;            // no route takes a body.
+constexpr int kRequestReadTimeoutS = 1;
 
 const char* kJson = "application/json";
 
@@ -115,6 +116,11 @@ Result<std::unique_ptr<HttpView>> HttpView::Start(const HttpConfig& config,
   // Every route is a GET: a request body is never read, but without a limit the library would
   // buffer one of any announced size before answering (300 MB in, 650 MB of memory).
   view->server_->set_payload_max_length(kMaxRequestBodyBytes);
+  // A worker waits this long for a request, or the rest of one, that does not come (a browser
+  // sends it at once), so idle or stalled connections hold the pool's threads for about a
+  // second each, not the library's default 5 (read) + 5 (keep-alive).
+  view->server_->set_read_timeout(kRequestReadTimeoutS, 0);
+  view->server_->set_keep_alive_timeout(kRequestReadTimeoutS);
   view->Routes();
   const int bound = port == 0 ? view->server_->bind_to_any_port(host)
                               : (view->server_->bind_to_port(host, port) ? port : -1);
