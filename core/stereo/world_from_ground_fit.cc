@@ -10,6 +10,11 @@
 namespace hpose {
 namespace {
 
+// Bounds on the pose pairs a fit accepts: positions within 10 km of the origin, headings within
+// a thousand radians (about 160 turns). Anything beyond is a unit or parsing mistake.
+constexpr double kMaxPairPositionM = 1e4;
+constexpr double kMaxPairHeadingRad = 1e3;
+
 struct Transform2 {
   double yaw = 0.0;
   Eigen::Vector2d t = Eigen::Vector2d::Zero();
@@ -76,6 +81,18 @@ Result<WorldFromGroundFit> FitWorldFromGround(const std::vector<GroundWorldPair>
                        p.world.theta)) {
       return MakeError(ErrorCode::kInvalidArgument,
                        "world-from-ground fit: pair " + std::to_string(i) + " is not finite");
+    }
+    // Finite but absurd values would swamp the sums (a 1e300 m position fitted to nonsense).
+    const double far = std::max(
+        {std::abs(p.ground.x), std::abs(p.ground.y), std::abs(p.world.x), std::abs(p.world.y)});
+    const double turned = std::max(std::abs(p.ground.theta), std::abs(p.world.theta));
+    if (far > kMaxPairPositionM || turned > kMaxPairHeadingRad) {
+      std::ostringstream msg;
+      msg << "world-from-ground fit: pair " << i << " has a position " << far
+          << " m from the origin or a heading of " << turned << " rad; a robot on a field is "
+          << "within " << kMaxPairPositionM << " m and its headings within +-" << kMaxPairHeadingRad
+          << " rad";
+      return MakeError(ErrorCode::kInvalidArgument, msg.str());
     }
   }
   const size_t n = pairs.size();

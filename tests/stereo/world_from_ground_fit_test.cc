@@ -74,6 +74,20 @@ TEST(WorldFromGroundFitTest, TooFewOrBadPairsFail) {
   auto fit = FitWorldFromGround(pairs);
   ASSERT_FALSE(fit.ok());
   EXPECT_NE(fit.error().message.find("pair 2"), std::string::npos);
+  // Finite but no robot's: a position of 1e300 m (it fitted an x of -2.5e299 m before).
+  pairs[2].world.x = 1.0;
+  ASSERT_TRUE(FitWorldFromGround(pairs).ok());
+  pairs[3].ground.x = 1e300;
+  fit = FitWorldFromGround(pairs);
+  ASSERT_FALSE(fit.ok());
+  EXPECT_NE(fit.error().message.find("pair 3 has a position 1e+300 m"), std::string::npos)
+      << fit.error().message;
+  pairs[3].ground.x = 1.0;
+  pairs[4].world.theta = -1e6;
+  fit = FitWorldFromGround(pairs);
+  ASSERT_FALSE(fit.ok());
+  EXPECT_NE(fit.error().message.find("heading of 1e+06 rad"), std::string::npos)
+      << fit.error().message;
 }
 
 // Each depth pose takes the stereo pose nearest in time, within the tolerance only; the
