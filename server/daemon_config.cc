@@ -501,8 +501,10 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (!(st.fps > 0.0 && st.fps <= 10000.0)) return fail("stereo.fps", "must be in (0, 10000]");
   if (!(st.stale_after_s > 0.0)) return fail("stereo.stale_after_s", "must be positive");
   const WorldFrameConfig& w = c.world_from_ground;
-  if (w.configured && !(std::isfinite(w.x_m) && std::isfinite(w.y_m) && std::isfinite(w.yaw_rad))) {
-    return fail("world_from_ground", "x_m, y_m and yaw_rad must be finite");
+  if (w.configured && !(std::abs(w.x_m) <= 1e4 && std::abs(w.y_m) <= 1e4 &&
+                        std::abs(w.yaw_rad) <= 1e3)) {  // NaN fails too.
+    return fail("world_from_ground",
+                "x_m and y_m must be within 10000 m and yaw_rad within 1000 rad (finite)");
   }
   Status lattice = c.estimator.lattice.Validate();
   if (!c.estimator.resolution_from_templates && !lattice.ok()) {

@@ -97,6 +97,17 @@ TEST(StereoConfigTest, ErrorsNameTheKey) {
   s = ValidateDaemonConfig(config);
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.error().message.find("stereo.fps"), std::string::npos);
+  // A placement no field has: finite but 1e300 m away, or turned 1e300 rad.
+  config.stereo.fps = 15.0;
+  config.world_from_ground.configured = true;
+  config.world_from_ground.x_m = 1e300;
+  s = ValidateDaemonConfig(config);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("world_from_ground"), std::string::npos);
+  config.world_from_ground.x_m = 3.0;
+  EXPECT_TRUE(ValidateDaemonConfig(config).ok());
+  config.world_from_ground.yaw_rad = 1e300;
+  EXPECT_FALSE(ValidateDaemonConfig(config).ok());
 }
 
 TEST(WorldFrameTest, GroundPosesMoveByWorldFromGround) {
