@@ -422,7 +422,12 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
     return fail("grpc.max_pose_streams_per_client", "must be in [1, 10000]");
   }
   const SourceConfig& s = c.source;
-  if (!(s.fps > 0.0 && s.fps <= 10000.0)) return fail("source.fps", "must be in (0, 10000]");
+  // Rates and durations stay where a clock can count them: a frame every 100 s at the slowest,
+  // waits and timeouts of at most a day (1e300 s would overflow the clock's ticks).
+  constexpr double kMinFps = 0.01, kMaxFps = 10000.0, kMaxWaitS = 86400.0;
+  const auto rate_ok = [&](double fps) { return fps >= kMinFps && fps <= kMaxFps; };
+  const auto wait_ok = [&](double s) { return s > 0.0 && s <= kMaxWaitS; };
+  if (!rate_ok(s.fps)) return fail("source.fps", "must be in [0.01, 10000] frames a second");
   if (s.queue_capacity < 1 || s.queue_capacity > 1000) {
     return fail("source.queue_capacity", "must be in [1, 1000]");
   }
@@ -432,14 +437,20 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (c.estimator.threads < 0 || c.estimator.threads > 256) {
     return fail("search.threads", "must be in [0, 256] (0: one per core)");
   }
-  if (!(s.frame_timeout_s > 0.0)) return fail("source.frame_timeout_s", "must be positive");
-  if (!(s.reconnect_initial_backoff_s > 0.0)) {
-    return fail("source.reconnect_initial_backoff_s", "must be positive");
+  if (!wait_ok(s.frame_timeout_s)) {
+    return fail("source.frame_timeout_s", "must be in (0, 86400] seconds");
   }
-  if (!(s.reconnect_max_backoff_s >= s.reconnect_initial_backoff_s)) {
-    return fail("source.reconnect_max_backoff_s", "must be >= reconnect_initial_backoff_s");
+  if (!wait_ok(s.reconnect_initial_backoff_s)) {
+    return fail("source.reconnect_initial_backoff_s", "must be in (0, 86400] seconds");
   }
-  if (!(s.stale_after_s > 0.0)) return fail("source.stale_after_s", "must be positive");
+  if (!(wait_ok(s.reconnect_max_backoff_s) &&
+        s.reconnect_max_backoff_s >= s.reconnect_initial_backoff_s)) {
+    return fail("source.reconnect_max_backoff_s",
+                "must be >= reconnect_initial_backoff_s and at most 86400 seconds");
+  }
+  if (!wait_ok(s.stale_after_s)) {
+    return fail("source.stale_after_s", "must be in (0, 86400] seconds");
+  }
   if (c.templates.empty()) {
     return fail("templates",
                 "no template given (use --template FILE.bt or templates: in the config)");
@@ -479,8 +490,8 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   }
   if (!c.floor.fixed) {
     const FloorFitterOptions& fit = c.estimator.floor_fit;
-    if (!(fit.distance_threshold_m > 0.0 && std::isfinite(fit.distance_threshold_m))) {
-      return fail("floor.distance_threshold_m", "must be a finite length > 0 (metres)");
+    if (!(fit.distance_threshold_m > 0.0 && fit.distance_threshold_m <= 1.0)) {
+      return fail("floor.distance_threshold_m", "must be in (0, 1] metres");
     }
     if (!(fit.min_width_m >= 0.0 && fit.min_width_m < 100.0)) {
       return fail("floor.min_width_m", "must be in [0, 100) metres (0: no width check)");
@@ -498,8 +509,10 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
     return fail("stereo.calibration_unit",
                 "expected 'm' or 'mm', got '" + st.calibration_unit + "'");
   }
-  if (!(st.fps > 0.0 && st.fps <= 10000.0)) return fail("stereo.fps", "must be in (0, 10000]");
-  if (!(st.stale_after_s > 0.0)) return fail("stereo.stale_after_s", "must be positive");
+  if (!rate_ok(st.fps)) return fail("stereo.fps", "must be in [0.01, 10000] frames a second");
+  if (!wait_ok(st.stale_after_s)) {
+    return fail("stereo.stale_after_s", "must be in (0, 86400] seconds");
+  }
   const WorldFrameConfig& w = c.world_from_ground;
   if (w.configured && !(std::abs(w.x_m) <= 1e4 && std::abs(w.y_m) <= 1e4 &&
                         std::abs(w.yaw_rad) <= 1e3)) {  // NaN fails too.

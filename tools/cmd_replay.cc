@@ -111,11 +111,10 @@ int RunReplay(int argc, char** argv) {
     return kExitUsage;
   }
   if (f.no_progress) progress = false;
-  if (!(f.fps > 0.0 && f.fps <= 10000.0)) {
-    std::cerr
-        << "hpose replay: --fps: the frame rate must be more than 0 and at most 10000 frames per "
-           "second, got "
-        << f.fps << "\n";
+  if (!(f.fps >= 0.01 && f.fps <= 10000.0)) {  // as hposed's source.fps.
+    std::cerr << "hpose replay: --fps: the frame rate must be in [0.01, 10000] frames per "
+                 "second, got "
+              << f.fps << "\n";
     return kExitUsage;
   }
   if (!f.out_path.empty()) {  // before the work: results that cannot be written are an error.

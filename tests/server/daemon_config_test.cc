@@ -140,6 +140,26 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   bad.source.queue_capacity = 0;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.queue_capacity"),
             std::string::npos);
+  // Rates and waits a clock cannot count: 1e-300 frames a second, a 1e300 s timeout.
+  bad = c;
+  bad.source.fps = 1e-300;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.fps"), std::string::npos);
+  bad = c;
+  bad.source.frame_timeout_s = 1e300;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.frame_timeout_s"),
+            std::string::npos);
+  bad = c;
+  bad.source.reconnect_initial_backoff_s = bad.source.reconnect_max_backoff_s = 1e300;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.reconnect_initial_backoff_s"),
+            std::string::npos);
+  bad = c;
+  bad.stereo.stale_after_s = 1e300;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("stereo.stale_after_s"),
+            std::string::npos);
+  bad = c;
+  bad.estimator.floor_fit.distance_threshold_m = 1e300;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("floor.distance_threshold_m"),
+            std::string::npos);
   bad = c;
   bad.source.estimate_threads = 0;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.estimate_threads"),
