@@ -1,5 +1,6 @@
 // `hpose estimate`: the depth-template estimator on one depth frame or cloud.
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -102,6 +103,12 @@ int RunEstimate(int argc, char** argv) {
   if (flags.Seen("floor-height")) {
     if (!(f.floor_height > 0.0 && f.floor_height < 10.0)) {
       std::cerr << "hpose estimate: --floor-height must be within (0, 10) m\n";
+      return kExitUsage;
+    }
+    // As hposed's floor.pitch_rad and roll_rad: within 1.5 rad, short of looking straight down.
+    if (!(std::abs(f.floor_pitch_deg) < 85.9 && std::abs(f.floor_roll_deg) < 85.9)) {
+      std::cerr << "hpose estimate: --floor-pitch-deg and --floor-roll-deg must be within +-85.9 "
+                   "degrees\n";
       return kExitUsage;
     }
     f.options.use_fixed_floor = true;

@@ -183,6 +183,8 @@ TEST_F(EstimateCliTest, AFrameAloneIsReadByItsExtensionWithTheIntrinsicsBesideIt
       {"estimate '" + Frame("depth.png") + "' --cloud '" + Frame("cloud.pcd") + "'",
        "give the frame once"},
       {"estimate '" + Frame("truth.json") + "'", "cannot tell what"},
+      {"estimate '" + Frame("depth.png") + "' --floor-height 0.34 --floor-pitch-deg 1e300",
+       "--floor-pitch-deg and --floor-roll-deg must be within"},
   };
   for (const Case& c : usage) {
     const CliRun run = RunHpose(c.args, *dir_);
