@@ -67,8 +67,11 @@ int RunSimulateScene(int argc, char** argv) {
 
   // Values.
   if (f.out_dir.empty()) return UsageError(kSimulateCmd, "--out DIR is required");
-  if (std::abs(f.x) > 20.0 || std::abs(f.y) > 20.0) {
+  if (!(std::abs(f.x) <= 20.0 && std::abs(f.y) <= 20.0)) {
     return UsageError(kSimulateCmd, "--x and --y must be within +-20 m");
+  }
+  if (!(std::abs(f.theta_deg) <= 3600.0)) {
+    return UsageError(kSimulateCmd, "--theta-deg must be within +-3600 degrees");
   }
   if (!(f.sensor_height > 0.05 && f.sensor_height <= 3.0)) {
     return UsageError(kSimulateCmd,
@@ -120,6 +123,9 @@ int RunSimulateScene(int argc, char** argv) {
     if (!ParsePoseTriple(f.second_at, &p)) {
       return UsageError(kSimulateCmd, "--second-at needs X,Y,THETA_DEG (e.g. 2,0.5,90), got '" +
                                           f.second_at + "'");
+    }
+    if (!(std::abs(p.x) <= 20.0 && std::abs(p.y) <= 20.0)) {
+      return UsageError(kSimulateCmd, "--second-at: X and Y must be within +-20 m, as --x and --y");
     }
     Result<HumanoidModel> m = HumanoidModel::FromPreset(f.second_pose);
     if (!m.ok()) return UsageError(kSimulateCmd, "--second-pose: " + m.error().message);

@@ -14,7 +14,8 @@ bool ParsePoseTriple(const std::string& text, Pose2D* pose) {
   char c1 = 0, c2 = 0, extra = 0;
   std::istringstream in(text);
   if (!(in >> x >> c1 >> y >> c2 >> deg) || c1 != ',' || c2 != ',' || (in >> extra)) return false;
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(deg)) return false;
+  // Finite, and within what a floor and a heading can be (NaN fails these too).
+  if (!(std::abs(x) <= 1e4 && std::abs(y) <= 1e4 && std::abs(deg) <= 3600.0)) return false;
   *pose = Pose2D{x, y, NormalizeAngle(DegToRad(deg))};
   return true;
 }

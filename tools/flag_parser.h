@@ -10,7 +10,7 @@
 namespace hpose::tools {
 
 // "X,Y,THETA_DEG" (metres, degrees) -> a pose (metres, radians); false unless three finite
-// numbers.
+// numbers, X and Y within 10 km and THETA_DEG within ten turns.
 bool ParsePoseTriple(const std::string& text, Pose2D* pose);
 
 // A small GNU-style flag parser shared by every command: `--name value`, `--name=value`,

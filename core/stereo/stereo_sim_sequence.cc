@@ -192,9 +192,9 @@ Status ValidateStereoSimSequenceSpec(const StereoSimSequenceSpec& s) {
   if (s.noise.supersample < 1 || s.noise.supersample > 4) return bad("supersample must be 1..4");
   if (!(s.noise.pixel_noise_sigma >= 0)) return bad("pixel noise must be >= 0");
   if (!(s.noise.gain_min > 0 && s.noise.gain_max >= s.noise.gain_min)) return bad("gain range");
-  if (!(s.fps > 0)) return bad("fps must be > 0");
+  if (!(s.fps >= 0.01 && s.fps <= 10000)) return bad("fps must be 0.01..10000");  // as hposed's.
   if (s.frames < 1 || s.frames > 100000) return bad("frames must be 1..100000");
-  if (!(s.ball_radius_m > 0)) return bad("ball radius must be > 0");
+  if (!(s.ball_radius_m > 0 && s.ball_radius_m <= 1)) return bad("ball radius must be 0..1 m");
   if (!(std::abs(s.robot_speed_mps) <= 2.0)) return bad("robot speed must be within +-2 m/s");
   if (s.noise.jpeg_quality < 0 || s.noise.jpeg_quality > 100) return bad("JPEG quality 0..100");
   if (!(s.noise.vignetting >= 0 && s.noise.vignetting < 1)) return bad("vignetting must be 0..1");

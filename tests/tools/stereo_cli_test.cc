@@ -257,6 +257,11 @@ TEST_F(StereoCliTest, UsageErrors) {
   run = RunHpose("estimate-stereo --sequence " + Q(*dir_ / "no_such_dir"), *dir_);
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.err.find("no_such_dir"), std::string::npos) << run.err;
+  // A frame rate no clock can step (1e300 frames a second) is refused, nothing written.
+  run = RunHpose("simulate stereo --out " + Q(*dir_ / "fast") + " --frames 2 --fps 1e300", *dir_);
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.err.find("fps must be 0.01..10000"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(*dir_ / "fast/frames.csv"));
 }
 
 TEST_F(StereoCliTest, HardVgaSimulationRecordsOcclusionAndDistractorTruth) {
