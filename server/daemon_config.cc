@@ -318,10 +318,13 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
 bool ValidListen(const std::string& listen) {
   const size_t colon = listen.rfind(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 >= listen.size()) return false;
+  long port = 0;
   for (size_t i = colon + 1; i < listen.size(); ++i) {
     if (listen[i] < '0' || listen[i] > '9') return false;
+    port = port * 10 + (listen[i] - '0');
+    if (port > 65535) return false;  // before it could overflow (a 30-digit port aborted).
   }
-  return std::stol(listen.substr(colon + 1)) <= 65535;
+  return true;
 }
 
 }  // namespace

@@ -129,6 +129,14 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   DaemonConfig bad = c;
   bad.grpc.listen = "localhost";
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("listen"), std::string::npos);
+  // Ports beyond 65535, however many digits (a 23-digit one aborted the daemon).
+  for (const char* listen : {"127.0.0.1:65536", "127.0.0.1:99999999999999999999999"}) {
+    bad.grpc.listen = listen;
+    EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("listen"), std::string::npos)
+        << listen;
+  }
+  bad.grpc.listen = "127.0.0.1:65535";
+  EXPECT_TRUE(ValidateDaemonConfig(bad).ok());
   bad = c;
   bad.templates.clear();
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("templates"), std::string::npos);
