@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 #include <system_error>
 
 #include "core/io/depth_png.h"
@@ -136,6 +137,12 @@ Result<RecordSummary> RecordOpenni2(const std::string& device_spec, const std::s
                          "openni2://URI)");
   }
   if (output.empty()) return MakeError(ErrorCode::kInvalidArgument, "no output path");
+  // The frame wait becomes OpenNI2's integer milliseconds: at most a day, as hposed's.
+  if (!(options.frame_timeout_s > 0.0 && options.frame_timeout_s <= 86400.0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "the frame timeout must be in (0, 86400] seconds, got " +
+                         std::to_string(options.frame_timeout_s));
+  }
   if (EndsWith(output, ".oni")) return RecordOni(device_spec, output, options, progress);
   return RecordPngDirectory(device_spec, output, options, progress);
 }

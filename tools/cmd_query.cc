@@ -363,6 +363,16 @@ int RunQuery(int argc, char** argv) {
     return kExitUsage;
   }
 
+  // Deadlines become milliseconds on the clock: a day at most (0 or less: none).
+  if (!(f.timeout_s <= 86400.0)) {
+    std::cerr << "hpose query: --timeout must be at most 86400 seconds (0: no deadline), got "
+              << f.timeout_s << "\n";
+    return kExitUsage;
+  }
+  if (!(f.max_dt_s <= 60.0)) {
+    std::cerr << "hpose query: --max-dt must be at most 60 seconds, got " << f.max_dt_s << "\n";
+    return kExitUsage;
+  }
   grpc::ChannelArguments channel_args;
   channel_args.SetMaxReceiveMessageSize(64 << 20);
   channel_args.SetMaxSendMessageSize(64 << 20);

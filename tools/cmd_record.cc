@@ -29,8 +29,9 @@ int RunRecord(int argc, char** argv) {
     std::cerr << flags.Help() << "\nerror: --out is required\n";
     return kExitUsage;
   }
-  if (f.frames < 0 || f.duration_s < 0 || !(f.timeout_s > 0)) {
-    std::cerr << "hpose record: --frames and --duration must be >= 0, --timeout > 0\n";
+  if (f.frames < 0 || !(f.duration_s >= 0) || !(f.timeout_s > 0 && f.timeout_s <= 86400)) {
+    std::cerr << "hpose record: --frames and --duration must be >= 0, --timeout in (0, 86400] "
+                 "seconds\n";
     return kExitUsage;
   }
   std::signal(SIGINT, OnStopSignal);

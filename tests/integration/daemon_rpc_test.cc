@@ -160,6 +160,25 @@ TEST_F(DaemonRpcTest, QueryOfACloudWithoutFinitePointsNamesTheFile) {
   ExpectStillServing();
 }
 
+// Deadlines the clock cannot hold are usage errors, not a deadline already past.
+TEST_F(DaemonRpcTest, QueryTimeoutsBeyondADayAreUsageErrors) {
+  const std::string server = " --server 127.0.0.1:" + std::to_string(daemon_->port());
+  std::string out;
+  int code =
+      tu::RunCommand(tu::HposeProgram() + " query status --timeout 1e300" + server + " 2>&1", &out);
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("--timeout must be at most 86400 seconds"), std::string::npos) << out;
+  out.clear();
+  code = tu::RunCommand(
+      tu::HposeProgram() + " query stream --compare --count 1 --max-dt 1e300" + server + " 2>&1",
+      &out);
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("--max-dt must be at most 60 seconds"), std::string::npos) << out;
+  out.clear();
+  EXPECT_EQ(tu::RunCommand(tu::HposeProgram() + " query status --timeout 30" + server, &out), 0)
+      << out;
+}
+
 TEST_F(DaemonRpcTest, UnknownTemplateIsNotFound) {
   v1::EstimateRequest request = FrameRequest();
   request.add_templates("sitting");

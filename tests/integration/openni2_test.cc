@@ -169,6 +169,13 @@ TEST_F(Openni2Test, RecordingFromANonDeviceIsRejected) {
   Result<RecordSummary> rec = RecordOpenni2(*dir_ + "/frames", *dir_ + "/x.oni", {}, nullptr);
   ASSERT_FALSE(rec.ok());
   EXPECT_EQ(rec.error().code, ErrorCode::kInvalidArgument);
+  // A frame wait OpenNI2's integer milliseconds cannot hold is refused before any device opens.
+  RecordOptions forever;
+  forever.frame_timeout_s = 1e300;
+  rec = RecordOpenni2("openni2://", *dir_ + "/x.oni", forever, nullptr);
+  ASSERT_FALSE(rec.ok());
+  EXPECT_NE(rec.error().message.find("frame timeout"), std::string::npos) << rec.error().message;
+  EXPECT_FALSE(std::filesystem::exists(*dir_ + "/x.oni"));
 }
 
 }  // namespace
