@@ -59,7 +59,10 @@ std::optional<double> LeadingSeconds(const std::string& name) {
   size_t j = i + 1;
   while (j < name.size() && std::isdigit(static_cast<unsigned char>(name[j]))) ++j;
   if (j == i + 1) return std::nullopt;  // "12.png": a counter, not seconds.fraction.
-  return std::strtod(name.substr(0, j).c_str(), nullptr);
+  const double seconds = std::strtod(name.substr(0, j).c_str(), nullptr);
+  // Up to 1e11 s (the year 5138): longer runs of digits are no clock's (400 of them read as inf).
+  if (!(seconds <= 1e11)) return std::nullopt;
+  return seconds;
 }
 
 }  // namespace

@@ -104,6 +104,9 @@ TEST(FrameFileTimeTest, ReadsGrabberAndSecondsNamesAndIgnoresCounters) {
   EXPECT_NEAR(TimeFromFrameFileName("1305031102.175304.png").value_or(-1), 1305031102.175304, 1e-6);
   EXPECT_NEAR(TimeFromFrameFileName("dir/0001.250_depth.tiff").value_or(-1), 1.25, 1e-9);
   EXPECT_FALSE(TimeFromFrameFileName("depth_000.png").has_value());
+  // No clock's seconds: 400 digits (read as infinity) or beyond 1e11 s.
+  EXPECT_FALSE(TimeFromFrameFileName(std::string(400, '9') + ".5.png").has_value());
+  EXPECT_FALSE(TimeFromFrameFileName("200000000000.5.png").has_value());
   EXPECT_FALSE(TimeFromFrameFileName("12.png").has_value());
   EXPECT_FALSE(TimeFromFrameFileName("frame_20121314T142255.pcd").has_value());  // month 13.
 }
