@@ -1,6 +1,7 @@
 #include "core/stereo/stereo_calibrator.h"
 
 #include <cmath>
+#include <sstream>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -43,15 +44,9 @@ std::vector<double> ToVector(const cv::Mat& m) {
   return v;
 }
 
-}  // namespace
-
-Result<StereoCalibrationReport> CalibrateStereo(
+Result<StereoCalibrationReport> CalibrateStereoUnguarded(
     const std::vector<StereoCalibrationView>& views, const ChessboardOptions& board,
     const std::function<void(const StereoCalibrationReport::View&)>& progress) {
-  if (board.inner_columns < 2 || board.inner_rows < 2 || !(board.square_m > 0)) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "chessboard: needs at least 2x2 inner corners and a square size > 0");
-  }
   if (views.empty()) return MakeError(ErrorCode::kInvalidArgument, "no image pairs given");
   const int width = views.front().left.width, height = views.front().left.height;
   for (const StereoCalibrationView& v : views) {
@@ -134,6 +129,28 @@ Result<StereoCalibrationReport> CalibrateStereo(
   Status valid = ValidateStereoCalibration(cal, "stereo calibration result");
   if (!valid.ok()) return valid.error();
   return report;
+}
+
+}  // namespace
+
+Result<StereoCalibrationReport> CalibrateStereo(
+    const std::vector<StereoCalibrationView>& views, const ChessboardOptions& board,
+    const std::function<void(const StereoCalibrationReport::View&)>& progress) {
+  // OpenCV's corner search needs more than 2 corners a side (it throws otherwise).
+  if (board.inner_columns < 3 || board.inner_rows < 3 || board.inner_columns > 100 ||
+      board.inner_rows > 100 || !(board.square_m > 0 && board.square_m <= 1.0)) {
+    std::ostringstream msg;
+    msg << "chessboard: needs 3 to 100 inner corners a side and a square of (0, 1] m, got "
+        << board.inner_columns << "x" << board.inner_rows << " corners of " << board.square_m
+        << " m";
+    return MakeError(ErrorCode::kInvalidArgument, msg.str());
+  }
+  try {
+    return CalibrateStereoUnguarded(views, board, progress);
+  } catch (const cv::Exception& e) {  // an assertion of OpenCV's on data it cannot calibrate.
+    return MakeError(ErrorCode::kInvalidArgument,
+                     std::string("stereo calibration failed in OpenCV: ") + e.what());
+  }
 }
 
 Status WriteStereoCalibrationReport(const StereoCalibrationReport& report,

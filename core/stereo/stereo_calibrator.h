@@ -58,8 +58,9 @@ struct StereoCalibrationReport {
 // then stereoCalibrate for the relative pose (intrinsics refined jointly) with per-view errors,
 // and stereoRectify. The translation comes out in metres (square_m). `progress` (optional) is
 // called after each view's corner search. Fails with kInvalidArgument when the views differ in
-// size or the options are bad, and kFailedPrecondition when fewer than 3 views show the whole
-// board in both images (naming how many did).
+// size or the options are bad (3 to 100 inner corners a side, squares of (0, 1] m) or OpenCV
+// refuses the data, and kFailedPrecondition when fewer than 3 views show the whole board in both
+// images (naming how many did).
 Result<StereoCalibrationReport> CalibrateStereo(
     const std::vector<StereoCalibrationView>& views, const ChessboardOptions& board,
     const std::function<void(const StereoCalibrationReport::View&)>& progress = nullptr);

@@ -124,6 +124,21 @@ TEST(StereoCalibratorTest, TooFewBoardsAndBadInputAreReported) {
   ChessboardOptions bad;
   bad.square_m = 0;
   EXPECT_EQ(CalibrateStereo({blank}, bad).error().code, ErrorCode::kInvalidArgument);
+  // Boards OpenCV's corner search refuses (2 corners a side threw out of it and aborted), and
+  // squares of 1e300 m, are errors naming the board.
+  bad = ChessboardOptions{};
+  bad.inner_columns = 2;
+  bad.inner_rows = 2;
+  r = CalibrateStereo({blank, blank, blank}, bad);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(r.error().message.find("got 2x2 corners"), std::string::npos) << r.error().message;
+  bad = ChessboardOptions{};
+  bad.square_m = 1e300;
+  EXPECT_EQ(CalibrateStereo({blank}, bad).error().code, ErrorCode::kInvalidArgument);
+  bad = ChessboardOptions{};
+  bad.inner_columns = 100000;
+  EXPECT_EQ(CalibrateStereo({blank}, bad).error().code, ErrorCode::kInvalidArgument);
 }
 
 }  // namespace
