@@ -50,9 +50,9 @@ Eigen::Isometry3d ToIsometry(const urdf::Pose& p) {
   return t;
 }
 
-// Lengths of a URDF shape (sizes, radii, scales): an error naming `what` unless all are finite and
-// not negative. urdfdom reads "nan" and "-1" as numbers; such a shape would silently vanish
-// from the template or turn it inside out.
+// Lengths of a URDF primitive (box sizes, radii, a cylinder's length): an error naming `what`
+// unless all are finite and not negative. urdfdom passes negative ones on; such a shape would
+// turn inside out in the template.
 bool CheckLengths(const std::string& link, const std::string& what,
                   std::initializer_list<double> values, Error* error) {
   for (const double v : values) {
