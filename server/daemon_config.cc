@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "core/common/clock_limits.h"
 #include "core/io/atomic_file.h"
 #include "server/openni2_source.h"
 
@@ -425,11 +426,9 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
     return fail("grpc.max_pose_streams_per_client", "must be in [1, 10000]");
   }
   const SourceConfig& s = c.source;
-  // Rates and durations stay where a clock can count them: a frame every 100 s at the slowest,
-  // waits and timeouts of at most a day (1e300 s would overflow the clock's ticks).
-  constexpr double kMinFps = 0.01, kMaxFps = 10000.0, kMaxWaitS = 86400.0;
-  const auto rate_ok = [&](double fps) { return fps >= kMinFps && fps <= kMaxFps; };
-  const auto wait_ok = [&](double s) { return s > 0.0 && s <= kMaxWaitS; };
+  // Rates and durations stay where a clock can count them (core/common/clock_limits.h).
+  const auto rate_ok = FrameRateInRange;
+  const auto wait_ok = WaitInRange;
   if (!rate_ok(s.fps)) return fail("source.fps", "must be in [0.01, 10000] frames a second");
   if (s.queue_capacity < 1 || s.queue_capacity > 1000) {
     return fail("source.queue_capacity", "must be in [1, 1000]");

@@ -8,6 +8,7 @@
 #include <string>
 #include <system_error>
 
+#include "core/common/clock_limits.h"
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
 #include "server/openni2_source.h"
@@ -138,7 +139,7 @@ Result<RecordSummary> RecordOpenni2(const std::string& device_spec, const std::s
   }
   if (output.empty()) return MakeError(ErrorCode::kInvalidArgument, "no output path");
   // The frame wait becomes OpenNI2's integer milliseconds: at most a day, as hposed's.
-  if (!(options.frame_timeout_s > 0.0 && options.frame_timeout_s <= 86400.0)) {
+  if (!WaitInRange(options.frame_timeout_s)) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "the frame timeout must be in (0, 86400] seconds, got " +
                          std::to_string(options.frame_timeout_s));

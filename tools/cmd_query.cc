@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/common/clock_limits.h"
 #include "core/common/pose2d.h"
 #include "core/io/atomic_file.h"
 #include "core/io/cloud_io.h"
@@ -364,7 +365,7 @@ int RunQuery(int argc, char** argv) {
   }
 
   // Deadlines become milliseconds on the clock: a day at most (0 or less: none).
-  if (!(f.timeout_s <= 86400.0)) {
+  if (!(f.timeout_s <= kMaxWaitS)) {
     std::cerr << "hpose query: --timeout must be at most 86400 seconds (0: no deadline), got "
               << f.timeout_s << "\n";
     return kExitUsage;

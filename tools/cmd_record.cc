@@ -5,6 +5,7 @@
 #include <iostream>
 #include <string>
 
+#include "core/common/clock_limits.h"
 #include "server/openni2_recorder.h"
 #include "tools/cmd_record_flags.h"
 #include "tools/command.h"
@@ -29,7 +30,7 @@ int RunRecord(int argc, char** argv) {
     std::cerr << flags.Help() << "\nerror: --out is required\n";
     return kExitUsage;
   }
-  if (f.frames < 0 || !(f.duration_s >= 0) || !(f.timeout_s > 0 && f.timeout_s <= 86400)) {
+  if (f.frames < 0 || !(f.duration_s >= 0) || !WaitInRange(f.timeout_s)) {
     std::cerr << "hpose record: --frames and --duration must be >= 0, --timeout in (0, 86400] "
                  "seconds\n";
     return kExitUsage;

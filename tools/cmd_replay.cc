@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/clock_limits.h"
 #include "core/common/pose2d.h"
 #include "core/io/atomic_file.h"
 #include "core/io/intrinsics_file.h"
@@ -111,7 +112,7 @@ int RunReplay(int argc, char** argv) {
     return kExitUsage;
   }
   if (f.no_progress) progress = false;
-  if (!(f.fps >= 0.01 && f.fps <= 10000.0)) {  // as hposed's source.fps.
+  if (!FrameRateInRange(f.fps)) {  // as hposed's source.fps.
     std::cerr << "hpose replay: --fps: the frame rate must be in [0.01, 10000] frames per "
                  "second, got "
               << f.fps << "\n";

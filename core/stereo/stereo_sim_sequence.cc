@@ -9,6 +9,7 @@
 #include <fstream>
 #include <random>
 
+#include "core/common/clock_limits.h"
 #include "core/stereo/rgb_image_io.h"
 
 namespace hpose {
@@ -192,7 +193,7 @@ Status ValidateStereoSimSequenceSpec(const StereoSimSequenceSpec& s) {
   if (s.noise.supersample < 1 || s.noise.supersample > 4) return bad("supersample must be 1..4");
   if (!(s.noise.pixel_noise_sigma >= 0)) return bad("pixel noise must be >= 0");
   if (!(s.noise.gain_min > 0 && s.noise.gain_max >= s.noise.gain_min)) return bad("gain range");
-  if (!(s.fps >= 0.01 && s.fps <= 10000)) return bad("fps must be 0.01..10000");  // as hposed's.
+  if (!FrameRateInRange(s.fps)) return bad("fps must be 0.01..10000");  // as hposed's.
   if (s.frames < 1 || s.frames > 100000) return bad("frames must be 1..100000");
   if (!(s.ball_radius_m > 0 && s.ball_radius_m <= 1)) return bad("ball radius must be 0..1 m");
   if (!(std::abs(s.robot_speed_mps) <= 2.0)) return bad("robot speed must be within +-2 m/s");
