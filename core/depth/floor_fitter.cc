@@ -117,7 +117,7 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
   const int n = static_cast<int>(sampled.size());
   if (n < kMinPoints) {
     return MakeError(ErrorCode::kFailedPrecondition,
-                     "no floor: only " + std::to_string(n) + " points" +
+                     "no floor: only " + std::to_string(n) + (n == 1 ? " point" : " points") +
                          (options.downsample_leaf_m > 0.0 ? " after downsampling" : "") +
                          " (need " + std::to_string(kMinPoints) + ")");
   }

@@ -187,6 +187,13 @@ TEST(FloorFitterTest, TooFewPointsIsFailedPrecondition) {
   EXPECT_EQ(floor.error().code, ErrorCode::kFailedPrecondition);
   EXPECT_NE(floor.error().message.find("only 10 points"), std::string::npos)
       << floor.error().message;
+  // One point (a cloud of one reading repeated downsamples to it) is said so.
+  PointCloud one;
+  one.points.assign(1000, Eigen::Vector3f(0.1f, 0.2f, 2.0f));
+  const Result<FloorEstimate> single = FitFloor(one);
+  ASSERT_FALSE(single.ok());
+  EXPECT_NE(single.error().message.find("only 1 point after"), std::string::npos)
+      << single.error().message;
 }
 
 TEST(FloorFitterTest, OnlyWallsAndCeilingGiveNoFloor) {
