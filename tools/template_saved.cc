@@ -1,10 +1,21 @@
 #include "tools/template_saved.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/search/estimator.h"
 #include "core/templates/template_io.h"
 #include "tools/fixed_text.h"
 
 namespace hpose::tools {
+namespace {
+
+// How far a template's lowest voxel may lie from the floor, and its footprint's centre from
+// the origin, before the printout asks whether the cloud was in the template frame.
+constexpr double kMaxFloorGapM = 0.05;
+constexpr double kMaxFootprintOffsetM = 0.25;
+
+}  // namespace
 
 std::string SavedTemplateLines(const VoxelTemplate& tpl, const std::string& path) {
   std::string out = "wrote " + path + " and " + TemplateSidecarPath(path) + ": '" + tpl.name +
@@ -17,6 +28,31 @@ std::string SavedTemplateLines(const VoxelTemplate& tpl, const std::string& path
     out += "  note: taller than " + std::to_string(most) + " of its voxels: searched on " +
            Fixed(edge * 1000.0, 1) +
            " mm voxels by default, its own surface still fitted (docs/TEMPLATES.md)\n";
+  }
+  // The search keeps a template standing on the floor with its origin at the pose: a body
+  // whose lowest voxel floats or sinks, or whose footprint lies far from the origin, was most
+  // likely given in another frame (a sensor's: y down, z forward).
+  if (!tpl.voxels.empty()) {
+    const double half = 0.5 * tpl.resolution_m;
+    Eigen::Vector3f lo = tpl.voxels.front(), hi = tpl.voxels.front();
+    for (const Eigen::Vector3f& v : tpl.voxels) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    const double bottom = lo.z() - half;
+    if (bottom > kMaxFloorGapM || bottom < -kMaxFloorGapM) {
+      out += "  note: its lowest voxel is " + Fixed(std::abs(bottom) * 1000.0, 0) + " mm " +
+             (bottom > 0.0 ? "above" : "below") +
+             " the floor (z = 0 of the template frame); poses are searched with the template "
+             "standing on the floor, so a robot standing there will not match it. Is the "
+             "cloud in the template frame (z up, origin on the floor)?\n";
+    }
+    const double off = 0.5 * std::hypot(lo.x() + hi.x(), lo.y() + hi.y());
+    if (off > kMaxFootprintOffsetM) {
+      out += "  note: the centre of its footprint is " + Fixed(off * 1000.0, 0) +
+             " mm from the origin; poses are of the origin, which should lie below the torso's "
+             "centre\n";
+    }
   }
   return out;
 }

@@ -116,6 +116,26 @@ TEST(TemplateCliTest, FromCloudVoxelisesTheCloud) {
   EXPECT_EQ(tpl->name, "robot");
   EXPECT_DOUBLE_EQ(tpl->resolution_m, 0.02);
   EXPECT_EQ(tpl->voxels.size(), direct->voxels.size());
+  EXPECT_EQ(run.out.find("note:"), std::string::npos) << run.out;
+
+  // The same body lifted half a metre, or moved aside: made, with a note asking about the frame.
+  PointCloud lifted = cloud, aside = cloud;
+  for (Eigen::Vector3f& p : lifted.points) p.z() += 0.5f;
+  for (Eigen::Vector3f& p : aside.points) p.x() += 0.6f;
+  ASSERT_TRUE(WritePcd(lifted, dir / "lifted.pcd").ok());
+  ASSERT_TRUE(WritePcd(aside, dir / "aside.pcd").ok());
+  const CliRun up = RunHpose("template from-cloud '" + (dir / "lifted.pcd") +
+                                 "' --name up --resolution 0.02 --out '" + (dir / "up.bt") + "'",
+                             dir);
+  ASSERT_EQ(up.exit_code, 0) << up.err;
+  EXPECT_NE(up.out.find("lowest voxel is 500 mm above the floor"), std::string::npos) << up.out;
+  EXPECT_EQ(up.out.find("footprint"), std::string::npos) << up.out;
+  const CliRun side = RunHpose("template from-cloud '" + (dir / "aside.pcd") +
+                                   "' --name side --resolution 0.02 --out '" + (dir / "s.bt") + "'",
+                               dir);
+  ASSERT_EQ(side.exit_code, 0) << side.err;
+  EXPECT_NE(side.out.find("centre of its footprint is"), std::string::npos) << side.out;
+  EXPECT_EQ(side.out.find("lowest voxel"), std::string::npos) << side.out;
 }
 
 TEST(TemplateCliTest, BadInputGivesClearErrors) {
