@@ -34,6 +34,84 @@ def _estimator_kind(name):
     return ESTIMATORS[name]
 
 
+# A float depth array whose largest value is below this is in metres, not millimetres.
+_METRES_BELOW = 20.0
+_DEPTH_RANGE = "whole millimetres in [0, 65535] (0: no reading)"
+
+
+def _numpy():
+    try:
+        import numpy
+        return numpy
+    except ImportError:
+        return None
+
+
+def _array_depth_bytes(depth):
+    """Little-endian uint16 bytes of a 2-D array of millimetres, its values checked."""
+    np = _numpy()
+    kind = getattr(getattr(depth, "dtype", None), "kind", None)
+    if np is None or not isinstance(depth, np.ndarray) or kind not in "biuf":
+        return depth.astype("<u2").tobytes()
+    if kind == "b":
+        raise ValueError("depth array is boolean; expected " + _DEPTH_RANGE)
+    if kind == "f":
+        finite = np.isfinite(depth)
+        top = float(depth[finite].max()) if finite.any() else 0.0
+        if 0.0 < top < _METRES_BELOW:
+            raise ValueError("depth values are at most %g: metres? estimate_depth takes "
+                             "millimetres (multiply by 1000)" % top)
+        depth = np.where(finite, np.rint(depth), 0.0)
+    if depth.size and (depth.min() < 0 or depth.max() > 65535):
+        raise ValueError("depth values span %s..%s; expected %s"
+                         % (depth.min(), depth.max(), _DEPTH_RANGE))
+    return depth.astype("<u2").tobytes()
+
+
+def _values_bytes(values):
+    """Little-endian uint16 bytes of a flat sequence of millimetres."""
+    try:
+        packed = array.array("H", values)
+    except (OverflowError, TypeError):
+        bad = next((v for v in values
+                    if not isinstance(v, int) or isinstance(v, bool) or not 0 <= v <= 65535),
+                   None)
+        raise ValueError("depth value %r is not %s" % (bad, _DEPTH_RANGE)) from None
+    if sys.byteorder != "little":
+        packed.byteswap()
+    return packed.tobytes()
+
+
+def _depth_bytes(depth, width, height):
+    """(width, height, bytes) of a depth frame given as estimate_depth takes it."""
+    shape = getattr(depth, "shape", None)
+    rows = None
+    if shape is None and isinstance(depth, (list, tuple)) and depth and \
+            isinstance(depth[0], (list, tuple)):
+        rows = depth  # a list of rows.
+        shape = (len(rows), len(rows[0]))
+        if any(len(r) != shape[1] for r in rows):
+            raise ValueError("depth rows differ in length (the first has %d values)" % shape[1])
+    if shape is not None and len(shape) == 2:
+        h, w = int(shape[0]), int(shape[1])
+        if (width is not None and width != w) or (height is not None and height != h):
+            raise ValueError("depth array is %dx%d (width x height) but width=%s, height=%s"
+                             % (w, h, width, height))
+        if rows is not None:
+            return w, h, _values_bytes([v for r in rows for v in r])
+        return w, h, _array_depth_bytes(depth)
+    if shape is not None and len(shape) != 1:
+        raise ValueError("depth array must be 2-D (height, width) or flat, got shape %s"
+                         % (tuple(shape),))
+    if width is None or height is None:
+        raise ValueError("width and height are required with a flat depth sequence")
+    if isinstance(depth, (bytes, bytearray)):
+        return width, height, bytes(depth)
+    if shape is not None:
+        return width, height, _array_depth_bytes(depth)
+    return width, height, _values_bytes(depth)
+
+
 def estimator_name(estimate):
     """"depth" or "stereo": which estimator made `estimate`."""
     return "stereo" if estimate.estimator == pb.ESTIMATOR_KIND_STEREO_MARKER else "depth"
@@ -153,31 +231,14 @@ class PoseClient:
         """Estimates one depth frame, millimetres (0 = no reading), intrinsics in pixels.
 
         `depth_mm` is a 2-D array (numpy or anything with .shape and .astype, rows first:
-        shape (height, width)); width and height may then be left out. Or a flat sequence of
-        width*height values, or bytes (little-endian uint16), both row-major with width and
-        height given. fx, fy, cx, cy are required."""
+        shape (height, width)) or a list of equal rows; width and height may then be left out.
+        Or a flat sequence of width*height values, or bytes (little-endian uint16), both
+        row-major with width and height given. Values are whole millimetres in [0, 65535];
+        a numpy float array is rounded, its NaN and infinities read as no reading, and one
+        whose largest value is below 20 is refused as metres. fx, fy, cx, cy are required."""
         if None in (fx, fy, cx, cy):
             raise ValueError("estimate_depth needs the intrinsics fx, fy, cx, cy (pixels)")
-        shape = getattr(depth_mm, "shape", None)
-        if shape is not None and len(shape) == 2:
-            rows, cols = int(shape[0]), int(shape[1])
-            if (width is not None and width != cols) or (height is not None and height != rows):
-                raise ValueError("depth array is %dx%d (width x height) but width=%s, height=%s"
-                                 % (cols, rows, width, height))
-            width, height = cols, rows
-            data = depth_mm.astype("<u2").tobytes()
-        elif shape is not None and len(shape) != 1:
-            raise ValueError("depth array must be 2-D (height, width) or flat, got shape %s"
-                             % (tuple(shape),))
-        elif width is None or height is None:
-            raise ValueError("width and height are required with a flat depth sequence")
-        elif isinstance(depth_mm, (bytes, bytearray)):
-            data = bytes(depth_mm)
-        else:
-            values = array.array("H", depth_mm)
-            if sys.byteorder != "little":
-                values.byteswap()
-            data = values.tobytes()
+        width, height, data = _depth_bytes(depth_mm, width, height)
         req = pb.EstimateRequest(
             depth=pb.DepthImage(width=width, height=height, data=data,
                                 intrinsics=pb.Intrinsics(width=width, height=height, fx=fx,

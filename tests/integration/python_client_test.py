@@ -87,6 +87,39 @@ class PythonClientTest(unittest.TestCase):
         self.assertIn("fx", ctx.exception.details)
         self.assertEqual(self.client.status().templates, 2)
 
+    def test_depth_given_every_way_gives_the_same_estimate_and_bad_values_are_named(self):
+        import numpy as np
+        # A level sensor 0.34 m above an empty floor, 80x60 pixels: rows below the centre see
+        # the floor at z = h fy / (v - cy).
+        w, h, fx, fy, cx, cy = 80, 60, 74.0, 74.0, 39.5, 29.5
+        v = np.arange(h, dtype=np.float64)[:, None]
+        metres = np.where(v > cy + 1, 0.34 * fy / np.maximum(v - cy, 1e-9), np.nan)
+        metres = np.broadcast_to(metres, (h, w))
+        metres = np.where(metres < 6.0, metres, np.nan)
+        mm = np.where(np.isfinite(metres), np.rint(metres * 1000), 0).astype(np.uint16)
+        k = dict(fx=fx, fy=fy, cx=cx, cy=cy)
+        reference = self.client.estimate_depth(mm, **k).depth_template.floor
+        self.assertAlmostEqual(reference.height, 0.34, delta=0.01)
+        self.assertGreater(reference.inliers, 100)
+        for name, depth, size in [
+                ("rows", mm.tolist(), {}),
+                ("flat list", mm.ravel().tolist(), dict(width=w, height=h)),
+                ("flat bytes", mm.astype("<u2").tobytes(), dict(width=w, height=h)),
+                ("float millimetres, NaN for no reading", metres * 1000, {})]:
+            floor = self.client.estimate_depth(depth, **size, **k).depth_template.floor
+            self.assertEqual(floor, reference, name)
+        for depth, size, words in [
+                (metres, {}, "metres"),
+                (mm.astype(np.int32) - 60000, {}, "span"),
+                (mm.astype(np.int32) * 100, {}, "span"),
+                (mm > 0, {}, "boolean"),
+                ([[1, 2], [3]], {}, "rows differ"),
+                ([1, 2, -3, 4], dict(width=2, height=2), "-3"),
+                ([1, 2, 3.5, 4], dict(width=2, height=2), "3.5")]:
+            with self.assertRaises(ValueError) as ctx:
+                self.client.estimate_depth(depth, **size, **k)
+            self.assertIn(words, str(ctx.exception))
+
     def test_health_service_reports_serving(self):
         # grpc.health.v1.Health/Check with hand-encoded messages (field 1 = service name).
         check = self.client._channel.unary_unary("/grpc.health.v1.Health/Check")
