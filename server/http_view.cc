@@ -3,10 +3,13 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cstddef>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <utility>
 
+#include "server/elastic_task_queue.h"
 #include "server/live_scene.h"
 #include "server/message_json.h"
 #include "server/metrics.h"
@@ -30,6 +33,20 @@ constexpr auto kEventHeartbeat = std::chrono::seconds(1);          // a message 
 constexpr auto kEventMinInterval = std::chrono::milliseconds(50);  // at most 20 messages/s.
 constexpr std::size_t kMaxRequestBodyBytes = 64 * 1024;            // no route takes a body.
 constexpr int kRequestReadTimeoutS = 1;
+// Workers the view may start: enough that connections stalled until their read times out do
+// not hold up the others unless there are hundreds of them.
+constexpr int kMaxWorkerThreads = 256;
+
+// httplib's task queue on the ElasticTaskQueue.
+class WebTaskQueue final : public httplib::TaskQueue {
+ public:
+  WebTaskQueue(int min_threads, int max_threads) : queue_(min_threads, max_threads) {}
+  void enqueue(std::function<void()> job) override { queue_.Enqueue(std::move(job)); }
+  void shutdown() override { queue_.Shutdown(); }
+
+ private:
+  ElasticTaskQueue queue_;
+};
 
 const char* kJson = "application/json";
 
@@ -112,7 +129,9 @@ Result<std::unique_ptr<HttpView>> HttpView::Start(const HttpConfig& config,
   }
   std::unique_ptr<HttpView> view(new HttpView(config, std::move(sources)));
   const int threads = config.max_event_clients + 4;  // /events streams hold a thread each.
-  view->server_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  view->server_->new_task_queue = [threads] {
+    return new WebTaskQueue(threads, std::max(threads, kMaxWorkerThreads));
+  };
   // Every route is a GET: a request body is never read, but without a limit the library would
   // buffer one of any announced size before answering (300 MB in, 650 MB of memory).
   view->server_->set_payload_max_length(kMaxRequestBodyBytes);

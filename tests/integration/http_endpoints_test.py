@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """hposed's HTTP side without a browser: /metrics (promtool check metrics when Debian's
 prometheus package provides it; counters moving as frames flow), /healthz, the JSON endpoints,
-/events, a request body far too large, and the refusal of a non-loopback --http address
+/events, a request body far too large, stalled connections, and the refusal of a non-loopback --http address
 without --insecure.
 
 usage: http_endpoints_test.py HPOSED HPOSE SOURCE_DIR
@@ -149,6 +149,27 @@ class HttpEndpointsTest(unittest.TestCase):
             reply = conn.recv(200).decode(errors="replace")
         self.assertTrue(reply.startswith("HTTP/1.1 413"), reply)
         self.assertEqual(get(self.http + "/healthz")[0], 200)
+
+    def test_stalled_connections_do_not_hold_up_other_requests(self):
+        # Sixty connections that never finish their request each hold a worker until the read
+        # times out (1 s). The view starts workers as they are needed, so /healthz is answered
+        # at once; a fixed pool of 12 workers answered it after about 5 s (sixty timeouts, 12 at
+        # a time).
+        host, port = self.http[len("http://"):].rsplit(":", 1)
+        stalled = []
+        try:
+            for _ in range(60):
+                conn = socket.create_connection((host, int(port)), timeout=30)
+                conn.sendall(b"GET /healthz HTTP/1.1\r\nHost: x\r\n")  # no blank line: unfinished.
+                stalled.append(conn)
+            start = time.monotonic()
+            status = get(self.http + "/healthz")[0]
+            waited = time.monotonic() - start
+        finally:
+            for conn in stalled:
+                conn.close()
+        self.assertEqual(status, 200)
+        self.assertLess(waited, 2.5, "/healthz waited behind the stalled connections")
 
     def test_non_loopback_http_needs_insecure(self):
         run = subprocess.run([HPOSED, "--http", "0.0.0.0:0", "--print-config"],
