@@ -119,23 +119,23 @@ TEST(TemplateCliTest, FromCloudVoxelisesTheCloud) {
   EXPECT_EQ(run.out.find("note:"), std::string::npos) << run.out;
 
   // The same body lifted half a metre, or moved aside: made, with a note asking about the frame.
-  PointCloud lifted = cloud, aside = cloud;
-  for (Eigen::Vector3f& p : lifted.points) p.z() += 0.5f;
-  for (Eigen::Vector3f& p : aside.points) p.x() += 0.6f;
-  ASSERT_TRUE(WritePcd(lifted, dir / "lifted.pcd").ok());
-  ASSERT_TRUE(WritePcd(aside, dir / "aside.pcd").ok());
-  const CliRun up = RunHpose("template from-cloud '" + (dir / "lifted.pcd") +
-                                 "' --name up --resolution 0.02 --out '" + (dir / "up.bt") + "'",
-                             dir);
-  ASSERT_EQ(up.exit_code, 0) << up.err;
-  EXPECT_NE(up.out.find("lowest voxel is 500 mm above the floor"), std::string::npos) << up.out;
-  EXPECT_EQ(up.out.find("footprint"), std::string::npos) << up.out;
-  const CliRun side = RunHpose("template from-cloud '" + (dir / "aside.pcd") +
-                                   "' --name side --resolution 0.02 --out '" + (dir / "s.bt") + "'",
-                               dir);
-  ASSERT_EQ(side.exit_code, 0) << side.err;
-  EXPECT_NE(side.out.find("centre of its footprint is"), std::string::npos) << side.out;
-  EXPECT_EQ(side.out.find("lowest voxel"), std::string::npos) << side.out;
+  const auto moved = [&](const std::string& name, const Eigen::Vector3f& by) {
+    PointCloud c = cloud;
+    for (Eigen::Vector3f& p : c.points) p += by;
+    EXPECT_TRUE(WritePcd(c, dir / (name + ".pcd")).ok());
+    const CliRun r =
+        RunHpose("template from-cloud '" + (dir / (name + ".pcd")) + "' --name " + name +
+                     " --resolution 0.02 --out '" + (dir / (name + ".bt")) + "'",
+                 dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return r.out;
+  };
+  const std::string up = moved("up", Eigen::Vector3f(0.0f, 0.0f, 0.5f));
+  EXPECT_NE(up.find("lowest voxel is 500 mm above the floor"), std::string::npos) << up;
+  EXPECT_EQ(up.find("footprint"), std::string::npos) << up;
+  const std::string side = moved("side", Eigen::Vector3f(0.6f, 0.0f, 0.0f));
+  EXPECT_NE(side.find("centre of its footprint is"), std::string::npos) << side;
+  EXPECT_EQ(side.find("lowest voxel"), std::string::npos) << side;
 }
 
 TEST(TemplateCliTest, BadInputGivesClearErrors) {
