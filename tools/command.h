@@ -31,6 +31,8 @@ int TemplateShow(int argc, char** argv);      // cmd_template_view.cc
 int RunRecord(int argc, char** argv);
 int RunReplay(int argc, char** argv);
 int RunQuery(int argc, char** argv);
+// A picture of a track of estimates (cmd_plot.cc).
+int RunPlot(int argc, char** argv);
 // Stereo-marker estimator (cmd_stereo.cc). RunSimulateStereo also serves `hpose simulate stereo`.
 int RunEstimateStereo(int argc, char** argv);
 int RunSimulateStereo(int argc, char** argv);

@@ -15,6 +15,7 @@
 #include "tools/cmd_calibrate_flags.h"
 #include "tools/cmd_demo_flags.h"
 #include "tools/cmd_estimate_flags.h"
+#include "tools/cmd_plot_flags.h"
 #include "tools/cmd_query_flags.h"
 #include "tools/cmd_record_flags.h"
 #include "tools/cmd_replay_flags.h"
@@ -88,6 +89,8 @@ const Command kCommands[] = {
      CheckFlags<tools::ReplayFlags>},
     {"query", "ask a running hposed: latest, stream, estimate, status",
      CheckFlags<tools::QueryFlags>},
+    {"plot", "draw a track of estimates (replay's or a stream's JSON Lines) to a PNG",
+     CheckFlags<tools::PlotFlags>},
 };
 
 void PrintHelp() {

@@ -82,7 +82,7 @@ TEST(FrontEndCliTest, ProgramsLoadNoImageCodecsNorPclIo) {
   TempDir dir("front_end_programs_loaded");
   std::vector<std::string> programs;
   for (const char* command : {"estimate", "replay", "record", "demo", "simulate", "template",
-                              "estimate-stereo", "simulate-stereo", "calibrate", "query"}) {
+                              "estimate-stereo", "simulate-stereo", "calibrate", "query", "plot"}) {
     programs.push_back(kToolsDir + "/hpose-" + command);
   }
   programs.push_back(std::string(HPOSE_BINARY_DIR) + "/server/hposed");

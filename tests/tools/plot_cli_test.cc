@@ -1,0 +1,96 @@
+// `hpose plot` on what `hpose replay` writes, and on input it cannot draw.
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/tools/cli_test_util.h"
+
+namespace hpose {
+namespace {
+
+using testing::CliRun;
+using testing::RunHpose;
+using testing::Slurp;
+using testing::TempDir;
+
+// Width and height of a PNG from its IHDR chunk (big-endian, from byte 16); 0, 0 if not a PNG.
+std::pair<int, int> PngSize(const std::string& path) {
+  const std::string head = Slurp(path).substr(0, 24);
+  if (head.size() < 24 || head.substr(1, 3) != "PNG") return {0, 0};
+  const auto be32 = [&](int at) {
+    int v = 0;
+    for (int i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(head[at + i]);
+    return v;
+  };
+  return {be32(16), be32(20)};
+}
+
+TEST(PlotCliTest, DrawsWhatReplayWrote) {
+  TempDir dir("plot_cli");
+  const CliRun sim = RunHpose("simulate --out '" + (dir / "walk") +
+                                  "' --frames 4 --x 1.4 --turn-deg 20 --step-m 0.05 "
+                                  "--width 320 --height 240 --no-cloud",
+                              dir);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const std::string poses = dir / "walk.jsonl";
+  const CliRun replay =
+      RunHpose("replay '" + (dir / "walk") + "' --no-progress --out '" + poses + "'", dir);
+  ASSERT_EQ(replay.exit_code, 0) << replay.err;
+  int humanoids = 0;
+  std::istringstream lines(Slurp(poses));
+  for (std::string line; std::getline(lines, line);) {
+    const nlohmann::json e = nlohmann::json::parse(line);
+    humanoids += e["depth_template"]["best"]["is_humanoid"].get<bool>() ? 1 : 0;
+  }
+  ASSERT_GT(humanoids, 0);
+
+  const CliRun plot = RunHpose("plot '" + poses + "' --out '" + (dir / "t.png") + "'", dir);
+  ASSERT_EQ(plot.exit_code, 0) << plot.err;
+  EXPECT_NE(plot.out.find("drew 4 estimates (humanoid in " + std::to_string(humanoids) + ")"),
+            std::string::npos)
+      << plot.out;
+  EXPECT_EQ(PngSize(dir / "t.png"), std::make_pair(1280, 720));
+  // From standard input, as a stream's lines would come.
+  const CliRun piped =
+      RunHpose("plot - --title 'a walk' --out '" + (dir / "s.png") + "' < '" + poses + "'", dir);
+  ASSERT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_EQ(PngSize(dir / "s.png"), std::make_pair(1280, 720));
+}
+
+TEST(PlotCliTest, InputItCannotDrawIsNamed) {
+  TempDir dir("plot_cli_bad");
+  const auto plot = [&](const std::string& content) {
+    std::ofstream(dir / "in.jsonl") << content;
+    return RunHpose("plot '" + (dir / "in.jsonl") + "' --out '" + (dir / "x.png") + "'", dir);
+  };
+  const CliRun broken = plot("{\"estimator\": \"ESTIMATOR_KIND_DEPTH_TEMPLATE\"}\n{\"a\": 1\n");
+  EXPECT_EQ(broken.exit_code, 1);
+  EXPECT_NE(broken.err.find("in.jsonl: line 2 is not a PoseEstimate"), std::string::npos)
+      << broken.err;
+  const CliRun stereo = plot("{\"estimator\": \"ESTIMATOR_KIND_STEREO_MARKER\"}\n");
+  EXPECT_EQ(stereo.exit_code, 1);
+  EXPECT_NE(stereo.err.find("no depth estimates (1 lines, 1 of another estimator)"),
+            std::string::npos)
+      << stereo.err;
+  const CliRun wrong_type =
+      plot("{\"estimator\": \"ESTIMATOR_KIND_DEPTH_TEMPLATE\", \"source_time\": \"soon\"}\n");
+  EXPECT_EQ(wrong_type.exit_code, 1);
+  EXPECT_NE(wrong_type.err.find("line 1"), std::string::npos) << wrong_type.err;
+  EXPECT_FALSE(std::ifstream(dir / "x.png").good());  // nothing written by a failed plot.
+  // Frames without a humanoid (or that failed) are drawn as such.
+  const CliRun none = plot(
+      "{\"estimator\": \"ESTIMATOR_KIND_DEPTH_TEMPLATE\", \"source_time\": 1.0, "
+      "\"depth_template\": null}\n");
+  EXPECT_EQ(none.exit_code, 0) << none.err;
+  EXPECT_NE(none.out.find("drew 1 estimates (humanoid in 0)"), std::string::npos) << none.out;
+  EXPECT_EQ(RunHpose("plot '" + (dir / "in.jsonl") + "'", dir).exit_code, 2);  // no --out.
+  EXPECT_EQ(RunHpose("plot '" + (dir / "none.jsonl") + "' --out '" + (dir / "y.png") + "'", dir)
+                .exit_code,
+            1);
+}
+
+}  // namespace
+}  // namespace hpose

@@ -1,0 +1,114 @@
+#include "tools/track_picture.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/stereo/rgb_image_io.h"
+
+namespace hpose::tools {
+namespace {
+
+std::string TempPng(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("hpose_track_picture_" + std::to_string(::getpid()) + "_" + name + ".png"))
+      .string();
+}
+
+// A robot walking a circle of 0.4 m about (1.8, 0.3), found in every frame but 10..14.
+std::vector<TrackPoint> Circle() {
+  std::vector<TrackPoint> track;
+  for (int i = 0; i < 60; ++i) {
+    TrackPoint p;
+    p.time_s = 100.0 + i / 30.0;
+    const double a = 2.0 * kPi * i / 60;
+    p.found = i < 10 || i >= 15;
+    p.pose = Pose2D{1.8 + 0.4 * std::cos(a), 0.3 + 0.4 * std::sin(a), NormalizeAngle(a + kPi / 2)};
+    p.score = 60.0 + 10.0 * std::sin(a);
+    p.heading_ambiguous = i == 30;
+    track.push_back(p);
+  }
+  return track;
+}
+
+struct Rgb {
+  int r, g, b;
+};
+Rgb At(const RgbImage& img, int col, int row) {
+  const std::uint8_t* p = &img.pixels[(static_cast<size_t>(row) * img.width + col) * 3];
+  return {p[0], p[1], p[2]};
+}
+// The path's colours run from blue to red; the background, grid and labels are grey.
+bool Coloured(const Rgb& c) { return std::max({c.r, c.g, c.b}) - std::min({c.r, c.g, c.b}) > 40; }
+// Whether a track colour lies within `radius` pixels of (col, row).
+bool ColouredNear(const RgbImage& img, int col, int row, int radius) {
+  for (int dr = -radius; dr <= radius; ++dr) {
+    for (int dc = -radius; dc <= radius; ++dc) {
+      if (Coloured(At(img, col + dc, row + dr))) return true;
+    }
+  }
+  return false;
+}
+
+TEST(TrackPictureTest, TheTopViewShowsTheSensorAndEveryFoundPose) {
+  const std::vector<TrackPoint> track = Circle();
+  const TrackTopView v = FitTrackTopView(track);
+  const auto inside = [&](double x, double y) {
+    return v.Col(y) > v.left && v.Col(y) < v.left + v.size && v.Row(x) > v.top &&
+           v.Row(x) < v.top + v.size;
+  };
+  EXPECT_TRUE(inside(0.0, 0.0));
+  for (const TrackPoint& p : track) EXPECT_TRUE(inside(p.pose.x, p.pose.y)) << p.time_s;
+  // +x up the picture, +y to its left, one scale for both.
+  EXPECT_LT(v.Row(2.0), v.Row(1.0));
+  EXPECT_LT(v.Col(0.5), v.Col(0.0));
+  EXPECT_NEAR(v.Row(1.0) - v.Row(2.0), v.Col(0.0) - v.Col(1.0), 1);
+}
+
+TEST(TrackPictureTest, ThePathIsDrawnWhereThePosesAreAndNowhereElse) {
+  const std::vector<TrackPoint> track = Circle();
+  const std::string path = TempPng("circle");
+  ASSERT_TRUE(WriteTrackPicture(track, "circle", path).ok());
+  const Result<RgbImage> img = ReadRgbImage(path);
+  std::filesystem::remove(path);
+  ASSERT_TRUE(img.ok()) << img.error().ToString();
+  EXPECT_EQ(img->width, kTrackPictureWidth);
+  EXPECT_EQ(img->height, kTrackPictureHeight);
+  const TrackTopView v = FitTrackTopView(track);
+  for (const TrackPoint& p : track) {
+    if (!p.found) continue;
+    EXPECT_TRUE(ColouredNear(*img, v.Col(p.pose.y), v.Row(p.pose.x), 1)) << p.time_s;
+  }
+  // Nothing is drawn in the circle's middle, between it and the sensor, or beyond it.
+  EXPECT_FALSE(ColouredNear(*img, v.Col(0.3), v.Row(1.8), 6));
+  EXPECT_FALSE(ColouredNear(*img, v.Col(0.3), v.Row(0.9), 6));
+  EXPECT_FALSE(ColouredNear(*img, v.Col(-0.4), v.Row(1.8), 6));
+}
+
+TEST(TrackPictureTest, ATrackWithoutAHumanoidIsDrawnWithoutAPath) {
+  std::vector<TrackPoint> track = Circle();
+  for (TrackPoint& p : track) p.found = false;
+  const std::string path = TempPng("none");
+  ASSERT_TRUE(WriteTrackPicture(track, "none", path).ok());
+  const Result<RgbImage> img = ReadRgbImage(path);
+  std::filesystem::remove(path);
+  ASSERT_TRUE(img.ok());
+  const TrackTopView v = FitTrackTopView(track);
+  int coloured = 0;
+  for (int row = v.top; row < v.top + v.size; ++row) {
+    for (int col = v.left; col < v.left + v.size; ++col) coloured += Coloured(At(*img, col, row));
+  }
+  // The "no humanoid found" note is drawn in a pale red; no path colours beyond it.
+  EXPECT_LT(coloured, 3000);
+  EXPECT_TRUE(WriteTrackPicture({}, "empty", path).ok());
+  std::filesystem::remove(path);
+  EXPECT_FALSE(WriteTrackPicture(track, "x", "/nonexistent-dir/track.png").ok());
+}
+
+}  // namespace
+}  // namespace hpose::tools

@@ -1,0 +1,254 @@
+#include "tools/track_picture.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <opencv2/imgproc.hpp>
+
+#include "tools/picture_png.h"
+
+namespace hpose::tools {
+namespace {
+
+constexpr int kMargin = 20;
+constexpr int kTopViewSize = kTrackPictureHeight - 2 * kMargin - 20;  // below the title.
+constexpr double kViewMarginM = 0.4;
+constexpr double kMinViewSpanM = 2.0;
+
+const cv::Scalar kBackground(30, 30, 30);
+const cv::Scalar kGrid(58, 58, 58);
+const cv::Scalar kLabel(150, 150, 150);
+const cv::Scalar kText(230, 230, 230);
+const cv::Scalar kAmbiguous(40, 160, 255);  // BGR orange.
+const cv::Scalar kFoundStrip(90, 180, 90);
+const cv::Scalar kMissedStrip(70, 70, 190);
+
+std::string Num(const char* fmt, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return buf;
+}
+
+void Text(cv::Mat& img, const std::string& s, cv::Point at, double scale, const cv::Scalar& c) {
+  cv::putText(img, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, c, 1, cv::LINE_AA);
+}
+
+// From blue (t = 0, the first frame) to red (t = 1, the last), through violet.
+cv::Scalar TimeColour(double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return cv::Scalar(255 * (1.0 - t) + 50 * t, 70, 50 * (1.0 - t) + 255 * t);
+}
+
+// A grid step of 0.5, 1, 2, 5, ... metres for a span, about 4 to 10 lines.
+double GridStep(double span) {
+  for (double step : {0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0}) {
+    if (span / step <= 10.0) return step;
+  }
+  return 200.0;
+}
+
+void DrawTopView(cv::Mat& img, const TrackTopView& v, const std::vector<TrackPoint>& track,
+                 double t0, double t1) {
+  const cv::Rect panel(v.left, v.top, v.size, v.size);
+  cv::Mat view = img(panel);  // clips what is drawn to the panel.
+  const auto px = [&](double x, double y) {
+    return cv::Point(v.Col(y) - v.left, v.Row(x) - v.top);
+  };
+  const double span = v.size / v.px_per_m;
+  const double step = GridStep(span);
+  const double half = 0.5 * span;
+  for (double x = std::floor((v.x0 - half) / step) * step; x <= v.x0 + half; x += step) {
+    cv::line(view, px(x, v.y0 + half), px(x, v.y0 - half), kGrid, 1);
+    Text(view, Num("x %g m", std::abs(x) < 1e-9 ? 0.0 : x), px(x, v.y0 + half) + cv::Point(4, -4),
+         0.4, kLabel);
+  }
+  for (double y = std::floor((v.y0 - half) / step) * step; y <= v.y0 + half; y += step) {
+    cv::line(view, px(v.x0 + half, y), px(v.x0 - half, y), kGrid, 1);
+    Text(view, Num("y %g", std::abs(y) < 1e-9 ? 0.0 : y), px(v.x0 - half, y) + cv::Point(3, -6),
+         0.4, kLabel);
+  }
+  cv::drawMarker(view, px(0, 0), kText, cv::MARKER_TRIANGLE_UP, 16, 2);
+  Text(view, "sensor", px(0, 0) + cv::Point(12, 4), 0.45, kText);
+
+  const auto time_of = [&](const TrackPoint& p) {
+    return t1 > t0 ? (p.time_s - t0) / (t1 - t0) : 0.0;
+  };
+  int found = 0;
+  for (const TrackPoint& p : track) found += p.found ? 1 : 0;
+  // The path, between frames found one after the other.
+  for (size_t i = 1; i < track.size(); ++i) {
+    if (!track[i - 1].found || !track[i].found) continue;
+    cv::line(view, px(track[i - 1].pose.x, track[i - 1].pose.y),
+             px(track[i].pose.x, track[i].pose.y), TimeColour(time_of(track[i])), 2, cv::LINE_AA);
+  }
+  // Every found pose as a dot, and its heading every few of them (about 40 arrows at most).
+  const int every = std::max(1, found / 40);
+  const double arrow_m = std::max(0.15, 0.04 * span);
+  int k = 0;
+  for (const TrackPoint& p : track) {
+    if (!p.found) continue;
+    const cv::Point at = px(p.pose.x, p.pose.y);
+    cv::circle(view, at, 2, TimeColour(time_of(p)), -1, cv::LINE_AA);
+    if (k++ % every == 0) {
+      const cv::Point tip = px(p.pose.x + arrow_m * std::cos(p.pose.theta),
+                               p.pose.y + arrow_m * std::sin(p.pose.theta));
+      cv::arrowedLine(view, at, tip, p.heading_ambiguous ? kAmbiguous : TimeColour(time_of(p)), 1,
+                      cv::LINE_AA, 0, 0.3);
+    }
+  }
+  const auto first = std::find_if(track.begin(), track.end(), [](auto& p) { return p.found; });
+  const auto last = std::find_if(track.rbegin(), track.rend(), [](auto& p) { return p.found; });
+  if (first != track.end()) {
+    cv::circle(view, px(first->pose.x, first->pose.y), 7, TimeColour(0.0), 2, cv::LINE_AA);
+    const cv::Point end = px(last->pose.x, last->pose.y);
+    cv::rectangle(view, end - cv::Point(6, 6), end + cv::Point(6, 6), TimeColour(1.0), 2);
+  } else {
+    Text(view, "no humanoid found in any frame", cv::Point(20, v.size / 2), 0.7,
+         cv::Scalar(120, 120, 255));
+  }
+  cv::rectangle(img, panel, kLabel, 1);
+}
+
+// What the charts show of a frame.
+struct Series {
+  const char* name;
+  double (*value)(const TrackPoint&);
+  bool heading;  // degrees: shown over [-180, 180], not joined across the wrap.
+};
+constexpr Series kSeries[] = {
+    {"x (m)", [](const TrackPoint& p) { return p.pose.x; }, false},
+    {"y (m)", [](const TrackPoint& p) { return p.pose.y; }, false},
+    {"heading (deg)", [](const TrackPoint& p) { return RadToDeg(p.pose.theta); }, true},
+    {"score", [](const TrackPoint& p) { return p.score; }, false},
+};
+
+// One chart of a value against time: its frame, the range, and the samples of the frames found
+// joined while they follow one another.
+void DrawChart(cv::Mat& img, const cv::Rect& box, const Series& series,
+               const std::vector<TrackPoint>& track, double t0, double t1) {
+  const auto value = series.value;
+  const bool wraps = series.heading;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const TrackPoint& p : track) {
+    if (!p.found || !std::isfinite(value(p))) continue;
+    lo = std::min(lo, value(p));
+    hi = std::max(hi, value(p));
+  }
+  if (wraps) {
+    lo = -180.0;
+    hi = 180.0;
+  } else if (!(hi > lo)) {  // none found, or one value: a range around it.
+    const double c = hi >= lo ? 0.5 * (lo + hi) : 0.0;
+    lo = c - 0.5;
+    hi = c + 0.5;
+  } else {
+    const double pad = 0.08 * (hi - lo);
+    lo -= pad;
+    hi += pad;
+  }
+  cv::rectangle(img, box, kGrid, 1);
+  Text(img, series.name, cv::Point(box.x + 6, box.y + 16), 0.45, kText);
+  Text(img, Num("%.3g", hi), cv::Point(box.x + box.width + 4, box.y + 10), 0.38, kLabel);
+  Text(img, Num("%.3g", lo), cv::Point(box.x + box.width + 4, box.y + box.height), 0.38, kLabel);
+  const auto at = [&](const TrackPoint& p) {
+    const double u = t1 > t0 ? (p.time_s - t0) / (t1 - t0) : 0.5;
+    const double w = (value(p) - lo) / (hi - lo);
+    return cv::Point(box.x + static_cast<int>(std::lround(u * (box.width - 1))),
+                     box.y + box.height - 1 - static_cast<int>(std::lround(w * (box.height - 1))));
+  };
+  for (size_t i = 0; i < track.size(); ++i) {
+    const TrackPoint& p = track[i];
+    if (!p.found) continue;
+    const cv::Scalar colour = TimeColour(t1 > t0 ? (p.time_s - t0) / (t1 - t0) : 0.0);
+    if (i > 0 && track[i - 1].found &&
+        !(wraps && std::abs(value(p) - value(track[i - 1])) > 0.5 * (hi - lo))) {
+      cv::line(img, at(track[i - 1]), at(p), colour, 1, cv::LINE_AA);
+    }
+    cv::circle(img, at(p), 1, colour, -1);
+  }
+}
+
+}  // namespace
+
+int TrackTopView::Col(double y) const {
+  return centre_col - static_cast<int>(std::lround((y - y0) * px_per_m));
+}
+
+int TrackTopView::Row(double x) const {
+  return centre_row - static_cast<int>(std::lround((x - x0) * px_per_m));
+}
+
+TrackTopView FitTrackTopView(const std::vector<TrackPoint>& track) {
+  double xmin = 0.0, xmax = 0.0, ymin = 0.0, ymax = 0.0;  // the sensor is always in view.
+  for (const TrackPoint& p : track) {
+    if (!p.found || !std::isfinite(p.pose.x) || !std::isfinite(p.pose.y)) continue;
+    xmin = std::min(xmin, p.pose.x);
+    xmax = std::max(xmax, p.pose.x);
+    ymin = std::min(ymin, p.pose.y);
+    ymax = std::max(ymax, p.pose.y);
+  }
+  TrackTopView v;
+  v.x0 = 0.5 * (xmin + xmax);
+  v.y0 = 0.5 * (ymin + ymax);
+  const double span =
+      std::max(kMinViewSpanM, std::max(xmax - xmin, ymax - ymin) + 2 * kViewMarginM);
+  v.left = kMargin;
+  v.top = kMargin + 20;
+  v.size = kTopViewSize;
+  v.px_per_m = v.size / span;
+  v.centre_col = v.left + v.size / 2;
+  v.centre_row = v.top + v.size / 2;
+  return v;
+}
+
+Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string& title,
+                         const std::string& path) {
+  cv::Mat img(kTrackPictureHeight, kTrackPictureWidth, CV_8UC3, kBackground);
+  // The time axis spans every frame's time, in whatever order they came (a stream that looped
+  // starts its times again).
+  double t0 = 0.0, t1 = 0.0;
+  for (size_t i = 0; i < track.size(); ++i) {
+    t0 = i == 0 ? track[i].time_s : std::min(t0, track[i].time_s);
+    t1 = i == 0 ? track[i].time_s : std::max(t1, track[i].time_s);
+  }
+  int found = 0, ambiguous = 0;
+  for (const TrackPoint& p : track) {
+    found += p.found ? 1 : 0;
+    ambiguous += p.found && p.heading_ambiguous ? 1 : 0;
+  }
+  Text(img,
+       title + ": " + std::to_string(track.size()) + " frames over " + Num("%.1f", t1 - t0) +
+           " s, humanoid in " + std::to_string(found) + " (heading ambiguous in " +
+           std::to_string(ambiguous) + ")",
+       cv::Point(kMargin, kMargin + 4), 0.55, kText);
+
+  const TrackTopView view = FitTrackTopView(track);
+  DrawTopView(img, view, track, t0, t1);
+
+  // The charts right of the top view, then the strip of frames found.
+  const int left = view.left + view.size + 30;
+  const int width = kTrackPictureWidth - left - 70;
+  const int top = view.top;
+  const int gap = 14, strip = 14;
+  const int height = (view.size - strip - 4 * gap) / 4;
+  const auto box = [&](int i) { return cv::Rect(left, top + i * (height + gap), width, height); };
+  for (int i = 0; i < 4; ++i) DrawChart(img, box(i), kSeries[i], track, t0, t1);
+  const int strip_top = top + 4 * (height + gap);
+  for (size_t i = 0; i < track.size(); ++i) {
+    const double u = t1 > t0 ? (track[i].time_s - t0) / (t1 - t0) : 0.5;
+    const int x = left + static_cast<int>(std::lround(u * (width - 1)));
+    cv::line(img, cv::Point(x, strip_top), cv::Point(x, strip_top + strip - 1),
+             track[i].found ? kFoundStrip : kMissedStrip, 1);
+  }
+  cv::rectangle(img, cv::Rect(left, strip_top, width, strip), kGrid, 1);
+  Text(img, "found", cv::Point(left + width + 4, strip_top + 11), 0.38, kLabel);
+  Text(img,
+       "time " + Num("%.1f", 0.0) + " .. " + Num("%.1f s", t1 - t0) +
+           " (blue .. red); orange arrows: heading ambiguous",
+       cv::Point(left, strip_top + strip + 16), 0.4, kLabel);
+  return WritePicturePng(img, path);
+}
+
+}  // namespace hpose::tools
