@@ -88,11 +88,13 @@ int RunPlot(int argc, char** argv) {
                                            name + ": line " + std::to_string(line_number) +
                                                " is not a PoseEstimate in JSON: " + e.what()));
     }
-    if (!std::isfinite(point.time_s) || !std::isfinite(point.pose.x) ||
-        !std::isfinite(point.pose.y) || !std::isfinite(point.pose.theta)) {
+    // Times as frame files may carry them, poses within the 10 km a ground frame is given in.
+    if (!(std::abs(point.time_s) <= 1e11 && std::abs(point.pose.x) <= 1e4 &&
+          std::abs(point.pose.y) <= 1e4 && std::abs(point.pose.theta) <= 4 * kPi)) {
       return ReportError("plot", MakeError(ErrorCode::kInvalidArgument,
                                            name + ": line " + std::to_string(line_number) +
-                                               " has a time or pose that is not a finite number"));
+                                               " has a time beyond 1e11 s or a pose beyond 10 km "
+                                               "or two turns"));
     }
     track.push_back(point);
   }

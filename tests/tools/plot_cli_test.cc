@@ -79,6 +79,14 @@ TEST(PlotCliTest, InputItCannotDrawIsNamed) {
       plot("{\"estimator\": \"ESTIMATOR_KIND_DEPTH_TEMPLATE\", \"source_time\": \"soon\"}\n");
   EXPECT_EQ(wrong_type.exit_code, 1);
   EXPECT_NE(wrong_type.err.find("line 1"), std::string::npos) << wrong_type.err;
+  const CliRun far = plot(
+      "{\"estimator\": \"ESTIMATOR_KIND_DEPTH_TEMPLATE\", \"source_time\": 1.0, "
+      "\"depth_template\": {\"best\": {\"is_humanoid\": true, \"best\": "
+      "{\"pose\": {\"x\": 1e300, \"y\": 0, \"theta\": 0}}}}}\n");
+  EXPECT_EQ(far.exit_code, 1);
+  EXPECT_NE(far.err.find("line 1 has a time beyond 1e11 s or a pose beyond 10 km"),
+            std::string::npos)
+      << far.err;
   EXPECT_FALSE(std::ifstream(dir / "x.png").good());  // nothing written by a failed plot.
   // Frames without a humanoid (or that failed) are drawn as such.
   const CliRun none = plot(
