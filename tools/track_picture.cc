@@ -41,6 +41,14 @@ cv::Scalar TimeColour(double t) {
   return cv::Scalar(255 * (1.0 - t) + 50 * t, 70, 50 * (1.0 - t) + 255 * t);
 }
 
+// The frames' times as shares of the time axis: 0 at the earliest, 1 at the latest.
+struct TimeAxis {
+  double t0 = 0.0, t1 = 0.0;
+  // Where `t` lies along the axis, `flat` when every frame has the same time.
+  double Share(double t, double flat) const { return t1 > t0 ? (t - t0) / (t1 - t0) : flat; }
+  cv::Scalar Colour(const TrackPoint& p) const { return TimeColour(Share(p.time_s, 0.0)); }
+};
+
 // A grid step of 0.5, 1, 2, 5, ... metres for a span, about 4 to 10 lines.
 double GridStep(double span) {
   for (double step : {0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0}) {
@@ -50,7 +58,7 @@ double GridStep(double span) {
 }
 
 void DrawTopView(cv::Mat& img, const TrackTopView& v, const std::vector<TrackPoint>& track,
-                 double t0, double t1) {
+                 const TimeAxis& time, int found) {
   const cv::Rect panel(v.left, v.top, v.size, v.size);
   cv::Mat view = img(panel);  // clips what is drawn to the panel.
   const auto px = [&](double x, double y) {
@@ -72,16 +80,11 @@ void DrawTopView(cv::Mat& img, const TrackTopView& v, const std::vector<TrackPoi
   cv::drawMarker(view, px(0, 0), kText, cv::MARKER_TRIANGLE_UP, 16, 2);
   Text(view, "sensor", px(0, 0) + cv::Point(12, 4), 0.45, kText);
 
-  const auto time_of = [&](const TrackPoint& p) {
-    return t1 > t0 ? (p.time_s - t0) / (t1 - t0) : 0.0;
-  };
-  int found = 0;
-  for (const TrackPoint& p : track) found += p.found ? 1 : 0;
   // The path, between frames found one after the other.
   for (size_t i = 1; i < track.size(); ++i) {
     if (!track[i - 1].found || !track[i].found) continue;
     cv::line(view, px(track[i - 1].pose.x, track[i - 1].pose.y),
-             px(track[i].pose.x, track[i].pose.y), TimeColour(time_of(track[i])), 2, cv::LINE_AA);
+             px(track[i].pose.x, track[i].pose.y), time.Colour(track[i]), 2, cv::LINE_AA);
   }
   // Every found pose as a dot, and its heading every few of them (about 40 arrows at most).
   const int every = std::max(1, found / 40);
@@ -90,11 +93,11 @@ void DrawTopView(cv::Mat& img, const TrackTopView& v, const std::vector<TrackPoi
   for (const TrackPoint& p : track) {
     if (!p.found) continue;
     const cv::Point at = px(p.pose.x, p.pose.y);
-    cv::circle(view, at, 2, TimeColour(time_of(p)), -1, cv::LINE_AA);
+    cv::circle(view, at, 2, time.Colour(p), -1, cv::LINE_AA);
     if (k++ % every == 0) {
       const cv::Point tip = px(p.pose.x + arrow_m * std::cos(p.pose.theta),
                                p.pose.y + arrow_m * std::sin(p.pose.theta));
-      cv::arrowedLine(view, at, tip, p.heading_ambiguous ? kAmbiguous : TimeColour(time_of(p)), 1,
+      cv::arrowedLine(view, at, tip, p.heading_ambiguous ? kAmbiguous : time.Colour(p), 1,
                       cv::LINE_AA, 0, 0.3);
     }
   }
@@ -127,7 +130,7 @@ constexpr Series kSeries[] = {
 // One chart of a value against time: its frame, the range, and the samples of the frames found
 // joined while they follow one another.
 void DrawChart(cv::Mat& img, const cv::Rect& box, const Series& series,
-               const std::vector<TrackPoint>& track, double t0, double t1) {
+               const std::vector<TrackPoint>& track, const TimeAxis& time) {
   const auto value = series.value;
   const bool wraps = series.heading;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -153,7 +156,7 @@ void DrawChart(cv::Mat& img, const cv::Rect& box, const Series& series,
   Text(img, Num("%.3g", hi), cv::Point(box.x + box.width + 4, box.y + 10), 0.38, kLabel);
   Text(img, Num("%.3g", lo), cv::Point(box.x + box.width + 4, box.y + box.height), 0.38, kLabel);
   const auto at = [&](const TrackPoint& p) {
-    const double u = t1 > t0 ? (p.time_s - t0) / (t1 - t0) : 0.5;
+    const double u = time.Share(p.time_s, 0.5);
     const double w = (value(p) - lo) / (hi - lo);
     return cv::Point(box.x + static_cast<int>(std::lround(u * (box.width - 1))),
                      box.y + box.height - 1 - static_cast<int>(std::lround(w * (box.height - 1))));
@@ -161,7 +164,7 @@ void DrawChart(cv::Mat& img, const cv::Rect& box, const Series& series,
   for (size_t i = 0; i < track.size(); ++i) {
     const TrackPoint& p = track[i];
     if (!p.found) continue;
-    const cv::Scalar colour = TimeColour(t1 > t0 ? (p.time_s - t0) / (t1 - t0) : 0.0);
+    const cv::Scalar colour = time.Colour(p);
     if (i > 0 && track[i - 1].found &&
         !(wraps && std::abs(value(p) - value(track[i - 1])) > 0.5 * (hi - lo))) {
       cv::line(img, at(track[i - 1]), at(p), colour, 1, cv::LINE_AA);
@@ -208,10 +211,10 @@ Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string
   cv::Mat img(kTrackPictureHeight, kTrackPictureWidth, CV_8UC3, kBackground);
   // The time axis spans every frame's time, in whatever order they came (a stream that looped
   // starts its times again).
-  double t0 = 0.0, t1 = 0.0;
+  TimeAxis time;
   for (size_t i = 0; i < track.size(); ++i) {
-    t0 = i == 0 ? track[i].time_s : std::min(t0, track[i].time_s);
-    t1 = i == 0 ? track[i].time_s : std::max(t1, track[i].time_s);
+    time.t0 = i == 0 ? track[i].time_s : std::min(time.t0, track[i].time_s);
+    time.t1 = i == 0 ? track[i].time_s : std::max(time.t1, track[i].time_s);
   }
   int found = 0, ambiguous = 0;
   for (const TrackPoint& p : track) {
@@ -219,13 +222,13 @@ Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string
     ambiguous += p.found && p.heading_ambiguous ? 1 : 0;
   }
   Text(img,
-       title + ": " + std::to_string(track.size()) + " frames over " + Num("%.1f", t1 - t0) +
-           " s, humanoid in " + std::to_string(found) + " (heading ambiguous in " +
-           std::to_string(ambiguous) + ")",
+       title + ": " + std::to_string(track.size()) + " frames over " +
+           Num("%.1f", time.t1 - time.t0) + " s, humanoid in " + std::to_string(found) +
+           " (heading ambiguous in " + std::to_string(ambiguous) + ")",
        cv::Point(kMargin, kMargin + 4), 0.55, kText);
 
   const TrackTopView view = FitTrackTopView(track);
-  DrawTopView(img, view, track, t0, t1);
+  DrawTopView(img, view, track, time, found);
 
   // The charts right of the top view, then the strip of frames found.
   const int left = view.left + view.size + 30;
@@ -234,10 +237,10 @@ Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string
   const int gap = 14, strip = 14;
   const int height = (view.size - strip - 4 * gap) / 4;
   const auto box = [&](int i) { return cv::Rect(left, top + i * (height + gap), width, height); };
-  for (int i = 0; i < 4; ++i) DrawChart(img, box(i), kSeries[i], track, t0, t1);
+  for (int i = 0; i < 4; ++i) DrawChart(img, box(i), kSeries[i], track, time);
   const int strip_top = top + 4 * (height + gap);
   for (size_t i = 0; i < track.size(); ++i) {
-    const double u = t1 > t0 ? (track[i].time_s - t0) / (t1 - t0) : 0.5;
+    const double u = time.Share(track[i].time_s, 0.5);
     const int x = left + static_cast<int>(std::lround(u * (width - 1)));
     cv::line(img, cv::Point(x, strip_top), cv::Point(x, strip_top + strip - 1),
              track[i].found ? kFoundStrip : kMissedStrip, 1);
@@ -245,7 +248,7 @@ Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string
   cv::rectangle(img, cv::Rect(left, strip_top, width, strip), kGrid, 1);
   Text(img, "found", cv::Point(left + width + 4, strip_top + 11), 0.38, kLabel);
   Text(img,
-       "time " + Num("%.1f", 0.0) + " .. " + Num("%.1f s", t1 - t0) +
+       "time " + Num("%.1f", 0.0) + " .. " + Num("%.1f s", time.t1 - time.t0) +
            " (blue .. red); orange arrows: heading ambiguous",
        cv::Point(left, strip_top + strip + 16), 0.4, kLabel);
   return WritePicturePng(img, path);
