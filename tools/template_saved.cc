@@ -1,10 +1,10 @@
 #include "tools/template_saved.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include "core/search/estimator.h"
 #include "core/templates/template_io.h"
+#include "core/templates/template_shape.h"
 #include "tools/fixed_text.h"
 
 namespace hpose::tools {
@@ -33,13 +33,8 @@ std::string SavedTemplateLines(const VoxelTemplate& tpl, const std::string& path
   // whose lowest voxel floats or sinks, or whose footprint lies far from the origin, was most
   // likely given in another frame (a sensor's: y down, z forward).
   if (!tpl.voxels.empty()) {
-    const double half = 0.5 * tpl.resolution_m;
-    Eigen::Vector3f lo = tpl.voxels.front(), hi = tpl.voxels.front();
-    for (const Eigen::Vector3f& v : tpl.voxels) {
-      lo = lo.cwiseMin(v);
-      hi = hi.cwiseMax(v);
-    }
-    const double bottom = lo.z() - half;
+    const TemplateShape shape = DescribeTemplate(tpl);
+    const double bottom = shape.min.z();
     if (bottom > kMaxFloorGapM || bottom < -kMaxFloorGapM) {
       out += "  note: its lowest voxel is " + Fixed(std::abs(bottom) * 1000.0, 0) + " mm " +
              (bottom > 0.0 ? "above" : "below") +
@@ -47,7 +42,8 @@ std::string SavedTemplateLines(const VoxelTemplate& tpl, const std::string& path
              "standing on the floor, so a robot standing there will not match it. Is the "
              "cloud in the template frame (z up, origin on the floor)?\n";
     }
-    const double off = 0.5 * std::hypot(lo.x() + hi.x(), lo.y() + hi.y());
+    const double off =
+        0.5 * std::hypot(shape.min.x() + shape.max.x(), shape.min.y() + shape.max.y());
     if (off > kMaxFootprintOffsetM) {
       out += "  note: the centre of its footprint is " + Fixed(off * 1000.0, 0) +
              " mm from the origin; poses are of the origin, which should lie below the torso's "
