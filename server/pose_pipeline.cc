@@ -99,6 +99,10 @@ PosePipeline::~PosePipeline() { Stop(); }
 void PosePipeline::Start() {
   if (started_ || !source_) return;
   started_ = true;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    estimators_running_ = static_cast<int>(estimators_.size());
+  }
   capture_thread_ = std::thread([this] { CaptureLoop(); });
   for (const std::unique_ptr<Estimator>& e : estimators_) {
     estimate_threads_.emplace_back([this, estimator = e.get()] { EstimateLoop(estimator); });
@@ -176,6 +180,13 @@ bool PosePipeline::OpenWithBackoff() {
 }
 
 void PosePipeline::CaptureLoop() {
+  CaptureFrames();
+  capture_done_.store(true);
+  // Frames still queued are estimated; an estimation thread that finds the queue empty stops.
+  queue_.Close();
+}
+
+void PosePipeline::CaptureFrames() {
   if (!OpenWithBackoff()) return;
   SetState(SourceState::kRunning, "");
   const bool drop_oldest = source_->live() || config_.realtime;
@@ -251,8 +262,13 @@ void PosePipeline::EstimateLoop(Estimator* estimator) {
     std::uint64_t ticket = 0;
     {
       std::lock_guard<std::mutex> take(take_mu_);
+      // Read before popping: when the capture had already ended, an empty queue stays empty.
+      const bool capture_done = capture_done_.load();
       frame = queue_.Pop(std::chrono::milliseconds(100));
-      if (!frame) continue;
+      if (!frame) {
+        if (capture_done) break;
+        continue;
+      }
       std::lock_guard<std::mutex> lock(mu_);
       ticket = publish_order_.NextTicket();
     }
@@ -284,6 +300,15 @@ void PosePipeline::EstimateLoop(Estimator* estimator) {
     if (observer_) published->frame = std::make_shared<const Frame>(std::move(*frame));
     Publish(ticket, std::move(published));
   }
+  // The last estimation thread out, when the source ended rather than the pipeline stopping,
+  // marks the pipeline ended (every ticket was handed in, so everything is published).
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (--estimators_running_ > 0 || stopping_.load()) return;
+    ended_ = true;
+  }
+  published_cv_.notify_all();
+  if (signal_ != nullptr) signal_->Notify();
 }
 
 void PosePipeline::Publish(std::uint64_t ticket, std::shared_ptr<PublishedEstimate> result) {
@@ -325,9 +350,15 @@ std::shared_ptr<const PublishedEstimate> PosePipeline::Latest() const {
 std::shared_ptr<const PublishedEstimate> PosePipeline::WaitNewer(
     std::uint64_t after, std::chrono::steady_clock::time_point deadline) const {
   std::unique_lock<std::mutex> lock(mu_);
-  published_cv_.wait_until(
-      lock, deadline, [&] { return stopping_.load() || (latest_ && latest_->publish_id > after); });
+  published_cv_.wait_until(lock, deadline, [&] {
+    return stopping_.load() || ended_ || (latest_ && latest_->publish_id > after);
+  });
   return latest_;
+}
+
+bool PosePipeline::Ended() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return ended_;
 }
 
 bool PosePipeline::IsStale(const PublishedEstimate& e, std::string* reason) const {

@@ -119,10 +119,14 @@ class PosePipeline {
 
   // The newest published estimate, or null before the first.
   std::shared_ptr<const PublishedEstimate> Latest() const;
-  // Waits until an estimate with publish_id > `after` exists, `deadline` passes or the pipeline
-  // stops; returns the newest (possibly not newer, or null).
+  // Waits until an estimate with publish_id > `after` exists, `deadline` passes, the pipeline
+  // has ended or stops; returns the newest (possibly not newer, or null).
   std::shared_ptr<const PublishedEstimate> WaitNewer(
       std::uint64_t after, std::chrono::steady_clock::time_point deadline) const;
+  // True once the source has ended (finished or failed) and the estimate of every frame it
+  // delivered has been published: no estimate will follow. A live source that is lost
+  // reconnects instead and never ends; a looping recording never ends.
+  bool Ended() const;
 
   // True (with the reason) when `e` is not fresh: the source is not running, or `e` is older
   // than stale_after_s.
@@ -132,7 +136,9 @@ class PosePipeline {
   bool has_source() const { return source_ != nullptr; }
 
  private:
+  // Runs CaptureFrames, then tells the estimation threads that no frame will follow.
   void CaptureLoop();
+  void CaptureFrames();
   void EstimateLoop(Estimator* estimator);
   // Hands the result of frame `ticket` to publish_order_ and publishes what it releases.
   void Publish(std::uint64_t ticket, std::shared_ptr<PublishedEstimate> result);
@@ -156,6 +162,8 @@ class PosePipeline {
   // follow the frames' order.
   std::mutex take_mu_;
   std::atomic<bool> stopping_{false};
+  // Set once the capture thread has pushed its last frame.
+  std::atomic<bool> capture_done_{false};
   bool started_ = false;
 
   mutable std::mutex mu_;  // guards everything below.
@@ -167,6 +175,8 @@ class PosePipeline {
   // Tickets are taken under take_mu_ and handed in under mu_.
   PublishOrder<std::shared_ptr<PublishedEstimate>> publish_order_;
   std::uint64_t next_publish_id_ = 1;
+  int estimators_running_ = 0;
+  bool ended_ = false;
   std::uint64_t frames_in_ = 0;
   std::uint64_t frames_dropped_ = 0;
   std::uint64_t frames_estimated_ = 0;

@@ -109,6 +109,15 @@ grpc::Status LatestFrom(const Pipeline& pipeline, grpc::ServerContext* context, 
           "no estimate after sequence " + std::to_string(after) + " before the deadline");
     }
     if (shutting_down) return grpc::Status(grpc::StatusCode::UNAVAILABLE, "shutting down");
+    if (pipeline.Ended()) {  // read before Latest: whatever it ended with is in `latest`.
+      latest = pipeline.Latest();
+      if (latest && latest->sequence > after) break;
+      const PipelineStatus s = pipeline.Status();
+      return grpc::Status(grpc::StatusCode::OUT_OF_RANGE,
+                          "no estimate after sequence " + std::to_string(after) +
+                              " will come: the source " + SourceStateName(s.state) +
+                              (s.reason.empty() ? "" : ": " + s.reason));
+    }
     latest = pipeline.WaitNewer(latest ? latest->publish_id : 0,
                                 std::min(deadline, now + std::chrono::milliseconds(100)));
   }
@@ -407,6 +416,9 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
       break;
     }
     const std::uint64_t seen = signal_ != nullptr ? signal_->count() : 0;
+    // Read before looking for news: a source that had ended has published everything it will.
+    const bool ended =
+        (!want_depth || pipeline_->Ended()) && (!want_stereo || stereo_pipeline_->Ended());
     bool wrote = false, done = false;
     if (want_depth) {
       std::shared_ptr<const PublishedEstimate> e = pipeline_->Latest();
@@ -434,6 +446,7 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
     }
     if (done) break;
     if (wrote) continue;
+    if (ended) break;  // every source streamed has ended and all it published was sent.
     const Clock::time_point wait_until = std::min(deadline, now + std::chrono::milliseconds(100));
     if (signal_ != nullptr) {
       signal_->WaitChange(seen, wait_until);

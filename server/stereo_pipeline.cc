@@ -46,10 +46,16 @@ void StereoPipeline::Stop() {
 }
 
 void StereoPipeline::SetState(SourceState state, std::string reason) {
-  std::lock_guard<std::mutex> lock(mu_);
-  LogSourceStateChange("stereo source " + sequence_.dir(), state_, state, reason);
-  state_ = state;
-  reason_ = std::move(reason);
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    LogSourceStateChange("stereo source " + sequence_.dir(), state_, state, reason);
+    state_ = state;
+    reason_ = std::move(reason);
+  }
+  if (state == SourceState::kFinished || state == SourceState::kFailed) {  // Ended(): wake waiters.
+    published_cv_.notify_all();
+    if (signal_ != nullptr) signal_->Notify();
+  }
 }
 
 bool StereoPipeline::SleepUntil(Clock::time_point t) {
@@ -165,9 +171,16 @@ std::shared_ptr<const PublishedStereoEstimate> StereoPipeline::Latest() const {
 std::shared_ptr<const PublishedStereoEstimate> StereoPipeline::WaitNewer(
     std::uint64_t after, Clock::time_point deadline) const {
   std::unique_lock<std::mutex> lock(mu_);
-  published_cv_.wait_until(
-      lock, deadline, [&] { return stopping_.load() || (latest_ && latest_->publish_id > after); });
+  published_cv_.wait_until(lock, deadline, [&] {
+    return stopping_.load() || state_ == SourceState::kFinished || state_ == SourceState::kFailed ||
+           (latest_ && latest_->publish_id > after);
+  });
   return latest_;
+}
+
+bool StereoPipeline::Ended() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return state_ == SourceState::kFinished || state_ == SourceState::kFailed;
 }
 
 bool StereoPipeline::IsStale(const PublishedStereoEstimate& e, std::string* reason) const {

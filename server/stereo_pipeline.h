@@ -70,6 +70,9 @@ class StereoPipeline final {
   // stops; returns the newest (possibly not newer, or null).
   std::shared_ptr<const PublishedStereoEstimate> WaitNewer(
       std::uint64_t after, std::chrono::steady_clock::time_point deadline) const;
+  // True once the sequence has ended (finished or failed) after publishing its last pair: no
+  // estimate will follow.
+  bool Ended() const;
   // True (with the reason) when `e` is not fresh: the source is not running, or `e` is older
   // than stale_after_s.
   bool IsStale(const PublishedStereoEstimate& e, std::string* reason) const;

@@ -453,6 +453,11 @@ int RunQuery(int argc, char** argv) {
       return kExitOk;
     }
     if (!s.ok()) return Fail("stream", s);
+    if (f.count <= 0 || received < f.count) {  // ended by the daemon, not by --count.
+      std::cerr << "hpose query stream: the stream ended after " << received
+                << " estimate(s): the daemon's source has ended (a finished recording or a "
+                   "failed source; `hpose query status` says which), no estimate will follow\n";
+    }
     return kExitOk;
   }
   if (cmd == "estimate") {

@@ -8,7 +8,8 @@ FlagParser QueryFlags::Parser() {
       "| status | templates)",
       "Asks a running hposed. latest: the newest estimate of the daemon's source (--estimator); "
       "stream: estimates of both estimators as they are made, each line marked depth or stereo, "
-      "until Ctrl-C (or --count); with --compare each line shows the newest world-frame robot "
+      "until Ctrl-C, --count or the end of the daemon's source (a finished recording); with "
+      "--compare each line shows the newest world-frame robot "
       "pose of both estimators side by side and the difference between the poses both made of "
       "the same instant (frames that reached the daemon within --max-dt), with a summary at the "
       "end; estimate FILE: sends a depth "
@@ -19,7 +20,8 @@ FlagParser QueryFlags::Parser() {
       "poses after a '|'; --json prints the API messages (SI units).");
   flags.AddString("server", &server, "daemon address", "ADDR");
   flags.AddBool("json", &json, "print JSON (one object per line) instead of text");
-  flags.AddInt("count", &count, "stream: stop after N estimates (0 = until Ctrl-C)", "N");
+  flags.AddInt("count", &count,
+               "stream: stop after N estimates (0 = until Ctrl-C or the source ends)", "N");
   flags.AddDouble("timeout", &timeout_s, "deadline of each call, seconds (stream: none)", "S");
   flags.AddString("intrinsics", &intrinsics, "estimate: intrinsics.json of a PNG", "FILE");
   flags.AddString("estimator", &estimator,

@@ -213,7 +213,8 @@ class PoseClient:
 
     def stream(self, max_estimates=0, timeout=None, estimators=()):
         """Yields estimates as the daemon makes them, of every estimator with a source, or only
-        of `estimators` (names: "depth", "stereo"). Breaking out of the loop cancels."""
+        of `estimators` (names: "depth", "stereo"). Breaking out of the loop cancels. The
+        iteration ends by itself once every streamed source has ended (a finished recording)."""
         req = pb.StreamPosesRequest(max_estimates=max_estimates,
                                     estimators=[_estimator_kind(e) for e in estimators])
         call = self._stub.StreamPoses(req, timeout=timeout, metadata=self._metadata)

@@ -408,6 +408,97 @@ TEST(DaemonFinishedRecordingTest, LastEstimateIsStaleWithTheReason) {
   std::filesystem::remove_all(dir);
 }
 
+// A recording played to its end (no loop) ends the streams on it: a stream open while it plays
+// gets its estimates up to the last frame, then ends OK; one opened afterwards ends at once, and
+// so does `hpose query stream --count N`. GetLatest waiting for a sequence after the last says
+// none will come instead of waiting for its deadline.
+TEST(DaemonFinishedRecordingTest, StreamsEndWithTheRecording) {
+  const std::string dir = tu::MakeTempDir("stream_end");
+  ASSERT_TRUE(tu::SimulateFrames(dir, 6));
+  DaemonConfig config;
+  config.grpc.listen = "127.0.0.1:0";
+  config.source.path = dir;
+  config.source.fps = 2.0;  // 3 s of frames at the recorded rate: the stream opens first.
+  config.templates = {tu::TemplatePath("standing")};
+  Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
+  ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
+  auto stub = Connect((*daemon)->port());
+  std::uint64_t last_sequence = 0;
+  int received = 0;
+  {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, 120s);
+    auto reader = stub->StreamPoses(&ctx, v1::StreamPosesRequest());
+    v1::PoseEstimate e;
+    while (reader->Read(&e)) {
+      EXPECT_GT(e.sequence(), last_sequence);
+      last_sequence = e.sequence();
+      ++received;
+    }
+    const grpc::Status s = reader->Finish();
+    EXPECT_TRUE(s.ok()) << s.error_code() << ": " << s.error_message();
+  }
+  v1::GetStatusResponse st;
+  {
+    grpc::ClientContext ctx;
+    ASSERT_TRUE(stub->GetStatus(&ctx, v1::GetStatusRequest(), &st).ok());
+  }
+  EXPECT_EQ(st.source().state(), v1::SOURCE_STATE_FINISHED);
+  EXPECT_EQ(st.source().frames_in(), 6u);
+  EXPECT_GE(received, 1);
+  grpc::ClientContext latest_ctx;
+  v1::GetLatestResponse latest;
+  ASSERT_TRUE(stub->GetLatest(&latest_ctx, v1::GetLatestRequest(), &latest).ok());
+  EXPECT_EQ(last_sequence, latest.estimate().sequence());  // the stream saw the last estimate.
+  EXPECT_EQ(
+      st.source().frames_estimated() + st.source().frames_failed() + st.source().frames_dropped(),
+      6u);
+  {  // Opened after the end: ends at once, nothing sent.
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, 60s);
+    v1::StreamPosesRequest request;
+    request.set_max_estimates(5);
+    auto reader = stub->StreamPoses(&ctx, request);
+    v1::PoseEstimate e;
+    EXPECT_FALSE(reader->Read(&e));
+    const grpc::Status s = reader->Finish();
+    EXPECT_TRUE(s.ok()) << s.error_code() << ": " << s.error_message();
+  }
+  {  // Waiting for a sequence after the last one: none will come.
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, 60s);
+    v1::GetLatestRequest request;
+    request.set_after_sequence(latest.estimate().sequence());
+    v1::GetLatestResponse response;
+    const grpc::Status s = stub->GetLatest(&ctx, request, &response);
+    EXPECT_EQ(s.error_code(), grpc::StatusCode::OUT_OF_RANGE) << s.error_message();
+    EXPECT_NE(s.error_message().find("will come: the source finished"), std::string::npos)
+        << s.error_message();
+  }
+  {  // One before the last: answered with the last at once.
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx, 60s);
+    v1::GetLatestRequest request;
+    request.set_after_sequence(latest.estimate().sequence() - 1);
+    v1::GetLatestResponse response;
+    ASSERT_TRUE(stub->GetLatest(&ctx, request, &response).ok());
+    EXPECT_EQ(response.estimate().sequence(), latest.estimate().sequence());
+  }
+  {  // The command line: exits 0 and says why the stream ended.
+    std::string out;
+    const int code =
+        tu::RunCommand("timeout 60 " + tu::HposeProgram() + " query --server 127.0.0.1:" +
+                           std::to_string((*daemon)->port()) + " stream --count 5 2>&1",
+                       &out);
+    EXPECT_EQ(code, 0) << out;
+    EXPECT_NE(out.find("the stream ended after 0 estimate(s): the daemon's source has ended"),
+              std::string::npos)
+        << out;
+  }
+  (*daemon)->Shutdown();
+  std::filesystem::remove_all(dir);
+}
+
 // A daemon whose templates are taller than search.max_height_voxels of their voxels searches on
 // coarser ones: ListTemplates says which edge, next to each template's own, and `hpose query
 // templates` prints it.

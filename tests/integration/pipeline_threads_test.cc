@@ -66,8 +66,8 @@ class PipelineThreadsTest : public ::testing::Test {
     return std::make_unique<PosePipeline>(std::move(*source), std::move(estimators), config);
   }
 
-  // Follows the published estimates until the source finished and the last frame is out (or
-  // 120 s pass); returns the frame sequence numbers seen, in publishing order.
+  // Follows the published estimates until the pipeline has ended (or 120 s pass); returns the
+  // frame sequence numbers seen, in publishing order.
   static std::vector<std::uint64_t> Follow(PosePipeline* pipeline) {
     std::vector<std::uint64_t> seen;
     for (const auto& e : FollowEstimates(pipeline)) seen.push_back(e->sequence);
@@ -80,19 +80,17 @@ class PipelineThreadsTest : public ::testing::Test {
     std::vector<std::shared_ptr<const PublishedEstimate>> seen;
     std::uint64_t last_id = 0;
     const Clock::time_point give_up = Clock::now() + std::chrono::seconds(120);
-    while (Clock::now() < give_up) {
+    for (;;) {
+      const bool ended = pipeline->Ended();  // before looking: it then ended with what we see.
       auto e = pipeline->WaitNewer(last_id, Clock::now() + std::chrono::milliseconds(200));
       if (e && e->publish_id > last_id) {
         last_id = e->publish_id;
         seen.push_back(e);
+        continue;
       }
-      const PipelineStatus s = pipeline->Status();
-      if (s.state == SourceState::kFinished &&
-          s.frames_estimated + s.frames_failed + s.frames_dropped >= s.frames_in && e != nullptr &&
-          e->publish_id == s.frames_estimated + s.frames_failed) {
-        break;
-      }
+      if (ended || Clock::now() >= give_up) break;
     }
+    EXPECT_TRUE(pipeline->Ended());
     return seen;
   }
 
@@ -114,7 +112,19 @@ TEST_F(PipelineThreadsTest, FastReplayPublishesEveryFrameInOrder) {
   ASSERT_NE(latest, nullptr);
   EXPECT_EQ(latest->publish_id, static_cast<std::uint64_t>(kFrames));
   EXPECT_EQ(latest->sequence, seen.back());
+  EXPECT_EQ(latest->sequence, static_cast<std::uint64_t>(kFrames));
   EXPECT_GE(latest->latency_s, latest->queue_s);
+}
+
+// Stopped while the recording plays: not ended (a stream on it would be told the daemon is
+// shutting down, not that the source ended).
+TEST_F(PipelineThreadsTest, StoppingIsNotEnding) {
+  std::unique_ptr<PosePipeline> pipeline = MakePipeline(/*realtime=*/true, 1.0, 2);
+  pipeline->Start();
+  EXPECT_NE(pipeline->WaitNewer(0, Clock::now() + std::chrono::seconds(120)), nullptr);
+  pipeline->Stop();
+  EXPECT_FALSE(pipeline->Ended());
+  EXPECT_LT(pipeline->Status().frames_in, static_cast<std::uint64_t>(kFrames));
 }
 
 TEST_F(PipelineThreadsTest, PacedReplayNeverPublishesAnOlderFrameAfterANewerOne) {

@@ -450,6 +450,15 @@ TEST(StereoOnlyDaemonTest, ServesTheStereoSourceAloneAndFinishes) {
     EXPECT_EQ(stub->GetLatest(&ctx, request, &latest).error_code(),
               grpc::StatusCode::FAILED_PRECONDITION);
   }
+  {  // The stereo sequence has ended: a stream of it ends at once.
+    grpc::ClientContext ctx;
+    ctx.set_deadline(std::chrono::system_clock::now() + 60s);
+    auto reader = stub->StreamPoses(&ctx, v1::StreamPosesRequest());
+    v1::PoseEstimate e;
+    EXPECT_FALSE(reader->Read(&e));
+    const grpc::Status s = reader->Finish();
+    EXPECT_TRUE(s.ok()) << s.error_code() << ": " << s.error_message();
+  }
   {
     grpc::ClientContext ctx;
     v1::StreamPosesRequest request;

@@ -90,8 +90,10 @@ class PoseServiceServicer(object):
         marked by `estimator`. A slow client skips to the newest estimate of each estimator rather
         than queueing old ones (each message counts the estimates it skipped in `skipped`; `stale`
         and `age` are judged when it is sent). gRPC's own read-ahead can still hold a few messages
-        for a client that reads slowly: open the channel without it (docs/API.md, "Streams"). A
-        stream has no end of its own: clients should set a deadline.
+        for a client that reads slowly: open the channel without it (docs/API.md, "Streams"). The
+        stream ends (OK) once every source it streams has ended (a recording that finished or a
+        source that failed) and their last estimates were sent; from a live or looping source it
+        has no end of its own: clients should set a deadline.
         """
         context.set_code(grpc.StatusCode.UNIMPLEMENTED)
         context.set_details('Method not implemented!')
