@@ -450,7 +450,7 @@ grpc::Status PoseServiceImpl::StreamPoses(grpc::ServerContext* context,
     const Clock::time_point wait_until = std::min(deadline, now + std::chrono::milliseconds(100));
     if (signal_ != nullptr) {
       signal_->WaitChange(seen, wait_until);
-    } else if (want_depth) {
+    } else if (want_depth && !pipeline_->Ended()) {  // an ended one would not wait.
       pipeline_->WaitNewer(last_depth, wait_until);
     } else {
       stereo_pipeline_->WaitNewer(last_stereo, wait_until);
