@@ -15,6 +15,7 @@ import unittest
 import grpc
 
 import daemon_process
+from hpose.v1 import pose_service_pb2 as pb
 from hpose_client import PoseClient, PoseClientError, best_pose
 
 HPOSED, HPOSE, SOURCE_DIR = sys.argv[1:4]
@@ -157,6 +158,43 @@ class PythonClientTest(unittest.TestCase):
         rest, _ = self.proc.communicate(timeout=30)
         self.assertEqual(self.proc.returncode, 0, rest)
         self.assertIn("stopped", rest)
+
+
+class PythonFinishedRecordingTest(unittest.TestCase):
+    """A recording played once to its end: streams end, waiting for a newer estimate fails."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        frames = os.path.join(cls.tmp.name, "frames")
+        subprocess.run([HPOSE, "simulate", "--out", frames, "--frames", "2", "--width", "320",
+                        "--height", "240", "--no-cloud"], check=True, stdout=subprocess.DEVNULL)
+        cls.proc, cls.address = start_daemon([
+            "--source", frames, "--rate", "fast",
+            "--template", os.path.join(SOURCE_DIR, "templates", "standing.bt")])
+
+    @classmethod
+    def tearDownClass(cls):
+        if cls.proc.poll() is None:
+            cls.proc.kill()
+            cls.proc.wait()
+        cls.tmp.cleanup()
+
+    def test_stream_ends_and_no_newer_estimate_will_come(self):
+        with PoseClient(self.address) as client:
+            client.wait_ready(timeout=20)
+            deadline = time.monotonic() + 120
+            while (client.status().source.state != pb.SOURCE_STATE_FINISHED
+                   and time.monotonic() < deadline):
+                time.sleep(0.1)
+            last = client.latest(timeout=60)
+            self.assertEqual(last.sequence, 2)
+            # Ends by itself (a deadline would raise DEADLINE_EXCEEDED).
+            self.assertEqual(list(client.stream(timeout=60)), [])
+            with self.assertRaises(PoseClientError) as ctx:
+                client.latest(after_sequence=last.sequence, timeout=60)
+            self.assertEqual(ctx.exception.code, grpc.StatusCode.OUT_OF_RANGE)
+            self.assertIn("finished", str(ctx.exception))
 
 
 READ_TOKEN = "python-read-token-0123456789"
