@@ -26,7 +26,18 @@ def start_daemon(args, timeout=60.0):
     return daemon_process.start_daemon(HPOSED, args, timeout)
 
 
-class PythonClientTest(unittest.TestCase):
+class DaemonTestCase(unittest.TestCase):
+    """A test case with its own daemon (cls.proc) and temporary directory (cls.tmp)."""
+
+    @classmethod
+    def tearDownClass(cls):
+        if cls.proc.poll() is None:
+            cls.proc.kill()
+            cls.proc.wait()
+        cls.tmp.cleanup()
+
+
+class PythonClientTest(DaemonTestCase):
 
     @classmethod
     def setUpClass(cls):
@@ -46,10 +57,7 @@ class PythonClientTest(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         cls.client.close()
-        if cls.proc.poll() is None:
-            cls.proc.kill()
-            cls.proc.wait()
-        cls.tmp.cleanup()
+        super().tearDownClass()
 
     def test_templates_and_status(self):
         names = sorted(t.name for t in self.client.templates())
@@ -160,7 +168,7 @@ class PythonClientTest(unittest.TestCase):
         self.assertIn("stopped", rest)
 
 
-class PythonFinishedRecordingTest(unittest.TestCase):
+class PythonFinishedRecordingTest(DaemonTestCase):
     """A recording played once to its end: streams end, waiting for a newer estimate fails."""
 
     @classmethod
@@ -173,19 +181,15 @@ class PythonFinishedRecordingTest(unittest.TestCase):
             "--source", frames, "--rate", "fast",
             "--template", os.path.join(SOURCE_DIR, "templates", "standing.bt")])
 
-    @classmethod
-    def tearDownClass(cls):
-        if cls.proc.poll() is None:
-            cls.proc.kill()
-            cls.proc.wait()
-        cls.tmp.cleanup()
-
     def test_stream_ends_and_no_newer_estimate_will_come(self):
         with PoseClient(self.address) as client:
             client.wait_ready(timeout=20)
             deadline = time.monotonic() + 120
-            while (client.status().source.state != pb.SOURCE_STATE_FINISHED
-                   and time.monotonic() < deadline):
+            while time.monotonic() < deadline:  # finished, and both frames' estimates out.
+                source = client.status().source
+                if (source.state == pb.SOURCE_STATE_FINISHED
+                        and source.frames_estimated + source.frames_failed == 2):
+                    break
                 time.sleep(0.1)
             last = client.latest(timeout=60)
             self.assertEqual(last.sequence, 2)
@@ -201,7 +205,7 @@ READ_TOKEN = "python-read-token-0123456789"
 ESTIMATE_TOKEN = "python-estimate-token-0123456789"
 
 
-class PythonSecureClientTest(unittest.TestCase):
+class PythonSecureClientTest(DaemonTestCase):
     """TLS and bearer tokens through the Python client (certificates made with openssl)."""
 
     @classmethod
@@ -229,13 +233,6 @@ class PythonSecureClientTest(unittest.TestCase):
             "--tls-cert", os.path.join(d, "server.pem"), "--tls-key", os.path.join(d, "server.key"),
             "--token-file", os.path.join(d, "tokens")])
         cls.ca = os.path.join(d, "ca.pem")
-
-    @classmethod
-    def tearDownClass(cls):
-        if cls.proc.poll() is None:
-            cls.proc.kill()
-            cls.proc.wait()
-        cls.tmp.cleanup()
 
     def test_tokens_and_roles(self):
         with PoseClient(self.address, tls_ca=self.ca) as client:
