@@ -605,6 +605,12 @@ std::vector<Variant> SequenceVariants() {
                  o->refine.search_far_behind_runner_up = true;
                },
                true});
+  v.push_back({"walk, tracked, the higher fit across templates whatever the heading (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->prior_heading_across_templates = false;
+               },
+               true});
   v.push_back({"walk, tracked, 2 threads",
                [](EstimatorOptions* o) {
                  Exact(o);

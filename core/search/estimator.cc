@@ -194,12 +194,40 @@ void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const Ref
   cand->heading_log_likelihood_sigma = cmp.sigma;
 }
 
+// EstimatorOptions::prior_heading_across_templates: the candidate among those whose fit is
+// within noise of the best (cands[0], sorted) to put first when the best faces away from
+// `prior_theta` (more than 90 degrees) and another faces within 90 degrees of it (the nearest
+// such; not one that misses `min_fit` where the best reaches it); 0 (the best) otherwise.
+size_t PriorHeadingChoice(const std::vector<const Candidate*>& cands, double prior_theta,
+                          double min_fit) {
+  const Candidate& best = *cands.front();
+  if (!best.refined || std::abs(AngleDiff(best.pose.theta, prior_theta)) <= 0.5 * kPi) return 0;
+  size_t chosen = 0;
+  double nearest = 0.5 * kPi;
+  for (size_t k = 1; k < cands.size(); ++k) {
+    const Candidate& c = *cands[k];
+    if (c.stopped_below_threshold || !c.refined || !WithinNoise(best.fit, c.fit) ||
+        c.fit.fit < std::min(best.fit.fit, min_fit)) {
+      continue;
+    }
+    const double off = std::abs(AngleDiff(c.pose.theta, prior_theta));
+    if (off < nearest) {
+      nearest = off;
+      chosen = k;
+    }
+  }
+  return chosen;
+}
+
 // One detection per cluster: among its templates with a pose, the one whose pose the refined
-// evidence supports best (highest fit; the search score when not refined); in the order of
-// DetectionBefore.
+// evidence supports best (highest fit; the search score when not refined), or in a tracked
+// stream the one PriorHeadingChoice takes (`prior_theta`: the previous frame's heading on the
+// cluster it stood on); in the order of DetectionBefore.
 std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
                                        const std::vector<double>& thresholds,
-                                       const std::vector<char>& far, const EstimatorOptions& o) {
+                                       const std::vector<char>& far,
+                                       const std::vector<std::optional<double>>& prior_theta,
+                                       const EstimatorOptions& o) {
   std::map<int, std::vector<const Candidate*>> by_cluster;
   for (const Candidate& c : candidates) by_cluster[c.cluster_index].push_back(&c);
   std::vector<Detection> out;
@@ -211,8 +239,18 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
       if (a->refined && b->refined && a->fit.fit != b->fit.fit) return a->fit.fit > b->fit.fit;
       return a->score > b->score;
     });
+    size_t from_prior = 0;
+    if (o.prior_heading_across_templates && prior_theta[cluster]) {
+      from_prior = PriorHeadingChoice(cands, *prior_theta[cluster], o.min_humanoid_fit);
+      // That one first, the others in their order.
+      std::rotate(cands.begin(), cands.begin() + from_prior, cands.begin() + from_prior + 1);
+    }
     Detection d;
     d.best = *cands.front();
+    if (from_prior > 0) {  // taken over a fit as good facing the other way.
+      d.best.heading_ambiguous = true;
+      d.best.heading_from_prior = true;
+    }
     d.score_threshold = thresholds[cluster];
     d.is_humanoid = !d.best.stopped_below_threshold && d.best.score >= d.score_threshold &&
                     (!d.best.refined || d.best.fit.fit >= o.min_humanoid_fit);
@@ -914,7 +952,11 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
 
   std::stable_sort(est.candidates.begin(), est.candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-  est.detections = ChooseTemplates(est.candidates, thresholds, far, options_);
+  std::vector<std::optional<double>> prior_theta(cluster_count);
+  for (const Task& task : tasks) {
+    if (task.has_prior) prior_theta[task.cluster] = task.prior_theta;
+  }
+  est.detections = ChooseTemplates(est.candidates, thresholds, far, prior_theta, options_);
   est.timings.total_ms = cloud_ms + MsSince(t_start);
   return est;
 }

@@ -105,6 +105,13 @@ struct EstimatorOptions {
   // below score_threshold), so frames whose humanoid passes are searched as without it. Used up
   // to score_threshold: at or above it, no hysteresis.
   double tracked_score_threshold = 35.0;
+  // In a tracked stream, when templates fit the cluster the previous frame's humanoid stood on
+  // equally well (within two standard errors) but the best fit's heading lies more than 90
+  // degrees from the previous frame's while another's lies within 90 of it, that other
+  // template's pose is taken (heading_from_prior): two templates that explain the same points
+  // facing opposite ways is a front/back question the frame has not decided, as within one
+  // template. false: the higher fit alone (before).
+  bool prior_heading_across_templates = true;
   // A far cluster, cold: Kinect noise lowers a humanoid's score there too (above), and a cold
   // frame has no prior to hold it by. A cluster whose centroid lies at least far_range_m from
   // the sensor's optical centre is searched down to far_score_ratio * score_threshold, and passes
