@@ -4,6 +4,7 @@ import os
 import select
 import subprocess
 import time
+import unittest
 
 
 def _watch_log(proc, wanted, timeout):
@@ -50,3 +51,15 @@ def start_daemon_with_http(hposed, args, timeout=60.0):
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     found = _watch_log(proc, ["listening on ", "web view on "], timeout)
     return proc, found["listening on "], found["web view on "].rstrip("/")
+
+
+class DaemonTestCase(unittest.TestCase):
+    """A test case with its own daemon (cls.proc, killed if still running) and temporary
+    directory (cls.tmp), both made by its setUpClass."""
+
+    @classmethod
+    def tearDownClass(cls):
+        if cls.proc.poll() is None:
+            cls.proc.kill()
+            cls.proc.wait()
+        cls.tmp.cleanup()

@@ -20,7 +20,7 @@ import unittest
 import urllib.error
 import urllib.request
 
-from daemon_process import start_daemon_with_http
+from daemon_process import DaemonTestCase, start_daemon_with_http
 
 HPOSED, HPOSE, SOURCE_DIR = sys.argv[1:4]
 
@@ -43,7 +43,7 @@ def sample(metrics, name, labels):
     return float(match.group(1))
 
 
-class HttpEndpointsTest(unittest.TestCase):
+class HttpEndpointsTest(DaemonTestCase):
 
     @classmethod
     def setUpClass(cls):
@@ -59,13 +59,6 @@ class HttpEndpointsTest(unittest.TestCase):
         deadline = time.monotonic() + 120
         while get(cls.http + "/api/latest")[0] != 200 and time.monotonic() < deadline:
             time.sleep(0.2)
-
-    @classmethod
-    def tearDownClass(cls):
-        if cls.proc.poll() is None:
-            cls.proc.kill()
-            cls.proc.wait()
-        cls.tmp.cleanup()
 
     def test_metrics_counters_move_and_the_text_is_valid(self):
         status, first, ctype = get(self.http + "/metrics")

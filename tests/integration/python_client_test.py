@@ -26,18 +26,7 @@ def start_daemon(args, timeout=60.0):
     return daemon_process.start_daemon(HPOSED, args, timeout)
 
 
-class DaemonTestCase(unittest.TestCase):
-    """A test case with its own daemon (cls.proc) and temporary directory (cls.tmp)."""
-
-    @classmethod
-    def tearDownClass(cls):
-        if cls.proc.poll() is None:
-            cls.proc.kill()
-            cls.proc.wait()
-        cls.tmp.cleanup()
-
-
-class PythonClientTest(DaemonTestCase):
+class PythonClientTest(daemon_process.DaemonTestCase):
 
     @classmethod
     def setUpClass(cls):
@@ -168,7 +157,7 @@ class PythonClientTest(DaemonTestCase):
         self.assertIn("stopped", rest)
 
 
-class PythonFinishedRecordingTest(DaemonTestCase):
+class PythonFinishedRecordingTest(daemon_process.DaemonTestCase):
     """A recording played once to its end: streams end, waiting for a newer estimate fails."""
 
     @classmethod
@@ -205,7 +194,7 @@ READ_TOKEN = "python-read-token-0123456789"
 ESTIMATE_TOKEN = "python-estimate-token-0123456789"
 
 
-class PythonSecureClientTest(DaemonTestCase):
+class PythonSecureClientTest(daemon_process.DaemonTestCase):
     """TLS and bearer tokens through the Python client (certificates made with openssl)."""
 
     @classmethod

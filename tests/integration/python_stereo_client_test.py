@@ -81,7 +81,7 @@ def angle_diff(a, b):
     return math.atan2(math.sin(a - b), math.cos(a - b))
 
 
-class PythonStereoClientTest(unittest.TestCase):
+class PythonStereoClientTest(daemon_process.DaemonTestCase):
 
     @classmethod
     def setUpClass(cls):
@@ -103,10 +103,7 @@ class PythonStereoClientTest(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         cls.client.close()
-        if cls.proc.poll() is None:
-            cls.proc.kill()
-            cls.proc.wait()
-        cls.tmp.cleanup()
+        super().tearDownClass()
 
     def assert_near_truth(self, estimate):
         """The stereo estimate's robot pose against the simulator's head pose of that pair."""

@@ -54,6 +54,16 @@ View MakeView(const std::string& body, const Pose2D& truth, double height_m, dou
 
 Pose2D Flipped(const Pose2D& p) { return Pose2D{p.x, p.y, NormalizeAngle(p.theta + kPi)}; }
 
+// A previous frame's "standing" humanoid at `truth` turned by `offset_deg`.
+FramePrior StandingPrior(const Pose2D& truth, double offset_deg) {
+  FramePrior prior;
+  prior.has_pose = true;
+  prior.template_name = "standing";
+  prior.pose = truth;
+  prior.pose.theta = NormalizeAngle(truth.theta + DegToRad(offset_deg));
+  return prior;
+}
+
 TEST(ViewComparisonTest, IsAntisymmetricAndZeroBetweenAPoseAndItself) {
   const SurfaceModel model = BodyModel("nao");
   const Pose2D truth{2.0, 0.1, DegToRad(30.0)};
@@ -405,11 +415,7 @@ TEST(ViewComparisonTest, AnAmbiguousHeadingFollowsThePreviousFrameAndADecidedOne
       const Candidate c = cold.Humanoids().front().best;
       EXPECT_FALSE(c.heading_from_prior) << where;  // no prior given.
       for (const double prior_offset_deg : {0.0, 180.0}) {
-        FramePrior prior;
-        prior.has_pose = true;
-        prior.template_name = "standing";
-        prior.pose = spec.humanoid_pose;
-        prior.pose.theta = NormalizeAngle(prior.pose.theta + DegToRad(prior_offset_deg));
+        const FramePrior prior = StandingPrior(spec.humanoid_pose, prior_offset_deg);
         const Estimate tracked = *estimator->EstimateDepth(frame.depth, spec.intrinsics, &prior);
         ASSERT_FALSE(tracked.Humanoids().empty()) << where;
         const Candidate t = tracked.Humanoids().front().best;
@@ -460,11 +466,7 @@ TEST(ViewComparisonTest, TemplatesFacingOppositeWaysWithinNoiseFollowThePrevious
           spec.seed = seed;
           const SimulatedFrame frame = *SimulateFrame(spec);
           for (const double prior_offset_deg : {0.0, 180.0}) {
-            FramePrior prior;
-            prior.has_pose = true;
-            prior.template_name = "standing";
-            prior.pose = spec.humanoid_pose;
-            prior.pose.theta = NormalizeAngle(prior.pose.theta + DegToRad(prior_offset_deg));
+            const FramePrior prior = StandingPrior(spec.humanoid_pose, prior_offset_deg);
             const Estimate a = *with_rule->EstimateDepth(frame.depth, spec.intrinsics, &prior);
             const Estimate b = *without->EstimateDepth(frame.depth, spec.intrinsics, &prior);
             const std::string where = "distance " + std::to_string(distance) + " bearing " +
