@@ -52,7 +52,7 @@ void StereoPipeline::SetState(SourceState state, std::string reason) {
     state_ = state;
     reason_ = std::move(reason);
   }
-  if (state == SourceState::kFinished || state == SourceState::kFailed) {  // Ended(): wake waiters.
+  if (Ended()) {  // wake the waiters: nothing will follow.
     published_cv_.notify_all();
     if (signal_ != nullptr) signal_->Notify();
   }
@@ -172,15 +172,18 @@ std::shared_ptr<const PublishedStereoEstimate> StereoPipeline::WaitNewer(
     std::uint64_t after, Clock::time_point deadline) const {
   std::unique_lock<std::mutex> lock(mu_);
   published_cv_.wait_until(lock, deadline, [&] {
-    return stopping_.load() || state_ == SourceState::kFinished || state_ == SourceState::kFailed ||
-           (latest_ && latest_->publish_id > after);
+    return stopping_.load() || EndedLocked() || (latest_ && latest_->publish_id > after);
   });
   return latest_;
 }
 
+bool StereoPipeline::EndedLocked() const {
+  return state_ == SourceState::kFinished || state_ == SourceState::kFailed;
+}
+
 bool StereoPipeline::Ended() const {
   std::lock_guard<std::mutex> lock(mu_);
-  return state_ == SourceState::kFinished || state_ == SourceState::kFailed;
+  return EndedLocked();
 }
 
 bool StereoPipeline::IsStale(const PublishedStereoEstimate& e, std::string* reason) const {

@@ -86,6 +86,7 @@ class StereoPipeline final {
   void Publish(std::shared_ptr<PublishedStereoEstimate> e, bool robot_found);
   bool SleepUntil(std::chrono::steady_clock::time_point t);
   void SetState(SourceState state, std::string reason);
+  bool EndedLocked() const;  // Ended() with mu_ held.
 
   const StereoSequence sequence_;
   const StereoEstimator* const estimator_;

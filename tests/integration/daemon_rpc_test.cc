@@ -371,14 +371,21 @@ TEST(DaemonWithoutSourceTest, GetLatestIsFailedPreconditionAndBadListenFails) {
   EXPECT_NE(third.error().message.find("standing.bt"), std::string::npos);
 }
 
-TEST(DaemonFinishedRecordingTest, LastEstimateIsStaleWithTheReason) {
-  const std::string dir = tu::MakeTempDir("finished");
-  ASSERT_TRUE(tu::SimulateFrames(dir, 2));
+// A daemon on loopback replaying the recording in `dir` once (no loop) with the standing
+// template.
+DaemonConfig RecordingOnceConfig(const std::string& dir) {
   DaemonConfig config;
   config.grpc.listen = "127.0.0.1:0";
   config.source.path = dir;
-  config.source.realtime = false;  // as fast as possible, no loop: finishes quickly.
   config.templates = {tu::TemplatePath("standing")};
+  return config;
+}
+
+TEST(DaemonFinishedRecordingTest, LastEstimateIsStaleWithTheReason) {
+  const std::string dir = tu::MakeTempDir("finished");
+  ASSERT_TRUE(tu::SimulateFrames(dir, 2));
+  DaemonConfig config = RecordingOnceConfig(dir);
+  config.source.realtime = false;  // as fast as possible: finishes quickly.
   Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
   ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
   auto stub = Connect((*daemon)->port());
@@ -415,11 +422,8 @@ TEST(DaemonFinishedRecordingTest, LastEstimateIsStaleWithTheReason) {
 TEST(DaemonFinishedRecordingTest, StreamsEndWithTheRecording) {
   const std::string dir = tu::MakeTempDir("stream_end");
   ASSERT_TRUE(tu::SimulateFrames(dir, 6));
-  DaemonConfig config;
-  config.grpc.listen = "127.0.0.1:0";
-  config.source.path = dir;
+  DaemonConfig config = RecordingOnceConfig(dir);
   config.source.fps = 2.0;  // 3 s of frames at the recorded rate: the stream opens first.
-  config.templates = {tu::TemplatePath("standing")};
   Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
   ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
   auto stub = Connect((*daemon)->port());
