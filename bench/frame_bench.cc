@@ -611,6 +611,12 @@ std::vector<Variant> SequenceVariants() {
                  o->prior_heading_across_templates = false;
                },
                true});
+  v.push_back({"walk, tracked, depth images asked whatever the fits (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->heading_views.max_fit_sigmas = 0.0;
+               },
+               true});
   v.push_back({"walk, tracked, 2 threads",
                [](EstimatorOptions* o) {
                  Exact(o);

@@ -140,8 +140,9 @@ bool Contends(const FitSummary& fit, const FitSummary& leader, double sigmas) {
 // each other. A candidate that does not `contend` (its template's fit is far behind another
 // template's on the cluster) has its runner-up only evaluated where it lies, like a runner-up
 // far behind in score. An ambiguous heading with `prior_theta` (the previous frame's heading,
-// when it stood on this cluster) is the one nearer to it. `rescore` recomputes the search's
-// counts at the lattice pose of a runner-up that wins.
+// when it stood on this cluster) is the one nearer to it; with it, fits far apart facing its way
+// decide without the depth images (ViewComparisonOptions::max_fit_sigmas). `rescore` recomputes the
+// search's counts at the lattice pose of a runner-up that wins.
 template <typename Rescore>
 void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
                     const ViewComparisonOptions& views, double humanoid_fit,
@@ -161,7 +162,18 @@ void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const Ref
   bool take_other = other_fit.fit > cand->fit.fit;
   bool ambiguous = WithinNoise(cand->fit, other_fit);
   ViewComparison cmp;
-  if (views.enabled && close && std::max(cand->fit.fit, other_fit.fit) >= humanoid_fit) {
+  // In a tracked stream the fits decide alone (ViewComparisonOptions::max_fit_sigmas) when the
+  // better one (take_other so far) faces the previous frame's way, both pass as a humanoid and
+  // they are far apart.
+  const bool fits_decide =
+      views.max_fit_sigmas > 0.0 && prior_theta != nullptr &&
+      std::abs(AngleDiff(take_other ? other.pose.theta : cand->pose.theta, *prior_theta)) <=
+          0.5 * kPi &&
+      std::min(cand->fit.fit, other_fit.fit) >= humanoid_fit &&
+      std::abs(other_fit.fit - cand->fit.fit) >
+          views.max_fit_sigmas * std::hypot(cand->fit.fit_sigma, other_fit.fit_sigma);
+  if (views.enabled && close && !fits_decide &&
+      std::max(cand->fit.fit, other_fit.fit) >= humanoid_fit) {
     cmp = CompareViews(model, obs, cand->pose, other.pose, o, views);
     const bool decisive =
         cmp.sigma > 0.0 && std::abs(cmp.log_likelihood_ratio) >= views.decisive_sigmas * cmp.sigma;

@@ -55,6 +55,16 @@ struct ViewComparisonOptions {
   // on a body whose front and back differ only in its feet; the ratio still leans the right
   // way more often than not (docs/BENCHMARKS.md).
   bool undecided_follow_ratio = true;
+  // In a tracked stream the depth images are not asked when the two headings' refined fits both
+  // pass as a humanoid (EstimatorOptions::min_humanoid_fit), differ by more than this many
+  // standard errors of their difference, and the better one faces within 90 degrees of the
+  // previous frame's heading: that one is taken, not ambiguous. There the images could only
+  // overturn it by a decisive ratio (an undecided one follows the previous frame), which they
+  // never did on the frames measured (docs/BENCHMARKS.md); their comparison was about a tenth
+  // of a tracked frame's work. Cold frames, and a fit below the humanoid fit (the images' choice
+  // then says whether the cluster is a humanoid), always ask them. 0: asked whatever the fits
+  // (before).
+  double max_fit_sigmas = 8.0;
   // Before comparing, each pose settles where the depth image fits it best within this of where
   // it was given (`settle_rounds` steps or rounds at most): refinements on the cluster place
   // two headings a few millimetres apart, which at 1 m weighs more than a foot pointing the

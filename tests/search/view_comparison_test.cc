@@ -503,6 +503,86 @@ TEST(ViewComparisonTest, TemplatesFacingOppositeWaysWithinNoiseFollowThePrevious
   EXPECT_GE(same, 1);
 }
 
+// In a tracked stream, refined fits of a heading and its runner-up that differ by more than
+// max_fit_sigmas standard errors, both passing as a humanoid, the better facing the previous
+// frame's way, decide without the depth images: the heading the images chose in the same frames,
+// not ambiguous, no ratio. Otherwise (cold, a previous heading the other way, closer fits: a
+// body whose front and back differ only in its feet) the images are asked, as before. Frames of
+// the Nao seen side-on, whose runner-up is its other side, and of the long-legged body.
+TEST(ViewComparisonTest, TrackedFitsFarApartDecideWithoutTheDepthImages) {
+  EstimatorOptions now = DefaultEstimatorOptions();
+  ASSERT_GT(now.heading_views.max_fit_sigmas, 0.0);
+  now.score_threshold = 0.0;
+  EstimatorOptions before = now;
+  before.heading_views.max_fit_sigmas = 0.0;
+  int by_fits = 0, compared = 0;
+  for (const std::string body : {"nao", "long_legs"}) {
+    const std::vector<VoxelTemplate> templates = {BodyTemplate(body, "standing")};
+    const auto fits_first = std::move(Estimator::Create(now, templates).value());
+    const auto always = std::move(Estimator::Create(before, templates).value());
+    for (const double distance : {1.4, 2.2}) {
+      for (const double theta_deg : {-90.0, 0.0, 150.0}) {
+        for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+          FrameSpec spec;
+          spec.body = body;
+          spec.humanoid_pose = Pose2D{distance, 0.1, DegToRad(theta_deg)};
+          spec.clutter = 2;
+          spec.seed = seed;
+          const SimulatedFrame frame = *SimulateFrame(spec);
+          for (const double prior_offset_deg : {-1.0, 0.0, 180.0}) {  // -1: cold.
+            const FramePrior prior = StandingPrior(spec.humanoid_pose, prior_offset_deg);
+            const FramePrior* p = prior_offset_deg < 0.0 ? nullptr : &prior;
+            const Estimate a = *fits_first->EstimateDepth(frame.depth, spec.intrinsics, p);
+            const Estimate b = *always->EstimateDepth(frame.depth, spec.intrinsics, p);
+            const std::string where = body + " distance " + std::to_string(distance) + " theta " +
+                                      std::to_string(theta_deg) + " seed " + std::to_string(seed) +
+                                      " prior offset " + std::to_string(prior_offset_deg);
+            ASSERT_FALSE(a.Humanoids().empty()) << where;
+            ASSERT_FALSE(b.Humanoids().empty()) << where;
+            const Candidate ca = a.Humanoids().front().best;
+            const Candidate cb = b.Humanoids().front().best;
+            // Only the runner-ups refined (close in score) are compared.
+            if (!ca.has_runner_up ||
+                ca.runner_up_score < ca.score - now.refine.runner_up_score_window) {
+              continue;
+            }
+            const double apart = std::abs(ca.fit.fit - ca.runner_up_fit.fit) /
+                                 std::hypot(ca.fit.fit_sigma, ca.runner_up_fit.fit_sigma);
+            if (p != nullptr && apart > now.heading_views.max_fit_sigmas &&
+                std::min(ca.fit.fit, ca.runner_up_fit.fit) >= now.min_humanoid_fit &&
+                std::abs(AngleDiff(ca.pose.theta, prior.pose.theta)) <= 0.5 * kPi) {
+              ++by_fits;
+              EXPECT_EQ(ca.heading_log_likelihood_sigma, 0.0) << where;
+              EXPECT_FALSE(ca.heading_ambiguous) << where;
+              EXPECT_FALSE(ca.heading_from_prior) << where;
+              EXPECT_GT(ca.fit.fit, ca.runner_up_fit.fit) << where;
+              // The images, asked, gave the same heading (decided, or undecided and following
+              // the previous frame).
+              EXPECT_GT(cb.heading_log_likelihood_sigma, 0.0) << where;
+              EXPECT_EQ(ca.pose.theta, cb.pose.theta) << where;
+              EXPECT_EQ(ca.pose.x, cb.pose.x) << where;
+              if (prior_offset_deg == 0.0) {
+                EXPECT_LT(std::abs(RadToDeg(AngleDiff(ca.pose.theta, spec.humanoid_pose.theta))),
+                          5.0)
+                    << where;
+              }
+            } else {
+              ++compared;  // as before.
+              EXPECT_GT(ca.heading_log_likelihood_sigma, 0.0) << where;
+              EXPECT_EQ(ca.heading_log_likelihood_ratio, cb.heading_log_likelihood_ratio) << where;
+              EXPECT_EQ(ca.heading_ambiguous, cb.heading_ambiguous) << where;
+              EXPECT_EQ(ca.pose.theta, cb.pose.theta) << where;
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GE(by_fits, 2);
+  EXPECT_GE(compared, 2);
+  std::printf("frames decided by the fits %d, by the depth images %d\n", by_fits, compared);
+}
+
 TEST(ViewComparisonTest, DisabledLeavesTheChoiceToTheFits) {
   EstimatorOptions options = DefaultEstimatorOptions();
   options.heading_views.enabled = false;
