@@ -217,6 +217,11 @@ std::vector<Variant> AllVariants() {
   EstimatorOptions far_runner_ups = DefaultEstimatorOptions();
   far_runner_ups.refine.search_far_behind_runner_up = true;
   out.push_back({"far-runner-ups", far_runner_ups, true});
+  // Runner-ups searched down to the score threshold, those more than 10 points behind evaluated
+  // where they lie (before RefineOptions::runner_up_within_score_window).
+  EstimatorOptions deep_runner_ups = DefaultEstimatorOptions();
+  deep_runner_ups.refine.runner_up_within_score_window = false;
+  out.push_back({"deep-runner-ups", deep_runner_ups, true});
   // The refinement's steps shorter than a standard error evaluated too (before
   // RefineOptions::converged_sigmas).
   EstimatorOptions short_steps = DefaultEstimatorOptions();

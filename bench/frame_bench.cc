@@ -516,6 +516,11 @@ std::vector<Variant> ScatteredVariants() {
          Exact(o);
          o->refine.search_far_behind_runner_up = true;
        }});
+  v.push_back(
+      {"exact search, runner-ups searched down to the threshold (before)", [](EstimatorOptions* o) {
+         Exact(o);
+         o->refine.runner_up_within_score_window = false;
+       }});
   v.push_back({"exact search, every template's runner-up (before)", [](EstimatorOptions* o) {
                  Exact(o);
                  o->refine.runner_up_fit_sigmas = 0.0;
@@ -603,6 +608,12 @@ std::vector<Variant> SequenceVariants() {
                [](EstimatorOptions* o) {
                  Exact(o);
                  o->refine.search_far_behind_runner_up = true;
+               },
+               true});
+  v.push_back({"walk, tracked, runner-ups searched down to the threshold (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->refine.runner_up_within_score_window = false;
                },
                true});
   v.push_back({"walk, tracked, the higher fit across templates whatever the heading (before)",

@@ -46,10 +46,13 @@ struct Candidate {
   int template_voxels = 0;  // voxels of the template as searched (its lattice's voxel edge).
   // The best pose with theta more than 30 deg away; not searched for when the template's refined
   // fit is far behind another's on the cluster (RefineOptions::runner_up_fit_sigmas,
-  // search_far_behind_runner_up).
+  // search_far_behind_runner_up), and none when every such pose scores more than
+  // RefineOptions::runner_up_score_window below `score` (runner_up_within_score_window; the
+  // runner_up_score then bounds theirs).
   bool has_runner_up = false;
   // Refined like `pose`, unless it is far behind in score (RefineOptions::
-  // runner_up_score_window) or its template far behind in fit: then where the search left it.
+  // runner_up_score_window, when it is searched that far) or its template far behind in fit:
+  // then where the search left it.
   Pose2D runner_up_pose;
   double runner_up_score = 0.0;
   double refine_ms = 0.0;  // what refining `pose` and the runner-up took (wall time).

@@ -754,6 +754,15 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     problem.free_space_weight = options_.free_space_weight;
     problem.hit_weight = options_.hit_weight;
     if (options_.stop_below_threshold) problem.min_value = min_value_of(threshold, n);
+    if (options_.refine.runner_up_within_score_window) {
+      // Every runner-up within the window of the optimum's score is found: a value of at
+      // least the optimum's less this.
+      const double window =
+          options_.refine.runner_up_score_window * options_.hit_weight * n / 100.0 + 1e-9;
+      if (window < static_cast<double>(std::numeric_limits<int>::max())) {
+        problem.runner_up_window = static_cast<int>(std::floor(std::max(window, 0.0)));
+      }
+    }
     // The prior pose seeds the search of the cluster it stands on (within a hand of its
     // footprint), for every template: the bodies differ little.
     LatticePose incumbent;

@@ -352,6 +352,9 @@ class BranchAndBound {
     has_stopped_ = false;
   }
 
+  // Before Next() (not after it stopped): nothing below `min_value` is wanted any more.
+  void Raise(int min_value) { min_value_ = std::max(min_value_, min_value); }
+
   void set_allowed(std::vector<bool> allowed) {
     allowed_ = std::move(allowed);
     all_allowed_ = false;
@@ -787,6 +790,9 @@ class ExactRunnerUp final : public RunnerUpSearch {
       others[t] = sep > kRunnerUpMinSeparationRad;
     }
     bnb->set_allowed(std::move(others));
+    // Only the runner-ups within the window of the optimum are wanted.
+    const std::int64_t lowest = static_cast<std::int64_t>(best_value) - runner_up_window;
+    if (lowest > min_value) bnb->Raise(static_cast<int>(lowest));
     const BranchAndBoundResult runner = bnb->Next();
     if (runner.found) {
       result->has_runner_up = true;
@@ -822,6 +828,7 @@ class ExactRunnerUp final : public RunnerUpSearch {
     if (!best.found) return false;
     SetPose(best, *eval, lattice_, n, n_weighted_, result);
     best_itheta = best.best.itheta;
+    best_value = best.value;
     return true;
   }
 
@@ -832,7 +839,10 @@ class ExactRunnerUp final : public RunnerUpSearch {
   SearchResult counters;  // the branch and bound's counts.
   std::unique_ptr<BranchAndBound> bnb;
   int best_itheta = 0;
-  int n = 0;  // cluster voxels.
+  int best_value = 0;
+  int n = 0;                                               // cluster voxels.
+  int min_value = std::numeric_limits<int>::min();         // the problem's.
+  int runner_up_window = std::numeric_limits<int>::max();  // SearchProblem::runner_up_window.
 
  private:
   const PoseLattice& lattice_;
@@ -855,6 +865,7 @@ class ExactStopped final : public StoppedSearch {
     if (state_ == nullptr) return nullptr;
     std::unique_ptr<ExactRunnerUp> state = std::move(state_);
     state->bnb->Lower(min_value);
+    state->min_value = min_value;
     if (!state->Next(result) || result->below_min_value) return nullptr;
     return state;
   }
@@ -955,6 +966,8 @@ std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(
       &eval, rotations, region, top, options_.top_theta_level, problem.min_value, defer_below,
       options_.theta_split_lead, options_.theta_split_ratio, &state->counters);
   state->n = n;
+  state->min_value = problem.min_value;
+  state->runner_up_window = problem.runner_up_window;
   if (!state->Next(&result)) return nullptr;
   if (result.below_min_value) {
     if (stopped != nullptr) *stopped = std::make_unique<ExactStopped>(std::move(state), result);

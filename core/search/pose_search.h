@@ -55,6 +55,11 @@ struct SearchProblem {
   // may stop as soon as it has proved that no pose reaches it, and then reports only that
   // bound (SearchResult::below_min_value). The default asks for the optimum whatever it is.
   int min_value = std::numeric_limits<int>::min();
+  // The runner-up (kRunnerUpMinSeparationRad away) matters only within this much value of the
+  // optimum: a search may stop looking for it once no other heading can come that near, and then
+  // reports none, with an upper bound of its value as when it is below min_value. The default
+  // looks down to min_value.
+  int runner_up_window = std::numeric_limits<int>::max();
   // Optional: a pose believed good (the previous frame's, when tracking). The exact search
   // evaluates it first and uses its value to order work; the result is the same with or without
   // it (the global optimum is still proved).

@@ -18,8 +18,9 @@ struct SearchResult {
   double score = 0.0;     // 100 * value / cluster voxels (the paper's score without free space).
   double coverage = 0.0;  // 100 * hits / cluster voxels: the paper's score.
   // The best pose whose theta differs from the best by more than 30 degrees (front/back
-  // ambiguity). has_runner_up is false when there is none or, with a min_value, when none
-  // reaches it; runner_up_score then holds an upper bound of their scores.
+  // ambiguity). has_runner_up is false when there is none or, with a min_value or a
+  // runner_up_window (SearchProblem), when none reaches it; runner_up_score then holds an upper
+  // bound of their scores.
   bool has_runner_up = false;
   Pose2D runner_up_pose;
   double runner_up_score = 0.0;

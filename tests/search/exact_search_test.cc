@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
@@ -599,6 +600,79 @@ TEST(ExactSearchTest, EqualsExhaustiveSearchOnRandomScenes) {
     EXPECT_GT(std::abs(AngleDiff(r.runner_up_pose.theta, r.pose.theta)), DegToRad(30));
     EXPECT_LT(r.poses_evaluated + r.bounds_evaluated, brute.poses);
   }
+}
+
+// With a runner_up_window the runner-up is the exhaustive one whenever its value is within the
+// window of the optimum's, and otherwise there is none, with an upper bound of every other
+// heading's score that lies below the window; the optimum is the same either way. So too for a
+// search stopped below a min_value and lowered.
+TEST(ExactSearchTest, RunnerUpWithinAWindowEqualsExhaustiveSearch) {
+  int found = 0, not_found = 0;
+  for (unsigned scene = 0; scene < 8; scene += kSceneStep) {
+    PoseLattice lattice;
+    lattice.angle_steps = 24;
+    const VoxelTemplate tpl =
+        *MakeTemplateFromPoints(testing::RandomRobotPoints(700 + scene), "t", lattice.resolution_m);
+    const Pose2D truth{1.2, -0.2 + 0.05 * scene, DegToRad(-160.0 + 41.0 * scene)};
+    const ClusterVoxels cluster = VoxeliseCluster(
+        testing::VisibleCluster(testing::RandomRobotPoints(700 + scene), truth, 0.005f, scene),
+        lattice.resolution_m);
+    const TemplateRotations rot(tpl, lattice);
+    const FastScorer scorer(cluster, lattice);
+    ExactSearchOptions opts;
+    opts.margin_m = 0.06;
+    const ExactSearch search(opts);
+    const SearchProblem problem{&cluster, &scorer, &rot, {truth.x, truth.y}};
+    const SearchResult whole = search.Search(problem);
+    std::vector<int> far;
+    for (int t = 0; t < lattice.angle_steps; ++t) {
+      if (std::abs(AngleDiff(t * lattice.angle_step_rad(),
+                             whole.best.itheta * lattice.angle_step_rad())) > DegToRad(30)) {
+        far.push_back(t);
+      }
+    }
+    const int runner_up = Brute(scorer, rot, search.TranslationRegion(cluster, rot), far).best_hits;
+    const int gap = whole.value - runner_up;
+    ASSERT_GE(gap, 0) << "scene " << scene;
+    const double n = scorer.cluster_voxels();
+    for (const int window : {0, gap - 1, gap, gap + 1, 3 * gap + 5}) {
+      if (window < 0) continue;
+      SCOPED_TRACE(::testing::Message() << "scene " << scene << ", window " << window);
+      SearchProblem windowed = problem;
+      windowed.runner_up_window = window;
+      SearchResult direct = search.Search(windowed);
+      // The same through a stop above the optimum, lowered to no min_value.
+      windowed.min_value = whole.value + 1;
+      SearchResult lowered;
+      std::unique_ptr<StoppedSearch> stopped;
+      ASSERT_EQ(search.SearchBest(windowed, &lowered, &stopped), nullptr);
+      ASSERT_NE(stopped, nullptr);
+      std::unique_ptr<RunnerUpSearch> rest =
+          stopped->Lower(std::numeric_limits<int>::min(), &lowered);
+      ASSERT_NE(rest, nullptr);
+      rest->Find(&lowered);
+      for (const SearchResult* r : {&direct, &lowered}) {
+        EXPECT_EQ(r->value, whole.value);
+        EXPECT_EQ(r->best.itheta, whole.best.itheta);
+        EXPECT_EQ(r->best.ix, whole.best.ix);
+        EXPECT_EQ(r->best.iy, whole.best.iy);
+        if (window >= gap) {
+          ASSERT_TRUE(r->has_runner_up);
+          EXPECT_NEAR(r->runner_up_score, 100.0 * runner_up / n, 1e-9);
+          EXPECT_EQ(r->runner_up_score, whole.runner_up_score);
+          EXPECT_EQ(r->runner_up_pose.theta, whole.runner_up_pose.theta);
+        } else {
+          EXPECT_FALSE(r->has_runner_up);
+          EXPECT_GE(r->runner_up_score, 100.0 * runner_up / n - 1e-9);
+          EXPECT_LT(r->runner_up_score, 100.0 * (whole.value - window) / n);
+        }
+      }
+      EXPECT_LE(direct.bounds_evaluated, whole.bounds_evaluated);
+      (window >= gap ? found : not_found) += 1;
+    }
+  }
+  EXPECT_GT(found, 0);
+  EXPECT_GT(not_found, 0);
 }
 
 // The runner-up's search left for later (SearchBest, then RunnerUpSearch::Find) finds what one

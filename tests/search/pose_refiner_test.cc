@@ -413,6 +413,76 @@ TEST(PoseRefinerTest, ATemplateFarBehindOnItsClusterHasNoRunnerUp) {
   EXPECT_GE(far_behind, 1);
 }
 
+// A runner-up more than runner_up_score_window behind its pose's search score is not searched
+// for (RefineOptions::runner_up_within_score_window): none is reported, with an upper bound of
+// its score below the window. Every pose, template, fit and heading verdict is what searching
+// down to the threshold gives, and so is every runner-up within the window.
+TEST(PoseRefinerTest, RunnerUpsFarBehindInScoreAreNotSearchedFor) {
+  const std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
+                                                ModelTemplate("right_arm_raised")};
+  EstimatorOptions options = DefaultEstimatorOptions();
+  ASSERT_TRUE(options.refine.runner_up_within_score_window);
+  const double window = options.refine.runner_up_score_window;
+  auto now = std::move(Estimator::Create(options, templates).value());
+  options.refine.runner_up_within_score_window = false;
+  auto deep = std::move(Estimator::Create(options, templates).value());
+  int kept = 0, dropped = 0;
+  struct Case {
+    const char* preset;
+    Pose2D truth;
+  };
+  for (const Case& k : {Case{"right_arm_raised", {1.14, -0.1, DegToRad(-103.0)}},
+                        Case{"standing", {0.9, 0.0, DegToRad(-132.0)}},
+                        Case{"right_arm_raised", {0.95, 0.1, DegToRad(10.0)}},
+                        Case{"standing", {1.4, 0.1, DegToRad(30.0)}},
+                        Case{"standing", {2.2, 0.0, DegToRad(-100.0)}}}) {
+    FrameSpec spec;
+    spec.humanoid_pose = k.truth;
+    spec.preset = k.preset;
+    spec.seed = 4;
+    spec.clutter = 2;
+    const SimulatedFrame frame = *SimulateFrame(spec);
+    const Estimate a = *now->EstimateDepth(frame.depth, spec.intrinsics);
+    const Estimate b = *deep->EstimateDepth(frame.depth, spec.intrinsics);
+    ASSERT_EQ(a.candidates.size(), b.candidates.size()) << k.preset;
+    for (const Candidate& d : b.candidates) {
+      const std::string what = std::string(k.preset) + " " + d.template_name + " cluster " +
+                               std::to_string(d.cluster_index);
+      const Candidate* match = nullptr;
+      for (const Candidate& c : a.candidates) {
+        if (c.cluster_index == d.cluster_index && c.template_name == d.template_name) match = &c;
+      }
+      ASSERT_NE(match, nullptr) << what;
+      const Candidate& c = *match;
+      EXPECT_TRUE(SamePose(c.pose, d.pose)) << what;
+      EXPECT_EQ(c.score, d.score) << what;
+      EXPECT_EQ(c.fit.fit, d.fit.fit) << what;
+      EXPECT_EQ(c.heading_ambiguous, d.heading_ambiguous) << what;
+      if (!d.has_runner_up) {
+        EXPECT_FALSE(c.has_runner_up) << what;
+      } else if (d.runner_up_score >= d.score - window) {
+        ++kept;
+        ASSERT_TRUE(c.has_runner_up) << what;
+        EXPECT_TRUE(SamePose(c.runner_up_pose, d.runner_up_pose)) << what;
+        EXPECT_EQ(c.runner_up_score, d.runner_up_score) << what;
+        EXPECT_EQ(c.runner_up_fit.fit, d.runner_up_fit.fit) << what;
+      } else {
+        ++dropped;
+        EXPECT_FALSE(c.has_runner_up) << what;
+        EXPECT_GE(c.runner_up_score, d.runner_up_score) << what;
+        EXPECT_LT(c.runner_up_score, c.score - window) << what;
+        EXPECT_LT(c.bounds_evaluated, d.bounds_evaluated) << what;
+      }
+    }
+    const std::vector<Detection> ha = a.Humanoids(), hb = b.Humanoids();
+    ASSERT_EQ(ha.size(), hb.size()) << k.preset;
+    ASSERT_FALSE(ha.empty()) << k.preset;
+    EXPECT_EQ(ha.front().best.template_name, hb.front().best.template_name) << k.preset;
+  }
+  EXPECT_GE(kept, 1);
+  EXPECT_GE(dropped, 1);
+}
+
 // |a - b| within `rel` of the larger magnitude (and of 1e-300, for zeros).
 void ExpectClose(double a, double b, double rel, const std::string& what) {
   EXPECT_LE(std::abs(a - b), rel * std::max({std::abs(a), std::abs(b), 1e-300})) << what;
