@@ -547,6 +547,16 @@ TEST(ColumnOccupancyTest, CellTablesKeepMasksInTheTemplatesBytes) {
   }
 }
 
+// A random robot (RandomRobotPoints(points)) as a template and as the cluster a sensor sees of it
+// at `truth` (5 mm noise drawn from `seed`), both on the lattice's voxels.
+std::pair<VoxelTemplate, ClusterVoxels> PlantRobot(unsigned points, const Pose2D& truth,
+                                                   unsigned seed, const PoseLattice& lattice) {
+  return {*MakeTemplateFromPoints(testing::RandomRobotPoints(points), "t", lattice.resolution_m),
+          VoxeliseCluster(
+              testing::VisibleCluster(testing::RandomRobotPoints(points), truth, 0.005f, seed),
+              lattice.resolution_m)};
+}
+
 // Under the sanitizers every third scene (still every max_level and both subdivisions): the
 // brute force over the lattice is what takes the time there.
 constexpr unsigned kSceneStep = hpose::testing::kSanitizerBuild ? 3 : 1;
@@ -556,12 +566,8 @@ TEST(ExactSearchTest, EqualsExhaustiveSearchOnRandomScenes) {
     PoseLattice lattice;
     lattice.angle_steps = 24;  // 15 deg: small enough to brute-force the whole lattice.
     lattice.subdivisions = scene % 2 == 0 ? 4 : 2;
-    const VoxelTemplate tpl =
-        *MakeTemplateFromPoints(testing::RandomRobotPoints(100 + scene), "t", lattice.resolution_m);
     const Pose2D truth{1.0 + 0.13 * scene, 0.4 - 0.07 * scene, DegToRad(-170.0 + 23.0 * scene)};
-    const ClusterVoxels cluster = VoxeliseCluster(
-        testing::VisibleCluster(testing::RandomRobotPoints(100 + scene), truth, 0.005f, scene),
-        lattice.resolution_m);
+    const auto [tpl, cluster] = PlantRobot(100 + scene, truth, scene, lattice);
     const TemplateRotations rot(tpl, lattice);
     const FastScorer scorer(cluster, lattice);
     ExactSearchOptions opts;
@@ -611,12 +617,8 @@ TEST(ExactSearchTest, RunnerUpWithinAWindowEqualsExhaustiveSearch) {
   for (unsigned scene = 0; scene < 8; scene += kSceneStep) {
     PoseLattice lattice;
     lattice.angle_steps = 24;
-    const VoxelTemplate tpl =
-        *MakeTemplateFromPoints(testing::RandomRobotPoints(700 + scene), "t", lattice.resolution_m);
     const Pose2D truth{1.2, -0.2 + 0.05 * scene, DegToRad(-160.0 + 41.0 * scene)};
-    const ClusterVoxels cluster = VoxeliseCluster(
-        testing::VisibleCluster(testing::RandomRobotPoints(700 + scene), truth, 0.005f, scene),
-        lattice.resolution_m);
+    const auto [tpl, cluster] = PlantRobot(700 + scene, truth, scene, lattice);
     const TemplateRotations rot(tpl, lattice);
     const FastScorer scorer(cluster, lattice);
     ExactSearchOptions opts;

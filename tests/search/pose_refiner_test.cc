@@ -329,6 +329,16 @@ bool SamePose(const Pose2D& a, const Pose2D& b) {
   return a.x == b.x && a.y == b.y && a.theta == b.theta;
 }
 
+// The frame of humanoid `preset` at `truth` among two clutter objects (noise seed 4); `spec`
+// gets what made it.
+SimulatedFrame AmongClutter(const char* preset, const Pose2D& truth, FrameSpec* spec) {
+  spec->humanoid_pose = truth;
+  spec->preset = preset;
+  spec->seed = 4;
+  spec->clutter = 2;
+  return *SimulateFrame(*spec);
+}
+
 // A template whose refined fit is far behind the best one on its cluster has no runner-up: its
 // search stops at the optimum. With search_far_behind_runner_up its runner-up is searched and
 // only evaluated where the search left it. Either way the leading template is refined, compared
@@ -355,11 +365,7 @@ TEST(PoseRefinerTest, ATemplateFarBehindOnItsClusterHasNoRunnerUp) {
                         Case{"right_arm_raised", {1.8, -0.2, DegToRad(150.0)}},
                         Case{"standing", {2.2, 0.0, DegToRad(-100.0)}}}) {
     FrameSpec spec;
-    spec.humanoid_pose = k.truth;
-    spec.preset = k.preset;
-    spec.seed = 4;
-    spec.clutter = 2;
-    const SimulatedFrame frame = *SimulateFrame(spec);
+    const SimulatedFrame frame = AmongClutter(k.preset, k.truth, &spec);
     const Estimate a = *now->EstimateDepth(frame.depth, spec.intrinsics);
     const Estimate s = *searched->EstimateDepth(frame.depth, spec.intrinsics);
     const Estimate b = *every->EstimateDepth(frame.depth, spec.intrinsics);
@@ -437,11 +443,7 @@ TEST(PoseRefinerTest, RunnerUpsFarBehindInScoreAreNotSearchedFor) {
                         Case{"standing", {1.4, 0.1, DegToRad(30.0)}},
                         Case{"standing", {2.2, 0.0, DegToRad(-100.0)}}}) {
     FrameSpec spec;
-    spec.humanoid_pose = k.truth;
-    spec.preset = k.preset;
-    spec.seed = 4;
-    spec.clutter = 2;
-    const SimulatedFrame frame = *SimulateFrame(spec);
+    const SimulatedFrame frame = AmongClutter(k.preset, k.truth, &spec);
     const Estimate a = *now->EstimateDepth(frame.depth, spec.intrinsics);
     const Estimate b = *deep->EstimateDepth(frame.depth, spec.intrinsics);
     ASSERT_EQ(a.candidates.size(), b.candidates.size()) << k.preset;
