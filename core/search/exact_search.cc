@@ -352,7 +352,8 @@ class BranchAndBound {
     has_stopped_ = false;
   }
 
-  // Before Next() (not after it stopped): nothing below `min_value` is wanted any more.
+  // Before Next() (not after it stopped): nothing below `min_value` is wanted any more (a
+  // lower one leaves the search's own).
   void Raise(int min_value) { min_value_ = std::max(min_value_, min_value); }
 
   void set_allowed(std::vector<bool> allowed) {
@@ -791,8 +792,9 @@ class ExactRunnerUp final : public RunnerUpSearch {
     }
     bnb->set_allowed(std::move(others));
     // Only the runner-ups within the window of the optimum are wanted.
-    const std::int64_t lowest = static_cast<std::int64_t>(best_value) - runner_up_window;
-    if (lowest > min_value) bnb->Raise(static_cast<int>(lowest));
+    bnb->Raise(static_cast<int>(
+        std::max<std::int64_t>(static_cast<std::int64_t>(best_value) - runner_up_window,
+                               std::numeric_limits<int>::min())));
     const BranchAndBoundResult runner = bnb->Next();
     if (runner.found) {
       result->has_runner_up = true;
@@ -841,7 +843,6 @@ class ExactRunnerUp final : public RunnerUpSearch {
   int best_itheta = 0;
   int best_value = 0;
   int n = 0;                                               // cluster voxels.
-  int min_value = std::numeric_limits<int>::min();         // the problem's.
   int runner_up_window = std::numeric_limits<int>::max();  // SearchProblem::runner_up_window.
 
  private:
@@ -865,7 +866,6 @@ class ExactStopped final : public StoppedSearch {
     if (state_ == nullptr) return nullptr;
     std::unique_ptr<ExactRunnerUp> state = std::move(state_);
     state->bnb->Lower(min_value);
-    state->min_value = min_value;
     if (!state->Next(result) || result->below_min_value) return nullptr;
     return state;
   }
@@ -966,7 +966,6 @@ std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(
       &eval, rotations, region, top, options_.top_theta_level, problem.min_value, defer_below,
       options_.theta_split_lead, options_.theta_split_ratio, &state->counters);
   state->n = n;
-  state->min_value = problem.min_value;
   state->runner_up_window = problem.runner_up_window;
   if (!state->Next(&result)) return nullptr;
   if (result.below_min_value) {
