@@ -39,9 +39,11 @@ void Window1D(const std::uint64_t* in, int n_in, std::ptrdiff_t in_stride, int s
 // Windows of 2 len (+ 0 or 1 per axis) from those of len + 0/1 (4 interleaved words a cell,
 // e = 2 ex + ey): window 2 len + e at x = window len + e at x, then window len at x + len + e
 // (per axis). Windows starting past the box lie past the voxels: empty (max) or reaching
-// outside (min), 0 either way. The cells whose four reads all lie in the box skip the checks.
+// outside (min), 0 either way. Only the cells [x_lo, x_hi] x [y_lo, y_hi] are written; the cells
+// whose four reads all lie in the box skip the checks.
 template <bool kMax>
-void DoubleWindows(const std::uint64_t* in, int nx, int ny, int len, std::uint64_t* out) {
+void DoubleWindows(const std::uint64_t* in, int nx, int ny, int len, int x_lo, int x_hi, int y_lo,
+                   int y_hi, std::uint64_t* out) {
   const auto combine = [](std::uint64_t a, std::uint64_t b, std::uint64_t c, std::uint64_t d) {
     return kMax ? (a | b | c | d) : (a & b & c & d);
   };
@@ -49,16 +51,17 @@ void DoubleWindows(const std::uint64_t* in, int nx, int ny, int len, std::uint64
     return x < nx && y < ny ? in[(static_cast<std::ptrdiff_t>(y) * nx + x) * 4 + e] : 0;
   };
   const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(nx) * 4;
-  for (int y = 0; y < ny; ++y) {
+  for (int y = y_lo; y <= y_hi; ++y) {
     // Every read in the box: x + len + 1 < nx and y + len + 1 < ny.
-    const int inside_end = y + len + 1 < ny ? std::max(0, nx - len - 1) : 0;
+    const int inside_end =
+        y + len + 1 < ny ? std::min(x_hi + 1, std::max(x_lo, nx - len - 1)) : x_lo;
     const std::uint64_t* r0 = in + y * row;
     std::uint64_t* o = out + y * row;
-    if (inside_end > 0) {
+    if (inside_end > x_lo) {
       const std::uint64_t* r1 = in + (y + len) * row;  // ey = 0
       const std::uint64_t* r2 = r1 + row;              // ey = 1
       const std::ptrdiff_t dx = 4 * static_cast<std::ptrdiff_t>(len);
-      for (int x = 0; x < inside_end; ++x) {
+      for (int x = x_lo; x < inside_end; ++x) {
         const std::ptrdiff_t i = 4 * static_cast<std::ptrdiff_t>(x);
         o[i + 0] = combine(r0[i + 0], r0[i + dx + 0], r1[i + 0], r1[i + dx]);
         o[i + 1] = combine(r0[i + 1], r0[i + dx + 1], r2[i + 0], r2[i + dx]);
@@ -66,7 +69,7 @@ void DoubleWindows(const std::uint64_t* in, int nx, int ny, int len, std::uint64
         o[i + 3] = combine(r0[i + 3], r0[i + dx + 5], r2[i + 2], r2[i + dx + 4]);
       }
     }
-    for (int x = inside_end; x < nx; ++x) {
+    for (int x = inside_end; x <= x_hi; ++x) {
       for (int ex = 0; ex < 2; ++ex) {
         for (int ey = 0; ey < 2; ++ey) {
           const int x1 = x + len + ex, y1 = y + len + ey;
@@ -283,12 +286,23 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
   }
   if (aligned_) {
     const Level& lv = LevelAt(0);
-    plane_.resize(static_cast<size_t>(lv.nx) * lv.ny);
-    for (size_t i = 0; i < plane_.size(); ++i) plane_[i] = lv.data[4 * i];
-    // The rows holding any voxel (an empty plane: none, lo above hi).
+    plane_ = ZeroedWords(static_cast<size_t>(lv.nx) * lv.ny);
+    // The rows holding any voxel (an empty plane: none, lo above hi), within the level's
+    // written cells.
     plane_row_lo_ = lv.ny;
     plane_row_hi_ = -1;
-    for (int y = 0; y < lv.ny; ++y) {
+    if (lv.wx1 >= lv.wx0 && lv.wy1 >= lv.wy0) {
+      plane_.MarkWritten(static_cast<size_t>(lv.wy0) * lv.nx + lv.wx0,
+                         static_cast<size_t>(lv.wx1 - lv.wx0 + 1), static_cast<size_t>(lv.nx),
+                         static_cast<size_t>(lv.wy1 - lv.wy0 + 1));
+      for (int y = lv.wy0; y <= lv.wy1; ++y) {
+        for (int x = lv.wx0; x <= lv.wx1; ++x) {
+          const size_t i = static_cast<size_t>(y) * lv.nx + x;
+          plane_[i] = lv.data[4 * i];
+        }
+      }
+    }
+    for (int y = std::max(lv.wy0, 0); y <= std::min(lv.wy1, lv.ny - 1); ++y) {
       const std::uint64_t* r = &plane_[static_cast<size_t>(y) * lv.nx];
       if (std::any_of(r, r + lv.nx, [](std::uint64_t w) { return w != 0; })) {
         plane_row_lo_ = std::min(plane_row_lo_, y);
@@ -348,8 +362,8 @@ ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
   lv.nx = box.x_hi - box.x_lo + 1;
   lv.ny = box.y_hi - box.y_lo + 1;
   const int words = words_;
-  lv.data.assign(static_cast<size_t>(lv.nx) * lv.ny * 4 * words, 0);
-  if (g0.nx == 0 || g0.ny == 0) return lv;
+  lv.data = ZeroedWords(static_cast<size_t>(lv.nx) * lv.ny * 4 * words);
+  if (g0.nx == 0 || g0.ny == 0 || lv.nx <= 0 || lv.ny <= 0) return lv;
   if (lv.min_len == 1) {
     // Windows of one or two cells per axis: the cell, and the ones after it in x, y and both,
     // combined directly (cells outside the base are 0, as the sparse tables pad them).
@@ -361,12 +375,23 @@ ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
       const int gx = x + lv.x0 - g0.x0;
       return row != nullptr && gx >= 0 && gx < g0.nx ? row[static_cast<size_t>(gx) * words + w] : 0;
     };
-    for (int y = 0; y < lv.ny; ++y) {
+    // Only cells with a base cell at them or one on can be non-zero.
+    lv.wx0 = std::max(0, g0.x0 - lv.x0 - 1);
+    lv.wx1 = std::min(lv.nx - 1, g0.x0 + g0.nx - 1 - lv.x0);
+    lv.wy0 = std::max(0, g0.y0 - lv.y0 - 1);
+    lv.wy1 = std::min(lv.ny - 1, g0.y0 + g0.ny - 1 - lv.y0);
+    if (lv.wx1 < lv.wx0 || lv.wy1 < lv.wy0) return lv;
+    const size_t cell_words = 4 * static_cast<size_t>(words);
+    lv.data.MarkWritten((static_cast<size_t>(lv.wy0) * lv.nx + lv.wx0) * cell_words,
+                        static_cast<size_t>(lv.wx1 - lv.wx0 + 1) * cell_words,
+                        static_cast<size_t>(lv.nx) * cell_words,
+                        static_cast<size_t>(lv.wy1 - lv.wy0 + 1));
+    for (int y = lv.wy0; y <= lv.wy1; ++y) {
       const std::uint64_t* r0 = row_of(y);
       const std::uint64_t* r1 = row_of(y + 1);
       if (r0 == nullptr && r1 == nullptr) continue;
       std::uint64_t* out = &lv.data[static_cast<size_t>(y) * lv.nx * 4 * words];
-      for (int x = 0; x < lv.nx; ++x) {
+      for (int x = lv.wx0; x <= lv.wx1; ++x) {
         for (int w = 0; w < words; ++w) {
           const std::uint64_t a = at(r0, x, w), b = at(r0, x + 1, w);  // (x, y), (x + 1, y)
           const std::uint64_t c = at(r1, x, w), d = at(r1, x + 1, w);  // (x, y + 1), ...
@@ -380,6 +405,12 @@ ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
     }
     return lv;
   }
+  // Longer windows reach further: the whole box is written.
+  lv.wx0 = 0;
+  lv.wx1 = lv.nx - 1;
+  lv.wy0 = 0;
+  lv.wy1 = lv.ny - 1;
+  lv.data.MarkAllWritten();
   std::vector<std::uint64_t> scratch;
   // Along x, per base row: tmp[e][(y * nx + x) * words + w], window min_len + e.
   std::vector<std::uint64_t> tmp[2];
@@ -417,12 +448,25 @@ ColumnOccupancy::Level ColumnOccupancy::Doubled(const Level& below, bool max_fil
   lv.y0 = below.y0;
   lv.nx = below.nx;
   lv.ny = below.ny;
-  lv.data.resize(below.data.size());
+  lv.data = ZeroedWords(below.data.size());
+  if (below.wx1 < below.wx0 || below.wy1 < below.wy0) return lv;
+  // A window is non-zero only where one of its four reads, len or len + 1 cells on, is (with
+  // either filter): the written cells of the level below, extended back by len + 1.
+  const int len = below.min_len;
+  lv.wx0 = std::max(0, below.wx0 - len - 1);
+  lv.wx1 = below.wx1;
+  lv.wy0 = std::max(0, below.wy0 - len - 1);
+  lv.wy1 = below.wy1;
   if (max_filter) {
-    DoubleWindows<true>(below.data.data(), lv.nx, lv.ny, below.min_len, lv.data.data());
+    DoubleWindows<true>(below.data.data(), lv.nx, lv.ny, len, lv.wx0, lv.wx1, lv.wy0, lv.wy1,
+                        lv.data.data());
   } else {
-    DoubleWindows<false>(below.data.data(), lv.nx, lv.ny, below.min_len, lv.data.data());
+    DoubleWindows<false>(below.data.data(), lv.nx, lv.ny, len, lv.wx0, lv.wx1, lv.wy0, lv.wy1,
+                         lv.data.data());
   }
+  lv.data.MarkWritten(static_cast<size_t>(lv.wy0) * lv.nx * 4 + static_cast<size_t>(lv.wx0) * 4,
+                      static_cast<size_t>(lv.wx1 - lv.wx0 + 1) * 4, static_cast<size_t>(lv.nx) * 4,
+                      static_cast<size_t>(lv.wy1 - lv.wy0 + 1));
   return lv;
 }
 

@@ -6,6 +6,7 @@
 
 #include "core/scoring/pose_lattice.h"
 #include "core/scoring/pose_scorer.h"
+#include "core/scoring/zeroed_words.h"
 
 namespace hpose {
 
@@ -86,10 +87,13 @@ class ColumnOccupancy {
   // Level k: every cell (x, y) of the level's box holds four masks, the kMax/kMin combination
   // of the base over the windows [x, x + len_x) x [y, y + len_y) for len_x, len_y in
   // {min_len, min_len + 1}, interleaved: data[((dy * nx + dx) * 4 + 2 ex + ey) * words + w].
+  // Cells outside the level's written rectangle [wx0, wx1] x [wy0, wy1] (box-relative, empty
+  // when wx1 < wx0) hold 0: a box ten to a hundred times the cluster's area is not written.
   struct Level {
     int min_len = 1;  // shortest window (cells) a column sweeps at this level.
     int x0 = 0, y0 = 0, nx = 0, ny = 0;
-    std::vector<std::uint64_t> data;
+    int wx0 = 0, wx1 = -1, wy0 = 0, wy1 = -1;
+    ZeroedWords data;
   };
   struct Grid {
     int x0 = 0, y0 = 0, nx = 0, ny = 0;
@@ -123,7 +127,7 @@ class ColumnOccupancy {
   bool aligned_ = false;         // every level shares the layout of level 0 over the lookup range.
   // Aligned only: level 0's own cells (entry 0) as one word per cell, same box, row by row: the
   // plane HitsGrouped reads runs of cells from.
-  std::vector<std::uint64_t> plane_;
+  ZeroedWords plane_;
   // The first and last row of plane_ with a non-zero word: runs of cells outside them add 0.
   int plane_row_lo_ = 0, plane_row_hi_ = -1;
   mutable std::vector<std::uint32_t> stamp_;

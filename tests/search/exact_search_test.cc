@@ -210,6 +210,22 @@ TEST(ColumnOccupancyTest, AlignedBoundsEqualThePerLevelOnes) {
     range.x_hi = FloorDiv(c.ix + reach + 64, 4) + FloorDiv(rot.column_q_max().x(), 4);
     range.y_hi = FloorDiv(c.iy + reach + 64, 4) + FloorDiv(rot.column_q_max().y(), 4);
     const int z_base = rot.Get(0).z_base, z_words = rot.Get(0).z_words;
+    {
+      // Aligned levels are written only around their voxels, in buffers that earlier levels
+      // gave back (ZeroedWords): first a cluster of every cell and height of the box, so that
+      // each buffer the levels below reuse was written everywhere.
+      ClusterVoxels full;
+      for (int y = range.y_lo - 20; y <= range.y_hi; ++y) {
+        for (int x = range.x_lo - 20; x <= range.x_hi; ++x) {
+          for (int z = 0; z < 64; ++z) full.cells.emplace_back(x, y, z_base + z);
+        }
+      }
+      const ColumnOccupancy dense(full, lattice, z_base, z_words, 7, ColumnOccupancy::Filter::kMax,
+                                  &range);
+      const ColumnOccupancy dense_min(full, lattice, z_base, z_words, 7,
+                                      ColumnOccupancy::Filter::kMin, &range);
+      ASSERT_TRUE(dense.aligned() && dense_min.aligned());
+    }
     const ColumnOccupancy plain(cluster, lattice, z_base, z_words, 7);
     const ColumnOccupancy aligned(cluster, lattice, z_base, z_words, 7,
                                   ColumnOccupancy::Filter::kMax, &range);
