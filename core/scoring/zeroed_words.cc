@@ -34,9 +34,10 @@ class ZeroPool {
         free_.pop_back();
         pooled_bytes_ -= b.capacity * sizeof(std::uint64_t);
         *capacity = b.capacity;
-#ifndef NDEBUG
-        for (size_t i = 0; i < b.capacity; ++i) assert(b.words[i] == 0);
-#endif
+        // Every word equal to the next and the first 0: all zero (one memcmp, cheap also
+        // where loads are instrumented).
+        assert(b.words[0] == 0 &&
+               std::memcmp(b.words, b.words + 1, (b.capacity - 1) * sizeof(std::uint64_t)) == 0);
         return b.words;
       }
     }
