@@ -287,24 +287,19 @@ ColumnOccupancy::ColumnOccupancy(const ClusterVoxels& cluster, const PoseLattice
   if (aligned_) {
     const Level& lv = LevelAt(0);
     plane_ = ZeroedWords(static_cast<size_t>(lv.nx) * lv.ny);
-    // The rows holding any voxel (an empty plane: none, lo above hi), within the level's
-    // written cells.
+    MarkCellsWritten(lv, 1, &plane_);
+    // The level's written cells, and the rows among them holding any voxel (an empty plane:
+    // none, lo above hi).
     plane_row_lo_ = lv.ny;
     plane_row_hi_ = -1;
-    if (lv.wx1 >= lv.wx0 && lv.wy1 >= lv.wy0) {
-      plane_.MarkWritten(static_cast<size_t>(lv.wy0) * lv.nx + lv.wx0,
-                         static_cast<size_t>(lv.wx1 - lv.wx0 + 1), static_cast<size_t>(lv.nx),
-                         static_cast<size_t>(lv.wy1 - lv.wy0 + 1));
-      for (int y = lv.wy0; y <= lv.wy1; ++y) {
-        for (int x = lv.wx0; x <= lv.wx1; ++x) {
-          const size_t i = static_cast<size_t>(y) * lv.nx + x;
-          plane_[i] = lv.data[4 * i];
-        }
+    for (int y = lv.wy0; y <= lv.wy1; ++y) {
+      std::uint64_t any = 0;
+      for (int x = lv.wx0; x <= lv.wx1; ++x) {
+        const size_t i = static_cast<size_t>(y) * lv.nx + x;
+        plane_[i] = lv.data[4 * i];
+        any |= plane_[i];
       }
-    }
-    for (int y = std::max(lv.wy0, 0); y <= std::min(lv.wy1, lv.ny - 1); ++y) {
-      const std::uint64_t* r = &plane_[static_cast<size_t>(y) * lv.nx];
-      if (std::any_of(r, r + lv.nx, [](std::uint64_t w) { return w != 0; })) {
+      if (any != 0) {
         plane_row_lo_ = std::min(plane_row_lo_, y);
         plane_row_hi_ = y;
       }
@@ -350,6 +345,14 @@ std::ptrdiff_t ColumnOccupancy::PlaneBase(int a, int b) const {
 
 std::ptrdiff_t ColumnOccupancy::AlignedBase(int a, int b) const { return 4 * PlaneBase(a, b); }
 
+void ColumnOccupancy::MarkCellsWritten(const Level& lv, size_t cell_words, ZeroedWords* data) {
+  if (lv.wx1 < lv.wx0 || lv.wy1 < lv.wy0) return;
+  data->MarkWritten((static_cast<size_t>(lv.wy0) * lv.nx + lv.wx0) * cell_words,
+                    static_cast<size_t>(lv.wx1 - lv.wx0 + 1) * cell_words,
+                    static_cast<size_t>(lv.nx) * cell_words,
+                    static_cast<size_t>(lv.wy1 - lv.wy0 + 1));
+}
+
 ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
                                                  const CellRange& box) const {
   const Grid& g0 = base_;
@@ -380,12 +383,7 @@ ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
     lv.wx1 = std::min(lv.nx - 1, g0.x0 + g0.nx - 1 - lv.x0);
     lv.wy0 = std::max(0, g0.y0 - lv.y0 - 1);
     lv.wy1 = std::min(lv.ny - 1, g0.y0 + g0.ny - 1 - lv.y0);
-    if (lv.wx1 < lv.wx0 || lv.wy1 < lv.wy0) return lv;
-    const size_t cell_words = 4 * static_cast<size_t>(words);
-    lv.data.MarkWritten((static_cast<size_t>(lv.wy0) * lv.nx + lv.wx0) * cell_words,
-                        static_cast<size_t>(lv.wx1 - lv.wx0 + 1) * cell_words,
-                        static_cast<size_t>(lv.nx) * cell_words,
-                        static_cast<size_t>(lv.wy1 - lv.wy0 + 1));
+    MarkCellsWritten(lv, 4 * static_cast<size_t>(words), &lv.data);
     for (int y = lv.wy0; y <= lv.wy1; ++y) {
       const std::uint64_t* r0 = row_of(y);
       const std::uint64_t* r1 = row_of(y + 1);
@@ -410,7 +408,7 @@ ColumnOccupancy::Level ColumnOccupancy::Filtered(int k, bool max_filter,
   lv.wx1 = lv.nx - 1;
   lv.wy0 = 0;
   lv.wy1 = lv.ny - 1;
-  lv.data.MarkAllWritten();
+  MarkCellsWritten(lv, 4 * static_cast<size_t>(words), &lv.data);
   std::vector<std::uint64_t> scratch;
   // Along x, per base row: tmp[e][(y * nx + x) * words + w], window min_len + e.
   std::vector<std::uint64_t> tmp[2];
@@ -464,9 +462,7 @@ ColumnOccupancy::Level ColumnOccupancy::Doubled(const Level& below, bool max_fil
     DoubleWindows<false>(below.data.data(), lv.nx, lv.ny, len, lv.wx0, lv.wx1, lv.wy0, lv.wy1,
                          lv.data.data());
   }
-  lv.data.MarkWritten(static_cast<size_t>(lv.wy0) * lv.nx * 4 + static_cast<size_t>(lv.wx0) * 4,
-                      static_cast<size_t>(lv.wx1 - lv.wx0 + 1) * 4, static_cast<size_t>(lv.nx) * 4,
-                      static_cast<size_t>(lv.wy1 - lv.wy0 + 1));
+  MarkCellsWritten(lv, 4, &lv.data);
   return lv;
 }
 

@@ -102,6 +102,9 @@ class ColumnOccupancy {
   Level Filtered(int level, bool max_filter, const CellRange& box) const;
   // The level of windows twice as long as `below`'s, from `below` (same box; one word per cell).
   Level Doubled(const Level& below, bool max_filter) const;
+  // Declares the level's written cells, `cell_words` words each in `data` (its data, or the
+  // plane: one word a cell), to the pool they go back to.
+  static void MarkCellsWritten(const Level& lv, size_t cell_words, ZeroedWords* data);
   const Level& LevelAt(int k) const { return unique_levels_[level_slot_[k]]; }
   int levels() const { return static_cast<int>(level_slot_.size()); }
   // Whether a block of 2^level steps at (a, b) can take the aligned path with `rotated`.

@@ -82,14 +82,7 @@ ZeroedWords::ZeroedWords(std::size_t n) : size_(n) {
 
 ZeroedWords::~ZeroedWords() { Release(); }
 
-ZeroedWords::ZeroedWords(ZeroedWords&& other) noexcept
-    : data_(std::exchange(other.data_, nullptr)),
-      size_(std::exchange(other.size_, 0)),
-      capacity_(std::exchange(other.capacity_, 0)),
-      offset_(other.offset_),
-      width_(other.width_),
-      stride_(other.stride_),
-      rows_(std::exchange(other.rows_, 0)) {}
+ZeroedWords::ZeroedWords(ZeroedWords&& other) noexcept { *this = std::move(other); }
 
 ZeroedWords& ZeroedWords::operator=(ZeroedWords&& other) noexcept {
   if (this != &other) {
