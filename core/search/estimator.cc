@@ -425,6 +425,13 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
       const int begin = (k % runs) * kRun;
       rotations_[k / runs]->MakeTables(options_.exact.top_theta_level, begin, begin + kRun);
     });
+    // ... and the queues of a frame's searches: every (cluster, template) search keeps its
+    // queue until its runner-up is known, so a frame holds about as many as it has searches
+    // (the real-time protocol's frames up to 6), each for up to about 25 k blocks there
+    // (docs/BENCHMARKS.md). About 10 MB.
+    constexpr int kQueues = 8;
+    constexpr size_t kQueuedBlocks = size_t{1} << 15;
+    ExactSearch::ReserveQueues(kQueues, kQueuedBlocks);
   }
 }
 

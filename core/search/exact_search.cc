@@ -270,6 +270,20 @@ class QueuePool {
     const std::lock_guard<std::mutex> lock(pool.mutex_);
     if (pool.free_.size() < kKept) pool.free_.push_back(std::move(b));
   }
+  // Makes sure `queues` buffers (at most kKept) are kept, each with room written for `blocks`
+  // queued and as many deferred nodes.
+  static void Reserve(int queues, size_t blocks) {
+    QueuePool& pool = Instance();
+    const std::lock_guard<std::mutex> lock(pool.mutex_);
+    const size_t n = std::min(static_cast<size_t>(std::max(queues, 0)), kKept);
+    while (pool.free_.size() < n) pool.free_.push_back(std::make_unique<QueueBuffers>());
+    for (size_t i = 0; i < n; ++i) {
+      QueueBuffers& b = *pool.free_[i];
+      b.queue.Reserve(blocks);
+      b.deferred.resize(std::max(blocks, b.deferred.size()));
+      b.deferred.clear();
+    }
+  }
 
  private:
   static constexpr size_t kKept = 16;  // more than the searches of a frame held at once.
@@ -876,6 +890,8 @@ class ExactStopped final : public StoppedSearch {
 };
 
 }  // namespace
+
+void ExactSearch::ReserveQueues(int queues, size_t blocks) { QueuePool::Reserve(queues, blocks); }
 
 SearchResult ExactSearch::Search(const SearchProblem& problem) const {
   SearchResult result;

@@ -1,6 +1,8 @@
 #ifndef HPOSE_CORE_SEARCH_EXACT_SEARCH_H_
 #define HPOSE_CORE_SEARCH_EXACT_SEARCH_H_
 
+#include <cstddef>
+
 #include "core/search/pose_search.h"
 
 namespace hpose {
@@ -88,6 +90,12 @@ class ExactSearch final : public PoseSearch {
       const SearchProblem& problem, SearchResult* result,
       std::unique_ptr<StoppedSearch>* stopped = nullptr) const override;
   double OriginMargin(const TemplateRotations& rotations) const override;
+  // Keeps `queues` branch-and-bound queues (at most 16) for the searches to come, each with its
+  // memory made and written for `blocks` nodes queued at once and as many deferred: a stream's
+  // searches then take no page of memory the process had not, however large the first ones are
+  // (a page fault costs microseconds, tens of them in some virtual machines). The queues are
+  // shared by every search of the process.
+  static void ReserveQueues(int queues, size_t blocks);
   // The cluster's occupancy grid and its free space's, with the levels and extent every given
   // template's search reads (null when the templates' z layouts differ or the grids would not
   // take the aligned layout, whose reads need no scratch space).

@@ -32,16 +32,24 @@ struct PackedLess {
 };
 
 // The queue of nodes: one bucket per value (a node's value is a small integer), each a stack of
-// blocks and a binary heap of poses, so that a block's push or pop touches the end of one array
+// blocks and a binary heap of poses, so that a block's push or pop touches the top of one stack
 // (the one the search just used, mostly) and a pose's sifts through the poses of one value only.
+// The blocks of every bucket live in one store of slots, each stack linked through its slots and
+// the free slots in a stack of their own: a push takes the slot the last pop freed (still in the
+// caches), and the store holds as many blocks as the queue has held at once, whatever their
+// values. (Stacks of their own per bucket grew, search after search, to the largest any search
+// put at that bucket's offset: new memory, page faults included, whenever a search's values
+// fell where earlier ones had put few blocks.)
 class SearchQueue {
  public:
   bool empty() const { return size_ == 0; }
   size_t bucket_count() const { return buckets_.size(); }
   size_t size() const { return size_; }
+  // Slots the store has made so far (the most blocks held at once, or what Reserve asked for).
+  size_t slot_capacity() const { return slots_.capacity(); }
   const PackedNode& top() const {
     const Bucket& b = buckets_[top_];
-    return b.blocks.empty() ? b.poses.front() : b.blocks.back();
+    return b.head != kNone ? slots_[b.head].node : b.poses.front();
   }
   void push(const PackedNode& p) {
     const int v = Value(p);
@@ -64,15 +72,26 @@ class SearchQueue {
       b.poses.push_back(p);
       std::push_heap(b.poses.begin(), b.poses.end(), PackedLess());
     } else {
-      b.blocks.push_back(p);
+      std::int32_t slot = free_;
+      if (slot != kNone) {
+        free_ = slots_[slot].next;
+      } else {
+        slot = static_cast<std::int32_t>(slots_.size());
+        slots_.emplace_back();
+      }
+      slots_[slot] = Slot{p, b.head};
+      b.head = slot;
     }
     if (size_ == 0 || static_cast<int>(k) > top_) top_ = static_cast<int>(k);
     ++size_;
   }
   void pop() {
     Bucket& b = buckets_[top_];
-    if (!b.blocks.empty()) {
-      b.blocks.pop_back();
+    if (b.head != kNone) {
+      const std::int32_t slot = b.head;
+      b.head = slots_[slot].next;
+      slots_[slot].next = free_;
+      free_ = slot;
     } else {
       std::pop_heap(b.poses.begin(), b.poses.end(), PackedLess());
       b.poses.pop_back();
@@ -82,16 +101,25 @@ class SearchQueue {
     while (buckets_[top_].empty()) --top_;
   }
 
-  // Empties the queue, keeping its buckets' memory for the next search (buckets for about as
-  // many values as the widest search so far spanned, a few times over).
+  // Empties the queue, keeping its memory for the next search (the store, and buckets for about
+  // as many values as the widest search so far spanned, a few times over).
   void clear() {
     for (Bucket& b : buckets_) {
-      b.blocks.clear();
+      b.head = kNone;
       b.poses.clear();
     }
+    slots_.clear();
+    free_ = kNone;
     size_ = 0;
     top_ = 0;
     fresh_ = true;
+  }
+  // Makes (and writes, so that its pages are the process's) room for `blocks` blocks held at
+  // once; empties the queue.
+  void Reserve(size_t blocks) {
+    clear();
+    slots_.resize(std::max(blocks, slots_.size()));
+    slots_.clear();
   }
 
   static int Value(const PackedNode& p) {
@@ -103,12 +131,19 @@ class SearchQueue {
   }
 
  private:
+  static constexpr std::int32_t kNone = -1;
+  struct Slot {
+    PackedNode node;
+    std::int32_t next = kNone;  // the slot below in its bucket's stack, or in the free stack.
+  };
   struct Bucket {
-    std::vector<PackedNode> blocks;  // in the order pushed; the last leaves first.
-    std::vector<PackedNode> poses;   // a heap (PackedLess).
-    bool empty() const { return blocks.empty() && poses.empty(); }
+    std::int32_t head = kNone;      // the block pushed last (the first to leave).
+    std::vector<PackedNode> poses;  // a heap (PackedLess).
+    bool empty() const { return head == kNone && poses.empty(); }
   };
   std::vector<Bucket> buckets_;  // bucket k: nodes of value base_ + k.
+  std::vector<Slot> slots_;      // the blocks of every bucket, and free slots.
+  std::int32_t free_ = kNone;    // the free slot freed last.
   int base_ = 0;
   int top_ = 0;  // the highest non-empty bucket (when size_ > 0).
   size_t size_ = 0;

@@ -116,6 +116,47 @@ TEST(SearchQueueTest, ReuseKeepsTheBucketsBounded) {
   EXPECT_LE(q.bucket_count(), 8u * 1001u);
 }
 
+// The blocks of every value share one store: reused search after search, with values that fall
+// anywhere, it holds as many as were ever queued at once (a vector's doubling over), not as many
+// as each bucket ever held.
+TEST(SearchQueueTest, StoreHoldsTheMostBlocksQueuedAtOnce) {
+  std::mt19937_64 rng(3);
+  std::uniform_int_distribution<int> offset(-5000, 5000), value(0, 300), fine(1, 20);
+  SearchQueue q;
+  size_t most = 0;
+  for (int search = 0; search < 200; ++search) {
+    q.clear();
+    const int base = offset(rng);
+    const int count = 50 + search % 150;
+    for (int i = 0; i < count; ++i) {
+      q.push(Node(base + value(rng), fine(rng), 0, static_cast<std::uint64_t>(i)));
+      if (i % 3 == 2) q.pop();  // searches pop as they go.
+      most = std::max(most, q.size());
+    }
+  }
+  EXPECT_GE(q.slot_capacity(), most);
+  EXPECT_LE(q.slot_capacity(), 2 * most);
+}
+
+// Reserve makes room for that many blocks at once (pushing them takes no new memory) and leaves
+// the queue empty, its order unchanged.
+TEST(SearchQueueTest, ReserveMakesRoomAndEmptiesTheQueue) {
+  SearchQueue q;
+  q.push(Node(7, 3, 0, 1));
+  q.Reserve(1000);
+  EXPECT_TRUE(q.empty());
+  EXPECT_GE(q.slot_capacity(), 1000u);
+  const size_t capacity = q.slot_capacity();
+  for (int i = 0; i < 1000; ++i) q.push(Node(i % 37, 2, 0, static_cast<std::uint64_t>(i)));
+  EXPECT_EQ(q.slot_capacity(), capacity);
+  // The last block pushed of the highest value (36: i = 36, 73, ..., 998) leaves first.
+  EXPECT_EQ(SearchQueue::Value(q.top()), 36);
+  EXPECT_EQ(q.top().lo, 998u);
+  q.Reserve(10);  // never less than it has.
+  EXPECT_TRUE(q.empty());
+  EXPECT_EQ(q.slot_capacity(), capacity);
+}
+
 TEST(SearchQueueTest, ValueIsWhatTheKeyHolds) {
   for (const int v : {-100000, -1, 0, 1, 7, 123456}) {
     EXPECT_EQ(SearchQueue::Value(Node(v, 0, 0)), v);
