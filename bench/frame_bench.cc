@@ -17,12 +17,13 @@
 //   taskset -c 0 frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]
 //                            [--repeat N] [--only VARIANT] [--frames-detail] [--dump]
 //                            [--body NAME] [--sensor-height M] [--pitch-deg D] [--walk-far M]
-//                            [--noise-correlation SHARE] [--cloud FILE]...
+//                            [--noise-correlation SHARE] [--cloud FILE]... [--pick I,J,...]
 // With --cloud, recorded point clouds (no truth) go through the scattered frames' variants too,
 // each cold, --repeat times. With --repeat 2 or more, a second table sets each frame's least
 // total over its runs beside the totals of every run (LeastOfRuns).
 // With --body other than nao the humanoid has those proportions and the two templates are made
 // from them (BodyTemplates) instead of the shipped ones.
+#include <sys/resource.h>
 #include <time.h>
 
 #include <algorithm>
@@ -114,6 +115,13 @@ double CpuMs() {
   return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
 }
 
+// The process's page faults so far that needed no disk (a page's first touch, mostly).
+long MinorFaults() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_minflt;
+}
+
 // "median / p90" with `decimals` digits after the point.
 std::string Cell(const std::vector<double>& v, int decimals = 1) {
   char buf[64];
@@ -188,10 +196,12 @@ Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>*
       const FrameSpec& spec = frames.specs[f];
       for (Variant& v : *variants) {
         const double cpu0 = CpuMs();
+        const long faults0 = MinorFaults();
         Result<Estimate> e =
             v.tracker ? v.tracker->EstimateDepth(frames.sims[f].depth, spec.intrinsics)
                       : v.estimator->EstimateDepth(frames.sims[f].depth, spec.intrinsics);
         const double cpu = CpuMs() - cpu0;
+        const long faults = MinorFaults() - faults0;
         if (!e.ok()) {
           return MakeError(e.error().code,
                            "frame " + std::to_string(f) + ", " + v.name + ": " + e.error().message);
@@ -241,10 +251,10 @@ Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>*
         if (flags.detail) {
           std::printf(
               "frame %2zu %-16s %-34s %.2f m clusters %zu searches %zu total %.1f ms (search "
-              "%.1f, refinement %.1f, bounds %.1fk)%s%s\n",
+              "%.1f, refinement %.1f, bounds %.1fk, page faults %ld)%s%s\n",
               f, spec.preset.c_str(), v.name.c_str(), distance, e->clusters.size(),
               e->candidates.size(), t.total_ms, t.search_ms - t.refine_ms, t.refine_ms,
-              v.bounds.back(), e->tracking.tracked ? "  (tracked)" : "",
+              v.bounds.back(), faults, e->tracking.tracked ? "  (tracked)" : "",
               ok ? "" : "  (humanoid missed)");
         }
       }
@@ -643,6 +653,7 @@ int Usage(FILE* out) {
                "                   [--repeat N] [--only VARIANT] [--frames-detail] [--dump]\n"
                "                   [--body NAME] [--sensor-height M] [--pitch-deg D]\n"
                "                   [--walk-far M] [--noise-correlation SHARE] [--cloud FILE]...\n"
+               "                   [--pick I,J,...]\n"
                "  --frames N        scattered frames, every variant cold (default 30; 0: none)\n"
                "  --sequence N      frames of the walk, cold and tracked (default 30; 0: none)\n"
                "  --clutter N       clutter objects per frame (default 4)\n"
@@ -664,7 +675,14 @@ int Usage(FILE* out) {
                "                    resembles one; default 0: every pixel independent)\n"
                "  --cloud FILE      a recorded point cloud (.pcd/.ply, sensor frame) for the\n"
                "                    scattered frames' variants, each cold, --repeat times; may be\n"
-               "                    repeated (use --frames 0 --sequence 0 for clouds only)\n");
+               "                    repeated (use --frames 0 --sequence 0 for clouds only)\n"
+               "  --pick I,J,...    of the --frames scattered frames, run only these (0-based,\n"
+               "                    in this order, repeats allowed), e.g. to profile one slow\n"
+               "                    frame: --frames 36 --pick 23,23,23 (lines and tables then\n"
+               "                    count the picked frames)\n"
+               "  --frames-detail   a line per frame and variant: time, search, refinement,\n"
+               "                    bounds and the page faults of the estimate\n"
+               "  --dump            a line per candidate: pose, scores, bounds, fits\n");
   return out == stdout ? 0 : 2;
 }
 
@@ -679,6 +697,7 @@ int Run(int argc, char** argv) {
   RunFlags flags;
   std::vector<std::string> only;
   std::vector<std::string> cloud_paths;
+  std::vector<int> pick;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
@@ -714,9 +733,31 @@ int Run(int argc, char** argv) {
       only.push_back(argv[++i]);
     } else if (a == "--cloud") {
       cloud_paths.push_back(argv[++i]);
+    } else if (a == "--pick") {
+      const std::string list = argv[++i];
+      for (size_t at = 0; at <= list.size();) {
+        const size_t comma = std::min(list.find(',', at), list.size());
+        const std::string item = list.substr(at, comma - at);
+        char* end = nullptr;
+        const long k = std::strtol(item.c_str(), &end, 10);
+        if (item.empty() || *end != '\0' || k < 0 || k > 1000000) {
+          std::fprintf(stderr, "frame_bench: --pick takes frame indices like 3,23,23, not '%s'\n",
+                       list.c_str());
+          return 2;
+        }
+        pick.push_back(static_cast<int>(k));
+        at = comma + 1;
+      }
     } else {
       std::fprintf(stderr, "frame_bench: unknown flag %s\n", a.c_str());
       return Usage(stderr);
+    }
+  }
+  for (const int k : pick) {
+    if (k >= frames) {
+      std::fprintf(stderr, "frame_bench: --pick %d: there are %d scattered frames (--frames)\n", k,
+                   frames);
+      return 2;
     }
   }
   if (frames < 0 || sequence < 0 || clutter < 0 || flags.repeat < 1 ||
@@ -783,7 +824,14 @@ int Run(int argc, char** argv) {
   };
   std::printf("Vector paths of this CPU: %s.\n", VectorPaths().c_str());
   if (!scattered.empty()) {
-    if (!run_set(BenchFrameSpecs(frames, clutter, max_distance), &scattered)) return 1;
+    std::vector<FrameSpec> specs = BenchFrameSpecs(frames, clutter, max_distance);
+    if (!pick.empty()) {
+      std::vector<FrameSpec> picked;
+      for (const int k : pick) picked.push_back(specs[k]);
+      specs = std::move(picked);
+    }
+    if (!run_set(std::move(specs), &scattered)) return 1;
+    if (!pick.empty()) std::printf("\nFrames picked: %zu of the %d below.\n", pick.size(), frames);
     std::printf(
         "\n%d scattered simulated 640x480 frames (humanoid '%s' 0.9-%.1f m away, sensor %.2f m "
         "high pitched %.0f deg, %d clutter objects, 2 templates), %d run(s) each; median / p90 "
