@@ -131,8 +131,10 @@ struct EstimatorOptions {
   // optimum is computed, however low (slower on clutter).
   bool stop_below_threshold = true;
   // Make at construction every search table the exact search otherwise makes on first use
-  // (per shipped template about 40 ms on one core, spread over `threads`, and about 27 MB), so
-  // that the first frames take no longer than the later ones: for estimators that serve a
+  // (per shipped template about 40 ms on one core, spread over `threads`, and about 27 MB), and
+  // write the memory of the searches' queues (ExactSearch::ReserveQueues, about 10 MB), so
+  // that the first frames take no longer than the later ones, nor a frame whose searches are
+  // the largest yet (a page's first touch costs microseconds): for estimators that serve a
   // stream of frames (the daemon's). One-off estimates are quicker without (they make only
   // what they use).
   bool make_tables_at_start = false;

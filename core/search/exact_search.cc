@@ -387,7 +387,7 @@ class BranchAndBound {
         // Still of the queue's highest value (deferred ones are below defer_below_): go on with
         // it rather than push and pop it (it would leave first: the last block pushed of a value
         // leaves first); the blocks expanded are the same.
-        if (n.value < defer_below_ || (!Empty() && n.value < SearchQueue::Value(Top()))) {
+        if (n.value < defer_below_ || (!Empty() && n.value < queue_.top_value())) {
           Enqueue(n);
           continue;
         }
@@ -503,7 +503,7 @@ class BranchAndBound {
   // then the order without deferral.
   void MergeDeferredIfNeeded() {
     if (deferred_.empty()) return;
-    if (!queue_.empty() && UnpackValue(queue_.top()) >= defer_below_) return;
+    if (!queue_.empty() && queue_.top_value() >= defer_below_) return;
     for (const PackedNode& p : deferred_) queue_.push(p);
     deferred_.clear();
     defer_below_ = std::numeric_limits<int>::min();

@@ -51,6 +51,8 @@ class SearchQueue {
     const Bucket& b = buckets_[top_];
     return b.head != kNone ? slots_[b.head].node : b.poses.front();
   }
+  // Value(top()), from the bucket's place alone: the top node itself may be out of the caches.
+  int top_value() const { return base_ + top_; }
   void push(const PackedNode& p) {
     const int v = Value(p);
     if (fresh_) {  // the first node: buckets around its value (values fall as a search goes).
@@ -99,6 +101,9 @@ class SearchQueue {
     --size_;
     if (size_ == 0) return;
     while (buckets_[top_].empty()) --top_;
+    // The next top leaves soon, unless a node pushed meanwhile goes before it.
+    const std::int32_t next = buckets_[top_].head;
+    if (next != kNone) __builtin_prefetch(&slots_[next]);
   }
 
   // Empties the queue, keeping its memory for the next search (the store, and buckets for about

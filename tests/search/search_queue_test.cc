@@ -71,6 +71,7 @@ TEST(SearchQueueTest, PopsBlocksLastInFirstOutThenPosesInHeapOrder) {
         const size_t e = Expected(ref);
         ASSERT_EQ(q.top().hi, ref[e].hi) << "round " << round << " step " << step;
         ASSERT_EQ(q.top().lo, ref[e].lo);
+        ASSERT_EQ(q.top_value(), SearchQueue::Value(ref[e]));
         (SearchQueue::IsPose(ref[e]) ? pose_pops : block_pops) += 1;
         q.pop();
         ref.erase(ref.begin() + static_cast<std::ptrdiff_t>(e));
