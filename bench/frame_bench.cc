@@ -40,6 +40,7 @@
 #include <tuple>
 #include <vector>
 
+#include "bench/bench_bodies.h"
 #include "bench/bench_frames.h"
 #include "core/io/cloud_io.h"
 #include "core/search/estimator.h"
@@ -735,18 +736,19 @@ int Run(int argc, char** argv) {
       cloud_paths.push_back(argv[++i]);
     } else if (a == "--pick") {
       const std::string list = argv[++i];
-      for (size_t at = 0; at <= list.size();) {
-        const size_t comma = std::min(list.find(',', at), list.size());
-        const std::string item = list.substr(at, comma - at);
+      for (const std::string& item : ParseNames(list)) {
         char* end = nullptr;
         const long k = std::strtol(item.c_str(), &end, 10);
         if (item.empty() || *end != '\0' || k < 0 || k > 1000000) {
-          std::fprintf(stderr, "frame_bench: --pick takes frame indices like 3,23,23, not '%s'\n",
-                       list.c_str());
-          return 2;
+          pick.clear();
+          break;
         }
         pick.push_back(static_cast<int>(k));
-        at = comma + 1;
+      }
+      if (pick.empty()) {
+        std::fprintf(stderr, "frame_bench: --pick takes frame indices like 3,23,23, not '%s'\n",
+                     list.c_str());
+        return 2;
       }
     } else {
       std::fprintf(stderr, "frame_bench: unknown flag %s\n", a.c_str());

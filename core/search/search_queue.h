@@ -74,15 +74,15 @@ class SearchQueue {
       b.poses.push_back(p);
       std::push_heap(b.poses.begin(), b.poses.end(), PackedLess());
     } else {
-      std::int32_t slot = free_;
-      if (slot != kNone) {
-        free_ = slots_[slot].next;
+      const Slot pushed{p, b.head};
+      if (free_ != kNone) {
+        b.head = free_;
+        free_ = slots_[free_].next;
+        slots_[b.head] = pushed;
       } else {
-        slot = static_cast<std::int32_t>(slots_.size());
-        slots_.emplace_back();
+        b.head = static_cast<std::int32_t>(slots_.size());
+        slots_.push_back(pushed);
       }
-      slots_[slot] = Slot{p, b.head};
-      b.head = slot;
     }
     if (size_ == 0 || static_cast<int>(k) > top_) top_ = static_cast<int>(k);
     ++size_;
