@@ -107,15 +107,24 @@ class PartEvaluator {
     for (int k = 0; k < 4; ++k) out[k] += hit_weight_ * part[k];
   }
   // Asks the caches for the start of the table the bound (or, at a single pose, the value) of
-  // the block will read, so that the tables of a node's children load side by side instead of
-  // one miss after another (they are scattered over tens of MB).
+  // the block will read, so that the tables a node's expansion reads load side by side instead
+  // of one miss after another (they are scattered over tens of MB).
   void Prefetch(int tlevel, int itheta, int a, int b, int level) const {
     if (!swept_ok_ || level > TemplateRotations::kSweptLevels) return;
     const int mask = rotations_->lattice().subdivisions - 1;
-    const CellTable g = rotations_->SweptTable(tlevel, itheta, level, a & mask, b & mask);
-    const std::uint64_t* w = g.words;
+    PrefetchStart(rotations_->SweptTable(tlevel, itheta, level, a & mask, b & mask));
+  }
+  // The same for the table FreePart reads (theta blocks; with HasFreePart).
+  void PrefetchFreePart(int tlevel, int itheta, int a, int b, int level) const {
+    if (tlevel == 0) return;
+    const int mask = rotations_->lattice().subdivisions - 1;
+    PrefetchStart(level > 0 ? rotations_->CommonPairTable(tlevel, itheta, a & mask, b & mask)
+                            : rotations_->CommonTable(tlevel, itheta, a & mask, b & mask));
+  }
+
+  static void PrefetchStart(const CellTable& g) {
     const int n = std::min(g.size, kPrefetchWords);
-    for (int i = 0; i < n; i += 8) __builtin_prefetch(w + i);
+    for (int i = 0; i < n; i += 8) __builtin_prefetch(g.words + i);
   }
 
   // Single rotations over blocks of 2 .. 2^free_bound_max_level steps; theta blocks at single
@@ -216,6 +225,11 @@ class Evaluator {
   }
   void Prefetch(int tlevel, int itheta, int a, int b, int level) const {
     for (const PartEvaluator& p : parts_) p.Prefetch(tlevel, itheta, a, b, level);
+  }
+  void PrefetchFreePart(int tlevel, int itheta, int a, int b, int level) const {
+    for (const PartEvaluator& p : parts_) {
+      if (p.HasFreePart(tlevel, level)) p.PrefetchFreePart(tlevel, itheta, a, b, level);
+    }
   }
   bool HasFreePart(int tlevel, int level) const {
     for (const PartEvaluator& p : parts_) {
@@ -381,6 +395,7 @@ class BranchAndBound {
       Node n = Unpack(Top());
       Pop();
       if (!AnyAllowed(n.itheta, n.tlevel)) continue;
+      PrefetchTables(n);
       if (n.loose) {  // subtract the free-space part now.
         n.value -= eval_.FreePart(n.tlevel, n.itheta, n.a, n.b, n.level);
         n.loose = false;
@@ -409,14 +424,9 @@ class BranchAndBound {
       // single poses, else the four translation quarters.
       if (SplitTheta(n)) {
         const int half = 1 << (n.tlevel - 1);
-        if (n.itheta + half < steps_)
-          eval_.Prefetch(n.tlevel - 1, n.itheta + half, n.a, n.b, n.level);
         Push(n.tlevel - 1, n.itheta, n.level, n.a, n.b);
         Push(n.tlevel - 1, n.itheta + half, n.level, n.a, n.b);
       } else if (n.tlevel == 0 && n.level == 1) {
-        for (int da : {0, 1}) {
-          for (int db : {0, 1}) eval_.Prefetch(0, n.itheta, n.a + da, n.b + db, 0);
-        }
         for (int da : {0, 1}) {
           for (int db : {0, 1}) Push(0, n.itheta, 0, n.a + da, n.b + db);
         }
@@ -438,6 +448,33 @@ class BranchAndBound {
     return n.tlevel + theta_split_lead_ >= n.level;
   }
 
+  // Asks the caches for the starts of the tables that tightening the popped node (its free-space
+  // part) and expanding it (its children's bounds, split as Next splits it) read, all at once,
+  // before the first of them is read: their misses overlap instead of following one another.
+  // Half the time of the bounds of theta blocks of 2 and 4 headings (the tables least often in
+  // the caches) was waiting for them.
+  void PrefetchTables(const Node& n) const {
+    if (n.loose) eval_.PrefetchFreePart(n.tlevel, n.itheta, n.a, n.b, n.level);
+    if (n.tlevel == 0 && n.level == 0) return;
+    if (SplitTheta(n)) {
+      const int half = 1 << (n.tlevel - 1);
+      eval_.Prefetch(n.tlevel - 1, n.itheta, n.a, n.b, n.level);
+      if (n.itheta + half < steps_)
+        eval_.Prefetch(n.tlevel - 1, n.itheta + half, n.a, n.b, n.level);
+      return;
+    }
+    const int half = 1 << (n.level - 1);
+    if (half >= rotations_.lattice().subdivisions) {  // the quarters share a residue: one table.
+      eval_.Prefetch(n.tlevel, n.itheta, n.a, n.b, n.level - 1);
+      return;
+    }
+    for (int i = 0; i < 2; ++i) {
+      for (int j = 0; j < 2; ++j) {
+        eval_.Prefetch(n.tlevel, n.itheta, n.a + i * half, n.b + j * half, n.level - 1);
+      }
+    }
+  }
+
   // Whether any allowed theta lies in [itheta, itheta + 2^tlevel).
   bool AnyAllowed(int itheta, int tlevel) const {
     if (all_allowed_) return true;
@@ -452,12 +489,6 @@ class BranchAndBound {
   void PushQuarters(const Node& n) {
     const int level = n.level - 1;
     const int half = 1 << level;
-    if (half < rotations_.lattice().subdivisions) {  // four residues: four tables.
-      for (int i = 0; i < 2; ++i) {
-        for (int j = 0; j < 2; ++j)
-          eval_.Prefetch(n.tlevel, n.itheta, n.a + i * half, n.b + j * half, level);
-      }
-    }
     int cluster_bounds[4];
     eval_.ClusterBound4(n.tlevel, n.itheta, n.a, n.b, level, cluster_bounds);
     const bool loose = eval_.HasFreePart(n.tlevel, level);
