@@ -14,8 +14,13 @@ struct ExactSearchOptions {
   // the body's half depth, so half the radius (which a raised arm stretches) leaves room.
   double margin_m = -1.0;
   double auto_margin_fraction = 0.5;
-  // Largest branch-and-bound block: 2^max_level lattice steps per side (6: 64 x 4 mm = 256 mm).
-  int max_level = 6;
+  // Largest branch-and-bound block: 2^max_level lattice steps per side (4: 16 x 4 mm = 64 mm,
+  // the largest block the swept tables bound). Larger top blocks take the arc bound, which costs
+  // several times a swept one and, below blocks of 16 headings, prunes almost nothing: on the
+  // real-time protocol's frames (medians) 6 gave 28.5 k bounds a frame (the tracked walk 12.0 k),
+  // 5 28.2 k (12.0 k), 4 28.0 k (12.0 k), 3 36.0 k (17.9 k); 4 took about 0.93x the time of 6
+  // (docs/BENCHMARKS.md), and its grids need two levels fewer.
+  int max_level = 4;
   // Bound the cluster hits of blocks of 2 to 2^TemplateRotations::kSweptLevels steps of one
   // rotation by the cluster voxels the rotation reaches anywhere in the block
   // (TemplateRotations::SweptGroups: each voxel counted once) instead of the sum over its
