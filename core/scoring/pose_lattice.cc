@@ -752,24 +752,30 @@ void TemplateRotations::MakeTables(int max_tlevel, int begin, int end) const {
   const int steps = static_cast<int>(rotations_.size());
   const int s = 1 << shift_;
   max_tlevel = std::min(max_tlevel, kThetaLevels - 1);
+  // Each table is made and entered in the directory (SweptTable and the others), so that the
+  // searches find every one there, also when they only prefetch it (the *IfMade getters).
+  const int pair_step = std::min(2, s);
+  const auto make_block = [&](int t, int first) {
+    for (int lv = 0; lv <= kSweptLevels; ++lv) {
+      const int step = std::min(1 << lv, s);
+      for (int ra = 0; ra < s; ra += step) {
+        for (int rb = 0; rb < s; rb += step) SweptTable(t, first, lv, ra, rb);
+      }
+    }
+    for (int ra = 0; ra < s; ra += pair_step) {
+      for (int rb = 0; rb < s; rb += pair_step) CommonPairTable(t, first, ra, rb);
+    }
+  };
   for (int i = std::max(0, begin); i < std::min(end, steps); ++i) {
-    Groups(i, 0, 0);
-    SweptGroups(i, 1, 0, 0);
-    CommonPairGroups(0, i, 0, 0);
+    make_block(0, i);  // Groups and SweptGroups.
     // Theta blocks whose last rotation is i: their halves are made by then.
     for (int t = 1; t <= max_tlevel; ++t) {
       const int first = i & ~((1 << t) - 1);
       if (i != std::min(steps, first + (1 << t)) - 1) continue;
-      for (int lv = 0; lv <= kSweptLevels; ++lv) {
-        const int step = std::min(1 << lv, s);
-        for (int ra = 0; ra < s; ra += step) {
-          for (int rb = 0; rb < s; rb += step) SweptBlockGroups(t, first, lv, ra, rb);
-        }
-      }
+      make_block(t, first);
       for (int ra = 0; ra < s; ++ra) {
-        for (int rb = 0; rb < s; ++rb) CommonBlockGroups(t, first, ra, rb);
+        for (int rb = 0; rb < s; ++rb) CommonTable(t, first, ra, rb);
       }
-      CommonPairGroups(t, first, 0, 0);  // every residue.
     }
   }
 }

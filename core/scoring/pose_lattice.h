@@ -246,9 +246,7 @@ class TemplateRotations {
   }
   CellTable CommonTable(int tlevel, int itheta0, int ra, int rb) const {
     if (tlevel == 0) return SweptTable(0, itheta0, 0, ra, rb);  // Groups either way.
-    const std::size_t index = block_tables_ - static_cast<std::size_t>(1 << (2 * shift_)) +
-                              (static_cast<std::size_t>(ra) << shift_) + rb;
-    TableRef& ref = table_refs_[TableId(tlevel, itheta0, index)];
+    TableRef& ref = table_refs_[TableId(tlevel, itheta0, CommonIndex(ra, rb))];
     const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
     if (words != nullptr) {
       return {words, ref.runs.load(std::memory_order_relaxed),
@@ -258,10 +256,7 @@ class TemplateRotations {
   }
   // CommonPairGroups as its CellTable, through a directory of its own as SweptTable's.
   CellTable CommonPairTable(int tlevel, int itheta0, int ra, int rb) const {
-    TableRef& ref =
-        pair_refs_[pair_offset_[tlevel] +
-                   (static_cast<std::size_t>(itheta0) >> tlevel) * pair_tables_per_block_ +
-                   PairIndex(ra, rb)];
+    TableRef& ref = pair_refs_[PairId(tlevel, itheta0, ra, rb)];
     const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
     if (words != nullptr) {
       return {words, ref.runs.load(std::memory_order_relaxed),
@@ -269,9 +264,22 @@ class TemplateRotations {
     }
     return Publish(ref, CommonPairGroups(tlevel, itheta0, ra, rb));
   }
+  // The same tables when they are made already, else an empty CellTable (no words, size 0),
+  // without making them: for prefetching tables a search may not read.
+  CellTable SweptTableIfMade(int tlevel, int itheta0, int level, int ra, int rb) const {
+    return Made(table_refs_[TableId(tlevel, itheta0, BlockSweptIndexOf(level, ra, rb))]);
+  }
+  CellTable CommonTableIfMade(int tlevel, int itheta0, int ra, int rb) const {
+    if (tlevel == 0) return SweptTableIfMade(0, itheta0, 0, ra, rb);
+    return Made(table_refs_[TableId(tlevel, itheta0, CommonIndex(ra, rb))]);
+  }
+  CellTable CommonPairTableIfMade(int tlevel, int itheta0, int ra, int rb) const {
+    return Made(pair_refs_[PairId(tlevel, itheta0, ra, rb)]);
+  }
   // Makes now every table the getters above make on first use (Groups, PairTable, SweptGroups,
   // CommonPairGroups, and SweptBlockGroups, CommonBlockGroups and CommonPairGroups of theta
-  // levels up to max_tlevel), so that no search pays for them; a no-op without cell groups.
+  // levels up to max_tlevel), so that no search pays for them, each entered in the directory
+  // (the *IfMade getters find it); a no-op without cell groups.
   // Thread-safe; rotations [begin, end) only, so that threads can share the work.
   void MakeTables(int max_tlevel, int begin, int end) const;
   // A template taller than 64 z cells (z_words() > 1) has none of the cell tables above; its
@@ -367,6 +375,24 @@ class TemplateRotations {
   std::size_t TableId(int tlevel, int itheta0, std::size_t index) const {
     return table_offset_[tlevel] + (static_cast<std::size_t>(itheta0) >> tlevel) * block_tables_ +
            index;
+  }
+  // Where CommonTable's entry lies among a block's.
+  std::size_t CommonIndex(int ra, int rb) const {
+    return block_tables_ - static_cast<std::size_t>(1 << (2 * shift_)) +
+           (static_cast<std::size_t>(ra) << shift_) + rb;
+  }
+  // CommonPairTable's entry in its directory.
+  std::size_t PairId(int tlevel, int itheta0, int ra, int rb) const {
+    return pair_offset_[tlevel] +
+           (static_cast<std::size_t>(itheta0) >> tlevel) * pair_tables_per_block_ +
+           PairIndex(ra, rb);
+  }
+  // The entry's table, or an empty one while it is not made.
+  CellTable Made(const TableRef& ref) const {
+    const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
+    if (words == nullptr) return {nullptr, 0, 0, mask_bytes_};
+    return {words, ref.runs.load(std::memory_order_relaxed),
+            ref.size.load(std::memory_order_relaxed), mask_bytes_};
   }
   // Where residue (ra, rb) of blocks of 2 steps lies in a block's CommonPairGroups.
   std::size_t PairIndex(int ra, int rb) const {

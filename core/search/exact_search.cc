@@ -108,18 +108,19 @@ class PartEvaluator {
   }
   // Asks the caches for the start of the table the bound (or, at a single pose, the value) of
   // the block will read, so that the tables a node's expansion reads load side by side instead
-  // of one miss after another (they are scattered over tens of MB).
+  // of one miss after another (they are scattered over tens of MB). A table not made yet (the
+  // tables made on first use) is left to its first use: the block may never be bounded.
   void Prefetch(int tlevel, int itheta, int a, int b, int level) const {
     if (!swept_ok_ || level > TemplateRotations::kSweptLevels) return;
     const int mask = rotations_->lattice().subdivisions - 1;
-    PrefetchStart(rotations_->SweptTable(tlevel, itheta, level, a & mask, b & mask));
+    PrefetchStart(rotations_->SweptTableIfMade(tlevel, itheta, level, a & mask, b & mask));
   }
   // The same for the table FreePart reads (theta blocks; with HasFreePart).
   void PrefetchFreePart(int tlevel, int itheta, int a, int b, int level) const {
     if (tlevel == 0) return;
     const int mask = rotations_->lattice().subdivisions - 1;
-    PrefetchStart(level > 0 ? rotations_->CommonPairTable(tlevel, itheta, a & mask, b & mask)
-                            : rotations_->CommonTable(tlevel, itheta, a & mask, b & mask));
+    PrefetchStart(level > 0 ? rotations_->CommonPairTableIfMade(tlevel, itheta, a & mask, b & mask)
+                            : rotations_->CommonTableIfMade(tlevel, itheta, a & mask, b & mask));
   }
 
   static void PrefetchStart(const CellTable& g) {

@@ -114,6 +114,73 @@ TEST(TemplateRotationsTest, TablesOnlyForTemplatesWithinARunHeadersReach) {
   }
 }
 
+// The *IfMade getters read the tables' directory and make nothing: a table is there once its
+// getter has made it, or once MakeTables has made every one (which enters each in the
+// directory), and it is the getter's own table.
+TEST(TemplateRotationsTest, TablesIfMadeAreThoseTheGettersMade) {
+  VoxelTemplate tpl;
+  tpl.name = "t";
+  tpl.voxels = {{0.1f, 0.0f, 0.2f}, {0.0f, 0.05f, 0.3f}, {-0.06f, 0.02f, 0.1f}};
+  PoseLattice lattice;
+  lattice.angle_steps = 90;
+  const int s = lattice.subdivisions;
+  const TemplateRotations lazy(tpl, lattice);
+  ASSERT_TRUE(lazy.has_cell_groups());
+  const auto same = [](const CellTable& a, const CellTable& b) {
+    return a.words == b.words && a.runs == b.runs && a.size == b.size &&
+           a.mask_bytes == b.mask_bytes;
+  };
+  EXPECT_EQ(lazy.SweptTableIfMade(2, 4, 1, 2, 0).words, nullptr);
+  EXPECT_EQ(lazy.SweptTableIfMade(2, 4, 1, 2, 0).size, 0);
+  EXPECT_EQ(lazy.CommonTableIfMade(3, 8, 1, 3).words, nullptr);
+  EXPECT_EQ(lazy.CommonPairTableIfMade(1, 6, 0, 2).words, nullptr);
+  EXPECT_EQ(lazy.SweptTableIfMade(0, 5, 0, 1, 1).words, nullptr);
+  const CellTable swept = lazy.SweptTable(2, 4, 1, 2, 0);
+  ASSERT_NE(swept.words, nullptr);
+  EXPECT_TRUE(same(lazy.SweptTableIfMade(2, 4, 1, 2, 0), swept));
+  const CellTable common = lazy.CommonTable(3, 8, 1, 3);
+  EXPECT_TRUE(same(lazy.CommonTableIfMade(3, 8, 1, 3), common));
+  const CellTable pair = lazy.CommonPairTable(1, 6, 0, 2);
+  EXPECT_TRUE(same(lazy.CommonPairTableIfMade(1, 6, 0, 2), pair));
+  // Asking made nothing else: the neighbouring blocks' and residues' tables are still absent.
+  EXPECT_EQ(lazy.SweptTableIfMade(2, 8, 1, 2, 0).words, nullptr);
+  EXPECT_EQ(lazy.SweptTableIfMade(2, 4, 1, 0, 0).words, nullptr);
+  EXPECT_EQ(lazy.CommonTableIfMade(3, 16, 1, 3).words, nullptr);
+  EXPECT_EQ(lazy.CommonPairTableIfMade(1, 8, 0, 2).words, nullptr);
+
+  const TemplateRotations ahead(tpl, lattice);
+  ahead.MakeTables(TemplateRotations::kThetaLevels - 1, 0, 40);
+  ahead.MakeTables(TemplateRotations::kThetaLevels - 1, 40, lattice.angle_steps);
+  int checked = 0;
+  for (int t = 0; t < TemplateRotations::kThetaLevels; ++t) {
+    for (int first = 0; first < lattice.angle_steps; first += 1 << t) {
+      for (int level = 0; level <= TemplateRotations::kSweptLevels; ++level) {
+        const int step = std::min(1 << level, s);
+        for (int ra = 0; ra < s; ra += step) {
+          for (int rb = 0; rb < s; rb += step) {
+            const CellTable made = ahead.SweptTableIfMade(t, first, level, ra, rb);
+            ASSERT_NE(made.words, nullptr) << t << " " << first << " " << level;
+            EXPECT_TRUE(same(made, ahead.SweptTable(t, first, level, ra, rb)));
+            ++checked;
+          }
+        }
+      }
+      for (int ra = 0; ra < s; ++ra) {
+        for (int rb = 0; rb < s; ++rb) {
+          const CellTable made = ahead.CommonTableIfMade(t, first, ra, rb);
+          ASSERT_NE(made.words, nullptr) << t << " " << first;
+          EXPECT_TRUE(same(made, ahead.CommonTable(t, first, ra, rb)));
+          if ((ra | rb) % 2 != 0) continue;
+          const CellTable pair_made = ahead.CommonPairTableIfMade(t, first, ra, rb);
+          ASSERT_NE(pair_made.words, nullptr) << t << " " << first;
+          EXPECT_TRUE(same(pair_made, ahead.CommonPairTable(t, first, ra, rb)));
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 1000);
+}
+
 // Two rotated templates have the same column view: angle, columns and their masks, ranges.
 void ExpectSameColumns(const RotatedTemplate& a, const RotatedTemplate& b, const std::string& at) {
   EXPECT_EQ(a.itheta, b.itheta) << at;
