@@ -237,31 +237,22 @@ class TemplateRotations {
   // in two other places. Made on first use as the others (thread-safe).
   CellTable SweptTable(int tlevel, int itheta0, int level, int ra, int rb) const {
     TableRef& ref = table_refs_[TableId(tlevel, itheta0, BlockSweptIndexOf(level, ra, rb))];
-    const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
-    if (words != nullptr) {
-      return {words, ref.runs.load(std::memory_order_relaxed),
-              ref.size.load(std::memory_order_relaxed), mask_bytes_};
-    }
+    const CellTable made = Made(ref);
+    if (made.words != nullptr) return made;
     return Publish(ref, SweptBlockGroups(tlevel, itheta0, level, ra, rb));
   }
   CellTable CommonTable(int tlevel, int itheta0, int ra, int rb) const {
     if (tlevel == 0) return SweptTable(0, itheta0, 0, ra, rb);  // Groups either way.
     TableRef& ref = table_refs_[TableId(tlevel, itheta0, CommonIndex(ra, rb))];
-    const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
-    if (words != nullptr) {
-      return {words, ref.runs.load(std::memory_order_relaxed),
-              ref.size.load(std::memory_order_relaxed), mask_bytes_};
-    }
+    const CellTable made = Made(ref);
+    if (made.words != nullptr) return made;
     return Publish(ref, CommonBlockGroups(tlevel, itheta0, ra, rb));
   }
   // CommonPairGroups as its CellTable, through a directory of its own as SweptTable's.
   CellTable CommonPairTable(int tlevel, int itheta0, int ra, int rb) const {
     TableRef& ref = pair_refs_[PairId(tlevel, itheta0, ra, rb)];
-    const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
-    if (words != nullptr) {
-      return {words, ref.runs.load(std::memory_order_relaxed),
-              ref.size.load(std::memory_order_relaxed), mask_bytes_};
-    }
+    const CellTable made = Made(ref);
+    if (made.words != nullptr) return made;
     return Publish(ref, CommonPairGroups(tlevel, itheta0, ra, rb));
   }
   // The same tables when they are made already, else an empty CellTable (no words, size 0),
