@@ -190,7 +190,10 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
       replay.has_intrinsics = true;
       replay.intrinsics = *k;
     }
-    Result<std::unique_ptr<FrameSource>> made = MakeFrameSource(config.source.path, replay);
+    LiveDeviceOptions device;
+    device.frame_timeout_s = config.source.frame_timeout_s;
+    device.driver_reload_interval_s = config.source.driver_reload_interval_s;
+    Result<std::unique_ptr<FrameSource>> made = MakeFrameSource(config.source.path, replay, device);
     if (!made.ok()) return made.error();
     source = std::move(*made);
     // The stream's estimators share the pool's models, tables included.

@@ -206,6 +206,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(
         r.ReadDouble("reconnect_initial_backoff_s", &s.reconnect_initial_backoff_s));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("reconnect_max_backoff_s", &s.reconnect_max_backoff_s));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("driver_reload_interval_s", &s.driver_reload_interval_s));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("stale_after_s", &s.stale_after_s));
     HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
   }
@@ -453,6 +454,9 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (!wait_ok(s.stale_after_s)) {
     return fail("source.stale_after_s", "must be in (0, 86400] seconds");
   }
+  if (!(s.driver_reload_interval_s >= 0.0 && s.driver_reload_interval_s <= 86400.0)) {
+    return fail("source.driver_reload_interval_s", "must be in [0, 86400] seconds");
+  }
   if (c.templates.empty()) {
     return fail("templates",
                 "no template given (use --template FILE.bt or templates: in the config)");
@@ -582,6 +586,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "frame_timeout_s" << YAML::Value << s.frame_timeout_s;
   out << YAML::Key << "reconnect_initial_backoff_s" << YAML::Value << s.reconnect_initial_backoff_s;
   out << YAML::Key << "reconnect_max_backoff_s" << YAML::Value << s.reconnect_max_backoff_s;
+  out << YAML::Key << "driver_reload_interval_s" << YAML::Value << s.driver_reload_interval_s;
   out << YAML::Key << "stale_after_s" << YAML::Value << s.stale_after_s;
   out << YAML::EndMap;
   out << YAML::Key << "templates" << YAML::Value << YAML::BeginSeq;

@@ -78,7 +78,11 @@ struct SourceConfig {
   double frame_timeout_s = 2.0;              // live device: no frame for this long = lost.
   double reconnect_initial_backoff_s = 0.5;  // first retry delay after a loss, doubled each try.
   double reconnect_max_backoff_s = 8.0;      // upper bound of the retry delay.
-  double stale_after_s = 1.0;                // the latest estimate is stale when older than this.
+  // OpenNI2's drivers stay loaded between the retries (drivers that watch the bus find the
+  // device when it is back), and are reloaded at a retry at most this often (for drivers that
+  // look for devices only when loaded); see LiveDeviceOptions.
+  double driver_reload_interval_s = 60.0;
+  double stale_after_s = 1.0;  // the latest estimate is stale when older than this.
 };
 
 // Floor handling: fitted in every frame, or a fixed calibration.

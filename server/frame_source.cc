@@ -26,9 +26,11 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
 }  // namespace
 
 Result<std::unique_ptr<FrameSource>> MakeFrameSource(const std::string& spec,
-                                                     const ReplayOptions& replay) {
+                                                     const ReplayOptions& replay,
+                                                     const LiveDeviceOptions& device) {
   if (spec.empty()) return MakeError(ErrorCode::kInvalidArgument, "empty source");
   Openni2SourceOptions oni;
+  oni.device = device;
   oni.replay = replay;
   if (IsOpenni2DeviceSpec(spec)) {
     return std::unique_ptr<FrameSource>(std::make_unique<Openni2Source>(spec, oni));

@@ -22,6 +22,18 @@ struct ReplayOptions {
   Intrinsics intrinsics;
 };
 
+// How a live device (OpenNI2) is watched; recordings ignore these.
+struct LiveDeviceOptions {
+  // Frames must arrive within this time or Next() fails with kUnavailable (the device is lost).
+  double frame_timeout_s = 2.0;
+  // Between a lost device's Open() attempts OpenNI2 and its drivers stay loaded, so that drivers
+  // that watch the bus (PS1080's) report the device the moment it is back, without being loaded
+  // anew at every attempt (each load of OpenNI2's drivers loses about 9 KB inside them). They are
+  // still reloaded at an Open() when they were last loaded this long ago or more, for drivers
+  // that look for devices only when they load. 0: at every Open().
+  double driver_reload_interval_s = 60.0;
+};
+
 // A stream of depth frames or clouds: a live device or a recording.
 //
 // Next() blocks until a frame is available (at the replay rate for recordings). It fails with
@@ -58,7 +70,8 @@ class FrameSource {
 // Fails with kNotFound (missing path) or kInvalidArgument (a file or directory of none of these
 // formats). The source is created but not opened.
 Result<std::unique_ptr<FrameSource>> MakeFrameSource(const std::string& spec,
-                                                     const ReplayOptions& replay);
+                                                     const ReplayOptions& replay,
+                                                     const LiveDeviceOptions& device = {});
 
 }  // namespace hpose::server
 

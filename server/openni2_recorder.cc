@@ -98,7 +98,7 @@ Result<RecordSummary> RecordPngDirectory(const std::string& spec, const std::str
     return MakeError(ErrorCode::kInternal, output + ": cannot create directory: " + ec.message());
   }
   Openni2SourceOptions source_options;
-  source_options.frame_timeout_s = options.frame_timeout_s;
+  source_options.device.frame_timeout_s = options.frame_timeout_s;
   Openni2Source source(spec, source_options);
   Status opened = source.Open();
   if (!opened.ok()) return opened.error();

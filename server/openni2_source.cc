@@ -2,7 +2,9 @@
 
 #include <OpenNI.h>
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -98,7 +100,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     loop_ = options.replay.loop;
     has_intrinsics_ = options.replay.has_intrinsics;
     intrinsics_ = options.replay.intrinsics;
-    timeout_ms_ = static_cast<int>(std::lround(options.frame_timeout_s * 1000.0));
+    timeout_ms_ = static_cast<int>(std::lround(options.device.frame_timeout_s * 1000.0));
     return Status::Ok();
   }
 
@@ -111,10 +113,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       return MakeError(ErrorCode::kUnavailable, "OpenNI2 device '" + uri_ + "' disconnected");
     }
     if (is_device_ || frame_count_ <= 0) {
-      openni::VideoStream* streams[] = {&stream_};
-      int ready = -1;
-      const int timeout = is_device_ ? timeout_ms_ : std::max(timeout_ms_, 5000);
-      if (openni::OpenNI::waitForAnyStream(streams, 1, &ready, timeout) != openni::STATUS_OK) {
+      if (!WaitForFrame(is_device_ ? timeout_ms_ : std::max(timeout_ms_, 5000))) {
         if (disconnected_.load()) {
           return MakeError(ErrorCode::kUnavailable, "OpenNI2 device '" + uri_ + "' disconnected");
         }
@@ -198,6 +197,29 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     if (info != nullptr && uri_ == info->getUri()) disconnected_ = true;
   }
 
+  // Waits up to `timeout_ms` for a frame; a device's wait ends early when its driver reports
+  // it disconnected (OpenNI2's wait would not: no frame comes to end it).
+  bool WaitForFrame(int timeout_ms) {
+    constexpr int kSliceMs = 50;
+    openni::VideoStream* streams[] = {&stream_};
+    int ready = -1;
+    if (!is_device_) {
+      return openni::OpenNI::waitForAnyStream(streams, 1, &ready, timeout_ms) == openni::STATUS_OK;
+    }
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point end = Clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (!disconnected_.load()) {
+      const auto left =
+          std::chrono::duration_cast<std::chrono::milliseconds>(end - Clock::now()).count();
+      if (left <= 0) return false;
+      const int slice = static_cast<int>(std::min<long long>(kSliceMs, left));
+      if (openni::OpenNI::waitForAnyStream(streams, 1, &ready, slice) == openni::STATUS_OK) {
+        return true;
+      }
+    }
+    return false;
+  }
+
   bool is_device() const { return is_device_; }
   long frame_count() const { return frame_count_; }
 
@@ -236,10 +258,27 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
 Openni2Source::Openni2Source(std::string spec, Openni2SourceOptions options)
     : spec_(std::move(spec)), options_(options) {}
 
-Openni2Source::~Openni2Source() = default;
+Openni2Source::~Openni2Source() {
+  impl_.reset();
+  if (holds_openni_) openni::OpenNI::shutdown();
+}
 
 Status Openni2Source::Open() {
   impl_.reset();
+  if (live()) {
+    // With no other initialisation left, the shutdown unloads the drivers and the next
+    // initialisation loads them afresh: they enumerate the devices present now.
+    const auto now = std::chrono::steady_clock::now();
+    if (holds_openni_ && now - drivers_loaded_ >= std::chrono::duration<double>(
+                                                      options_.device.driver_reload_interval_s)) {
+      openni::OpenNI::shutdown();
+      holds_openni_ = false;
+    }
+    if (!holds_openni_ && openni::OpenNI::initialize() == openni::STATUS_OK) {
+      holds_openni_ = true;
+      drivers_loaded_ = now;
+    }  // else Impl::Open() reports OpenNI2's failure.
+  }
   auto impl = std::make_unique<Impl>();
   Status status = impl->Open(spec_, options_);
   if (!status.ok()) return status;

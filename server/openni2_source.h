@@ -1,6 +1,7 @@
 #ifndef HPOSE_SERVER_OPENNI2_SOURCE_H_
 #define HPOSE_SERVER_OPENNI2_SOURCE_H_
 
+#include <chrono>
 #include <memory>
 #include <string>
 
@@ -9,9 +10,8 @@
 namespace hpose::server {
 
 struct Openni2SourceOptions {
-  // A live device's frames must arrive within this time or Next() fails with kUnavailable.
-  double frame_timeout_s = 2.0;
-  ReplayOptions replay;  // for .oni recordings (fps is ignored: recordings carry timestamps).
+  LiveDeviceOptions device;  // for live devices.
+  ReplayOptions replay;      // for .oni recordings (fps is ignored: recordings carry timestamps).
 };
 
 // Depth frames through OpenNI2: a live device ("openni2://" = any device, "openni2://URI" one
@@ -19,7 +19,9 @@ struct Openni2SourceOptions {
 // stream's field of view (OpenNI2 has no principal point: the image centre is assumed) unless
 // options.replay carries the camera's own intrinsics (then used as given).
 // Depth in 100 um units is converted to millimetres. OpenNI2 is initialised on Open() and shut
-// down on Close() (OpenNI2 counts the calls, so several sources may coexist).
+// down on Close() (OpenNI2 counts the calls, so several sources may coexist); a live device's
+// source also holds one initialisation from its first Open() to its destruction (see
+// LiveDeviceOptions::driver_reload_interval_s).
 class Openni2Source final : public FrameSource {
  public:
   // `spec` is "openni2://", "openni2://URI" or a path to an .oni file.
@@ -42,6 +44,8 @@ class Openni2Source final : public FrameSource {
   std::string spec_;
   Openni2SourceOptions options_;
   std::unique_ptr<Impl> impl_;
+  bool holds_openni_ = false;  // one OpenNI2 initialisation held between Open()s (live device).
+  std::chrono::steady_clock::time_point drivers_loaded_;  // when that one was made.
   std::uint64_t sequence_ = 0;
   std::uint64_t epoch_ = 0;  // see Frame::epoch.
   bool opened_before_ = false;

@@ -12,9 +12,21 @@
 //                                     it fails until it reappears.
 //   HPOSE_SIM_DEPTH_OFFLINE_MS        how long it stays away (default 1500 ms); it then
 //                                     reconnects and serves frames again.
+//   HPOSE_SIM_DEPTH_UNPLUGGED_FILE    while this file exists the device is unplugged (also across
+//                                     reloads of the driver, as a real one stays away): it is not
+//                                     listed, opening it fails and its frames stop. Removing the
+//                                     file plugs it back.
+//   HPOSE_SIM_DEPTH_NO_HOTPLUG=1      the driver tells OpenNI2 of devices only when it loads,
+//                                     not when they come and go later (as drivers without a
+//                                     watch on the USB bus do): a device plugged back is found
+//                                     only by a driver loaded after.
+//   HPOSE_SIM_DEPTH_LOAD_LOG          a line is appended to this file each time the driver is
+//                                     initialised (tests count OpenNI2's loads of its drivers).
 // OpenNI2 reports the field of view only; the driver derives it from the intrinsics (principal
 // point assumed at the image centre).
 #include <dirent.h>
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -58,6 +70,16 @@ int EnvInt(const char* name, int fallback) {
   char* end = nullptr;
   const long parsed = std::strtol(v, &end, 10);
   return (end != nullptr && *end == '\0') ? static_cast<int>(parsed) : fallback;
+}
+
+std::string EnvString(const char* name) {
+  const char* v = std::getenv(name);
+  return v != nullptr ? std::string(v) : std::string();
+}
+
+bool FileExists(const std::string& path) {
+  struct stat st {};
+  return stat(path.c_str(), &st) == 0;
 }
 
 // A floor 0.34 m below a horizontal sensor, with a 0.3 x 0.2 x 0.58 m box whose front face is
@@ -131,6 +153,7 @@ struct DeviceState {
   int disconnect_after = -1;  // frames; -1 = never.
   int offline_ms = 1500;
   std::atomic<bool> online{true};
+  std::atomic<bool> stale{false};  // without hotplug: unplugged since the driver loaded.
   std::atomic<int> frames_served{0};
 };
 
@@ -247,7 +270,7 @@ class SimDepthStream final : public oni::driver::StreamBase {
       next += period;
       cv_.wait_until(lock, next, [this] { return !running_; });
       if (!running_) break;
-      if (!state_->online.load()) continue;  // unplugged: nothing arrives.
+      if (!state_->online.load() || state_->stale.load()) continue;  // unplugged: nothing.
       lock.unlock();
       Emit(index++);
       lock.lock();
@@ -348,13 +371,18 @@ class SimDepthDriver final : public oni::driver::DriverBase {
     state_.fps = std::max(1, EnvInt("HPOSE_SIM_DEPTH_FPS", 30));
     state_.disconnect_after = EnvInt("HPOSE_SIM_DEPTH_DISCONNECT_AFTER", -1);
     state_.offline_ms = std::max(0, EnvInt("HPOSE_SIM_DEPTH_OFFLINE_MS", 1500));
+    unplugged_file_ = EnvString("HPOSE_SIM_DEPTH_UNPLUGGED_FILE");
+    hotplug_ = EnvInt("HPOSE_SIM_DEPTH_NO_HOTPLUG", 0) == 0;
+    const std::string load_log = EnvString("HPOSE_SIM_DEPTH_LOAD_LOG");
+    if (!load_log.empty()) std::ofstream(load_log, std::ios::app) << "initialised\n";
 
     std::memset(&info_, 0, sizeof(info_));
     std::snprintf(info_.uri, sizeof(info_.uri), "%s", kUri);
     std::snprintf(info_.vendor, sizeof(info_.vendor), "hpose");
     std::snprintf(info_.name, sizeof(info_.name), "simulated depth camera");
-    deviceConnected(&info_);
-    if (state_.disconnect_after >= 0) {
+    state_.online = unplugged_file_.empty() || !FileExists(unplugged_file_);
+    if (state_.online) deviceConnected(&info_);
+    if (state_.disconnect_after >= 0 || !unplugged_file_.empty()) {
       running_ = true;
       watcher_ = std::thread([this] { Watch(); });
     }
@@ -362,7 +390,10 @@ class SimDepthDriver final : public oni::driver::DriverBase {
   }
 
   oni::driver::DeviceBase* deviceOpen(const char* uri, const char* /*mode*/) override {
-    if (uri == nullptr || std::strcmp(uri, kUri) != 0 || !state_.online.load()) return nullptr;
+    if (uri == nullptr || std::strcmp(uri, kUri) != 0 || !state_.online.load() ||
+        state_.stale.load()) {
+      return nullptr;
+    }
     return new (std::nothrow) SimDepthDevice(&state_);
   }
   void deviceClose(oni::driver::DeviceBase* device) override { delete device; }
@@ -381,12 +412,32 @@ class SimDepthDriver final : public oni::driver::DriverBase {
   }
 
  private:
-  // Unplugs the device after `disconnect_after` frames, plugs it back after `offline_ms`.
+  // Unplugs the device after `disconnect_after` frames, plugs it back after `offline_ms`; or
+  // follows the unplugged file.
   void Watch() {
     std::unique_lock<std::mutex> lock(mu_);
     while (running_) {
       cv_.wait_for(lock, std::chrono::milliseconds(10), [this] { return !running_; });
       if (!running_) break;
+      if (!unplugged_file_.empty()) {
+        const bool plugged = !FileExists(unplugged_file_);
+        if (plugged == state_.online.load()) continue;
+        state_.online = plugged;
+        if (!hotplug_) {
+          // Such a driver's handle on the device dies with the unplugging: only a driver
+          // loaded afterwards finds it again.
+          if (!plugged) state_.stale = true;
+          continue;
+        }
+        lock.unlock();
+        if (plugged) {
+          deviceConnected(&info_);
+        } else {
+          deviceDisconnected(&info_);
+        }
+        lock.lock();
+        continue;
+      }
       if (state_.online.load() && state_.frames_served.load() >= state_.disconnect_after) {
         state_.online = false;
         lock.unlock();
@@ -406,6 +457,8 @@ class SimDepthDriver final : public oni::driver::DriverBase {
 
   DeviceState state_;
   OniDeviceInfo info_{};
+  std::string unplugged_file_;  // see HPOSE_SIM_DEPTH_UNPLUGGED_FILE.
+  bool hotplug_ = true;         // devices announced as they come and go, not only at load.
   std::mutex mu_;
   std::condition_variable cv_;
   bool running_ = false;

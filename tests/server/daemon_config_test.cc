@@ -12,8 +12,8 @@ TEST(DaemonConfigTest, ParsesEveryKeyAndResolvesRelativePaths) {
 listen: 127.0.0.1:6000
 grpc: {max_receive_message_bytes: 2048, max_concurrent_estimates: 3}
 source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
-         estimate_threads: 2, stale_after_s: 0.5,
-         initial_pose: {x_m: 3.2, y_m: -0.4, theta_deg: 90}}
+         estimate_threads: 2, stale_after_s: 0.5, frame_timeout_s: 0.7,
+         driver_reload_interval_s: 600, initial_pose: {x_m: 3.2, y_m: -0.4, theta_deg: 90}}
 templates: [t/standing.bt, /abs/arm.bt]
 search: {score_threshold: 55, min_humanoid_fit: 70, tracked_score_threshold: 42,
          scorer: reference, far_range_m: 3.0, far_score_ratio: 0.9, far_min_evidence: 0.1}
@@ -30,6 +30,8 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_DOUBLE_EQ(c->source.fps, 15.0);
   EXPECT_EQ(c->source.queue_capacity, 2);
   EXPECT_EQ(c->source.estimate_threads, 2);
+  EXPECT_DOUBLE_EQ(c->source.frame_timeout_s, 0.7);
+  EXPECT_DOUBLE_EQ(c->source.driver_reload_interval_s, 600.0);
   ASSERT_TRUE(c->source.has_initial_pose);
   EXPECT_DOUBLE_EQ(c->source.initial_pose.x, 3.2);
   EXPECT_DOUBLE_EQ(c->source.initial_pose.y, -0.4);
@@ -221,6 +223,12 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   bad.estimator.max_height_voxels = 5;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.max_height_voxels"),
             std::string::npos);
+  bad = c;
+  bad.source.driver_reload_interval_s = std::nan("");
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.driver_reload_interval_s"),
+            std::string::npos);
+  bad.source.driver_reload_interval_s = 0.0;  // reloaded at every retry, as before.
+  EXPECT_TRUE(ValidateDaemonConfig(bad).ok());
   bad = c;
   bad.source.reconnect_max_backoff_s = 0.1;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("reconnect_max_backoff_s"),
