@@ -41,6 +41,33 @@ int CountLines(const std::string& path) {
   return n;
 }
 
+// hposed's config for the simulated device (openni2://, with the camera's own intrinsics:
+// OpenNI2 would only give a field of view) and its retries.
+DaemonConfig DeviceConfig(const std::string& intrinsics, double frame_timeout_s,
+                          double initial_backoff_s, double max_backoff_s) {
+  DaemonConfig config;
+  config.grpc.listen = "127.0.0.1:0";
+  config.source.path = "openni2://";
+  config.source.intrinsics = intrinsics;
+  config.source.frame_timeout_s = frame_timeout_s;
+  config.source.reconnect_initial_backoff_s = initial_backoff_s;
+  config.source.reconnect_max_backoff_s = max_backoff_s;
+  config.templates = {tu::TemplatePath("standing")};
+  return config;
+}
+
+std::unique_ptr<v1::PoseService::Stub> Connect(const Daemon& daemon) {
+  return v1::PoseService::NewStub(grpc::CreateChannel("127.0.0.1:" + std::to_string(daemon.port()),
+                                                      grpc::InsecureChannelCredentials()));
+}
+
+v1::GetStatusResponse ReadStatus(v1::PoseService::Stub& stub) {
+  grpc::ClientContext ctx;
+  v1::GetStatusResponse st;
+  EXPECT_TRUE(stub.GetStatus(&ctx, v1::GetStatusRequest(), &st).ok());
+  return st;
+}
+
 // The simulated device unplugged while a file exists, and a log of the driver's loads.
 class Replug {
  public:
@@ -117,25 +144,12 @@ TEST(DeviceReconnectTest, DriversThatLookOnlyWhenLoadedAreReloaded) {
   Replug device(dir);
   setenv("HPOSE_SIM_DEPTH_NO_HOTPLUG", "1", 1);
 
-  DaemonConfig config;
-  config.grpc.listen = "127.0.0.1:0";
-  config.source.path = "openni2://";
-  config.source.intrinsics = dir + "/frames/intrinsics.json";
-  config.source.frame_timeout_s = 0.7;
-  config.source.reconnect_initial_backoff_s = 0.1;
-  config.source.reconnect_max_backoff_s = 0.2;
+  DaemonConfig config = DeviceConfig(dir + "/frames/intrinsics.json", 0.7, 0.1, 0.2);
   config.source.driver_reload_interval_s = 1.0;
-  config.templates = {tu::TemplatePath("standing")};
   Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
   ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
-  auto stub = v1::PoseService::NewStub(grpc::CreateChannel(
-      "127.0.0.1:" + std::to_string((*daemon)->port()), grpc::InsecureChannelCredentials()));
-  auto status = [&] {
-    grpc::ClientContext ctx;
-    v1::GetStatusResponse st;
-    EXPECT_TRUE(stub->GetStatus(&ctx, v1::GetStatusRequest(), &st).ok());
-    return st.source();
-  };
+  auto stub = Connect(**daemon);
+  auto status = [&] { return ReadStatus(*stub).source(); };
   ASSERT_TRUE(WaitFor([&] { return status().frames_in() >= 3; }, 60s));
   device.Unplug();
   v1::SourceStatus away;
@@ -168,26 +182,11 @@ TEST(DeviceReconnectTest, LostDeviceIsRetriedWhileTheDaemonServes) {
   setenv("HPOSE_SIM_DEPTH_DISCONNECT_AFTER", "8", 1);  // unplugged after 8 frames ...
   setenv("HPOSE_SIM_DEPTH_OFFLINE_MS", "2500", 1);     // ... for 2.5 s, then back.
 
-  DaemonConfig config;
-  config.grpc.listen = "127.0.0.1:0";
-  config.source.path = "openni2://";
-  // The camera's own intrinsics (OpenNI2 would only give a field of view).
-  config.source.intrinsics = dir + "/intrinsics.json";
-  config.source.frame_timeout_s = 1.0;
-  config.source.reconnect_initial_backoff_s = 0.2;
-  config.source.reconnect_max_backoff_s = 0.8;
-  config.templates = {tu::TemplatePath("standing")};
-  Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
+  Result<std::unique_ptr<Daemon>> daemon =
+      Daemon::Start(DeviceConfig(dir + "/intrinsics.json", 1.0, 0.2, 0.8));
   ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
-  auto stub = v1::PoseService::NewStub(grpc::CreateChannel(
-      "127.0.0.1:" + std::to_string((*daemon)->port()), grpc::InsecureChannelCredentials()));
-
-  auto status = [&] {
-    grpc::ClientContext ctx;
-    v1::GetStatusResponse st;
-    EXPECT_TRUE(stub->GetStatus(&ctx, v1::GetStatusRequest(), &st).ok());
-    return st;
-  };
+  auto stub = Connect(**daemon);
+  auto status = [&] { return ReadStatus(*stub); };
   // 1. Running, then lost: the status says why.
   bool saw_reconnecting = false;
   std::string reason;
