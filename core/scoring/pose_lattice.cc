@@ -831,9 +831,13 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
 }
 
 CellTable TemplateRotations::Publish(TableRef& ref, const CellGroups& g) {
-  ref.runs.store(g.runs, std::memory_order_relaxed);
-  ref.size.store(static_cast<int>(g.words.size()), std::memory_order_relaxed);
-  ref.words.store(g.words.data(), std::memory_order_release);
+  const auto address = reinterpret_cast<std::uintptr_t>(g.words.data());
+  const std::uint64_t lines = CellTable::PrefetchWords(g.words.size()) / 8;
+  if ((address & 63) == 0 && address >> kRunShift == 0 && g.runs >= 0 &&
+      static_cast<std::uint64_t>(g.runs) >> (64 - kRunShift) == 0) {
+    ref.store(address | lines | static_cast<std::uint64_t>(g.runs) << kRunShift,
+              std::memory_order_release);
+  }
   return g.table();
 }
 

@@ -1,7 +1,9 @@
 #ifndef HPOSE_CORE_SCORING_POSE_LATTICE_H_
 #define HPOSE_CORE_SCORING_POSE_LATTICE_H_
 
+#include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -107,11 +109,17 @@ inline Eigen::Vector3i PlacedCell(const Eigen::Vector3i& sub_cell, int ix, int i
 }
 
 // What a search reads of a CellGroups: its words (the headers, a sentinel, then the masks), how
-// many runs, how many words and how many bytes a mask.
+// many runs, how many of its first words a prefetch asks for, and how many bytes a mask.
 struct CellTable {
+  // The words a prefetch of a table's start asks for: its words in whole cache lines, at most 8
+  // lines (the hardware streams the rest).
+  static constexpr int kPrefetchLines = 8;
+  static int PrefetchWords(std::size_t words) {
+    return static_cast<int>(std::min<std::size_t>((words + 7) / 8, kPrefetchLines) * 8);
+  }
   const std::uint64_t* words = nullptr;
   int runs = 0;
-  int size = 0;
+  int prefetch_words = 0;
   int mask_bytes = 8;
 };
 
@@ -135,7 +143,7 @@ struct CellGroups {
 
   int cells() const { return cell_count; }
   CellTable table() const {
-    return {words.data(), runs, static_cast<int>(words.size()), mask_bytes};
+    return {words.data(), runs, CellTable::PrefetchWords(words.size()), mask_bytes};
   }
   std::uint64_t mask(int cell) const {
     return LoadRunMask(RunMasks(words.data(), runs) + static_cast<size_t>(cell) * mask_bytes,
@@ -233,7 +241,7 @@ class TemplateRotations {
   const CellGroups& CommonPairGroups(int tlevel, int itheta0, int ra, int rb) const;
   // SweptBlockGroups and CommonBlockGroups as their CellTable, through a directory of every
   // table's words and run count filled as the tables are made: a made table costs one load of
-  // 16 bytes (the search asks for one per bound) instead of its once_flag's and its header's,
+  // 8 bytes (the search asks for one per bound) instead of its once_flag's and its header's,
   // in two other places. Made on first use as the others (thread-safe).
   CellTable SweptTable(int tlevel, int itheta0, int level, int ra, int rb) const {
     TableRef& ref = table_refs_[TableId(tlevel, itheta0, BlockSweptIndexOf(level, ra, rb))];
@@ -255,8 +263,8 @@ class TemplateRotations {
     if (made.words != nullptr) return made;
     return Publish(ref, CommonPairGroups(tlevel, itheta0, ra, rb));
   }
-  // The same tables when they are made already, else an empty CellTable (no words, size 0),
-  // without making them: for prefetching tables a search may not read.
+  // The same tables when they are made already, else an empty CellTable (no words, nothing to
+  // prefetch), without making them: for prefetching tables a search may not read.
   CellTable SweptTableIfMade(int tlevel, int itheta0, int level, int ra, int rb) const {
     return Made(table_refs_[TableId(tlevel, itheta0, BlockSweptIndexOf(level, ra, rb))]);
   }
@@ -339,13 +347,14 @@ class TemplateRotations {
   std::size_t pair_offset_[kThetaLevels] = {};
   // The directory of SweptTable and CommonTable: per theta level t (0 .. kThetaLevels - 1; level
   // 0 holds Groups and SweptGroups) from table_offset_[t], block after block, block_tables_ each
-  // in the order of swept_blocks_. An entry's words stay null until its table is made (every
-  // table has words: an empty one its sentinel and padding).
-  struct TableRef {
-    std::atomic<const std::uint64_t*> words{nullptr};
-    std::atomic<int> runs{0};
-    std::atomic<int> size{0};
-  };
+  // in the order of swept_blocks_. An entry is 0 until its table is made (every table has words:
+  // an empty one its sentinel and padding), then one word (a search reads one per bound, at
+  // scattered places of a directory of about half a MB, so its size decides what stays cached):
+  // the words' address (cache-line aligned, below 2^47) with, in its low 6 bits, how many of
+  // the first 8 cache lines the table fills (what a prefetch asks for), and the run count in the
+  // top 17 bits. A table with more runs is not entered: each use finds it through its once_flag.
+  using TableRef = std::atomic<std::uint64_t>;
+  static constexpr int kRunShift = 47;
   std::unique_ptr<TableRef[]> table_refs_;
   std::unique_ptr<TableRef[]> pair_refs_;
   std::size_t table_offset_[kThetaLevels] = {};
@@ -380,10 +389,11 @@ class TemplateRotations {
   }
   // The entry's table, or an empty one while it is not made.
   CellTable Made(const TableRef& ref) const {
-    const std::uint64_t* words = ref.words.load(std::memory_order_acquire);
-    if (words == nullptr) return {nullptr, 0, 0, mask_bytes_};
-    return {words, ref.runs.load(std::memory_order_relaxed),
-            ref.size.load(std::memory_order_relaxed), mask_bytes_};
+    const std::uint64_t entry = ref.load(std::memory_order_acquire);
+    const auto* words = reinterpret_cast<const std::uint64_t*>(
+        entry & ((std::uint64_t{1} << kRunShift) - 1) & ~std::uint64_t{63});
+    return {words, static_cast<int>(entry >> kRunShift), static_cast<int>(entry & 63) * 8,
+            mask_bytes_};
   }
   // Where residue (ra, rb) of blocks of 2 steps lies in a block's CommonPairGroups.
   std::size_t PairIndex(int ra, int rb) const {
@@ -393,8 +403,8 @@ class TemplateRotations {
   std::size_t BlockSweptIndexOf(int level, int ra, int rb) const {
     return block_index_[(((static_cast<std::size_t>(level) << shift_) + ra) << shift_) + rb];
   }
-  // Enters `g` in `ref` (every thread that made or found it stores the same values) and returns
-  // its CellTable.
+  // Enters `g` in `ref` when it fits (every thread that made or found it stores the same value)
+  // and returns its CellTable.
   static CellTable Publish(TableRef& ref, const CellGroups& g);
   // Table `index` of the theta block (tlevel >= 1, itheta0), made on first use from its two
   // halves' tables (half_table(itheta0 of the half), of level tlevel - 1): united, or their

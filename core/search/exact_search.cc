@@ -44,8 +44,6 @@ struct BranchAndBoundResult {
 // bound the free hits by 0).
 class PartEvaluator {
  public:
-  static constexpr int kPrefetchWords = 64;  // 8 cache lines; the hardware streams the rest.
-
   PartEvaluator(const ColumnOccupancy* cluster, const ColumnOccupancy* free, int free_weight,
                 int hit_weight, const TemplateRotations& rotations, bool swept_bounds,
                 int free_bound_max_level, bool common_free_part, bool common_pair_free_part)
@@ -124,8 +122,7 @@ class PartEvaluator {
   }
 
   static void PrefetchStart(const CellTable& g) {
-    const int n = std::min(g.size, kPrefetchWords);
-    for (int i = 0; i < n; i += 8) __builtin_prefetch(g.words + i);
+    for (int i = 0; i < g.prefetch_words; i += 8) __builtin_prefetch(g.words + i);
   }
 
   // Single rotations over blocks of 2 .. 2^free_bound_max_level steps; theta blocks at single

@@ -116,7 +116,8 @@ TEST(TemplateRotationsTest, TablesOnlyForTemplatesWithinARunHeadersReach) {
 
 // The *IfMade getters read the tables' directory and make nothing: a table is there once its
 // getter has made it, or once MakeTables has made every one (which enters each in the
-// directory), and it is the getter's own table.
+// directory), and it is the getter's own table: the same words, runs and prefetch length as the
+// tables themselves (the directory packs them in one word).
 TEST(TemplateRotationsTest, TablesIfMadeAreThoseTheGettersMade) {
   VoxelTemplate tpl;
   tpl.name = "t";
@@ -127,11 +128,11 @@ TEST(TemplateRotationsTest, TablesIfMadeAreThoseTheGettersMade) {
   const TemplateRotations lazy(tpl, lattice);
   ASSERT_TRUE(lazy.has_cell_groups());
   const auto same = [](const CellTable& a, const CellTable& b) {
-    return a.words == b.words && a.runs == b.runs && a.size == b.size &&
+    return a.words == b.words && a.runs == b.runs && a.prefetch_words == b.prefetch_words &&
            a.mask_bytes == b.mask_bytes;
   };
   EXPECT_EQ(lazy.SweptTableIfMade(2, 4, 1, 2, 0).words, nullptr);
-  EXPECT_EQ(lazy.SweptTableIfMade(2, 4, 1, 2, 0).size, 0);
+  EXPECT_EQ(lazy.SweptTableIfMade(2, 4, 1, 2, 0).prefetch_words, 0);
   EXPECT_EQ(lazy.CommonTableIfMade(3, 8, 1, 3).words, nullptr);
   EXPECT_EQ(lazy.CommonPairTableIfMade(1, 6, 0, 2).words, nullptr);
   EXPECT_EQ(lazy.SweptTableIfMade(0, 5, 0, 1, 1).words, nullptr);
@@ -160,7 +161,7 @@ TEST(TemplateRotationsTest, TablesIfMadeAreThoseTheGettersMade) {
           for (int rb = 0; rb < s; rb += step) {
             const CellTable made = ahead.SweptTableIfMade(t, first, level, ra, rb);
             ASSERT_NE(made.words, nullptr) << t << " " << first << " " << level;
-            EXPECT_TRUE(same(made, ahead.SweptTable(t, first, level, ra, rb)));
+            EXPECT_TRUE(same(made, ahead.SweptBlockGroups(t, first, level, ra, rb).table()));
             ++checked;
           }
         }
@@ -169,11 +170,11 @@ TEST(TemplateRotationsTest, TablesIfMadeAreThoseTheGettersMade) {
         for (int rb = 0; rb < s; ++rb) {
           const CellTable made = ahead.CommonTableIfMade(t, first, ra, rb);
           ASSERT_NE(made.words, nullptr) << t << " " << first;
-          EXPECT_TRUE(same(made, ahead.CommonTable(t, first, ra, rb)));
+          EXPECT_TRUE(same(made, ahead.CommonBlockGroups(t, first, ra, rb).table()));
           if ((ra | rb) % 2 != 0) continue;
           const CellTable pair_made = ahead.CommonPairTableIfMade(t, first, ra, rb);
           ASSERT_NE(pair_made.words, nullptr) << t << " " << first;
-          EXPECT_TRUE(same(pair_made, ahead.CommonPairTable(t, first, ra, rb)));
+          EXPECT_TRUE(same(pair_made, ahead.CommonPairGroups(t, first, ra, rb).table()));
         }
       }
     }

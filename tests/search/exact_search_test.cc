@@ -469,7 +469,7 @@ TEST(ColumnOccupancyTest, CommonPairCellsAreThoseEveryPoseOfTheBlockPlaces) {
             const CellTable table = lazy.CommonPairTable(t, first, ra, rb);
             EXPECT_EQ(table.words, g.words.data());
             EXPECT_EQ(table.runs, g.runs);
-            EXPECT_EQ(table.size, static_cast<int>(g.words.size()));
+            EXPECT_EQ(table.prefetch_words, CellTable::PrefetchWords(g.words.size()));
             common_cells += static_cast<int>(expected.size());
             ++checked;
           }
@@ -507,7 +507,7 @@ TEST(ColumnOccupancyTest, TableDirectoryGivesEveryTableItsOwn) {
                     << "s " << s << " theta level " << t << " block " << first << " level " << level
                     << " residue " << ra << "," << rb << " pass " << pass;
                 ASSERT_EQ(got.runs, want.runs);
-                ASSERT_EQ(got.size, static_cast<int>(want.words.size()));
+                ASSERT_EQ(got.prefetch_words, CellTable::PrefetchWords(want.words.size()));
                 ASSERT_EQ(got.mask_bytes, want.mask_bytes);
                 ++checked;
                 if (level != 0) continue;
@@ -517,7 +517,8 @@ TEST(ColumnOccupancyTest, TableDirectoryGivesEveryTableItsOwn) {
                     << "s " << s << " theta level " << t << " block " << first << " residue " << ra
                     << "," << rb << " pass " << pass;
                 ASSERT_EQ(common.runs, common_want.runs);
-                ASSERT_EQ(common.size, static_cast<int>(common_want.words.size()));
+                ASSERT_EQ(common.prefetch_words,
+                          CellTable::PrefetchWords(common_want.words.size()));
                 ASSERT_EQ(common.mask_bytes, rot.mask_bytes());
               }
             }
