@@ -833,7 +833,7 @@ const CellGroups& TemplateRotations::SweptGroups(int itheta, int level, int ra, 
 CellTable TemplateRotations::Publish(TableRef& ref, const CellGroups& g) {
   const auto address = reinterpret_cast<std::uintptr_t>(g.words.data());
   const std::uint64_t lines = CellTable::PrefetchWords(g.words.size()) / 8;
-  if ((address & 63) == 0 && address >> kRunShift == 0 && g.runs >= 0 &&
+  if ((address & ~kAddressMask) == 0 &&
       static_cast<std::uint64_t>(g.runs) >> (64 - kRunShift) == 0) {
     ref.store(address | lines | static_cast<std::uint64_t>(g.runs) << kRunShift,
               std::memory_order_release);

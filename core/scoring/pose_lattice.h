@@ -352,9 +352,11 @@ class TemplateRotations {
   // scattered places of a directory of about half a MB, so its size decides what stays cached):
   // the words' address (cache-line aligned, below 2^47) with, in its low 6 bits, how many of
   // the first 8 cache lines the table fills (what a prefetch asks for), and the run count in the
-  // top 17 bits. A table with more runs is not entered: each use finds it through its once_flag.
+  // top 17 bits. A table that does not fit so (more runs, or words elsewhere) is not entered:
+  // each use finds it through its once_flag.
   using TableRef = std::atomic<std::uint64_t>;
   static constexpr int kRunShift = 47;
+  static constexpr std::uint64_t kAddressMask = ((std::uint64_t{1} << kRunShift) - 1) & ~63ULL;
   std::unique_ptr<TableRef[]> table_refs_;
   std::unique_ptr<TableRef[]> pair_refs_;
   std::size_t table_offset_[kThetaLevels] = {};
@@ -390,8 +392,7 @@ class TemplateRotations {
   // The entry's table, or an empty one while it is not made.
   CellTable Made(const TableRef& ref) const {
     const std::uint64_t entry = ref.load(std::memory_order_acquire);
-    const auto* words = reinterpret_cast<const std::uint64_t*>(
-        entry & ((std::uint64_t{1} << kRunShift) - 1) & ~std::uint64_t{63});
+    const auto* words = reinterpret_cast<const std::uint64_t*>(entry & kAddressMask);
     return {words, static_cast<int>(entry >> kRunShift), static_cast<int>(entry & 63) * 8,
             mask_bytes_};
   }
