@@ -8,6 +8,7 @@
 //
 //   latency_bench [--calls N] [--seconds S] [--hpose PATH] [--pipeline-only]
 //                 [--pipeline-seconds S] [--threads 1,2] [--pipeline-frames N]
+//                 [--start-rounds N]
 #include <grpcpp/grpcpp.h>
 #include <sched.h>
 #include <unistd.h>
@@ -165,16 +166,21 @@ int AllowedCpus() {
   return CPU_COUNT(&set);
 }
 
-// The pipeline section: 640x480 frames of a humanoid turning and walking among clutter.
-int PipelineSection(const DaemonConfig& base, const std::string& hpose, const std::string& dir,
-                    const std::vector<int>& threads, int frames, double seconds) {
+// Renders `frames` 640x480 frames of a humanoid 1.5 m away turning and walking among 4 clutter
+// objects into `dir`; false (said on stderr) if hpose simulate fails.
+bool RenderWalk(const std::string& hpose, const std::string& dir, int frames) {
   const std::string sim = hpose + " simulate --out " + dir + " --frames " + std::to_string(frames) +
                           " --turn-deg 12 --step-m 0.02 --x 1.5 --width 640 --height 480 "
                           "--no-cloud --clutter 4 > /dev/null";
-  if (std::system(sim.c_str()) != 0) {
-    std::fprintf(stderr, "cannot render frames with: %s\n", sim.c_str());
-    return 1;
-  }
+  if (std::system(sim.c_str()) == 0) return true;
+  std::fprintf(stderr, "cannot render frames with: %s\n", sim.c_str());
+  return false;
+}
+
+// The pipeline section: 640x480 frames of a humanoid turning and walking among clutter.
+int PipelineSection(const DaemonConfig& base, const std::string& hpose, const std::string& dir,
+                    const std::vector<int>& threads, int frames, double seconds) {
+  if (!RenderWalk(hpose, dir, frames)) return 1;
   std::printf(
       "## Pose pipeline, 640x480 frames (%d simulated, humanoid turning and walking, 4 "
       "clutter objects), 2 templates\n",
@@ -198,6 +204,97 @@ int PipelineSection(const DaemonConfig& base, const std::string& hpose, const st
   std::printf(
       "\nlatency: frame arrival (read from the source) to published, over the last 256 "
       "published frames of the paced run\n\n");
+  return 0;
+}
+
+// One daemon start on the frames of `dir` played once at 30 fps: how long Daemon::Start took,
+// the first frame's arrival -> published latency, and the median and largest over every frame.
+struct StartRun {
+  double start_ms = 0.0, first_ms = -1.0, median_ms = 0.0, max_ms = 0.0;
+  unsigned samples = 0;
+};
+
+bool RunFromStart(DaemonConfig config, const std::string& dir, bool warm_up, StartRun* run) {
+  config.source.path = dir;
+  config.source.loop = false;
+  config.source.realtime = true;
+  config.source.fps = 30.0;
+  config.source.estimate_threads = 1;
+  config.source.queue_capacity = 1;
+  config.source.warm_up = warm_up;
+  const Clock::time_point t0 = Clock::now();
+  auto daemon = Daemon::Start(config);
+  if (!daemon.ok()) {
+    std::fprintf(stderr, "%s\n", daemon.error().ToString().c_str());
+    return false;
+  }
+  run->start_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  const int port = (*daemon)->port();
+  auto done = [](const v1::GetStatusResponse& s) {
+    return s.source().frames_estimated() + s.source().frames_failed();
+  };
+  // The first publication, caught before the next (a frame period later).
+  const Clock::time_point give_up = Clock::now() + std::chrono::seconds(60);
+  v1::GetStatusResponse st;
+  while (Clock::now() < give_up) {
+    st = GetStatus(port);
+    if (done(st) > 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (done(st) == 1) run->first_ms = st.latency().last() * 1e3;
+  while (Clock::now() < give_up) {
+    st = GetStatus(port);
+    if (st.source().state() == v1::SOURCE_STATE_FINISHED &&
+        done(st) + st.source().frames_dropped() >= st.source().frames_in()) {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  (*daemon)->Shutdown();
+  run->samples = st.latency().samples();
+  run->median_ms = st.latency().median() * 1e3;
+  run->max_ms = st.latency().p99() * 1e3;  // of at most 100 samples: the largest.
+  return true;
+}
+
+// The start-up section: `rounds` daemon starts with source.warm_up off and on, alternating,
+// each playing `frames` rendered frames once at 30 fps with one estimation thread.
+int StartSection(const DaemonConfig& base, const std::string& hpose, const std::string& dir,
+                 int frames, int rounds) {
+  if (!RenderWalk(hpose, dir, frames)) return 1;
+  std::printf(
+      "## The first frames after a start, 640x480 (%d simulated frames played once at 30 fps, "
+      "1 estimation thread), %d starts each, alternating\n\n",
+      frames, rounds);
+  std::printf(
+      "| source.warm_up | Daemon::Start ms | first frame's latency ms | largest latency ms "
+      "| median latency ms |\n|---|---|---|---|---|\n");
+  std::vector<StartRun> runs[2];
+  for (int r = 0; r < rounds; ++r) {
+    for (const bool warm : {false, true}) {
+      StartRun run;
+      if (!RunFromStart(base, dir, warm, &run)) return 1;
+      if (run.samples == 0) {
+        std::fprintf(stderr, "latency_bench: nothing was published from %s\n", dir.c_str());
+        return 1;
+      }
+      runs[warm ? 1 : 0].push_back(run);
+    }
+  }
+  for (const bool warm : {false, true}) {
+    std::vector<double> start, first, largest, median;
+    for (const StartRun& run : runs[warm ? 1 : 0]) {
+      start.push_back(run.start_ms);
+      if (run.first_ms >= 0.0) first.push_back(run.first_ms);
+      largest.push_back(run.max_ms);
+      median.push_back(run.median_ms);
+    }
+    std::printf("| %s | %.1f | %.1f (%zu caught) | %.1f | %.1f |\n", warm ? "true" : "false",
+                Quantile(start, 0.5), Quantile(first, 0.5), first.size(), Quantile(largest, 0.5),
+                Quantile(median, 0.5));
+  }
+  std::printf(
+      "\nmedians over the starts; latency: frame arrival (read from the source) to published\n\n");
   return 0;
 }
 
@@ -225,6 +322,7 @@ int main(int argc, char** argv) {
   double pipeline_seconds = 10.0;
   int pipeline_frames = 30;
   bool pipeline_only = false;
+  int start_rounds = 0;
   bool no_search = false;
   std::vector<int> threads = {1, 2};
   int search_threads = DaemonConfig().estimator.threads;  // hposed's default.
@@ -254,13 +352,15 @@ int main(int argc, char** argv) {
       search_threads = one.front();
     } else if (flag == "--hpose" && has_value) {
       hpose = argv[++i];
+    } else if (flag == "--start-rounds" && has_value) {
+      start_rounds = std::atoi(argv[++i]);
     } else if (flag == "--no-search") {
       no_search = true;
     } else {
       std::printf(
           "usage: latency_bench [--calls N] [--seconds S] [--hpose PATH] [--pipeline-only]\n"
           "                     [--pipeline-seconds S] [--pipeline-frames N] [--threads 1,2]\n"
-          "                     [--search-threads N]\n"
+          "                     [--search-threads N] [--start-rounds N]\n"
           "  --calls N             Estimate round trips to time (100)\n"
           "  --seconds S           StreamPoses throughput window (10)\n"
           "  --pipeline-only       only the pose pipeline section\n"
@@ -271,13 +371,16 @@ int main(int argc, char** argv) {
           "                        (its clusters x templates searched at once; default:\n"
           "                        hposed's, 0 = one per core the process may use)\n"
           "  --hpose PATH          the hpose program that renders the frames\n"
+          "  --start-rounds N      only the start-up section: N daemon starts with\n"
+          "                        source.warm_up off and on each, the first frames' latency\n"
           "  --no-search           pipeline runs without the pose search (no cluster is\n"
           "                        large enough): the cost of everything else\n"
           "Run under taskset -c 0 / taskset -c 0,1 to compare one and two cores.\n");
       return flag == "--help" ? 0 : 2;
     }
   }
-  if (calls < 1 || !(seconds > 0.0) || !(pipeline_seconds > 0.0) || pipeline_frames < 1) {
+  if (calls < 1 || !(seconds > 0.0) || !(pipeline_seconds > 0.0) || pipeline_frames < 1 ||
+      start_rounds < 0) {
     std::fprintf(stderr, "latency_bench: counts and durations must be positive\n");
     return 2;
   }
@@ -299,6 +402,11 @@ int main(int argc, char** argv) {
   std::printf("# hposed latency benchmark%s\n", no_search ? " (--no-search: no pose search)" : "");
   std::printf("machine: %u cores, %s; search.threads %d\n\n", std::thread::hardware_concurrency(),
               CpuModel().c_str(), search_threads);
+  if (start_rounds > 0) {
+    const int rc = StartSection(config, hpose, dir + "_start", pipeline_frames, start_rounds);
+    std::filesystem::remove_all(dir + "_start");
+    return rc;
+  }
   if (pipeline_only) {
     const int rc =
         PipelineSection(config, hpose, dir + "_640", threads, pipeline_frames, pipeline_seconds);

@@ -184,6 +184,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.Read("queue_capacity", &s.queue_capacity, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.Read("estimate_threads", &s.estimate_threads, "an integer"));
     HPOSE_RETURN_IF_ERROR(r.Read("tracking", &s.tracking, "true or false"));
+    HPOSE_RETURN_IF_ERROR(r.Read("warm_up", &s.warm_up, "true or false"));
     const YAML::Node initial = r.Get("initial_pose");
     if (initial.IsDefined() && !initial.IsNull()) {
       MapReader p(initial, "source.initial_pose", origin);
@@ -576,6 +577,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "queue_capacity" << YAML::Value << s.queue_capacity;
   out << YAML::Key << "estimate_threads" << YAML::Value << s.estimate_threads;
   out << YAML::Key << "tracking" << YAML::Value << s.tracking;
+  out << YAML::Key << "warm_up" << YAML::Value << s.warm_up;
   if (s.has_initial_pose) {
     out << YAML::Key << "initial_pose" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "x_m" << YAML::Value << s.initial_pose.x;

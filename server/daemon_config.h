@@ -68,6 +68,11 @@ struct SourceConfig {
   // (the result is the same, the global optimum is still proved) and the floor is kept while
   // it still fits the points (floor.mode fit) instead of being fitted every frame.
   bool tracking = true;
+  // Before the first frame, each estimation thread estimates one synthetic Kinect frame (a
+  // humanoid on a floor among clutter, rendered at start) and drops the result: the buffers a
+  // frame needs, its threads' scratch and the page faults of their first use are then paid
+  // before the stream, not in its first frames. Nothing of it is published or followed.
+  bool warm_up = true;
   // Where the robot stands when the stream starts (ground frame; source.initial_pose: {x_m,
   // y_m, theta_deg}): until it is first found, and again when the source restarts, frames are
   // searched as if the one before had seen it there (PoseTracker::SetInitialPose), so a robot

@@ -22,6 +22,10 @@
 #include "server/publish_order.h"
 #include "server/publish_signal.h"
 
+namespace hpose {
+struct SimulatedFrame;
+}
+
 namespace hpose::server {
 
 enum class SourceState { kNone, kStarting, kRunning, kReconnecting, kFinished, kFailed };
@@ -81,6 +85,10 @@ struct PipelineStatus {
   std::uint32_t latency_samples = 0;
   bool has_floor = false;
   FloorEstimate last_floor;
+  // SourceConfig::warm_up: every estimation thread has estimated the synthetic frame, the
+  // slowest taking warm_up_ms.
+  bool warmed_up = false;
+  double warm_up_ms = 0.0;
 };
 
 // Reads the daemon's source on a capture thread into a bounded FrameQueue and estimates on one
@@ -140,6 +148,11 @@ class PosePipeline {
   void CaptureLoop();
   void CaptureFrames();
   void EstimateLoop(Estimator* estimator);
+  // Estimates warm_up_frame_ (rendering it first if no thread has) with `estimator`
+  // (SourceConfig::warm_up) and counts it done.
+  void WarmUp(Estimator* estimator);
+  // Waits until every estimation thread has warmed up; false when stopping.
+  bool WaitForWarmUp();
   // Hands the result of frame `ticket` to publish_order_ and publishes what it releases.
   void Publish(std::uint64_t ticket, std::shared_ptr<PublishedEstimate> result);
   void SetState(SourceState state, std::string reason);
@@ -165,6 +178,9 @@ class PosePipeline {
   // Set once the capture thread has pushed its last frame.
   std::atomic<bool> capture_done_{false};
   bool started_ = false;
+  // Rendered once by the first estimation thread to warm up (null if it could not be).
+  std::once_flag warm_up_once_;
+  std::shared_ptr<const SimulatedFrame> warm_up_frame_;
 
   mutable std::mutex mu_;  // guards everything below.
   mutable std::condition_variable published_cv_;
@@ -185,6 +201,9 @@ class PosePipeline {
   PipelineStats stats_;
   bool has_floor_ = false;
   FloorEstimate last_floor_;
+  int warm_ups_pending_ = 0;
+  bool warmed_up_ = false;
+  double warm_up_ms_ = 0.0;  // the slowest estimation thread's.
 };
 
 }  // namespace hpose::server

@@ -59,6 +59,7 @@ class PipelineThreadsTest : public ::testing::Test {
     config.fps = fps;
     config.queue_capacity = threads + 1;
     config.estimate_threads = threads;
+    config.warm_up = warm_up_;
     if (initial != nullptr) {
       config.has_initial_pose = true;
       config.initial_pose = *initial;
@@ -95,6 +96,7 @@ class PipelineThreadsTest : public ::testing::Test {
   }
 
   std::string dir_;
+  bool warm_up_ = true;  // SourceConfig::warm_up of the pipelines made.
 };
 
 TEST_F(PipelineThreadsTest, FastReplayPublishesEveryFrameInOrder) {
@@ -173,6 +175,66 @@ TEST_F(PipelineThreadsTest, AnInitialPoseFindsAFarRobotInEveryFrame) {
     }
   }
   std::filesystem::remove_all(far);
+}
+
+// The warm-up estimate before the stream leaves nothing behind: a tracked replay gives the same
+// estimate of every frame, tracked alike, with and without it; only the status tells them apart.
+TEST_F(PipelineThreadsTest, WarmingUpChangesNoEstimate) {
+  std::vector<std::shared_ptr<const PublishedEstimate>> seen[2];
+  for (const bool warm : {false, true}) {
+    warm_up_ = warm;
+    std::unique_ptr<PosePipeline> pipeline = MakePipeline(/*realtime=*/false, 30.0, 1);
+    pipeline->Start();
+    seen[warm] = FollowEstimates(pipeline.get());
+    const PipelineStatus s = pipeline->Status();
+    pipeline->Stop();
+    EXPECT_EQ(s.warmed_up, warm);
+    if (warm) {
+      EXPECT_GT(s.warm_up_ms, 0.0);
+    } else {
+      EXPECT_EQ(s.warm_up_ms, 0.0);
+    }
+  }
+  ASSERT_EQ(seen[0].size(), static_cast<size_t>(kFrames));
+  ASSERT_EQ(seen[1].size(), seen[0].size());
+  int humanoids = 0, tracked = 0;
+  for (size_t i = 0; i < seen[0].size(); ++i) {
+    const PublishedEstimate& cold = *seen[0][i];
+    const PublishedEstimate& warm = *seen[1][i];
+    ASSERT_EQ(cold.sequence, warm.sequence);
+    ASSERT_EQ(cold.ok, warm.ok) << "frame " << cold.sequence;
+    if (!cold.ok) continue;
+    EXPECT_EQ(cold.estimate.tracking.tracked, warm.estimate.tracking.tracked) << cold.sequence;
+    EXPECT_EQ(cold.estimate.tracking.floor_reused, warm.estimate.tracking.floor_reused);
+    tracked += warm.estimate.tracking.tracked ? 1 : 0;
+    EXPECT_EQ(cold.estimate.floor.ground_from_sensor.matrix(),
+              warm.estimate.floor.ground_from_sensor.matrix())
+        << "frame " << cold.sequence;
+    ASSERT_EQ(cold.estimate.candidates.size(), warm.estimate.candidates.size());
+    for (size_t c = 0; c < cold.estimate.candidates.size(); ++c) {
+      const Candidate& a = cold.estimate.candidates[c];
+      const Candidate& b = warm.estimate.candidates[c];
+      EXPECT_EQ(a.template_name, b.template_name) << "frame " << cold.sequence;
+      EXPECT_EQ(a.score, b.score) << "frame " << cold.sequence;
+      EXPECT_EQ(a.pose.x, b.pose.x) << "frame " << cold.sequence;
+      EXPECT_EQ(a.pose.y, b.pose.y) << "frame " << cold.sequence;
+      EXPECT_EQ(a.pose.theta, b.pose.theta) << "frame " << cold.sequence;
+    }
+    humanoids += static_cast<int>(warm.estimate.Humanoids().size());
+  }
+  EXPECT_GE(humanoids, kFrames - 1);  // the frames hold a robot: the comparison says something.
+  EXPECT_GE(tracked, kFrames - 2);
+}
+
+// Stopped while its estimators warm up: Stop returns (the capture thread waiting for them is
+// woken), and no frame was read before they had warmed up.
+TEST_F(PipelineThreadsTest, StopsWhileWarmingUp) {
+  std::unique_ptr<PosePipeline> pipeline = MakePipeline(/*realtime=*/false, 30.0, 2);
+  pipeline->Start();
+  pipeline->Stop();
+  const PipelineStatus s = pipeline->Status();
+  if (!s.warmed_up) EXPECT_EQ(s.frames_in, 0u);
+  EXPECT_FALSE(pipeline->Ended());
 }
 
 }  // namespace

@@ -12,7 +12,7 @@ TEST(DaemonConfigTest, ParsesEveryKeyAndResolvesRelativePaths) {
 listen: 127.0.0.1:6000
 grpc: {max_receive_message_bytes: 2048, max_concurrent_estimates: 3}
 source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
-         estimate_threads: 2, stale_after_s: 0.5, frame_timeout_s: 0.7,
+         estimate_threads: 2, warm_up: false, stale_after_s: 0.5, frame_timeout_s: 0.7,
          driver_reload_interval_s: 600, initial_pose: {x_m: 3.2, y_m: -0.4, theta_deg: 90}}
 templates: [t/standing.bt, /abs/arm.bt]
 search: {score_threshold: 55, min_humanoid_fit: 70, tracked_score_threshold: 42,
@@ -30,6 +30,7 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_DOUBLE_EQ(c->source.fps, 15.0);
   EXPECT_EQ(c->source.queue_capacity, 2);
   EXPECT_EQ(c->source.estimate_threads, 2);
+  EXPECT_FALSE(c->source.warm_up);
   EXPECT_DOUBLE_EQ(c->source.frame_timeout_s, 0.7);
   EXPECT_DOUBLE_EQ(c->source.driver_reload_interval_s, 600.0);
   ASSERT_TRUE(c->source.has_initial_pose);
@@ -241,6 +242,8 @@ TEST(DaemonConfigTest, DefaultsListenOnLoopbackAndPrintedConfigParsesBack) {
   c.templates = {"/t/standing.bt"};
   c.source.path = "/rec/frames";
   c.source.loop = true;
+  EXPECT_TRUE(c.source.warm_up);
+  c.source.warm_up = false;
   c.floor.fixed = true;
   c.floor.height_m = 0.42;
   c.source.has_initial_pose = true;
@@ -249,6 +252,7 @@ TEST(DaemonConfigTest, DefaultsListenOnLoopbackAndPrintedConfigParsesBack) {
   ASSERT_TRUE(back.ok()) << back.error().ToString();
   EXPECT_EQ(back->source.path, c.source.path);
   EXPECT_TRUE(back->source.loop);
+  EXPECT_FALSE(back->source.warm_up);
   ASSERT_TRUE(back->source.has_initial_pose);
   EXPECT_NEAR(back->source.initial_pose.theta, 0.5, 1e-9);
   EXPECT_EQ(back->templates, c.templates);
