@@ -11,6 +11,7 @@
 //                 [--start-rounds N]
 #include <grpcpp/grpcpp.h>
 #include <sched.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -166,21 +167,30 @@ int AllowedCpus() {
   return CPU_COUNT(&set);
 }
 
+// How the walk's frames are rendered: hpose simulate, and the sensor's height and pitch.
+struct WalkRender {
+  std::string hpose;
+  double sensor_height_m = 0.34;
+  double pitch_deg = 0.0;
+};
+
 // Renders `frames` 640x480 frames of a humanoid 1.5 m away turning and walking among 4 clutter
 // objects into `dir`; false (said on stderr) if hpose simulate fails.
-bool RenderWalk(const std::string& hpose, const std::string& dir, int frames) {
-  const std::string sim = hpose + " simulate --out " + dir + " --frames " + std::to_string(frames) +
-                          " --turn-deg 12 --step-m 0.02 --x 1.5 --width 640 --height 480 "
-                          "--no-cloud --clutter 4 > /dev/null";
+bool RenderWalk(const WalkRender& render, const std::string& dir, int frames) {
+  const std::string sim =
+      render.hpose + " simulate --out " + dir + " --frames " + std::to_string(frames) +
+      " --turn-deg 12 --step-m 0.02 --x 1.5 --width 640 --height 480 --no-cloud --clutter 4" +
+      " --sensor-height " + std::to_string(render.sensor_height_m) + " --pitch-deg " +
+      std::to_string(render.pitch_deg) + " > /dev/null";
   if (std::system(sim.c_str()) == 0) return true;
   std::fprintf(stderr, "cannot render frames with: %s\n", sim.c_str());
   return false;
 }
 
 // The pipeline section: 640x480 frames of a humanoid turning and walking among clutter.
-int PipelineSection(const DaemonConfig& base, const std::string& hpose, const std::string& dir,
+int PipelineSection(const DaemonConfig& base, const WalkRender& render, const std::string& dir,
                     const std::vector<int>& threads, int frames, double seconds) {
-  if (!RenderWalk(hpose, dir, frames)) return 1;
+  if (!RenderWalk(render, dir, frames)) return 1;
   std::printf(
       "## Pose pipeline, 640x480 frames (%d simulated, humanoid turning and walking, 4 "
       "clutter objects), 2 templates\n",
@@ -212,7 +222,14 @@ int PipelineSection(const DaemonConfig& base, const std::string& hpose, const st
 struct StartRun {
   double start_ms = 0.0, first_ms = -1.0, median_ms = 0.0, max_ms = 0.0;
   unsigned samples = 0;
+  long later_faults = -1;  // the process's page faults from the first publication to the end.
 };
+
+long MinorFaults() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_minflt;
+}
 
 bool RunFromStart(DaemonConfig config, const std::string& dir, bool warm_up, StartRun* run) {
   config.source.path = dir;
@@ -241,6 +258,7 @@ bool RunFromStart(DaemonConfig config, const std::string& dir, bool warm_up, Sta
     if (done(st) > 0) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+  const long faults_at_first = MinorFaults();
   if (done(st) == 1) run->first_ms = st.latency().last() * 1e3;
   while (Clock::now() < give_up) {
     st = GetStatus(port);
@@ -250,6 +268,7 @@ bool RunFromStart(DaemonConfig config, const std::string& dir, bool warm_up, Sta
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  if (run->first_ms >= 0.0) run->later_faults = MinorFaults() - faults_at_first;
   (*daemon)->Shutdown();
   run->samples = st.latency().samples();
   run->median_ms = st.latency().median() * 1e3;
@@ -259,16 +278,16 @@ bool RunFromStart(DaemonConfig config, const std::string& dir, bool warm_up, Sta
 
 // The start-up section: `rounds` daemon starts with source.warm_up off and on, alternating,
 // each playing `frames` rendered frames once at 30 fps with one estimation thread.
-int StartSection(const DaemonConfig& base, const std::string& hpose, const std::string& dir,
+int StartSection(const DaemonConfig& base, const WalkRender& render, const std::string& dir,
                  int frames, int rounds) {
-  if (!RenderWalk(hpose, dir, frames)) return 1;
+  if (!RenderWalk(render, dir, frames)) return 1;
   std::printf(
       "## The first frames after a start, 640x480 (%d simulated frames played once at 30 fps, "
       "1 estimation thread), %d starts each, alternating\n\n",
       frames, rounds);
   std::printf(
       "| source.warm_up | Daemon::Start ms | first frame's latency ms | largest latency ms "
-      "| median latency ms |\n|---|---|---|---|---|\n");
+      "| median latency ms | page faults after the first frame |\n|---|---|---|---|---|---|\n");
   std::vector<StartRun> runs[2];
   for (int r = 0; r < rounds; ++r) {
     for (const bool warm : {false, true}) {
@@ -282,16 +301,17 @@ int StartSection(const DaemonConfig& base, const std::string& hpose, const std::
     }
   }
   for (const bool warm : {false, true}) {
-    std::vector<double> start, first, largest, median;
+    std::vector<double> start, first, largest, median, faults;
     for (const StartRun& run : runs[warm ? 1 : 0]) {
       start.push_back(run.start_ms);
       if (run.first_ms >= 0.0) first.push_back(run.first_ms);
+      if (run.later_faults >= 0) faults.push_back(static_cast<double>(run.later_faults));
       largest.push_back(run.max_ms);
       median.push_back(run.median_ms);
     }
-    std::printf("| %s | %.1f | %.1f (%zu caught) | %.1f | %.1f |\n", warm ? "true" : "false",
+    std::printf("| %s | %.1f | %.1f (%zu caught) | %.1f | %.1f | %.0f |\n", warm ? "true" : "false",
                 Quantile(start, 0.5), Quantile(first, 0.5), first.size(), Quantile(largest, 0.5),
-                Quantile(median, 0.5));
+                Quantile(median, 0.5), Quantile(faults, 0.5));
   }
   std::printf(
       "\nmedians over the starts; latency: frame arrival (read from the source) to published\n\n");
@@ -327,6 +347,7 @@ int main(int argc, char** argv) {
   std::vector<int> threads = {1, 2};
   int search_threads = DaemonConfig().estimator.threads;  // hposed's default.
   std::string hpose = HPOSE_PROGRAM;
+  WalkRender render;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     const bool has_value = i + 1 < argc;
@@ -352,6 +373,10 @@ int main(int argc, char** argv) {
       search_threads = one.front();
     } else if (flag == "--hpose" && has_value) {
       hpose = argv[++i];
+    } else if (flag == "--sensor-height" && has_value) {
+      render.sensor_height_m = std::atof(argv[++i]);
+    } else if (flag == "--pitch-deg" && has_value) {
+      render.pitch_deg = std::atof(argv[++i]);
     } else if (flag == "--start-rounds" && has_value) {
       start_rounds = std::atoi(argv[++i]);
     } else if (flag == "--no-search") {
@@ -361,6 +386,7 @@ int main(int argc, char** argv) {
           "usage: latency_bench [--calls N] [--seconds S] [--hpose PATH] [--pipeline-only]\n"
           "                     [--pipeline-seconds S] [--pipeline-frames N] [--threads 1,2]\n"
           "                     [--search-threads N] [--start-rounds N]\n"
+          "                     [--sensor-height M] [--pitch-deg D]\n"
           "  --calls N             Estimate round trips to time (100)\n"
           "  --seconds S           StreamPoses throughput window (10)\n"
           "  --pipeline-only       only the pose pipeline section\n"
@@ -373,6 +399,8 @@ int main(int argc, char** argv) {
           "  --hpose PATH          the hpose program that renders the frames\n"
           "  --start-rounds N      only the start-up section: N daemon starts with\n"
           "                        source.warm_up off and on each, the first frames' latency\n"
+          "  --sensor-height M     the 640x480 frames' sensor height above the floor (0.34)\n"
+          "  --pitch-deg D         and its pitch, degrees down (0)\n"
           "  --no-search           pipeline runs without the pose search (no cluster is\n"
           "                        large enough): the cost of everything else\n"
           "Run under taskset -c 0 / taskset -c 0,1 to compare one and two cores.\n");
@@ -400,16 +428,19 @@ int main(int argc, char** argv) {
     config.estimator.clusters.max_points = 100000000;
   }
   std::printf("# hposed latency benchmark%s\n", no_search ? " (--no-search: no pose search)" : "");
-  std::printf("machine: %u cores, %s; search.threads %d\n\n", std::thread::hardware_concurrency(),
+  std::printf("machine: %u cores, %s; search.threads %d\n", std::thread::hardware_concurrency(),
               CpuModel().c_str(), search_threads);
+  render.hpose = hpose;
+  std::printf("640x480 frames: sensor %.2f m above the floor, %.1f degrees down\n\n",
+              render.sensor_height_m, render.pitch_deg);
   if (start_rounds > 0) {
-    const int rc = StartSection(config, hpose, dir + "_start", pipeline_frames, start_rounds);
+    const int rc = StartSection(config, render, dir + "_start", pipeline_frames, start_rounds);
     std::filesystem::remove_all(dir + "_start");
     return rc;
   }
   if (pipeline_only) {
     const int rc =
-        PipelineSection(config, hpose, dir + "_640", threads, pipeline_frames, pipeline_seconds);
+        PipelineSection(config, render, dir + "_640", threads, pipeline_frames, pipeline_seconds);
     std::filesystem::remove_all(dir + "_640");
     return rc;
   }
@@ -488,7 +519,7 @@ int main(int argc, char** argv) {
   std::filesystem::remove_all(dir);
   std::printf("\n");
   const int rc =
-      PipelineSection(config, hpose, dir + "_640", threads, pipeline_frames, pipeline_seconds);
+      PipelineSection(config, render, dir + "_640", threads, pipeline_frames, pipeline_seconds);
   std::filesystem::remove_all(dir + "_640");
   return rc;
 }
