@@ -218,12 +218,17 @@ int PipelineSection(const DaemonConfig& base, const WalkRender& render, const st
 }
 
 // One daemon start on the frames of `dir` played once at 30 fps: how long Daemon::Start took,
-// the first frame's arrival -> published latency, and the median and largest over every frame.
+// the first frame's arrival -> published latency, and the median and largest over every frame;
+// then, on a second start without a source, the estimator's own time (timings.total) of the
+// daemon's first Estimate calls, of the first frame, one after the other.
 struct StartRun {
   double start_ms = 0.0, first_ms = -1.0, median_ms = 0.0, max_ms = 0.0;
   unsigned samples = 0;
   long later_faults = -1;  // the process's page faults from the first publication to the end.
+  std::vector<double> call_ms;
 };
+
+constexpr int kStartCalls = 6;
 
 long MinorFaults() {
   rusage usage{};
@@ -239,6 +244,7 @@ bool RunFromStart(DaemonConfig config, const std::string& dir, bool warm_up, Sta
   config.source.estimate_threads = 1;
   config.source.queue_capacity = 1;
   config.source.warm_up = warm_up;
+  config.grpc.warm_up = warm_up;
   const Clock::time_point t0 = Clock::now();
   auto daemon = Daemon::Start(config);
   if (!daemon.ok()) {
@@ -273,11 +279,33 @@ bool RunFromStart(DaemonConfig config, const std::string& dir, bool warm_up, Sta
   run->samples = st.latency().samples();
   run->median_ms = st.latency().median() * 1e3;
   run->max_ms = st.latency().p99() * 1e3;  // of at most 100 samples: the largest.
+
+  // The calls, on a daemon of their own without a source (nothing estimated before them),
+  // once its warm-up has had time to end.
+  config.source.path.clear();
+  daemon = Daemon::Start(config);
+  if (!daemon.ok()) {
+    std::fprintf(stderr, "%s\n", daemon.error().ToString().c_str());
+    return false;
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  v1::EstimateRequest request;
+  const auto depth = hpose::ReadDepthPng(dir + "/depth_000.png");
+  const auto k = hpose::ReadIntrinsicsJson(dir + "/intrinsics.json");
+  if (!depth.ok() || !k.ok()) return false;
+  hpose::server::DepthToProto(*depth, *k, request.mutable_depth());
+  auto stub = v1::PoseService::NewStub(grpc::CreateChannel(
+      "127.0.0.1:" + std::to_string((*daemon)->port()), grpc::InsecureChannelCredentials()));
+  for (const double ms : TimeEstimate(stub.get(), request, kStartCalls, true).server_ms) {
+    run->call_ms.push_back(ms);
+  }
+  (*daemon)->Shutdown();
   return true;
 }
 
-// The start-up section: `rounds` daemon starts with source.warm_up off and on, alternating,
-// each playing `frames` rendered frames once at 30 fps with one estimation thread.
+// The start-up section: `rounds` daemon starts with the warm-ups (source.warm_up, grpc.warm_up)
+// off and on, alternating, each playing `frames` rendered frames once at 30 fps with one
+// estimation thread, then answering kStartCalls Estimate calls.
 int StartSection(const DaemonConfig& base, const WalkRender& render, const std::string& dir,
                  int frames, int rounds) {
   if (!RenderWalk(render, dir, frames)) return 1;
@@ -286,8 +314,10 @@ int StartSection(const DaemonConfig& base, const WalkRender& render, const std::
       "1 estimation thread), %d starts each, alternating\n\n",
       frames, rounds);
   std::printf(
-      "| source.warm_up | Daemon::Start ms | first frame's latency ms | largest latency ms "
-      "| median latency ms | page faults after the first frame |\n|---|---|---|---|---|---|\n");
+      "| warm_up | Daemon::Start ms | first frame's latency ms | largest latency ms "
+      "| median latency ms | page faults after the first frame | Estimate call 1, 2, 3-%d: "
+      "estimator ms |\n|---|---|---|---|---|---|---|\n",
+      kStartCalls);
   std::vector<StartRun> runs[2];
   for (int r = 0; r < rounds; ++r) {
     for (const bool warm : {false, true}) {
@@ -301,17 +331,21 @@ int StartSection(const DaemonConfig& base, const WalkRender& render, const std::
     }
   }
   for (const bool warm : {false, true}) {
-    std::vector<double> start, first, largest, median, faults;
+    std::vector<double> start, first, largest, median, faults, call1, call2, later;
     for (const StartRun& run : runs[warm ? 1 : 0]) {
       start.push_back(run.start_ms);
       if (run.first_ms >= 0.0) first.push_back(run.first_ms);
       if (run.later_faults >= 0) faults.push_back(static_cast<double>(run.later_faults));
       largest.push_back(run.max_ms);
       median.push_back(run.median_ms);
+      call1.push_back(run.call_ms.at(0));
+      call2.push_back(run.call_ms.at(1));
+      later.insert(later.end(), run.call_ms.begin() + 2, run.call_ms.end());
     }
-    std::printf("| %s | %.1f | %.1f (%zu caught) | %.1f | %.1f | %.0f |\n", warm ? "true" : "false",
-                Quantile(start, 0.5), Quantile(first, 0.5), first.size(), Quantile(largest, 0.5),
-                Quantile(median, 0.5), Quantile(faults, 0.5));
+    std::printf("| %s | %.1f | %.1f (%zu caught) | %.1f | %.1f | %.0f | %.1f, %.1f, %.1f |\n",
+                warm ? "true" : "false", Quantile(start, 0.5), Quantile(first, 0.5), first.size(),
+                Quantile(largest, 0.5), Quantile(median, 0.5), Quantile(faults, 0.5),
+                Quantile(call1, 0.5), Quantile(call2, 0.5), Quantile(later, 0.5));
   }
   std::printf(
       "\nmedians over the starts; latency: frame arrival (read from the source) to published\n\n");
@@ -397,8 +431,9 @@ int main(int argc, char** argv) {
           "                        (its clusters x templates searched at once; default:\n"
           "                        hposed's, 0 = one per core the process may use)\n"
           "  --hpose PATH          the hpose program that renders the frames\n"
-          "  --start-rounds N      only the start-up section: N daemon starts with\n"
-          "                        source.warm_up off and on each, the first frames' latency\n"
+          "  --start-rounds N      only the start-up section: N daemon starts with the\n"
+          "                        warm-ups off and on each: the first frames' latency and\n"
+          "                        the first Estimate calls' time\n"
           "  --sensor-height M     the 640x480 frames' sensor height above the floor (0.34)\n"
           "  --pitch-deg D         and its pitch, degrees down (0)\n"
           "  --no-search           pipeline runs without the pose search (no cluster is\n"

@@ -5,11 +5,17 @@
 #include <grpcpp/health_check_service_interface.h>
 #include <grpcpp/resource_quota.h>
 
+#include <spdlog/spdlog.h>
+
 #include <chrono>
+#include <future>
+#include <memory>
+#include <thread>
 #include <utility>
 
 #include "core/io/atomic_file.h"
 #include "core/io/intrinsics_file.h"
+#include "core/sim/frame_simulator.h"
 #include "core/stereo/stereo_calibration.h"
 #include "core/stereo/stereo_estimator.h"
 #include "core/stereo/stereo_marker_options.h"
@@ -29,6 +35,7 @@
 #include "server/stereo_pipeline.h"
 #include "server/stream_limiter.h"
 #include "server/token_auth.h"
+#include "server/warm_up_frame.h"
 #include "server/world_frame.h"
 
 namespace hpose::server {
@@ -111,6 +118,8 @@ class Daemon::Impl {
   std::unique_ptr<PoseServiceImpl> service;
   std::unique_ptr<grpc::Server> server;
   std::unique_ptr<HttpView> http;
+  // Warms the pool's estimators up in the background (GrpcConfig::warm_up).
+  std::thread pool_warm_up;
   std::string host;
   int port = 0;
   bool shut_down = false;
@@ -295,7 +304,31 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     }
     impl->http = std::move(*http);
   }
-  impl->pipeline->Start();
+  // The Estimate calls' estimators warm up in the background; the source's frames are read once
+  // they have (and the stream's own estimators), so that nothing competes with the first ones.
+  std::shared_future<void> pool_warmed_up;
+  if (config.grpc.warm_up) {
+    auto done = std::make_shared<std::promise<void>>();
+    pool_warmed_up = done->get_future().share();
+    impl->pool_warm_up = std::thread([pool = impl->pool.get(), done] {
+      const auto start = std::chrono::steady_clock::now();
+      const std::shared_ptr<const SimulatedFrame> frame = RenderWarmUpFrame();
+      // Calls that came first keep their slots: the warm-up waits for them half a second, then
+      // leaves those estimators cold.
+      if (frame != nullptr &&
+          pool->WarmUp(frame->depth, WarmUpIntrinsics(),
+                       std::chrono::steady_clock::now() + std::chrono::milliseconds(500))) {
+        spdlog::info(
+            "Estimate calls' estimators warmed up in {:.0f} ms",
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count());
+      } else if (frame != nullptr) {
+        spdlog::info("Estimate calls' estimators not warmed up: busy with calls");
+      }
+      done->set_value();
+    });
+  }
+  impl->pipeline->Start(pool_warmed_up);
   if (impl->stereo_pipeline) impl->stereo_pipeline->Start();
   return std::unique_ptr<Daemon>(new Daemon(std::move(impl)));
 }
@@ -312,6 +345,7 @@ void Daemon::Shutdown(double grace_s) {
   impl_->server->Shutdown(std::chrono::system_clock::now() +
                           std::chrono::milliseconds(static_cast<int>(grace_s * 1000)));
   impl_->server->Wait();
+  if (impl_->pool_warm_up.joinable()) impl_->pool_warm_up.join();
   impl_->pipeline->Stop();
   if (impl_->stereo_pipeline) impl_->stereo_pipeline->Stop();
 }

@@ -133,6 +133,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
         r.Read("max_send_message_bytes", &c->grpc.max_send_message_bytes, "an integer"));
     HPOSE_RETURN_IF_ERROR(
         r.Read("max_concurrent_estimates", &c->grpc.max_concurrent_estimates, "an integer"));
+    HPOSE_RETURN_IF_ERROR(r.Read("warm_up", &c->grpc.warm_up, "true or false"));
     HPOSE_RETURN_IF_ERROR(
         r.Read("max_inflight_estimates", &c->grpc.max_inflight_estimates, "an integer"));
     HPOSE_RETURN_IF_ERROR(
@@ -547,6 +548,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
       << c.grpc.max_receive_message_bytes;
   out << YAML::Key << "max_send_message_bytes" << YAML::Value << c.grpc.max_send_message_bytes;
   out << YAML::Key << "max_concurrent_estimates" << YAML::Value << c.grpc.max_concurrent_estimates;
+  out << YAML::Key << "warm_up" << YAML::Value << c.grpc.warm_up;
   out << YAML::Key << "max_inflight_estimates" << YAML::Value << c.grpc.max_inflight_estimates;
   out << YAML::Key << "max_inflight_request_bytes" << YAML::Value
       << c.grpc.max_inflight_request_bytes;

@@ -16,6 +16,10 @@ struct GrpcConfig {
   int max_receive_message_bytes = 16 << 20;  // larger requests get RESOURCE_EXHAUSTED.
   int max_send_message_bytes = 16 << 20;
   int max_concurrent_estimates = 2;  // Estimate calls running at once; others wait.
+  // At start, each of the Estimate calls' estimators (max_concurrent_estimates) estimates the
+  // synthetic frame of SourceConfig::warm_up once, on its own thread, in the background: the
+  // first calls then cost what later ones do. Calls that come meanwhile wait for it.
+  bool warm_up = true;
   // Admission control: Estimate calls held at once (running plus waiting for an estimator) and
   // the request bytes they may hold together; beyond either, RESOURCE_EXHAUSTED at once.
   int max_inflight_estimates = 4;
@@ -68,7 +72,7 @@ struct SourceConfig {
   // (the result is the same, the global optimum is still proved) and the floor is kept while
   // it still fits the points (floor.mode fit) instead of being fitted every frame.
   bool tracking = true;
-  // Before the first frame, each estimation thread estimates one synthetic Kinect frame (a
+  // Before the source is opened, each estimation thread estimates one synthetic Kinect frame (a
   // humanoid on a floor among clutter, rendered at start) and drops the result: the buffers a
   // frame needs, its threads' scratch and the page faults of their first use are then paid
   // before the stream, not in its first frames. Nothing of it is published or followed.

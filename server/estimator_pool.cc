@@ -1,15 +1,31 @@
 #include "server/estimator_pool.h"
 
+#include <functional>
+#include <optional>
 #include <set>
+#include <thread>
 #include <utility>
 
+#include "server/estimate_worker.h"
+
 namespace hpose::server {
+
+struct EstimatorPool::Slot {
+  std::unique_ptr<Estimator> estimator;  // with every template; made on the slot's first use.
+  EstimateWorker worker;
+};
 
 EstimatorPool::EstimatorPool(EstimatorOptions options, std::vector<VoxelTemplate> templates,
                              int max_instances)
     : options_(std::move(options)),
       templates_(std::move(templates)),
-      max_instances_(max_instances < 1 ? 1 : max_instances) {}
+      max_instances_(max_instances < 1 ? 1 : max_instances) {
+  for (int i = 0; i < max_instances_; ++i) slots_.push_back(std::make_unique<Slot>());
+  // The first slot at the back: lent first.
+  for (int i = max_instances_ - 1; i >= 0; --i) free_.push_back(slots_[i].get());
+}
+
+EstimatorPool::~EstimatorPool() = default;
 
 Result<std::unique_ptr<EstimatorPool>> EstimatorPool::Create(EstimatorOptions options,
                                                              std::vector<VoxelTemplate> templates,
@@ -25,8 +41,7 @@ Result<std::unique_ptr<EstimatorPool>> EstimatorPool::Create(EstimatorOptions op
   std::unique_ptr<EstimatorPool> pool(
       new EstimatorPool(std::move(options), std::move(templates), max_instances));
   pool->models_ = (*first)->models();
-  pool->idle_.push_back(std::move(*first));
-  pool->created_ = 1;
+  pool->slots_.front()->estimator = std::move(*first);
   return pool;
 }
 
@@ -47,38 +62,74 @@ Result<Estimate> EstimatorPool::Run(const std::vector<std::string>& names,
                        "unknown template '" + *wanted.begin() + "' (loaded: " + have + ")");
     }
   }
-  std::unique_ptr<Estimator> estimator;
+  Slot* slot = nullptr;
   {
     std::unique_lock<std::mutex> lock(mu_);
-    if (!cv_.wait_until(lock, deadline, [this] { return in_use_ < max_instances_; })) {
+    if (!cv_.wait_until(lock, deadline, [this] { return !free_.empty(); })) {
       return MakeError(ErrorCode::kUnavailable, "all estimators busy until the deadline");
     }
-    ++in_use_;
-    if (subset.empty() && !idle_.empty()) {
-      estimator = std::move(idle_.back());
-      idle_.pop_back();
-    }
+    slot = free_.back();
+    free_.pop_back();
   }
-  const bool pooled = subset.empty();
-  if (!estimator) {
+  // The slot goes back to the pool however this call ends.
+  struct Release {
+    EstimatorPool* pool;
+    Slot* slot;
+    ~Release() {
+      {
+        std::lock_guard<std::mutex> lock(pool->mu_);
+        pool->free_.push_back(slot);
+      }
+      pool->cv_.notify_one();
+    }
+  } release{this, slot};
+  std::unique_ptr<Estimator> fresh;  // for a template subset.
+  if (!subset.empty() || slot->estimator == nullptr) {
     Result<std::unique_ptr<Estimator>> made =
-        Estimator::Create(options_, pooled ? templates_ : subset, models_);
-    if (!made.ok()) {
-      std::lock_guard<std::mutex> lock(mu_);
-      --in_use_;
-      cv_.notify_one();
-      return made.error();
+        Estimator::Create(options_, subset.empty() ? templates_ : subset, models_);
+    if (!made.ok()) return made.error();
+    if (subset.empty()) {
+      slot->estimator = std::move(*made);
+    } else {
+      fresh = std::move(*made);
     }
-    estimator = std::move(*made);
   }
-  Result<Estimate> result = fn(*estimator);
+  const Estimator& estimator = fresh ? *fresh : *slot->estimator;
+  std::optional<Result<Estimate>> result;
+  slot->worker.Run([&] { result.emplace(fn(estimator)); });
+  return std::move(*result);
+}
+
+bool EstimatorPool::WarmUp(const DepthImage& depth, const Intrinsics& intrinsics,
+                           std::chrono::steady_clock::time_point deadline) {
+  std::vector<Slot*> taken;
+  {
+    std::unique_lock<std::mutex> lock(mu_);
+    // All at once: slots taken one by one would hand the same one back each time.
+    if (!cv_.wait_until(lock, deadline,
+                        [this] { return static_cast<int>(free_.size()) == max_instances_; })) {
+      return false;
+    }
+    taken.swap(free_);
+  }
+  std::vector<std::thread> threads;
+  for (Slot* slot : taken) {
+    threads.emplace_back([&, slot] {
+      if (slot->estimator == nullptr) {
+        Result<std::unique_ptr<Estimator>> made = Estimator::Create(options_, templates_, models_);
+        if (!made.ok()) return;  // Create of the same templates and options succeeded before.
+        slot->estimator = std::move(*made);
+      }
+      slot->worker.Run([&] { (void)slot->estimator->EstimateDepth(depth, intrinsics); });
+    });
+  }
+  for (std::thread& t : threads) t.join();
   {
     std::lock_guard<std::mutex> lock(mu_);
-    --in_use_;
-    if (pooled) idle_.push_back(std::move(estimator));
+    free_ = std::move(taken);  // in the order they had.
   }
-  cv_.notify_one();
-  return result;
+  cv_.notify_all();
+  return true;
 }
 
 Result<Estimate> EstimatorPool::EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics,

@@ -14,14 +14,18 @@
 namespace hpose::server {
 
 // Estimators for concurrent Estimate calls: an Estimator handles one frame at a time, so the
-// pool keeps up to `max_instances` of them and lends one per call; all of them, and those made
-// for a subset of the templates, share one copy of the templates' models. Thread-safe.
+// pool keeps `max_instances` slots, each an estimator (made on first use) and a worker thread
+// (EstimateWorker), and lends one slot per call, the one used last first; the call's estimate
+// runs on the slot's thread, so a slot's buffers, per estimator and per thread, stay grown from
+// call to call. All its estimators, and those made for a subset of the templates, share one copy
+// of the templates' models. Thread-safe.
 class EstimatorPool {
  public:
   // Fails like Estimator::Create (no templates, duplicate names, bad options).
   static Result<std::unique_ptr<EstimatorPool>> Create(EstimatorOptions options,
                                                        std::vector<VoxelTemplate> templates,
                                                        int max_instances);
+  ~EstimatorPool();
 
   // Estimates one depth frame (millimetres) or cloud (sensor frame, metres) with all templates,
   // or only those named in `template_names`. Fails with kNotFound for an unknown template name,
@@ -41,10 +45,18 @@ class EstimatorPool {
   // shares, made with its first: for other estimators of the process (Estimator::Create).
   const std::vector<TemplateModels>& models() const { return models_; }
 
+  // Estimates `depth` once with every slot's estimator, on its thread, and drops the results:
+  // the first calls then cost what later ones do. Waits for the slots (calls meanwhile wait
+  // too); false, doing nothing, if they were not all free before `deadline`.
+  bool WarmUp(const DepthImage& depth, const Intrinsics& intrinsics,
+              std::chrono::steady_clock::time_point deadline);
+
  private:
   EstimatorPool(EstimatorOptions options, std::vector<VoxelTemplate> templates, int max_instances);
 
-  // Runs `fn` with an estimator (a pooled one, or a fresh one for a template subset).
+  struct Slot;
+  // Runs `fn` with an estimator (the slot's, or a fresh one for a template subset) on the
+  // thread of a free slot.
   template <typename Fn>
   Result<Estimate> Run(const std::vector<std::string>& names,
                        std::chrono::steady_clock::time_point deadline, Fn fn);
@@ -56,9 +68,8 @@ class EstimatorPool {
 
   std::mutex mu_;
   std::condition_variable cv_;
-  std::vector<std::unique_ptr<Estimator>> idle_;
-  int in_use_ = 0;   // lent out (pooled and fresh ones), bounded by max_instances_.
-  int created_ = 0;  // pooled instances created.
+  std::vector<std::unique_ptr<Slot>> slots_;  // max_instances_ of them, made at Create.
+  std::vector<Slot*> free_;                   // the one freed last at the back.
 };
 
 }  // namespace hpose::server

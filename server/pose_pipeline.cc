@@ -7,10 +7,10 @@
 
 #include <spdlog/spdlog.h>
 
-#include "core/common/pose2d.h"
 #include "core/search/pose_tracker.h"
 #include "core/sim/frame_simulator.h"
 #include "server/pipeline_stats.h"
+#include "server/warm_up_frame.h"
 
 namespace hpose::server {
 
@@ -69,29 +69,6 @@ PublishOrder<std::shared_ptr<PublishedEstimate>>::Policy OrderPolicy(const Frame
   return newest_only ? Order::Policy::kNewestOnly : Order::Policy::kInOrder;
 }
 
-Intrinsics WarmUpIntrinsics() { return Intrinsics::KinectV1(640, 480); }
-
-// The frame each estimation thread estimates before the stream (SourceConfig::warm_up): a Kinect
-// v1 view from 0.9 m, 25 degrees down, of a humanoid 1.5 m ahead among clutter, so that the
-// floor fills most of the image and every stage of an estimate runs. Null, with a warning, if it
-// cannot be rendered (the stream then starts cold).
-std::shared_ptr<const SimulatedFrame> RenderWarmUpFrame() {
-  FrameSpec spec;
-  spec.humanoid_pose = Pose2D{1.5, 0.1, DegToRad(30.0)};
-  spec.sensor_height_m = 0.9;
-  spec.sensor_pitch_rad = DegToRad(25.0);
-  spec.clutter = 3;
-  spec.seed = 1;
-  spec.intrinsics = WarmUpIntrinsics();
-  Result<SimulatedFrame> frame = SimulateFrame(spec);
-  if (!frame.ok()) {
-    spdlog::warn("no warm-up frame ({}): the first frames will be slower",
-                 frame.error().ToString());
-    return nullptr;
-  }
-  return std::make_shared<const SimulatedFrame>(std::move(*frame));
-}
-
 std::vector<std::unique_ptr<Estimator>> OneEstimator(std::unique_ptr<Estimator> estimator) {
   std::vector<std::unique_ptr<Estimator>> v;
   if (estimator) v.push_back(std::move(estimator));
@@ -121,9 +98,10 @@ PosePipeline::PosePipeline(std::unique_ptr<FrameSource> source,
 
 PosePipeline::~PosePipeline() { Stop(); }
 
-void PosePipeline::Start() {
+void PosePipeline::Start(std::shared_future<void> other_warm_up) {
   if (started_ || !source_) return;
   started_ = true;
+  other_warm_up_ = std::move(other_warm_up);
   {
     std::lock_guard<std::mutex> lock(mu_);
     estimators_running_ = static_cast<int>(estimators_.size());
@@ -216,9 +194,10 @@ void PosePipeline::CaptureLoop() {
 }
 
 void PosePipeline::CaptureFrames() {
-  if (!OpenWithBackoff()) return;
-  // The source opens while the estimators warm up; its frames are read once they have.
+  // Opened once the estimators have warmed up: a recording played at its recorded rate (or a
+  // device's stream) starts then, with no frame due before the estimators can take it.
   if (!WaitForWarmUp()) return;
+  if (!OpenWithBackoff()) return;
   SetState(SourceState::kRunning, "");
   const bool drop_oldest = source_->live() || config_.realtime;
   int consecutive_bad = 0;
@@ -285,10 +264,17 @@ void PosePipeline::CaptureFrames() {
 
 bool PosePipeline::WaitForWarmUp() {
   std::unique_lock<std::mutex> lock(mu_);
-  if (warm_ups_pending_ > 0 && state_ == SourceState::kStarting) {
-    reason_ = "source open, estimators warming up";
-  }
+  const bool waits = warm_ups_pending_ > 0 || other_warm_up_.valid();
+  if (waits) reason_ = "estimators warming up, then the source opens";
   stop_cv_.wait(lock, [this] { return stopping_.load() || warm_ups_pending_ == 0; });
+  lock.unlock();
+  if (other_warm_up_.valid()) {
+    while (other_warm_up_.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      if (stopping_.load()) return false;
+    }
+  }
+  lock.lock();
+  if (waits && state_ == SourceState::kStarting) reason_ = "opening the source";
   return !stopping_.load();
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -121,7 +122,10 @@ class PosePipeline {
   using PublishObserver = std::function<void(const PublishedEstimate&, const Frame&)>;
   void SetPublishObserver(PublishObserver observer) { observer_ = std::move(observer); }
 
-  void Start();
+  // The source is opened once the estimation threads have warmed up (SourceConfig::warm_up) and,
+  // when valid, `other_warm_up` is ready (the daemon's other estimators warming up, so that they
+  // do not compete with the first frames).
+  void Start(std::shared_future<void> other_warm_up = {});
   // Stops both threads (waits for a blocked source read to return). Idempotent.
   void Stop();
 
@@ -151,7 +155,7 @@ class PosePipeline {
   // Estimates warm_up_frame_ (rendering it first if no thread has) with `estimator`
   // (SourceConfig::warm_up) and counts it done.
   void WarmUp(Estimator* estimator);
-  // Waits until every estimation thread has warmed up; false when stopping.
+  // Waits until every estimation thread has warmed up, and other_warm_up_; false when stopping.
   bool WaitForWarmUp();
   // Hands the result of frame `ticket` to publish_order_ and publishes what it releases.
   void Publish(std::uint64_t ticket, std::shared_ptr<PublishedEstimate> result);
@@ -180,6 +184,7 @@ class PosePipeline {
   bool started_ = false;
   // Rendered once by the first estimation thread to warm up (null if it could not be).
   std::once_flag warm_up_once_;
+  std::shared_future<void> other_warm_up_;  // set by Start().
   std::shared_ptr<const SimulatedFrame> warm_up_frame_;
 
   mutable std::mutex mu_;  // guards everything below.

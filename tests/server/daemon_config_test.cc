@@ -10,7 +10,7 @@ namespace {
 TEST(DaemonConfigTest, ParsesEveryKeyAndResolvesRelativePaths) {
   const char* yaml = R"(
 listen: 127.0.0.1:6000
-grpc: {max_receive_message_bytes: 2048, max_concurrent_estimates: 3}
+grpc: {max_receive_message_bytes: 2048, max_concurrent_estimates: 3, warm_up: false}
 source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
          estimate_threads: 2, warm_up: false, stale_after_s: 0.5, frame_timeout_s: 0.7,
          driver_reload_interval_s: 600, initial_pose: {x_m: 3.2, y_m: -0.4, theta_deg: 90}}
@@ -24,6 +24,7 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_EQ(c->grpc.listen, "127.0.0.1:6000");
   EXPECT_EQ(c->grpc.max_receive_message_bytes, 2048);
   EXPECT_EQ(c->grpc.max_concurrent_estimates, 3);
+  EXPECT_FALSE(c->grpc.warm_up);
   EXPECT_EQ(c->source.path, "/etc/hpose/rec/walk.oni");
   EXPECT_FALSE(c->source.realtime);
   EXPECT_TRUE(c->source.loop);

@@ -2,10 +2,13 @@
 // models the pool made with its first, and estimate as an estimator of their own would.
 #include "server/estimator_pool.h"
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -104,6 +107,85 @@ TEST(EstimatorPoolTest, SubsetsOfATallBodySearchAtTheWholeSetsEdge) {
   }
   const Pose2D p = own.Humanoids().front().best.pose;
   EXPECT_LT(std::hypot(p.x - spec.humanoid_pose.x, p.y - spec.humanoid_pose.y), 0.01);
+}
+
+// The warm-up estimates a frame with every slot's estimator and leaves nothing behind: calls
+// after it give what a pool that never warmed up gives, with every slot in use at once too.
+TEST(EstimatorPoolTest, WarmingUpChangesNoEstimate) {
+  const EstimatorOptions options = DefaultEstimatorOptions();
+  const std::vector<VoxelTemplate> tpls = {ModelTemplate("standing"),
+                                           ModelTemplate("right_arm_raised")};
+  std::unique_ptr<EstimatorPool> cold = std::move(EstimatorPool::Create(options, tpls, 2).value());
+  std::unique_ptr<EstimatorPool> warm = std::move(EstimatorPool::Create(options, tpls, 2).value());
+  FrameSpec spec;
+  spec.humanoid_pose = Pose2D{2.1, 0.2, DegToRad(-120.0)};
+  spec.sensor_height_m = 0.6;
+  spec.sensor_pitch_rad = DegToRad(12.0);
+  spec.clutter = 3;
+  spec.seed = 9;
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  FrameSpec other = spec;
+  other.humanoid_pose = Pose2D{1.3, -0.2, DegToRad(45.0)};
+  other.seed = 10;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(1);
+  EXPECT_TRUE(warm->WarmUp(SimulateFrame(other)->depth, other.intrinsics, deadline));
+
+  const Estimate reference = *cold->EstimateDepth(frame.depth, spec.intrinsics, {}, deadline);
+  ASSERT_FALSE(reference.Humanoids().empty());
+  // Both slots at once, each estimating the frame.
+  std::vector<Result<Estimate>> results(2, MakeError(ErrorCode::kInternal, "not run"));
+  std::vector<std::thread> calls;
+  for (int i = 0; i < 2; ++i) {
+    calls.emplace_back(
+        [&, i] { results[i] = warm->EstimateDepth(frame.depth, spec.intrinsics, {}, deadline); });
+  }
+  for (std::thread& t : calls) t.join();
+  for (const Result<Estimate>& r : results) {
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_EQ(r->candidates.size(), reference.candidates.size());
+    for (size_t i = 0; i < reference.candidates.size(); ++i) {
+      const Candidate& a = r->candidates[i];
+      const Candidate& b = reference.candidates[i];
+      EXPECT_EQ(a.template_name, b.template_name) << i;
+      EXPECT_EQ(a.pose.x, b.pose.x) << i;
+      EXPECT_EQ(a.pose.y, b.pose.y) << i;
+      EXPECT_EQ(a.pose.theta, b.pose.theta) << i;
+      EXPECT_EQ(a.score, b.score) << i;
+    }
+  }
+}
+
+// A call whose deadline passes while every slot is taken is refused; the slots come back after
+// each call, whether it succeeded or failed.
+TEST(EstimatorPoolTest, BusySlotsRefuseACallAtItsDeadlineAndEveryCallGivesItsSlotBack) {
+  const std::vector<VoxelTemplate> tpls = {ModelTemplate("standing")};
+  std::unique_ptr<EstimatorPool> pool =
+      std::move(EstimatorPool::Create(DefaultEstimatorOptions(), tpls, 1).value());
+  FrameSpec spec;
+  spec.seed = 3;
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  const auto later = [] { return std::chrono::steady_clock::now() + std::chrono::minutes(1); };
+  // Failed calls (a template it does not hold, an empty frame) give the slot back.
+  EXPECT_EQ(pool->EstimateDepth(frame.depth, spec.intrinsics, {"waving"}, later()).error().code,
+            ErrorCode::kNotFound);
+  DepthImage empty = frame.depth;
+  std::fill(empty.mm.begin(), empty.mm.end(), 0);
+  EXPECT_FALSE(pool->EstimateDepth(empty, spec.intrinsics, {}, later()).ok());
+  EXPECT_TRUE(pool->EstimateDepth(frame.depth, spec.intrinsics, {}, later()).ok());
+  // Its only slot held by the warm-up of another thread: a call with a past deadline is refused.
+  std::atomic<bool> warming{true};
+  std::thread warm_up([&] {
+    EXPECT_TRUE(pool->WarmUp(frame.depth, spec.intrinsics, later()));
+    warming = false;
+  });
+  // The warm-up takes a while; a call meanwhile, with no time to wait, is refused or (if it
+  // was done already) served.
+  const Result<Estimate> now =
+      pool->EstimateDepth(frame.depth, spec.intrinsics, {}, std::chrono::steady_clock::now());
+  warm_up.join();
+  if (!now.ok()) EXPECT_EQ(now.error().code, ErrorCode::kUnavailable);
+  EXPECT_FALSE(warming);
+  EXPECT_TRUE(pool->EstimateDepth(frame.depth, spec.intrinsics, {}, later()).ok());
 }
 
 }  // namespace
