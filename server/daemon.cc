@@ -312,7 +312,7 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     pool_warmed_up = done->get_future().share();
     impl->pool_warm_up = std::thread([pool = impl->pool.get(), done] {
       const auto start = std::chrono::steady_clock::now();
-      const std::shared_ptr<const SimulatedFrame> frame = RenderWarmUpFrame();
+      const std::shared_ptr<const SimulatedFrame> frame = WarmUpFrame();
       // Calls that came first keep their slots: the warm-up waits for them half a second, then
       // leaves those estimators cold.
       if (frame != nullptr &&

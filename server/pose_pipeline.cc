@@ -105,9 +105,6 @@ void PosePipeline::Start(std::shared_future<void> other_warm_up) {
   {
     std::lock_guard<std::mutex> lock(mu_);
     estimators_running_ = static_cast<int>(estimators_.size());
-  }
-  {
-    std::lock_guard<std::mutex> lock(mu_);
     warm_ups_pending_ = config_.warm_up ? static_cast<int>(estimators_.size()) : 0;
   }
   capture_thread_ = std::thread([this] { CaptureLoop(); });
@@ -280,20 +277,19 @@ bool PosePipeline::WaitForWarmUp() {
 
 void PosePipeline::WarmUp(Estimator* estimator) {
   const Clock::time_point start = Clock::now();
-  // Rendered by the first thread here, not in Start(): the daemon starts serving meanwhile.
-  std::call_once(warm_up_once_, [this] { warm_up_frame_ = RenderWarmUpFrame(); });
-  if (warm_up_frame_) {
+  // Rendered here (by the process's first caller), not in Start(): the daemon serves meanwhile.
+  const std::shared_ptr<const SimulatedFrame> frame = WarmUpFrame();
+  if (frame) {
     // The estimator keeps nothing of a frame but its buffers' capacity, and no tracker sees
     // this one: the stream's estimates are those it would give without the warm-up.
-    const Result<Estimate> result =
-        estimator->EstimateDepth(warm_up_frame_->depth, WarmUpIntrinsics());
+    const Result<Estimate> result = estimator->EstimateDepth(frame->depth, WarmUpIntrinsics());
     if (!result.ok()) spdlog::debug("warm-up estimate: {}", result.error().ToString());
   }
   const double ms = Seconds(Clock::now() - start) * 1e3;
   std::lock_guard<std::mutex> lock(mu_);
   warm_up_ms_ = std::max(warm_up_ms_, ms);
   if (--warm_ups_pending_ > 0) return;
-  if (warm_up_frame_) {
+  if (frame) {
     warmed_up_ = true;
     spdlog::info("estimators warmed up on a synthetic frame in {:.0f} ms", warm_up_ms_);
   }

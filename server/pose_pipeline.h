@@ -152,8 +152,8 @@ class PosePipeline {
   void CaptureLoop();
   void CaptureFrames();
   void EstimateLoop(Estimator* estimator);
-  // Estimates warm_up_frame_ (rendering it first if no thread has) with `estimator`
-  // (SourceConfig::warm_up) and counts it done.
+  // Estimates the warm-up frame (WarmUpFrame) with `estimator` (SourceConfig::warm_up) and
+  // counts it done.
   void WarmUp(Estimator* estimator);
   // Waits until every estimation thread has warmed up, and other_warm_up_; false when stopping.
   bool WaitForWarmUp();
@@ -182,10 +182,7 @@ class PosePipeline {
   // Set once the capture thread has pushed its last frame.
   std::atomic<bool> capture_done_{false};
   bool started_ = false;
-  // Rendered once by the first estimation thread to warm up (null if it could not be).
-  std::once_flag warm_up_once_;
   std::shared_future<void> other_warm_up_;  // set by Start().
-  std::shared_ptr<const SimulatedFrame> warm_up_frame_;
 
   mutable std::mutex mu_;  // guards everything below.
   mutable std::condition_variable published_cv_;

@@ -9,7 +9,9 @@ namespace hpose::server {
 
 Intrinsics WarmUpIntrinsics() { return Intrinsics::KinectV1(640, 480); }
 
-std::shared_ptr<const SimulatedFrame> RenderWarmUpFrame() {
+namespace {
+
+std::shared_ptr<const SimulatedFrame> Render() {
   FrameSpec spec;
   spec.humanoid_pose = Pose2D{1.5, 0.1, DegToRad(30.0)};
   spec.sensor_height_m = 0.9;
@@ -24,6 +26,13 @@ std::shared_ptr<const SimulatedFrame> RenderWarmUpFrame() {
     return nullptr;
   }
   return std::make_shared<const SimulatedFrame>(std::move(*frame));
+}
+
+}  // namespace
+
+std::shared_ptr<const SimulatedFrame> WarmUpFrame() {
+  static const std::shared_ptr<const SimulatedFrame> frame = Render();
+  return frame;
 }
 
 }  // namespace hpose::server
