@@ -13,6 +13,7 @@
 #include <thread>
 #include <utility>
 
+#include "core/common/task_pool.h"
 #include "core/io/atomic_file.h"
 #include "core/io/intrinsics_file.h"
 #include "core/sim/frame_simulator.h"
@@ -306,20 +307,27 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   }
   // The Estimate calls' estimators warm up in the background; the source's frames are read once
   // they have (and the stream's own estimators), so that nothing competes with the first ones.
+  // Only as many slots as there are cores: a call beyond them shares a core with another and
+  // waits for it longer than its cold estimator's first frame costs (GrpcConfig::warm_up).
   std::shared_future<void> pool_warmed_up;
   if (config.grpc.warm_up) {
     auto done = std::make_shared<std::promise<void>>();
     pool_warmed_up = done->get_future().share();
-    impl->pool_warm_up = std::thread([pool = impl->pool.get(), done] {
+    const int slots = config.grpc.max_concurrent_estimates;
+    impl->pool_warm_up = std::thread([pool = impl->pool.get(), done, slots] {
       const auto start = std::chrono::steady_clock::now();
       const std::shared_ptr<const SimulatedFrame> frame = WarmUpFrame();
       // Calls that came first keep their slots: the warm-up waits for them half a second, then
       // leaves those estimators cold.
-      if (frame != nullptr &&
-          pool->WarmUp(frame->depth, WarmUpIntrinsics(),
-                       std::chrono::steady_clock::now() + std::chrono::milliseconds(500))) {
+      const int warmed =
+          frame == nullptr
+              ? 0
+              : pool->WarmUp(frame->depth, WarmUpIntrinsics(),
+                             std::chrono::steady_clock::now() + std::chrono::milliseconds(500),
+                             TaskPool::UsableCores());
+      if (warmed > 0) {
         spdlog::info(
-            "Estimate calls' estimators warmed up in {:.0f} ms",
+            "Estimate calls' estimators warmed up ({} of {}) in {:.0f} ms", warmed, slots,
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                 .count());
       } else if (frame != nullptr) {

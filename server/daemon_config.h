@@ -16,9 +16,10 @@ struct GrpcConfig {
   int max_receive_message_bytes = 16 << 20;  // larger requests get RESOURCE_EXHAUSTED.
   int max_send_message_bytes = 16 << 20;
   int max_concurrent_estimates = 2;  // Estimate calls running at once; others wait.
-  // At start, each of the Estimate calls' estimators (max_concurrent_estimates) estimates the
-  // synthetic frame of SourceConfig::warm_up once, on its own thread, in the background: the
-  // first calls then cost what later ones do. Calls that come meanwhile wait for it.
+  // At start, the Estimate calls' estimators lent first, as many as the process may use cores
+  // (at most max_concurrent_estimates), each estimate the synthetic frame of
+  // SourceConfig::warm_up once, on their own threads, in the background: the first calls then
+  // cost what later ones do. Calls that come meanwhile wait for those slots or take a cold one.
   bool warm_up = true;
   // Admission control: Estimate calls held at once (running plus waiting for an estimator) and
   // the request bytes they may hold together; beyond either, RESOURCE_EXHAUSTED at once.

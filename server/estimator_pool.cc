@@ -1,5 +1,6 @@
 #include "server/estimator_pool.h"
 
+#include <algorithm>
 #include <functional>
 #include <optional>
 #include <set>
@@ -100,17 +101,19 @@ Result<Estimate> EstimatorPool::Run(const std::vector<std::string>& names,
   return std::move(*result);
 }
 
-bool EstimatorPool::WarmUp(const DepthImage& depth, const Intrinsics& intrinsics,
-                           std::chrono::steady_clock::time_point deadline) {
-  std::vector<Slot*> taken;
+int EstimatorPool::WarmUp(const DepthImage& depth, const Intrinsics& intrinsics,
+                          std::chrono::steady_clock::time_point deadline, int max_slots) {
+  std::vector<Slot*> taken;  // the slots lent first, the first at the back.
   {
     std::unique_lock<std::mutex> lock(mu_);
     // All at once: slots taken one by one would hand the same one back each time.
     if (!cv_.wait_until(lock, deadline,
                         [this] { return static_cast<int>(free_.size()) == max_instances_; })) {
-      return false;
+      return 0;
     }
-    taken.swap(free_);
+    const int count = std::clamp(max_slots, 0, max_instances_);
+    taken.assign(free_.end() - count, free_.end());
+    free_.resize(free_.size() - count);
   }
   std::vector<std::thread> threads;
   for (Slot* slot : taken) {
@@ -126,10 +129,11 @@ bool EstimatorPool::WarmUp(const DepthImage& depth, const Intrinsics& intrinsics
   for (std::thread& t : threads) t.join();
   {
     std::lock_guard<std::mutex> lock(mu_);
-    free_ = std::move(taken);  // in the order they had.
+    // Lent first again, in the order they had (after any slot calls gave back meanwhile).
+    free_.insert(free_.end(), taken.begin(), taken.end());
   }
   cv_.notify_all();
-  return true;
+  return static_cast<int>(taken.size());
 }
 
 Result<Estimate> EstimatorPool::EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics,

@@ -45,11 +45,13 @@ class EstimatorPool {
   // shares, made with its first: for other estimators of the process (Estimator::Create).
   const std::vector<TemplateModels>& models() const { return models_; }
 
-  // Estimates `depth` once with every slot's estimator, on its thread, and drops the results:
-  // the first calls then cost what later ones do. Waits for the slots (calls meanwhile wait
-  // too); false, doing nothing, if they were not all free before `deadline`.
-  bool WarmUp(const DepthImage& depth, const Intrinsics& intrinsics,
-              std::chrono::steady_clock::time_point deadline);
+  // Estimates `depth` once with the estimators of the `max_slots` slots lent first (all slots
+  // when there are no more), each on its slot's thread, and drops the results: the first calls
+  // then cost what later ones do. Waits until no slot is lent; calls meanwhile wait for the
+  // slots being warmed and may take the others. Returns how many slots it warmed: 0, doing
+  // nothing, if some were still lent at `deadline`.
+  int WarmUp(const DepthImage& depth, const Intrinsics& intrinsics,
+             std::chrono::steady_clock::time_point deadline, int max_slots);
 
  private:
   EstimatorPool(EstimatorOptions options, std::vector<VoxelTemplate> templates, int max_instances);

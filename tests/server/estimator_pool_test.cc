@@ -109,14 +109,15 @@ TEST(EstimatorPoolTest, SubsetsOfATallBodySearchAtTheWholeSetsEdge) {
   EXPECT_LT(std::hypot(p.x - spec.humanoid_pose.x, p.y - spec.humanoid_pose.y), 0.01);
 }
 
-// The warm-up estimates a frame with every slot's estimator and leaves nothing behind: calls
-// after it give what a pool that never warmed up gives, with every slot in use at once too.
+// The warm-up estimates a frame with the estimators of the slots lent first, as many as asked,
+// and leaves nothing behind: calls after it give what a pool that never warmed up gives, with
+// every slot, warmed or not, in use at once too.
 TEST(EstimatorPoolTest, WarmingUpChangesNoEstimate) {
   const EstimatorOptions options = DefaultEstimatorOptions();
   const std::vector<VoxelTemplate> tpls = {ModelTemplate("standing"),
                                            ModelTemplate("right_arm_raised")};
   std::unique_ptr<EstimatorPool> cold = std::move(EstimatorPool::Create(options, tpls, 2).value());
-  std::unique_ptr<EstimatorPool> warm = std::move(EstimatorPool::Create(options, tpls, 2).value());
+  std::unique_ptr<EstimatorPool> warm = std::move(EstimatorPool::Create(options, tpls, 3).value());
   FrameSpec spec;
   spec.humanoid_pose = Pose2D{2.1, 0.2, DegToRad(-120.0)};
   spec.sensor_height_m = 0.6;
@@ -128,14 +129,16 @@ TEST(EstimatorPoolTest, WarmingUpChangesNoEstimate) {
   other.humanoid_pose = Pose2D{1.3, -0.2, DegToRad(45.0)};
   other.seed = 10;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(1);
-  EXPECT_TRUE(warm->WarmUp(SimulateFrame(other)->depth, other.intrinsics, deadline));
+  const SimulatedFrame other_frame = *SimulateFrame(other);
+  // Two of its three slots.
+  EXPECT_EQ(warm->WarmUp(other_frame.depth, other.intrinsics, deadline, 2), 2);
 
   const Estimate reference = *cold->EstimateDepth(frame.depth, spec.intrinsics, {}, deadline);
   ASSERT_FALSE(reference.Humanoids().empty());
-  // Both slots at once, each estimating the frame.
-  std::vector<Result<Estimate>> results(2, MakeError(ErrorCode::kInternal, "not run"));
+  // All three slots at once (two warmed, one not), each estimating the frame.
+  std::vector<Result<Estimate>> results(3, MakeError(ErrorCode::kInternal, "not run"));
   std::vector<std::thread> calls;
-  for (int i = 0; i < 2; ++i) {
+  for (int i = 0; i < 3; ++i) {
     calls.emplace_back(
         [&, i] { results[i] = warm->EstimateDepth(frame.depth, spec.intrinsics, {}, deadline); });
   }
@@ -153,6 +156,9 @@ TEST(EstimatorPoolTest, WarmingUpChangesNoEstimate) {
       EXPECT_EQ(a.score, b.score) << i;
     }
   }
+  // Asked for more slots than it has: all three; for none, none.
+  EXPECT_EQ(warm->WarmUp(other_frame.depth, other.intrinsics, deadline, 8), 3);
+  EXPECT_EQ(warm->WarmUp(other_frame.depth, other.intrinsics, deadline, 0), 0);
 }
 
 // A call whose deadline passes while every slot is taken is refused; the slots come back after
@@ -175,7 +181,7 @@ TEST(EstimatorPoolTest, BusySlotsRefuseACallAtItsDeadlineAndEveryCallGivesItsSlo
   // Its only slot held by the warm-up of another thread: a call with a past deadline is refused.
   std::atomic<bool> warming{true};
   std::thread warm_up([&] {
-    EXPECT_TRUE(pool->WarmUp(frame.depth, spec.intrinsics, later()));
+    EXPECT_EQ(pool->WarmUp(frame.depth, spec.intrinsics, later(), 4), 1);
     warming = false;
   });
   // The warm-up takes a while; a call meanwhile, with no time to wait, is refused or (if it
