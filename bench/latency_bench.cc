@@ -352,18 +352,20 @@ int StartSection(const DaemonConfig& base, const WalkRender& render, const std::
   return 0;
 }
 
-std::vector<int> ParseIntList(const std::string& text) {
+// Thread counts, comma-separated, each in [least, 64].
+std::vector<int> ParseIntList(const std::string& text, int least) {
   std::vector<int> out;
   std::stringstream in(text);
   std::string item;
   while (std::getline(in, item, ',')) {
-    const int v = std::atoi(item.c_str());
-    if (v < 1 || v > 64) {
-      std::fprintf(stderr, "latency_bench: thread counts are integers in [1, 64], got '%s'\n",
-                   item.c_str());
+    char* end = nullptr;
+    const long v = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || v < least || v > 64) {
+      std::fprintf(stderr, "latency_bench: thread counts are integers in [%d, 64], got '%s'\n",
+                   least, item.c_str());
       std::exit(2);
     }
-    out.push_back(v);
+    out.push_back(static_cast<int>(v));
   }
   return out;
 }
@@ -396,9 +398,10 @@ int main(int argc, char** argv) {
     } else if (flag == "--pipeline-frames" && has_value) {
       pipeline_frames = std::atoi(argv[++i]);
     } else if (flag == "--threads" && has_value) {
-      threads = ParseIntList(argv[++i]);
+      threads = ParseIntList(argv[++i], 1);
     } else if (flag == "--search-threads" && has_value) {
-      const std::vector<int> one = ParseIntList(argv[++i]);
+      // 0: one per core the process may use, as hposed resolves it.
+      const std::vector<int> one = ParseIntList(argv[++i], 0);
       if (one.size() != 1) {
         std::fprintf(stderr, "latency_bench: --search-threads wants one integer, got '%s'\n",
                      argv[i]);
