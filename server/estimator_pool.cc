@@ -85,20 +85,29 @@ Result<Estimate> EstimatorPool::Run(const std::vector<std::string>& names,
     }
   } release{this, slot};
   std::unique_ptr<Estimator> fresh;  // for a template subset.
-  if (!subset.empty() || slot->estimator == nullptr) {
-    Result<std::unique_ptr<Estimator>> made =
-        Estimator::Create(options_, subset.empty() ? templates_ : subset, models_);
+  const Estimator* estimator = nullptr;
+  if (subset.empty()) {
+    Result<const Estimator*> own = SlotEstimator(slot);
+    if (!own.ok()) return own.error();
+    estimator = *own;
+  } else {
+    Result<std::unique_ptr<Estimator>> made = Estimator::Create(options_, subset, models_);
     if (!made.ok()) return made.error();
-    if (subset.empty()) {
-      slot->estimator = std::move(*made);
-    } else {
-      fresh = std::move(*made);
-    }
+    fresh = std::move(*made);
+    estimator = fresh.get();
   }
-  const Estimator& estimator = fresh ? *fresh : *slot->estimator;
   std::optional<Result<Estimate>> result;
-  slot->worker.Run([&] { result.emplace(fn(estimator)); });
+  slot->worker.Run([&] { result.emplace(fn(*estimator)); });
   return std::move(*result);
+}
+
+Result<const Estimator*> EstimatorPool::SlotEstimator(Slot* slot) {
+  if (slot->estimator == nullptr) {
+    Result<std::unique_ptr<Estimator>> made = Estimator::Create(options_, templates_, models_);
+    if (!made.ok()) return made.error();
+    slot->estimator = std::move(*made);
+  }
+  return slot->estimator.get();
 }
 
 int EstimatorPool::WarmUp(const DepthImage& depth, const Intrinsics& intrinsics,
@@ -118,12 +127,10 @@ int EstimatorPool::WarmUp(const DepthImage& depth, const Intrinsics& intrinsics,
   std::vector<std::thread> threads;
   for (Slot* slot : taken) {
     threads.emplace_back([&, slot] {
-      if (slot->estimator == nullptr) {
-        Result<std::unique_ptr<Estimator>> made = Estimator::Create(options_, templates_, models_);
-        if (!made.ok()) return;  // Create of the same templates and options succeeded before.
-        slot->estimator = std::move(*made);
-      }
-      slot->worker.Run([&] { (void)slot->estimator->EstimateDepth(depth, intrinsics); });
+      // (Create of the same templates and options succeeded before.)
+      const Result<const Estimator*> estimator = SlotEstimator(slot);
+      if (!estimator.ok()) return;
+      slot->worker.Run([&] { (void)(*estimator)->EstimateDepth(depth, intrinsics); });
     });
   }
   for (std::thread& t : threads) t.join();

@@ -57,6 +57,9 @@ class EstimatorPool {
   EstimatorPool(EstimatorOptions options, std::vector<VoxelTemplate> templates, int max_instances);
 
   struct Slot;
+  // The slot's estimator with every template, made on the slot's first use. The caller holds
+  // the slot (lent, or taken by WarmUp).
+  Result<const Estimator*> SlotEstimator(Slot* slot);
   // Runs `fn` with an estimator (the slot's, or a fresh one for a template subset) on the
   // thread of a free slot.
   template <typename Fn>
