@@ -218,6 +218,18 @@ struct GeometryLoader {
   }
 };
 
+// A description still written in xacro (ROS's XML macros: <xacro:...> elements, ${...}
+// expressions) is what urdfdom rejects most often; say so, and how to expand it.
+std::string XacroHint(const std::string& text, const std::string& path) {
+  if (text.find("xacro") == std::string::npos) return "";
+  const std::string stem = fs::path(path).filename().string();
+  std::string plain = stem;
+  if (const size_t dot = plain.rfind(".xacro"); dot != std::string::npos) plain.erase(dot);
+  if (plain == stem || plain.empty()) plain = "robot.urdf";
+  return " (the file uses xacro macros: expand it to a plain URDF first, e.g. `xacro " + stem +
+         " > " + plain + "`, then pass that)";
+}
+
 }  // namespace
 
 bool UrdfJointInfo::Settable() const {
@@ -243,11 +255,13 @@ Result<UrdfRobot> UrdfRobot::Load(const std::string& urdf_path, const UrdfLoadOp
     if (model == nullptr) {
       return MakeError(ErrorCode::kInvalidArgument,
                        urdf_path + " is not a valid URDF" +
-                           (output.messages().empty() ? "" : ": " + output.messages()));
+                           (output.messages().empty() ? "" : ": " + output.messages()) +
+                           XacroHint(text.str(), urdf_path));
     }
     if (output.has_error()) {
       return MakeError(ErrorCode::kInvalidArgument,
-                       urdf_path + ": the URDF parser left parts of it out: " + output.messages());
+                       urdf_path + ": the URDF parser left parts of it out: " + output.messages() +
+                           XacroHint(text.str(), urdf_path));
     }
   }
   if (!(options.primitive_max_edge_m > 0.0)) {

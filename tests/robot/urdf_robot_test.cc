@@ -243,6 +243,17 @@ TEST(UrdfRobotTest, BadFilesAreClearErrors) {
   EXPECT_EQ(garbage.error().code, ErrorCode::kInvalidArgument);
   EXPECT_NE(garbage.error().message.find("garbage.urdf"), std::string::npos);
 
+  // A description still in xacro: the message says to expand it first.
+  Result<UrdfRobot> xacro = UrdfRobot::Load(dir.Write(
+      "r.urdf.xacro",
+      "<robot name=\"x\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">\n"
+      "  <xacro:include filename=\"leg.xacro\"/>\n  <xacro:leg side=\"l\"/>\n</robot>\n"));
+  ASSERT_FALSE(xacro.ok());
+  EXPECT_EQ(xacro.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(xacro.error().message.find("xacro r.urdf.xacro > r.urdf"), std::string::npos)
+      << xacro.error().message;
+  EXPECT_EQ(garbage.error().message.find("xacro"), std::string::npos) << garbage.error().message;
+
   dir.Write("bad.stl", "this is not a mesh at all");
   Result<UrdfRobot> bad_mesh = UrdfRobot::Load(dir.Write("r.urdf", MeshRobot("bad.stl", "1 1 1")));
   ASSERT_FALSE(bad_mesh.ok());
