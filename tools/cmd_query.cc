@@ -332,6 +332,28 @@ Result<v1::EstimateRequest> MakeRequest(const std::string& path,
   return request;
 }
 
+// Waits up to `seconds` for the daemon, which may still be starting (a script starts hposed and
+// asks it at once). A person who typed the command against no daemon is told after a second
+// what it waits for, and at the end what to check.
+bool WaitForDaemon(grpc::Channel& channel, const std::string& server, double seconds, bool tls) {
+  using Clock = std::chrono::system_clock;
+  const Clock::time_point end =
+      Clock::now() + std::chrono::milliseconds(static_cast<long>(seconds * 1000));
+  const Clock::time_point note = Clock::now() + std::chrono::seconds(1);
+  const std::string limit = Fixed(seconds, seconds < 10 ? 1 : 0) + " s";
+  if (end > note) {
+    if (channel.WaitForConnected(note)) return true;
+    std::cerr << "hpose query: waiting for hposed at " << server << " (up to " << limit
+              << ", --timeout) ...\n";
+  }
+  if (channel.WaitForConnected(end)) return true;
+  std::cerr << "hpose query: cannot reach hposed at " << server << " within " << limit
+            << ": is it running there? (start one with `hposed --source RECORDING`; --server "
+               "names another address"
+            << (tls ? "" : "; a daemon that serves TLS needs --tls-ca") << ")\n";
+  return false;
+}
+
 }  // namespace
 
 int RunQuery(int argc, char** argv) {
@@ -395,11 +417,7 @@ int RunQuery(int argc, char** argv) {
     BearerMetadata() = "Bearer " + first;
   }
   auto channel = grpc::CreateCustomChannel(f.server, *credentials, channel_args);
-  // Wait for the daemon (it may still be starting) up to the timeout.
-  if (!channel->WaitForConnected(std::chrono::system_clock::now() +
-                                 std::chrono::milliseconds(static_cast<long>(
-                                     (f.timeout_s > 0 ? f.timeout_s : 10.0) * 1000)))) {
-    std::cerr << "hpose query: cannot reach hposed at " << f.server << "\n";
+  if (!WaitForDaemon(*channel, f.server, f.timeout_s > 0 ? f.timeout_s : 10.0, !f.tls_ca.empty())) {
     return kExitUnavailable;
   }
   std::unique_ptr<v1::PoseService::Stub> stub = v1::PoseService::NewStub(channel);

@@ -202,6 +202,26 @@ TEST_F(SecureDaemonTest, PlaintextClientCannotTalkToATlsDaemon) {
   EXPECT_EQ(s.error_code(), grpc::StatusCode::UNAVAILABLE) << s.error_message();
 }
 
+// `hpose query` without --tls-ca cannot connect to a TLS daemon: after a second it says what it
+// waits for, and at its deadline what to check, with the unavailable exit status.
+TEST_F(SecureDaemonTest, PlaintextQuerySaysWhatItWaitsForAndWhatToCheck) {
+  Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(SecureConfig(/*mutual=*/false));
+  ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
+  const std::string server = "127.0.0.1:" + std::to_string((*daemon)->port());
+  std::string out;
+  EXPECT_EQ(
+      tu::RunCommand(
+          tu::HposeProgram() + " query --timeout 1.5 --server " + server + " status 2>&1", &out),
+      5)
+      << out;
+  EXPECT_NE(out.find("waiting for hposed at " + server + " (up to 1.5 s"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("cannot reach hposed at " + server + " within 1.5 s: is it running there?"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("needs --tls-ca"), std::string::npos) << out;
+}
+
 TEST_F(SecureDaemonTest, MutualTlsNeedsAClientCertificate) {
   Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(SecureConfig(/*mutual=*/true));
   ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
