@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -239,6 +240,31 @@ Result<PointCloud> DepthToCloudAvx2(const DepthImage& depth, const Intrinsics& i
 Result<PointCloud> DepthToCloudScalar(const DepthImage& depth, const Intrinsics& intrinsics,
                                       const DepthToCloudOptions& options) {
   return Project(depth, intrinsics, options, LanePath::kScalar);
+}
+
+std::string NoPointInRangeReason(const DepthImage& depth, const DepthToCloudOptions& options) {
+  const std::string image =
+      std::to_string(depth.width) + "x" + std::to_string(depth.height) + " depth image";
+  std::size_t readings = 0;
+  std::uint16_t lo = 65535, hi = 0;
+  for (const std::uint16_t v : depth.mm) {
+    if (v == 0) continue;
+    ++readings;
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  if (readings == 0) return "no pixel of the " + image + " holds a reading (every value is 0)";
+  const auto metres = [](double m) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f", m);
+    return std::string(text);
+  };
+  std::string out = "none of the " + std::to_string(readings) + " readings of the " + image +
+                    " lies within " + metres(options.min_range_m) + "-" +
+                    metres(options.max_range_m) + " m (they span " + std::to_string(lo) + "-" +
+                    std::to_string(hi) + " mm";
+  if (hi < 100) out += "; depth images hold millimetres, and one in metres or centimetres reads so";
+  return out + ")";
 }
 
 bool DepthToCloudVectorised() { return PointLanesAvailable() || PointLanes8Available(); }

@@ -1,6 +1,8 @@
 #ifndef HPOSE_CORE_DEPTH_DEPTH_TO_CLOUD_H_
 #define HPOSE_CORE_DEPTH_DEPTH_TO_CLOUD_H_
 
+#include <string>
+
 #include "core/common/status.h"
 #include "core/depth/depth_image.h"
 #include "core/depth/intrinsics.h"
@@ -30,6 +32,12 @@ bool DepthToCloudVectorised();
 Result<PointCloud> DepthToCloudAvx2(const DepthImage& depth, const Intrinsics& intrinsics,
                                     const DepthToCloudOptions& options = {});
 bool DepthToCloudAvx2Available();
+
+// Why the image gives no point within the options' range, as the end of an error message:
+// "no pixel of the 640x480 depth image holds a reading (every value is 0)", or where its
+// readings lie against the range (with a word on units when they are all a few millimetres,
+// as an image in metres or centimetres reads).
+std::string NoPointInRangeReason(const DepthImage& depth, const DepthToCloudOptions& options);
 
 }  // namespace hpose
 

@@ -536,6 +536,10 @@ Result<Estimate> Estimator::EstimateDepth(const DepthImage& depth, const Intrins
   const Clock::time_point t0 = Clock::now();
   Result<PointCloud> cloud = DepthToCloud(depth, intrinsics, options_.cloud);
   if (!cloud.ok()) return cloud.error();
+  if (cloud->empty()) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "no depth to estimate from: " + NoPointInRangeReason(depth, options_.cloud));
+  }
   return Run(*cloud, MsSince(t0), prior);
 }
 

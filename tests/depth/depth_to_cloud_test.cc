@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -65,6 +66,27 @@ TEST(DepthToCloudTest, DropsZeroAndOutOfRangeReadings) {
   ASSERT_EQ(cloud->size(), 2u);
   EXPECT_NEAR(cloud->points[0].z(), 0.4f, 1e-6);
   EXPECT_NEAR(cloud->points[1].z(), 4.5f, 1e-6);
+}
+
+// An image with no point in range says why: no reading at all, or where its readings lie,
+// with a word on units when they are all a few millimetres.
+TEST(DepthToCloudTest, NoPointInRangeSaysWhereTheReadingsLie) {
+  DepthImage depth(4, 3);
+  EXPECT_EQ(NoPointInRangeReason(depth, {}),
+            "no pixel of the 4x3 depth image holds a reading (every value is 0)");
+  depth.at(1, 1) = 2;
+  depth.at(2, 2) = 4;
+  ASSERT_TRUE(DepthToCloud(depth, SmallCamera())->empty());
+  const std::string metres = NoPointInRangeReason(depth, {});
+  EXPECT_NE(metres.find("none of the 2 readings of the 4x3 depth image lies within 0.40-4.50 m "
+                        "(they span 2-4 mm; depth images hold millimetres"),
+            std::string::npos)
+      << metres;
+  depth.at(1, 1) = 5000;
+  depth.at(2, 2) = 6000;
+  const std::string far = NoPointInRangeReason(depth, {});
+  EXPECT_NE(far.find("lies within 0.40-4.50 m (they span 5000-6000 mm)"), std::string::npos) << far;
+  EXPECT_EQ(far.find("millimetres"), std::string::npos) << far;
 }
 
 TEST(DepthToCloudTest, OrganisedKeepsNaNForInvalidPixels) {

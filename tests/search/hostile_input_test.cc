@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -54,6 +55,26 @@ TEST_F(HostileInputTest, TheUnharmedFrameIsEstimated) {
   Result<Estimate> e = estimator_->EstimateCloud(FrameCloud());
   ASSERT_TRUE(e.ok()) << e.error().ToString();
   EXPECT_FALSE(e->Humanoids().empty());
+}
+
+// A depth frame with no reading in range (a covered lens, or an image in metres) is refused
+// with what the image holds, not as an empty cloud.
+TEST_F(HostileInputTest, DepthWithoutReadingsInRangeSaysWhatItHolds) {
+  DepthImage blank(intrinsics_->width, intrinsics_->height);
+  Result<Estimate> e = estimator_->EstimateDepth(blank, *intrinsics_);
+  ASSERT_FALSE(e.ok());
+  EXPECT_EQ(e.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(e.error().message.find("no depth to estimate from: no pixel of the 320x240 depth "
+                                   "image holds a reading"),
+            std::string::npos)
+      << e.error().message;
+  DepthImage in_metres = frame_->depth;
+  for (std::uint16_t& v : in_metres.mm) v = static_cast<std::uint16_t>(v / 1000);
+  e = estimator_->EstimateDepth(in_metres, *intrinsics_);
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(e.error().message.find("one in metres or centimetres reads so"), std::string::npos)
+      << e.error().message;
+  EXPECT_TRUE(estimator_->EstimateDepth(frame_->depth, *intrinsics_).ok());
 }
 
 TEST_F(HostileInputTest, ExtremeFocalLengthsAreInvalidArgument) {
