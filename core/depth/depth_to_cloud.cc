@@ -263,7 +263,7 @@ std::string NoPointInRangeReason(const DepthImage& depth, const DepthToCloudOpti
                     " lies within " + metres(options.min_range_m) + "-" +
                     metres(options.max_range_m) + " m (they span " + std::to_string(lo) + "-" +
                     std::to_string(hi) + " mm";
-  if (hi < 100) out += "; depth images hold millimetres, and one in metres or centimetres reads so";
+  if (hi < 100) out += "; depth images hold millimetres, and one in metres reads so";
   return out + ")";
 }
 

@@ -36,7 +36,7 @@ bool DepthToCloudAvx2Available();
 // Why the image gives no point within the options' range, as the end of an error message:
 // "no pixel of the 640x480 depth image holds a reading (every value is 0)", or where its
 // readings lie against the range (with a word on units when they are all a few millimetres,
-// as an image in metres or centimetres reads).
+// as an image in metres reads).
 std::string NoPointInRangeReason(const DepthImage& depth, const DepthToCloudOptions& options);
 
 }  // namespace hpose

@@ -221,7 +221,9 @@ struct GeometryLoader {
 // A description still written in xacro (ROS's XML macros: <xacro:...> elements, ${...}
 // expressions) is what urdfdom rejects most often; say so, and how to expand it.
 std::string XacroHint(const std::string& text, const std::string& path) {
-  if (text.find("xacro") == std::string::npos) return "";
+  if (text.find("<xacro:") == std::string::npos && text.find("xmlns:xacro") == std::string::npos) {
+    return "";
+  }
   const std::string stem = fs::path(path).filename().string();
   std::string plain = stem;
   if (const size_t dot = plain.rfind(".xacro"); dot != std::string::npos) plain.erase(dot);
