@@ -1,29 +1,15 @@
 #include "server/frame_source.h"
 
-#include <cctype>
 #include <filesystem>
 #include <system_error>
 
+#include "core/common/file_names.h"
 #include "server/file_sequence_source.h"
 #include "server/openni2_source.h"
 
 namespace hpose::server {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::string Lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-}  // namespace
 
 Result<std::unique_ptr<FrameSource>> MakeFrameSource(const std::string& spec,
                                                      const ReplayOptions& replay,
@@ -44,7 +30,7 @@ Result<std::unique_ptr<FrameSource>> MakeFrameSource(const std::string& spec,
     return std::unique_ptr<FrameSource>(std::make_unique<FileSequenceSource>(spec, format, replay));
   };
   if (fs::is_regular_file(st)) {
-    const std::string lower = Lower(spec);
+    const std::string lower = LowerCase(spec);
     if (EndsWith(lower, ".oni")) {
       return std::unique_ptr<FrameSource>(std::make_unique<Openni2Source>(spec, oni));
     }

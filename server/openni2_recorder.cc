@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "core/common/clock_limits.h"
+#include "core/common/file_names.h"
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
 #include "server/openni2_source.h"
@@ -18,11 +19,6 @@ namespace hpose::server {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 bool Done(const RecordOptions& o, long frames, Clock::time_point start) {
   if (o.frames > 0 && frames >= o.frames) return true;

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/common/file_names.h"
 #include "core/common/pose2d.h"
 #include "core/depth/depth_to_cloud.h"
 #include "core/io/atomic_file.h"
@@ -57,14 +58,9 @@ bool ParseList(const std::string& text, std::vector<double>* out) {
   return !out->empty();
 }
 
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
-bool IsDepth(const fs::path& p) { return Lower(p.extension().string()) == ".png"; }
+bool IsDepth(const fs::path& p) { return LowerCase(p.extension().string()) == ".png"; }
 bool IsCloud(const fs::path& p) {
-  const std::string e = Lower(p.extension().string());
+  const std::string e = LowerCase(p.extension().string());
   return e == ".pcd" || e == ".ply";
 }
 

@@ -10,6 +10,12 @@ std::string Fixed(double v, int decimals) {
   return buf;
 }
 
+std::string FormatNumber(const char* fmt, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), fmt, v);
+  return buf;
+}
+
 std::string ApproachText(double distance_m, double in_s) {
   char buf[96];
   if (in_s >= 0.0) {

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <set>
 #include <tuple>
 
 #include <opencv2/imgproc.hpp>
 
+#include "tools/fixed_text.h"
 #include "tools/picture_png.h"
 
 namespace hpose::tools {
@@ -31,12 +31,6 @@ struct View {
 cv::Scalar HeightColour(double z) {
   const double t = std::clamp(z / 1.0, 0.0, 1.0);
   return cv::Scalar(90 + 120 * (1 - t), 90 + 120 * t, 90);  // BGR: blue-ish low, green high.
-}
-
-std::string Num(const char* fmt, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
 }
 
 std::vector<Eigen::Vector3f> PlacedVoxels(const VoxelTemplate& t, const Pose2D& pose) {
@@ -70,8 +64,8 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
   for (double r = 1.0; r < far + 0.2; r += 1.0) {
     cv::circle(left, over.Px(0, 0), static_cast<int>(r * kPanel / over.span),
                cv::Scalar(55, 55, 55), 1, cv::LINE_AA);
-    cv::putText(left, Num("%.0f m", r), over.Px(r, 0) + cv::Point(3, -3), cv::FONT_HERSHEY_SIMPLEX,
-                0.4, cv::Scalar(110, 110, 110), 1, cv::LINE_AA);
+    cv::putText(left, FormatNumber("%.0f m", r), over.Px(r, 0) + cv::Point(3, -3),
+                cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(110, 110, 110), 1, cv::LINE_AA);
   }
   for (const Eigen::Vector3f& g : ground) {
     const cv::Point p = over.Px(g.x(), g.y());
@@ -171,9 +165,10 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
     }
     const Pose2D& p = d.best.pose;
     cv::putText(img,
-                d.best.template_name + "  x " + Num("%.3f", p.x) + " m  y " + Num("%.3f", p.y) +
-                    " m  theta " + Num("%.1f", RadToDeg(p.theta)) + " deg  score " +
-                    Num("%.1f", d.best.score),
+                d.best.template_name + "  x " + FormatNumber("%.3f", p.x) + " m  y " +
+                    FormatNumber("%.3f", p.y) + " m  theta " +
+                    FormatNumber("%.1f", RadToDeg(p.theta)) + " deg  score " +
+                    FormatNumber("%.1f", d.best.score),
                 cv::Point(x1 + 10, 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(230, 230, 230), 1,
                 cv::LINE_AA);
     cv::putText(img, "close-up from above", cv::Point(x1 + 10, 42), cv::FONT_HERSHEY_SIMPLEX, 0.45,

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -10,6 +9,7 @@
 #include "core/common/pose2d.h"
 #include "core/depth/intrinsics.h"
 #include "core/templates/template_shape.h"
+#include "tools/fixed_text.h"
 #include "tools/picture_png.h"
 
 namespace hpose::tools {
@@ -21,12 +21,6 @@ constexpr int kTitleH = 40;
 
 const cv::Scalar kRed(60, 60, 230), kGreen(60, 200, 60), kBlue(230, 140, 40);
 const cv::Scalar kText(230, 230, 230);
-
-std::string Num(const char* fmt, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
-}
 
 // Grey level for a depth in [lo, hi] voxels: nearer is brighter.
 cv::Scalar Shade(int d, int lo, int hi) {
@@ -172,10 +166,10 @@ void DrawKinectView(cv::Mat* img, int x0, const VoxelTemplate& tpl,
   }
   cv::circle(*img, origin, 3, kText, cv::FILLED, cv::LINE_AA);
   cv::putText(*img,
-              "Kinect at " + Num("%.1f", o.sensor_distance_m) + " m, " +
-                  Num("%.2f", o.sensor_height_m) + " m high",
+              "Kinect at " + FormatNumber("%.1f", o.sensor_distance_m) + " m, " +
+                  FormatNumber("%.2f", o.sensor_height_m) + " m high",
               cv::Point(x0 + 10, 26), cv::FONT_HERSHEY_SIMPLEX, 0.5, kText, 1, cv::LINE_AA);
-  cv::putText(*img, "robot heading " + Num("%.0f", o.heading_deg) + " deg",
+  cv::putText(*img, "robot heading " + FormatNumber("%.0f", o.heading_deg) + " deg",
               cv::Point(x0 + 10, kPanelH - 12), cv::FONT_HERSHEY_SIMPLEX, 0.45, kText, 1,
               cv::LINE_AA);
 }
@@ -210,12 +204,13 @@ Status WriteTemplatePicture(const VoxelTemplate& tpl, const std::string& path,
   const TemplateShape shape = DescribeTemplate(tpl);
   const std::string footer =
       "'" + tpl.name + "': " + std::to_string(shape.voxels) + " voxels of " +
-      Num("%.0f", tpl.resolution_m * 1000) + " mm, height " + Num("%.0f", shape.height_m * 1000) +
-      " mm, x " + Num("%.0f", shape.width_x_m * 1000) + " mm, y " +
-      Num("%.0f", shape.width_y_m * 1000) + " mm; front/back differ " +
-      Num("%.0f", 100 * shape.front_back_difference) + "%, left/right sides " +
-      Num("%.0f", 100 * shape.left_right_difference) + "%, mirror " +
-      Num("%.0f", 100 * shape.mirror_difference) + "%";
+      FormatNumber("%.0f", tpl.resolution_m * 1000) + " mm, height " +
+      FormatNumber("%.0f", shape.height_m * 1000) + " mm, x " +
+      FormatNumber("%.0f", shape.width_x_m * 1000) + " mm, y " +
+      FormatNumber("%.0f", shape.width_y_m * 1000) + " mm; front/back differ " +
+      FormatNumber("%.0f", 100 * shape.front_back_difference) + "%, left/right sides " +
+      FormatNumber("%.0f", 100 * shape.left_right_difference) + "%, mirror " +
+      FormatNumber("%.0f", 100 * shape.mirror_difference) + "%";
   cv::putText(img, footer, cv::Point(10, kPanelH + 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, kText, 1,
               cv::LINE_AA);
   return WritePicturePng(img, path, 9);

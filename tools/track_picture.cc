@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include <opencv2/imgproc.hpp>
 
+#include "tools/fixed_text.h"
 #include "tools/picture_png.h"
 
 namespace hpose::tools {
@@ -24,12 +24,6 @@ const cv::Scalar kText(230, 230, 230);
 const cv::Scalar kAmbiguous(40, 160, 255);  // BGR orange.
 const cv::Scalar kFoundStrip(90, 180, 90);
 const cv::Scalar kMissedStrip(70, 70, 190);
-
-std::string Num(const char* fmt, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
-}
 
 void Text(cv::Mat& img, const std::string& s, cv::Point at, double scale, const cv::Scalar& c) {
   cv::putText(img, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, c, 1, cv::LINE_AA);
@@ -69,13 +63,13 @@ void DrawTopView(cv::Mat& img, const TrackTopView& v, const std::vector<TrackPoi
   const double half = 0.5 * span;
   for (double x = std::floor((v.x0 - half) / step) * step; x <= v.x0 + half; x += step) {
     cv::line(view, px(x, v.y0 + half), px(x, v.y0 - half), kGrid, 1);
-    Text(view, Num("x %g m", std::abs(x) < 1e-9 ? 0.0 : x), px(x, v.y0 + half) + cv::Point(4, -4),
-         0.4, kLabel);
+    Text(view, FormatNumber("x %g m", std::abs(x) < 1e-9 ? 0.0 : x),
+         px(x, v.y0 + half) + cv::Point(4, -4), 0.4, kLabel);
   }
   for (double y = std::floor((v.y0 - half) / step) * step; y <= v.y0 + half; y += step) {
     cv::line(view, px(v.x0 + half, y), px(v.x0 - half, y), kGrid, 1);
-    Text(view, Num("y %g", std::abs(y) < 1e-9 ? 0.0 : y), px(v.x0 - half, y) + cv::Point(3, -6),
-         0.4, kLabel);
+    Text(view, FormatNumber("y %g", std::abs(y) < 1e-9 ? 0.0 : y),
+         px(v.x0 - half, y) + cv::Point(3, -6), 0.4, kLabel);
   }
   cv::drawMarker(view, px(0, 0), kText, cv::MARKER_TRIANGLE_UP, 16, 2);
   Text(view, "sensor", px(0, 0) + cv::Point(12, 4), 0.45, kText);
@@ -153,8 +147,9 @@ void DrawChart(cv::Mat& img, const cv::Rect& box, const Series& series,
   }
   cv::rectangle(img, box, kGrid, 1);
   Text(img, series.name, cv::Point(box.x + 6, box.y + 16), 0.45, kText);
-  Text(img, Num("%.3g", hi), cv::Point(box.x + box.width + 4, box.y + 10), 0.38, kLabel);
-  Text(img, Num("%.3g", lo), cv::Point(box.x + box.width + 4, box.y + box.height), 0.38, kLabel);
+  Text(img, FormatNumber("%.3g", hi), cv::Point(box.x + box.width + 4, box.y + 10), 0.38, kLabel);
+  Text(img, FormatNumber("%.3g", lo), cv::Point(box.x + box.width + 4, box.y + box.height), 0.38,
+       kLabel);
   const auto at = [&](const TrackPoint& p) {
     const double u = time.Share(p.time_s, 0.5);
     const double w = (value(p) - lo) / (hi - lo);
@@ -223,7 +218,7 @@ Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string
   }
   Text(img,
        title + ": " + std::to_string(track.size()) + " frames over " +
-           Num("%.1f", time.t1 - time.t0) + " s, humanoid in " + std::to_string(found) +
+           FormatNumber("%.1f", time.t1 - time.t0) + " s, humanoid in " + std::to_string(found) +
            " (heading ambiguous in " + std::to_string(ambiguous) + ")",
        cv::Point(kMargin, kMargin + 4), 0.55, kText);
 
@@ -248,7 +243,7 @@ Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string
   cv::rectangle(img, cv::Rect(left, strip_top, width, strip), kGrid, 1);
   Text(img, "found", cv::Point(left + width + 4, strip_top + 11), 0.38, kLabel);
   Text(img,
-       "time " + Num("%.1f", 0.0) + " .. " + Num("%.1f s", time.t1 - time.t0) +
+       "time " + FormatNumber("%.1f", 0.0) + " .. " + FormatNumber("%.1f s", time.t1 - time.t0) +
            " (blue .. red); orange arrows: heading ambiguous",
        cv::Point(left, strip_top + strip + 16), 0.4, kLabel);
   return WritePicturePng(img, path);

@@ -214,7 +214,7 @@ Status CheckCloudFileHeader(const std::string& path, const std::string& ext,
                             std::uint64_t file_bytes) {
   Result<std::string> head = ReadFileHead(path, kMaxHeaderBytes);
   if (!head.ok()) return head.error();
-  return ext == "pcd" ? CheckPcd(path, *head, file_bytes) : CheckPly(path, *head, file_bytes);
+  return ext == ".pcd" ? CheckPcd(path, *head, file_bytes) : CheckPly(path, *head, file_bytes);
 }
 
 }  // namespace hpose

@@ -16,7 +16,7 @@ constexpr std::uint64_t kMaxCloudFilePoints = std::uint64_t{8192} * 8192;
 // (kOutOfRange beyond), and the data they announce must fit in the bytes after the header
 // (binary: count x record size; ASCII: two bytes per value at least; PCD binary_compressed: the
 // compressed and uncompressed sizes must agree with the header and the file). Fails with
-// kDataLoss naming the field otherwise. `ext` is "pcd" or "ply"; `file_bytes` the file's size.
+// kDataLoss naming the field otherwise. `ext` is ".pcd" or ".ply"; `file_bytes` the file's size.
 Status CheckCloudFileHeader(const std::string& path, const std::string& ext,
                             std::uint64_t file_bytes);
 

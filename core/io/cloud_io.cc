@@ -1,10 +1,9 @@
 #include "core/io/cloud_io.h"
 
-#include <algorithm>
-#include <cctype>
 #include <cstring>
 #include <string>
 
+#include "core/common/file_names.h"
 #include "core/io/atomic_file.h"
 #include "core/io/cloud_header_check.h"
 #include "core/io/input_file.h"
@@ -12,23 +11,10 @@
 #include "core/io/ply_reader.h"
 
 namespace hpose {
-namespace {
-
-std::string LowerExtension(const std::string& path) {
-  const size_t slash = path.find_last_of('/');
-  const size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot + 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
-
-}  // namespace
 
 bool IsCloudFile(const std::string& path) {
   const std::string ext = LowerExtension(path);
-  return ext == "pcd" || ext == "ply";
+  return ext == ".pcd" || ext == ".ply";
 }
 
 Result<PointCloud> ReadCloud(const std::string& path) {
@@ -43,7 +29,7 @@ Result<PointCloud> ReadCloud(const std::string& path) {
   // What the header announces must fit the file before the reader allocates it.
   const Status header = CheckCloudFileHeader(path, ext, *size);
   if (!header.ok()) return header.error();
-  return ext == "pcd" ? ReadPcd(path) : ReadPly(path);
+  return ext == ".pcd" ? ReadPcd(path) : ReadPly(path);
 }
 
 Status WritePcd(const PointCloud& cloud, const std::string& path) {

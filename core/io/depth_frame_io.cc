@@ -2,13 +2,12 @@
 
 #include <sys/stat.h>
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
+#include "core/common/file_names.h"
 #include "core/io/decoded_image.h"
 #include "core/io/depth_png.h"
 #include "core/io/pclzf_reader.h"
@@ -17,16 +16,6 @@
 namespace hpose {
 
 namespace {
-
-std::string LowerExtension(const std::string& path) {
-  const size_t slash = path.find_last_of('/');
-  const size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 Status CheckRegularFile(const std::string& path, const std::string& what) {
   struct stat st;

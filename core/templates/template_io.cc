@@ -14,6 +14,7 @@
 #include <octomap/OcTree.h>
 #include <nlohmann/json.hpp>
 
+#include "core/common/file_names.h"
 #include "core/io/atomic_file.h"
 #include "core/io/input_file.h"
 
@@ -148,11 +149,6 @@ std::uint64_t ExpandedOccupiedVoxels(const octomap::OcTree& tree) {
     if (total > kMaxTemplateVoxels) return total;
   }
   return total;
-}
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 std::string SidecarText(const VoxelTemplate& tpl) {

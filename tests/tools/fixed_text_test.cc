@@ -12,6 +12,13 @@ TEST(FixedTextTest, FixedKeepsTheDecimalsAsked) {
   EXPECT_EQ(Fixed(12.0, 3), "12.000");
 }
 
+TEST(FixedTextTest, FormatNumberFollowsItsFormat) {
+  EXPECT_EQ(FormatNumber("%.1f s", 2.26), "2.3 s");
+  EXPECT_EQ(FormatNumber("x %g m", 0.5), "x 0.5 m");
+  EXPECT_EQ(FormatNumber("%.0f", -3.6), "-4");
+  EXPECT_EQ(FormatNumber("%.3g", 1234.5), "1.23e+03");
+}
+
 // A closest approach still to come reads "in"; one already past reads "ago", not "in -13 s".
 TEST(FixedTextTest, ApproachTextSaysWhetherItIsToComeOrPast) {
   EXPECT_EQ(ApproachText(0.3134, 0.447), ", passes 313 mm from the robot in 0.45 s");
