@@ -22,8 +22,9 @@ Result<PointCloud> ReadCloud(const std::string& path) {
   if (!size.ok()) return size.error();
   const std::string ext = LowerExtension(path);
   if (!IsCloudFile(path)) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     path + ": unknown cloud file extension '" + ext + "' (expected .pcd or .ply)");
+    const std::string what =
+        ext.empty() ? "has no file extension" : "unknown cloud file extension '" + ext + "'";
+    return MakeError(ErrorCode::kInvalidArgument, path + ": " + what + " (expected .pcd or .ply)");
   }
   if (*size == 0) return MakeError(ErrorCode::kDataLoss, path + ": the file is empty");
   // What the header announces must fit the file before the reader allocates it.

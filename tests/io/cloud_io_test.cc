@@ -109,7 +109,16 @@ TEST(CloudIoTest, UnknownExtensionAndMissingFieldsAreInvalidArgument) {
   Result<PointCloud> cloud = ReadCloud(dir.Write("cloud.xyz", "1 2 3\n"));
   ASSERT_FALSE(cloud.ok());
   EXPECT_EQ(cloud.error().code, ErrorCode::kInvalidArgument);
-  EXPECT_NE(cloud.error().message.find("xyz"), std::string::npos);
+  EXPECT_NE(
+      cloud.error().message.find("unknown cloud file extension '.xyz' (expected .pcd or .ply)"),
+      std::string::npos)
+      << cloud.error().message;
+  cloud = ReadCloud(dir.Write("cloud", "1 2 3\n"));
+  ASSERT_FALSE(cloud.ok());
+  EXPECT_EQ(cloud.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(cloud.error().message.find("cloud: has no file extension (expected .pcd or .ply)"),
+            std::string::npos)
+      << cloud.error().message;
   const std::string no_z =
       "VERSION 0.7\nFIELDS x y\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nWIDTH 1\nHEIGHT 1\n"
       "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2\n";
