@@ -13,11 +13,10 @@
 #include <thread>
 
 #include "core/depth/depth_to_cloud.h"
-#include "core/io/depth_png.h"
-#include "core/io/intrinsics_json.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
 #include "server/daemon.h"
 #include "server/proto_convert.h"
+#include "tests/integration/daemon_fixture.h"
 #include "tests/integration/test_util.h"
 
 namespace hpose::server {
@@ -40,24 +39,22 @@ void SetDeadline(grpc::ClientContext* ctx, std::chrono::milliseconds d) {
 class DaemonRpcTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new std::string(tu::MakeTempDir("rpc"));
-    ASSERT_TRUE(tu::SimulateFrames(*dir_ + "/frames", 3));
-    DaemonConfig config;
-    config.grpc.listen = "127.0.0.1:0";
-    config.grpc.max_receive_message_bytes = kMaxReceiveBytes;
-    config.source.path = *dir_ + "/frames";
-    config.source.loop = true;
-    config.source.fps = 10.0;
-    config.templates = {tu::TemplatePath("standing"), tu::TemplatePath("right_arm_raised")};
-    Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
-    ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
-    daemon_ = daemon->release();
+    suite_ = tu::SuiteDaemon::Start({"rpc", 3}, [](const std::string& dir, DaemonConfig* config) {
+      config->grpc.max_receive_message_bytes = kMaxReceiveBytes;
+      config->source.path = dir + "/frames";
+      config->source.loop = true;
+      config->source.fps = 10.0;
+      config->templates = {tu::TemplatePath("standing"), tu::TemplatePath("right_arm_raised")};
+    });
+    if (suite_ != nullptr) {
+      dir_ = &suite_->dir();
+      daemon_ = &suite_->daemon();
+    }
   }
   static void TearDownTestSuite() {
-    delete daemon_;
+    dir_ = nullptr;
     daemon_ = nullptr;
-    if (dir_ != nullptr) std::filesystem::remove_all(*dir_);
-    delete dir_;
+    suite_.reset();
   }
 
   void SetUp() override {
@@ -66,14 +63,7 @@ class DaemonRpcTest : public ::testing::Test {
   }
 
   // A request holding the first simulated frame.
-  v1::EstimateRequest FrameRequest() const {
-    v1::EstimateRequest request;
-    Result<DepthImage> depth = ReadDepthPng(*dir_ + "/frames/depth_000.png");
-    Result<Intrinsics> k = ReadIntrinsicsJson(*dir_ + "/frames/intrinsics.json");
-    EXPECT_TRUE(depth.ok() && k.ok());
-    if (depth.ok() && k.ok()) DepthToProto(*depth, *k, request.mutable_depth());
-    return request;
-  }
+  v1::EstimateRequest FrameRequest() const { return tu::FrameRequest(*dir_ + "/frames"); }
 
   grpc::Status Estimate(const v1::EstimateRequest& request, v1::EstimateResponse* response) {
     grpc::ClientContext ctx;
@@ -89,13 +79,11 @@ class DaemonRpcTest : public ::testing::Test {
     EXPECT_EQ(status.templates(), 2u);
   }
 
-  static std::string* dir_;
-  static Daemon* daemon_;
+  static inline std::unique_ptr<tu::SuiteDaemon> suite_;
+  static inline const std::string* dir_ = nullptr;
+  static inline Daemon* daemon_ = nullptr;
   std::unique_ptr<v1::PoseService::Stub> stub_;
 };
-
-std::string* DaemonRpcTest::dir_ = nullptr;
-Daemon* DaemonRpcTest::daemon_ = nullptr;
 
 TEST_F(DaemonRpcTest, EstimateDepthFindsTheHumanoid) {
   v1::EstimateResponse response;

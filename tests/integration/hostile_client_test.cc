@@ -23,6 +23,7 @@
 #include "hpose/v1/pose_service.grpc.pb.h"
 #include "server/daemon.h"
 #include "server/proto_convert.h"
+#include "tests/integration/daemon_fixture.h"
 #include "tests/integration/hposed_process.h"
 #include "tests/integration/test_util.h"
 #include "tests/sanitizer_build.h"
@@ -36,20 +37,18 @@ namespace tu = hpose::testing_util;
 class HostileClientTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new std::string(tu::MakeTempDir("hostile"));
-    ASSERT_TRUE(tu::SimulateFrames(*dir_ + "/frames", 2));
-    DaemonConfig config;
-    config.grpc.listen = "127.0.0.1:0";
-    config.templates = {tu::TemplatePath("standing")};
-    Result<std::unique_ptr<Daemon>> daemon = Daemon::Start(config);
-    ASSERT_TRUE(daemon.ok()) << daemon.error().ToString();
-    daemon_ = daemon->release();
+    suite_ = tu::SuiteDaemon::Start({"hostile", 2}, [](const std::string&, DaemonConfig* config) {
+      config->templates = {tu::TemplatePath("standing")};
+    });
+    if (suite_ != nullptr) {
+      dir_ = &suite_->dir();
+      daemon_ = &suite_->daemon();
+    }
   }
   static void TearDownTestSuite() {
-    delete daemon_;
+    dir_ = nullptr;
     daemon_ = nullptr;
-    if (dir_ != nullptr) std::filesystem::remove_all(*dir_);
-    delete dir_;
+    suite_.reset();
   }
 
   void SetUp() override {
@@ -58,14 +57,7 @@ class HostileClientTest : public ::testing::Test {
         "127.0.0.1:" + std::to_string(daemon_->port()), grpc::InsecureChannelCredentials()));
   }
 
-  static v1::EstimateRequest FrameRequest() {
-    v1::EstimateRequest request;
-    Result<DepthImage> depth = ReadDepthPng(*dir_ + "/frames/depth_000.png");
-    Result<Intrinsics> k = ReadIntrinsicsJson(*dir_ + "/frames/intrinsics.json");
-    EXPECT_TRUE(depth.ok() && k.ok());
-    if (depth.ok() && k.ok()) DepthToProto(*depth, *k, request.mutable_depth());
-    return request;
-  }
+  static v1::EstimateRequest FrameRequest() { return tu::FrameRequest(*dir_ + "/frames"); }
 
   static v1::EstimateRequest CloudRequest() {
     const v1::EstimateRequest depth_request = FrameRequest();
@@ -94,13 +86,11 @@ class HostileClientTest : public ::testing::Test {
     EXPECT_TRUE(response.estimate().depth_template().humanoid_found());
   }
 
-  static std::string* dir_;
-  static Daemon* daemon_;
+  static inline std::unique_ptr<tu::SuiteDaemon> suite_;
+  static inline const std::string* dir_ = nullptr;
+  static inline Daemon* daemon_ = nullptr;
   std::unique_ptr<v1::PoseService::Stub> stub_;
 };
-
-std::string* HostileClientTest::dir_ = nullptr;
-Daemon* HostileClientTest::daemon_ = nullptr;
 
 TEST_F(HostileClientTest, ExtremeIntrinsicsAreInvalidArgument) {
   for (const double f : {1e-34, 1e-30, 1e-40, 1e30}) {

@@ -12,11 +12,9 @@
 #include <string>
 
 #include "core/io/atomic_file.h"
-#include "core/io/depth_png.h"
-#include "core/io/intrinsics_json.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
 #include "server/daemon.h"
-#include "server/proto_convert.h"
+#include "tests/integration/daemon_fixture.h"
 #include "tests/integration/test_util.h"
 
 namespace hpose::server {
@@ -110,11 +108,7 @@ class SecureDaemonTest : public ::testing::Test {
   }
 
   static grpc::Status Estimate(v1::PoseService::Stub* stub, const std::string& token) {
-    v1::EstimateRequest request;
-    Result<DepthImage> depth = ReadDepthPng(*dir_ + "/frames/depth_000.png");
-    Result<Intrinsics> k = ReadIntrinsicsJson(*dir_ + "/frames/intrinsics.json");
-    EXPECT_TRUE(depth.ok() && k.ok());
-    if (depth.ok() && k.ok()) DepthToProto(*depth, *k, request.mutable_depth());
+    const v1::EstimateRequest request = tu::FrameRequest(*dir_ + "/frames");
     grpc::ClientContext ctx;
     Prepare(&ctx, token);
     v1::EstimateResponse response;

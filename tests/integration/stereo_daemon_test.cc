@@ -18,8 +18,6 @@
 
 #include "core/common/pose2d.h"
 #include "core/io/atomic_file.h"
-#include "core/io/depth_png.h"
-#include "core/io/intrinsics_json.h"
 #include "core/sim/sim_truth.h"
 #include "core/stereo/rgb_image_io.h"
 #include "core/stereo/stereo_sequence.h"
@@ -29,6 +27,7 @@
 #include "server/proto_convert.h"
 #include "server/stereo_proto_convert.h"
 #include "server/world_frame.h"
+#include "tests/integration/daemon_fixture.h"
 #include "tests/integration/test_util.h"
 #include "tests/sanitizer_build.h"
 
@@ -471,11 +470,8 @@ TEST(StereoOnlyDaemonTest, ServesTheStereoSourceAloneAndFinishes) {
   {  // Without world_from_ground, depth estimates carry no world-frame pose.
     const std::string frames = dir + "/depth";
     ASSERT_TRUE(tu::SimulateFrames(frames, 2));
-    Result<DepthImage> depth = ReadDepthPng(frames + "/depth_000.png");
-    Result<Intrinsics> k = ReadIntrinsicsJson(frames + "/intrinsics.json");
-    ASSERT_TRUE(depth.ok() && k.ok());
-    v1::EstimateRequest request;
-    DepthToProto(*depth, *k, request.mutable_depth());
+    const v1::EstimateRequest request = tu::FrameRequest(frames);
+    ASSERT_TRUE(request.has_depth());
     grpc::ClientContext ctx;
     SetDeadline(&ctx, 120s);
     v1::EstimateResponse response;

@@ -37,11 +37,12 @@ inline int RunCommand(const std::string& command, std::string* out = nullptr) {
 }
 
 // Renders `frames` simulated 320x240 depth frames of the humanoid 1 m ahead (PNG +
-// intrinsics.json, no clouds) into `dir`. True on success.
-inline bool SimulateFrames(const std::string& dir, int frames, const std::string& extra = "") {
+// intrinsics.json, and cloud_NNN.pcd with `clouds`) into `dir`. True on success.
+inline bool SimulateFrames(const std::string& dir, int frames, const std::string& extra = "",
+                           bool clouds = false) {
   return RunCommand(HposeProgram() + " simulate --out '" + dir + "' --frames " +
-                    std::to_string(frames) + " --width 320 --height 240 --no-cloud --turn-deg 20 " +
-                    extra + " > /dev/null") == 0;
+                    std::to_string(frames) + " --width 320 --height 240 " +
+                    (clouds ? "" : "--no-cloud ") + "--turn-deg 20 " + extra + " > /dev/null") == 0;
 }
 
 }  // namespace hpose::testing_util
