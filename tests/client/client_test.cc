@@ -63,13 +63,7 @@ class ClientTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     // With clouds (cloud_000.pcd ...) for the cloud calls and the PCD reader.
-    suite_ = tu::SuiteDaemon::Start(
-        {"client", 3, true}, [](const std::string& dir, server::DaemonConfig* config) {
-          config->source.path = dir + "/frames";
-          config->source.loop = true;
-          config->source.fps = 10.0;
-          config->templates = {tu::TemplatePath("standing"), tu::TemplatePath("right_arm_raised")};
-        });
+    suite_ = tu::SuiteDaemon::Start({"client", 3, true}, tu::LoopTheFrames);
     if (suite_ != nullptr) {
       dir_ = &suite_->dir();
       daemon_ = &suite_->daemon();

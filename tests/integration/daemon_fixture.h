@@ -38,6 +38,15 @@ inline v1::EstimateRequest FrameRequest(const std::string& frames, int index = 0
   return request;
 }
 
+// Settings (SuiteDaemon::Configure) for a daemon that estimates its simulated frames over and
+// over at 10 frames/s, with both shipped templates.
+inline void LoopTheFrames(const std::string& dir, server::DaemonConfig* config) {
+  config->source.path = dir + "/frames";
+  config->source.loop = true;
+  config->source.fps = 10.0;
+  config->templates = {TemplatePath("standing"), TemplatePath("right_arm_raised")};
+}
+
 // A daemon listening on 127.0.0.1 (a free port) over simulated frames in a temporary directory;
 // the directory goes when the daemon does.
 class SuiteDaemon {

@@ -40,11 +40,8 @@ class DaemonRpcTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     suite_ = tu::SuiteDaemon::Start({"rpc", 3}, [](const std::string& dir, DaemonConfig* config) {
+      tu::LoopTheFrames(dir, config);
       config->grpc.max_receive_message_bytes = kMaxReceiveBytes;
-      config->source.path = dir + "/frames";
-      config->source.loop = true;
-      config->source.fps = 10.0;
-      config->templates = {tu::TemplatePath("standing"), tu::TemplatePath("right_arm_raised")};
     });
     if (suite_ != nullptr) {
       dir_ = &suite_->dir();
