@@ -48,11 +48,13 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
            << ")\n";
       } else if (options != nullptr && c.refined && c.fit.fit >= options->min_humanoid_fit &&
                  c.score < options->score_threshold) {
+        // A far cluster that passed only the far score and then lacked the evidence.
         os << "score " << Fmt("%.1f", c.score) << " and a refined fit of " << Fmt("%.1f", c.fit.fit)
-           << ", but it covers " << Fmt("%.3f", HumanoidEvidenceShare(c))
-           << " of the template (by the fit^8), below the "
-           << Fmt("%.2f", options->far_min_evidence) << " a far cluster under score "
-           << Fmt("%.0f", options->score_threshold) << " needs)\n";
+           << ", but a cluster " << Fmt("%.1f", options->far_range_m)
+           << " m away or more that scores under " << Fmt("%.0f", options->score_threshold)
+           << " needs evidence of " << Fmt("%.2f", options->far_min_evidence) << " and this has "
+           << Fmt("%.3f", HumanoidEvidenceShare(c))
+           << ": the share of the template it covers times (fit/100)^8)\n";
       } else {
         os << "score " << Fmt("%.1f", c.score) << " but a refined fit of " << Fmt("%.1f", c.fit.fit)
            << ", below the fit threshold: --min-fit)\n";

@@ -1,0 +1,65 @@
+// What `hpose estimate` prints when no humanoid passes: the nearest miss and which rule refused
+// it (tools/estimate_report.h).
+#include "tools/estimate_report.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/search/estimator.h"
+
+namespace hpose::tools {
+namespace {
+
+// A frame whose only detection is a refined candidate 3.6 m away that is not a humanoid.
+Estimate Miss(double score, double fit, int hits, double threshold) {
+  Candidate c;
+  c.template_name = "standing";
+  c.cluster_index = 6;
+  c.pose = Pose2D{3.6, 0.0, 0.0};
+  c.refined = true;
+  c.fit.fit = fit;
+  c.score = score;
+  c.hits = hits;
+  c.template_voxels = 1000;
+  Detection d;
+  d.best = c;
+  d.score_threshold = threshold;
+  Estimate e;
+  e.detections.push_back(d);
+  return e;
+}
+
+// The text after "humanoid  none found (best: ", up to the end of its line.
+std::string Why(const Estimate& e, const EstimatorOptions& o) {
+  const std::string text = EstimateToText(e, &o);
+  const std::string head = "humanoid  none found (best: standing on cluster 6, 3.6 m away, ";
+  const size_t at = text.find(head);
+  if (at == std::string::npos) return "(no nearest miss in: " + text + ")";
+  const size_t from = at + head.size();
+  return text.substr(from, text.find('\n', from) - from);
+}
+
+TEST(EstimateReportTest, AFarClusterWithoutTheEvidenceSaysWhatItHasAndNeeds) {
+  const EstimatorOptions o;  // far clusters from 2.5 m, under score 50, need evidence 0.08.
+  // Passed the far score (40) and the fit (60), but 400 hits of 1000 at a fit of 75 are
+  // 0.4 * 0.75^8 = 0.040 of the template.
+  EXPECT_EQ(Why(Miss(45.6, 75.0, 400, 40.0), o),
+            "score 45.6 and a refined fit of 75.0, but a cluster 2.5 m away or more that scores "
+            "under 50 needs evidence of 0.08 and this has 0.040: the share of the template it "
+            "covers times (fit/100)^8)");
+}
+
+TEST(EstimateReportTest, EachRefusalNamesItsRule) {
+  const EstimatorOptions o;
+  EXPECT_EQ(Why(Miss(52.0, 41.5, 500, 50.0), o),
+            "score 52.0 but a refined fit of 41.5, below the fit threshold: --min-fit)");
+  EXPECT_EQ(Why(Miss(38.0, 90.0, 400, 40.0), o), "score 38.0, below 40)");
+  Estimate stopped = Miss(0.0, 0.0, 0, 50.0);
+  stopped.detections[0].best.stopped_below_threshold = true;
+  stopped.detections[0].best.score_upper_bound = 31.24;
+  EXPECT_EQ(Why(stopped, o), "proved below score 50: at most 31.2)");
+}
+
+}  // namespace
+}  // namespace hpose::tools
