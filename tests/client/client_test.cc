@@ -64,21 +64,13 @@ class ClientTest : public ::testing::Test {
   static void SetUpTestSuite() {
     // With clouds (cloud_000.pcd ...) for the cloud calls and the PCD reader.
     suite_ = tu::SuiteDaemon::Start({"client", 3, true}, tu::LoopTheFrames);
-    if (suite_ != nullptr) {
-      dir_ = &suite_->dir();
-      daemon_ = &suite_->daemon();
-    }
   }
-  static void TearDownTestSuite() {
-    dir_ = nullptr;
-    daemon_ = nullptr;
-    suite_.reset();
-  }
+  static void TearDownTestSuite() { suite_.reset(); }
 
   void SetUp() override {
-    ASSERT_NE(daemon_, nullptr);
+    ASSERT_NE(suite_, nullptr);
     hc::ConnectOptions options;
-    options.address = daemon_->address();
+    options.address = suite_->daemon().address();
     options.call_timeout_s = 120.0;
     const hc::Status s = hc::Client::Connect(options, &client_);
     ASSERT_TRUE(s.ok()) << s.message;
@@ -98,8 +90,6 @@ class ClientTest : public ::testing::Test {
   }
 
   static inline std::unique_ptr<tu::SuiteDaemon> suite_;
-  static inline const std::string* dir_ = nullptr;
-  static inline server::Daemon* daemon_ = nullptr;
   std::unique_ptr<hc::Client> client_;
 };
 
@@ -190,15 +180,15 @@ TEST_F(ClientTest, StreamEndsAtItsDeadline) {
 
 // The client's depth Estimate gives what the raw API gives for the same frame.
 TEST_F(ClientTest, EstimateDepthAgreesWithTheRawApi) {
-  const hc::DepthImage depth = ClientDepth(*dir_ + "/frames", 1);
+  const hc::DepthImage depth = ClientDepth(suite_->dir() + "/frames", 1);
   hc::PoseEstimate e;
   const hc::Status s = client_->Estimate(depth, &e);
   ASSERT_TRUE(s.ok()) << s.message;
 
-  const v1::EstimateRequest request = tu::FrameRequest(*dir_ + "/frames", 1);
+  const v1::EstimateRequest request = tu::FrameRequest(suite_->dir() + "/frames", 1);
   ASSERT_TRUE(request.has_depth());
   auto stub = v1::PoseService::NewStub(
-      grpc::CreateChannel(daemon_->address(), grpc::InsecureChannelCredentials()));
+      grpc::CreateChannel(suite_->daemon().address(), grpc::InsecureChannelCredentials()));
   grpc::ClientContext ctx;
   ctx.set_deadline(std::chrono::system_clock::now() + 120s);
   v1::EstimateResponse response;
@@ -219,7 +209,7 @@ TEST_F(ClientTest, EstimateDepthAgreesWithTheRawApi) {
 
 TEST_F(ClientTest, EstimateCloudWithATemplateSubset) {
   hc::PointCloud cloud;
-  hc::Status s = hc::ReadPcd(*dir_ + "/frames/cloud_000.pcd", &cloud);
+  hc::Status s = hc::ReadPcd(suite_->dir() + "/frames/cloud_000.pcd", &cloud);
   ASSERT_TRUE(s.ok()) << s.message;
   hc::PoseEstimate e;
   s = client_->Estimate(cloud, &e, {"standing"});
@@ -232,7 +222,7 @@ TEST_F(ClientTest, EstimateCloudWithATemplateSubset) {
 
 TEST_F(ClientTest, ErrorsCarryTheirCodes) {
   hc::PoseEstimate e;
-  hc::DepthImage depth = ClientDepth(*dir_ + "/frames", 0);
+  hc::DepthImage depth = ClientDepth(suite_->dir() + "/frames", 0);
   hc::Status s = client_->Estimate(depth, &e, {"sitting"});
   EXPECT_EQ(s.code, kNotFound);
   EXPECT_NE(s.message.find("sitting"), std::string::npos) << s.message;
@@ -252,8 +242,8 @@ TEST_F(ClientTest, ErrorsCarryTheirCodes) {
 // The example program (client/examples) against the same daemon.
 TEST_F(ClientTest, ExampleProgramAnswers) {
   WaitLatest();
-  const std::string example =
-      std::string(HPOSE_BINARY_DIR) + "/client/hpose_client_example --server " + daemon_->address();
+  const std::string example = std::string(HPOSE_BINARY_DIR) +
+                              "/client/hpose_client_example --server " + suite_->daemon().address();
   std::string out;
   ASSERT_EQ(tu::RunCommand(example + " status", &out), 0) << out;
   EXPECT_NE(out.find("(running)"), std::string::npos) << out;
@@ -268,7 +258,8 @@ TEST_F(ClientTest, ExampleProgramAnswers) {
       2)
       << out;
   out.clear();
-  ASSERT_EQ(tu::RunCommand(example + " estimate " + *dir_ + "/frames/cloud_000.pcd", &out), 0)
+  ASSERT_EQ(tu::RunCommand(example + " estimate " + suite_->dir() + "/frames/cloud_000.pcd", &out),
+            0)
       << out;
   EXPECT_TRUE(std::regex_search(out, near_1m)) << out;
   EXPECT_EQ(out.find("below threshold"), std::string::npos) << out;
@@ -362,7 +353,7 @@ TEST(ClientSecureTest, TlsAndTokens) {
 
 // ReadPcd gives the finite points the core's reader gives, for binary and ASCII files.
 TEST_F(ClientTest, ReadPcdAgreesWithTheCoreReader) {
-  const std::string binary = *dir_ + "/frames/cloud_002.pcd";
+  const std::string binary = suite_->dir() + "/frames/cloud_002.pcd";
   Result<PointCloud> reference = ReadCloud(binary);
   ASSERT_TRUE(reference.ok());
   std::vector<float> expected;
@@ -375,7 +366,7 @@ TEST_F(ClientTest, ReadPcdAgreesWithTheCoreReader) {
   ASSERT_GT(expected.size(), 3000u);
   EXPECT_EQ(cloud.xyz, expected);
 
-  const std::string ascii = *dir_ + "/ascii.pcd";
+  const std::string ascii = suite_->dir() + "/ascii.pcd";
   std::ofstream(ascii) << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\n"
                           "TYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 3\nHEIGHT 1\nPOINTS 3\nDATA ascii\n"
                           "0.5 -1.25 2 0\nnan nan nan 0\n1e-3 3 4.5 7\n";
@@ -389,7 +380,7 @@ TEST_F(ClientTest, ReadPcdAgreesWithTheCoreReader) {
   EXPECT_EQ(s.code, kInvalidArgument);
   EXPECT_NE(s.message.find("lack x, y or z"), std::string::npos) << s.message;
   EXPECT_NE(s.message.find(ascii), std::string::npos) << s.message;
-  EXPECT_EQ(hc::ReadPcd(*dir_ + "/missing.pcd", &cloud).code, kNotFound);
+  EXPECT_EQ(hc::ReadPcd(suite_->dir() + "/missing.pcd", &cloud).code, kNotFound);
 }
 
 }  // namespace

@@ -43,24 +43,16 @@ class DaemonRpcTest : public ::testing::Test {
       tu::LoopTheFrames(dir, config);
       config->grpc.max_receive_message_bytes = kMaxReceiveBytes;
     });
-    if (suite_ != nullptr) {
-      dir_ = &suite_->dir();
-      daemon_ = &suite_->daemon();
-    }
   }
-  static void TearDownTestSuite() {
-    dir_ = nullptr;
-    daemon_ = nullptr;
-    suite_.reset();
-  }
+  static void TearDownTestSuite() { suite_.reset(); }
 
   void SetUp() override {
-    ASSERT_NE(daemon_, nullptr);
-    stub_ = Connect(daemon_->port());
+    ASSERT_NE(suite_, nullptr);
+    stub_ = Connect(suite_->daemon().port());
   }
 
   // A request holding the first simulated frame.
-  v1::EstimateRequest FrameRequest() const { return tu::FrameRequest(*dir_ + "/frames"); }
+  v1::EstimateRequest FrameRequest() const { return tu::FrameRequest(suite_->dir() + "/frames"); }
 
   grpc::Status Estimate(const v1::EstimateRequest& request, v1::EstimateResponse* response) {
     grpc::ClientContext ctx;
@@ -77,8 +69,6 @@ class DaemonRpcTest : public ::testing::Test {
   }
 
   static inline std::unique_ptr<tu::SuiteDaemon> suite_;
-  static inline const std::string* dir_ = nullptr;
-  static inline Daemon* daemon_ = nullptr;
   std::unique_ptr<v1::PoseService::Stub> stub_;
 };
 
@@ -129,14 +119,14 @@ TEST_F(DaemonRpcTest, EstimateCloudAndTemplateSubset) {
 // `hpose query estimate` of a cloud with no finite point says so, naming the file, rather than
 // sending an empty cloud for the daemon to call empty; the daemon is not asked and serves on.
 TEST_F(DaemonRpcTest, QueryOfACloudWithoutFinitePointsNamesTheFile) {
-  const std::string pcd = *dir_ + "/nan.pcd";
+  const std::string pcd = suite_->dir() + "/nan.pcd";
   std::ofstream(pcd) << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
                         "COUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\n"
                         "DATA ascii\nnan nan nan\nnan 1 inf\n";
   std::string out;
   const int code = tu::RunCommand(
       tu::HposeProgram() + " query estimate '" + pcd +
-          "' --timeout 20 --server 127.0.0.1:" + std::to_string(daemon_->port()) + " 2>&1",
+          "' --timeout 20 --server 127.0.0.1:" + std::to_string(suite_->daemon().port()) + " 2>&1",
       &out);
   EXPECT_EQ(code, 1) << out;
   EXPECT_NE(out.find("nan.pcd: the cloud has no finite points (all 2 are NaN or infinite)"),
@@ -147,7 +137,7 @@ TEST_F(DaemonRpcTest, QueryOfACloudWithoutFinitePointsNamesTheFile) {
 
 // Deadlines the clock cannot hold are usage errors, not a deadline already past.
 TEST_F(DaemonRpcTest, QueryTimeoutsBeyondADayAreUsageErrors) {
-  const std::string server = " --server 127.0.0.1:" + std::to_string(daemon_->port());
+  const std::string server = " --server 127.0.0.1:" + std::to_string(suite_->daemon().port());
   std::string out;
   int code =
       tu::RunCommand(tu::HposeProgram() + " query status --timeout 1e300" + server + " 2>&1", &out);

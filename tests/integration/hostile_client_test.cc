@@ -40,24 +40,17 @@ class HostileClientTest : public ::testing::Test {
     suite_ = tu::SuiteDaemon::Start({"hostile", 2}, [](const std::string&, DaemonConfig* config) {
       config->templates = {tu::TemplatePath("standing")};
     });
-    if (suite_ != nullptr) {
-      dir_ = &suite_->dir();
-      daemon_ = &suite_->daemon();
-    }
   }
-  static void TearDownTestSuite() {
-    dir_ = nullptr;
-    daemon_ = nullptr;
-    suite_.reset();
-  }
+  static void TearDownTestSuite() { suite_.reset(); }
 
   void SetUp() override {
-    ASSERT_NE(daemon_, nullptr);
-    stub_ = v1::PoseService::NewStub(grpc::CreateChannel(
-        "127.0.0.1:" + std::to_string(daemon_->port()), grpc::InsecureChannelCredentials()));
+    ASSERT_NE(suite_, nullptr);
+    stub_ = v1::PoseService::NewStub(
+        grpc::CreateChannel("127.0.0.1:" + std::to_string(suite_->daemon().port()),
+                            grpc::InsecureChannelCredentials()));
   }
 
-  static v1::EstimateRequest FrameRequest() { return tu::FrameRequest(*dir_ + "/frames"); }
+  static v1::EstimateRequest FrameRequest() { return tu::FrameRequest(suite_->dir() + "/frames"); }
 
   static v1::EstimateRequest CloudRequest() {
     const v1::EstimateRequest depth_request = FrameRequest();
@@ -87,8 +80,6 @@ class HostileClientTest : public ::testing::Test {
   }
 
   static inline std::unique_ptr<tu::SuiteDaemon> suite_;
-  static inline const std::string* dir_ = nullptr;
-  static inline Daemon* daemon_ = nullptr;
   std::unique_ptr<v1::PoseService::Stub> stub_;
 };
 
