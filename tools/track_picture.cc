@@ -61,10 +61,13 @@ void DrawTopView(cv::Mat& img, const TrackTopView& v, const std::vector<TrackPoi
   const double span = v.size / v.px_per_m;
   const double step = GridStep(span);
   const double half = 0.5 * span;
+  // The y labels run along the bottom edge; an x line too close to it keeps no label.
+  constexpr int kBottomLabelBand = 18;
   for (double x = std::floor((v.x0 - half) / step) * step; x <= v.x0 + half; x += step) {
     cv::line(view, px(x, v.y0 + half), px(x, v.y0 - half), kGrid, 1);
-    Text(view, FormatNumber("x %g m", std::abs(x) < 1e-9 ? 0.0 : x),
-         px(x, v.y0 + half) + cv::Point(4, -4), 0.4, kLabel);
+    const cv::Point at = px(x, v.y0 + half) + cv::Point(4, -4);
+    if (at.y > v.size - kBottomLabelBand) continue;
+    Text(view, FormatNumber("x %g m", std::abs(x) < 1e-9 ? 0.0 : x), at, 0.4, kLabel);
   }
   for (double y = std::floor((v.y0 - half) / step) * step; y <= v.y0 + half; y += step) {
     cv::line(view, px(v.x0 + half, y), px(v.x0 - half, y), kGrid, 1);
@@ -102,8 +105,14 @@ void DrawTopView(cv::Mat& img, const TrackTopView& v, const std::vector<TrackPoi
     const cv::Point end = px(last->pose.x, last->pose.y);
     cv::rectangle(view, end - cv::Point(6, 6), end + cv::Point(6, 6), TimeColour(1.0), 2);
   } else {
-    Text(view, "no humanoid found in any frame", cv::Point(20, v.size / 2), 0.7,
-         cv::Scalar(120, 120, 255));
+    // Centred in the panel's upper quarter, on the background, clear of the sensor below.
+    const std::string note = "no humanoid found in any frame";
+    int baseline = 0;
+    const cv::Size box = cv::getTextSize(note, cv::FONT_HERSHEY_SIMPLEX, 0.7, 1, &baseline);
+    const cv::Point at((v.size - box.width) / 2, v.size / 4);
+    cv::rectangle(view, at + cv::Point(-8, baseline + 6),
+                  at + cv::Point(box.width + 8, -box.height - 8), kBackground, cv::FILLED);
+    Text(view, note, at, 0.7, cv::Scalar(120, 120, 255));
   }
   cv::rectangle(img, panel, kLabel, 1);
 }
@@ -180,13 +189,17 @@ int TrackTopView::Row(double x) const {
 
 TrackTopView FitTrackTopView(const std::vector<TrackPoint>& track) {
   double xmin = 0.0, xmax = 0.0, ymin = 0.0, ymax = 0.0;  // the sensor is always in view.
+  bool any = false;
   for (const TrackPoint& p : track) {
     if (!p.found || !std::isfinite(p.pose.x) || !std::isfinite(p.pose.y)) continue;
+    any = true;
     xmin = std::min(xmin, p.pose.x);
     xmax = std::max(xmax, p.pose.x);
     ymin = std::min(ymin, p.pose.y);
     ymax = std::max(ymax, p.pose.y);
   }
+  // The sensor looks along +x: without a pose to show, the view is of the floor ahead of it.
+  if (!any) xmax = kMinViewSpanM - 2 * kViewMarginM;
   TrackTopView v;
   v.x0 = 0.5 * (xmin + xmax);
   v.y0 = 0.5 * (ymin + ymax);

@@ -31,7 +31,7 @@ struct TrackTopView {
 };
 
 // The top view that shows the sensor (the ground frame's origin) and every found pose of
-// `track`, with a margin.
+// `track`, with a margin; without a found pose, the floor ahead of the sensor.
 TrackTopView FitTrackTopView(const std::vector<TrackPoint>& track);
 
 // Draws a replay's track for people: left, the floor from above (the sensor at the origin, +x

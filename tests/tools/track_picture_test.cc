@@ -105,6 +105,11 @@ TEST(TrackPictureTest, ATrackWithoutAHumanoidIsDrawnWithoutAPath) {
   }
   // The "no humanoid found" note is drawn in a pale red; no path colours beyond it.
   EXPECT_LT(coloured, 3000);
+  EXPECT_GT(coloured, 100);
+  // The view is of the floor ahead of the sensor, and the note leaves the sensor clear.
+  EXPECT_GT(v.Row(0.0), v.top + v.size / 2);
+  EXPECT_LT(v.Row(1.0), v.top + v.size / 2);
+  EXPECT_FALSE(ColouredNear(*img, v.Col(0.0), v.Row(0.0), 20));
   EXPECT_TRUE(WriteTrackPicture({}, "empty", path).ok());
   std::filesystem::remove(path);
   EXPECT_FALSE(WriteTrackPicture(track, "x", "/nonexistent-dir/track.png").ok());
