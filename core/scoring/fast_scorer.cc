@@ -64,15 +64,15 @@ int FastScorer::Hits(const RotatedTemplate& rotated, int ix, int iy) const {
   };
   if (shift_ >= 0) {
     const int sh = shift_;
-    for (const Eigen::Vector3i& q : rotated.sub_cells) {
+    ForEachPlacedVoxel(rotated, [&](const Eigen::Vector3i& q) {
       // Arithmetic right shift is floor division by a power of two (C++20; GCC always).
       visit((q.x() + ix) >> sh, (q.y() + iy) >> sh, q.z());
-    }
+    });
   } else {
     const int s = lattice_.subdivisions;
-    for (const Eigen::Vector3i& q : rotated.sub_cells) {
+    ForEachPlacedVoxel(rotated, [&](const Eigen::Vector3i& q) {
       visit(FloorDiv(q.x() + ix, s), FloorDiv(q.y() + iy, s), q.z());
-    }
+    });
   }
   return hits;
 }

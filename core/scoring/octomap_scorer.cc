@@ -29,9 +29,9 @@ OctomapScorer::~OctomapScorer() = default;
 
 int OctomapScorer::Hits(const RotatedTemplate& rotated, int ix, int iy) const {
   octomap::KeySet placed;
-  for (const Eigen::Vector3i& sub : rotated.sub_cells) {
+  ForEachPlacedVoxel(rotated, [&](const Eigen::Vector3i& sub) {
     placed.insert(tree_->KeyOf(PlacedCell(sub, ix, iy, lattice_.subdivisions)));
-  }
+  });
   int hits = 0;
   for (const octomap::OcTreeKey& key : placed) {
     const octomap::OcTreeNode* node = tree_->octree.search(key);

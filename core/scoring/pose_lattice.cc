@@ -202,22 +202,20 @@ void FillColumns(const PointColumns& g, const std::vector<Eigen::Vector2i>& corn
   }
 }
 
-// RotatePoints for grouped points (the same RotatedTemplate).
-RotatedTemplate RotateColumns(const PointColumns& g, const PoseLattice& lattice, int itheta) {
+// RotatePoints for grouped points whose columns rotation itheta places at q (RotateColumnsQ):
+// the same RotatedTemplate without its sub_cells (the column view holds the same cells, and
+// 360 rotations of a few thousand sub-cells are megabytes that a process first touching them
+// pays for page by page).
+RotatedTemplate RotateColumns(const PointColumns& g, const std::vector<Eigen::Vector2i>& q,
+                              int itheta) {
   RotatedTemplate r;
-  r.itheta = WrapAngleIndex(lattice, itheta);
+  r.itheta = itheta;
   if (g.point_column.empty()) return r;
-  const std::vector<Eigen::Vector2i> q = RotateColumnsQ(g, lattice, r.itheta);
   r.q_min = q.front();
   r.q_max = q.front();
   for (const Eigen::Vector2i& p : q) {
     r.q_min = r.q_min.cwiseMin(p);
     r.q_max = r.q_max.cwiseMax(p);
-  }
-  r.sub_cells.reserve(g.point_column.size());
-  for (size_t i = 0; i < g.point_column.size(); ++i) {
-    const Eigen::Vector2i& p = q[g.point_column[i]];
-    r.sub_cells.emplace_back(p.x(), p.y(), g.point_z[i]);
   }
   FillColumns(g, q, nullptr, &r);
   return r;
@@ -229,6 +227,8 @@ void AddCellTables(int shift, RotatedTemplate* r) {
   const int mask = (1 << shift) - 1;
   r->column_cxe.clear();
   r->column_cy.clear();
+  r->column_cxe.reserve(r->column_q.size());
+  r->column_cy.reserve(r->column_q.size());
   for (const Eigen::Vector2i& q : r->column_q) {
     const int e = 2 * ((q.x() & mask) != 0 ? 1 : 0) + ((q.y() & mask) != 0 ? 1 : 0);
     r->column_cxe.push_back(4 * (q.x() >> shift) + e);
@@ -277,47 +277,58 @@ TemplateRotations::TemplateRotations(const VoxelTemplate& tpl, const PoseLattice
 TemplateRotations::TemplateRotations(std::string name, double height_m,
                                      const std::vector<Eigen::Vector3f>& points,
                                      const PoseLattice& lattice)
-    : name_(std::move(name)), height_m_(height_m), lattice_(lattice) {
+    : name_(std::move(name)), height_m_(height_m), voxels_(points.size()), lattice_(lattice) {
   const PointColumns g = GroupPoints(points, lattice.resolution_m);
   rotations_.reserve(lattice.angle_steps);
-  // Per column and block, the square its sub-voxel coordinates sweep: [lo, hi].
-  std::vector<std::vector<Eigen::Vector2i>> lo, hi;
-  for (int i = 0; i < lattice.angle_steps; ++i) {
-    rotations_.push_back(RotateColumns(g, lattice, i));
-    lo.push_back(RotateColumnsQ(g, lattice, i));
-  }
-  hi = lo;
-  for (int level = 1; level < kThetaLevels; ++level) {
-    std::vector<RotatedTemplate> blocks;
-    std::vector<std::vector<Eigen::Vector2i>> next_lo, next_hi;
-    for (size_t k = 0; k < lo.size(); k += 2) {
-      next_lo.push_back(lo[k]);
-      next_hi.push_back(hi[k]);
-      if (k + 1 < lo.size()) {
-        for (size_t c = 0; c < g.xy.size(); ++c) {
-          next_lo.back()[c] = next_lo.back()[c].cwiseMin(lo[k + 1][c]);
-          next_hi.back()[c] = next_hi.back()[c].cwiseMax(hi[k + 1][c]);
-        }
-      }
-      std::vector<int> extent(g.xy.size());
-      if (level_extent_.size() < static_cast<size_t>(level)) level_extent_.push_back(0);
-      for (size_t c = 0; c < g.xy.size(); ++c) {
-        extent[c] = (next_hi.back()[c] - next_lo.back()[c]).maxCoeff();
-        level_extent_[level - 1] = std::max(level_extent_[level - 1], extent[c]);
-        max_block_extent_ = std::max(max_block_extent_, extent[c]);
-      }
-      RotatedTemplate block;
-      block.itheta = static_cast<int>(k / 2) << level;
-      if (!g.xy.empty()) FillColumns(g, next_lo.back(), &extent, &block);
-      blocks.push_back(std::move(block));
+  blocks_.resize(kThetaLevels - 1);
+  level_extent_.assign(kThetaLevels - 1, 0);
+  // The rotations a block of the top theta level spans, a group at a time: every block lies
+  // within one group, and what a group needs (its rotations' and blocks' sweeps) is kept only
+  // while it is built, in the same few hundred kilobytes for every group.
+  const int group = 1 << (kThetaLevels - 1);
+  // Per column and block of the level being built, the square its sub-voxel coordinates
+  // sweep: [lo, hi].
+  std::vector<std::vector<Eigen::Vector2i>> lo, hi, next_lo, next_hi;
+  std::vector<int> extent(g.xy.size());
+  for (int first = 0; first < lattice.angle_steps; first += group) {
+    const int n = std::min(group, lattice.angle_steps - first);
+    lo.resize(n);
+    for (int i = 0; i < n; ++i) {
+      lo[i] = RotateColumnsQ(g, lattice, first + i);
+      rotations_.push_back(RotateColumns(g, lo[i], first + i));
     }
-    blocks_.push_back(std::move(blocks));
-    lo = std::move(next_lo);
-    hi = std::move(next_hi);
+    hi = lo;
+    for (int level = 1; level < kThetaLevels; ++level) {
+      next_lo.resize((lo.size() + 1) / 2);
+      next_hi.resize(next_lo.size());
+      for (size_t k = 0; k < lo.size(); k += 2) {
+        std::vector<Eigen::Vector2i>& block_lo = next_lo[k / 2];
+        std::vector<Eigen::Vector2i>& block_hi = next_hi[k / 2];
+        block_lo = lo[k];
+        block_hi = hi[k];
+        if (k + 1 < lo.size()) {
+          for (size_t c = 0; c < g.xy.size(); ++c) {
+            block_lo[c] = block_lo[c].cwiseMin(lo[k + 1][c]);
+            block_hi[c] = block_hi[c].cwiseMax(hi[k + 1][c]);
+          }
+        }
+        for (size_t c = 0; c < g.xy.size(); ++c) {
+          extent[c] = (block_hi[c] - block_lo[c]).maxCoeff();
+          level_extent_[level - 1] = std::max(level_extent_[level - 1], extent[c]);
+          max_block_extent_ = std::max(max_block_extent_, extent[c]);
+        }
+        RotatedTemplate block;
+        block.itheta = ((first >> level) + static_cast<int>(k / 2)) << level;
+        if (!g.xy.empty()) FillColumns(g, block_lo, &extent, &block);
+        blocks_[level - 1].push_back(std::move(block));
+      }
+      std::swap(lo, next_lo);
+      std::swap(hi, next_hi);
+    }
   }
   z_words_ = g.z_words;
   const double q_to_m = lattice.resolution_m / lattice.subdivisions;
-  for (const Eigen::Vector3i& q : rotations_.front().sub_cells) {
+  for (const Eigen::Vector2i& q : rotations_.front().column_q) {
     rim_radius_m_ =
         std::max(rim_radius_m_, std::hypot((q.x() + 1.0) * q_to_m, (q.y() + 1.0) * q_to_m));
     rim_radius_m_ = std::max(rim_radius_m_, std::hypot(q.x() * q_to_m, q.y() * q_to_m));

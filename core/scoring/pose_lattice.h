@@ -72,7 +72,9 @@ Eigen::Vector3i CellOf(const Eigen::Vector3f& p, double resolution_m);
 // A template rotated by one lattice angle: per voxel the sub-voxel x, y (q) and the z cell.
 struct RotatedTemplate {
   int itheta = 0;
-  std::vector<Eigen::Vector3i> sub_cells;           // (qx, qy, cz) per template voxel.
+  // (qx, qy, cz) per template voxel, from RotatePoints and RotateTemplate (the reference). The
+  // rotations of a TemplateRotations hold the column view only: ForEachPlacedVoxel reads either.
+  std::vector<Eigen::Vector3i> sub_cells;
   Eigen::Vector2i q_min = Eigen::Vector2i::Zero();  // bounds of qx, qy.
   Eigen::Vector2i q_max = Eigen::Vector2i::Zero();
 
@@ -95,6 +97,20 @@ struct RotatedTemplate {
   std::vector<std::int32_t> column_cxe;
   std::vector<std::int32_t> column_cy;
 };
+
+// Calls f(sub_cell) once for every distinct (qx, qy, cz) of a single rotation (not a theta block),
+// read from its column view: the cells of its sub_cells, each once.
+template <typename F>
+void ForEachPlacedVoxel(const RotatedTemplate& r, F&& f) {
+  for (size_t c = 0; c < r.column_q.size(); ++c) {
+    const Eigen::Vector2i& q = r.column_q[c];
+    for (int w = 0; w < r.z_words; ++w) {
+      for (std::uint64_t m = r.column_masks[c * r.z_words + w]; m != 0; m &= m - 1) {
+        f(Eigen::Vector3i(q.x(), q.y(), r.z_base + 64 * w + __builtin_ctzll(m)));
+      }
+    }
+  }
+}
 
 RotatedTemplate RotateTemplate(const VoxelTemplate& tpl, const PoseLattice& lattice, int itheta);
 // The same for the template points `points` (VoxelSurfaceCentroids of a template).
@@ -286,7 +302,7 @@ class TemplateRotations {
   // TemplateRotations of its own (one-word columns, the same columns' (x, y)). The slabs' cells
   // are disjoint, so a pose's hits are the sum of its slabs' hits, and a sum of their bounds
   // bounds it. Empty for one-word templates and without a power-of-two subdivision. A slab's
-  // rotations hold the column view only (no sub_cells: the template's own rotations have them).
+  // rotations hold the column view only, as the template's own do.
   const std::vector<std::unique_ptr<TemplateRotations>>& slabs() const { return slabs_; }
   int z_words() const { return z_words_; }
   // The bytes of a cell table's mask (CellGroups::mask_bytes): those of the highest z bit any
@@ -300,8 +316,10 @@ class TemplateRotations {
   const std::string& name() const { return name_; }
   double height_m() const { return height_m_; }
   // How far rotation 0's voxels reach from the origin horizontally: the farthest corner (q or
-  // q + 1 per axis, in metres) of any of its sub-voxel cells; 0 for a slab (no sub-cells).
+  // q + 1 per axis, in metres) of any of its sub-voxel cells; 0 for a slab.
   double rim_radius_m() const { return rim_radius_m_; }
+  // The template points it was made from (one per template voxel); 0 for a slab.
+  std::size_t voxels() const { return voxels_; }
   const PoseLattice& lattice() const { return lattice_; }
 
  private:
@@ -314,6 +332,7 @@ class TemplateRotations {
   std::string name_;
   double height_m_ = 0.0;
   double rim_radius_m_ = 0.0;
+  std::size_t voxels_ = 0;
   PoseLattice lattice_;
   std::vector<RotatedTemplate> rotations_;
   // blocks_[level - 1][itheta0 >> level] for level in [1, kThetaLevels).

@@ -383,9 +383,9 @@ Estimator::Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templa
       const PoseLattice& a = m.lattice;
       const PoseLattice& b = options_.lattice;
       if (m.rotations == nullptr || m.surface == nullptr || m.rotations->name() != t.name ||
-          m.rotations->Get(0).sub_cells.size() != t.voxels.size() ||
-          a.resolution_m != b.resolution_m || a.subdivisions != b.subdivisions ||
-          a.angle_steps != b.angle_steps || m.surface_spacing_m != spacing) {
+          m.rotations->voxels() != t.voxels.size() || a.resolution_m != b.resolution_m ||
+          a.subdivisions != b.subdivisions || a.angle_steps != b.angle_steps ||
+          m.surface_spacing_m != spacing) {
         continue;
       }
       rotations_[j] = m.rotations;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -93,8 +94,12 @@ TEST(TemplateRotationsTest, PrecomputesEveryAngle) {
   const TemplateRotations rot(tpl, lattice);
   EXPECT_EQ(rot.Get(90).itheta, 90);
   // 90 degrees turns +x into +y: q = floor(0.1 * 4 / 0.016) = 25 on the y axis.
-  EXPECT_EQ(rot.Get(90).sub_cells[0].y(), 25);
-  EXPECT_EQ(rot.Get(0).sub_cells[0].x(), 25);
+  const auto has_column = [](const RotatedTemplate& r, int qx, int qy) {
+    return std::find(r.column_q.begin(), r.column_q.end(), Eigen::Vector2i(qx, qy)) !=
+           r.column_q.end();
+  };
+  EXPECT_TRUE(has_column(rot.Get(90), 0, 25));
+  EXPECT_TRUE(has_column(rot.Get(0), 25, 0));
   // The rim: the far corner (26, 1) of the sub-voxel cell (25, 0), 4 mm steps.
   EXPECT_NEAR(rot.rim_radius_m(), std::hypot(26 * 0.004, 1 * 0.004), 1e-12);
 }
@@ -208,11 +213,37 @@ TEST(TemplateRotationsTest, EqualsRotatingEveryPoint) {
   const PoseLattice lattice;
   const TemplateRotations rot(tpl, lattice);
   const std::vector<Eigen::Vector3f> points = tpl.VoxelSurfaceCentroids();
+  EXPECT_EQ(rot.voxels(), points.size());
   for (int t = 0; t < lattice.angle_steps; t += 7) {
     const RotatedTemplate a = RotatePoints(points, lattice, t);
     const RotatedTemplate& b = rot.Get(t);
-    EXPECT_EQ(a.sub_cells, b.sub_cells) << t;
+    EXPECT_TRUE(b.sub_cells.empty()) << t;  // the column view only.
     ExpectSameColumns(a, b, "rotation " + std::to_string(t));
+  }
+}
+
+// ForEachPlacedVoxel reads a rotation's column view: every distinct sub-cell of RotatePoints,
+// once, also where two template voxels land on the same sub-cell and for templates taller than
+// one 64-bit word.
+TEST(TemplateRotationsTest, PlacedVoxelsAreTheDistinctSubCells) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-0.12f, 0.12f);
+  std::uniform_real_distribution<float> h(0.0f, 1.6f);  // 100 z cells: two words.
+  std::vector<Eigen::Vector3f> points;
+  for (int i = 0; i < 400; ++i) points.emplace_back(u(rng), u(rng), h(rng));
+  points.push_back(points[7]);  // the same sub-cell twice.
+  const PoseLattice lattice;
+  for (int t : {0, 13, 90, 200, 359}) {
+    const RotatedTemplate r = RotatePoints(points, lattice, t);
+    ASSERT_GT(r.z_words, 1);
+    std::vector<std::tuple<int, int, int>> want, got;
+    for (const Eigen::Vector3i& q : r.sub_cells) want.emplace_back(q.x(), q.y(), q.z());
+    std::sort(want.begin(), want.end());
+    want.erase(std::unique(want.begin(), want.end()), want.end());
+    ASSERT_LT(want.size(), r.sub_cells.size()) << t;
+    ForEachPlacedVoxel(r, [&](const Eigen::Vector3i& q) { got.emplace_back(q.x(), q.y(), q.z()); });
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, want) << t;
   }
 }
 

@@ -184,7 +184,7 @@ TEST(EstimatorTest, SharedTemplateModelsGiveTheSameCandidates) {
   EXPECT_EQ(e1->models()[0].rotations->lattice().angle_steps, 180);
   EXPECT_NE(e2->models()[0].surface.get(), a[0].surface.get());
   EXPECT_NE(e3->models()[0].rotations.get(), a[0].rotations.get());
-  EXPECT_EQ(e3->models()[0].rotations->Get(0).sub_cells.size(), tpls[1].voxels.size());
+  EXPECT_EQ(e3->models()[0].rotations->voxels(), tpls[1].voxels.size());
   EXPECT_TRUE(e1->EstimateDepth(frame.depth, spec.intrinsics).ok());
 }
 
@@ -328,7 +328,7 @@ TEST(RoundTripTest, TallHumanoidIsSearchedOnCoarserVoxels) {
   for (size_t j = 0; j < tpls.size(); ++j) {
     const TemplateModels m = coarse->models()[j];
     EXPECT_EQ(m.lattice.resolution_m, edge);
-    EXPECT_EQ(m.rotations->Get(0).sub_cells.size(), VoxeliseAgain(tpls[j], edge)->voxels.size());
+    EXPECT_EQ(m.rotations->voxels(), VoxeliseAgain(tpls[j], edge)->voxels.size());
     EXPECT_LE(m.rotations->height_m(), 48 * edge + 1e-9);
     EXPECT_EQ(m.surface->points().size(), SurfaceModel(tpls[j]).points().size());
     EXPECT_EQ(m.surface->spacing_m(), 0.008);
@@ -368,12 +368,11 @@ TEST(EstimatorTest, SearchEdgeFollowsTheTemplates) {
   auto own = Estimator::Create(options, {twenty});
   ASSERT_TRUE(own.ok()) << own.error().ToString();
   EXPECT_EQ((*own)->options().lattice.resolution_m, 0.020);
-  EXPECT_EQ((*own)->models()[0].rotations->Get(0).sub_cells.size(), twenty.voxels.size());
+  EXPECT_EQ((*own)->models()[0].rotations->voxels(), twenty.voxels.size());
   auto mixed = Estimator::Create(options, {fine, twenty});
   ASSERT_TRUE(mixed.ok()) << mixed.error().ToString();
   EXPECT_EQ((*mixed)->options().lattice.resolution_m, 0.020);
-  EXPECT_EQ((*mixed)->models()[0].rotations->Get(0).sub_cells.size(),
-            VoxeliseAgain(fine, 0.020)->voxels.size());
+  EXPECT_EQ((*mixed)->models()[0].rotations->voxels(), VoxeliseAgain(fine, 0.020)->voxels.size());
   EXPECT_NE(VoxeliseAgain(fine, 0.020)->voxels.size(), fine.voxels.size());
 
   // The humanoid is found on the 20 mm search.
@@ -396,7 +395,7 @@ TEST(EstimatorTest, SearchEdgeFollowsTheTemplates) {
   auto coarser = Estimator::Create(fixed, {fine, twenty});
   ASSERT_TRUE(coarser.ok()) << coarser.error().ToString();
   EXPECT_EQ((*coarser)->options().lattice.resolution_m, 0.024);
-  EXPECT_EQ((*coarser)->models()[1].rotations->Get(0).sub_cells.size(),
+  EXPECT_EQ((*coarser)->models()[1].rotations->voxels(),
             VoxeliseAgain(twenty, 0.024)->voxels.size());
 
   EstimatorOptions bad = options;
