@@ -187,11 +187,111 @@ struct Sidecar {
   std::vector<Eigen::Vector3f> surface;
 };
 
+// Reads a sidecar's text as events: its keys' values into a JSON object, except the surface
+// array (tens of thousands of integers), whose entries go straight into a vector; a document
+// value per entry would cost several times the parse. A nested array or object under another
+// key is kept as an empty one of its kind (only its kind is checked).
+class SidecarReader : public json::json_sax_t {
+ public:
+  static constexpr const char* kSurfaceKey = "surface_0.1mm";
+
+  json top;                        // the object's keys; the surface's is an empty array.
+  bool object = false;             // the document is an object.
+  bool surface_array = false;      // the surface key holds an array.
+  std::vector<long long> surface;  // its integer entries within the range, in order.
+  long long surface_entries = 0;   // its entries of any kind.
+  long long first_bad_entry = -1;  // the first entry that is not such an integer.
+
+  bool null() override { return Scalar(json(nullptr)); }
+  bool boolean(bool v) override { return Scalar(json(v)); }
+  bool number_integer(number_integer_t v) override {
+    if (InSurface()) return Entry(v >= -kMaxEntry && v <= kMaxEntry, v);
+    return Scalar(json(v));
+  }
+  bool number_unsigned(number_unsigned_t v) override {
+    if (InSurface()) {
+      const bool ok = v <= static_cast<number_unsigned_t>(kMaxEntry);
+      return Entry(ok, ok ? static_cast<long long>(v) : 0);
+    }
+    return Scalar(json(v));
+  }
+  bool number_float(number_float_t v, const string_t&) override {
+    if (InSurface()) return Entry(false, 0);
+    return Scalar(json(v));
+  }
+  bool string(string_t& v) override { return Scalar(json(v)); }
+  bool binary(binary_t&) override { return Scalar(json::binary({})); }
+  bool start_object(std::size_t) override { return Open(false); }
+  bool end_object() override { return Close(); }
+  bool start_array(std::size_t) override { return Open(true); }
+  bool end_array() override { return Close(); }
+  bool key(string_t& k) override {
+    if (depth_ == 1) key_ = k;
+    return true;
+  }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+    return false;
+  }
+
+ private:
+  static constexpr long long kMaxEntry = 100000000LL;  // 10 km in 0.1 mm.
+
+  bool InSurface() const { return depth_ == 2 && in_surface_; }
+  bool Entry(bool ok, long long v) {
+    if (ok) {
+      surface.push_back(v);
+    } else if (first_bad_entry < 0) {
+      first_bad_entry = surface_entries;
+    }
+    ++surface_entries;
+    return true;
+  }
+  // A value that is no container: the document itself (not an object), a key's, or nested.
+  bool Scalar(json v) {
+    if (InSurface()) return Entry(false, 0);
+    if (depth_ == 1) {
+      if (key_ == kSurfaceKey) Restart(false);
+      top[key_] = std::move(v);
+    }
+    return true;
+  }
+  // The surface key's value begins (again: as in a document, the last one counts).
+  void Restart(bool array) {
+    surface_array = array;
+    surface.clear();
+    surface_entries = 0;
+    first_bad_entry = -1;
+  }
+  bool Open(bool array) {
+    if (depth_ == 0) {
+      object = !array;
+    } else if (depth_ == 1) {
+      in_surface_ = array && key_ == kSurfaceKey;
+      if (key_ == kSurfaceKey) Restart(array);
+      top[key_] = array ? json::array() : json::object();
+    } else if (InSurface()) {
+      Entry(false, 0);
+    }
+    ++depth_;
+    return true;
+  }
+  bool Close() {
+    --depth_;
+    if (depth_ == 1) in_surface_ = false;
+    return true;
+  }
+
+  int depth_ = 0;
+  bool in_surface_ = false;
+  std::string key_;
+};
+
 Result<Sidecar> ParseSidecar(const std::string& text, const std::string& path) {
-  json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded() || !j.is_object()) {
+  SidecarReader reader;
+  if (!json::sax_parse(text, &reader) || !reader.object) {
     return MakeError(ErrorCode::kDataLoss, path + ": not a JSON object");
   }
+  const json& j = reader.top;
   static const char* const kKnown[] = {"format",         "version",      "name",   "variant",
                                        "resolution_m",   "source",       "voxels", "height_m",
                                        "surface_points", "surface_0.1mm"};
@@ -237,25 +337,22 @@ Result<Sidecar> ParseSidecar(const std::string& text, const std::string& path) {
     }
     s.voxels = j["voxels"].get<long long>();
   }
-  if (j.contains("surface_0.1mm")) {
-    const json& a = j["surface_0.1mm"];
-    if (!a.is_array() || a.size() % 3 != 0) {
+  if (j.contains(SidecarReader::kSurfaceKey)) {
+    if (!reader.surface_array || reader.surface_entries % 3 != 0) {
       return MakeError(ErrorCode::kDataLoss,
                        path + ": 'surface_0.1mm' must be an array of x, y, z integer triples");
     }
+    if (reader.first_bad_entry >= 0) {
+      return MakeError(ErrorCode::kDataLoss, path + ": 'surface_0.1mm' entry " +
+                                                 std::to_string(reader.first_bad_entry) +
+                                                 " is not an integer within 10 km");
+    }
+    const std::vector<long long>& a = reader.surface;
     s.surface.reserve(a.size() / 3);
     for (size_t i = 0; i < a.size(); i += 3) {
-      Eigen::Vector3f p;
-      for (int k = 0; k < 3; ++k) {
-        const json& v = a[i + k];
-        if (!v.is_number_integer() || std::llabs(v.get<long long>()) > 100000000LL) {
-          return MakeError(ErrorCode::kDataLoss, path + ": 'surface_0.1mm' entry " +
-                                                     std::to_string(i + k) +
-                                                     " is not an integer within 10 km");
-        }
-        p[k] = static_cast<float>(v.get<long long>() * kSurfaceUnitM);
-      }
-      s.surface.push_back(p);
+      s.surface.emplace_back(static_cast<float>(a[i] * kSurfaceUnitM),
+                             static_cast<float>(a[i + 1] * kSurfaceUnitM),
+                             static_cast<float>(a[i + 2] * kSurfaceUnitM));
     }
     if (j.contains("surface_points") &&
         (!j["surface_points"].is_number_integer() ||

@@ -262,7 +262,11 @@ TEST_F(TemplateSurfaceIoTest, VersionOneSidecarsWithoutSurfaceStillLoad) {
 TEST_F(TemplateSurfaceIoTest, CorruptSurfaceArraysAreRefusedByName) {
   const VoxelTemplate t = RandomTemplate(500, 7);
   for (const std::string& bad :
-       {std::string("[1, 2]"), std::string("[1, 2, \"x\"]"), std::string("{}")}) {
+       {std::string("[1, 2]"), std::string("[1, 2, \"x\"]"), std::string("{}"),
+        std::string("[1, 2, 3.5]"), std::string("[1, 2, [3]]"), std::string("[1, {}, 3]"),
+        std::string("[1, 2, 100000001]"), std::string("[1, 2, -100000001]"),
+        std::string("[1, 2, 18446744073709551615]"), std::string("[1, 2, null]"), std::string("7"),
+        std::string("[1, 2, 3] , \"surface_0.1mm\": 5")}) {
     ASSERT_TRUE(SaveTemplate(t, Path("c.bt")).ok());
     std::ofstream(Path("c.json"))
         << "{\"format\": \"hpose-template\", \"version\": 2, \"resolution_m\": 0.016, "
@@ -273,6 +277,35 @@ TEST_F(TemplateSurfaceIoTest, CorruptSurfaceArraysAreRefusedByName) {
     EXPECT_NE(back.error().message.find("surface_0.1mm"), std::string::npos)
         << back.error().message;
   }
+}
+
+// The entry named is the first bad one, counting entries of any kind; a key given twice counts
+// by its last value, as in any JSON document.
+TEST_F(TemplateSurfaceIoTest, SurfaceEntriesAreNamedAndTheLastKeyCounts) {
+  const VoxelTemplate t = RandomTemplate(500, 8);
+  ASSERT_TRUE(SaveTemplate(t, Path("e.bt")).ok());
+  const std::string head =
+      "{\"format\": \"hpose-template\", \"version\": 2, \"resolution_m\": 0.016, ";
+  std::ofstream(Path("e.json")) << head << "\"surface_0.1mm\": [1, [2, 3], 4, 5.5, 6, 7]}\n";
+  Result<VoxelTemplate> back = LoadTemplate(Path("e.bt"));
+  ASSERT_FALSE(back.ok());
+  EXPECT_NE(back.error().message.find("entry 1 is not an integer"), std::string::npos)
+      << back.error().message;
+
+  std::ofstream(Path("e.json")) << head
+                                << "\"surface_0.1mm\": [1, 2], \"surface_0.1mm\": [10, -20, 30, "
+                                   "40, 50, 60], \"surface_points\": 2}\n";
+  back = LoadTemplate(Path("e.bt"));
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  ASSERT_EQ(back->surface.size(), 2u);
+  EXPECT_NEAR(back->surface[0].y(), -0.002f, 1e-7f);
+  EXPECT_NEAR(back->surface[1].z(), 0.006f, 1e-7f);
+
+  std::ofstream(Path("e.json")) << "[" << head << "\"surface_0.1mm\": []}]\n";
+  back = LoadTemplate(Path("e.bt"));
+  ASSERT_FALSE(back.ok());
+  EXPECT_NE(back.error().message.find("not a JSON object"), std::string::npos)
+      << back.error().message;
 }
 
 TEST_F(TemplateSurfaceIoTest, SurfaceCentroidsStayInTheirVoxelColumns) {
