@@ -46,19 +46,36 @@ std::vector<Eigen::Vector3f> PlaneNormals(const std::vector<Eigen::Vector3f>& po
   std::sort(sorted.begin(), sorted.end());
 
   const float r2 = radius * radius;
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3f& p = points[i];
-    const Eigen::Vector3i& c = cell[i];
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    // The lower triangle of the sum of outer products (the solver reads no more).
-    double xx = 0.0, yx = 0.0, zx = 0.0, yy = 0.0, zy = 0.0, zz = 0.0;
-    int n = 0;
+  // Points of one cell share their neighbour cells: the nine ranges are found once per cell,
+  // the points taken in cell order (each point's sums run over the same neighbours in the
+  // same order as for any other order of the points).
+  using Iterator = std::vector<std::pair<std::int64_t, int>>::const_iterator;
+  std::pair<Iterator, Iterator> ranges[9];
+  for (auto run = sorted.cbegin(); run != sorted.cend();) {
+    auto run_end = run;
+    while (run_end != sorted.cend() && run_end->first == run->first) ++run_end;
+    const Eigen::Vector3i& c = cell[run->second];
+    int r = 0;
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
         const std::int64_t first = key(c + Eigen::Vector3i(dx, dy, -1));
         const std::int64_t last = first + 2;
-        auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(first, INT_MIN));
-        for (; it != sorted.end() && it->first <= last; ++it) {
+        auto begin =
+            std::lower_bound(sorted.cbegin(), sorted.cend(), std::make_pair(first, INT_MIN));
+        auto end = begin;
+        while (end != sorted.cend() && end->first <= last) ++end;
+        ranges[r++] = {begin, end};
+      }
+    }
+    for (; run != run_end; ++run) {
+      const size_t i = static_cast<size_t>(run->second);
+      const Eigen::Vector3f& p = points[i];
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      // The lower triangle of the sum of outer products (the solver reads no more).
+      double xx = 0.0, yx = 0.0, zx = 0.0, yy = 0.0, zy = 0.0, zz = 0.0;
+      int n = 0;
+      for (const auto& [begin, end] : ranges) {
+        for (auto it = begin; it != end; ++it) {
           const int j = it->second;
           if ((points[j] - p).squaredNorm() > r2) continue;
           const Eigen::Vector3d q = (points[j] - p).cast<double>();
@@ -72,14 +89,14 @@ std::vector<Eigen::Vector3f> PlaneNormals(const std::vector<Eigen::Vector3f>& po
           ++n;
         }
       }
+      if (n < 3) continue;
+      Eigen::Matrix3d outer;
+      outer << xx, yx, zx, yx, yy, zy, zx, zy, zz;
+      const Eigen::Vector3d mean = sum / n;
+      const Eigen::Matrix3d cov = outer / n - mean * mean.transpose();
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+      normals[i] = eig.eigenvectors().col(0).normalized().cast<float>();
     }
-    if (n < 3) continue;
-    Eigen::Matrix3d outer;
-    outer << xx, yx, zx, yx, yy, zy, zx, zy, zz;
-    const Eigen::Vector3d mean = sum / n;
-    const Eigen::Matrix3d cov = outer / n - mean * mean.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-    normals[i] = eig.eigenvectors().col(0).normalized().cast<float>();
   }
   return normals;
 }
