@@ -308,10 +308,11 @@ TEST(ColumnOccupancyTest, SweptGroupsCountTheVoxelsTheBlockReaches) {
     std::uniform_int_distribution<int> d(-reach / s, reach / s), th(0, 359),
         lv(1, TemplateRotations::kSweptLevels);
     int nonzero = 0;
+    const std::vector<Eigen::Vector3f> centroids = tpl.VoxelSurfaceCentroids();
     for (int k = 0; k < 60; ++k) {
       const RotatedTemplate& r = rot.Get(th(rng));
       // The reference: the template's voxels rotated one by one.
-      const RotatedTemplate points = RotatePoints(tpl.VoxelSurfaceCentroids(), lattice, r.itheta);
+      const RotatedTemplate points = RotatePoints(centroids, lattice, r.itheta);
       const int level = lv(rng), size = 1 << level, step = std::min(size, s);
       std::uniform_int_distribution<int> res(0, std::max(1, s / step) - 1);
       const int ra = step * res(rng), rb = step * res(rng);
@@ -435,9 +436,15 @@ TEST(ColumnOccupancyTest, CommonPairCellsAreThoseEveryPoseOfTheBlockPlaces) {
     const TemplateRotations lazy(tpl, lattice);
     const TemplateRotations ahead(tpl, lattice);
     ahead.MakeTables(TemplateRotations::kThetaLevels - 1, 0, lattice.angle_steps);
+    // The reference: the template's voxels rotated one by one, at every heading.
+    std::vector<RotatedTemplate> reference;
+    const std::vector<Eigen::Vector3f> centroids = tpl.VoxelSurfaceCentroids();
+    for (int i = 0; i < lattice.angle_steps; ++i) {
+      reference.push_back(RotatePoints(centroids, lattice, i));
+    }
     const auto placed = [&](int itheta, int ix, int iy) {
       CellMasks out;
-      const RotatedTemplate r = RotatePoints(tpl.VoxelSurfaceCentroids(), lattice, itheta);
+      const RotatedTemplate& r = reference[itheta];
       for (const Eigen::Vector3i& q : r.sub_cells) {
         const Eigen::Vector3i c = PlacedCell(q, ix, iy, s);
         out[{c.x(), c.y()}] |= std::uint64_t{1} << (c.z() - r.z_base);
@@ -987,9 +994,7 @@ TEST(ExactSearchTest, TallTemplateSearchedBySlabsEqualsExhaustiveSearch) {
       for (const std::uint64_t m : slab->Get(0).column_masks)
         slab_voxels += __builtin_popcountll(m);
     }
-    size_t voxels = 0;
-    ForEachPlacedVoxel(rot.Get(0), [&](const Eigen::Vector3i&) { ++voxels; });
-    EXPECT_EQ(slab_voxels, voxels);
+    EXPECT_EQ(slab_voxels, rot.voxels());
 
     const Pose2D truth{1.2, -0.1, DegToRad(-160.0 + 61.0 * scene)};
     const ClusterVoxels cluster = VoxeliseCluster(
