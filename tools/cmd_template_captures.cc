@@ -11,7 +11,6 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "core/common/file_names.h"
 #include "core/common/pose2d.h"
@@ -24,6 +23,7 @@
 #include "core/templates/capture_template.h"
 #include "core/templates/capture_views.h"
 #include "core/templates/template_io.h"
+#include "tools/canvas.h"
 #include "tools/cmd_template_captures_flags.h"
 #include "tools/command.h"
 #include "tools/exit_codes.h"
@@ -134,57 +134,55 @@ Status WriteRegistrationPicture(const CaptureRegistration& reg, const CaptureTem
                                 const std::string& path) {
   constexpr int kPanel = 480;
   constexpr double kScale = 1.0 / 0.0015;
-  cv::Mat img(kPanel, 2 * kPanel, CV_8UC3, cv::Scalar(255, 255, 255));
+  Result<Canvas> made = Canvas::Create(2 * kPanel, kPanel, Bgr(255, 255, 255));
+  if (!made.ok()) return made.error();
+  Canvas& img = *made;
   const Pose2D& t = tpl.table_from_template;
   const double c = std::cos(t.theta), s = std::sin(t.theta);
   auto to_template = [&](double x, double y) {
     return Eigen::Vector2d(c * (x - t.x) + s * (y - t.y), -s * (x - t.x) + c * (y - t.y));
   };
   auto top = [&](const Eigen::Vector2d& p) {
-    return cv::Point(kPanel / 2 - static_cast<int>(p.y() * kScale),
-                     kPanel / 2 - static_cast<int>(p.x() * kScale));
+    return Px(kPanel / 2 - static_cast<int>(p.y() * kScale),
+              kPanel / 2 - static_cast<int>(p.x() * kScale));
   };
   auto side = [&](double x, double z) {
-    return cv::Point(kPanel + kPanel / 2 + static_cast<int>(x * kScale),
-                     kPanel - 30 - static_cast<int>(z * kScale));
+    return Px(kPanel + kPanel / 2 + static_cast<int>(x * kScale),
+              kPanel - 30 - static_cast<int>(z * kScale));
   };
   const int n = static_cast<int>(reg.views.size());
   for (int i = 0; i < n; ++i) {
-    cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(static_cast<int>(170.0 * i / n), 230, 200));
-    cv::Mat bgr;
-    cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
-    const cv::Vec3b colour = bgr.at<cv::Vec3b>(0, 0);
+    // Hues from red through green to violet (OpenCV's 8-bit hue steps of 2 degrees).
+    const Bgr hsv = BgrFromHsv(2.0 * static_cast<int>(170.0 * i / n), 230.0 / 255, 200.0 / 255);
+    const Bgr colour(std::round(hsv.b), std::round(hsv.g), std::round(hsv.r));
     const Pose2D& g = reg.table_from_ground[i];
     const double gc = std::cos(g.theta), gs = std::sin(g.theta);
     for (const Eigen::Vector3f& p : reg.views[i].points) {
       const Eigen::Vector2d q =
           to_template(gc * p.x() - gs * p.y() + g.x, gs * p.x() + gc * p.y() + g.y);
-      for (const cv::Point& px : {top(q), side(q.x(), p.z())}) {
-        if (px.x >= 0 && px.y >= 0 && px.x < img.cols && px.y < img.rows) {
-          img.at<cv::Vec3b>(px) = colour;
-        }
+      for (const Px& px : {top(q), side(q.x(), p.z())}) {
+        img.SetPixel(px, static_cast<std::uint8_t>(colour.b), static_cast<std::uint8_t>(colour.g),
+                     static_cast<std::uint8_t>(colour.r));
       }
     }
-    cv::putText(img, reg.views[i].name, cv::Point(8, 16 + 14 * i), cv::FONT_HERSHEY_SIMPLEX, 0.4,
-                cv::Scalar(colour), 1, cv::LINE_AA);
+    img.Text(reg.views[i].name, Px(8, 16 + 14 * i), 0.4, colour, 1, LineKind::kSmooth);
   }
-  const cv::Scalar black(0, 0, 0), red(0, 0, 220);
-  cv::line(img, cv::Point(kPanel, 0), cv::Point(kPanel, kPanel), cv::Scalar(180, 180, 180));
-  cv::line(img, side(-0.2, 0.0), side(0.2, 0.0), cv::Scalar(150, 150, 150));
+  const Bgr black(0, 0, 0), red(0, 0, 220);
+  img.Line(Px(kPanel, 0), Px(kPanel, kPanel), Bgr(180, 180, 180));
+  img.Line(side(-0.2, 0.0), side(0.2, 0.0), Bgr(150, 150, 150));
   for (const auto& [from, to] :
        {std::pair(top({0, 0}), top({0.1, 0})), std::pair(side(0, 0), side(0.1, 0))}) {
-    cv::arrowedLine(img, from, to, red, 2, cv::LINE_AA, 0, 0.2);
-    cv::circle(img, from, 4, red, 2, cv::LINE_AA);
+    img.ArrowedLine(from, to, red, 2, LineKind::kSmooth, 0.2);
+    img.Circle(from, 4, red, 2, LineKind::kSmooth);
   }
   if (reg.motion == CaptureMotion::kTurntable) {
-    cv::drawMarker(img, top(to_template(0.0, 0.0)), black, cv::MARKER_CROSS, 16, 2);
-    cv::putText(img, "axis", top(to_template(0.0, 0.0)) + cv::Point(8, 14),
-                cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+    img.Marker(top(to_template(0.0, 0.0)), black, MarkerShape::kCross, 16, 2);
+    img.Text("axis", top(to_template(0.0, 0.0)) + Px(8, 14), 0.45, black, 1, LineKind::kSmooth);
   }
-  cv::putText(img, "from above (template frame, +x up)", cv::Point(8, kPanel - 10),
-              cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
-  cv::putText(img, "from the robot's right (+x right, z up)", cv::Point(kPanel + 8, kPanel - 10),
-              cv::FONT_HERSHEY_SIMPLEX, 0.45, black, 1, cv::LINE_AA);
+  img.Text("from above (template frame, +x up)", Px(8, kPanel - 10), 0.45, black, 1,
+           LineKind::kSmooth);
+  img.Text("from the robot's right (+x right, z up)", Px(kPanel + 8, kPanel - 10), 0.45, black, 1,
+           LineKind::kSmooth);
   return WritePicturePng(img, path);
 }
 

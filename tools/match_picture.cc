@@ -5,8 +5,7 @@
 #include <set>
 #include <tuple>
 
-#include <opencv2/imgproc.hpp>
-
+#include "tools/canvas.h"
 #include "tools/fixed_text.h"
 #include "tools/picture_png.h"
 
@@ -21,16 +20,21 @@ constexpr int kPanel = 640;
 struct View {
   double a0, b0, span;
   int x0;  // panel's left edge in the image.
-  cv::Point Px(double a, double b) const {
+  Px At(double a, double b) const {
     const double s = kPanel / span;
-    return cv::Point(x0 + static_cast<int>(kPanel - (b - b0) * s),
-                     static_cast<int>(kPanel - (a - a0) * s));
+    return Px(x0 + static_cast<int>(kPanel - (b - b0) * s),
+              static_cast<int>(kPanel - (a - a0) * s));
   }
 };
 
-cv::Scalar HeightColour(double z) {
+Bgr HeightColour(double z) {
   const double t = std::clamp(z / 1.0, 0.0, 1.0);
-  return cv::Scalar(90 + 120 * (1 - t), 90 + 120 * t, 90);  // BGR: blue-ish low, green high.
+  return Bgr(90 + 120 * (1 - t), 90 + 120 * t, 90);  // BGR: blue-ish low, green high.
+}
+
+// A colour channel as a byte, rounded and clamped (as OpenCV's saturate_cast).
+std::uint8_t Byte(double v) {
+  return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
 }
 
 std::vector<Eigen::Vector3f> PlacedVoxels(const VoxelTemplate& t, const Pose2D& pose) {
@@ -45,7 +49,9 @@ std::vector<Eigen::Vector3f> PlacedVoxels(const VoxelTemplate& t, const Pose2D& 
 
 Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTemplate>& templates,
                          const PointCloud& cloud_sensor, const std::string& path) {
-  cv::Mat img(kPanel, 2 * kPanel, CV_8UC3, cv::Scalar(30, 30, 30));
+  Result<Canvas> made = Canvas::Create(2 * kPanel, kPanel, Bgr(30, 30, 30));
+  if (!made.ok()) return made.error();
+  Canvas& img = *made;
   std::vector<Eigen::Vector3f> ground;
   ground.reserve(cloud_sensor.size() / 2);
   const Eigen::Isometry3f gs = estimate.floor.ground_from_sensor.cast<float>();
@@ -55,34 +61,32 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
     if (g.z() > 0.02f && g.z() < 2.5f) ground.push_back(g);
   }
 
-  cv::Mat left = img(cv::Rect(0, 0, kPanel, kPanel));  // clips the overview to its panel.
+  Canvas left = img.Region({0, 0, kPanel, kPanel});  // clips the overview to its panel.
   // Overview: from the sensor to the farthest cluster (at least 2 m), centred on y = 0.
   double far = 2.0;
   for (const ClusterSummary& c : estimate.clusters) far = std::max(far, c.max.x() + 0.3);
   far = std::min(far, 6.0);
   const View over{-0.2, -(far + 0.2) / 2, far + 0.2, 0};
   for (double r = 1.0; r < far + 0.2; r += 1.0) {
-    cv::circle(left, over.Px(0, 0), static_cast<int>(r * kPanel / over.span),
-               cv::Scalar(55, 55, 55), 1, cv::LINE_AA);
-    cv::putText(left, FormatNumber("%.0f m", r), over.Px(r, 0) + cv::Point(3, -3),
-                cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(110, 110, 110), 1, cv::LINE_AA);
+    left.Circle(over.At(0, 0), static_cast<int>(r * kPanel / over.span), Bgr(55, 55, 55), 1,
+                LineKind::kSmooth);
+    left.Text(FormatNumber("%.0f m", r), over.At(r, 0) + Px(3, -3), 0.4, Bgr(110, 110, 110), 1,
+              LineKind::kSmooth);
   }
   for (const Eigen::Vector3f& g : ground) {
-    const cv::Point p = over.Px(g.x(), g.y());
+    const Px p = over.At(g.x(), g.y());
     if (p.x >= 0 && p.x < kPanel && p.y >= 0 && p.y < kPanel) {
-      left.at<cv::Vec3b>(p) = cv::Vec3b(cv::saturate_cast<uchar>(HeightColour(g.z())[0]),
-                                        cv::saturate_cast<uchar>(HeightColour(g.z())[1]),
-                                        cv::saturate_cast<uchar>(HeightColour(g.z())[2]));
+      const Bgr c = HeightColour(g.z());
+      left.SetPixel(p, Byte(c.b), Byte(c.g), Byte(c.r));
     }
   }
-  cv::drawMarker(left, over.Px(0, 0), cv::Scalar(255, 255, 255), cv::MARKER_TRIANGLE_UP, 14, 2);
-  cv::putText(left, "sensor", over.Px(0, 0) + cv::Point(10, -4), cv::FONT_HERSHEY_SIMPLEX, 0.45,
-              cv::Scalar(230, 230, 230), 1, cv::LINE_AA);
+  left.Marker(over.At(0, 0), Bgr(255, 255, 255), MarkerShape::kTriangleUp, 14, 2);
+  left.Text("sensor", over.At(0, 0) + Px(10, -4), 0.45, Bgr(230, 230, 230), 1, LineKind::kSmooth);
   for (const ClusterSummary& c : estimate.clusters) {
-    cv::rectangle(left, over.Px(c.min.x(), c.min.y()), over.Px(c.max.x(), c.max.y()),
-                  c.searched ? cv::Scalar(200, 200, 200) : cv::Scalar(90, 90, 90), 1);
-    cv::putText(left, std::to_string(c.index), over.Px(c.max.x(), c.max.y()) + cv::Point(2, -2),
-                cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(200, 200, 200), 1, cv::LINE_AA);
+    left.Rectangle(over.At(c.min.x(), c.min.y()), over.At(c.max.x(), c.max.y()),
+                   c.searched ? Bgr(200, 200, 200) : Bgr(90, 90, 90), 1);
+    left.Text(std::to_string(c.index), over.At(c.max.x(), c.max.y()) + Px(2, -2), 0.4,
+              Bgr(200, 200, 200), 1, LineKind::kSmooth);
   }
   const std::vector<Detection> humans = estimate.Humanoids();
   auto find_template = [&](const std::string& name) -> const VoxelTemplate* {
@@ -95,22 +99,22 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
     const VoxelTemplate* t = find_template(d.best.template_name);
     if (t == nullptr) continue;
     for (const Eigen::Vector3f& v : PlacedVoxels(*t, d.best.pose)) {
-      cv::circle(left, over.Px(v.x(), v.y()), 1, cv::Scalar(60, 60, 230), -1);
+      left.Circle(over.At(v.x(), v.y()), 1, Bgr(60, 60, 230), -1);
     }
     const Pose2D& p = d.best.pose;
-    cv::arrowedLine(left, over.Px(p.x, p.y),
-                    over.Px(p.x + 0.35 * std::cos(p.theta), p.y + 0.35 * std::sin(p.theta)),
-                    cv::Scalar(80, 80, 255), 2, cv::LINE_AA, 0, 0.25);
+    left.ArrowedLine(over.At(p.x, p.y),
+                     over.At(p.x + 0.35 * std::cos(p.theta), p.y + 0.35 * std::sin(p.theta)),
+                     Bgr(80, 80, 255), 2, LineKind::kSmooth, 0.25);
   }
-  cv::putText(left, "top view (ground frame, x up, y left)", cv::Point(10, 20),
-              cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(230, 230, 230), 1, cv::LINE_AA);
+  left.Text("top view (ground frame, x up, y left)", Px(10, 20), 0.5, Bgr(230, 230, 230), 1,
+            LineKind::kSmooth);
 
   // Close-ups of the best humanoid (or a note that there is none).
   const int x1 = kPanel;
-  cv::line(img, cv::Point(x1, 0), cv::Point(x1, kPanel), cv::Scalar(90, 90, 90), 1);
+  img.Line(Px(x1, 0), Px(x1, kPanel), Bgr(90, 90, 90), 1);
   if (humans.empty()) {
-    cv::putText(img, "no humanoid above the score threshold", cv::Point(x1 + 20, kPanel / 2),
-                cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(120, 120, 255), 1, cv::LINE_AA);
+    img.Text("no humanoid above the score threshold", Px(x1 + 20, kPanel / 2), 0.6,
+             Bgr(120, 120, 255), 1, LineKind::kSmooth);
   } else {
     const Detection& d = humans.front();
     const VoxelTemplate* t = find_template(d.best.template_name);
@@ -142,41 +146,38 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
     const double span = 0.9;  // metres shown in each close-up.
     const double s = half / span;
     // Top close-up in the upper half, side close-up (y horizontal, z up) in the lower half.
-    auto draw_cell = [&](const Cell& c, const cv::Scalar& colour, bool top) {
+    auto draw_cell = [&](const Cell& c, const Bgr& colour, bool top) {
       const double cx = (std::get<0>(c) + 0.5) * res, cy = (std::get<1>(c) + 0.5) * res,
                    cz = (std::get<2>(c) + 0.5) * res;
-      cv::Point p;
+      Px p;
       if (top) {
-        p = cv::Point(x1 + half - static_cast<int>((cy - d.best.pose.y) * s),
-                      half / 2 + 20 - static_cast<int>((cx - d.best.pose.x) * s));
+        p = Px(x1 + half - static_cast<int>((cy - d.best.pose.y) * s),
+               half / 2 + 20 - static_cast<int>((cx - d.best.pose.x) * s));
       } else {
-        p = cv::Point(x1 + half - static_cast<int>((cy - d.best.pose.y) * s),
-                      kPanel - 15 - static_cast<int>(cz * s * 0.85));
+        p = Px(x1 + half - static_cast<int>((cy - d.best.pose.y) * s),
+               kPanel - 15 - static_cast<int>(cz * s * 0.85));
       }
       const int r = std::max(1, static_cast<int>(res * s * 0.45));
-      cv::rectangle(img, p - cv::Point(r, r), p + cv::Point(r, r), colour, -1);
+      img.Rectangle(p - Px(r, r), p + Px(r, r), colour, -1);
     };
     for (bool top : {true, false}) {
-      for (const Cell& c : template_cells) draw_cell(c, cv::Scalar(50, 50, 200), top);
+      for (const Cell& c : template_cells) draw_cell(c, Bgr(50, 50, 200), top);
       for (const Cell& c : cluster_cells) {
-        draw_cell(c, template_cells.count(c) ? cv::Scalar(220, 60, 220) : cv::Scalar(220, 130, 40),
-                  top);
+        draw_cell(c, template_cells.count(c) ? Bgr(220, 60, 220) : Bgr(220, 130, 40), top);
       }
     }
     const Pose2D& p = d.best.pose;
-    cv::putText(img,
-                d.best.template_name + "  x " + FormatNumber("%.3f", p.x) + " m  y " +
-                    FormatNumber("%.3f", p.y) + " m  theta " +
-                    FormatNumber("%.1f", RadToDeg(p.theta)) + " deg  score " +
-                    FormatNumber("%.1f", d.best.score),
-                cv::Point(x1 + 10, 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(230, 230, 230), 1,
-                cv::LINE_AA);
-    cv::putText(img, "close-up from above", cv::Point(x1 + 10, 42), cv::FONT_HERSHEY_SIMPLEX, 0.45,
-                cv::Scalar(170, 170, 170), 1, cv::LINE_AA);
-    cv::putText(img, "seen from the sensor (y-z)", cv::Point(x1 + 10, half + 12),
-                cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(170, 170, 170), 1, cv::LINE_AA);
-    cv::putText(img, "blue: cluster  red: template  magenta: both", cv::Point(x1 + 10, kPanel - 2),
-                cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(200, 200, 200), 1, cv::LINE_AA);
+    img.Text(d.best.template_name + "  x " + FormatNumber("%.3f", p.x) + " m  y " +
+                 FormatNumber("%.3f", p.y) + " m  theta " +
+                 FormatNumber("%.1f", RadToDeg(p.theta)) + " deg  score " +
+                 FormatNumber("%.1f", d.best.score),
+             Px(x1 + 10, 20), 0.5, Bgr(230, 230, 230), 1, LineKind::kSmooth);
+    img.Text("close-up from above", Px(x1 + 10, 42), 0.45, Bgr(170, 170, 170), 1,
+             LineKind::kSmooth);
+    img.Text("seen from the sensor (y-z)", Px(x1 + 10, half + 12), 0.45, Bgr(170, 170, 170), 1,
+             LineKind::kSmooth);
+    img.Text("blue: cluster  red: template  magenta: both", Px(x1 + 10, kPanel - 2), 0.45,
+             Bgr(200, 200, 200), 1, LineKind::kSmooth);
   }
   return WritePicturePng(img, path);
 }

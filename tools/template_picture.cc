@@ -4,11 +4,10 @@
 #include <cmath>
 #include <vector>
 
-#include <opencv2/imgproc.hpp>
-
 #include "core/common/pose2d.h"
 #include "core/depth/intrinsics.h"
 #include "core/templates/template_shape.h"
+#include "tools/canvas.h"
 #include "tools/fixed_text.h"
 #include "tools/picture_png.h"
 
@@ -19,49 +18,44 @@ constexpr int kPanelW = 320;
 constexpr int kPanelH = 420;
 constexpr int kTitleH = 40;
 
-const cv::Scalar kRed(60, 60, 230), kGreen(60, 200, 60), kBlue(230, 140, 40);
-const cv::Scalar kText(230, 230, 230);
+const Bgr kRed(60, 60, 230), kGreen(60, 200, 60), kBlue(230, 140, 40);
+const Bgr kText(230, 230, 230);
 
 // Grey level for a depth in [lo, hi] voxels: nearer is brighter.
-cv::Scalar Shade(int d, int lo, int hi) {
+Bgr Shade(int d, int lo, int hi) {
   const double t = hi > lo ? static_cast<double>(d - lo) / (hi - lo) : 1.0;
   const double g = 70 + 170 * t;
-  return cv::Scalar(g * 0.85, g * 0.95, g);
+  return Bgr(g * 0.85, g * 0.95, g);
 }
 
-void Arrow(cv::Mat* img, cv::Point from, cv::Point to, const cv::Scalar& colour,
-           const std::string& label) {
-  cv::arrowedLine(*img, from, to, colour, 2, cv::LINE_AA, 0, 0.2);
-  cv::putText(*img, label, to + cv::Point(4, -4), cv::FONT_HERSHEY_SIMPLEX, 0.5, colour, 1,
-              cv::LINE_AA);
+void Arrow(Canvas* img, Px from, Px to, const Bgr& colour, const std::string& label) {
+  img->ArrowedLine(from, to, colour, 2, LineKind::kSmooth, 0.2);
+  img->Text(label, to + Px(4, -4), 0.5, colour, 1, LineKind::kSmooth);
 }
 
 // An axis pointing at the viewer (circle with a dot) or away (circle with a cross).
-void AxisOutOfPlane(cv::Mat* img, cv::Point at, const cv::Scalar& colour, bool towards,
-                    const std::string& label) {
-  cv::circle(*img, at, 7, colour, 2, cv::LINE_AA);
+void AxisOutOfPlane(Canvas* img, Px at, const Bgr& colour, bool towards, const std::string& label) {
+  img->Circle(at, 7, colour, 2, LineKind::kSmooth);
   if (towards) {
-    cv::circle(*img, at, 2, colour, cv::FILLED, cv::LINE_AA);
+    img->Circle(at, 2, colour, kFilled, LineKind::kSmooth);
   } else {
-    cv::line(*img, at + cv::Point(-4, -4), at + cv::Point(4, 4), colour, 2, cv::LINE_AA);
-    cv::line(*img, at + cv::Point(-4, 4), at + cv::Point(4, -4), colour, 2, cv::LINE_AA);
+    img->Line(at + Px(-4, -4), at + Px(4, 4), colour, 2, LineKind::kSmooth);
+    img->Line(at + Px(-4, 4), at + Px(4, -4), colour, 2, LineKind::kSmooth);
   }
-  cv::putText(*img, label, at + cv::Point(9, 16), cv::FONT_HERSHEY_SIMPLEX, 0.5, colour, 1,
-              cv::LINE_AA);
+  img->Text(label, at + Px(9, 16), 0.5, colour, 1, LineKind::kSmooth);
 }
 
 struct AxisDraw {
   // Image direction of +x, +y, +z in a view ((0,0): out of the plane) and, for those, whether
   // they point at the viewer.
-  cv::Point dir[3];
+  Px dir[3];
   bool towards[3];
 };
 
 // Draws an orthographic view into the panel at x0 with `px` pixels per voxel.
-void DrawView(cv::Mat* img, int x0, const TemplateView& view, int px, const std::string& title,
+void DrawView(Canvas* img, int x0, const TemplateView& view, int px, const std::string& title,
               const AxisDraw& axes) {
-  cv::putText(*img, title, cv::Point(x0 + 10, 26), cv::FONT_HERSHEY_SIMPLEX, 0.6, kText, 1,
-              cv::LINE_AA);
+  img->Text(title, Px(x0 + 10, 26), 0.6, kText, 1, LineKind::kSmooth);
   int lo = 0, hi = 0;
   bool first = true;
   for (const int d : view.depth) {
@@ -78,32 +72,30 @@ void DrawView(cv::Mat* img, int x0, const TemplateView& view, int px, const std:
     for (int u = -view.half_width; u < view.half_width; ++u) {
       const int d = view.at(u, v);
       if (d == TemplateView::kEmpty) continue;
-      cv::rectangle(*img, cv::Rect(cx + u * px, base_y - (v + 1) * px, px, px), Shade(d, lo, hi),
-                    cv::FILLED);
+      img->Rectangle(PxBox{cx + u * px, base_y - (v + 1) * px, px, px}, Shade(d, lo, hi), kFilled);
     }
   }
-  const cv::Point origin(cx, base_y);
+  const Px origin(cx, base_y);
   const int len = std::max(30, static_cast<int>(0.1 / view.resolution_m * px));
   const char* names[3] = {"x", "y", "z"};
-  const cv::Scalar colours[3] = {kRed, kGreen, kBlue};
+  const Bgr colours[3] = {kRed, kGreen, kBlue};
   for (int a = 0; a < 3; ++a) {
-    if (axes.dir[a] == cv::Point(0, 0)) {
+    if (axes.dir[a] == Px(0, 0)) {
       AxisOutOfPlane(img, origin, colours[a], axes.towards[a], names[a]);
     } else {
       Arrow(img, origin, origin + axes.dir[a] * len, colours[a], names[a]);
     }
   }
-  cv::circle(*img, origin, 3, kText, cv::FILLED, cv::LINE_AA);
+  img->Circle(origin, 3, kText, kFilled, LineKind::kSmooth);
   // Scale bar: 0.1 m.
   const int bar = static_cast<int>(std::lround(0.1 / view.resolution_m * px));
-  const cv::Point b0(x0 + 12, kPanelH - 12);
-  cv::line(*img, b0, b0 + cv::Point(bar, 0), kText, 2);
-  cv::putText(*img, "0.1 m", b0 + cv::Point(bar + 6, 4), cv::FONT_HERSHEY_SIMPLEX, 0.4, kText, 1,
-              cv::LINE_AA);
+  const Px b0(x0 + 12, kPanelH - 12);
+  img->Line(b0, b0 + Px(bar, 0), kText, 2);
+  img->Text("0.1 m", b0 + Px(bar + 6, 4), 0.4, kText, 1, LineKind::kSmooth);
 }
 
 // The voxels as a level Kinect v1 sees them: each voxel a square splat, nearest drawn last.
-void DrawKinectView(cv::Mat* img, int x0, const VoxelTemplate& tpl,
+void DrawKinectView(Canvas* img, int x0, const VoxelTemplate& tpl,
                     const TemplatePictureOptions& o) {
   const Intrinsics k = Intrinsics::KinectV1(640, 480);
   const Pose2D pose{o.sensor_distance_m, 0.0, DegToRad(o.heading_deg)};
@@ -114,7 +106,7 @@ void DrawKinectView(cv::Mat* img, int x0, const VoxelTemplate& tpl,
   };
   struct Splat {
     double z;
-    cv::Point2d px;
+    Eigen::Vector2d px;
     double half;
     double height;
   };
@@ -122,7 +114,8 @@ void DrawKinectView(cv::Mat* img, int x0, const VoxelTemplate& tpl,
   for (const Eigen::Vector3f& v : tpl.voxels) {
     const Eigen::Vector3d s = to_sensor(ground_from_robot * v.cast<double>());
     if (s.z() <= 0.1) continue;
-    splats.push_back({s.z(), cv::Point2d(k.fx * s.x() / s.z() + k.cx, k.fy * s.y() / s.z() + k.cy),
+    splats.push_back({s.z(),
+                      Eigen::Vector2d(k.fx * s.x() / s.z() + k.cx, k.fy * s.y() / s.z() + k.cy),
                       0.5 * tpl.resolution_m * k.fx / s.z(), v.z()});
   }
   if (splats.empty()) return;
@@ -130,10 +123,10 @@ void DrawKinectView(cv::Mat* img, int x0, const VoxelTemplate& tpl,
   // Crop around the robot and its axes, then fit the panel.
   double u0 = 1e9, u1 = -1e9, v0 = 1e9, v1 = -1e9;
   for (const Splat& s : splats) {
-    u0 = std::min(u0, s.px.x - s.half);
-    u1 = std::max(u1, s.px.x + s.half);
-    v0 = std::min(v0, s.px.y - s.half);
-    v1 = std::max(v1, s.px.y + s.half);
+    u0 = std::min(u0, s.px.x() - s.half);
+    u1 = std::max(u1, s.px.x() + s.half);
+    v0 = std::min(v0, s.px.y() - s.half);
+    v1 = std::max(v1, s.px.y() + s.half);
   }
   const double zmin = splats.back().z, zmax = splats.front().z;
   const double margin = 0.25 * std::max(u1 - u0, v1 - v0);
@@ -142,36 +135,33 @@ void DrawKinectView(cv::Mat* img, int x0, const VoxelTemplate& tpl,
   v0 -= margin;
   v1 += margin;
   const double scale = std::min((kPanelW - 20) / (u1 - u0), (kPanelH - kTitleH - 40) / (v1 - v0));
-  auto panel = [&](const cv::Point2d& p) {
-    return cv::Point(x0 + 10 + static_cast<int>((p.x - u0) * scale),
-                     kTitleH + 10 + static_cast<int>((p.y - v0) * scale));
+  auto panel = [&](const Eigen::Vector2d& p) {
+    return Px(x0 + 10 + static_cast<int>((p.x() - u0) * scale),
+              kTitleH + 10 + static_cast<int>((p.y() - v0) * scale));
   };
   for (const Splat& s : splats) {
     const double t = zmax > zmin ? (zmax - s.z) / (zmax - zmin) : 1.0;
     const double g = 80 + 160 * t;
-    const cv::Point a = panel(s.px - cv::Point2d(s.half, s.half));
-    const cv::Point b = panel(s.px + cv::Point2d(s.half, s.half));
-    cv::rectangle(*img, cv::Rect(a, b + cv::Point(1, 1)), cv::Scalar(g * 0.85, g * 0.95, g),
-                  cv::FILLED);
+    const Px a = panel(s.px - Eigen::Vector2d(s.half, s.half));
+    const Px b = panel(s.px + Eigen::Vector2d(s.half, s.half));
+    img->Rectangle(PxBox::Spanning(a, b + Px(1, 1)), Bgr(g * 0.85, g * 0.95, g), kFilled);
   }
   auto project = [&](const Eigen::Vector3d& robot_point) {
     const Eigen::Vector3d s = to_sensor(ground_from_robot * robot_point);
-    return panel(cv::Point2d(k.fx * s.x() / s.z() + k.cx, k.fy * s.y() / s.z() + k.cy));
+    return panel(Eigen::Vector2d(k.fx * s.x() / s.z() + k.cx, k.fy * s.y() / s.z() + k.cy));
   };
-  const cv::Point origin = project(Eigen::Vector3d::Zero());
+  const Px origin = project(Eigen::Vector3d::Zero());
   const char* names[3] = {"x", "y", "z"};
-  const cv::Scalar colours[3] = {kRed, kGreen, kBlue};
+  const Bgr colours[3] = {kRed, kGreen, kBlue};
   for (int a = 0; a < 3; ++a) {
     Arrow(img, origin, project(0.12 * Eigen::Vector3d::Unit(a)), colours[a], names[a]);
   }
-  cv::circle(*img, origin, 3, kText, cv::FILLED, cv::LINE_AA);
-  cv::putText(*img,
-              "Kinect at " + FormatNumber("%.1f", o.sensor_distance_m) + " m, " +
-                  FormatNumber("%.2f", o.sensor_height_m) + " m high",
-              cv::Point(x0 + 10, 26), cv::FONT_HERSHEY_SIMPLEX, 0.5, kText, 1, cv::LINE_AA);
-  cv::putText(*img, "robot heading " + FormatNumber("%.0f", o.heading_deg) + " deg",
-              cv::Point(x0 + 10, kPanelH - 12), cv::FONT_HERSHEY_SIMPLEX, 0.45, kText, 1,
-              cv::LINE_AA);
+  img->Circle(origin, 3, kText, kFilled, LineKind::kSmooth);
+  img->Text("Kinect at " + FormatNumber("%.1f", o.sensor_distance_m) + " m, " +
+                FormatNumber("%.2f", o.sensor_height_m) + " m high",
+            Px(x0 + 10, 26), 0.5, kText, 1, LineKind::kSmooth);
+  img->Text("robot heading " + FormatNumber("%.0f", o.heading_deg) + " deg",
+            Px(x0 + 10, kPanelH - 12), 0.45, kText, 1, LineKind::kSmooth);
 }
 
 }  // namespace
@@ -179,7 +169,9 @@ void DrawKinectView(cv::Mat* img, int x0, const VoxelTemplate& tpl,
 Status WriteTemplatePicture(const VoxelTemplate& tpl, const std::string& path,
                             const TemplatePictureOptions& options) {
   if (tpl.voxels.empty()) return MakeError(ErrorCode::kInvalidArgument, "template is empty");
-  cv::Mat img(kPanelH + 30, 4 * kPanelW, CV_8UC3, cv::Scalar(30, 30, 30));
+  Result<Canvas> made = Canvas::Create(4 * kPanelW, kPanelH + 30, Bgr(30, 30, 30));
+  if (!made.ok()) return made.error();
+  Canvas& img = *made;
   const TemplateView front = ViewTemplate(tpl, TemplateSide::kFront);
   const TemplateView side = ViewTemplate(tpl, TemplateSide::kLeft);
   const TemplateView top = ViewTemplate(tpl, TemplateSide::kTop);
@@ -198,8 +190,7 @@ Status WriteTemplatePicture(const VoxelTemplate& tpl, const std::string& path,
            {{{0, -1}, {-1, 0}, {0, 0}}, {false, false, true}});
   DrawKinectView(&img, 3 * kPanelW, tpl, options);
   for (int p = 1; p < 4; ++p) {
-    cv::line(img, cv::Point(p * kPanelW, 0), cv::Point(p * kPanelW, kPanelH),
-             cv::Scalar(70, 70, 70));
+    img.Line(Px(p * kPanelW, 0), Px(p * kPanelW, kPanelH), Bgr(70, 70, 70));
   }
   const TemplateShape shape = DescribeTemplate(tpl);
   const std::string footer =
@@ -211,8 +202,7 @@ Status WriteTemplatePicture(const VoxelTemplate& tpl, const std::string& path,
       FormatNumber("%.0f", 100 * shape.front_back_difference) + "%, left/right sides " +
       FormatNumber("%.0f", 100 * shape.left_right_difference) + "%, mirror " +
       FormatNumber("%.0f", 100 * shape.mirror_difference) + "%";
-  cv::putText(img, footer, cv::Point(10, kPanelH + 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, kText, 1,
-              cv::LINE_AA);
+  img.Text(footer, Px(10, kPanelH + 20), 0.5, kText, 1, LineKind::kSmooth);
   return WritePicturePng(img, path, 9);
 }
 

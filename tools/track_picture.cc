@@ -4,8 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include <opencv2/imgproc.hpp>
-
+#include "tools/canvas.h"
 #include "tools/fixed_text.h"
 #include "tools/picture_png.h"
 
@@ -17,22 +16,22 @@ constexpr int kTopViewSize = kTrackPictureHeight - 2 * kMargin - 20;  // below t
 constexpr double kViewMarginM = 0.4;
 constexpr double kMinViewSpanM = 2.0;
 
-const cv::Scalar kBackground(30, 30, 30);
-const cv::Scalar kGrid(58, 58, 58);
-const cv::Scalar kLabel(150, 150, 150);
-const cv::Scalar kText(230, 230, 230);
-const cv::Scalar kAmbiguous(40, 160, 255);  // BGR orange.
-const cv::Scalar kFoundStrip(90, 180, 90);
-const cv::Scalar kMissedStrip(70, 70, 190);
+const Bgr kBackground(30, 30, 30);
+const Bgr kGrid(58, 58, 58);
+const Bgr kLabel(150, 150, 150);
+const Bgr kText(230, 230, 230);
+const Bgr kAmbiguous(40, 160, 255);  // BGR orange.
+const Bgr kFoundStrip(90, 180, 90);
+const Bgr kMissedStrip(70, 70, 190);
 
-void Text(cv::Mat& img, const std::string& s, cv::Point at, double scale, const cv::Scalar& c) {
-  cv::putText(img, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, c, 1, cv::LINE_AA);
+void Text(Canvas& img, const std::string& s, Px at, double scale, const Bgr& c) {
+  img.Text(s, at, scale, c, 1, LineKind::kSmooth);
 }
 
 // From blue (t = 0, the first frame) to red (t = 1, the last), through violet.
-cv::Scalar TimeColour(double t) {
+Bgr TimeColour(double t) {
   t = std::clamp(t, 0.0, 1.0);
-  return cv::Scalar(255 * (1.0 - t) + 50 * t, 70, 50 * (1.0 - t) + 255 * t);
+  return Bgr(255 * (1.0 - t) + 50 * t, 70, 50 * (1.0 - t) + 255 * t);
 }
 
 // The frames' times as shares of the time axis: 0 at the earliest, 1 at the latest.
@@ -40,7 +39,7 @@ struct TimeAxis {
   double t0 = 0.0, t1 = 0.0;
   // Where `t` lies along the axis, `flat` when every frame has the same time.
   double Share(double t, double flat) const { return t1 > t0 ? (t - t0) / (t1 - t0) : flat; }
-  cv::Scalar Colour(const TrackPoint& p) const { return TimeColour(Share(p.time_s, 0.0)); }
+  Bgr Colour(const TrackPoint& p) const { return TimeColour(Share(p.time_s, 0.0)); }
 };
 
 // A grid step of 0.5, 1, 2, 5, ... metres for a span, about 4 to 10 lines.
@@ -51,37 +50,35 @@ double GridStep(double span) {
   return 200.0;
 }
 
-void DrawTopView(cv::Mat& img, const TrackTopView& v, const std::vector<TrackPoint>& track,
+void DrawTopView(Canvas& img, const TrackTopView& v, const std::vector<TrackPoint>& track,
                  const TimeAxis& time, int found) {
-  const cv::Rect panel(v.left, v.top, v.size, v.size);
-  cv::Mat view = img(panel);  // clips what is drawn to the panel.
-  const auto px = [&](double x, double y) {
-    return cv::Point(v.Col(y) - v.left, v.Row(x) - v.top);
-  };
+  const PxBox panel{v.left, v.top, v.size, v.size};
+  Canvas view = img.Region(panel);  // clips what is drawn to the panel.
+  const auto px = [&](double x, double y) { return Px(v.Col(y) - v.left, v.Row(x) - v.top); };
   const double span = v.size / v.px_per_m;
   const double step = GridStep(span);
   const double half = 0.5 * span;
   // The y labels run along the bottom edge; an x line too close to it keeps no label.
   constexpr int kBottomLabelBand = 18;
   for (double x = std::floor((v.x0 - half) / step) * step; x <= v.x0 + half; x += step) {
-    cv::line(view, px(x, v.y0 + half), px(x, v.y0 - half), kGrid, 1);
-    const cv::Point at = px(x, v.y0 + half) + cv::Point(4, -4);
+    view.Line(px(x, v.y0 + half), px(x, v.y0 - half), kGrid, 1);
+    const Px at = px(x, v.y0 + half) + Px(4, -4);
     if (at.y > v.size - kBottomLabelBand) continue;
     Text(view, FormatNumber("x %g m", std::abs(x) < 1e-9 ? 0.0 : x), at, 0.4, kLabel);
   }
   for (double y = std::floor((v.y0 - half) / step) * step; y <= v.y0 + half; y += step) {
-    cv::line(view, px(v.x0 + half, y), px(v.x0 - half, y), kGrid, 1);
-    Text(view, FormatNumber("y %g", std::abs(y) < 1e-9 ? 0.0 : y),
-         px(v.x0 - half, y) + cv::Point(3, -6), 0.4, kLabel);
+    view.Line(px(v.x0 + half, y), px(v.x0 - half, y), kGrid, 1);
+    Text(view, FormatNumber("y %g", std::abs(y) < 1e-9 ? 0.0 : y), px(v.x0 - half, y) + Px(3, -6),
+         0.4, kLabel);
   }
-  cv::drawMarker(view, px(0, 0), kText, cv::MARKER_TRIANGLE_UP, 16, 2);
-  Text(view, "sensor", px(0, 0) + cv::Point(12, 4), 0.45, kText);
+  view.Marker(px(0, 0), kText, MarkerShape::kTriangleUp, 16, 2);
+  Text(view, "sensor", px(0, 0) + Px(12, 4), 0.45, kText);
 
   // The path, between frames found one after the other.
   for (size_t i = 1; i < track.size(); ++i) {
     if (!track[i - 1].found || !track[i].found) continue;
-    cv::line(view, px(track[i - 1].pose.x, track[i - 1].pose.y),
-             px(track[i].pose.x, track[i].pose.y), time.Colour(track[i]), 2, cv::LINE_AA);
+    view.Line(px(track[i - 1].pose.x, track[i - 1].pose.y), px(track[i].pose.x, track[i].pose.y),
+              time.Colour(track[i]), 2, LineKind::kSmooth);
   }
   // Every found pose as a dot, and its heading every few of them (about 40 arrows at most).
   const int every = std::max(1, found / 40);
@@ -89,32 +86,32 @@ void DrawTopView(cv::Mat& img, const TrackTopView& v, const std::vector<TrackPoi
   int k = 0;
   for (const TrackPoint& p : track) {
     if (!p.found) continue;
-    const cv::Point at = px(p.pose.x, p.pose.y);
-    cv::circle(view, at, 2, time.Colour(p), -1, cv::LINE_AA);
+    const Px at = px(p.pose.x, p.pose.y);
+    view.Circle(at, 2, time.Colour(p), -1, LineKind::kSmooth);
     if (k++ % every == 0) {
-      const cv::Point tip = px(p.pose.x + arrow_m * std::cos(p.pose.theta),
-                               p.pose.y + arrow_m * std::sin(p.pose.theta));
-      cv::arrowedLine(view, at, tip, p.heading_ambiguous ? kAmbiguous : time.Colour(p), 1,
-                      cv::LINE_AA, 0, 0.3);
+      const Px tip = px(p.pose.x + arrow_m * std::cos(p.pose.theta),
+                        p.pose.y + arrow_m * std::sin(p.pose.theta));
+      view.ArrowedLine(at, tip, p.heading_ambiguous ? kAmbiguous : time.Colour(p), 1,
+                       LineKind::kSmooth, 0.3);
     }
   }
   const auto first = std::find_if(track.begin(), track.end(), [](auto& p) { return p.found; });
   const auto last = std::find_if(track.rbegin(), track.rend(), [](auto& p) { return p.found; });
   if (first != track.end()) {
-    cv::circle(view, px(first->pose.x, first->pose.y), 7, TimeColour(0.0), 2, cv::LINE_AA);
-    const cv::Point end = px(last->pose.x, last->pose.y);
-    cv::rectangle(view, end - cv::Point(6, 6), end + cv::Point(6, 6), TimeColour(1.0), 2);
+    view.Circle(px(first->pose.x, first->pose.y), 7, TimeColour(0.0), 2, LineKind::kSmooth);
+    const Px end = px(last->pose.x, last->pose.y);
+    view.Rectangle(end - Px(6, 6), end + Px(6, 6), TimeColour(1.0), 2);
   } else {
     // Centred in the panel's upper quarter, on the background, clear of the sensor below.
     const std::string note = "no humanoid found in any frame";
-    int baseline = 0;
-    const cv::Size box = cv::getTextSize(note, cv::FONT_HERSHEY_SIMPLEX, 0.7, 1, &baseline);
-    const cv::Point at((v.size - box.width) / 2, v.size / 4);
-    cv::rectangle(view, at + cv::Point(-8, baseline + 6),
-                  at + cv::Point(box.width + 8, -box.height - 8), kBackground, cv::FILLED);
-    Text(view, note, at, 0.7, cv::Scalar(120, 120, 255));
+    const TextBox box = view.MeasureText(note, 0.7, 1);
+    const int baseline = box.baseline;
+    const Px at((v.size - box.width) / 2, v.size / 4);
+    view.Rectangle(at + Px(-8, baseline + 6), at + Px(box.width + 8, -box.height - 8), kBackground,
+                   kFilled);
+    Text(view, note, at, 0.7, Bgr(120, 120, 255));
   }
-  cv::rectangle(img, panel, kLabel, 1);
+  img.Rectangle(panel, kLabel, 1);
 }
 
 // What the charts show of a frame.
@@ -132,7 +129,7 @@ constexpr Series kSeries[] = {
 
 // One chart of a value against time: its frame, the range, and the samples of the frames found
 // joined while they follow one another.
-void DrawChart(cv::Mat& img, const cv::Rect& box, const Series& series,
+void DrawChart(Canvas& img, const PxBox& box, const Series& series,
                const std::vector<TrackPoint>& track, const TimeAxis& time) {
   const auto value = series.value;
   const bool wraps = series.heading;
@@ -154,26 +151,25 @@ void DrawChart(cv::Mat& img, const cv::Rect& box, const Series& series,
     lo -= pad;
     hi += pad;
   }
-  cv::rectangle(img, box, kGrid, 1);
-  Text(img, series.name, cv::Point(box.x + 6, box.y + 16), 0.45, kText);
-  Text(img, FormatNumber("%.3g", hi), cv::Point(box.x + box.width + 4, box.y + 10), 0.38, kLabel);
-  Text(img, FormatNumber("%.3g", lo), cv::Point(box.x + box.width + 4, box.y + box.height), 0.38,
-       kLabel);
+  img.Rectangle(box, kGrid, 1);
+  Text(img, series.name, Px(box.x + 6, box.y + 16), 0.45, kText);
+  Text(img, FormatNumber("%.3g", hi), Px(box.x + box.width + 4, box.y + 10), 0.38, kLabel);
+  Text(img, FormatNumber("%.3g", lo), Px(box.x + box.width + 4, box.y + box.height), 0.38, kLabel);
   const auto at = [&](const TrackPoint& p) {
     const double u = time.Share(p.time_s, 0.5);
     const double w = (value(p) - lo) / (hi - lo);
-    return cv::Point(box.x + static_cast<int>(std::lround(u * (box.width - 1))),
-                     box.y + box.height - 1 - static_cast<int>(std::lround(w * (box.height - 1))));
+    return Px(box.x + static_cast<int>(std::lround(u * (box.width - 1))),
+              box.y + box.height - 1 - static_cast<int>(std::lround(w * (box.height - 1))));
   };
   for (size_t i = 0; i < track.size(); ++i) {
     const TrackPoint& p = track[i];
     if (!p.found) continue;
-    const cv::Scalar colour = time.Colour(p);
+    const Bgr colour = time.Colour(p);
     if (i > 0 && track[i - 1].found &&
         !(wraps && std::abs(value(p) - value(track[i - 1])) > 0.5 * (hi - lo))) {
-      cv::line(img, at(track[i - 1]), at(p), colour, 1, cv::LINE_AA);
+      img.Line(at(track[i - 1]), at(p), colour, 1, LineKind::kSmooth);
     }
-    cv::circle(img, at(p), 1, colour, -1);
+    img.Circle(at(p), 1, colour, -1);
   }
 }
 
@@ -216,7 +212,9 @@ TrackTopView FitTrackTopView(const std::vector<TrackPoint>& track) {
 
 Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string& title,
                          const std::string& path) {
-  cv::Mat img(kTrackPictureHeight, kTrackPictureWidth, CV_8UC3, kBackground);
+  Result<Canvas> made = Canvas::Create(kTrackPictureWidth, kTrackPictureHeight, kBackground);
+  if (!made.ok()) return made.error();
+  Canvas& img = *made;
   // The time axis spans every frame's time, in whatever order they came (a stream that looped
   // starts its times again).
   TimeAxis time;
@@ -233,7 +231,7 @@ Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string
        title + ": " + std::to_string(track.size()) + " frames over " +
            FormatNumber("%.1f", time.t1 - time.t0) + " s, humanoid in " + std::to_string(found) +
            " (heading ambiguous in " + std::to_string(ambiguous) + ")",
-       cv::Point(kMargin, kMargin + 4), 0.55, kText);
+       Px(kMargin, kMargin + 4), 0.55, kText);
 
   const TrackTopView view = FitTrackTopView(track);
   DrawTopView(img, view, track, time, found);
@@ -244,21 +242,21 @@ Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string
   const int top = view.top;
   const int gap = 14, strip = 14;
   const int height = (view.size - strip - 4 * gap) / 4;
-  const auto box = [&](int i) { return cv::Rect(left, top + i * (height + gap), width, height); };
+  const auto box = [&](int i) { return PxBox{left, top + i * (height + gap), width, height}; };
   for (int i = 0; i < 4; ++i) DrawChart(img, box(i), kSeries[i], track, time);
   const int strip_top = top + 4 * (height + gap);
   for (size_t i = 0; i < track.size(); ++i) {
     const double u = time.Share(track[i].time_s, 0.5);
     const int x = left + static_cast<int>(std::lround(u * (width - 1)));
-    cv::line(img, cv::Point(x, strip_top), cv::Point(x, strip_top + strip - 1),
+    img.Line(Px(x, strip_top), Px(x, strip_top + strip - 1),
              track[i].found ? kFoundStrip : kMissedStrip, 1);
   }
-  cv::rectangle(img, cv::Rect(left, strip_top, width, strip), kGrid, 1);
-  Text(img, "found", cv::Point(left + width + 4, strip_top + 11), 0.38, kLabel);
+  img.Rectangle(PxBox{left, strip_top, width, strip}, kGrid, 1);
+  Text(img, "found", Px(left + width + 4, strip_top + 11), 0.38, kLabel);
   Text(img,
        "time " + FormatNumber("%.1f", 0.0) + " .. " + FormatNumber("%.1f s", time.t1 - time.t0) +
            " (blue .. red); orange arrows: heading ambiguous",
-       cv::Point(left, strip_top + strip + 16), 0.4, kLabel);
+       Px(left, strip_top + strip + 16), 0.4, kLabel);
   return WritePicturePng(img, path);
 }
 

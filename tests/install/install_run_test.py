@@ -35,7 +35,8 @@ class InstalledProgramsTest(unittest.TestCase):
                     "share/hpose/templates/standing.json",
                     "share/hpose/templates/right_arm_raised.bt",
                     "share/hpose/templates/right_arm_raised.json", "etc/hpose/hposed.yaml",
-                    "lib/systemd/system/hposed.service", "include/hpose/client.h"]:
+                    "lib/systemd/system/hposed.service", "include/hpose/client.h",
+                    "libexec/hpose/hpose-estimate", "libexec/hpose/hpose-drawing.so"]:
             self.assertTrue(os.path.isfile(os.path.join(PREFIX, rel)), rel + " not installed")
         configs = [f for _, _, files in os.walk(PREFIX) for f in files
                    if f == "hposeConfig.cmake"]
@@ -71,7 +72,11 @@ class InstalledProgramsTest(unittest.TestCase):
                                   "--width", "320", "--height", "240", "--no-cloud"], cwd=cwd)
             self.assertEqual(status, 0, err)
             status, out, err = run([HPOSE, "estimate", "--depth", "frames/depth.png",
-                                    "--intrinsics", "frames/intrinsics.json", "--json"], cwd=cwd)
+                                    "--intrinsics", "frames/intrinsics.json", "--json",
+                                    "--picture", "match.png"], cwd=cwd)
+            # The picture is drawn by the installed drawing module, beside the programs.
+            picture = os.path.join(cwd, "match.png")
+            self.assertTrue(os.path.isfile(picture) and os.path.getsize(picture) > 1000, err)
         self.assertEqual(status, 0, err)
         result = json.loads(out)["depth_template"]
         self.assertTrue(result["humanoid_found"])

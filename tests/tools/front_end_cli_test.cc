@@ -114,6 +114,27 @@ TEST(FrontEndCliTest, ProgramsWithoutImageWorkLoadNoOpenCv) {
   }
 }
 
+// Programs that draw pictures load OpenCV only when they draw one: its drawing is in the
+// module hpose-drawing.so (tools/canvas.h), which alone records OpenCV's core and imgproc.
+TEST(FrontEndCliTest, ProgramsThatDrawLoadOpenCvOnlyWithTheDrawingModule) {
+  TempDir dir("front_end_drawing_module");
+  for (const char* command : {"estimate", "demo", "template", "plot"}) {
+    const std::string program = kToolsDir + "/hpose-" + command;
+    const CliRun loaded = RunProgram("ldd", "'" + program + "'", dir);
+    if (loaded.exit_code == 127) GTEST_SKIP() << "ldd not installed";
+    ASSERT_EQ(loaded.exit_code, 0) << program << ": " << loaded.err;
+    ASSERT_NE(loaded.out.find("libc.so"), std::string::npos) << loaded.out;
+    EXPECT_EQ(loaded.out.find("libopencv"), std::string::npos) << program << " loads OpenCV:\n"
+                                                               << loaded.out;
+  }
+  const std::string module = kToolsDir + "/hpose-drawing.so";
+  const CliRun loaded = RunProgram("ldd", "'" + module + "'", dir);
+  ASSERT_EQ(loaded.exit_code, 0) << module << ": " << loaded.err;
+  EXPECT_NE(loaded.out.find("libopencv_imgproc"), std::string::npos) << loaded.out;
+  EXPECT_EQ(loaded.out.find("libopencv_imgcodecs"), std::string::npos) << loaded.out;
+  EXPECT_EQ(loaded.out.find("libhpose"), std::string::npos) << loaded.out;
+}
+
 TEST(FrontEndCliTest, EveryCommandHasAProgramWithTheSameFlags) {
   TempDir dir("front_end_programs");
   const CliRun top = RunHpose("--help", dir);

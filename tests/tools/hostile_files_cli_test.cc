@@ -154,6 +154,40 @@ TEST_F(HostileFilesCliTest, PictureIntoAMissingDirectory) {
                     "does not exist");
 }
 
+// Without its drawing module a program still refuses a picture by name, writes no file and
+// leaves the rest of its work to the runs that ask for no picture.
+TEST_F(HostileFilesCliTest, PictureWithoutTheDrawingModule) {
+  const std::string hpose = std::string(HPOSE_BINARY_DIR) + "/tools/hpose";
+  const std::string frame =
+      "--depth '" + Frame("depth.png") + "' --intrinsics '" + Frame("intrinsics.json") + "'";
+  const std::string picture = *dir_ / "unmade.png";
+  const std::string missing = *dir_ / "no-such-module.so";
+  CliRun run = RunProgram("env",
+                          "HPOSE_DRAWING_MODULE='" + missing + "' '" + hpose + "' estimate " +
+                              frame + " --picture '" + picture + "'",
+                          *dir_);
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("drawing module"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find(missing), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(picture));
+
+  const std::string not_a_module = Write("not-a-module.so", "plain text, not a shared object");
+  run = RunProgram("env",
+                   "HPOSE_DRAWING_MODULE='" + not_a_module + "' '" + hpose + "' template show '" +
+                       HPOSE_SOURCE_DIR + "/templates/standing.bt' --picture '" + picture + "'",
+                   *dir_);
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("cannot load the drawing module " + not_a_module), std::string::npos)
+      << run.err;
+  EXPECT_FALSE(std::filesystem::exists(picture));
+
+  // The same runs without a picture need no module.
+  run = RunProgram(
+      "env", "HPOSE_DRAWING_MODULE='" + missing + "' '" + hpose + "' estimate " + frame + " --json",
+      *dir_);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+}
+
 // Output that cannot be written is an error, not a success with the results lost.
 TEST_F(HostileFilesCliTest, LostOutputIsAnError) {
   const std::string frame =
