@@ -60,6 +60,15 @@ void Canvas::FillTarget(HposeDrawTarget* t) const {
   t->stride = stride;
 }
 
+template <typename Draw>
+void Canvas::DrawWith(const Bgr& colour, Draw draw) const {
+  if (width_ == 0 || height_ == 0) return;
+  HposeDrawTarget t;
+  FillTarget(&t);
+  const double c[3] = {colour.b, colour.g, colour.r};
+  draw(&t, c);
+}
+
 void Canvas::SetPixel(Px p, std::uint8_t b, std::uint8_t g, std::uint8_t r) {
   if (p.x < 0 || p.y < 0 || p.x >= width_ || p.y >= height_) return;
   std::uint8_t* px =
@@ -70,27 +79,21 @@ void Canvas::SetPixel(Px p, std::uint8_t b, std::uint8_t g, std::uint8_t r) {
 }
 
 void Canvas::Line(Px a, Px b, const Bgr& colour, int thickness, LineKind kind) {
-  if (width_ == 0 || height_ == 0) return;
-  HposeDrawTarget t;
-  FillTarget(&t);
-  const double c[3] = {colour.b, colour.g, colour.r};
-  api_->line(&t, a.x, a.y, b.x, b.y, c, thickness, Kind(kind));
+  DrawWith(colour, [&](const HposeDrawTarget* t, const double* c) {
+    api_->line(t, a.x, a.y, b.x, b.y, c, thickness, Kind(kind));
+  });
 }
 
 void Canvas::Circle(Px centre, int radius, const Bgr& colour, int thickness, LineKind kind) {
-  if (width_ == 0 || height_ == 0) return;
-  HposeDrawTarget t;
-  FillTarget(&t);
-  const double c[3] = {colour.b, colour.g, colour.r};
-  api_->circle(&t, centre.x, centre.y, radius, c, thickness, Kind(kind));
+  DrawWith(colour, [&](const HposeDrawTarget* t, const double* c) {
+    api_->circle(t, centre.x, centre.y, radius, c, thickness, Kind(kind));
+  });
 }
 
 void Canvas::Rectangle(Px a, Px b, const Bgr& colour, int thickness, LineKind kind) {
-  if (width_ == 0 || height_ == 0) return;
-  HposeDrawTarget t;
-  FillTarget(&t);
-  const double c[3] = {colour.b, colour.g, colour.r};
-  api_->rectangle(&t, a.x, a.y, b.x, b.y, c, thickness, Kind(kind));
+  DrawWith(colour, [&](const HposeDrawTarget* t, const double* c) {
+    api_->rectangle(t, a.x, a.y, b.x, b.y, c, thickness, Kind(kind));
+  });
 }
 
 void Canvas::Rectangle(const PxBox& box, const Bgr& colour, int thickness, LineKind kind) {
@@ -101,30 +104,24 @@ void Canvas::Rectangle(const PxBox& box, const Bgr& colour, int thickness, LineK
 
 void Canvas::ArrowedLine(Px from, Px to, const Bgr& colour, int thickness, LineKind kind,
                          double tip_length) {
-  if (width_ == 0 || height_ == 0) return;
-  HposeDrawTarget t;
-  FillTarget(&t);
-  const double c[3] = {colour.b, colour.g, colour.r};
-  api_->arrowed_line(&t, from.x, from.y, to.x, to.y, c, thickness, Kind(kind), tip_length);
+  DrawWith(colour, [&](const HposeDrawTarget* t, const double* c) {
+    api_->arrowed_line(t, from.x, from.y, to.x, to.y, c, thickness, Kind(kind), tip_length);
+  });
 }
 
 void Canvas::Marker(Px at, const Bgr& colour, MarkerShape shape, int size, int thickness) {
-  if (width_ == 0 || height_ == 0) return;
-  HposeDrawTarget t;
-  FillTarget(&t);
-  const double c[3] = {colour.b, colour.g, colour.r};
-  api_->marker(&t, at.x, at.y, c,
-               shape == MarkerShape::kTriangleUp ? kHposeMarkerTriangleUp : kHposeMarkerCross, size,
-               thickness);
+  DrawWith(colour, [&](const HposeDrawTarget* t, const double* c) {
+    api_->marker(t, at.x, at.y, c,
+                 shape == MarkerShape::kTriangleUp ? kHposeMarkerTriangleUp : kHposeMarkerCross,
+                 size, thickness);
+  });
 }
 
 void Canvas::Text(const std::string& text, Px origin, double scale, const Bgr& colour,
                   int thickness, LineKind kind) {
-  if (width_ == 0 || height_ == 0) return;
-  HposeDrawTarget t;
-  FillTarget(&t);
-  const double c[3] = {colour.b, colour.g, colour.r};
-  api_->text(&t, text.c_str(), origin.x, origin.y, scale, c, thickness, Kind(kind));
+  DrawWith(colour, [&](const HposeDrawTarget* t, const double* c) {
+    api_->text(t, text.c_str(), origin.x, origin.y, scale, c, thickness, Kind(kind));
+  });
 }
 
 TextBox Canvas::MeasureText(const std::string& text, double scale, int thickness) const {

@@ -100,6 +100,9 @@ class Canvas {
  private:
   Canvas() = default;
   void FillTarget(HposeDrawTarget* target) const;
+  // Calls draw(target, colour as three doubles) unless the canvas is empty.
+  template <typename Draw>
+  void DrawWith(const Bgr& colour, Draw draw) const;
 
   const HposeDrawingApi* api_ = nullptr;
   std::shared_ptr<std::vector<std::uint8_t>> pixels_;  // the whole picture, blue-green-red.
