@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
+#include <string>
 
+#include "core/common/vector_level.h"
 #include "core/depth/cluster_extractor.h"
 #include "core/depth/depth_to_cloud.h"
 #include "core/depth/floor_fitter.h"
@@ -163,16 +166,27 @@ double Percentile(std::vector<double> v, double p) {
   return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
 }
 
-std::string VectorPaths() {
+bool PrintVectorPaths(const char* program) {
+  const Status variable = CheckVectorLevelVariable();
+  if (!variable.ok()) {
+    std::fprintf(stderr, "%s: %s\n", program, variable.error().message.c_str());
+    return false;
+  }
   const RunSumPath run = FastestRunSumPath();
-  return std::string("run sums ") +
-         (run == RunSumPath::kAvx512 ? "AVX-512"
-          : run == RunSumPath::kAvx2 ? "AVX2"
-                                     : "scalar") +
-         ", whole-cloud passes " +
-         (PointLanesAvailable()    ? "AVX-512"
-          : PointLanes8Available() ? "AVX2 (the grid clustering's distances scalar)"
-                                   : "scalar");
+  std::string cap;
+  if (VectorLevelCap() != VectorLevel::kAvx512) {
+    cap = std::string(" (capped by ") + kVectorLevelVariable + "=" +
+          VectorLevelName(VectorLevelCap()) + ")";
+  }
+  std::printf("Vector paths of this CPU: run sums %s, whole-cloud passes %s%s.\n",
+              run == RunSumPath::kAvx512 ? "AVX-512"
+              : run == RunSumPath::kAvx2 ? "AVX2"
+                                         : "scalar",
+              PointLanesAvailable()    ? "AVX-512"
+              : PointLanes8Available() ? "AVX2 (the grid clustering's distances scalar)"
+                                       : "scalar",
+              cap.c_str());
+  return true;
 }
 
 }  // namespace hpose::bench

@@ -824,7 +824,7 @@ int Run(int argc, char** argv) {
     if (!st.ok()) std::fprintf(stderr, "frame_bench: %s\n", st.error().message.c_str());
     return st.ok();
   };
-  std::printf("Vector paths of this CPU: %s.\n", VectorPaths().c_str());
+  if (!PrintVectorPaths("frame_bench")) return 1;
   if (!scattered.empty()) {
     std::vector<FrameSpec> specs = BenchFrameSpecs(frames, clutter, max_distance);
     if (!pick.empty()) {

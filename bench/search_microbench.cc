@@ -244,7 +244,7 @@ int Setup(int frames) {
     }
   }
   if (!SetupProjector(&d)) return 1;
-  std::printf("Vector paths of this CPU: %s.\n", VectorPaths().c_str());
+  if (!PrintVectorPaths("search_microbench")) return 1;
   std::printf("%zu (cluster, template) problems from %d frames; scorer poses on %s\n",
               d.problems.size(), frames, p.label.c_str());
   return 0;

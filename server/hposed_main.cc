@@ -12,6 +12,7 @@
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "core/common/vector_level.h"
 #include "server/daemon.h"
 #include "server/daemon_config.h"
 #include "tools/exit_codes.h"
@@ -142,6 +143,13 @@ int main(int argc, char** argv) {
                  "got '"
               << log_level << "'\n";
     return hpose::tools::kExitUsage;
+  }
+
+  const hpose::Status vector_level = hpose::CheckVectorLevelVariable();
+  if (!vector_level.ok()) return hpose::tools::ReportProgramError("hposed", vector_level.error());
+  if (hpose::VectorLevelCap() != hpose::VectorLevel::kAvx512) {
+    spdlog::info("{}={}: the estimator's vector paths go no wider", hpose::kVectorLevelVariable,
+                 hpose::VectorLevelName(hpose::VectorLevelCap()));
   }
 
   hpose::server::DaemonConfig config;

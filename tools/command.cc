@@ -6,6 +6,7 @@
 #include <iostream>
 #include <string>
 
+#include "core/common/vector_level.h"
 #include "tools/exit_codes.h"
 
 namespace hpose::tools {
@@ -28,6 +29,9 @@ int CheckStdoutWritten(const std::string& prog, int code) {
 
 int RunCommand(const Command& c, int argc, char** argv) {
   std::string prog = std::string("hpose ") + c.name;
+  // A cap on core's vector paths that names no level is refused before any work.
+  const Status vector_level = CheckVectorLevelVariable();
+  if (!vector_level.ok()) return ReportError(c.name, vector_level.error());
   argv[1] = prog.data();
   return CheckStdoutWritten(prog, c.run(argc - 1, argv + 1));
 }

@@ -103,7 +103,13 @@ void PrintHelp() {
   }
   std::cout << "\nRun `hpose COMMAND --help` for the options of a command.\n\n"
                "exit status: 0 ok, 1 error (message on stderr), 2 usage, 3 no humanoid found,\n"
-               "             4 no floor found, 5 server or device unavailable\n";
+               "             4 no floor found, 5 server or device unavailable\n\n"
+               "environment:\n"
+               "  HPOSE_TEMPLATE_DIR    the directory of the shipped templates (standing, ...)\n"
+               "  HPOSE_DRAWING_MODULE  the module that draws --picture (hpose-drawing.so)\n"
+               "  HPOSE_VECTOR_LEVEL    scalar, avx2 or avx512: the widest vector paths the\n"
+               "                        estimator may take on this CPU (the same results at every\n"
+               "                        level; to compare them, or to see a CPU without AVX-512)\n";
 }
 
 // The directory of this executable, with a trailing '/' ("" when unknown).

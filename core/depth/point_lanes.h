@@ -8,6 +8,8 @@
 // functions carry their own target, so they need nothing at build time, and run only where
 // PointLanesAvailable().
 
+#include "core/common/vector_level.h"
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 
@@ -20,10 +22,12 @@ namespace hpose {
 
 // Whether this CPU runs core's AVX-512 passes (the sixteen-point passes over clouds, the grid
 // clustering's distance tests, the free-space cells, the refinement's placement of template
-// points): AVX-512 F, BW, DQ and VL, and AVX2 (what their targets name). Checked once.
+// points): AVX-512 F, BW, DQ and VL, and AVX2 (what their targets name), at a vector level that
+// allows AVX-512. Checked once.
 inline bool PointLanesAvailable() {
 #ifdef HPOSE_POINT_LANES
-  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+  static const bool has = VectorLevelAllows(VectorLevel::kAvx512) &&
+                          __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
                           __builtin_cpu_supports("avx512dq") &&
                           __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx2");
   return has;
@@ -37,10 +41,10 @@ inline bool PointLanesAvailable() {
 enum class LanePath { kScalar, kAvx2, kFastest };
 
 // Whether this CPU runs the eight-point AVX2 forms of some of those passes (PointShuffles8),
-// taken where it has no AVX-512. Checked once.
+// taken where it has no AVX-512 (or the vector level caps it at AVX2). Checked once.
 inline bool PointLanes8Available() {
 #ifdef HPOSE_POINT_LANES
-  static const bool has = __builtin_cpu_supports("avx2");
+  static const bool has = VectorLevelAllows(VectorLevel::kAvx2) && __builtin_cpu_supports("avx2");
   return has;
 #else
   return false;

@@ -2,6 +2,7 @@
 
 #include <cassert>
 
+#include "core/common/vector_level.h"
 #include "core/scoring/popcount_clones.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -449,12 +450,14 @@ template <bool kPacked>
 }
 
 bool HasAvx2RunSums() {
-  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
+  static const bool has = VectorLevelAllows(VectorLevel::kAvx2) && __builtin_cpu_supports("avx2") &&
+                          __builtin_cpu_supports("popcnt");
   return has;
 }
 
 bool HasAvx512Popcount() {
-  static const bool has = __builtin_cpu_supports("avx512f") &&
+  static const bool has = VectorLevelAllows(VectorLevel::kAvx512) &&
+                          __builtin_cpu_supports("avx512f") &&
                           __builtin_cpu_supports("avx512vpopcntdq") &&
                           __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
   return has;

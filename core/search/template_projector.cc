@@ -108,7 +108,7 @@ void PlaceInViewBaseline(HPOSE_PLACE_IN_VIEW_PARAMS) {
 }
 
 bool HasAvx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
+  static const bool has = VectorLevelAllows(VectorLevel::kAvx2) && __builtin_cpu_supports("avx2");
   return has;
 }
 #else

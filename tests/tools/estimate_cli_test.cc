@@ -70,6 +70,56 @@ TEST_F(EstimateCliTest, CloudInputAndPaperSearchAgree) {
               0.04);
 }
 
+// The estimate without what changes from run to run (the timings, the time it was made).
+nlohmann::json WithoutTimes(const nlohmann::json& j) {
+  if (j.is_array()) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const nlohmann::json& v : j) out.push_back(WithoutTimes(v));
+    return out;
+  }
+  if (!j.is_object()) return j;
+  nlohmann::json out = nlohmann::json::object();
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (it.key() == "timings" || it.key() == "received_time") continue;
+    out[it.key()] = WithoutTimes(it.value());
+  }
+  return out;
+}
+
+// HPOSE_VECTOR_LEVEL caps core's vector paths: the scalar, AVX2 and AVX-512 forms (each where
+// this CPU has it; a cap above the CPU's takes the CPU's best) give the same estimate to the bit,
+// here on the near frame and on a far one among more clutter.
+TEST_F(EstimateCliTest, EveryVectorLevelGivesTheSameEstimate) {
+  const CliRun sim = RunHpose("simulate --out '" + (*dir_ / "far") +
+                                  "' --x 2.9 --y 0.4 --theta-deg 130 --clutter 4 --seed 11",
+                              *dir_);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const std::string hpose = std::string(HPOSE_BINARY_DIR) + "/tools/hpose";
+  for (const std::string frame : {Frame(""), *dir_ / "far/"}) {
+    const std::string args = "estimate --depth '" + frame + "depth.png' --intrinsics '" + frame +
+                             "intrinsics.json' --json";
+    const CliRun plain = RunHpose(args, *dir_);
+    ASSERT_EQ(plain.exit_code, 0) << plain.err;
+    const nlohmann::json want = WithoutTimes(nlohmann::json::parse(plain.out));
+    ASSERT_TRUE(want.at("depth_template").at("humanoid_found").get<bool>()) << frame;
+    for (const char* level : {"scalar", "avx2", "avx512"}) {
+      const CliRun run = testing::RunProgram(
+          "env", std::string("HPOSE_VECTOR_LEVEL=") + level + " '" + hpose + "' " + args, *dir_);
+      ASSERT_EQ(run.exit_code, 0) << level << ": " << run.err;
+      EXPECT_EQ(WithoutTimes(nlohmann::json::parse(run.out)), want) << level << " on " << frame;
+    }
+  }
+  const CliRun bad = testing::RunProgram(
+      "env",
+      "HPOSE_VECTOR_LEVEL=avx3 '" + hpose + "' estimate --depth '" + Frame("depth.png") +
+          "' --intrinsics '" + Frame("intrinsics.json") + "' --json",
+      *dir_);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(bad.out, "");
+  EXPECT_NE(bad.err.find("HPOSE_VECTOR_LEVEL: unknown vector level \"avx3\""), std::string::npos)
+      << bad.err;
+}
+
 TEST_F(EstimateCliTest, HumanReadableOutputAndPicture) {
   const std::string picture = *dir_ / "match.png";
   const CliRun run =
