@@ -32,6 +32,9 @@ int RunDemo(int argc, char** argv) {
     std::cerr << "hpose demo: --seed must be >= 0 and --clutter within [0, 50]\n";
     return kExitUsage;
   }
+  if (flags.Seen("robot") && f.robot_urdf.empty()) {
+    return UsageError(cmd, "--robot needs a URDF file, got an empty path");
+  }
   f.spec.seed = static_cast<std::uint64_t>(f.seed);
   const Status writable = CheckOutputPath(f.picture);  // before the work.
   if (!writable.ok()) return ReportError(cmd, writable.error());

@@ -99,6 +99,9 @@ int RunSimulateScene(int argc, char** argv) {
   if (std::abs(f.turn_deg) > 180.0)
     return UsageError(kSimulateCmd, "--turn-deg must be within +-180 degrees");
   if (std::abs(f.step_m) > 1.0) return UsageError(kSimulateCmd, "--step-m must be within +-1 m");
+  if (flags.Seen("robot") && f.robot_urdf.empty()) {
+    return UsageError(kSimulateCmd, "--robot needs a URDF file, got an empty path");
+  }
   MainRobot robot;
   if (!f.robot_urdf.empty()) {
     if (flags.Seen("pose") || flags.Seen("body")) {

@@ -231,5 +231,20 @@ TEST(RobotCliTest, SimulateBodyVariant) {
   EXPECT_NE(bad.err.find("giraffe"), std::string::npos);
 }
 
+// `--robot ""` (an unset shell variable) is a usage error, not a quiet run of the default
+// humanoid; nothing is drawn or written.
+TEST(RobotCliTest, AnEmptyRobotPathIsRefused) {
+  TempDir dir("robot_cli_empty");
+  const CliRun demo = RunHpose("demo --robot '' --picture '" + (dir / "demo.png") + "'", dir);
+  EXPECT_EQ(demo.exit_code, 2);
+  EXPECT_NE(demo.err.find("--robot needs a URDF file"), std::string::npos) << demo.err;
+  EXPECT_EQ(demo.out, "");
+  EXPECT_FALSE(std::filesystem::exists(dir / "demo.png"));
+  const CliRun sim = RunHpose("simulate --robot '' --out '" + (dir / "s") + "'", dir);
+  EXPECT_EQ(sim.exit_code, 2);
+  EXPECT_NE(sim.err.find("--robot needs a URDF file"), std::string::npos) << sim.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "s"));
+}
+
 }  // namespace
 }  // namespace hpose
