@@ -166,64 +166,41 @@ struct PointLanes8 {
   __m256 x, y, z;
 };
 
-// Lane i of x, y and z is float 3i, 3i + 1 and 3i + 2 of 24. Of the three vectors of 8 floats,
-// each component takes disjoint lanes: two blends put them in one vector, one permutation puts
-// them in order. Store is the inverse: output float f is component f % 3 of point f / 3, so one
-// permutation of each component (the same indices) and two blends make each output vector.
+// Lane i of x, y and z is float 3i, 3i + 1 and 3i + 2 of 24. Points 0-3 lie in the first 12
+// floats and points 4-7 in the last 12, so the 128-bit halves of the three vectors of 8 floats
+// exchange once (three half swaps), and each half is then a transpose of four points by
+// shuffles within 128-bit lanes, as are Store's: after the swaps, vectors r0, r1, r2 hold floats
+// 0-3, 4-7, 8-11 of points 0-3 in their first halves and of points 4-7 in their second.
 class PointShuffles8 {
  public:
-  [[gnu::target("avx2")]] PointShuffles8() {
-    for (int k = 0; k < 3; ++k) {
-      alignas(32) std::int32_t order[8], from_b[8], from_c[8];
-      for (int i = 0; i < 8; ++i) {
-        const int f = 3 * i + k;
-        order[i] = f % 8;
-        from_b[f % 8] = f / 8 == 1 ? -1 : 0;
-        from_c[f % 8] = f / 8 == 2 ? -1 : 0;
-      }
-      load_order_[k] = _mm256_load_si256(reinterpret_cast<const __m256i*>(order));
-      from_b_[k] = _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(from_b)));
-      from_c_[k] = _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(from_c)));
-    }
-    for (int r = 0; r < 3; ++r) {
-      alignas(32) std::int32_t point[8], is_y[8], is_z[8];
-      for (int l = 0; l < 8; ++l) {
-        const int f = 8 * r + l;
-        point[l] = f / 3;
-        is_y[l] = f % 3 == 1 ? -1 : 0;
-        is_z[l] = f % 3 == 2 ? -1 : 0;
-      }
-      store_point_[r] = _mm256_load_si256(reinterpret_cast<const __m256i*>(point));
-      is_y_[r] = _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(is_y)));
-      is_z_[r] = _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(is_z)));
-    }
-  }
+  PointShuffles8() {}  // (nothing to set up; user-provided, so const objects may be made)
 
   // The eight points from `p` (24 floats).
   [[gnu::target("avx2")]] PointLanes8 Load(const float* p) const {
-    const __m256 a = _mm256_loadu_ps(p), b = _mm256_loadu_ps(p + 8), c = _mm256_loadu_ps(p + 16);
-    __m256 out[3];
-    for (int k = 0; k < 3; ++k) {
-      const __m256 mixed = _mm256_blendv_ps(_mm256_blendv_ps(a, b, from_b_[k]), c, from_c_[k]);
-      out[k] = _mm256_permutevar8x32_ps(mixed, load_order_[k]);
-    }
-    return {out[0], out[1], out[2]};
+    const __m256 m0 = _mm256_loadu_ps(p), m1 = _mm256_loadu_ps(p + 8),
+                 m2 = _mm256_loadu_ps(p + 16);
+    const __m256 r0 = _mm256_permute2f128_ps(m0, m1, 0x30);  // x0 y0 z0 x1 | x4 y4 z4 x5
+    const __m256 r1 = _mm256_permute2f128_ps(m0, m2, 0x21);  // y1 z1 x2 y2 | y5 z5 x6 y6
+    const __m256 r2 = _mm256_permute2f128_ps(m1, m2, 0x30);  // z2 x3 y3 z3 | z6 x7 y7 z7
+    const __m256 xy = _mm256_shuffle_ps(r1, r2, _MM_SHUFFLE(2, 1, 3, 2));  // x2 y2 x3 y3
+    const __m256 yz = _mm256_shuffle_ps(r0, r1, _MM_SHUFFLE(1, 0, 2, 1));  // y0 z0 y1 z1
+    return {_mm256_shuffle_ps(r0, xy, _MM_SHUFFLE(2, 0, 3, 0)),
+            _mm256_shuffle_ps(yz, xy, _MM_SHUFFLE(3, 1, 2, 0)),
+            _mm256_shuffle_ps(yz, r2, _MM_SHUFFLE(3, 0, 3, 1))};
   }
 
   // All eight lanes written as eight points (24 floats) from `dst`.
   [[gnu::target("avx2")]] void Store(__m256 x, __m256 y, __m256 z, float* dst) const {
-    for (int r = 0; r < 3; ++r) {
-      const __m256 xy = _mm256_blendv_ps(_mm256_permutevar8x32_ps(x, store_point_[r]),
-                                         _mm256_permutevar8x32_ps(y, store_point_[r]), is_y_[r]);
-      _mm256_storeu_ps(
-          dst + 8 * r,
-          _mm256_blendv_ps(xy, _mm256_permutevar8x32_ps(z, store_point_[r]), is_z_[r]));
-    }
+    const __m256 xy = _mm256_shuffle_ps(x, y, _MM_SHUFFLE(2, 0, 2, 0));  // x0 x2 y0 y2
+    const __m256 yz = _mm256_shuffle_ps(y, z, _MM_SHUFFLE(3, 1, 3, 1));  // y1 y3 z1 z3
+    const __m256 zx = _mm256_shuffle_ps(z, x, _MM_SHUFFLE(3, 1, 2, 0));  // z0 z2 x1 x3
+    const __m256 r0 = _mm256_shuffle_ps(xy, zx, _MM_SHUFFLE(2, 0, 2, 0));  // x0 y0 z0 x1
+    const __m256 r1 = _mm256_shuffle_ps(yz, xy, _MM_SHUFFLE(3, 1, 2, 0));  // y1 z1 x2 y2
+    const __m256 r2 = _mm256_shuffle_ps(zx, yz, _MM_SHUFFLE(3, 1, 3, 1));  // z2 x3 y3 z3
+    _mm256_storeu_ps(dst, _mm256_permute2f128_ps(r0, r1, 0x20));
+    _mm256_storeu_ps(dst + 8, _mm256_permute2f128_ps(r2, r0, 0x30));
+    _mm256_storeu_ps(dst + 16, _mm256_permute2f128_ps(r1, r2, 0x31));
   }
-
- private:
-  __m256i load_order_[3], store_point_[3];
-  __m256 from_b_[3], from_c_[3], is_y_[3], is_z_[3];
 };
 
 // The lanes of an 8-bit mask packed to the front: for each mask, the indices of its set bits in
