@@ -183,7 +183,7 @@ bool PrintVectorPaths(const char* program) {
               : run == RunSumPath::kAvx2 ? "AVX2"
                                          : "scalar",
               PointLanesAvailable()    ? "AVX-512"
-              : PointLanes8Available() ? "AVX2 (the grid clustering's distances scalar)"
+              : PointLanes8Available() ? "AVX2"
                                        : "scalar",
               cap.c_str());
   return true;

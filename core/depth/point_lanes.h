@@ -177,8 +177,7 @@ class PointShuffles8 {
 
   // The eight points from `p` (24 floats).
   [[gnu::target("avx2")]] PointLanes8 Load(const float* p) const {
-    const __m256 m0 = _mm256_loadu_ps(p), m1 = _mm256_loadu_ps(p + 8),
-                 m2 = _mm256_loadu_ps(p + 16);
+    const __m256 m0 = _mm256_loadu_ps(p), m1 = _mm256_loadu_ps(p + 8), m2 = _mm256_loadu_ps(p + 16);
     const __m256 r0 = _mm256_permute2f128_ps(m0, m1, 0x30);  // x0 y0 z0 x1 | x4 y4 z4 x5
     const __m256 r1 = _mm256_permute2f128_ps(m0, m2, 0x21);  // y1 z1 x2 y2 | y5 z5 x6 y6
     const __m256 r2 = _mm256_permute2f128_ps(m1, m2, 0x30);  // z2 x3 y3 z3 | z6 x7 y7 z7
@@ -191,9 +190,9 @@ class PointShuffles8 {
 
   // All eight lanes written as eight points (24 floats) from `dst`.
   [[gnu::target("avx2")]] void Store(__m256 x, __m256 y, __m256 z, float* dst) const {
-    const __m256 xy = _mm256_shuffle_ps(x, y, _MM_SHUFFLE(2, 0, 2, 0));  // x0 x2 y0 y2
-    const __m256 yz = _mm256_shuffle_ps(y, z, _MM_SHUFFLE(3, 1, 3, 1));  // y1 y3 z1 z3
-    const __m256 zx = _mm256_shuffle_ps(z, x, _MM_SHUFFLE(3, 1, 2, 0));  // z0 z2 x1 x3
+    const __m256 xy = _mm256_shuffle_ps(x, y, _MM_SHUFFLE(2, 0, 2, 0));    // x0 x2 y0 y2
+    const __m256 yz = _mm256_shuffle_ps(y, z, _MM_SHUFFLE(3, 1, 3, 1));    // y1 y3 z1 z3
+    const __m256 zx = _mm256_shuffle_ps(z, x, _MM_SHUFFLE(3, 1, 2, 0));    // z0 z2 x1 x3
     const __m256 r0 = _mm256_shuffle_ps(xy, zx, _MM_SHUFFLE(2, 0, 2, 0));  // x0 y0 z0 x1
     const __m256 r1 = _mm256_shuffle_ps(yz, xy, _MM_SHUFFLE(3, 1, 2, 0));  // y1 z1 x2 y2
     const __m256 r2 = _mm256_shuffle_ps(zx, yz, _MM_SHUFFLE(3, 1, 3, 1));  // z2 x3 y3 z3

@@ -131,8 +131,8 @@ std::vector<int> BruteForceLabels(const std::vector<Eigen::Vector3f>& points, do
   return expected;
 }
 
-// Both forms of the distance tests (sixteen at a time where the CPU has AVX-512, and one by one)
-// against the brute force.
+// Every form of the distance tests (sixteen at a time with AVX-512 or AVX2 where the CPU has
+// them, and one by one) against the brute force.
 void ExpectBruteForceLabels(const std::vector<Eigen::Vector3f>& points, double tolerance,
                             const std::string& what) {
   int expected_count = 0;
@@ -143,6 +143,11 @@ void ExpectBruteForceLabels(const std::vector<Eigen::Vector3f>& points, double t
   count = 0;
   EXPECT_EQ(GridEuclideanClusterLabelsScalar(points, tolerance, &count), expected) << what;
   EXPECT_EQ(count, expected_count) << what;
+  if (GridEuclideanClustersAvx2Available()) {
+    count = 0;
+    EXPECT_EQ(GridEuclideanClusterLabelsAvx2(points, tolerance, &count), expected) << what;
+    EXPECT_EQ(count, expected_count) << what;
+  }
   EXPECT_GT(expected_count, 1) << what;
   EXPECT_LT(expected_count, static_cast<int>(points.size())) << what;
 }
@@ -203,6 +208,11 @@ TEST(GridClusteringTest, ABridgeBeyondTheSixteenthPointOfABucketJoins) {
   count = 0;
   EXPECT_EQ(GridEuclideanClusterLabelsScalar(points, 0.04, &count), one);
   EXPECT_EQ(count, 1);
+  if (GridEuclideanClustersAvx2Available()) {
+    count = 0;
+    EXPECT_EQ(GridEuclideanClusterLabelsAvx2(points, 0.04, &count), one);
+    EXPECT_EQ(count, 1);
+  }
   // Without the bridge, two.
   points.pop_back();
   GridEuclideanClusterLabels(points, 0.04, &count);
