@@ -136,6 +136,17 @@ TEST(HposedMessagesTest, FlagsPortInUseAndQueryErrorsReadAsSentences) {
   EXPECT_EQ(RunHposed("--fps 0", dir, &out, &err), 2);
   EXPECT_NE(err.find("hposed: --fps:"), std::string::npos) << err;
   EXPECT_EQ(err.find("config:"), std::string::npos) << err;
+  // A cap on the vector paths that names no level: refused before anything starts.
+  const std::string level_err = dir + "/level.err";
+  EXPECT_EQ(tu::RunCommand("HPOSE_VECTOR_LEVEL=sse9 '" + Hposed() +
+                           "' --print-config >/dev/null 2>'" + level_err + "'"),
+            1);
+  std::ifstream level_in(level_err);
+  std::string level_line;
+  std::getline(level_in, level_line);
+  EXPECT_EQ(level_line,
+            "hposed: HPOSE_VECTOR_LEVEL: unknown vector level \"sse9\" (expected scalar, avx2 or "
+            "avx512)");
 
   server::DaemonConfig config;
   config.grpc.listen = "127.0.0.1:0";

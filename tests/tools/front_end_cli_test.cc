@@ -137,6 +137,11 @@ TEST(FrontEndCliTest, EveryCommandHasAProgramWithTheSameFlags) {
   ASSERT_EQ(top.exit_code, 0);
   const std::vector<std::string> commands = ListedCommands(top.out);
   ASSERT_GE(commands.size(), 10u) << top.out;
+  // The environment variables the commands read are listed after them.
+  for (const char* variable :
+       {"HPOSE_TEMPLATE_DIR", "HPOSE_DRAWING_MODULE", "HPOSE_VECTOR_LEVEL"}) {
+    EXPECT_NE(top.out.find(std::string("\n  ") + variable + " "), std::string::npos) << variable;
+  }
   for (const std::string& c : commands) {
     SCOPED_TRACE(c);
     const CliRun front = RunHpose(c + " --help", dir);
