@@ -11,6 +11,11 @@ namespace {
 
 int Kind(LineKind kind) { return kind == LineKind::kSmooth ? kHposeLineAntialiased : kHposeLine8; }
 
+// A colour channel as a byte: rounded, halves away from zero, and clamped.
+std::uint8_t ChannelByte(double v) {
+  return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+}
+
 }  // namespace
 
 PxBox PxBox::Spanning(Px a, Px b) {
@@ -30,10 +35,8 @@ Result<Canvas> Canvas::Create(int width, int height, const Bgr& background) {
   c.full_width_ = c.width_ = width;
   c.full_height_ = c.height_ = height;
   c.pixels_ = std::make_shared<std::vector<std::uint8_t>>(static_cast<size_t>(width) * height * 3);
-  const std::uint8_t bgr[3] = {
-      static_cast<std::uint8_t>(std::clamp(std::lround(background.b), 0L, 255L)),
-      static_cast<std::uint8_t>(std::clamp(std::lround(background.g), 0L, 255L)),
-      static_cast<std::uint8_t>(std::clamp(std::lround(background.r), 0L, 255L))};
+  const std::uint8_t bgr[3] = {ChannelByte(background.b), ChannelByte(background.g),
+                               ChannelByte(background.r)};
   for (size_t i = 0; i < c.pixels_->size(); i += 3) {
     std::copy(bgr, bgr + 3, c.pixels_->data() + i);
   }
@@ -76,6 +79,10 @@ void Canvas::SetPixel(Px p, std::uint8_t b, std::uint8_t g, std::uint8_t r) {
   px[0] = b;
   px[1] = g;
   px[2] = r;
+}
+
+void Canvas::SetPixel(Px p, const Bgr& colour) {
+  SetPixel(p, ChannelByte(colour.b), ChannelByte(colour.g), ChannelByte(colour.r));
 }
 
 void Canvas::Line(Px a, Px b, const Bgr& colour, int thickness, LineKind kind) {

@@ -72,8 +72,10 @@ class Canvas {
   int width() const { return width_; }
   int height() const { return height_; }
 
-  // Sets one pixel; positions outside the canvas are ignored.
+  // Sets one pixel; positions outside the canvas are ignored. A Bgr's channels are rounded (halves
+  // away from zero) and clamped to [0, 255], as Create's background is.
   void SetPixel(Px p, std::uint8_t b, std::uint8_t g, std::uint8_t r);
+  void SetPixel(Px p, const Bgr& colour);
 
   void Line(Px a, Px b, const Bgr& colour, int thickness = 1, LineKind kind = LineKind::kSharp);
   void Circle(Px centre, int radius, const Bgr& colour, int thickness = 1,

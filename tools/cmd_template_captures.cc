@@ -161,8 +161,7 @@ Status WriteRegistrationPicture(const CaptureRegistration& reg, const CaptureTem
       const Eigen::Vector2d q =
           to_template(gc * p.x() - gs * p.y() + g.x, gs * p.x() + gc * p.y() + g.y);
       for (const Px& px : {top(q), side(q.x(), p.z())}) {
-        img.SetPixel(px, static_cast<std::uint8_t>(colour.b), static_cast<std::uint8_t>(colour.g),
-                     static_cast<std::uint8_t>(colour.r));
+        img.SetPixel(px, colour);
       }
     }
     img.Text(reg.views[i].name, Px(8, 16 + 14 * i), 0.4, colour, 1, LineKind::kSmooth);

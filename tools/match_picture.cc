@@ -32,11 +32,6 @@ Bgr HeightColour(double z) {
   return Bgr(90 + 120 * (1 - t), 90 + 120 * t, 90);  // BGR: blue-ish low, green high.
 }
 
-// A colour channel as a byte, rounded and clamped (as OpenCV's saturate_cast).
-std::uint8_t Byte(double v) {
-  return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
-}
-
 std::vector<Eigen::Vector3f> PlacedVoxels(const VoxelTemplate& t, const Pose2D& pose) {
   const Eigen::Isometry3d g = pose.ToIsometry();
   std::vector<Eigen::Vector3f> out;
@@ -76,8 +71,7 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
   for (const Eigen::Vector3f& g : ground) {
     const Px p = over.At(g.x(), g.y());
     if (p.x >= 0 && p.x < kPanel && p.y >= 0 && p.y < kPanel) {
-      const Bgr c = HeightColour(g.z());
-      left.SetPixel(p, Byte(c.b), Byte(c.g), Byte(c.r));
+      left.SetPixel(p, HeightColour(g.z()));
     }
   }
   left.Marker(over.At(0, 0), Bgr(255, 255, 255), MarkerShape::kTriangleUp, 14, 2);

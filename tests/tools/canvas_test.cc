@@ -91,6 +91,8 @@ TEST(CanvasTest, EveryShapeEqualsOpenCvsOwnDrawing) {
   cv::putText(ref_region, "clipped text", cv::Point(40, 20), cv::FONT_HERSHEY_SIMPLEX, 0.6, s(a), 1,
               cv::LINE_AA);
   region.SetPixel(Px(5, 5), 9, 8, 7);
+  region.SetPixel(Px(6, 5), Bgr(9.5, -3.0, 300.0));  // rounded and clamped to bytes.
+  ref_region.at<cv::Vec3b>(5, 6) = cv::Vec3b(10, 0, 255);
   region.SetPixel(Px(100, 5), 9, 8, 7);  // outside the region: ignored.
   region.SetPixel(Px(-1, 5), 9, 8, 7);
   ref_region.at<cv::Vec3b>(5, 5) = cv::Vec3b(9, 8, 7);
