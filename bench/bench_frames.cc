@@ -10,10 +10,9 @@
 #include "core/depth/cluster_extractor.h"
 #include "core/depth/depth_to_cloud.h"
 #include "core/depth/floor_fitter.h"
-#include "core/depth/point_lanes.h"
 #include "core/depth/range_image.h"
 #include "core/scoring/free_space.h"
-#include "core/scoring/gather_sums.h"
+#include "core/search/vector_paths.h"
 #include "core/sim/humanoid_model.h"
 #include "core/templates/template_io.h"
 
@@ -172,20 +171,7 @@ bool PrintVectorPaths(const char* program) {
     std::fprintf(stderr, "%s: %s\n", program, variable.error().message.c_str());
     return false;
   }
-  const RunSumPath run = FastestRunSumPath();
-  std::string cap;
-  if (VectorLevelCap() != VectorLevel::kAvx512) {
-    cap = std::string(" (capped by ") + kVectorLevelVariable + "=" +
-          VectorLevelName(VectorLevelCap()) + ")";
-  }
-  std::printf("Vector paths of this CPU: run sums %s, whole-cloud passes %s%s.\n",
-              run == RunSumPath::kAvx512 ? "AVX-512"
-              : run == RunSumPath::kAvx2 ? "AVX2"
-                                         : "scalar",
-              PointLanesAvailable()    ? "AVX-512"
-              : PointLanes8Available() ? "AVX2"
-                                       : "scalar",
-              cap.c_str());
+  std::printf("Vector paths of this CPU: %s.\n", VectorPathsInUse().c_str());
   return true;
 }
 

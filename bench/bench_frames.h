@@ -64,9 +64,8 @@ double ThreadCpuMs();
 // Nearest-rank percentile, p in (0, 100].
 double Percentile(std::vector<double> v, double p);
 
-// Prints the vector paths this CPU takes, for a benchmark's header: the search's run sums
-// (AVX-512, AVX2 or scalar) and the whole-cloud passes (AVX-512, AVX2 or scalar), and the cap
-// HPOSE_VECTOR_LEVEL sets. False, with "<program>: <why>" on stderr, when it names no level.
+// Prints the vector paths this CPU takes (VectorPathsInUse), for a benchmark's header. False,
+// with "<program>: <why>" on stderr, when HPOSE_VECTOR_LEVEL names no level.
 bool PrintVectorPaths(const char* program);
 
 }  // namespace hpose::bench

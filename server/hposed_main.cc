@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/common/vector_level.h"
+#include "core/search/vector_paths.h"
 #include "server/daemon.h"
 #include "server/daemon_config.h"
 #include "tools/exit_codes.h"
@@ -147,10 +148,6 @@ int main(int argc, char** argv) {
 
   const hpose::Status vector_level = hpose::CheckVectorLevelVariable();
   if (!vector_level.ok()) return hpose::tools::ReportProgramError("hposed", vector_level.error());
-  if (hpose::VectorLevelCap() != hpose::VectorLevel::kAvx512) {
-    spdlog::info("{}={}: the estimator's vector paths go no wider", hpose::kVectorLevelVariable,
-                 hpose::VectorLevelName(hpose::VectorLevelCap()));
-  }
 
   hpose::server::DaemonConfig config;
   if (!config_path.empty()) {
@@ -224,6 +221,7 @@ int main(int argc, char** argv) {
       (*daemon)->address(), config.templates.size(), 1000.0 * (*daemon)->search_resolution_m(),
       config.source.path.empty() ? "(none)" : config.source.path,
       config.stereo.source.empty() ? "(none)" : config.stereo.source);
+  spdlog::info("hposed: vector paths: {}", hpose::VectorPathsInUse());
   if ((*daemon)->http_port() > 0) {
     spdlog::info("hposed: web view on http://{}/ (metrics on /metrics)", (*daemon)->http_address());
   }
