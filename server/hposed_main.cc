@@ -74,7 +74,9 @@ int main(int argc, char** argv) {
       "PCL's *_depth.pclzf with their .xml), a directory of PCD clouds, or a single frame file. "
       "A stereo source (a directory of left/right frame pairs) runs the "
       "stereo-marker estimator beside the depth source, or alone; its estimates go out through "
-      "the same calls, marked with their estimator. Flags override the config file.");
+      "the same calls, marked with their estimator. Flags override the config file. "
+      "HPOSE_VECTOR_LEVEL=avx2 or scalar in the environment caps the estimator's vector paths "
+      "(the same estimates; the start-up log names the paths taken).");
   flags.AddString("config", &config_path, "YAML config file (see server/hposed.example.yaml)",
                   "FILE");
   flags.AddString("listen", &listen, "address to serve on (default 127.0.0.1:50051)", "ADDR");
