@@ -288,7 +288,6 @@ std::vector<int> Labels(const std::vector<Eigen::Vector3f>& points, double toler
 
 }  // namespace
 
-bool GridEuclideanClustersVectorised() { return PointLanesAvailable() || PointLanes8Available(); }
 bool GridEuclideanClustersAvx2Available() { return PointLanes8Available(); }
 
 std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& points,

@@ -19,14 +19,13 @@ std::vector<int> GridEuclideanClusterLabels(const std::vector<Eigen::Vector3f>& 
                                             double tolerance_m, int* cluster_count);
 
 // The distance tests take sixteen points at a time, with AVX-512 or else AVX2 (two vectors of
-// eight) where the CPU has either (GridEuclideanClustersVectorised()); the scalar form gives the
+// eight) where the CPU has either; the scalar form gives the
 // same labels on any CPU (the reference the tests compare with), as does the AVX2 form whatever
 // else the CPU has (only where GridEuclideanClustersAvx2Available()), for tests.
 std::vector<int> GridEuclideanClusterLabelsScalar(const std::vector<Eigen::Vector3f>& points,
                                                   double tolerance_m, int* cluster_count);
 std::vector<int> GridEuclideanClusterLabelsAvx2(const std::vector<Eigen::Vector3f>& points,
                                                 double tolerance_m, int* cluster_count);
-bool GridEuclideanClustersVectorised();
 bool GridEuclideanClustersAvx2Available();
 
 }  // namespace hpose

@@ -106,23 +106,18 @@ void PlaceInViewBaseline(HPOSE_PLACE_IN_VIEW_PARAMS) {
 [[gnu::target("avx512f")]] void PlaceInViewAvx512(HPOSE_PLACE_IN_VIEW_PARAMS) {
   PlaceInViewLoop(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
 }
-
-bool HasAvx2() {
-  static const bool has = VectorLevelAllows(VectorLevel::kAvx2) && __builtin_cpu_supports("avx2");
-  return has;
-}
 #else
 void PlaceInViewAvx2(HPOSE_PLACE_IN_VIEW_PARAMS) {
   PlaceInViewLoop(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
 }
 constexpr auto* PlaceInViewAvx512 = &PlaceInViewAvx2;
-bool HasAvx2() { return false; }
 #endif
 
 void PlaceInView(HPOSE_PLACE_IN_VIEW_PARAMS) {
   (PointLanesAvailable() ? PlaceInViewAvx512
-   : HasAvx2()           ? PlaceInViewAvx2
-               : PlaceInViewBaseline)(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
+   : PointLanes8Available()
+       ? PlaceInViewAvx2
+       : PlaceInViewBaseline)(n, mx, my, mz, view, inv_bin, window, zs, bx, by, ok);
 }
 
 #undef HPOSE_PLACE_IN_VIEW_PARAMS
