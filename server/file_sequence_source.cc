@@ -39,6 +39,13 @@ void Merge(std::vector<std::string>* files, const Result<std::vector<std::string
   std::sort(files->begin(), files->end());
 }
 
+// A frame file a reader refuses as too large (kOutOfRange: a side or a point count beyond what
+// hpose reads) is one bad file of the recording; kOutOfRange from Next() means its end.
+Error OneBadFile(Error error) {
+  if (error.code == ErrorCode::kOutOfRange) error.code = ErrorCode::kInvalidArgument;
+  return error;
+}
+
 }  // namespace
 
 Result<std::vector<std::string>> ListFiles(const std::string& directory,
@@ -193,12 +200,12 @@ Result<Frame> FileSequenceSource::Next() {
   frame.origin = path;
   if (format_ == Format::kPcd) {
     Result<PointCloud> cloud = ReadCloud(path);
-    if (!cloud.ok()) return cloud.error();
+    if (!cloud.ok()) return OneBadFile(cloud.error());
     frame.is_cloud = true;
     frame.cloud = std::move(*cloud);
   } else {
     Result<DepthFrameFile> read = ReadDepthFrame(path);
-    if (!read.ok()) return read.error();
+    if (!read.ok()) return OneBadFile(read.error());
     frame.depth = std::move(read->depth);
     frame.intrinsics = has_intrinsics_ ? intrinsics_
                        : read->has_intrinsics

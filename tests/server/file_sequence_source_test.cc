@@ -91,6 +91,62 @@ TEST_F(FileSequenceSourceTest, CorruptFrameIsReportedAndSkipped) {
   EXPECT_EQ(good->depth.at(0, 0), 1001);
 }
 
+// A PNG whose header announces a side beyond what hpose decodes: the reader refuses it from
+// the header (kOutOfRange) before anything is decoded, so the rest of the file does not matter.
+void WriteOversizedPngHeader(const fs::path& path) {
+  const unsigned char head[] = {0x89, 'P',  'N', 'G', '\r', '\n', 0x1a, '\n', 0,    0, 0,
+                                13,   'I',  'H', 'D', 'R',  0,    1,    0x86, 0xa0, 0, 1,
+                                0x86, 0xa0, 16,  0,   0,    0,    0,    0,    0,    0, 0};
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(head), sizeof head);
+}
+
+TEST_F(FileSequenceSourceTest, AnOversizedFrameIsSkippedNotTakenForTheEnd) {
+  WriteFrames(3);
+  WriteOversizedPngHeader(dir_ / "f1.png");  // 100000 x 100000 px.
+  ReplayOptions replay;
+  replay.realtime = false;
+  Result<std::unique_ptr<FrameSource>> s = MakeFrameSource(dir_.string(), replay);
+  ASSERT_TRUE(s.ok()) << s.error().ToString();
+  ASSERT_TRUE((*s)->Open().ok());
+  Result<Frame> first = (*s)->Next();
+  ASSERT_TRUE(first.ok()) << first.error().ToString();
+  Result<Frame> bad = (*s)->Next();
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().code, ErrorCode::kInvalidArgument) << bad.error().ToString();
+  EXPECT_NE(bad.error().message.find("f1.png"), std::string::npos) << bad.error().message;
+  EXPECT_NE(bad.error().message.find("100000x100000"), std::string::npos) << bad.error().message;
+  Result<Frame> last = (*s)->Next();
+  ASSERT_TRUE(last.ok()) << last.error().ToString();
+  EXPECT_EQ(last->depth.at(0, 0), 1002);
+  EXPECT_EQ((*s)->Next().error().code, ErrorCode::kOutOfRange);
+}
+
+TEST_F(FileSequenceSourceTest, AnOversizedCloudIsSkippedNotTakenForTheEnd) {
+  const std::string header_start =
+      "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
+  std::ofstream(dir_ / "a.pcd") << header_start
+                                << "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n0.1 0.2 1.5\n";
+  std::ofstream(dir_ / "b.pcd") << header_start
+                                << "WIDTH 4000000000\nHEIGHT 1\nPOINTS 4000000000\nDATA binary\n";
+  std::ofstream(dir_ / "c.pcd") << header_start
+                                << "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n0.3 0.2 1.5\n";
+  ReplayOptions replay;
+  replay.realtime = false;
+  Result<std::unique_ptr<FrameSource>> s = MakeFrameSource(dir_.string(), replay);
+  ASSERT_TRUE(s.ok()) << s.error().ToString();
+  ASSERT_TRUE((*s)->Open().ok());
+  ASSERT_TRUE((*s)->Next().ok());
+  Result<Frame> bad = (*s)->Next();
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().code, ErrorCode::kInvalidArgument) << bad.error().ToString();
+  EXPECT_NE(bad.error().message.find("b.pcd"), std::string::npos) << bad.error().message;
+  Result<Frame> last = (*s)->Next();
+  ASSERT_TRUE(last.ok()) << last.error().ToString();
+  ASSERT_EQ(last->cloud.size(), 1u);
+  EXPECT_FLOAT_EQ(last->cloud.points[0].x(), 0.3f);
+  EXPECT_EQ((*s)->Next().error().code, ErrorCode::kOutOfRange);
+}
+
 TEST_F(FileSequenceSourceTest, MakeFrameSourceExplainsWhatIsWrong) {
   ReplayOptions replay;
   EXPECT_EQ(MakeFrameSource((dir_ / "missing").string(), replay).error().code,
