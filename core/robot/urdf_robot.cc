@@ -418,7 +418,22 @@ Result<PosedRobot> UrdfRobot::Pose(const JointValues& positions,
   TriangleMesh root_mesh;
   int reference = reference_link.empty() ? 0 : -1;
   for (size_t i = 0; i < links_.size(); ++i) {
+    const size_t first = root_mesh.vertices.size();
     root_mesh.Append(links_[i].shapes, root_from_link[i]);
+    // Single-precision vertices this far out keep no shape at a voxel's scale (see
+    // kMaxTemplateOffsetM): name the link rather than make a template of what is left.
+    float farthest = 0.0f;
+    for (size_t k = first; k < root_mesh.vertices.size(); ++k) {
+      farthest = std::max(farthest, root_mesh.vertices[k].cwiseAbs().maxCoeff());
+    }
+    if (farthest > kMaxTemplateOffsetM) {
+      std::ostringstream msg;
+      msg.precision(3);
+      msg << "link '" << links_[i].name << "': its shapes lie " << farthest << " m from the "
+          << "root link, more than the " << kMaxTemplateOffsetM << " m a template may; is a "
+          << "joint or visual origin in other units?";
+      return MakeError(ErrorCode::kInvalidArgument, msg.str());
+    }
     if (links_[i].name == reference_link) reference = static_cast<int>(i);
   }
   if (reference < 0) {

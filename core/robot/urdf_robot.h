@@ -88,7 +88,8 @@ class UrdfRobot final {
   // `reference_link` defines the template frame (empty: the root link). Fails
   // (kInvalidArgument) naming every unknown joint, a joint that cannot be set (fixed, mimic,
   // floating, planar), a position outside the joint's limits, an unknown reference link or
-  // one whose x axis is vertical, or a robot with no shape at all. Mimic joints driven outside
+  // one whose x axis is vertical, a link whose shapes lie farther than kMaxTemplateOffsetM from
+  // the root, or a robot with no shape at all. Mimic joints driven outside
   // their own limits are noted in PosedRobot::notes.
   Result<PosedRobot> Pose(const JointValues& positions,
                           const std::string& reference_link = "") const;

@@ -202,7 +202,8 @@ Status CheckMeshForTemplate(const TriangleMesh& mesh, const std::string& name,
                      "template '" + name + "': the voxel size must be positive");
   }
   if (mesh.triangles.empty()) return Status::Ok();  // MakeTemplateFromPoints names it.
-  const Eigen::Vector3d size = mesh.Bounds().sizes();
+  const Eigen::AlignedBox3d bounds = mesh.Bounds();
+  const Eigen::Vector3d size = bounds.sizes();
   if (size.maxCoeff() > kMaxTemplateBodyM) {
     std::ostringstream msg;
     msg.precision(3);
@@ -210,6 +211,17 @@ Status CheckMeshForTemplate(const TriangleMesh& mesh, const std::string& name,
         << size.z() << " m, more than the " << kMaxTemplateBodyM
         << " m a template may span; are its meshes in millimetres (a mesh scale of 0.001 "
         << "converts them) or is a shape far from the others?";
+    return MakeError(ErrorCode::kInvalidArgument, msg.str());
+  }
+  const double offset =
+      std::max(bounds.min().cwiseAbs().maxCoeff(), bounds.max().cwiseAbs().maxCoeff());
+  if (offset > kMaxTemplateOffsetM) {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "template '" << name << "': the body lies " << offset
+        << " m from the origin of its frame, more than the " << kMaxTemplateOffsetM
+        << " m a template may (its coordinates would lose the precision of a voxel); is a joint "
+        << "or shape origin in other units, or far from the others?";
     return MakeError(ErrorCode::kInvalidArgument, msg.str());
   }
   const double samples = SampleCount(mesh, 0.25 * resolution_m);

@@ -52,10 +52,14 @@ std::vector<Eigen::Vector3f> VoxelizeMeshSurface(const TriangleMesh& mesh, doubl
 // (SampleMeshSurface at a quarter voxel) it may take: a humanoid is a few metres at most, and a
 // mesh far larger is one in other units (millimetres) or a misplaced shape.
 inline constexpr double kMaxTemplateBodyM = 5.0;
+// ... and how far from the origin of its frame it may lie: vertices are single precision, which
+// beyond a kilometre keeps less than a tenth of a millimetre and far away none of a voxel.
+inline constexpr double kMaxTemplateOffsetM = 1000.0;
 inline constexpr double kMaxTemplateSurfaceSamples = 20e6;
 
 // Ok when MakeMeshTemplate can voxelise `mesh` at `resolution_m`: finite vertices, triangles
-// that name existing vertices, a body within kMaxTemplateBodyM and a surface within
+// that name existing vertices, a body within kMaxTemplateBodyM, within kMaxTemplateOffsetM of
+// its frame's origin, and a surface within
 // kMaxTemplateSurfaceSamples; otherwise an error naming what is wrong.
 Status CheckMeshForTemplate(const TriangleMesh& mesh, const std::string& name, double resolution_m);
 

@@ -303,6 +303,32 @@ TEST(UrdfRobotTest, UnreadableOrImpossibleShapeNumbersAreErrors) {
       << cylinder.error().message;
 }
 
+// A joint origin a million kilometres out (a unit slip): the head's single-precision vertices
+// there would collapse to a point, so posing refuses it by the link's name; a robot within
+// reach of its root poses.
+TEST(UrdfRobotTest, ShapesTooFarFromTheRootAreErrorsNamingTheLink) {
+  TempDir dir;
+  const auto robot = [](const std::string& neck_origin) {
+    return "<robot name=\"r\"><link name=\"base\"><visual><origin xyz=\"0 0 0.3\"/>"
+           "<geometry><box size=\"0.2 0.2 0.6\"/></geometry></visual></link>"
+           "<link name=\"head\"><visual><geometry><sphere radius=\"0.1\"/></geometry></visual>"
+           "</link><joint name=\"neck\" type=\"fixed\"><parent link=\"base\"/><child "
+           "link=\"head\"/><origin xyz=\"" +
+           neck_origin + "\"/></joint></robot>";
+  };
+  const Result<UrdfRobot> near = UrdfRobot::Load(dir.Write("near.urdf", robot("0 0 0.7")));
+  ASSERT_TRUE(near.ok()) << near.error().message;
+  EXPECT_TRUE(near->Pose({}).ok());
+
+  const Result<UrdfRobot> far = UrdfRobot::Load(dir.Write("far.urdf", robot("0 0 1e9")));
+  ASSERT_TRUE(far.ok()) << far.error().message;  // a valid URDF; the template cannot be made.
+  const Result<PosedRobot> posed = far->Pose({});
+  ASSERT_FALSE(posed.ok());
+  EXPECT_EQ(posed.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(posed.error().message.find("link 'head': its shapes lie 1e+09 m"), std::string::npos)
+      << posed.error().message;
+}
+
 TEST(UrdfRobotTest, DarwinVisualMissingHeadIsAnErrorNamingLinkAndPath) {
   if (!HaveDarwin()) GTEST_SKIP() << "shared Darwin-OP data not found at " << kDarwinUrdf;
   Result<UrdfRobot> robot = UrdfRobot::Load(kDarwinUrdf);

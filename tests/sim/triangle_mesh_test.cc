@@ -127,6 +127,22 @@ TEST(TriangleMeshTest, MeshTemplatesRefuseBodiesTooLargeOrTooFineOrBroken) {
   EXPECT_NE(in_mm.error().message.find("millimetres"), std::string::npos);
   EXPECT_TRUE(CheckMeshForTemplate(box(kMaxTemplateBodyM * 0.99), "edge", 0.016).ok());
 
+  // A shape placed a million kilometres away (a joint origin in other units): single-precision
+  // vertices there are 64 m apart, so the body would collapse to a point; it is refused by name.
+  const auto box_at = [](double x) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = Eigen::Vector3d(x, 0.0, 0.25);
+    return TessellatePrimitive(Primitive::Box("b", Eigen::Vector3d::Constant(0.5), pose), 0.5);
+  };
+  const Result<VoxelTemplate> far = MakeMeshTemplate(box_at(1e9), "far", 0.016);
+  ASSERT_FALSE(far.ok());
+  EXPECT_EQ(far.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(far.error().message.find("'far'"), std::string::npos) << far.error().message;
+  EXPECT_NE(far.error().message.find("1e+09 m from the origin"), std::string::npos)
+      << far.error().message;
+  EXPECT_FALSE(CheckMeshForTemplate(box_at(-1.01 * kMaxTemplateOffsetM), "beyond", 0.016).ok());
+  EXPECT_TRUE(CheckMeshForTemplate(box_at(0.9 * kMaxTemplateOffsetM), "within", 0.016).ok());
+
   // 2 m of body on 1 mm voxels: 7.7e8 samples a quarter voxel apart.
   const Result<VoxelTemplate> fine = MakeMeshTemplate(box(2.0), "fine", 0.001);
   ASSERT_FALSE(fine.ok());
