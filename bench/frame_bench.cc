@@ -563,6 +563,11 @@ std::vector<Variant> ScatteredVariants() {
                  Exact(o);
                  o->clusters.method = ClusterOptions::Method::kPcl;
                }});
+  // The paper's 320x240: every second pixel of every second row (the `stride` option).
+  v.push_back({"exact search, every second pixel", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->cloud.stride = 2;
+               }});
   return v;
 }
 
@@ -588,6 +593,12 @@ std::vector<Variant> SequenceVariants() {
                [](EstimatorOptions* o) {
                  Exact(o);
                  o->min_humanoid_fit = 0.0;
+               },
+               true});
+  v.push_back({"walk, tracked, every second pixel",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->cloud.stride = 2;
                },
                true});
   v.push_back({"walk, tracked, one score threshold (before)",

@@ -62,7 +62,9 @@ FlagParser EstimateFlags::Parser() {
                   "threshold at every range)",
                   "R");
   flags.AddInt("stride", &stride,
-               "use every N-th depth pixel (2: 640x480 -> 320x240 like the paper)");
+               "use every N-th depth pixel in each direction (2: 640x480 -> 320x240 like the "
+               "paper; about 0.73x the time of a tracked frame, at the cost of less certain "
+               "headings and robots missed at 3.5 m)");
   flags.AddDouble("floor-height", &floor_height,
                   "fixed floor calibration: sensor height above the floor in metres (skips the "
                   "per-frame floor fit)",
