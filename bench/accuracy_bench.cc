@@ -272,6 +272,11 @@ std::vector<Variant> AllVariants() {
   EstimatorOptions own_voxels = DefaultEstimatorOptions();
   own_voxels.max_height_voxels = 0;
   out.push_back({"own-voxels", own_voxels, true});
+  // Clusters nearer than 2.5 m searched on the voxels of two or more points
+  // (EstimatorOptions::two_points_a_voxel_within_m).
+  EstimatorOptions two_points = DefaultEstimatorOptions();
+  two_points.two_points_a_voxel_within_m = 2.5;
+  out.push_back({"two-points-near", two_points, true});
   // Every second pixel of every second row (the paper's 320x240; the `stride` option).
   EstimatorOptions half = DefaultEstimatorOptions();
   half.cloud.stride = 2;

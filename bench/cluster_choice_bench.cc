@@ -13,10 +13,12 @@
 //
 // A column counts the scenes with a humanoid detection 0.3 m or more from the robot (clutter
 // taken for one). --far-ratio sets EstimatorOptions::far_score_ratio (1: one score threshold at
-// every range, as before far clusters had their own), to compare both in runs of the same seed.
+// every range, as before far clusters had their own), and --two-points-within M
+// EstimatorOptions::two_points_a_voxel_within_m (e.g. 2.5; 0: off, the default), to compare
+// either in runs of the same seed.
 //
 // usage: cluster_choice_bench [--scenes N] [--bodies a,b] [--seed S] [--threads N]
-//                             [--far-ratio R]
+//                             [--far-ratio R] [--two-points-within M]
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -147,6 +149,7 @@ Outcome Run(const Scene& s, const Body& body, const Estimator& estimator) {
 int main(int argc, char** argv) {
   int scenes_per_body = 100, threads = 2;
   double far_ratio = DefaultEstimatorOptions().far_score_ratio;
+  double two_points_within = DefaultEstimatorOptions().two_points_a_voxel_within_m;
   std::uint64_t seed = 1;
   std::vector<std::string> body_names = {"nao", "long_legs", "darwin_op"};
   for (int i = 1; i < argc; ++i) {
@@ -162,10 +165,12 @@ int main(int argc, char** argv) {
       threads = std::max(1, std::atoi(v.c_str())), ++i;
     } else if (a == "--far-ratio" && !v.empty()) {
       far_ratio = std::atof(v.c_str()), ++i;
+    } else if (a == "--two-points-within" && !v.empty()) {
+      two_points_within = std::atof(v.c_str()), ++i;
     } else {
       std::fprintf(stderr,
                    "usage: cluster_choice_bench [--scenes N] [--bodies a,b] [--seed S] "
-                   "[--threads N] [--far-ratio R]\n"
+                   "[--threads N] [--far-ratio R] [--two-points-within M]\n"
                    "  --scenes N   random scenes per body (default 100)\n"
                    "  --bodies     nao, long_legs, tall, darwin_op (default: all but tall;\n"
                    "               darwin_op needs the shared data, skipped without it)\n"
@@ -173,7 +178,9 @@ int main(int argc, char** argv) {
                    "  --threads N  scenes estimated at once (default 2)\n"
                    "  --far-ratio R  EstimatorOptions::far_score_ratio (default the "
                    "estimator's; 1: one\n"
-                   "               score threshold at every range)\n");
+                   "               score threshold at every range)\n"
+                   "  --two-points-within M  EstimatorOptions::two_points_a_voxel_within_m\n"
+                   "               (default the estimator's, 0: off)\n");
       return a == "--help" ? 0 : 2;
     }
   }
@@ -203,6 +210,7 @@ int main(int argc, char** argv) {
     std::vector<std::unique_ptr<Estimator>> estimators;  // one per body, this thread's.
     EstimatorOptions options = DefaultEstimatorOptions();
     options.far_score_ratio = far_ratio;
+    options.two_points_a_voxel_within_m = two_points_within;
     for (const Body& b : bodies) {
       Result<std::unique_ptr<Estimator>> e = Estimator::Create(options, b.templates);
       if (!e.ok()) {

@@ -563,6 +563,10 @@ std::vector<Variant> ScatteredVariants() {
                  Exact(o);
                  o->clusters.method = ClusterOptions::Method::kPcl;
                }});
+  v.push_back({"exact search, two points a voxel within 2.5 m", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->two_points_a_voxel_within_m = 2.5;
+               }});
   // The paper's 320x240: every second pixel of every second row (the `stride` option).
   v.push_back({"exact search, every second pixel", [](EstimatorOptions* o) {
                  Exact(o);
@@ -593,6 +597,12 @@ std::vector<Variant> SequenceVariants() {
                [](EstimatorOptions* o) {
                  Exact(o);
                  o->min_humanoid_fit = 0.0;
+               },
+               true});
+  v.push_back({"walk, tracked, two points a voxel within 2.5 m",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->two_points_a_voxel_within_m = 2.5;
                },
                true});
   v.push_back({"walk, tracked, every second pixel",

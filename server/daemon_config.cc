@@ -248,6 +248,8 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_humanoid_fit", &e.min_humanoid_fit));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("tracked_score_threshold", &e.tracked_score_threshold));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("far_range_m", &e.far_range_m));
+    HPOSE_RETURN_IF_ERROR(
+        r.ReadDouble("two_points_a_voxel_within_m", &e.two_points_a_voxel_within_m));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("far_score_ratio", &e.far_score_ratio));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("far_min_evidence", &e.far_min_evidence));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("max_height_ratio_error", &e.max_height_ratio_error));
@@ -487,6 +489,9 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
         c.estimator.tracked_score_threshold <= 100.0)) {
     return fail("search.tracked_score_threshold", "must be in [0, 100]");
   }
+  if (!(c.estimator.two_points_a_voxel_within_m >= 0.0)) {
+    return fail("search.two_points_a_voxel_within_m", "must be at least 0 metres (0: off)");
+  }
   if (!(c.estimator.far_range_m >= 0.0)) {
     return fail("search.far_range_m", "must be at least 0 metres (.inf: no far clusters)");
   }
@@ -604,6 +609,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "min_humanoid_fit" << YAML::Value << e.min_humanoid_fit;
   out << YAML::Key << "tracked_score_threshold" << YAML::Value << e.tracked_score_threshold;
   out << YAML::Key << "far_range_m" << YAML::Value << e.far_range_m;
+  out << YAML::Key << "two_points_a_voxel_within_m" << YAML::Value << e.two_points_a_voxel_within_m;
   out << YAML::Key << "far_score_ratio" << YAML::Value << e.far_score_ratio;
   out << YAML::Key << "far_min_evidence" << YAML::Value << e.far_min_evidence;
   out << YAML::Key << "max_height_ratio_error" << YAML::Value << e.max_height_ratio_error;

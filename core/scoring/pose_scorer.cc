@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <tuple>
 
 #include "core/scoring/fast_scorer.h"
@@ -55,7 +56,7 @@ bool PackedCells(const std::vector<Eigen::Vector3f>& points, double resolution_m
 // per cell of their box (a cluster's box holds some tens of cells per key, and a pass over its
 // bits costs less than a sort). False, with nothing written, when the box holds too many cells
 // for that.
-bool DistinctCellsByBits(const std::vector<std::uint64_t>& keys,
+bool DistinctCellsByBits(const std::vector<std::uint64_t>& keys, bool two_points_a_cell,
                          std::vector<Eigen::Vector3i>* cells) {
   if (keys.empty()) return false;
   std::uint64_t lo[3], hi[3];
@@ -75,13 +76,18 @@ bool DistinctCellsByBits(const std::vector<std::uint64_t>& keys,
   // A word of bits costs about what a key costs in the sort.
   if (volume > 64 * (keys.size() + 1024) || volume > (std::uint64_t{1} << 27)) return false;
   std::vector<std::uint64_t> bits((volume + 63) / 64, 0);
+  // With two_points_a_cell, `bits` holds the cells seen once and `again` those seen twice.
+  std::vector<std::uint64_t> again(two_points_a_cell ? bits.size() : 0, 0);
   for (const std::uint64_t key : keys) {
     const std::uint64_t x = (key >> (2 * kCellBits)) - lo[0];
     const std::uint64_t y = ((key >> kCellBits) & kCellMask) - lo[1];
     const std::uint64_t z = (key & kCellMask) - lo[2];
     const std::uint64_t i = (x * ny + y) * nz + z;
-    bits[i / 64] |= std::uint64_t{1} << (i % 64);
+    const std::uint64_t bit = std::uint64_t{1} << (i % 64);
+    if (two_points_a_cell) again[i / 64] |= bits[i / 64] & bit;
+    bits[i / 64] |= bit;
   }
+  if (two_points_a_cell) bits.swap(again);
   std::size_t count = 0;
   for (const std::uint64_t w : bits) count += static_cast<std::size_t>(__builtin_popcountll(w));
   cells->clear();
@@ -98,17 +104,31 @@ bool DistinctCellsByBits(const std::vector<std::uint64_t>& keys,
   return true;
 }
 
+// Keeps, of sorted `v`, one of each run of equal elements: every run, or with
+// two_points_a_cell those of two or more.
+template <typename T, typename Equal>
+void KeepDistinct(std::vector<T>* v, bool two_points_a_cell, Equal equal) {
+  size_t n = 0;
+  for (size_t i = 0; i < v->size();) {
+    size_t j = i + 1;
+    while (j < v->size() && equal((*v)[j], (*v)[i])) ++j;
+    if (!two_points_a_cell || j - i >= 2) (*v)[n++] = (*v)[i];
+    i = j;
+  }
+  v->resize(n);
+}
+
 }  // namespace
 
 ClusterVoxels VoxeliseCluster(const std::vector<Eigen::Vector3f>& points_ground,
-                              double resolution_m) {
+                              double resolution_m, bool two_points_a_cell) {
   ClusterVoxels out;
   out.resolution_m = resolution_m;
   std::vector<std::uint64_t> keys;
   if (PackedCells(points_ground, resolution_m, &keys)) {
-    if (DistinctCellsByBits(keys, &out.cells)) return out;
+    if (DistinctCellsByBits(keys, two_points_a_cell, &out.cells)) return out;
     std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    KeepDistinct(&keys, two_points_a_cell, std::equal_to<>());
     out.cells.resize(keys.size());
     for (size_t i = 0; i < keys.size(); ++i) out.cells[i] = UnpackCell(keys[i]);
     return out;
@@ -122,7 +142,8 @@ ClusterVoxels VoxeliseCluster(const std::vector<Eigen::Vector3f>& points_ground,
     return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
   };
   std::sort(out.cells.begin(), out.cells.end(), less);
-  out.cells.erase(std::unique(out.cells.begin(), out.cells.end()), out.cells.end());
+  KeepDistinct(&out.cells, two_points_a_cell,
+               [](const Eigen::Vector3i& a, const Eigen::Vector3i& b) { return a == b; });
   return out;
 }
 

@@ -17,8 +17,9 @@ struct ClusterVoxels {
   std::vector<Eigen::Vector3i> cells;
 };
 
+// With `two_points_a_cell`, only the cells that two or more of the points fall in.
 ClusterVoxels VoxeliseCluster(const std::vector<Eigen::Vector3f>& points_ground,
-                              double resolution_m);
+                              double resolution_m, bool two_points_a_cell = false);
 
 // Scores a template placed on the lattice against one cluster (SPEC §1):
 //   score = 100 * (cluster voxels the placed template also occupies) / (cluster voxels).

@@ -511,6 +511,10 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
     return MakeError(ErrorCode::kInvalidArgument,
                      "tracked_score_threshold must be within [0, 100]");
   }
+  if (!(options.two_points_a_voxel_within_m >= 0.0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "two_points_a_voxel_within_m must be at least 0 (metres; 0: off)");
+  }
   if (!(options.far_range_m >= 0.0)) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "far_range_m must be at least 0 (metres; infinity: no far clusters)");
@@ -605,6 +609,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   const bool defer_runner_ups = refine && !options_.refine.search_far_behind_runner_up &&
                                 options_.refine.runner_up_fit_sigmas > 0.0;
   const Eigen::Isometry3d sensor_from_ground = est.floor.ground_from_sensor.inverse();
+  const Eigen::Vector3d sensor_in_ground(0.0, 0.0, est.floor.height_m);
   RangeImage range;
   if (use_free_space || refine) {
     range = RangeImage::FromCloud(cloud, options_.range_image_focal_px);
@@ -686,7 +691,9 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     const int i = searched_clusters[k];
     const Cluster& c = (*clusters)[i];
     ClusterWork& w = work[i];
-    w.voxels = VoxeliseCluster(c.points, res);
+    const bool near = (c.centroid.cast<double>() - sensor_in_ground).norm() <
+                      options_.two_points_a_voxel_within_m;
+    w.voxels = VoxeliseCluster(c.points, res, near);
     w.n = static_cast<int>(w.voxels.cells.size());  // what every scorer counts.
     if (use_free_space && !w.voxels.cells.empty()) {
       // Wherever a template placed by the searches can reach, height by height.
@@ -808,7 +815,6 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   // Far clusters other than the held one (EstimatorOptions::far_range_m) keep their stopped
   // searches, to go on below score_threshold if nothing passes it.
   const double far_threshold = options_.far_score_ratio * options_.score_threshold;
-  const Eigen::Vector3d sensor_in_ground(0.0, 0.0, est.floor.height_m);
   for (Task& task : tasks) {
     task.threshold = thresholds[task.cluster];
     task.far = refine && task.cluster != held_cluster && far_threshold < task.threshold &&

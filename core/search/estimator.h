@@ -125,6 +125,18 @@ struct EstimatorOptions {
   double far_range_m = 2.5;
   double far_score_ratio = 0.8;
   double far_min_evidence = 0.08;
+  // A cluster whose centroid lies nearer than this to the sensor's optical centre (metres) is
+  // searched on the voxels that two or more of its points fall in. That near, a Kinect puts
+  // tens of points in each voxel of a surface (some 13 in a 16 mm voxel's face at 2.5 m, more
+  // nearer), and a voxel with a single point is mostly a stray one off the surface, which every
+  // pose leaves unexplained and which flattens the search's bounds. At 2.5 m: the tracked walk
+  // in 0.89-0.91x the time (0.79x the bounds) and the scattered frames' p99 in 0.84-0.88x, with
+  // the same headings and positions on the accuracy benchmark, but in random scenes clutter
+  // taken for a humanoid in 7 more of 2 400 and 7 fewer first detections within 10 degrees of
+  // the robot's heading (docs/BENCHMARKS.md, "Lone points' voxels"): an option for a CPU where
+  // time is short, off by default. Farther clusters keep every voxel with a point (a voxel's face
+  // gets fewer points there, and depth noise spreads them over more voxels). 0: off.
+  double two_points_a_voxel_within_m = 0.0;
   // true: the exact search stops proving a cluster below the threshold as soon as it has (its
   // candidate then carries the best pose it evaluated and the bound, stopped_below_threshold).
   // false: every candidate's exact

@@ -2,6 +2,7 @@
 // template and pose.
 #include <cmath>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 #include <tuple>
@@ -57,6 +58,37 @@ TEST(ScorerEquivalenceTest, VoxeliseClusterEqualsTheSortedDistinctCells) {
       ASSERT_EQ(v.cells[i], Eigen::Vector3i(x, y, z)) << "trial " << trial << " cell " << i;
       ++i;
     }
+  }
+}
+
+// ... and with two_points_a_cell, against the CellOf cells that two or more points fall in, on
+// the same three paths; a point kilometres away is a lone one, and a pair of them counts.
+TEST(ScorerEquivalenceTest, VoxeliseClusterKeepsTheCellsOfTwoPointsOrMore) {
+  std::mt19937 rng(78);
+  for (int trial = 0; trial < 36; ++trial) {
+    const float spread[3] = {0.05f, 0.5f, 6.0f};
+    std::vector<Eigen::Vector3f> pts = RandomBlob(rng, 500 + 100 * trial, spread[(trial / 3) % 3]);
+    if (trial % 3 == 1) pts.emplace_back(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.1f);
+    if (trial % 3 == 2) pts.emplace_back(-20000.0f, 30000.0f, 0.2f);
+    if (trial % 6 == 5) pts.emplace_back(-20000.0f, 30000.0f, 0.2f);  // now a pair.
+    const double res = trial % 2 == 0 ? 0.016 : 0.01;
+    std::map<std::tuple<int, int, int>, int> counts;
+    for (const Eigen::Vector3f& p : pts) {
+      if (!p.allFinite()) continue;
+      const Eigen::Vector3i c = CellOf(p, res);
+      ++counts[{c.x(), c.y(), c.z()}];
+    }
+    std::vector<Eigen::Vector3i> expected;
+    size_t lone = 0;
+    for (const auto& [cell, n] : counts) {
+      if (n >= 2) expected.emplace_back(std::get<0>(cell), std::get<1>(cell), std::get<2>(cell));
+      lone += n == 1 ? 1 : 0;
+    }
+    ASSERT_GT(lone, 0u) << "trial " << trial << ": no lone point to leave out";
+    ASSERT_FALSE(expected.empty()) << "trial " << trial;
+    const ClusterVoxels v = VoxeliseCluster(pts, res, true);
+    EXPECT_EQ(v.cells, expected) << "trial " << trial;
+    EXPECT_EQ(v.cells.size() + lone, VoxeliseCluster(pts, res).cells.size()) << "trial " << trial;
   }
 }
 

@@ -192,5 +192,42 @@ TEST(EstimatorGatesTest, HeadingsOfClutterThatFailsTheFitEitherWayAreNotCompared
   EXPECT_GT(compared, 0);
 }
 
+// EstimatorOptions::two_points_a_voxel_within_m: a robot 1.5 m away is searched on fewer voxels
+// (its lone points' voxels left out) and found where it stands all the same; a cluster beyond the
+// distance keeps every voxel with a point.
+TEST(EstimatorGatesTest, NearClustersCanBeSearchedOnTheVoxelsOfTwoPoints) {
+  FrameSpec spec;
+  spec.preset = "standing";
+  spec.humanoid_pose = Pose2D{1.5, 0.1, DegToRad(40.0)};
+  spec.seed = 5;
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  const std::vector<VoxelTemplate> templates = {ModelTemplate("standing")};
+  const auto run = [&](double within_m) {
+    EstimatorOptions o = DefaultEstimatorOptions();
+    o.two_points_a_voxel_within_m = within_m;
+    return *Estimator::Create(o, templates).value()->EstimateDepth(frame.depth, spec.intrinsics);
+  };
+  const auto robot_candidate = [&](const Estimate& e) {
+    const Candidate* best = nullptr;
+    for (const Candidate& c : e.candidates) {
+      const double d = std::hypot(c.pose.x - spec.humanoid_pose.x, c.pose.y - spec.humanoid_pose.y);
+      if (d < 0.2 && (best == nullptr || c.score > best->score)) best = &c;
+    }
+    return best;
+  };
+  const Estimate every = run(0.0), two = run(2.5), beyond = run(1.0);
+  const Candidate* a = robot_candidate(every);
+  const Candidate* b = robot_candidate(two);
+  const Candidate* c = robot_candidate(beyond);
+  ASSERT_TRUE(a != nullptr && b != nullptr && c != nullptr);
+  EXPECT_LT(b->cluster_voxels, a->cluster_voxels);
+  EXPECT_GT(b->cluster_voxels, a->cluster_voxels / 2);  // lone points are the few.
+  EXPECT_EQ(c->cluster_voxels, a->cluster_voxels);      // 1.5 m is beyond 1.0 m.
+  ASSERT_EQ(two.Humanoids().size(), 1u);
+  const Pose2D& p = two.Humanoids().front().best.pose;
+  EXPECT_LT(std::hypot(p.x - spec.humanoid_pose.x, p.y - spec.humanoid_pose.y), 0.03);
+  EXPECT_LT(std::abs(RadToDeg(AngleDiff(p.theta, spec.humanoid_pose.theta))), 3.0);
+}
+
 }  // namespace
 }  // namespace hpose

@@ -157,6 +157,13 @@ TEST(FarThresholdTest, BadOptionsAreRefusedByName) {
   EXPECT_NE(error_of(o).find("far_range_m"), std::string::npos);
   o.far_range_m = std::numeric_limits<double>::infinity();  // no far clusters: valid.
   EXPECT_EQ(error_of(o), "");
+  o = DefaultEstimatorOptions();
+  for (double v : {-0.5, std::nan("")}) {
+    o.two_points_a_voxel_within_m = v;
+    EXPECT_NE(error_of(o).find("two_points_a_voxel_within_m"), std::string::npos) << v;
+  }
+  o.two_points_a_voxel_within_m = 0.0;  // off: valid.
+  EXPECT_EQ(error_of(o), "");
 }
 
 }  // namespace

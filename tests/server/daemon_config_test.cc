@@ -16,7 +16,8 @@ source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
          driver_reload_interval_s: 600, initial_pose: {x_m: 3.2, y_m: -0.4, theta_deg: 90}}
 templates: [t/standing.bt, /abs/arm.bt]
 search: {score_threshold: 55, min_humanoid_fit: 70, tracked_score_threshold: 42,
-         scorer: reference, far_range_m: 3.0, far_score_ratio: 0.9, far_min_evidence: 0.1}
+         scorer: reference, far_range_m: 3.0, far_score_ratio: 0.9, far_min_evidence: 0.1,
+         two_points_a_voxel_within_m: 1.5}
 floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
 )";
   Result<DaemonConfig> c = ParseDaemonConfig(yaml, "test.yaml", "/etc/hpose");
@@ -47,6 +48,7 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_DOUBLE_EQ(c->estimator.far_range_m, 3.0);
   EXPECT_DOUBLE_EQ(c->estimator.far_score_ratio, 0.9);
   EXPECT_DOUBLE_EQ(c->estimator.far_min_evidence, 0.1);
+  EXPECT_DOUBLE_EQ(c->estimator.two_points_a_voxel_within_m, 1.5);
   EXPECT_EQ(c->estimator.scorer, ScorerKind::kOctomapReference);
   EXPECT_TRUE(c->floor.fixed);
   EXPECT_DOUBLE_EQ(c->floor.height_m, 0.5);
@@ -200,6 +202,10 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   bad = c;
   bad.estimator.far_range_m = std::nan("");
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.far_range_m"),
+            std::string::npos);
+  bad = c;
+  bad.estimator.two_points_a_voxel_within_m = -1.0;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.two_points_a_voxel_within_m"),
             std::string::npos);
   bad = c;
   bad.estimator.far_min_evidence = -0.1;
