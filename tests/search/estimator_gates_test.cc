@@ -224,7 +224,7 @@ TEST(EstimatorGatesTest, NearClustersCanBeSearchedOnTheVoxelsOfTwoPoints) {
   EXPECT_GT(b->cluster_voxels, a->cluster_voxels / 2);  // lone points are the few.
   EXPECT_EQ(c->cluster_voxels, a->cluster_voxels);      // 1.5 m is beyond 1.0 m.
   ASSERT_EQ(two.Humanoids().size(), 1u);
-  const Pose2D& p = two.Humanoids().front().best.pose;
+  const Pose2D p = two.Humanoids().front().best.pose;  // a copy: Humanoids() is a temporary.
   EXPECT_LT(std::hypot(p.x - spec.humanoid_pose.x, p.y - spec.humanoid_pose.y), 0.03);
   EXPECT_LT(std::abs(RadToDeg(AngleDiff(p.theta, spec.humanoid_pose.theta))), 3.0);
 }
