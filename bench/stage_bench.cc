@@ -185,9 +185,15 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
   const double res = options.lattice.resolution_m;
   const Eigen::Isometry3d sensor_from_ground = tracked->ground_from_sensor.inverse();
   double free_ms = 0.0, free_four_ms = 0.0, free_reference_ms = 0.0;
+  double voxels_ms = 0.0, two_point_voxels_ms = 0.0;
   bool same = true;
   for (const Cluster& c : *fast) {
-    const ClusterVoxels voxels = VoxeliseCluster(c.points, res);
+    ClusterVoxels voxels;
+    voxels_ms += TimeMs([&] { voxels = VoxeliseCluster(c.points, res); });
+    // The voxels of two or more points (EstimatorOptions::two_points_a_voxel_within_m).
+    ClusterVoxels two_point;
+    two_point_voxels_ms += TimeMs([&] { two_point = VoxeliseCluster(c.points, res, true); });
+    same = same && two_point.cells.size() <= voxels.cells.size();
     if (voxels.cells.empty()) continue;
     int top = 0;
     for (const Eigen::Vector3i& v : voxels.cells) top = std::max(top, v.z());
@@ -207,6 +213,8 @@ Status RunFrame(const PointCloud& cloud, double cloud_ms, const FloorEstimate* t
     });
     same = same && free.cells == reference_free.cells && four.cells == reference_free.cells;
   }
+  table->At("cluster voxels, every cluster").push_back(voxels_ms);
+  table->At("cluster voxels of two points or more, every cluster").push_back(two_point_voxels_ms);
   table->At("free-space cells, every cluster").push_back(free_ms);
   table->At("free-space cells, four heights a step").push_back(free_four_ms);
   table->At("free-space cells (reference)").push_back(free_reference_ms);

@@ -54,7 +54,8 @@ bool PackedCells(const std::vector<Eigen::Vector3f>& points, double resolution_m
 
 // The distinct cells of `keys` in (x, y, z) order, as sorting the keys gives them, from one bit
 // per cell of their box (a cluster's box holds some tens of cells per key, and a pass over its
-// bits costs less than a sort). False, with nothing written, when the box holds too many cells
+// bits costs less than a sort); with two_points_a_cell only the cells two or more keys share,
+// from a second bit per cell. False, with nothing written, when the box holds too many cells
 // for that.
 bool DistinctCellsByBits(const std::vector<std::uint64_t>& keys, bool two_points_a_cell,
                          std::vector<Eigen::Vector3i>* cells) {
@@ -78,16 +79,26 @@ bool DistinctCellsByBits(const std::vector<std::uint64_t>& keys, bool two_points
   std::vector<std::uint64_t> bits((volume + 63) / 64, 0);
   // With two_points_a_cell, `bits` holds the cells seen once and `again` those seen twice.
   std::vector<std::uint64_t> again(two_points_a_cell ? bits.size() : 0, 0);
-  for (const std::uint64_t key : keys) {
+  const auto index_of = [&](std::uint64_t key) {
     const std::uint64_t x = (key >> (2 * kCellBits)) - lo[0];
     const std::uint64_t y = ((key >> kCellBits) & kCellMask) - lo[1];
     const std::uint64_t z = (key & kCellMask) - lo[2];
-    const std::uint64_t i = (x * ny + y) * nz + z;
-    const std::uint64_t bit = std::uint64_t{1} << (i % 64);
-    if (two_points_a_cell) again[i / 64] |= bits[i / 64] & bit;
-    bits[i / 64] |= bit;
+    return (x * ny + y) * nz + z;
+  };
+  if (two_points_a_cell) {
+    for (const std::uint64_t key : keys) {
+      const std::uint64_t i = index_of(key);
+      const std::uint64_t bit = std::uint64_t{1} << (i % 64);
+      again[i / 64] |= bits[i / 64] & bit;
+      bits[i / 64] |= bit;
+    }
+    bits.swap(again);
+  } else {
+    for (const std::uint64_t key : keys) {
+      const std::uint64_t i = index_of(key);
+      bits[i / 64] |= std::uint64_t{1} << (i % 64);
+    }
   }
-  if (two_points_a_cell) bits.swap(again);
   std::size_t count = 0;
   for (const std::uint64_t w : bits) count += static_cast<std::size_t>(__builtin_popcountll(w));
   cells->clear();

@@ -33,18 +33,26 @@ std::vector<Eigen::Vector3f> RandomBlob(std::mt19937& rng, int n, float spread) 
   return pts;
 }
 
+// The points of a voxelisation trial: around the origin (negative cells), blobs dense (the bits
+// path) and sparse (the sort), with a NaN in every third trial and in the next one a point
+// kilometres away (cell -1 250 000: the packing cannot hold it, the axis-by-axis sort).
+std::vector<Eigen::Vector3f> VoxelisationTrialPoints(std::mt19937& rng, int trial) {
+  const float spread[3] = {0.05f, 0.5f, 6.0f};
+  std::vector<Eigen::Vector3f> pts = RandomBlob(rng, 500 + 100 * trial, spread[(trial / 3) % 3]);
+  if (trial % 3 == 1) pts.emplace_back(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.1f);
+  if (trial % 3 == 2) pts.emplace_back(-20000.0f, 30000.0f, 0.2f);
+  return pts;
+}
+
+double VoxelisationTrialResolution(int trial) { return trial % 2 == 0 ? 0.016 : 0.01; }
+
 // VoxeliseCluster (cells packed into words, then a bit per cell of their box or a sort) against
-// a set of CellOf's cells, in (x, y, z) order: around the origin (negative cells), with NaNs
-// skipped, blobs dense (bits) and sparse (the sort), and with one point kilometres away (cells
-// the packing cannot hold: the axis-by-axis sort).
+// a set of CellOf's cells, in (x, y, z) order, NaNs skipped.
 TEST(ScorerEquivalenceTest, VoxeliseClusterEqualsTheSortedDistinctCells) {
   std::mt19937 rng(77);
   for (int trial = 0; trial < 36; ++trial) {
-    const float spread[3] = {0.05f, 0.5f, 6.0f};
-    std::vector<Eigen::Vector3f> pts = RandomBlob(rng, 500 + 100 * trial, spread[(trial / 3) % 3]);
-    if (trial % 3 == 1) pts.emplace_back(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.1f);
-    if (trial % 3 == 2) pts.emplace_back(-20000.0f, 30000.0f, 0.2f);  // cell -1 250 000.
-    const double res = trial % 2 == 0 ? 0.016 : 0.01;
+    const std::vector<Eigen::Vector3f> pts = VoxelisationTrialPoints(rng, trial);
+    const double res = VoxelisationTrialResolution(trial);
     std::set<std::tuple<int, int, int>> expected;
     for (const Eigen::Vector3f& p : pts) {
       if (!p.allFinite()) continue;
@@ -66,12 +74,9 @@ TEST(ScorerEquivalenceTest, VoxeliseClusterEqualsTheSortedDistinctCells) {
 TEST(ScorerEquivalenceTest, VoxeliseClusterKeepsTheCellsOfTwoPointsOrMore) {
   std::mt19937 rng(78);
   for (int trial = 0; trial < 36; ++trial) {
-    const float spread[3] = {0.05f, 0.5f, 6.0f};
-    std::vector<Eigen::Vector3f> pts = RandomBlob(rng, 500 + 100 * trial, spread[(trial / 3) % 3]);
-    if (trial % 3 == 1) pts.emplace_back(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.1f);
-    if (trial % 3 == 2) pts.emplace_back(-20000.0f, 30000.0f, 0.2f);
+    std::vector<Eigen::Vector3f> pts = VoxelisationTrialPoints(rng, trial);
     if (trial % 6 == 5) pts.emplace_back(-20000.0f, 30000.0f, 0.2f);  // now a pair.
-    const double res = trial % 2 == 0 ? 0.016 : 0.01;
+    const double res = VoxelisationTrialResolution(trial);
     std::map<std::tuple<int, int, int>, int> counts;
     for (const Eigen::Vector3f& p : pts) {
       if (!p.allFinite()) continue;
