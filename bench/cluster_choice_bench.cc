@@ -12,13 +12,15 @@
 // be none).
 //
 // A column counts the scenes with a humanoid detection 0.3 m or more from the robot (clutter
-// taken for one). --far-ratio sets EstimatorOptions::far_score_ratio (1: one score threshold at
-// every range, as before far clusters had their own), and --two-points-within M
-// EstimatorOptions::two_points_a_voxel_within_m (e.g. 2.5; 0: off, the default), to compare
-// either in runs of the same seed.
+// taken for one), the next those of them without a detection on the robot (where a reader is
+// given clutter for the robot). --far-ratio sets EstimatorOptions::far_score_ratio (1: one score
+// threshold at every range, as before far clusters had their own), --two-points-within M
+// EstimatorOptions::two_points_a_voxel_within_m (e.g. 2.5; 0: off, the default) and
+// --min-evidence E EstimatorOptions::min_humanoid_evidence (0: off), to compare either in runs
+// of the same seed.
 //
 // usage: cluster_choice_bench [--scenes N] [--bodies a,b] [--seed S] [--threads N]
-//                             [--far-ratio R] [--two-points-within M]
+//                             [--far-ratio R] [--two-points-within M] [--min-evidence E]
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -150,6 +152,7 @@ int main(int argc, char** argv) {
   int scenes_per_body = 100, threads = 2;
   double far_ratio = DefaultEstimatorOptions().far_score_ratio;
   double two_points_within = DefaultEstimatorOptions().two_points_a_voxel_within_m;
+  double min_evidence = DefaultEstimatorOptions().min_humanoid_evidence;
   std::uint64_t seed = 1;
   std::vector<std::string> body_names = {"nao", "long_legs", "darwin_op"};
   for (int i = 1; i < argc; ++i) {
@@ -167,10 +170,12 @@ int main(int argc, char** argv) {
       far_ratio = std::atof(v.c_str()), ++i;
     } else if (a == "--two-points-within" && !v.empty()) {
       two_points_within = std::atof(v.c_str()), ++i;
+    } else if (a == "--min-evidence" && !v.empty()) {
+      min_evidence = std::atof(v.c_str()), ++i;
     } else {
       std::fprintf(stderr,
                    "usage: cluster_choice_bench [--scenes N] [--bodies a,b] [--seed S] "
-                   "[--threads N] [--far-ratio R] [--two-points-within M]\n"
+                   "[--threads N] [--far-ratio R] [--two-points-within M] [--min-evidence E]\n"
                    "  --scenes N   random scenes per body (default 100)\n"
                    "  --bodies     nao, long_legs, tall, darwin_op (default: all but tall;\n"
                    "               darwin_op needs the shared data, skipped without it)\n"
@@ -180,7 +185,9 @@ int main(int argc, char** argv) {
                    "estimator's; 1: one\n"
                    "               score threshold at every range)\n"
                    "  --two-points-within M  EstimatorOptions::two_points_a_voxel_within_m\n"
-                   "               (default the estimator's, 0: off)\n");
+                   "               (default the estimator's, 0: off)\n"
+                   "  --min-evidence E  EstimatorOptions::min_humanoid_evidence (default the\n"
+                   "               estimator's; 0: off)\n");
       return a == "--help" ? 0 : 2;
     }
   }
@@ -211,6 +218,7 @@ int main(int argc, char** argv) {
     EstimatorOptions options = DefaultEstimatorOptions();
     options.far_score_ratio = far_ratio;
     options.two_points_a_voxel_within_m = two_points_within;
+    options.min_humanoid_evidence = min_evidence;
     for (const Body& b : bodies) {
       Result<std::unique_ptr<Estimator>> e = Estimator::Create(options, b.templates);
       if (!e.ok()) {
@@ -235,25 +243,30 @@ int main(int argc, char** argv) {
   const long not_estimated = std::count_if(outcomes.begin(), outcomes.end(),
                                            [](const Outcome& o) { return !o.estimated; });
   std::printf(
-      "%d scenes a body (seed %llu, far_score_ratio %.2f), %ld not estimated (no floor found, or "
-      "not simulated); a cell: scenes whose first humanoid detection is on the robot / also "
+      "%d scenes a body (seed %llu, far_score_ratio %.2f, min_humanoid_evidence %.3f), %ld not "
+      "estimated (no floor found, or not simulated); a cell: scenes whose first humanoid detection "
+      "is on the robot / also "
       "within 10 degrees of its heading\n\n| body | scenes | robot among the humanoids | 2+ "
-      "humanoids | clutter taken for one |",
-      scenes_per_body, static_cast<unsigned long long>(seed), far_ratio, not_estimated);
+      "humanoids | clutter taken for one | … and not the robot |",
+      scenes_per_body, static_cast<unsigned long long>(seed), far_ratio, min_evidence,
+      not_estimated);
   for (const Order& o : orders) std::printf(" %s |", o.name.c_str());
-  std::printf(" estimator's own order differs |\n|---|---|---|---|---|");
+  std::printf(" estimator's own order differs |\n|---|---|---|---|---|---|");
   for (size_t k = 0; k < orders.size(); ++k) std::printf("---|");
   std::printf("---|\n");
   for (int b = -1; b < static_cast<int>(bodies.size()); ++b) {  // -1: all bodies.
-    int n = 0, robot_among = 0, several = 0, differs = 0, clutter = 0;
+    int n = 0, robot_among = 0, several = 0, differs = 0, clutter = 0, clutter_only = 0;
     std::vector<int> cluster_ok(orders.size(), 0), pose_ok(orders.size(), 0);
     for (size_t i = 0; i < scenes.size(); ++i) {
       if (b >= 0 && scenes[i].body != b) continue;
       ++n;
       const std::vector<Seen>& h = outcomes[i].humanoids;
       if (h.empty()) continue;
-      robot_among += std::any_of(h.begin(), h.end(), [](const Seen& s) { return s.on_robot; });
-      clutter += std::any_of(h.begin(), h.end(), [](const Seen& s) { return s.off_robot; });
+      const bool robot = std::any_of(h.begin(), h.end(), [](const Seen& s) { return s.on_robot; });
+      const bool other = std::any_of(h.begin(), h.end(), [](const Seen& s) { return s.off_robot; });
+      robot_among += robot ? 1 : 0;
+      clutter += other ? 1 : 0;
+      clutter_only += other && !robot ? 1 : 0;
       several += h.size() >= 2 ? 1 : 0;
       for (size_t k = 0; k < orders.size(); ++k) {
         const Seen* first = &h[0];
@@ -269,8 +282,8 @@ int main(int argc, char** argv) {
       }
       differs += own != &h[0] ? 1 : 0;
     }
-    std::printf("| %s | %d | %d | %d | %d |", b < 0 ? "all" : bodies[b].name.c_str(), n,
-                robot_among, several, clutter);
+    std::printf("| %s | %d | %d | %d | %d | %d |", b < 0 ? "all" : bodies[b].name.c_str(), n,
+                robot_among, several, clutter, clutter_only);
     for (size_t k = 0; k < orders.size(); ++k) std::printf(" %d / %d |", cluster_ok[k], pose_ok[k]);
     std::printf(" %d |\n", differs);
   }

@@ -55,6 +55,11 @@ FlagParser EstimateFlags::Parser() {
                   "refined fit (0-100) a cluster's pose also needs to count as the humanoid: the "
                   "share of its points on the template times the share of the template not seen "
                   "through (0: the score alone)");
+  flags.AddDouble("min-evidence", &options.min_humanoid_evidence,
+                  "share (0-1) of the template's voxels a cluster's refined pose must also "
+                  "cover, weighed by (fit/100)^8, to count as the humanoid: clutter that passes "
+                  "the score and the fit covers little of the template (0: off)",
+                  "E");
   flags.AddDouble("far-ratio", &options.far_score_ratio,
                   "when nothing passes --threshold, a cluster 2.5 m or more from the sensor "
                   "(where depth noise lowers a humanoid's score) passes from this share of it, "

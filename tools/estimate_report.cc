@@ -47,6 +47,12 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
         os << "score " << Fmt("%.1f", c.score) << ", below " << Fmt("%.0f", d.score_threshold)
            << ")\n";
       } else if (options != nullptr && c.refined && c.fit.fit >= options->min_humanoid_fit &&
+                 HumanoidEvidenceShare(c) < options->min_humanoid_evidence) {
+        os << "score " << Fmt("%.1f", c.score) << " and a refined fit of " << Fmt("%.1f", c.fit.fit)
+           << ", but evidence of " << Fmt("%.3f", HumanoidEvidenceShare(c))
+           << " (the share of the template it covers times (fit/100)^8), below "
+           << Fmt("%.2f", options->min_humanoid_evidence) << ": --min-evidence)\n";
+      } else if (options != nullptr && c.refined && c.fit.fit >= options->min_humanoid_fit &&
                  c.score < options->score_threshold) {
         // A far cluster that passed only the far score and then lacked the evidence.
         os << "score " << Fmt("%.1f", c.score) << " and a refined fit of " << Fmt("%.1f", c.fit.fit)

@@ -231,15 +231,23 @@ size_t PriorHeadingChoice(const std::vector<const Candidate*>& cands, double pri
   return chosen;
 }
 
+// Whether a refined candidate has the evidence a humanoid needs beyond the score and the fit
+// (EstimatorOptions::min_humanoid_evidence); the held cluster's (its hysteresis) and unrefined
+// ones always do.
+bool HasHumanoidEvidence(const Candidate& c, bool held, const EstimatorOptions& o) {
+  return held || !c.refined || HumanoidEvidenceShare(c) >= o.min_humanoid_evidence;
+}
+
 // One detection per cluster: among its templates with a pose, the one whose pose the refined
 // evidence supports best (highest fit; the search score when not refined), or in a tracked
 // stream the one PriorHeadingChoice takes (`prior_theta`: the previous frame's heading on the
-// cluster it stood on); in the order of DetectionBefore.
+// cluster it stood on); in the order of DetectionBefore. `held_cluster`: the cluster the
+// previous frame's humanoid stood on, or -1.
 std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
                                        const std::vector<double>& thresholds,
                                        const std::vector<char>& far,
                                        const std::vector<std::optional<double>>& prior_theta,
-                                       const EstimatorOptions& o) {
+                                       int held_cluster, const EstimatorOptions& o) {
   std::map<int, std::vector<const Candidate*>> by_cluster;
   for (const Candidate& c : candidates) by_cluster[c.cluster_index].push_back(&c);
   std::vector<Detection> out;
@@ -265,7 +273,8 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
     }
     d.score_threshold = thresholds[cluster];
     d.is_humanoid = !d.best.stopped_below_threshold && d.best.score >= d.score_threshold &&
-                    (!d.best.refined || d.best.fit.fit >= o.min_humanoid_fit);
+                    (!d.best.refined || d.best.fit.fit >= o.min_humanoid_fit) &&
+                    HasHumanoidEvidence(d.best, cluster == held_cluster, o);
     // A far cluster below the full threshold passes on strong refined evidence only.
     if (far[cluster] && d.best.score < o.score_threshold &&
         HumanoidEvidenceShare(d.best) < o.far_min_evidence) {
@@ -506,6 +515,9 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
   }
   if (!(options.min_humanoid_fit >= 0.0 && options.min_humanoid_fit <= 100.0)) {
     return MakeError(ErrorCode::kInvalidArgument, "min_humanoid_fit must be within [0, 100]");
+  }
+  if (!(options.min_humanoid_evidence >= 0.0 && options.min_humanoid_evidence <= 1.0)) {
+    return MakeError(ErrorCode::kInvalidArgument, "min_humanoid_evidence must be within [0, 1]");
   }
   if (!(options.tracked_score_threshold >= 0.0 && options.tracked_score_threshold <= 100.0)) {
     return MakeError(ErrorCode::kInvalidArgument,
@@ -852,7 +864,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     const Candidate& c = task.cand;
     passed =
         passed || (task.kept && !c.stopped_below_threshold && c.score >= thresholds[task.cluster] &&
-                   (!c.refined || c.fit.fit >= options_.min_humanoid_fit));
+                   (!c.refined || c.fit.fit >= options_.min_humanoid_fit) &&
+                   HasHumanoidEvidence(c, task.cluster == held_cluster, options_));
   }
   std::vector<int> lower;
   for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
@@ -994,7 +1007,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   for (const Task& task : tasks) {
     if (task.has_prior) prior_theta[task.cluster] = task.prior_theta;
   }
-  est.detections = ChooseTemplates(est.candidates, thresholds, far, prior_theta, options_);
+  est.detections =
+      ChooseTemplates(est.candidates, thresholds, far, prior_theta, held_cluster, options_);
   est.timings.total_ms = cloud_ms + MsSince(t_start);
   return est;
 }

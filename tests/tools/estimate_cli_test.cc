@@ -275,6 +275,13 @@ TEST_F(EstimateCliTest, AFarHumanoidBelowTheThresholdIsExplained) {
   const size_t at = low.out.find(" at x ");
   ASSERT_NE(at, std::string::npos) << low.out;
   EXPECT_NEAR(std::stod(low.out.substr(at + 6)), 3.5, 0.05) << low.out;
+  // Asked for more evidence than its pose has, it is refused, and the report says by what.
+  const CliRun strict = RunHpose("estimate --depth '" + (*dir_ / "far/depth.png") +
+                                     "' --far-ratio 1 --threshold 35 --min-evidence 0.9",
+                                 *dir_);
+  EXPECT_EQ(strict.exit_code, 3) << strict.out << strict.err;
+  EXPECT_NE(strict.out.find("but evidence of 0."), std::string::npos) << strict.out;
+  EXPECT_NE(strict.out.find("below 0.90: --min-evidence)"), std::string::npos) << strict.out;
 }
 
 // hpose replay --initial-pose: the far robot above, turning on the spot, is found in every frame
