@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -229,11 +230,11 @@ TEST(EstimatorGatesTest, ClutterCoveringLittleOfTheTemplateIsNoHumanoid) {
 
   // Without the gate a box passes: score and fit, but little of the template covered.
   const Estimate before = estimate(off, nullptr);
-  const Detection* clutter = nullptr;
+  std::optional<Detection> clutter;  // a copy: Humanoids() returns a new list.
   for (const Detection& d : before.Humanoids()) {
-    if (miss(d) >= 0.3) clutter = &d;
+    if (miss(d) >= 0.3) clutter = d;
   }
-  ASSERT_NE(clutter, nullptr);
+  ASSERT_TRUE(clutter.has_value());
   EXPECT_GE(clutter->best.score, gated.score_threshold);
   EXPECT_GE(clutter->best.fit.fit, gated.min_humanoid_fit);
   EXPECT_LT(HumanoidEvidenceShare(clutter->best), gated.min_humanoid_evidence);
