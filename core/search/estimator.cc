@@ -231,11 +231,13 @@ size_t PriorHeadingChoice(const std::vector<const Candidate*>& cands, double pri
   return chosen;
 }
 
-// Whether a refined candidate has the evidence a humanoid needs beyond the score and the fit
-// (EstimatorOptions::min_humanoid_evidence); the held cluster's (its hysteresis) and unrefined
-// ones always do.
-bool HasHumanoidEvidence(const Candidate& c, bool held, const EstimatorOptions& o) {
-  return held || !c.refined || HumanoidEvidenceShare(c) >= o.min_humanoid_evidence;
+// Whether a candidate passes as a humanoid: its search reached `threshold`, and when refined its
+// fit reaches min_humanoid_fit and, unless its cluster is the held one (its hysteresis), its
+// evidence min_humanoid_evidence.
+bool PassesAsHumanoid(const Candidate& c, double threshold, bool held, const EstimatorOptions& o) {
+  return !c.stopped_below_threshold && c.score >= threshold &&
+         (!c.refined || (c.fit.fit >= o.min_humanoid_fit &&
+                         (held || HumanoidEvidenceShare(c) >= o.min_humanoid_evidence)));
 }
 
 // One detection per cluster: among its templates with a pose, the one whose pose the refined
@@ -272,9 +274,7 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
       d.best.heading_from_prior = true;
     }
     d.score_threshold = thresholds[cluster];
-    d.is_humanoid = !d.best.stopped_below_threshold && d.best.score >= d.score_threshold &&
-                    (!d.best.refined || d.best.fit.fit >= o.min_humanoid_fit) &&
-                    HasHumanoidEvidence(d.best, cluster == held_cluster, o);
+    d.is_humanoid = PassesAsHumanoid(d.best, d.score_threshold, cluster == held_cluster, o);
     // A far cluster below the full threshold passes on strong refined evidence only.
     if (far[cluster] && d.best.score < o.score_threshold &&
         HumanoidEvidenceShare(d.best) < o.far_min_evidence) {
@@ -862,10 +862,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   bool passed = false;
   for (const Task& task : tasks) {
     const Candidate& c = task.cand;
-    passed =
-        passed || (task.kept && !c.stopped_below_threshold && c.score >= thresholds[task.cluster] &&
-                   (!c.refined || c.fit.fit >= options_.min_humanoid_fit) &&
-                   HasHumanoidEvidence(c, task.cluster == held_cluster, options_));
+    passed = passed || (task.kept && PassesAsHumanoid(c, thresholds[task.cluster],
+                                                      task.cluster == held_cluster, options_));
   }
   std::vector<int> lower;
   for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {

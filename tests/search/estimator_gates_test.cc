@@ -1,6 +1,7 @@
 // The estimator's pre-filters skip only what cannot match: a robot whose top the image border
 // cuts off is still searched with the template it shows part of. Its fit gate refuses clutter,
-// and spares the depth images' heading choice where neither heading could pass it.
+// and spares the depth images' heading choice where neither heading could pass it; its evidence
+// gate refuses clutter that covers little of the template.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
