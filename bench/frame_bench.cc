@@ -44,6 +44,7 @@
 #include "bench/bench_frames.h"
 #include "core/io/cloud_io.h"
 #include "core/search/estimator.h"
+#include "core/search/humanoid_view.h"
 #include "core/search/pose_tracker.h"
 
 namespace hpose::bench {
@@ -233,7 +234,7 @@ Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>*
                 c.refine_ms);
           }
         }
-        const std::vector<Detection> humans = e->Humanoids();
+        const HumanoidView humans = e->Humanoids();
         for (const Detection& d : humans) {
           const Pose2D& p = d.best.pose;
           if (std::hypot(p.x - truth.x, p.y - truth.y) > 0.3) ++v.false_humanoids;

@@ -16,6 +16,7 @@
 #include "core/common/pose2d.h"
 #include "core/io/intrinsics_file.h"
 #include "core/search/estimator.h"
+#include "core/search/humanoid_view.h"
 #include "core/stereo/rgb_image_io.h"
 #include "core/stereo/stereo_calibration.h"
 #include "core/stereo/stereo_calibrator.h"
@@ -200,7 +201,7 @@ Result<std::vector<TimedPose>> DepthPoses(const std::string& depth,
                              ? (*estimator)->EstimateCloud(frame->cloud)
                              : (*estimator)->EstimateDepth(frame->depth, frame->intrinsics);
     if (!e.ok()) return Error{e.error().code, frame->origin + ": " + e.error().message};
-    const std::vector<Detection> humanoids = e->Humanoids();
+    const HumanoidView humanoids = e->Humanoids();
     if (!humanoids.empty()) poses.push_back({frame->source_time_s, humanoids.front().best.pose});
     std::cerr << "\r  depth: " << *frames << "/" << total << " frames, robot in " << poses.size()
               << std::flush;

@@ -8,6 +8,7 @@
 
 #include "core/io/atomic_file.h"
 #include "core/search/estimator.h"
+#include "core/search/humanoid_view.h"
 #include "core/sim/frame_simulator.h"
 #include "core/sim/triangle_mesh.h"
 #include "core/templates/voxel_template.h"
@@ -70,7 +71,7 @@ int RunDemo(int argc, char** argv) {
             << " clutter objects (seed " << f.spec.seed << ")\n"
             << "truth     " << truth << "\n"
             << EstimateToText(*estimate);
-  const std::vector<Detection> humans = estimate->Humanoids();
+  const HumanoidView humans = estimate->Humanoids();
   if (!humans.empty()) {
     const Candidate& c = humans.front().best;
     std::printf("error     x %+.0f mm, y %+.0f mm, theta %+.1f deg\n",

@@ -7,6 +7,7 @@
 
 #include "core/search/detection_order.h"
 #include "core/search/estimator.h"
+#include "core/search/humanoid_view.h"
 
 namespace hpose::tools {
 namespace {
@@ -29,7 +30,7 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
   int searched = 0;
   for (const ClusterSummary& c : e.clusters) searched += c.searched;
   os << "clusters  " << e.clusters.size() << " on the floor, " << searched << " of humanoid size\n";
-  const std::vector<Detection> humans = e.Humanoids();
+  const HumanoidView humans = e.Humanoids();
   if (humans.empty()) {
     os << "humanoid  none found";
     if (!e.detections.empty()) {

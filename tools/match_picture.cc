@@ -82,7 +82,7 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
     left.Text(std::to_string(c.index), over.At(c.max.x(), c.max.y()) + Px(2, -2), 0.4,
               Bgr(200, 200, 200), 1, LineKind::kSmooth);
   }
-  const std::vector<Detection> humans = estimate.Humanoids();
+  const HumanoidView humans = estimate.Humanoids();
   auto find_template = [&](const std::string& name) -> const VoxelTemplate* {
     for (const VoxelTemplate& t : templates) {
       if (t.name == name) return &t;

@@ -9,6 +9,7 @@
 
 #include "core/common/pose2d.h"
 #include "core/depth/floor_estimate.h"
+#include "core/search/humanoid_view.h"
 
 namespace hpose {
 
@@ -130,8 +131,11 @@ struct Estimate {
   StageTimings timings;
   TrackingInfo tracking;
 
-  // Detections that pass the thresholds (is_humanoid), in the order of `detections`.
-  std::vector<Detection> Humanoids() const;
+  // The detections that pass the thresholds (is_humanoid), in the order of `detections`, read
+  // in place: references to them are valid while this Estimate is. Not offered on a temporary
+  // Estimate, whose detections would be gone before the view is read.
+  HumanoidView Humanoids() const& { return HumanoidView(detections); }
+  HumanoidView Humanoids() const&& = delete;
 };
 
 }  // namespace hpose

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "core/search/humanoid_view.h"
+
 namespace hpose {
 namespace {
 
@@ -50,7 +52,7 @@ Result<Estimate> PoseTracker::EstimateCloud(const PointCloud& cloud_sensor) {
 Result<Estimate> PoseTracker::Keep(Result<Estimate> estimate) {
   prior_.reset();
   if (!estimate.ok()) return estimate;
-  const std::vector<Detection> humans = estimate->Humanoids();
+  const HumanoidView humans = estimate->Humanoids();
   if (!humans.empty()) {
     initial_pending_ = false;
     FramePrior p;

@@ -48,10 +48,12 @@ TEST(FarThresholdTest, AFarRobotIsFoundColdOnStrongEvidence) {
   // One threshold at every range: not found.
   EstimatorOptions one = options;
   one.far_score_ratio = 1.0;
-  EXPECT_TRUE(f.Run(one).Humanoids().empty());
+  const Estimate one_threshold = f.Run(one);
+  EXPECT_TRUE(one_threshold.Humanoids().empty());
   EstimatorOptions near_only = options;
   near_only.far_range_m = 3.5;  // the robot's cluster is nearer than this.
-  EXPECT_TRUE(f.Run(near_only).Humanoids().empty());
+  const Estimate near_search = f.Run(near_only);
+  EXPECT_TRUE(near_search.Humanoids().empty());
   // The evidence gate: the same optimum, refused when the evidence asked for is more than it has.
   EstimatorOptions strict = options;
   strict.far_min_evidence = HumanoidEvidenceShare(d.best) + 0.01;

@@ -87,12 +87,14 @@ TEST(TrackedThresholdTest, AFarHumanoidWhereTheLastFrameSawItStaysFound) {
   // Without hysteresis the same prior finds nothing.
   EstimatorOptions off = options;
   off.tracked_score_threshold = options.score_threshold;
-  EXPECT_TRUE(f.Run(off, &prior).Humanoids().empty());
+  const Estimate without_hysteresis = f.Run(off, &prior);
+  EXPECT_TRUE(without_hysteresis.Humanoids().empty());
 
   // Searches that compute every optimum (nothing stopped) come to the same verdict and pose.
   EstimatorOptions full = options;
   full.stop_below_threshold = false;
-  const std::vector<Detection> full_humans = f.Run(full, &prior).Humanoids();
+  const Estimate full_search = f.Run(full, &prior);
+  const HumanoidView full_humans = full_search.Humanoids();
   ASSERT_EQ(full_humans.size(), 1u);
   EXPECT_EQ(full_humans.front().best.pose.x, d.best.pose.x);
   EXPECT_EQ(full_humans.front().best.pose.y, d.best.pose.y);
