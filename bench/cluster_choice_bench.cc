@@ -17,10 +17,13 @@
 // threshold at every range, as before far clusters had their own), --two-points-within M
 // EstimatorOptions::two_points_a_voxel_within_m (e.g. 2.5; 0: off, the default) and
 // --min-evidence E EstimatorOptions::min_humanoid_evidence (0: off), to compare either in runs
-// of the same seed.
+// of the same seed. --dump FILE writes every humanoid detection as a CSV row (its scene, whether
+// it is on the robot, its search and refined evidence, its cluster's size), to study what tells
+// clutter from robots.
 //
 // usage: cluster_choice_bench [--scenes N] [--bodies a,b] [--seed S] [--threads N]
 //                             [--far-ratio R] [--two-points-within M] [--min-evidence E]
+//                             [--dump FILE]
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -53,6 +56,7 @@ struct Scene {
 // A humanoid detection as the orders see it.
 struct Seen {
   Detection detection;
+  ClusterSummary cluster;  // the detection's cluster.
   bool on_robot = false;   // within 5 cm of the truth.
   bool off_robot = false;  // 0.3 m or more from it.
   bool pose_ok = false;    // and its heading within 10 degrees.
@@ -136,6 +140,9 @@ Outcome Run(const Scene& s, const Body& body, const Estimator& estimator) {
   for (const Detection& d : e->Humanoids()) {
     Seen seen;
     seen.detection = d;
+    for (const ClusterSummary& c : e->clusters) {
+      if (c.index == d.best.cluster_index) seen.cluster = c;
+    }
     const double miss = std::hypot(d.best.pose.x - s.truth.x, d.best.pose.y - s.truth.y);
     seen.on_robot = miss < 0.05;
     seen.off_robot = miss >= 0.3;
@@ -144,6 +151,36 @@ Outcome Run(const Scene& s, const Body& body, const Estimator& estimator) {
     o.humanoids.push_back(seen);
   }
   return o;
+}
+
+// Every humanoid detection, one CSV row each (--dump), to `f`, which it closes.
+bool WriteDump(std::FILE* f, std::uint64_t seed, const std::vector<Scene>& scenes,
+               const std::vector<Body>& bodies, const std::vector<Outcome>& outcomes) {
+  std::fprintf(
+      f,
+      "seed,body,scene,rank,on_robot,off_robot,pose_ok,template,range_m,score,coverage,fit,"
+      "explained,contradicted,fit_sigma,hits,cluster_voxels,template_voxels,"
+      "evidence_share,free_space_hits,cluster_points,cluster_width_m,cluster_depth_m,"
+      "cluster_height_m,sensor_height_m,sensor_pitch_deg\n");
+  for (size_t i = 0; i < scenes.size(); ++i) {
+    const Scene& s = scenes[i];
+    for (size_t r = 0; r < outcomes[i].humanoids.size(); ++r) {
+      const Seen& h = outcomes[i].humanoids[r];
+      const Candidate& c = h.detection.best;
+      const Eigen::Vector3f size = h.cluster.max - h.cluster.min;
+      std::fprintf(
+          f,
+          "%llu,%s,%zu,%zu,%d,%d,%d,%s,%.3f,%.2f,%.2f,%.2f,%.4f,%.4f,%.2f,%d,%d,%d,%.5f,%d,%d,"
+          "%.3f,%.3f,%.3f,%.2f,%.1f\n",
+          static_cast<unsigned long long>(seed), bodies[s.body].name.c_str(), i, r,
+          h.on_robot ? 1 : 0, h.off_robot ? 1 : 0, h.pose_ok ? 1 : 0, c.template_name.c_str(),
+          std::hypot(c.pose.x, c.pose.y), c.score, c.coverage, c.fit.fit, c.fit.explained,
+          c.fit.contradicted, c.fit.fit_sigma, c.hits, c.cluster_voxels, c.template_voxels,
+          HumanoidEvidenceShare(c), c.free_space_hits, h.cluster.points, size.x(), size.y(),
+          size.z(), s.height_m, s.pitch_deg);
+    }
+  }
+  return std::fclose(f) == 0;
 }
 
 }  // namespace
@@ -155,6 +192,7 @@ int main(int argc, char** argv) {
   double min_evidence = DefaultEstimatorOptions().min_humanoid_evidence;
   std::uint64_t seed = 1;
   std::vector<std::string> body_names = {"nao", "long_legs", "darwin_op"};
+  std::string dump_path;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const std::string v = i + 1 < argc ? argv[i + 1] : "";
@@ -172,10 +210,13 @@ int main(int argc, char** argv) {
       two_points_within = std::atof(v.c_str()), ++i;
     } else if (a == "--min-evidence" && !v.empty()) {
       min_evidence = std::atof(v.c_str()), ++i;
+    } else if (a == "--dump" && !v.empty()) {
+      dump_path = v, ++i;
     } else {
       std::fprintf(stderr,
                    "usage: cluster_choice_bench [--scenes N] [--bodies a,b] [--seed S] "
-                   "[--threads N] [--far-ratio R] [--two-points-within M] [--min-evidence E]\n"
+                   "[--threads N] [--far-ratio R] [--two-points-within M] [--min-evidence E] "
+                   "[--dump FILE]\n"
                    "  --scenes N   random scenes per body (default 100)\n"
                    "  --bodies     nao, long_legs, tall, darwin_op (default: all but tall;\n"
                    "               darwin_op needs the shared data, skipped without it)\n"
@@ -187,7 +228,8 @@ int main(int argc, char** argv) {
                    "  --two-points-within M  EstimatorOptions::two_points_a_voxel_within_m\n"
                    "               (default the estimator's, 0: off)\n"
                    "  --min-evidence E  EstimatorOptions::min_humanoid_evidence (default the\n"
-                   "               estimator's; 0: off)\n");
+                   "               estimator's; 0: off)\n"
+                   "  --dump FILE  every humanoid detection as a CSV row\n");
       return a == "--help" ? 0 : 2;
     }
   }
@@ -203,6 +245,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "cluster_choice_bench: %s\n", body.error().message.c_str());
       return 2;
     }
+  }
+  std::FILE* dump = nullptr;  // opened now: a path that cannot be written fails before the work.
+  if (!dump_path.empty() && (dump = std::fopen(dump_path.c_str(), "w")) == nullptr) {
+    std::fprintf(stderr, "cluster_choice_bench: cannot write %s\n", dump_path.c_str());
+    return 2;
   }
   std::mt19937_64 rng(seed);
   std::vector<Scene> scenes;
@@ -239,15 +286,20 @@ int main(int argc, char** argv) {
   for (std::thread& t : pool) t.join();
   std::fprintf(stderr, "\n");
 
+  if (dump != nullptr && !WriteDump(dump, seed, scenes, bodies, outcomes)) {
+    std::fprintf(stderr, "cluster_choice_bench: cannot write %s\n", dump_path.c_str());
+    return 2;
+  }
   const std::vector<Order> orders = Orders();
   const long not_estimated = std::count_if(outcomes.begin(), outcomes.end(),
                                            [](const Outcome& o) { return !o.estimated; });
   std::printf(
-      "%d scenes a body (seed %llu, far_score_ratio %.2f, min_humanoid_evidence %.3f), %ld not "
-      "estimated (no floor found, or not simulated); a cell: scenes whose first humanoid detection "
-      "is on the robot / also "
-      "within 10 degrees of its heading\n\n| body | scenes | robot among the humanoids | 2+ "
-      "humanoids | clutter taken for one | … and not the robot |",
+      "%d scenes a body (seed %llu, far_score_ratio %.2f, min_humanoid_evidence %.3f), "
+      "%ld not estimated (no floor found, or not simulated); "
+      "a cell: scenes whose first humanoid detection is on the robot / "
+      "also within 10 degrees of its heading\n\n"
+      "| body | scenes | robot among the humanoids | 2+ humanoids | clutter taken for one | "
+      "… and not the robot |",
       scenes_per_body, static_cast<unsigned long long>(seed), far_ratio, min_evidence,
       not_estimated);
   for (const Order& o : orders) std::printf(" %s |", o.name.c_str());
