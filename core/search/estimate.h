@@ -132,8 +132,9 @@ struct Estimate {
   TrackingInfo tracking;
 
   // The detections that pass the thresholds (is_humanoid), in the order of `detections`, read
-  // in place: references to them are valid while this Estimate is. Not offered on a temporary
-  // Estimate, whose detections would be gone before the view is read.
+  // in place: the view and references to its detections are valid while this Estimate lives
+  // and `detections` is not resized. Not offered on a temporary Estimate, whose detections
+  // would be gone before the view is read.
   HumanoidView Humanoids() const& { return HumanoidView(detections); }
   HumanoidView Humanoids() const&& = delete;
 };
