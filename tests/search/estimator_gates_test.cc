@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -231,11 +230,11 @@ TEST(EstimatorGatesTest, ClutterCoveringLittleOfTheTemplateIsNoHumanoid) {
 
   // Without the gate a box passes: score and fit, but little of the template covered.
   const Estimate before = estimate(off, nullptr);
-  std::optional<Detection> clutter;  // a copy: Humanoids() returns a new list.
+  const Detection* clutter = nullptr;  // in before.detections: valid while `before` is.
   for (const Detection& d : before.Humanoids()) {
-    if (miss(d) >= 0.3) clutter = d;
+    if (miss(d) >= 0.3) clutter = &d;
   }
-  ASSERT_TRUE(clutter.has_value());
+  ASSERT_NE(clutter, nullptr);
   EXPECT_GE(clutter->best.score, gated.score_threshold);
   EXPECT_GE(clutter->best.fit.fit, gated.min_humanoid_fit);
   EXPECT_LT(HumanoidEvidenceShare(clutter->best), gated.min_humanoid_evidence);
@@ -306,7 +305,7 @@ TEST(EstimatorGatesTest, NearClustersCanBeSearchedOnTheVoxelsOfTwoPoints) {
   EXPECT_GT(b->cluster_voxels, a->cluster_voxels / 2);  // lone points are the few.
   EXPECT_EQ(c->cluster_voxels, a->cluster_voxels);      // 1.5 m is beyond 1.0 m.
   ASSERT_EQ(two.Humanoids().size(), 1u);
-  const Pose2D p = two.Humanoids().front().best.pose;  // a copy: Humanoids() is a temporary.
+  const Pose2D p = two.Humanoids().front().best.pose;
   EXPECT_LT(std::hypot(p.x - spec.humanoid_pose.x, p.y - spec.humanoid_pose.y), 0.03);
   EXPECT_LT(std::abs(RadToDeg(AngleDiff(p.theta, spec.humanoid_pose.theta))), 3.0);
 }
