@@ -28,6 +28,12 @@ constexpr int kMinPoints = 50;
 constexpr double kMinSensorHeightM = 0.05;
 // Two candidate planes within this angle are "parallel": the higher one is a table or box top.
 constexpr double kParallelRad = 15.0 * M_PI / 180.0;
+// The steepest floor SteepFloorNote points out (1.5 rad, 85.9 degrees: the most the daemon's and
+// the command line's max tilt accept). Steeper planes are walls as often as floors.
+constexpr double kMaxSteepTiltRad = 1.5;
+// A floor means a sensor rolled (about its optical axis) at most this much: planes that would
+// mean more are walls beside it (see FitFloor).
+constexpr double kMaxFloorRollRad = 45.0 * M_PI / 180.0;
 // Larger inputs are thinned to about this many points before the voxel grid.
 constexpr size_t kMaxInputPoints = 20000;
 // RANSAC hypotheses are scored on at most this many points per round.
@@ -51,6 +57,48 @@ std::string Percent(double fraction) {
 std::string Degrees(double rad) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.0f deg", rad * 180.0 / M_PI);
+  return text;
+}
+
+// The angle (rad) between a plane's normal, turned towards the sensor, and the sensor's up
+// guess: 0 for a floor seen by a level sensor, above pi/2 when the sensor is below the plane.
+double TiltFromUp(const Eigen::Vector4d& plane, const Eigen::Vector3d& up) {
+  return std::acos(std::clamp(plane.head<3>().dot(up), -1.0, 1.0));
+}
+
+// Why no floor was found when the sensor may look down more steeply than max_tilt_rad allows (a
+// mount high up, near the ceiling): the largest plane among all the points whatever its tilt, if
+// the sensor stands above it, it is tilted past the limit and it holds at least min_support of
+// them, described for the error ("the largest plane, 2.50 m below the sensor, is tilted 75 deg
+// ..."); "" otherwise.
+std::string SteepFloorNote(const std::vector<Eigen::Vector3f>& points, const FloorFitterOptions& o,
+                           int min_support, const Eigen::Vector3d& up) {
+  LocalPlaneRansacOptions ransac;
+  ransac.distance_threshold_m = o.distance_threshold_m;
+  ransac.sample_radius_m = kSampleRadiusM;
+  ransac.axis = up.cast<float>();
+  ransac.max_axis_angle_rad = 0.5 * M_PI;  // every plane.
+  ransac.max_iterations = o.max_iterations;
+  ransac.seed = static_cast<unsigned>(o.random_seed);
+  const int step = (static_cast<int>(points.size()) + kMaxRansacPoints - 1) / kMaxRansacPoints;
+  std::vector<Eigen::Vector3f> subset;
+  for (size_t i = 0; i < points.size(); i += static_cast<size_t>(step)) subset.push_back(points[i]);
+  const LocalPlaneRansacResult fit = FitPlaneLocalRansac(subset, ransac);
+  if (!fit.found || fit.inliers * step < min_support) return "";
+  Eigen::Vector4d plane = fit.plane.cast<double>();
+  const double norm = plane.head<3>().norm();
+  if (!(norm > 0.0)) return "";
+  plane /= norm;
+  if (plane[3] < 0.0) plane = -plane;  // the normal towards the sensor.
+  const double tilt = TiltFromUp(plane, up);
+  if (plane[3] < kMinSensorHeightM || tilt <= o.max_tilt_rad || tilt > kMaxSteepTiltRad) return "";
+  char text[256];
+  std::snprintf(text, sizeof(text),
+                "; the largest plane in view (%s of the points, %.2f m below the sensor) is "
+                "tilted %.0f deg: a sensor looking down that steeply needs a larger "
+                "max_tilt_rad, or a fixed floor",
+                Percent(static_cast<double>(fit.inliers) / subset.size()).c_str(), plane[3],
+                tilt * 180.0 / M_PI);
   return text;
 }
 
@@ -130,8 +178,8 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
   std::vector<char> taken(n, 0);
   int best_support_seen = 0;
   // Planes found with support but not acceptable as a floor, by reason.
-  int sensor_below = 0, points_beneath = 0, narrow = 0, at_sensor = 0;
-  double widest_narrow = 0.0;
+  int sensor_below = 0, too_tilted = 0, rolled = 0, points_beneath = 0, narrow = 0, at_sensor = 0;
+  double widest_narrow = 0.0, most_tilted = 0.0, most_rolled = 0.0;
   std::vector<int> inliers;
   for (int round = 0; round < kMaxCandidatePlanes; ++round) {
     int remaining_count = 0;
@@ -186,12 +234,29 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
       continue;
     }
     // The sensor must be above the plane, i.e. its normal towards the sensor points "up":
-    // this rejects ceilings, which the sign-blind axis test of the RANSAC lets through.
+    // this rejects ceilings and the sides of objects facing the sensor, which the sign-blind
+    // axis test of the RANSAC lets through. A plane the least squares leaned past the tilt
+    // limit is counted apart.
     if (plane.head<3>().dot(up_guess) < cos_max_tilt) {
-      ++sensor_below;
+      if (plane.head<3>().dot(up_guess) < 0.0) {
+        ++sensor_below;
+      } else {
+        ++too_tilted;
+        most_tilted = std::max(most_tilted, TiltFromUp(plane, up_guess));
+      }
       continue;
     }
     for (const int i : inliers) taken[i] = 1;
+    // A side wall passes the tilt test when the sensor is rolled towards it (by more than 90
+    // degrees less max_tilt_rad; with the limit raised for a steep mount, by a little) and may
+    // outnumber a floor seen at a grazing angle; taken for the floor it would mean a roll of
+    // about 90 degrees less the true one.
+    const double roll = std::abs(std::atan2(-plane[0], -plane[1]));
+    if (roll > kMaxFloorRollRad) {
+      ++rolled;
+      most_rolled = std::max(most_rolled, roll);
+      continue;
+    }
     // Nothing lies below a floor. Points well below a candidate mean it is a table top or a
     // slanted plane cutting through walls and people.
     if (CountBelowFloorPlane(sampled, plane, options.distance_threshold_m) >
@@ -211,13 +276,21 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
   }
 
   if (candidates.empty()) {
-    if (sensor_below + points_beneath + narrow + at_sensor > 0) {
+    const std::string steep = SteepFloorNote(sampled, options, min_support, up_guess);
+    const int refused = sensor_below + too_tilted + rolled + points_beneath + narrow + at_sensor;
+    if (refused > 0) {
       std::string why;
       auto add = [&why](int count, const std::string& what) {
         if (count == 0) return;
         why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + what;
       };
       add(sensor_below, "with the sensor below it");
+      add(too_tilted, "leaning up to " + Degrees(most_tilted) +
+                          " from the sensor's up direction, "
+                          "past max_tilt_rad (" +
+                          Degrees(options.max_tilt_rad) + ")");
+      add(rolled, "meaning a sensor rolled up to " + Degrees(most_rolled) + " (more than " +
+                      Degrees(kMaxFloorRollRad) + ": walls beside it)");
       add(points_beneath, "with many points beneath it");
       char text[96];
       std::snprintf(text, sizeof(text), "passing within %.2f m of the sensor", kMinSensorHeightM);
@@ -225,21 +298,20 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
       std::snprintf(text, sizeof(text), "in strips up to %.2f m wide (need %.2f m)", widest_narrow,
                     options.min_width_m);
       add(narrow, text);
-      return MakeError(
-          ErrorCode::kFailedPrecondition,
-          "no floor: " + std::to_string(sensor_below + points_beneath + narrow + at_sensor) +
-              " near-horizontal plane(s) found, none a floor: " + why);
+      return MakeError(ErrorCode::kFailedPrecondition,
+                       "no floor: " + std::to_string(refused) +
+                           " near-horizontal plane(s) found, none a floor: " + why + steep);
     }
     if (best_support_seen == 0) {
       return MakeError(ErrorCode::kFailedPrecondition,
                        "no floor: no plane within " + Degrees(options.max_tilt_rad) +
                            " of the sensor's up direction (-y) among " + std::to_string(n) +
-                           " points");
+                           " points" + steep);
     }
     return MakeError(ErrorCode::kFailedPrecondition,
                      "no floor: best plane has " +
                          Percent(static_cast<double>(best_support_seen) / n) + " inliers (need " +
-                         Percent(options.min_inlier_fraction) + ")");
+                         Percent(options.min_inlier_fraction) + ")" + steep);
   }
 
   // A candidate with a parallel candidate clearly below it (larger d) is a table or box top.

@@ -15,8 +15,12 @@ struct FloorFitterOptions {
   // small minority of the points is still hit within a few dozen draws.
   int max_iterations = 200;
   // The floor normal must be within this angle of the sensor's "up" guess (-y in the sensor
-  // frame): rejects walls. 70 degrees allows a 60 degree pitch combined with some roll.
-  double max_tilt_rad = 1.2217;
+  // frame): rejects walls. 70 degrees allows a 60 degree pitch combined with some roll; a
+  // sensor looking down more steeply (mounted high, near the ceiling) needs more, up to just
+  // short of 90 (the ground frame's x axis, the optical axis projected on the floor, is then
+  // taken from an ever shorter projection: at 85 degrees a floor normal off by 0.1 degree
+  // across turns it by about 1 degree).
+  double max_tilt_rad = 70.0 * 3.14159265358979323846 / 180.0;
   double min_inlier_fraction = 0.05;  // of the (downsampled) points.
   // A floor's inliers spread at least this wide across their longest direction (FloorInlierWidth,
   // metres). Seen from a Kinect's minimum range of 0.8 m on, the floor is a patch over half a metre
@@ -40,7 +44,8 @@ Status ValidateFloorFitterOptions(const FloorFitterOptions& options);
 // kInvalidArgument for an empty cloud or invalid options.
 // Up to six near-horizontal planes are extracted in turn. One with many points beneath it, a
 // parallel plane clearly below it (table, box top, a slanted cut through walls), inliers in a
-// narrow strip (min_width_m) or passing within 5 cm of the sensor is not the floor; among the
+// narrow strip (min_width_m), passing within 5 cm of the sensor or meaning a sensor rolled more
+// than 45 degrees about its optical axis (a wall beside it) is not the floor; among the
 // rest the best supported wins (so a wall seen from a steep pitch does not beat the floor). The
 // winner is refined by weighted least squares, last on the thinned points rather than the voxel
 // centroids (the near floor, more precise, then weighs more), keeping the candidates' tilt and

@@ -74,6 +74,15 @@ void ExpectMatches(const FloorEstimate& floor, const Mount& m, const PointCloud&
   EXPECT_GT(checked, 0);
 }
 
+// The scene as a 320x240 organised Kinect cloud (its noise) from the mount.
+PointCloud RenderOrganised(const Scene& scene, const Mount& m) {
+  RenderOptions render;
+  render.noise_sigma_k = kKinectNoise;
+  render.organised = true;
+  return Render(scene, GroundFromSensor(m.height_m, m.pitch_deg * kDeg, m.roll_deg * kDeg),
+                Intrinsics::KinectV1(320, 240), render);
+}
+
 class FloorFitterMountTest : public ::testing::TestWithParam<Mount> {};
 
 TEST_P(FloorFitterMountTest, RecoversHeightPitchAndRollOfAnEmptyFloor) {
@@ -100,12 +109,7 @@ TEST_P(FloorFitterMountTest, FindsTheFloorAmongPeopleTablesAndBoxes) {
   scene.cylinders.push_back(Cylinder{2.0, 0.9, 0.2, 1.75});
   scene.cylinders.push_back(Cylinder{3.0, -1.0, 0.2, 1.6});
   scene.cylinders.push_back(Cylinder{1.0, -0.3, 0.12, 0.58});
-  RenderOptions render;
-  render.noise_sigma_k = kKinectNoise;
-  render.organised = true;
-  const PointCloud cloud =
-      Render(scene, GroundFromSensor(m.height_m, m.pitch_deg * kDeg, m.roll_deg * kDeg),
-             Intrinsics::KinectV1(320, 240), render);
+  const PointCloud cloud = RenderOrganised(scene, m);
   const Result<FloorEstimate> floor = FitFloor(cloud);
   ASSERT_TRUE(floor.ok()) << floor.error().ToString();
   ExpectMatches(*floor, m, cloud, 1.0, 0.02);
@@ -210,6 +214,65 @@ TEST(FloorFitterTest, OnlyWallsAndCeilingGiveNoFloor) {
   ASSERT_FALSE(floor.ok());
   EXPECT_EQ(floor.error().code, ErrorCode::kFailedPrecondition);
   EXPECT_NE(floor.error().message.find("no floor"), std::string::npos) << floor.error().message;
+  // Walls are no steep floor either.
+  EXPECT_EQ(floor.error().message.find("steeply"), std::string::npos) << floor.error().message;
+}
+
+// A sensor high up looking down more steeply than max_tilt_rad allows: the floors it finds lean
+// past the limit (not "with the sensor below": that is a ceiling or the side of an object facing
+// the sensor), and the error says what would find the floor. With the limit raised it does.
+TEST(FloorFitterTest, ASteepMountNeedsALargerTiltLimitAndSaysSo) {
+  for (const Mount& m : {Mount{2.5, 75.0, 0.0}, Mount{2.8, 82.0, 3.0}, Mount{2.2, 72.0, -5.0}}) {
+    SCOPED_TRACE("pitch " + std::to_string(m.pitch_deg));
+    Scene scene;
+    scene.cylinders.push_back(Cylinder{0.8, 0.2, 0.12, 0.58});
+    scene.boxes.push_back(Box{{0.3, -0.6, 0.0}, {0.6, -0.3, 0.4}});
+    const PointCloud cloud = RenderOrganised(scene, m);
+    const Result<FloorEstimate> refused = FitFloor(cloud);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, ErrorCode::kFailedPrecondition);
+    const std::string& why = refused.error().message;
+    EXPECT_NE(why.find("looking down that steeply needs a larger max_tilt_rad"), std::string::npos)
+        << why;
+    EXPECT_EQ(why.find("with the sensor below it"), std::string::npos) << why;
+    FloorFitterOptions steep;
+    steep.max_tilt_rad = 85.0 * kDeg;
+    const Result<FloorEstimate> floor = FitFloor(cloud, steep);
+    ASSERT_TRUE(floor.ok()) << floor.error().ToString();
+    ExpectMatches(*floor, m, cloud, 1.0, 0.02);
+  }
+}
+
+// A side wall tilted less than max_tilt_rad from the sensor's up direction (the sensor rolled
+// towards it; with the limit raised for a steep mount, at almost any roll) passes the tilt test,
+// and a low sensor sees more of it than of the floor at its feet; taken for the floor it would
+// mean a roll past 45 degrees, so it is not: the floor is found, or (a floor past the limit)
+// none, never the wall.
+TEST(FloorFitterTest, ACorridorsWallsDoNotBeatItsFloor) {
+  Scene scene;  // a corridor 1.6 m wide, its walls 2.5 m high, the floor between them.
+  scene.boxes.push_back(Box{{0.0, 0.8, 0.0}, {8.0, 0.9, 2.5}});
+  scene.boxes.push_back(Box{{0.0, -0.9, 0.0}, {8.0, -0.8, 2.5}});
+  FloorFitterOptions raised;
+  raised.max_tilt_rad = 85.9 * kDeg;
+  for (const Mount& m : {Mount{0.34, 0.0, 10.0}, Mount{1.2, 10.0, -15.0}, Mount{1.0, 5.0, 25.0},
+                         Mount{0.6, 0.0, -35.0}, Mount{1.8, 30.0, 8.0}, Mount{2.5, 70.0, 20.0}}) {
+    SCOPED_TRACE("mount " + std::to_string(m.height_m) + " m, pitch " +
+                 std::to_string(m.pitch_deg) + ", roll " + std::to_string(m.roll_deg));
+    const PointCloud cloud = RenderOrganised(scene, m);
+    for (const FloorFitterOptions& options : {FloorFitterOptions{}, raised}) {
+      const Result<FloorEstimate> floor = FitFloor(cloud, options);
+      const double tilt_deg =
+          std::acos(std::cos(m.pitch_deg * kDeg) * std::cos(m.roll_deg * kDeg)) / kDeg;
+      if (tilt_deg > options.max_tilt_rad / kDeg) {  // the floor is past the limit.
+        ASSERT_FALSE(floor.ok()) << "a floor " << floor->height_m << " m below";
+        EXPECT_NE(floor.error().message.find("walls beside it"), std::string::npos)
+            << floor.error().message;
+        continue;
+      }
+      ASSERT_TRUE(floor.ok()) << floor.error().ToString();
+      ExpectMatches(*floor, m, cloud, 1.0, 0.02);
+    }
+  }
 }
 
 TEST(FloorFitterTest, ScatteredNoiseGivesNoFloor) {
