@@ -286,6 +286,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(
         r.ReadDouble("distance_threshold_m", &c->estimator.floor_fit.distance_threshold_m));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_width_m", &c->estimator.floor_fit.min_width_m));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("max_tilt_rad", &c->estimator.floor_fit.max_tilt_rad));
     HPOSE_RETURN_IF_ERROR(r.CheckUnknown());
   }
   {
@@ -513,6 +514,10 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
     if (!(fit.min_width_m >= 0.0 && fit.min_width_m < 100.0)) {
       return fail("floor.min_width_m", "must be in [0, 100) metres (0: no width check)");
     }
+    // As a fixed floor's pitch: within 1.5 rad (85.9 degrees), short of looking straight down.
+    if (!(fit.max_tilt_rad > 0.0 && fit.max_tilt_rad <= 1.5)) {
+      return fail("floor.max_tilt_rad", "must be in (0, 1.5] rad (1.22: 70 degrees)");
+    }
   } else {
     if (!(c.floor.height_m > 0.0 && c.floor.height_m < 10.0)) {
       return fail("floor.height_m", "must be in (0, 10) metres");
@@ -633,6 +638,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "roll_rad" << YAML::Value << c.floor.roll_rad;
   out << YAML::Key << "distance_threshold_m" << YAML::Value << e.floor_fit.distance_threshold_m;
   out << YAML::Key << "min_width_m" << YAML::Value << e.floor_fit.min_width_m;
+  out << YAML::Key << "max_tilt_rad" << YAML::Value << e.floor_fit.max_tilt_rad;
   out << YAML::EndMap;
   const StereoConfig& st = c.stereo;
   out << YAML::Key << "stereo" << YAML::Value << YAML::BeginMap;

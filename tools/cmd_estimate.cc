@@ -100,6 +100,14 @@ int RunEstimate(int argc, char** argv) {
     std::cerr << "hpose estimate: --floor-min-width must be within [0, 100) m\n";
     return kExitUsage;
   }
+  if (flags.Seen("floor-max-tilt-deg")) {
+    // As hposed's floor.max_tilt_rad: within 1.5 rad, as a fixed floor's pitch.
+    if (!(f.floor_max_tilt_deg > 0.0 && f.floor_max_tilt_deg <= 85.9)) {
+      std::cerr << "hpose estimate: --floor-max-tilt-deg must be within (0, 85.9] degrees\n";
+      return kExitUsage;
+    }
+    f.options.floor_fit.max_tilt_rad = DegToRad(f.floor_max_tilt_deg);
+  }
   if (flags.Seen("floor-height")) {
     if (!(f.floor_height > 0.0 && f.floor_height < 10.0)) {
       std::cerr << "hpose estimate: --floor-height must be within (0, 10) m\n";
@@ -178,7 +186,14 @@ int RunEstimate(int argc, char** argv) {
         estimate.ok() ? &*estimate : nullptr, estimate.ok() ? nullptr : &estimate.error(), &msg);
     std::cout << server::MessageToJsonLine(msg) << "\n";
   }
-  if (!estimate.ok()) return ReportError(cmd, estimate.error());
+  if (!estimate.ok()) {
+    // The floor fitter names its option; which flag sets it.
+    if (estimate.error().message.find("max_tilt_rad") != std::string::npos) {
+      std::cerr << "hpose estimate: note: --floor-max-tilt-deg sets max_tilt_rad (up to 85.9 "
+                   "degrees); --floor-height and --floor-pitch-deg give a fixed floor\n";
+    }
+    return ReportError(cmd, estimate.error());
+  }
   if (!f.json) {
     std::cout << EstimateToText(*estimate, &f.options);
   }

@@ -77,6 +77,11 @@ FlagParser EstimateFlags::Parser() {
   flags.AddDouble("floor-pitch-deg", &floor_pitch_deg,
                   "with --floor-height: optical axis below the horizon, degrees", "DEG");
   flags.AddDouble("floor-roll-deg", &floor_roll_deg, "with --floor-height: roll, degrees", "DEG");
+  flags.AddDouble("floor-max-tilt-deg", &floor_max_tilt_deg,
+                  "a fitted floor's normal lies at most this far from the sensor's up direction, "
+                  "degrees (walls lie further; 70 fits pitches to 60 with some roll; a sensor "
+                  "looking down more steeply, from near the ceiling, needs up to 85.9)",
+                  "DEG");
   flags.AddDouble("floor-min-width", &options.floor_fit.min_width_m,
                   "a fitted floor's inliers must spread at least this wide, metres (narrower "
                   "planes are strips through objects when no floor is in view; 0: no check)",

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/pose2d.h"
 #include "core/search/estimator.h"
 #include "tools/flag_parser.h"
 
@@ -19,6 +20,7 @@ struct EstimateFlags {
   std::string search = SearchKindName(options.search);
   std::string score = ScoreKindName(options.score);
   double floor_height = -1.0, floor_pitch_deg = 0.0, floor_roll_deg = 0.0;
+  double floor_max_tilt_deg = RadToDeg(options.floor_fit.max_tilt_rad);
   int stride = options.cloud.stride;
 
   // The command's parser, writing into these fields (which must outlive it).

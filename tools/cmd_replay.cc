@@ -186,6 +186,7 @@ int RunReplay(int argc, char** argv) {
   long total = (*source)->frame_count();
   if (f.max_frames > 0 && (total < 0 || total > f.max_frames)) total = f.max_frames;
   long frames = 0, estimated = 0, failed = 0, unreadable = 0, humanoids = 0;
+  std::string first_failure;  // "FRAME: why", said after the summary.
   std::vector<double> times_ms;
   const auto start = std::chrono::steady_clock::now();
   while (f.max_frames <= 0 || frames < f.max_frames) {
@@ -219,7 +220,7 @@ int RunReplay(int argc, char** argv) {
       times_ms.push_back(result->timings.total_ms);
       if (!result->Humanoids().empty()) ++humanoids;
     } else {
-      ++failed;
+      if (failed++ == 0) first_failure = frame->origin + ": " + result.error().message;
     }
     if (f.format == "csv") {
       out << CsvRow(msg);
@@ -247,6 +248,7 @@ int RunReplay(int argc, char** argv) {
                "(e.g. no floor), %ld unreadable; humanoid found in %ld; median estimate %.1f ms\n",
                frames, wall, wall > 0 ? frames / wall : 0.0, estimated, failed, unreadable,
                humanoids, median);
+  if (failed > 0) std::cerr << "hpose replay: the first that failed, " << first_failure << "\n";
   if (!f.out_path.empty()) file.close();
   if (!out || (!f.out_path.empty() && file.fail())) {
     return ReportError("replay", MakeError(ErrorCode::kInternal,

@@ -77,8 +77,8 @@ int RunSimulateScene(int argc, char** argv) {
     return UsageError(kSimulateCmd,
                       "--sensor-height must be in (0.05, 3] m, got " + Fixed(f.sensor_height, 3));
   }
-  if (std::abs(f.pitch_deg) > 60.0)
-    return UsageError(kSimulateCmd, "--pitch-deg must be within +-60 degrees");
+  if (std::abs(f.pitch_deg) > 85.0)
+    return UsageError(kSimulateCmd, "--pitch-deg must be within +-85 degrees");
   if (std::abs(f.roll_deg) > 45.0)
     return UsageError(kSimulateCmd, "--roll-deg must be within +-45 degrees");
   if (f.clutter < 0 || f.clutter > 50)

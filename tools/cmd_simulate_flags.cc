@@ -31,7 +31,10 @@ FlagParser SimulateFlags::Parser() {
                   "ROBOT.urdf");
   robot_flags.Register(&flags, /*one_set=*/true);
   flags.AddDouble("sensor-height", &sensor_height, "optical centre above the floor, metres", "M");
-  flags.AddDouble("pitch-deg", &pitch_deg, "sensor pitch, degrees (+ looks down)", "D");
+  flags.AddDouble("pitch-deg", &pitch_deg,
+                  "sensor pitch, degrees (+ looks down; within +-85: a floor tilted more than 70 "
+                  "from the image's up direction needs `hpose estimate --floor-max-tilt-deg`)",
+                  "D");
   flags.AddDouble("roll-deg", &roll_deg, "sensor roll, degrees (+ image right side down)", "D");
   flags.AddInt("clutter", &clutter,
                "random clutter objects: the first a ball, then boxes and cylinders", "N");

@@ -18,7 +18,7 @@ templates: [t/standing.bt, /abs/arm.bt]
 search: {score_threshold: 55, min_humanoid_fit: 70, tracked_score_threshold: 42,
          scorer: reference, far_range_m: 3.0, far_score_ratio: 0.9, far_min_evidence: 0.1,
          two_points_a_voxel_within_m: 1.5, min_humanoid_evidence: 0.03}
-floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
+floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1, max_tilt_rad: 1.4}
 )";
   Result<DaemonConfig> c = ParseDaemonConfig(yaml, "test.yaml", "/etc/hpose");
   ASSERT_TRUE(c.ok()) << c.error().ToString();
@@ -53,6 +53,7 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1}
   EXPECT_EQ(c->estimator.scorer, ScorerKind::kOctomapReference);
   EXPECT_TRUE(c->floor.fixed);
   EXPECT_DOUBLE_EQ(c->floor.height_m, 0.5);
+  EXPECT_DOUBLE_EQ(c->estimator.floor_fit.max_tilt_rad, 1.4);
   EXPECT_TRUE(ValidateDaemonConfig(*c).ok());
 }
 
@@ -224,6 +225,13 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("floor.min_width_m"), std::string::npos);
   bad.floor.fixed = true;  // a fixed floor fits nothing: the fit's options do not matter.
   EXPECT_TRUE(ValidateDaemonConfig(bad).ok());
+  for (const double v : {0.0, 1.6, std::nan("")}) {
+    bad = c;
+    bad.estimator.floor_fit.max_tilt_rad = v;
+    EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("floor.max_tilt_rad"),
+              std::string::npos)
+        << v;
+  }
   bad = c;
   bad.estimator.floor_fit.distance_threshold_m = 0.0;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("floor.distance_threshold_m"),
@@ -261,6 +269,7 @@ TEST(DaemonConfigTest, DefaultsListenOnLoopbackAndPrintedConfigParsesBack) {
   c.source.warm_up = false;
   c.floor.fixed = true;
   c.floor.height_m = 0.42;
+  c.estimator.floor_fit.max_tilt_rad = 1.3;
   c.source.has_initial_pose = true;
   c.source.initial_pose = Pose2D{2.5, 0.25, 0.5};
   Result<DaemonConfig> back = ParseDaemonConfig(DaemonConfigToYaml(c), "printed", "");
@@ -273,6 +282,7 @@ TEST(DaemonConfigTest, DefaultsListenOnLoopbackAndPrintedConfigParsesBack) {
   EXPECT_EQ(back->templates, c.templates);
   EXPECT_TRUE(back->floor.fixed);
   EXPECT_DOUBLE_EQ(back->floor.height_m, 0.42);
+  EXPECT_DOUBLE_EQ(back->estimator.floor_fit.max_tilt_rad, 1.3);
   EXPECT_EQ(back->estimator.search, c.estimator.search);
   EXPECT_EQ(DaemonConfigToYaml(*back), DaemonConfigToYaml(c));
 }

@@ -352,6 +352,55 @@ TEST_F(EstimateCliTest, NoFloorAndNoHumanoidHaveTheirOwnExitStatus) {
   EXPECT_NE(run.err.find("--floor-min-width"), std::string::npos) << run.err;
 }
 
+// A sensor near the ceiling looking down 75 degrees: past the floor fit's default tilt limit
+// (70), the error says how to go on (exit 4); with --floor-max-tilt-deg the humanoid is found.
+TEST_F(EstimateCliTest, ASteepMountNeedsTheTiltFlagAndSaysSo) {
+  const CliRun sim = RunHpose("simulate --out '" + (*dir_ / "steep") +
+                                  "' --sensor-height 2.5 --pitch-deg 75 --x 1.0 --y 0.1 "
+                                  "--theta-deg -30 --clutter 3 --seed 2 --no-cloud",
+                              *dir_);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const std::string frame = "estimate '" + (*dir_ / "steep/depth.png") + "'";
+  CliRun run = RunHpose(frame, *dir_);
+  EXPECT_EQ(run.exit_code, 4) << run.out << run.err;
+  EXPECT_NE(run.err.find("looking down that steeply"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("--floor-max-tilt-deg"), std::string::npos) << run.err;
+  run = RunHpose(frame + " --floor-max-tilt-deg 85 --json", *dir_);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out).at("depth_template");
+  EXPECT_NEAR(j.at("floor").at("height").get<double>(), 2.5, 0.02);
+  EXPECT_NEAR(j.at("floor").at("pitch").get<double>(), DegToRad(75), DegToRad(1));
+  const nlohmann::json& pose = j.at("detections").at(0).at("best").at("pose");
+  EXPECT_NEAR(pose.at("x").get<double>(), 1.0, 0.03);
+  EXPECT_NEAR(pose.at("y").get<double>(), 0.1, 0.03);
+  EXPECT_LT(std::abs(AngleDiff(pose.at("theta").get<double>(), DegToRad(-30))), DegToRad(6));
+  // hpose replay (and hposed) take it from the config: floor.max_tilt_rad. Without it every
+  // frame fails, and the summary says why.
+  const std::string config = *dir_ / "steep.yaml";
+  std::ofstream(config) << "floor: {max_tilt_rad: 1.45}\n";
+  const std::string replay = "replay '" + (*dir_ / "steep") + "' --no-progress --format csv";
+  run = RunHpose(replay, *dir_);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("1 frame(s)"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("0 estimated, 1 failed"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("the first that failed, " + (*dir_ / "steep/depth.png") + ": no floor"),
+            std::string::npos)
+      << run.err;
+  run = RunHpose(replay + " --config '" + config + "'", *dir_);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("1 estimated, 0 failed"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("humanoid found in 1"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find("the first that failed"), std::string::npos) << run.err;
+  for (const char* bad : {"0", "86", "nan"}) {
+    run = RunHpose(frame + " --floor-max-tilt-deg " + bad, *dir_);
+    EXPECT_EQ(run.exit_code, 2) << bad << "\n" << run.err;
+    EXPECT_NE(run.err.find(std::string(bad) == "nan" ? "bad value 'nan' for --floor-max-tilt-deg"
+                                                     : "--floor-max-tilt-deg must be within"),
+              std::string::npos)
+        << run.err;
+  }
+}
+
 TEST(DemoCliTest, RunsWithoutInput) {
   TempDir dir("demo_cli");
   const CliRun run = RunHpose("demo --picture '" + (dir / "demo.png") + "'", dir);

@@ -190,8 +190,8 @@ TEST(SimulateCliTest, BadFlagsExitWithUsageStatus) {
   const std::string out = dir / "never";
   for (const std::string bad :
        {"--sensor-height -1", "--pose dancing", "--frames 0", "--no-such-flag", "--x abc",
-        "--pitch-deg 90", "--clutter -2", "--width 5", "--second-at 1,2", "--x nan",
-        "--noise-correlation 1.5", "--noise-correlation-px 0", "--theta-deg 1e300",
+        "--pitch-deg 90", "--pitch-deg 85.5", "--clutter -2", "--width 5", "--second-at 1,2",
+        "--x nan", "--noise-correlation 1.5", "--noise-correlation-px 0", "--theta-deg 1e300",
         "--second-at 30,0,0", "--second-at 1e300,0,90", "--second-at 2,0,1e9"}) {
     const CliRun run = RunHpose("simulate --out '" + out + "' " + bad, dir);
     EXPECT_EQ(run.exit_code, 2) << bad << ": " << run.err;
