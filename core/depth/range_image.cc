@@ -341,6 +341,89 @@ RangeImage RangeImage::Build(const PointCloud& cloud, double focal_px, Lanes lan
   return r;
 }
 
+namespace {
+
+// Whether the ray through the centre of bin (u, v) points at least asin(`sin_down`) below the
+// horizon: its direction's ground z is at most -sin_down.
+bool SteepRay(const Eigen::Matrix3d& ground_from_sensor, double focal, double u0, double v0,
+              double sin_down, int u, int v) {
+  const Eigen::Vector3d ray((u + 0.5 - u0) / focal, (v + 0.5 - v0) / focal, 1.0);
+  return -(ground_from_sensor.row(2).dot(ray)) >= sin_down * ray.norm();
+}
+
+}  // namespace
+
+bool RangeImage::HasSteepRays(const Eigen::Isometry3d& ground_from_sensor,
+                              double min_down_rad) const {
+  if (depth_.empty()) return false;
+  const Eigen::Matrix3d r = ground_from_sensor.linear();
+  const double sin_down = std::sin(std::min(min_down_rad, M_PI / 2.0));
+  // The image is a convex patch of the sphere of directions (a pinhole's rays to a rectangle),
+  // so the ray nearest straight down is straight down itself when that falls within the image,
+  // else one on the image's border.
+  const Eigen::Vector3d down = r.transpose() * Eigen::Vector3d(0.0, 0.0, -1.0);  // sensor frame.
+  if (down.z() > 0.0) {
+    const double u = down.x() / down.z() * focal_ + u0_, v = down.y() / down.z() * focal_ + v0_;
+    if (u >= 0.0 && v >= 0.0 && u < width_ && v < height_) return true;
+  }
+  for (int u = 0; u < width_; ++u) {
+    if (SteepRay(r, focal_, u0_, v0_, sin_down, u, 0) ||
+        SteepRay(r, focal_, u0_, v0_, sin_down, u, height_ - 1)) {
+      return true;
+    }
+  }
+  for (int v = 0; v < height_; ++v) {
+    if (SteepRay(r, focal_, u0_, v0_, sin_down, 0, v) ||
+        SteepRay(r, focal_, u0_, v0_, sin_down, width_ - 1, v)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+RangeImage RangeImage::NearestAroundSteepRays(const Eigen::Isometry3d& ground_from_sensor,
+                                              double min_down_rad) const {
+  RangeImage out = *this;
+  const int w = width_, h = height_;
+  if (w == 0 || h == 0) return out;
+  // The 3 x 3 minimum as a minimum over three bins of a row, then over three rows; unknown bins
+  // (0) as infinitely far.
+  constexpr float kFar = std::numeric_limits<float>::infinity();
+  const auto known = [&](int x, int y) {
+    const float d = depth_[static_cast<size_t>(y) * w + x];
+    return d > 0.0f ? d : kFar;
+  };
+  std::vector<float> rows(static_cast<size_t>(w) * h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      float m = known(x, y);
+      if (x > 0) m = std::min(m, known(x - 1, y));
+      if (x + 1 < w) m = std::min(m, known(x + 1, y));
+      rows[static_cast<size_t>(y) * w + x] = m;
+    }
+  }
+  // A ray (tx, ty, 1) points at least min_down below the horizon when its ground z, the linear
+  // a = g . (tx, ty, 1), is negative and a^2 >= sin^2(min_down) (tx^2 + ty^2 + 1).
+  const Eigen::Vector3d g = ground_from_sensor.linear().row(2).transpose();
+  const double sin_down = std::sin(std::min(min_down_rad, M_PI / 2.0));
+  const double s2 = sin_down * sin_down;
+  for (int v = 0; v < h; ++v) {
+    const double ty = (v + 0.5 - v0_) / focal_;
+    const float* above = rows.data() + static_cast<size_t>(std::max(0, v - 1)) * w;
+    const float* here = rows.data() + static_cast<size_t>(v) * w;
+    const float* below = rows.data() + static_cast<size_t>(std::min(h - 1, v + 1)) * w;
+    for (int u = 0; u < w; ++u) {
+      const size_t i = static_cast<size_t>(v) * w + u;
+      if (!(depth_[i] > 0.0f)) continue;
+      const double tx = (u + 0.5 - u0_) / focal_;
+      const double a = g.x() * tx + g.y() * ty + g.z();
+      if (!(a < 0.0 && a * a >= s2 * (tx * tx + ty * ty + 1.0))) continue;
+      out.depth_[i] = std::min({here[u], above[u], below[u]});
+    }
+  }
+  return out;
+}
+
 RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
   return Build(cloud, focal_px,
                PointLanesAvailable()    ? Lanes::kSixteen

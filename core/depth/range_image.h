@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "core/depth/point_cloud.h"
 
@@ -77,6 +78,14 @@ class RangeImage {
   double u0() const { return u0_; }
   double v0() const { return v0_; }
   const float* depth_data() const { return depth_.data(); }
+
+  // Whether any bin's ray (through its centre) points at least `min_down_rad` below the
+  // horizon of `ground_from_sensor`'s floor; NearestAroundSteepRays changes nothing otherwise.
+  bool HasSteepRays(const Eigen::Isometry3d& ground_from_sensor, double min_down_rad) const;
+  // A copy in which every known bin whose ray points at least `min_down_rad` below the horizon
+  // holds the nearest known depth among the 3 x 3 bins around it (unknown bins stay unknown).
+  RangeImage NearestAroundSteepRays(const Eigen::Isometry3d& ground_from_sensor,
+                                    double min_down_rad) const;
 
   // Tangent (y / z, sensor frame: negative is up) of the image's top row.
   double TopTan() const { return -v0_ / focal_; }

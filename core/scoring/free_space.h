@@ -15,6 +15,15 @@ struct FreeSpaceOptions {
   // margin_m + sigma_factor * sigma(z), sigma(z) = 1.425e-3 z^2 (Kinect v1 axial noise, SPEC §5).
   double margin_m = 0.024;  // 1.5 voxels: the voxel's own extent.
   double sigma_factor = 3.0;
+  // Seen from steeply above (a sensor high up looking down), a body's sides are grazed by the
+  // rays along their whole height, and a voxel a few millimetres beside one (the template's
+  // voxels against the true surface, the lattice's steps) is seen through to the floor: where a
+  // ray points at least this far below the horizon, a voxel is free only when the nearest depth
+  // among the 3 x 3 range-image bins around its ray lies beyond it (the estimator's range image,
+  // RangeImage::NearestAroundSteepRays: about +-8 mm at 2.5 m). 70 degrees: no mount of up to 45
+  // degrees down sees such rays (a Kinect v1's vertical half field of view is about 22 degrees);
+  // above 90: off.
+  double steep_ray_rad = 70.0 * 3.14159265358979323846 / 180.0;
 };
 
 // Where free space is wanted: the box of columns [core_lo, core_hi] (x, y cells, inclusive),

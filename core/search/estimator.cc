@@ -527,6 +527,10 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
     return MakeError(ErrorCode::kInvalidArgument,
                      "two_points_a_voxel_within_m must be at least 0 (metres; 0: off)");
   }
+  if (!(options.free_space.steep_ray_rad >= 0.0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "free_space.steep_ray_rad must be at least 0 (radians; above pi/2: off)");
+  }
   if (!(options.far_range_m >= 0.0)) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "far_range_m must be at least 0 (metres; infinity: no far clusters)");
@@ -627,6 +631,16 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     range = RangeImage::FromCloud(cloud, options_.range_image_focal_px);
   }
   const TopOfView top_of_view = TopOfViewOf(range, est.floor);
+  // Free space along steep rays is read from the nearest depth around them
+  // (FreeSpaceOptions::steep_ray_rad); most mounts have none, and read the range image itself.
+  RangeImage steep_range;
+  const RangeImage* free_range = &range;
+  if (use_free_space &&
+      range.HasSteepRays(est.floor.ground_from_sensor, options_.free_space.steep_ray_rad)) {
+    steep_range = range.NearestAroundSteepRays(est.floor.ground_from_sensor,
+                                               options_.free_space.steep_ray_rad);
+    free_range = &steep_range;
+  }
   // What each cluster shares between its templates' searches.
   struct ClusterWork {
     ClusterVoxels voxels;
@@ -710,8 +724,8 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     if (use_free_space && !w.voxels.cells.empty()) {
       // Wherever a template placed by the searches can reach, height by height.
       w.free =
-          FreeSpaceCells(range, sensor_from_ground, FreeSpaceRegionAround(w.voxels, free_grow_),
-                         res, options_.free_space);
+          FreeSpaceCells(*free_range, sensor_from_ground,
+                         FreeSpaceRegionAround(w.voxels, free_grow_), res, options_.free_space);
     }
     if (w.searched_with.size() > 1) {
       w.grids = search_->MakeGrids(w.voxels, use_free_space ? &w.free : nullptr, w.searched_with);

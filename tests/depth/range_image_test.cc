@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/depth/floor_estimate.h"
+
 namespace hpose {
 namespace {
 
@@ -166,6 +168,88 @@ TEST(RangeImageTest, EightLanesEqualFourLanesToTheBit) {
   if (!RangeImage::EightLanes()) GTEST_SKIP() << "no AVX2 on this CPU";
   ExpectEqualToFourLanes(
       [](const PointCloud& c, double focal) { return RangeImage::FromCloudEightLanes(c, focal); });
+}
+
+// How far below the horizon the ray through the centre of bin (u, v) points, worked out
+// directly: the ray's unit direction in the ground frame, and its angle below the x-y plane.
+double RayDownDeg(const RangeImage& image, const Eigen::Isometry3d& ground_from_sensor, int u,
+                  int v) {
+  const Eigen::Vector3d ray = Eigen::Vector3d((u + 0.5 - image.u0()) / image.focal(),
+                                              (v + 0.5 - image.v0()) / image.focal(), 1.0)
+                                  .normalized();
+  return std::asin(-(ground_from_sensor.linear() * ray).z()) * 180.0 / M_PI;
+}
+
+Eigen::Isometry3d Mount(double pitch_deg, double roll_deg) {
+  return FloorEstimate::FromHeightPitchRoll(2.5, pitch_deg * M_PI / 180.0, roll_deg * M_PI / 180.0)
+      .ground_from_sensor;
+}
+
+// Bins whose ray points at least 70 degrees down take the nearest known depth of the 3 x 3 bins
+// around them; the others, and the unknown bins, stay as they were.
+TEST(RangeImageTest, SteepRaysTakeTheNearestOfTheirNineBins) {
+  const RangeImage image = RangeImage::FromCloud(RandomCloud(5, 30000), 97.5);
+  const Eigen::Isometry3d mount = Mount(55.0, 6.0);
+  const RangeImage steep = image.NearestAroundSteepRays(mount, 70.0 * M_PI / 180.0);
+  ASSERT_EQ(steep.width(), image.width());
+  ASSERT_EQ(steep.height(), image.height());
+  const int w = image.width(), h = image.height();
+  const float* in = image.depth_data();
+  const float* out = steep.depth_data();
+  int changed = 0, steep_bins = 0, kept = 0;
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const size_t i = static_cast<size_t>(v) * w + u;
+      const double down = RayDownDeg(image, mount, u, v);
+      if (std::abs(down - 70.0) < 1e-6) continue;  // too near the limit to call.
+      if (!(in[i] > 0.0f) || down < 70.0) {
+        EXPECT_EQ(out[i], in[i]) << u << ", " << v;
+        ++kept;
+        continue;
+      }
+      float nearest = in[i];
+      for (int y = std::max(0, v - 1); y <= std::min(h - 1, v + 1); ++y) {
+        for (int x = std::max(0, u - 1); x <= std::min(w - 1, u + 1); ++x) {
+          const float d = in[static_cast<size_t>(y) * w + x];
+          if (d > 0.0f) nearest = std::min(nearest, d);
+        }
+      }
+      EXPECT_EQ(out[i], nearest) << u << ", " << v;
+      ++steep_bins;
+      changed += out[i] != in[i] ? 1 : 0;
+    }
+  }
+  EXPECT_GT(steep_bins, 500);
+  EXPECT_GT(changed, 100);
+  EXPECT_GT(kept, 500);
+}
+
+// HasSteepRays says whether any bin's ray is that steep: against every bin, on mounts whose
+// steepest ray lies on the image's border, inside it (straight down), or nowhere near.
+TEST(RangeImageTest, HasSteepRaysAgreesWithEveryBin) {
+  const RangeImage image = RangeImage::FromCloud(RandomCloud(6, 20000), 97.5);
+  // (pitch, roll) in degrees.
+  const std::vector<std::pair<double, double>> mounts = {
+      {0.0, 0.0},   {30.0, 10.0}, {40.0, 0.0},  {45.0, 20.0}, {60.0, -5.0}, {75.0, 0.0},
+      {85.0, 30.0}, {89.9, 0.0},  {-10.0, 0.0}, {-20.0, 3.0}, {10.0, 5.0}};
+  int yes = 0, no = 0;
+  for (const auto& [pitch, roll] : mounts) {
+    const Eigen::Isometry3d mount = Mount(pitch, roll);
+    for (const double limit_deg : {50.0, 70.0, 88.0}) {
+      bool any = false;
+      for (int v = 0; v < image.height() && !any; ++v) {
+        for (int u = 0; u < image.width() && !any; ++u) {
+          any = RayDownDeg(image, mount, u, v) >= limit_deg;
+        }
+      }
+      EXPECT_EQ(image.HasSteepRays(mount, limit_deg * M_PI / 180.0), any)
+          << "pitch " << pitch << ", roll " << roll << ", limit " << limit_deg;
+      (any ? yes : no) += 1;
+    }
+  }
+  EXPECT_GT(yes, 5);
+  EXPECT_GT(no, 5);
+  EXPECT_FALSE(RangeImage().HasSteepRays(Mount(89.9, 0.0), 0.0));
 }
 
 }  // namespace
