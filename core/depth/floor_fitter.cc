@@ -73,6 +73,7 @@ double TiltFromUp(const Eigen::Vector4d& plane, const Eigen::Vector3d& up) {
 // ..."); "" otherwise.
 std::string SteepFloorNote(const std::vector<Eigen::Vector3f>& points, const FloorFitterOptions& o,
                            int min_support, const Eigen::Vector3d& up) {
+  if (o.max_tilt_rad >= kMaxSteepTiltRad) return "";  // no steeper floor to point out.
   LocalPlaneRansacOptions ransac;
   ransac.distance_threshold_m = o.distance_threshold_m;
   ransac.sample_radius_m = kSampleRadiusM;

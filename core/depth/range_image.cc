@@ -343,12 +343,18 @@ RangeImage RangeImage::Build(const PointCloud& cloud, double focal_px, Lanes lan
 
 namespace {
 
-// Whether the ray through the centre of bin (u, v) points at least asin(`sin_down`) below the
-// horizon: its direction's ground z is at most -sin_down.
-bool SteepRay(const Eigen::Matrix3d& ground_from_sensor, double focal, double u0, double v0,
-              double sin_down, int u, int v) {
-  const Eigen::Vector3d ray((u + 0.5 - u0) / focal, (v + 0.5 - v0) / focal, 1.0);
-  return -(ground_from_sensor.row(2).dot(ray)) >= sin_down * ray.norm();
+// Whether the ray of slopes (tx, ty) points at least asin(sqrt(`sin2_down`)) below the horizon:
+// its ground z, the linear a = g . (tx, ty, 1) with g the ground frame's z row, is negative and
+// a^2 >= sin^2(down) (tx^2 + ty^2 + 1).
+bool SteepRay(const Eigen::Vector3d& g, double sin2_down, double tx, double ty) {
+  const double a = g.x() * tx + g.y() * ty + g.z();
+  return a < 0.0 && a * a >= sin2_down * (tx * tx + ty * ty + 1.0);
+}
+
+// sin^2 of a ray's least angle below the horizon to count as steep (straight down at most).
+double Sin2Down(double min_down_rad) {
+  const double s = std::sin(std::min(min_down_rad, M_PI / 2.0));
+  return s * s;
 }
 
 }  // namespace
@@ -357,7 +363,11 @@ bool RangeImage::HasSteepRays(const Eigen::Isometry3d& ground_from_sensor,
                               double min_down_rad) const {
   if (depth_.empty()) return false;
   const Eigen::Matrix3d r = ground_from_sensor.linear();
-  const double sin_down = std::sin(std::min(min_down_rad, M_PI / 2.0));
+  const Eigen::Vector3d g = r.row(2).transpose();
+  const double s2 = Sin2Down(min_down_rad);
+  const auto steep = [&](int u, int v) {
+    return SteepRay(g, s2, (u + 0.5 - u0_) / focal_, (v + 0.5 - v0_) / focal_);
+  };
   // The image is a convex patch of the sphere of directions (a pinhole's rays to a rectangle),
   // so the ray nearest straight down is straight down itself when that falls within the image,
   // else one on the image's border.
@@ -367,16 +377,10 @@ bool RangeImage::HasSteepRays(const Eigen::Isometry3d& ground_from_sensor,
     if (u >= 0.0 && v >= 0.0 && u < width_ && v < height_) return true;
   }
   for (int u = 0; u < width_; ++u) {
-    if (SteepRay(r, focal_, u0_, v0_, sin_down, u, 0) ||
-        SteepRay(r, focal_, u0_, v0_, sin_down, u, height_ - 1)) {
-      return true;
-    }
+    if (steep(u, 0) || steep(u, height_ - 1)) return true;
   }
   for (int v = 0; v < height_; ++v) {
-    if (SteepRay(r, focal_, u0_, v0_, sin_down, 0, v) ||
-        SteepRay(r, focal_, u0_, v0_, sin_down, width_ - 1, v)) {
-      return true;
-    }
+    if (steep(0, v) || steep(width_ - 1, v)) return true;
   }
   return false;
 }
@@ -402,11 +406,8 @@ RangeImage RangeImage::NearestAroundSteepRays(const Eigen::Isometry3d& ground_fr
       rows[static_cast<size_t>(y) * w + x] = m;
     }
   }
-  // A ray (tx, ty, 1) points at least min_down below the horizon when its ground z, the linear
-  // a = g . (tx, ty, 1), is negative and a^2 >= sin^2(min_down) (tx^2 + ty^2 + 1).
   const Eigen::Vector3d g = ground_from_sensor.linear().row(2).transpose();
-  const double sin_down = std::sin(std::min(min_down_rad, M_PI / 2.0));
-  const double s2 = sin_down * sin_down;
+  const double s2 = Sin2Down(min_down_rad);
   for (int v = 0; v < h; ++v) {
     const double ty = (v + 0.5 - v0_) / focal_;
     const float* above = rows.data() + static_cast<size_t>(std::max(0, v - 1)) * w;
@@ -415,9 +416,7 @@ RangeImage RangeImage::NearestAroundSteepRays(const Eigen::Isometry3d& ground_fr
     for (int u = 0; u < w; ++u) {
       const size_t i = static_cast<size_t>(v) * w + u;
       if (!(depth_[i] > 0.0f)) continue;
-      const double tx = (u + 0.5 - u0_) / focal_;
-      const double a = g.x() * tx + g.y() * ty + g.z();
-      if (!(a < 0.0 && a * a >= s2 * (tx * tx + ty * ty + 1.0))) continue;
+      if (!SteepRay(g, s2, (u + 0.5 - u0_) / focal_, ty)) continue;
       out.depth_[i] = std::min({here[u], above[u], below[u]});
     }
   }
