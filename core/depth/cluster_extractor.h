@@ -17,6 +17,13 @@ struct ClusterOptions {
   // Points lower than this are floor. 4 cm rather than 2: Kinect depth noise and floor-fit
   // error reach 2-3 cm at 3-4 m, and floor speckle would otherwise glue feet to the floor.
   double min_height_above_floor_m = 0.04;
+  // ... or lower than this many standard deviations of the vertical part of their depth noise:
+  // seen from high up and steeply (a sensor near the ceiling), a floor 3 m away is noisy along
+  // the rays and so in height (a Kinect v1's sigma_z = 1.65e-3 z^2 along a ray with its
+  // disparity steps, (sensor height) / z of it upwards: 1.4 cm for a sensor 2.9 m high at 80
+  // degrees), and its speckle above 4 cm joins everything standing on it into one cluster too
+  // wide to keep. Mounts up to 1 m high never reach 4 cm this way. 0 disables.
+  double floor_noise_sigmas = 4.0;
   double max_height_above_floor_m = 2.5;  // points higher are ignored (ceiling, walls).
   double max_range_m = 5.0;               // horizontal distance from the sensor.
   // Voxel grid of the output points; half the 16 mm scoring voxel so every occupied scoring

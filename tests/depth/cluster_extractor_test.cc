@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -277,16 +278,93 @@ TEST(ClusterExtractorTest, EmptyAndFloorOnlyCloudsGiveNoClusters) {
   EXPECT_TRUE(clusters->empty());
 }
 
+// A box the size of a small humanoid under a sensor near the ceiling looking steeply down: the
+// floor 3 m away is noisy in height (Kinect v1's axial noise with its disparity steps, about
+// 1.7e-3 z^2), and its speckle above 4 cm is counted as floor too while within four standard
+// deviations of the noise's vertical part (SteepViewTest has what it does to a whole frame).
+TEST(ClusterExtractorTest, ANoisyFloorSeenFromAboveStaysFloor) {
+  const double height = 2.95, pitch = 80 * kDeg;
+  Scene scene;
+  scene.boxes.push_back(Box{{0.35, -0.15, 0.0}, {0.55, 0.15, 0.58}});
+  RenderOptions render;
+  render.organised = true;
+  const Intrinsics kinect = Intrinsics::KinectV1(640, 480);
+  PointCloud cloud = Render(scene, GroundFromSensor(height, pitch, 0.0), kinect, render);
+  // The noise alike over 6 x 6 pixels, as window-matched disparities are (independent pixels
+  // would stand out of their neighbours, and the veil filter would drop them).
+  std::mt19937 rng(7);
+  std::normal_distribution<float> unit(0.0f, 1.0f);
+  constexpr int kBlock = 6;
+  for (int bv = 0; bv < kinect.height; bv += kBlock) {
+    for (int bu = 0; bu < kinect.width; bu += kBlock) {
+      const float n = unit(rng);
+      for (int v = bv; v < bv + kBlock; ++v) {
+        for (int u = bu; u < bu + kBlock; ++u) {
+          Eigen::Vector3f& p = cloud.points[static_cast<size_t>(v) * kinect.width + u];
+          p *= 1.0f + 1.7e-3f * p.z() * n;  // sigma_z = 1.7e-3 z^2 along the ray.
+        }
+      }
+    }
+  }
+  const FloorEstimate floor = FloorEstimate::FromHeightPitchRoll(height, pitch, 0.0);
+  ClusterOptions options;
+  options.min_points = 1;  // keep the speckle's clusters to count them.
+  options.min_height_m = 0.0;
+  Result<std::vector<Cluster>> clusters = ExtractClusters(cloud, floor, options);
+  ASSERT_TRUE(clusters.ok());
+  // The box's top (its sides are seen too obliquely to keep), and at most a couple of the
+  // speckle's few points beyond 4 standard deviations.
+  ASSERT_GE(clusters->size(), 1u);
+  EXPECT_LE(clusters->size(), 3u) << "the floor's speckle left clusters of its own";
+  const Cluster& box = (*clusters)[0];
+  for (size_t c = 1; c < clusters->size(); ++c) EXPECT_LT((*clusters)[c].points.size(), 20u);
+  EXPECT_NEAR(box.centroid.x(), 0.45, 0.03);
+  EXPECT_NEAR(box.max.z(), 0.58, 0.03);
+  EXPECT_GT(box.points.size(), 500u);
+  EXPECT_LT(box.max.x() - box.min.x(), 0.25);
+  EXPECT_LT(box.max.y() - box.min.y(), 0.35);
+  // No point of it lies within the noise's reach: 4 x 1.65e-3 x depth x sensor height.
+  const Eigen::Isometry3f sensor_from_ground = floor.ground_from_sensor.inverse().cast<float>();
+  for (const Eigen::Vector3f& g : box.points) {
+    const float depth = (sensor_from_ground * g).z();
+    ASSERT_GE(g.z(), 4 * 1.65e-3f * depth * static_cast<float>(height) - 1e-5f);
+  }
+
+  options.floor_noise_sigmas = 0.0;
+  clusters = ExtractClusters(cloud, floor, options);
+  ASSERT_TRUE(clusters.ok());
+  EXPECT_GT(clusters->size(), 30u) << "without the noise's reach the speckle stands on the floor";
+
+  // A sensor 1 m high or lower never reaches 4 cm this way: the same clusters either way.
+  const FloorEstimate low = FloorEstimate::FromHeightPitchRoll(0.9, 20 * kDeg, 0.0);
+  scene.boxes[0] = Box{{2.0, -0.15, 0.0}, {2.2, 0.15, 0.58}};
+  scene.boxes.push_back(Box{{3.9, 0.5, 0.0}, {4.2, 0.8, 0.3}});
+  render.noise_sigma_k = 1.7e-3;
+  const PointCloud far = Render(scene, GroundFromSensor(0.9, 20 * kDeg, 0.0), kinect, render);
+  const Result<std::vector<Cluster>> with = ExtractClusters(far, low, ClusterOptions{});
+  options.min_points = ClusterOptions{}.min_points;
+  options.min_height_m = ClusterOptions{}.min_height_m;
+  const Result<std::vector<Cluster>> without = ExtractClusters(far, low, options);
+  ASSERT_TRUE(with.ok() && without.ok());
+  ASSERT_EQ(with->size(), 2u);
+  ASSERT_EQ(with->size(), without->size());
+  for (size_t c = 0; c < with->size(); ++c) {
+    EXPECT_EQ((*with)[c].points, (*without)[c].points) << "cluster " << c;
+  }
+}
+
 TEST(ClusterExtractorTest, RejectsInvalidOptions) {
   const FloorEstimate floor = FloorEstimate::FromHeightPitchRoll(1.0, 30 * kDeg, 0.0);
-  const char* fields[] = {"tolerance_m", "min_points", "max_height_above_floor_m",
-                          "downsample_leaf_m"};
-  ClusterOptions bad[4];
+  const char* fields[] = {"tolerance_m",       "min_points",         "max_height_above_floor_m",
+                          "downsample_leaf_m", "floor_noise_sigmas", "floor_noise_sigmas"};
+  ClusterOptions bad[6];
   bad[0].tolerance_m = 0.0;
   bad[1].min_points = 0;
   bad[2].max_height_above_floor_m = bad[2].min_height_above_floor_m;
   bad[3].downsample_leaf_m = -0.01;
-  for (int i = 0; i < 4; ++i) {
+  bad[4].floor_noise_sigmas = -1.0;
+  bad[5].floor_noise_sigmas = std::numeric_limits<double>::quiet_NaN();
+  for (int i = 0; i < 6; ++i) {
     const Result<std::vector<Cluster>> clusters = ExtractClusters(PointCloud{}, floor, bad[i]);
     ASSERT_FALSE(clusters.ok()) << fields[i];
     EXPECT_EQ(clusters.error().code, ErrorCode::kInvalidArgument);

@@ -35,12 +35,15 @@ struct Frame {
     spec.seed = 4;
     frame = *SimulateFrame(spec);
   }
-  // The defaults on the true mount, the free space along steep rays as given.
-  Estimate Run(double steep_ray_rad) const {
+  // The defaults on the true mount, the free space along steep rays and the floor noise's
+  // reach as given.
+  Estimate Run(double steep_ray_rad,
+               double floor_noise_sigmas = ClusterOptions{}.floor_noise_sigmas) const {
     EstimatorOptions o = DefaultEstimatorOptions();
     o.use_fixed_floor = true;
     o.fixed_floor = frame.sensor_mount;
     o.free_space.steep_ray_rad = steep_ray_rad;
+    o.clusters.floor_noise_sigmas = floor_noise_sigmas;
     return *Estimator::Create(o, templates).value()->EstimateDepth(frame.depth, spec.intrinsics);
   }
   bool NearTruth(const Detection& d) const {
@@ -81,6 +84,23 @@ TEST(SteepViewTest, MountsWithoutSteepRaysAreEstimatedAsBefore) {
       EXPECT_EQ(a.candidates[k].score, b.candidates[k].score);
       EXPECT_EQ(a.candidates[k].free_space_hits, b.candidates[k].free_space_hits);
     }
+  }
+}
+
+// Under a sensor 2.9 m high the floor is noisy enough in height that its speckle above 4 cm
+// joins the robot and the clutter into one cluster too wide to be anything
+// (ClusterOptions::floor_noise_sigmas).
+TEST(SteepViewTest, ARobotUnderASensorNearTheCeilingHasAClusterOfItsOwn) {
+  const Frame f(2.93, 80.0, Pose2D{0.45, 0.02, DegToRad(-110.0)});
+  const double steep = FreeSpaceOptions{}.steep_ray_rad;
+  const Estimate found = f.Run(steep);
+  const HumanoidView humans = found.Humanoids();
+  ASSERT_EQ(humans.size(), 1u);
+  EXPECT_TRUE(f.NearTruth(humans.front()));
+  const Estimate without = f.Run(steep, 0.0);
+  EXPECT_TRUE(without.Humanoids().empty());
+  for (const Candidate& c : without.candidates) {
+    EXPECT_GT(std::hypot(c.pose.x - 0.45, c.pose.y - 0.02), 0.1) << "found without";
   }
 }
 
