@@ -22,6 +22,7 @@
 #include <pcl/segmentation/extract_clusters.h>
 
 #include "core/depth/cloud_validation.h"
+#include "core/depth/floor_plane.h"
 #include "core/depth/grid_euclidean_clusters.h"
 #include "core/depth/ground_band.h"
 #include "core/depth/veil_filter.h"
@@ -237,12 +238,6 @@ void SplitByTops(Cluster cluster, const ClusterOptions& options, std::vector<Clu
   }
   out->push_back(std::move(cluster));
 }
-
-// A Kinect v1's depth noise along a ray with its disparity steps: sigma_z = 1.425e-3 z^2
-// (kFloorDepthNoisePerM2) and steps of about 2.9e-3 z^2 (1/8 pixel of disparity, focal length
-// 580 px, 7.5 cm baseline), a uniform error of 0.83e-3 z^2: together 1.65e-3 z^2. A simulated
-// floor 3 m below the sensor spreads over 1.76e-3 z^2.
-constexpr double kDepthNoiseWithStepsPerM2 = 1.65e-3;
 
 // Drops the band's points lower than `sigmas` standard deviations of the vertical part of
 // their depth noise (ClusterOptions::floor_noise_sigmas), keeping `index` in step when given. A

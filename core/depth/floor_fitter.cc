@@ -9,6 +9,7 @@
 #include "core/depth/floor_plane.h"
 #include "core/depth/local_plane_ransac.h"
 #include "core/depth/voxel_downsample.h"
+#include "core/depth/voxel_key_set.h"
 
 namespace hpose {
 namespace {
@@ -42,6 +43,17 @@ constexpr int kMaxRansacPoints = 2000;
 constexpr double kSampleRadiusM = 0.4;
 // Least-squares refinement rounds (re-selecting inliers with the refined plane each time).
 constexpr int kRefineRounds = 3;
+
+// The feet of objects (FloorFitterOptions::skip_object_feet): a point with a point in the
+// kFootCellM cell kFootProbeLowM, or that and kFootCellM more, above it, both raised by
+// kFootProbeNoiseSigmas standard deviations of the floor's depth noise in height there. The
+// cells are coarse so that a probe finds a surface that curves away (a ball's) or stands back
+// (a leg above a foot); 9 cm up, no point of the cell lies within 3.8 cm of the floor, and the
+// noise's share keeps the floor's own speckle out of it (else the points the noise put low
+// would find it more often, and the fit would rise).
+constexpr float kFootCellM = 0.06f;
+constexpr float kFootProbeLowM = 0.09f;
+constexpr float kFootProbeNoiseSigmas = 6.0f;
 
 struct Candidate {
   Eigen::Vector4d plane;  // unit normal towards the sensor, d > 0.
@@ -103,6 +115,34 @@ std::string SteepFloorNote(const std::vector<Eigen::Vector3f>& points, const Flo
   return text;
 }
 
+// The roll about the optical axis (rad, absolute) a floor on `plane` (normal towards the
+// sensor) means.
+double FloorRoll(const Eigen::Vector4d& plane) {
+  return std::abs(std::atan2(-plane[0], -plane[1]));
+}
+
+// `height_m`: the sensor's above the plane whose normal (towards the sensor) is `up`.
+bool IsObjectFoot(const Eigen::Vector3f& p, const Eigen::Vector3f& up, float height_m,
+                  const VoxelKeySet& cells) {
+  const float noise = static_cast<float>(kDepthNoiseWithStepsPerM2) * std::abs(p.z()) * height_m;
+  const float low = kFootProbeLowM + kFootProbeNoiseSigmas * noise;
+  return cells.Contains(p + low * up) || cells.Contains(p + (low + kFootCellM) * up);
+}
+
+// Leaves out of `indices` the points of `points` that are the feet of objects standing on
+// `plane` (IsObjectFoot); nothing when `cells` is empty.
+void DropObjectFeet(const std::vector<Eigen::Vector3f>& points, const VoxelKeySet& cells,
+                    const Eigen::Vector4d& plane, std::vector<int>* indices) {
+  if (cells.size() == 0) return;
+  const Eigen::Vector3f up = plane.head<3>().cast<float>();
+  const float height = static_cast<float>(plane[3]);
+  size_t kept = 0;
+  for (const int i : *indices) {
+    if (!IsObjectFoot(points[i], up, height, cells)) (*indices)[kept++] = i;
+  }
+  indices->resize(kept);
+}
+
 }  // namespace
 
 Status ValidateFloorFitterOptions(const FloorFitterOptions& o) {
@@ -158,12 +198,17 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     }
   }
   std::vector<Eigen::Vector3f> sampled;
+  std::vector<int> voxel_of_finite;  // with the voxel grid: each finite point's centroid.
   if (options.downsample_leaf_m > 0.0) {
-    VoxelDownsample(finite, static_cast<float>(options.downsample_leaf_m), &sampled);
+    VoxelDownsample(finite, static_cast<float>(options.downsample_leaf_m), &sampled,
+                    options.skip_object_feet ? &voxel_of_finite : nullptr);
   } else {
     sampled.swap(finite);
   }
   const int n = static_cast<int>(sampled.size());
+  VoxelKeySet foot_cells;  // empty: no point is a foot.
+  if (options.skip_object_feet) foot_cells.Build(sampled, kFootCellM);
+  std::vector<int> fit_on;
   if (n < kMinPoints) {
     return MakeError(ErrorCode::kFailedPrecondition,
                      "no floor: only " + std::to_string(n) + (n == 1 ? " point" : " points") +
@@ -225,7 +270,13 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     // Refine by least squares on the inliers, re-selecting them with the refined plane.
     bool ok = true;
     for (int r = 0; r < kRefineRounds && ok; ++r) {
-      ok = FitFloorPlaneLeastSquares(sampled, inliers, options.distance_threshold_m, &plane);
+      fit_on = inliers;
+      // Only planes that may be the floor have feet on them (a wall's foot is the floor).
+      if (plane.head<3>().dot(up_guess) >= cos_max_tilt && FloorRoll(plane) <= kMaxFloorRollRad) {
+        DropObjectFeet(sampled, foot_cells, plane, &fit_on);
+      }
+      if (fit_on.size() < 3) fit_on = inliers;  // all feet: no floor, as later tests find.
+      ok = FitFloorPlaneLeastSquares(sampled, fit_on, options.distance_threshold_m, &plane);
       if (!ok) break;
       SelectFloorInliers(sampled, plane, options.distance_threshold_m, &inliers);
     }
@@ -252,7 +303,7 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
     // degrees less max_tilt_rad; with the limit raised for a steep mount, by a little) and may
     // outnumber a floor seen at a grazing angle; taken for the floor it would mean a roll of
     // about 90 degrees less the true one.
-    const double roll = std::abs(std::atan2(-plane[0], -plane[1]));
+    const double roll = FloorRoll(plane);
     if (roll > kMaxFloorRollRad) {
       ++rolled;
       most_rolled = std::max(most_rolled, roll);
@@ -343,6 +394,19 @@ Result<FloorEstimate> FitFloor(const PointCloud& cloud_sensor, const FloorFitter
   if (options.downsample_leaf_m > 0.0) {  // else the candidates were fitted on these points.
     std::vector<int> pixel_inliers;
     SelectFloorInliers(finite, plane, options.distance_threshold_m, &pixel_inliers);
+    if (options.skip_object_feet) {
+      // A pixel is a foot when its voxel's centroid is (within 2.6 cm of it: the same cells).
+      const Eigen::Vector3f up = plane.head<3>().cast<float>();
+      const float height = static_cast<float>(plane[3]);
+      std::vector<signed char> foot(sampled.size(), -1);  // -1: not asked yet.
+      size_t kept = 0;
+      for (const int i : pixel_inliers) {
+        signed char& f = foot[voxel_of_finite[i]];
+        if (f < 0) f = IsObjectFoot(sampled[voxel_of_finite[i]], up, height, foot_cells) ? 1 : 0;
+        if (f == 0) pixel_inliers[kept++] = i;
+      }
+      pixel_inliers.resize(kept);
+    }
     Eigen::Vector4d refined;
     // Kept only within the tilt and height the candidates were held to: the pixels' fit can
     // lean a plane at the limit past it.

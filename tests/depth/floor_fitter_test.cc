@@ -342,6 +342,52 @@ TEST(FloorFitterTest, KinectFramesFitWithinMillimetres) {
   }
 }
 
+// A sensor low down or pitched up sees the floor only near its feet (the Kinect returns nothing
+// at grazing angles): a strip a few tenths of a metre deep. The sides and undersides of what
+// stands further away, a ball, boxes, the robot's soles, lie within the fit's inlier band near
+// the floor and lean the strip towards them unless they are told from it by what stands above
+// them (FloorFitterOptions::skip_object_feet).
+TEST(FloorFitterTest, ObjectFeetDoNotLeanAFloorSeenOnlyNearby) {
+  struct Case {
+    double height_m, pitch_deg;
+  };
+  for (const Case& c : {Case{0.25, 0.0}, Case{0.3, -5.0}, Case{0.5, -10.0}}) {
+    SCOPED_TRACE("sensor " + std::to_string(c.height_m) + " m up, pitched " +
+                 std::to_string(c.pitch_deg) + " deg");
+    std::vector<double> height_mm[2], angle_deg[2];  // [0]: feet skipped, [1]: not.
+    for (int seed = 1; seed <= 8; ++seed) {
+      FrameSpec spec;
+      spec.sensor_height_m = c.height_m;
+      spec.sensor_pitch_rad = c.pitch_deg * kDeg;
+      spec.humanoid_pose = Pose2D{1.2 + 0.2 * seed, 0.1 * (seed % 3) - 0.1, 0.7 * seed};
+      spec.clutter = 3;
+      spec.seed = seed;
+      const Result<SimulatedFrame> frame = SimulateFrame(spec);
+      ASSERT_TRUE(frame.ok()) << frame.error().ToString();
+      const Result<PointCloud> cloud = DepthToCloud(frame->depth, spec.intrinsics);
+      ASSERT_TRUE(cloud.ok()) << cloud.error().ToString();
+      const FloorEstimate& truth = frame->sensor_mount;
+      for (int k = 0; k < 2; ++k) {
+        FloorFitterOptions options;
+        options.skip_object_feet = k == 0;
+        const Result<FloorEstimate> floor = FitFloor(*cloud, options);
+        ASSERT_TRUE(floor.ok()) << floor.error().ToString();
+        height_mm[k].push_back(1e3 * std::abs(floor->height_m - truth.height_m));
+        const double cos_angle =
+            std::clamp(floor->plane_sensor.head<3>().dot(truth.plane_sensor.head<3>()), -1.0, 1.0);
+        angle_deg[k].push_back(std::acos(cos_angle) / kDeg);
+      }
+    }
+    for (int k = 0; k < 2; ++k) {
+      std::sort(height_mm[k].begin(), height_mm[k].end());
+      std::sort(angle_deg[k].begin(), angle_deg[k].end());
+    }
+    EXPECT_LT(height_mm[0][4], 0.5 * height_mm[1][4]);
+    EXPECT_LT(angle_deg[0][4], 0.5 * angle_deg[1][4]);
+    EXPECT_LT(angle_deg[0][4], 0.4);  // 0.08-0.25 degrees.
+  }
+}
+
 // A simulated frame from a sensor 0.9 m up, pitched 10 degrees up, among 6 clutter objects: no
 // floor within the sensor's range (it enters the view 4.4 m out). Null when nothing is in range.
 std::optional<PointCloud> PitchedUpFrame(int seed) {
