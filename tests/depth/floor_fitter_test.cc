@@ -302,6 +302,45 @@ TEST(FloorFitterTest, RejectsInvalidOptions) {
   EXPECT_EQ(FitFloor(cloud, options).error().code, ErrorCode::kInvalidArgument);
 }
 
+// A simulated Kinect v1 frame's cloud (noise and depth quantisation of SPEC §5) from a sensor
+// height_m up, pitch_deg down (negative: up), with a humanoid at `pose` and `clutter` objects,
+// and the true floor; none (a failure recorded) if it cannot be made.
+struct KinectCloud {
+  PointCloud cloud;
+  FloorEstimate truth;
+};
+std::optional<KinectCloud> SimulateKinectCloud(double height_m, double pitch_deg, Pose2D pose,
+                                               int clutter, int seed) {
+  FrameSpec spec;
+  spec.sensor_height_m = height_m;
+  spec.sensor_pitch_rad = pitch_deg * kDeg;
+  spec.humanoid_pose = pose;
+  spec.clutter = clutter;
+  spec.seed = static_cast<std::uint64_t>(seed);
+  const Result<SimulatedFrame> frame = SimulateFrame(spec);
+  if (!frame.ok()) {
+    ADD_FAILURE() << frame.error().ToString();
+    return std::nullopt;
+  }
+  Result<PointCloud> cloud = DepthToCloud(frame->depth, spec.intrinsics);
+  if (!cloud.ok()) {
+    ADD_FAILURE() << cloud.error().ToString();
+    return std::nullopt;
+  }
+  return KinectCloud{std::move(*cloud), frame->sensor_mount};
+}
+
+double HeightErrorMm(const FloorEstimate& fit, const FloorEstimate& truth) {
+  return 1e3 * std::abs(fit.height_m - truth.height_m);
+}
+
+// The angle between the fitted and the true floor's normals.
+double AngleErrorDeg(const FloorEstimate& fit, const FloorEstimate& truth) {
+  const double cos_angle =
+      std::clamp(fit.plane_sensor.head<3>().dot(truth.plane_sensor.head<3>()), -1.0, 1.0);
+  return std::acos(cos_angle) / kDeg;
+}
+
 // Simulated Kinect v1 frames (noise and depth quantisation of SPEC §5, clutter, a humanoid):
 // the far floor is noisy and quantised in steps of centimetres, so the fit must lean on the near
 // floor, where the pixels are many and precise.
@@ -315,23 +354,14 @@ TEST(FloorFitterTest, KinectFramesFitWithinMillimetres) {
   for (const Case& c : {Case{0.34, 0.0, 5.5, 0.3}, Case{0.9, 20.0, 1.0, 0.05}}) {
     std::vector<double> height_mm, angle_deg;
     for (int seed = 1; seed <= 10; ++seed) {
-      FrameSpec spec;
-      spec.sensor_height_m = c.height_m;
-      spec.sensor_pitch_rad = c.pitch_deg * kDeg;
-      spec.humanoid_pose = Pose2D{1.0 + 0.2 * seed, 0.1 * (seed % 3) - 0.1, 0.6 * seed};
-      spec.clutter = 4;
-      spec.seed = seed;
-      const Result<SimulatedFrame> frame = SimulateFrame(spec);
-      ASSERT_TRUE(frame.ok()) << frame.error().ToString();
-      const Result<PointCloud> cloud = DepthToCloud(frame->depth, spec.intrinsics);
-      ASSERT_TRUE(cloud.ok()) << cloud.error().ToString();
-      const Result<FloorEstimate> floor = FitFloor(*cloud);
+      const std::optional<KinectCloud> frame = SimulateKinectCloud(
+          c.height_m, c.pitch_deg, Pose2D{1.0 + 0.2 * seed, 0.1 * (seed % 3) - 0.1, 0.6 * seed}, 4,
+          seed);
+      ASSERT_TRUE(frame.has_value());
+      const Result<FloorEstimate> floor = FitFloor(frame->cloud);
       ASSERT_TRUE(floor.ok()) << floor.error().ToString();
-      const FloorEstimate& truth = frame->sensor_mount;
-      height_mm.push_back(1e3 * std::abs(floor->height_m - truth.height_m));
-      const double cos_angle =
-          std::clamp(floor->plane_sensor.head<3>().dot(truth.plane_sensor.head<3>()), -1.0, 1.0);
-      angle_deg.push_back(std::acos(cos_angle) / kDeg);
+      height_mm.push_back(HeightErrorMm(*floor, frame->truth));
+      angle_deg.push_back(AngleErrorDeg(*floor, frame->truth));
     }
     std::sort(height_mm.begin(), height_mm.end());
     std::sort(angle_deg.begin(), angle_deg.end());
@@ -356,26 +386,17 @@ TEST(FloorFitterTest, ObjectFeetDoNotLeanAFloorSeenOnlyNearby) {
                  std::to_string(c.pitch_deg) + " deg");
     std::vector<double> height_mm[2], angle_deg[2];  // [0]: feet skipped, [1]: not.
     for (int seed = 1; seed <= 8; ++seed) {
-      FrameSpec spec;
-      spec.sensor_height_m = c.height_m;
-      spec.sensor_pitch_rad = c.pitch_deg * kDeg;
-      spec.humanoid_pose = Pose2D{1.2 + 0.2 * seed, 0.1 * (seed % 3) - 0.1, 0.7 * seed};
-      spec.clutter = 3;
-      spec.seed = seed;
-      const Result<SimulatedFrame> frame = SimulateFrame(spec);
-      ASSERT_TRUE(frame.ok()) << frame.error().ToString();
-      const Result<PointCloud> cloud = DepthToCloud(frame->depth, spec.intrinsics);
-      ASSERT_TRUE(cloud.ok()) << cloud.error().ToString();
-      const FloorEstimate& truth = frame->sensor_mount;
+      const std::optional<KinectCloud> frame = SimulateKinectCloud(
+          c.height_m, c.pitch_deg, Pose2D{1.2 + 0.2 * seed, 0.1 * (seed % 3) - 0.1, 0.7 * seed}, 3,
+          seed);
+      ASSERT_TRUE(frame.has_value());
       for (int k = 0; k < 2; ++k) {
         FloorFitterOptions options;
         options.skip_object_feet = k == 0;
-        const Result<FloorEstimate> floor = FitFloor(*cloud, options);
+        const Result<FloorEstimate> floor = FitFloor(frame->cloud, options);
         ASSERT_TRUE(floor.ok()) << floor.error().ToString();
-        height_mm[k].push_back(1e3 * std::abs(floor->height_m - truth.height_m));
-        const double cos_angle =
-            std::clamp(floor->plane_sensor.head<3>().dot(truth.plane_sensor.head<3>()), -1.0, 1.0);
-        angle_deg[k].push_back(std::acos(cos_angle) / kDeg);
+        height_mm[k].push_back(HeightErrorMm(*floor, frame->truth));
+        angle_deg[k].push_back(AngleErrorDeg(*floor, frame->truth));
       }
     }
     for (int k = 0; k < 2; ++k) {
