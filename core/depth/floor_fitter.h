@@ -32,13 +32,12 @@ struct FloorFitterOptions {
   // first).
   double downsample_leaf_m = 0.03;
   // Points of a candidate floor with points 9 or 15 cm above them (in the 6 cm cells there,
-  // along the plane's normal; higher where the floor's depth noise reaches higher) are the
-  // feet of what stands on the floor: a box's sides, a ball's
-  // underside, a robot's soles. They lie within the inlier band and are left out of the
-  // least-squares fits, which they otherwise lean towards them where little floor is in view (a
-  // sensor low down or pitched up sees the floor only near its feet: a ball 2.3 m away tilted
-  // the floor of a sensor 0.3 m up, pitched 10 degrees up, by 2.5 degrees). They still count as
-  // inliers.
+  // along the plane's normal; higher where the floor's depth noise reaches higher) are the feet
+  // of what stands on the floor: a box's sides, a ball's underside, a robot's soles. They lie
+  // within the inlier band and are left out of the least-squares fits, which they otherwise
+  // lean towards them where little floor is in view (a sensor low down or pitched up sees the
+  // floor only near its feet: a ball 2.3 m away tilted the floor of a sensor 0.3 m up, pitched
+  // 10 degrees up, by 2.5 degrees). They still count as inliers.
   bool skip_object_feet = true;
   int random_seed = 0;  // fixed seed: the same frame gives the same floor.
 };

@@ -11,16 +11,21 @@ constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
 }  // namespace
 
 size_t VoxelKeySet::Slot(std::uint64_t key) const {
-  // Fibonacci hashing: the key's bits spread over the high bits, taken from the top.
-  return static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> 40) & mask_;
+  // Fibonacci hashing: the product's top bits, as many as the table needs.
+  return static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);
 }
 
 void VoxelKeySet::Build(const std::vector<Eigen::Vector3f>& points, float leaf_m) {
   inv_leaf_ = 1.0f / leaf_m;
   size_t capacity = 16;
-  while (capacity < 4 * points.size()) capacity *= 2;
+  int bits = 4;
+  while (capacity < 4 * points.size()) {
+    capacity *= 2;
+    ++bits;
+  }
   slots_.assign(capacity, kEmpty);
   mask_ = capacity - 1;
+  shift_ = 64 - bits;
   size_ = 0;
   std::vector<std::uint64_t> keys(points.size());
   if (!points.empty()) PackVoxelKeys(points.data(), points.size(), inv_leaf_, keys.data());

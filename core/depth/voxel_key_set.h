@@ -24,8 +24,9 @@ class VoxelKeySet {
   size_t Slot(std::uint64_t key) const;
 
   float inv_leaf_ = 0.0f;
-  std::vector<std::uint64_t> slots_;  // kEmpty or a key; a power of two long.
+  std::vector<std::uint64_t> slots_;  // kEmpty or a key; a power of two long, 2^bits.
   size_t mask_ = 0;
+  int shift_ = 60;  // 64 - bits.
   size_t size_ = 0;
 };
 
