@@ -206,15 +206,16 @@ TEST(EstimatorGatesTest, HeadingsOfClutterThatFailsTheFitEitherWayAreNotCompared
 // clutter when the previous frame's humanoid stood on it (the held cluster keeps its
 // hysteresis).
 TEST(EstimatorGatesTest, ClutterCoveringLittleOfTheTemplateIsNoHumanoid) {
-  // A random scene drawn as bench/cluster_choice_bench.cc draws them: a Nao 1 m away among
-  // eight objects, the sensor 0.79 m high looking 25.3 degrees down.
+  // A random scene drawn as bench/cluster_choice_bench.cc draws them: a Nao 1.2 m away among
+  // eight objects, the sensor 0.64 m high looking 9.3 degrees down (one that has such clutter
+  // with gcc's arithmetic and with clang's).
   FrameSpec spec;
   spec.preset = "standing";
-  spec.humanoid_pose = Pose2D{0.95436808787887473, -0.26324584757458697, -0.0031900483362790055};
-  spec.sensor_height_m = 0.7852384915133358;
-  spec.sensor_pitch_rad = DegToRad(25.343164659629306);
+  spec.humanoid_pose = Pose2D{1.1966014749734613, 0.041848162547198656, -2.1801548237402804};
+  spec.sensor_height_m = 0.64478833920793921;
+  spec.sensor_pitch_rad = DegToRad(9.3346015294955098);
   spec.clutter = 8;
-  spec.seed = 5098;
+  spec.seed = 5112;
   spec.noise_correlated_share = 0.9;
   const SimulatedFrame frame = *SimulateFrame(spec);
   const std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
