@@ -248,7 +248,7 @@ void DropFloorNoise(const GroundBand& slab, double sigmas, std::vector<Eigen::Ve
                     std::vector<int>* index) {
   const float sensor_height = slab.translation.z();
   const float per_depth =
-      static_cast<float>(sigmas * kDepthNoiseWithStepsPerM2) * std::max(sensor_height, 0.0f);
+      static_cast<float>(sigmas) * DepthNoiseInHeight(1.0f, std::max(sensor_height, 0.0f));
   const float rise = std::max(sensor_height - slab.z_min, slab.z_max - sensor_height);
   const float deepest = std::sqrt(slab.range2 + rise * rise);
   if (!(per_depth * deepest > slab.z_min)) return;

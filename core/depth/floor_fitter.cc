@@ -124,8 +124,8 @@ double FloorRoll(const Eigen::Vector4d& plane) {
 // `height_m`: the sensor's above the plane whose normal (towards the sensor) is `up`.
 bool IsObjectFoot(const Eigen::Vector3f& p, const Eigen::Vector3f& up, float height_m,
                   const VoxelKeySet& cells) {
-  const float noise = static_cast<float>(kDepthNoiseWithStepsPerM2) * std::abs(p.z()) * height_m;
-  const float low = kFootProbeLowM + kFootProbeNoiseSigmas * noise;
+  const float low =
+      kFootProbeLowM + kFootProbeNoiseSigmas * DepthNoiseInHeight(std::abs(p.z()), height_m);
   return cells.Contains(p + low * up) || cells.Contains(p + (low + kFootCellM) * up);
 }
 

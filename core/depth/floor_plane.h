@@ -22,6 +22,12 @@ constexpr double kFloorDepthNoisePerM2 = 1.425e-3;
 // sensor h above the floor, a floor point at depth z moves by this times z h upwards.
 constexpr double kDepthNoiseWithStepsPerM2 = 1.65e-3;
 
+// That noise's part along the floor's normal (m, one standard deviation) for a point near the
+// floor at depth `depth_m`, seen from a sensor `sensor_height_m` above it.
+inline float DepthNoiseInHeight(float depth_m, float sensor_height_m) {
+  return static_cast<float>(kDepthNoiseWithStepsPerM2) * depth_m * sensor_height_m;
+}
+
 // Inlier half-width (m) of a point at squared range `range2` (m^2) for a base threshold (m).
 inline float FloorInlierBand(float threshold_m, float range2) {
   return threshold_m + static_cast<float>(2.5 * kFloorDepthNoisePerM2) * range2;
