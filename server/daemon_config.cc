@@ -254,6 +254,9 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("far_score_ratio", &e.far_score_ratio));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("far_min_evidence", &e.far_min_evidence));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("max_height_ratio_error", &e.max_height_ratio_error));
+    HPOSE_RETURN_IF_ERROR(r.Read("height_offset_voxels", &e.height_offset_voxels, "an integer"));
+    HPOSE_RETURN_IF_ERROR(
+        r.ReadDouble("height_offset_min_coverage", &e.height_offset_min_coverage));
     // 0: the templates' own edge (coarser for a tall body), EstimatorOptions::
     // resolution_from_templates.
     double resolution_m = e.resolution_from_templates ? 0.0 : e.lattice.resolution_m;
@@ -549,6 +552,14 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (tall != 0 && (tall < 8 || tall > 1024)) {
     return fail("search.max_height_voxels", "must be 0 (off) or within [8, 1024]");
   }
+  const int offsets = c.estimator.height_offset_voxels;
+  if (offsets < 0 || offsets > 8) {
+    return fail("search.height_offset_voxels", "must be within [0, 8]");
+  }
+  const double coverage = c.estimator.height_offset_min_coverage;
+  if (!(coverage >= 0.0 && coverage <= 1.0)) {
+    return fail("search.height_offset_min_coverage", "must be in [0, 1]");
+  }
   return Status::Ok();
 }
 
@@ -623,6 +634,8 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "far_score_ratio" << YAML::Value << e.far_score_ratio;
   out << YAML::Key << "far_min_evidence" << YAML::Value << e.far_min_evidence;
   out << YAML::Key << "max_height_ratio_error" << YAML::Value << e.max_height_ratio_error;
+  out << YAML::Key << "height_offset_voxels" << YAML::Value << e.height_offset_voxels;
+  out << YAML::Key << "height_offset_min_coverage" << YAML::Value << e.height_offset_min_coverage;
   out << YAML::Key << "resolution_m" << YAML::Value
       << (e.resolution_from_templates ? 0.0 : e.lattice.resolution_m);
   out << YAML::Key << "max_height_voxels" << YAML::Value << e.max_height_voxels;

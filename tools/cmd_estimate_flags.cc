@@ -66,6 +66,11 @@ FlagParser EstimateFlags::Parser() {
                   "if its pose covers enough of the template, fitting well (0-1; 1: one "
                   "threshold at every range)",
                   "R");
+  flags.AddInt("height-offset-voxels", &options.height_offset_voxels,
+               "when nothing passes, search again with the templates standing 1, 2, ... up to "
+               "N voxels lower and higher than the floor (a robot with bent knees stands lower "
+               "than a template made with straight legs; 0: only on the floor)",
+               "N");
   flags.AddInt("stride", &stride,
                "use every N-th depth pixel in each direction (2: 640x480 -> 320x240 like the "
                "paper; about 0.73x the time of a tracked frame, at the cost of less certain "

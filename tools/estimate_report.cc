@@ -92,6 +92,13 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
          << Fmt("%.2f", RadToDeg(std::sqrt(c.covariance(2, 2)))) << " deg; fit "
          << Fmt("%.1f", c.fit.fit) << "\n";
     }
+    if (c.height_offset_m != 0.0) {
+      os << "          template standing " << Fmt("%.0f", 1000.0 * std::abs(c.height_offset_m))
+         << " mm " << (c.height_offset_m < 0.0 ? "below" : "above")
+         << " the floor (nothing passed on it: the robot stands "
+         << (c.height_offset_m < 0.0 ? "lower" : "higher")
+         << " than its template, or the floor is off; --height-offset-voxels)\n";
+    }
     if (c.has_runner_up) {
       os << "          runner-up theta " << Fmt("%.1f", RadToDeg(c.runner_up_pose.theta))
          << " deg, score " << Fmt("%.1f", c.runner_up_score);

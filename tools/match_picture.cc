@@ -32,8 +32,10 @@ Bgr HeightColour(double z) {
   return Bgr(90 + 120 * (1 - t), 90 + 120 * t, 90);  // BGR: blue-ish low, green high.
 }
 
-std::vector<Eigen::Vector3f> PlacedVoxels(const VoxelTemplate& t, const Pose2D& pose) {
-  const Eigen::Isometry3d g = pose.ToIsometry();
+// The template's voxels where the candidate placed it (at its pose, as high as it stood).
+std::vector<Eigen::Vector3f> PlacedVoxels(const VoxelTemplate& t, const Candidate& c) {
+  Eigen::Isometry3d g = c.pose.ToIsometry();
+  g.pretranslate(Eigen::Vector3d(0.0, 0.0, c.height_offset_m));
   std::vector<Eigen::Vector3f> out;
   out.reserve(t.voxels.size());
   for (const Eigen::Vector3f& v : t.voxels) out.push_back((g * v.cast<double>()).cast<float>());
@@ -92,7 +94,7 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
   for (const Detection& d : humans) {
     const VoxelTemplate* t = find_template(d.best.template_name);
     if (t == nullptr) continue;
-    for (const Eigen::Vector3f& v : PlacedVoxels(*t, d.best.pose)) {
+    for (const Eigen::Vector3f& v : PlacedVoxels(*t, d.best)) {
       left.Circle(over.At(v.x(), v.y()), 1, Bgr(60, 60, 230), -1);
     }
     const Pose2D& p = d.best.pose;
@@ -130,7 +132,7 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
       }
     }
     if (t != nullptr) {
-      for (const Eigen::Vector3f& v : PlacedVoxels(*t, d.best.pose)) {
+      for (const Eigen::Vector3f& v : PlacedVoxels(*t, d.best)) {
         template_cells.insert({static_cast<int>(std::floor(v.x() / res)),
                                static_cast<int>(std::floor(v.y() / res)),
                                static_cast<int>(std::floor(v.z() / res))});

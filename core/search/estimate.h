@@ -28,7 +28,10 @@ struct Candidate {
   int cluster_index = -1;
   // Robot frame in the ground frame: the refined pose when `refined`, else the lattice pose.
   Pose2D pose;
-  Pose2D lattice_pose;   // the search's optimum on the (x, y, theta) lattice.
+  Pose2D lattice_pose;  // the search's optimum on the (x, y, theta) lattice.
+  // How far above the fitted floor the template stood (metres, a whole number of the search's
+  // voxels; EstimatorOptions::height_offset_voxels): 0 unless nothing passed on the floor.
+  double height_offset_m = 0.0;
   bool refined = false;  // `pose` comes from the continuous refinement of lattice_pose.
   // Covariance of the refined (x, y, theta) (m^2, rad^2); zero when not refined.
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
@@ -130,6 +133,10 @@ struct Estimate {
   std::vector<Detection> detections;
   StageTimings timings;
   TrackingInfo tracking;
+  // How many times the clusters were searched: 1, or more when nothing passed with the templates
+  // on the floor (or where the previous frame's humanoid stood) and they were searched again
+  // lower and higher (EstimatorOptions::height_offset_voxels).
+  int height_passes = 1;
 
   // The detections that pass the thresholds (is_humanoid), in the order of `detections`, read
   // in place: the view and references to its detections are valid while this Estimate lives

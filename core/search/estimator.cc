@@ -244,12 +244,15 @@ bool PassesAsHumanoid(const Candidate& c, double threshold, bool held, const Est
 // evidence supports best (highest fit; the search score when not refined), or in a tracked
 // stream the one PriorHeadingChoice takes (`prior_theta`: the previous frame's heading on the
 // cluster it stood on); in the order of DetectionBefore. `held_cluster`: the cluster the
-// previous frame's humanoid stood on, or -1.
+// previous frame's humanoid stood on, or -1. `off_floor`: the templates stood off the floor
+// (EstimatorOptions::height_offset_voxels), where every cluster but the held one must also cover
+// height_offset_min_coverage of its template.
 std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
                                        const std::vector<double>& thresholds,
                                        const std::vector<char>& far,
                                        const std::vector<std::optional<double>>& prior_theta,
-                                       int held_cluster, const EstimatorOptions& o) {
+                                       int held_cluster, bool off_floor,
+                                       const EstimatorOptions& o) {
   std::map<int, std::vector<const Candidate*>> by_cluster;
   for (const Candidate& c : candidates) by_cluster[c.cluster_index].push_back(&c);
   std::vector<Detection> out;
@@ -278,6 +281,11 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
     // A far cluster below the full threshold passes on strong refined evidence only.
     if (far[cluster] && d.best.score < o.score_threshold &&
         HumanoidEvidenceShare(d.best) < o.far_min_evidence) {
+      d.is_humanoid = false;
+    }
+    if (off_floor && cluster != held_cluster &&
+        !(d.best.template_voxels > 0 &&
+          d.best.hits >= o.height_offset_min_coverage * d.best.template_voxels)) {
       d.is_humanoid = false;
     }
     if (cands.size() > 1) {
@@ -350,6 +358,33 @@ int HeldCluster(const std::vector<Cluster>& clusters, const FramePrior* prior) {
 }
 
 // A cluster's extent across the line of sight from the sensor (ground origin) to its centroid.
+// The floor raised by `dz` metres along its normal: the ground frame's origin that much higher.
+FloorEstimate RaiseFloor(const FloorEstimate& floor, double dz) {
+  FloorEstimate raised = floor;
+  if (dz == 0.0) return raised;
+  raised.plane_sensor[3] -= dz;
+  raised.ground_from_sensor.pretranslate(Eigen::Vector3d(0.0, 0.0, -dz));
+  raised.height_m -= dz;
+  return raised;
+}
+
+// The clusters as seen from a floor raised by `dz` metres (RaiseFloor).
+std::vector<Cluster> LowerClusters(const std::vector<Cluster>& clusters, double dz) {
+  std::vector<Cluster> lowered = clusters;
+  const Eigen::Vector3f down(0.0f, 0.0f, static_cast<float>(dz));
+  for (Cluster& c : lowered) {
+    for (Eigen::Vector3f& p : c.points) p -= down;
+    c.centroid -= down;
+    c.min -= down;
+    c.max -= down;
+  }
+  return lowered;
+}
+
+bool FoundHumanoid(const Estimate& est) {
+  return !est.detections.empty() && est.detections.front().is_humanoid;
+}
+
 double ApparentWidth(const Cluster& c) {
   Eigen::Vector2f u = c.centroid.head<2>();
   if (u.norm() < 1e-6) return 0.0;
@@ -480,6 +515,15 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
       return MakeError(ErrorCode::kInvalidArgument, "template '" + t.name + "' has no voxels");
     }
   }
+  if (options.height_offset_voxels < 0 || options.height_offset_voxels > 8) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "height_offset_voxels must be within [0, 8], got " +
+                         std::to_string(options.height_offset_voxels));
+  }
+  if (!(options.height_offset_min_coverage >= 0.0 && options.height_offset_min_coverage <= 1.0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "height_offset_min_coverage must be within [0, 1]");
+  }
   if (options.max_height_voxels != 0 &&
       (options.max_height_voxels < 8 || options.max_height_voxels > 1024)) {
     return MakeError(ErrorCode::kInvalidArgument,
@@ -568,77 +612,39 @@ Result<Estimate> Estimator::EstimateCloud(const PointCloud& cloud_sensor,
   return Run(cloud_sensor, 0.0, prior);
 }
 
-Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
-                                const FramePrior* prior) const {
-  const Clock::time_point t_start = Clock::now();
-  Estimate est;
-  if (prior != nullptr && prior->has_pose) {
-    est.tracking.prior_given = true;
-    est.tracking.prior_template = prior->template_name;
-    est.tracking.prior_pose = prior->pose;
-  }
-  est.timings.cloud_ms = cloud_ms;
-  // Finite and bounded before PCL sees it; every point left is finite or missing (NaN).
-  std::size_t finite = 0;
-  const Status valid = ValidateCloud(cloud, {}, &finite);
-  if (!valid.ok()) return valid.error();
-  if (cloud.empty()) {
-    return MakeError(ErrorCode::kInvalidArgument, "the point cloud is empty (no valid depth)");
-  }
-  if (finite == 0) {
-    return MakeError(ErrorCode::kInvalidArgument, "the point cloud has no finite points (all " +
-                                                      std::to_string(cloud.size()) +
-                                                      " are NaN or infinite)");
-  }
-  est.cloud_points = static_cast<int>(finite);
-
-  Clock::time_point t = Clock::now();
-  if (options_.use_fixed_floor) {
-    est.floor = options_.fixed_floor;
-  } else if (prior != nullptr && prior->floor != nullptr) {
-    Result<FloorEstimate> floor = prior->floor->Update(cloud);
-    if (!floor.ok()) return floor.error();
-    est.floor = *floor;
-    est.tracking.floor_reused = !prior->floor->refitted();
-  } else {
-    Result<FloorEstimate> floor = FitFloor(cloud, options_.floor_fit);
-    if (!floor.ok()) return floor.error();
-    est.floor = *floor;
-  }
-  est.timings.floor_ms = MsSince(t);
-
-  t = Clock::now();
-  Result<std::vector<Cluster>> clusters = ExtractClusters(cloud, est.floor, options_.clusters);
-  if (!clusters.ok()) return clusters.error();
-  est.timings.cluster_ms = MsSince(t);
+void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const RangeImage& range,
+                               const FramePrior* prior, double height_offset_m,
+                               Estimate* out) const {
+  Estimate& est = *out;
+  // The templates stand height_offset_m above the floor: the floor and the clusters as seen
+  // from a floor raised that much.
+  const FloorEstimate floor = RaiseFloor(est.floor, height_offset_m);
+  std::vector<Cluster> raised;
+  if (height_offset_m != 0.0) raised = LowerClusters(on_floor, height_offset_m);
+  const std::vector<Cluster>* clusters = height_offset_m != 0.0 ? &raised : &on_floor;
   // The cluster the previous frame's humanoid stood on, if any, and its lower threshold.
   const int held_cluster = HeldCluster(*clusters, prior);
   const double tracked_threshold =
       std::min(options_.tracked_score_threshold, options_.score_threshold);
   std::vector<double> thresholds(clusters->size(), options_.score_threshold);
 
-  t = Clock::now();
   const bool use_free_space = options_.score == ScoreKind::kFreeSpace;
   const bool refine = options_.refine.enabled;
   // Runner-ups are searched for once the refined fits are known: only the templates that
   // contend on their cluster need them.
   const bool defer_runner_ups = refine && !options_.refine.search_far_behind_runner_up &&
                                 options_.refine.runner_up_fit_sigmas > 0.0;
-  const Eigen::Isometry3d sensor_from_ground = est.floor.ground_from_sensor.inverse();
-  const Eigen::Vector3d sensor_in_ground(0.0, 0.0, est.floor.height_m);
-  RangeImage range;
-  if (use_free_space || refine) {
-    range = RangeImage::FromCloud(cloud, options_.range_image_focal_px);
-  }
-  const TopOfView top_of_view = TopOfViewOf(range, est.floor);
+  const Eigen::Isometry3d sensor_from_ground = floor.ground_from_sensor.inverse();
+  const Eigen::Vector3d sensor_in_ground(0.0, 0.0, floor.height_m);
+  const TopOfView top_of_view = TopOfViewOf(range, floor);
   // Free space along steep rays is read from the nearest depth around them
   // (FreeSpaceOptions::steep_ray_rad); most mounts have none, and read the range image itself.
   RangeImage steep_range;
   const RangeImage* free_range = &range;
   if (use_free_space &&
-      range.HasSteepRays(est.floor.ground_from_sensor, options_.free_space.steep_ray_rad)) {
-    steep_range = range.NearestAroundSteepRays(est.floor.ground_from_sensor,
-                                               options_.free_space.steep_ray_rad);
+      range.HasSteepRays(floor.ground_from_sensor, options_.free_space.steep_ray_rad)) {
+    steep_range =
+        range.NearestAroundSteepRays(floor.ground_from_sensor, options_.free_space.steep_ray_rad);
     free_range = &steep_range;
   }
   // What each cluster shares between its templates' searches.
@@ -677,13 +683,6 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   std::vector<int> searched_clusters;
   for (int i = 0; i < cluster_count; ++i) {
     const Cluster& c = (*clusters)[i];
-    ClusterSummary summary;
-    summary.index = i;
-    summary.points = static_cast<int>(c.points.size());
-    summary.centroid = c.centroid;
-    summary.min = c.min;
-    summary.max = c.max;
-    est.clusters.push_back(summary);
     const double width = ApparentWidth(c);
     const double visible_top = options_.height_check_uses_view
                                    ? top_of_view.HeightAbove(c)
@@ -750,6 +749,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     Candidate& cand = task.cand;
     cand.template_name = rotations_[task.tpl]->name();
     cand.cluster_index = task.cluster;
+    cand.height_offset_m = height_offset_m;
     cand.pose = r.pose;
     cand.lattice_pose = r.pose;
     cand.score = r.score;
@@ -1010,7 +1010,6 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
     refine_ms += task.refine_ms;
     est.tracking.tracked = est.tracking.tracked || task.seeded;
   }
-  est.timings.search_ms = MsSince(t);
   est.timings.refine_ms = refine_ms;
 
   std::stable_sort(est.candidates.begin(), est.candidates.end(),
@@ -1019,8 +1018,102 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   for (const Task& task : tasks) {
     if (task.has_prior) prior_theta[task.cluster] = task.prior_theta;
   }
-  est.detections =
-      ChooseTemplates(est.candidates, thresholds, far, prior_theta, held_cluster, options_);
+  est.detections = ChooseTemplates(est.candidates, thresholds, far, prior_theta, held_cluster,
+                                   height_offset_m != 0.0, options_);
+}
+
+Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
+                                const FramePrior* prior) const {
+  const Clock::time_point t_start = Clock::now();
+  Estimate est;
+  if (prior != nullptr && prior->has_pose) {
+    est.tracking.prior_given = true;
+    est.tracking.prior_template = prior->template_name;
+    est.tracking.prior_pose = prior->pose;
+  }
+  est.timings.cloud_ms = cloud_ms;
+  // Finite and bounded before PCL sees it; every point left is finite or missing (NaN).
+  std::size_t finite = 0;
+  const Status valid = ValidateCloud(cloud, {}, &finite);
+  if (!valid.ok()) return valid.error();
+  if (cloud.empty()) {
+    return MakeError(ErrorCode::kInvalidArgument, "the point cloud is empty (no valid depth)");
+  }
+  if (finite == 0) {
+    return MakeError(ErrorCode::kInvalidArgument, "the point cloud has no finite points (all " +
+                                                      std::to_string(cloud.size()) +
+                                                      " are NaN or infinite)");
+  }
+  est.cloud_points = static_cast<int>(finite);
+
+  Clock::time_point t = Clock::now();
+  if (options_.use_fixed_floor) {
+    est.floor = options_.fixed_floor;
+  } else if (prior != nullptr && prior->floor != nullptr) {
+    Result<FloorEstimate> floor = prior->floor->Update(cloud);
+    if (!floor.ok()) return floor.error();
+    est.floor = *floor;
+    est.tracking.floor_reused = !prior->floor->refitted();
+  } else {
+    Result<FloorEstimate> floor = FitFloor(cloud, options_.floor_fit);
+    if (!floor.ok()) return floor.error();
+    est.floor = *floor;
+  }
+  est.timings.floor_ms = MsSince(t);
+
+  t = Clock::now();
+  Result<std::vector<Cluster>> clusters = ExtractClusters(cloud, est.floor, options_.clusters);
+  if (!clusters.ok()) return clusters.error();
+  est.timings.cluster_ms = MsSince(t);
+  for (int i = 0; i < static_cast<int>(clusters->size()); ++i) {
+    const Cluster& c = (*clusters)[i];
+    ClusterSummary summary;
+    summary.index = i;
+    summary.points = static_cast<int>(c.points.size());
+    summary.centroid = c.centroid;
+    summary.min = c.min;
+    summary.max = c.max;
+    est.clusters.push_back(summary);
+  }
+
+  t = Clock::now();
+  RangeImage range;
+  if (options_.score == ScoreKind::kFreeSpace || options_.refine.enabled) {
+    range = RangeImage::FromCloud(cloud, options_.range_image_focal_px);
+  }
+  // The templates stand on the floor, or as high as the previous frame's humanoid stood.
+  const double first_offset = prior != nullptr && prior->has_pose ? prior->height_offset_m : 0.0;
+  SearchClusters(*clusters, range, prior, first_offset, &est);
+  // Nothing passed: the templates raised and lowered a voxel at a time (a robot with its knees
+  // bent stands lower than its template, ...: EstimatorOptions::height_offset_voxels). The
+  // first offsets at which something passes give the detections, the best fit of them.
+  const double res = options_.lattice.resolution_m;
+  for (int k = 0; !FoundHumanoid(est) && k <= options_.height_offset_voxels; ++k) {
+    std::optional<Estimate> best;
+    for (const int sign : {-1, 1}) {
+      const double offset = sign * k * res;
+      if ((k == 0 && sign > 0) || std::abs(offset - first_offset) < 1e-9) continue;
+      Estimate trial;
+      trial.floor = est.floor;
+      trial.clusters = est.clusters;
+      trial.tracking = est.tracking;
+      SearchClusters(*clusters, range, prior, offset, &trial);
+      ++est.height_passes;
+      est.timings.refine_ms += trial.timings.refine_ms;
+      if (FoundHumanoid(trial) && (!best || trial.detections.front().best.fit.fit >
+                                                best->detections.front().best.fit.fit)) {
+        best = std::move(trial);
+      }
+    }
+    if (best) {
+      est.clusters = std::move(best->clusters);
+      est.candidates = std::move(best->candidates);
+      est.detections = std::move(best->detections);
+      est.tracking = best->tracking;
+    }
+  }
+  est.timings.search_ms = MsSince(t);
+
   est.timings.total_ms = cloud_ms + MsSince(t_start);
   return est;
 }

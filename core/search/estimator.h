@@ -26,6 +26,7 @@
 namespace hpose {
 
 class FloorTracker;
+class RangeImage;
 class TaskPool;
 
 enum class SearchKind { kPaper, kExact };
@@ -162,6 +163,25 @@ struct EstimatorOptions {
   // stream of frames (the daemon's). One-off estimates are quicker without (they make only
   // what they use).
   bool make_tables_at_start = false;
+  // When nothing in a frame passes as a humanoid, its clusters are searched again with the
+  // templates standing one voxel lower and one higher than the floor, then two, ... up to this
+  // many; of the first offsets at which something passes, the one whose humanoid fits best
+  // gives the detections (Candidate::height_offset_m). A search finds a body within about a
+  // centimetre of its template's height: a robot with its knees bent stands lower than a
+  // template made with straight legs, one on a mat or thick soles higher, and a floor fit may
+  // be off by as much. Frames whose humanoid passes on the floor are searched once, as without
+  // it; a tracked stream's frames start at the offset the previous frame's humanoid stood at.
+  // 0: only on the floor (before).
+  int height_offset_voxels = 1;
+  // ... where a cluster passes (unless it is the one the previous frame's humanoid stood on)
+  // only if the search's pose covers this share of the template's voxels with cluster voxels
+  // (Candidate::hits / template_voxels). Clutter that passes the other thresholds off the floor
+  // is a box or post inside the template's outline again: in random scenes without a robot it
+  // covered at most 0.13, robots that stood a voxel lower or higher than their templates 0.2-0.4
+  // seen whole (docs/BENCHMARKS.md). Their fits are lower than on the floor (the template and
+  // the body differ), which weighs down HumanoidEvidenceShare's fit to the eighth: the share of
+  // the template alone tells them apart.
+  double height_offset_min_coverage = 0.15;
   // A cluster is searched with a template only when its height is within this fraction of the
   // height the template would show there (0.25: 0.75x to 1.25x): the template's height, or,
   // where the top of the image cuts the view lower (a level sensor near the floor sees a 58 cm
@@ -207,6 +227,9 @@ struct FramePrior {
   // Its search score: below score_threshold (it passed by tracked_score_threshold), the cluster
   // it stands on is searched straight down to tracked_score_threshold.
   double score = 100.0;
+  // How far above the floor its template stood (Candidate::height_offset_m): the frame's
+  // searches start there.
+  double height_offset_m = 0.0;
   FloorTracker* floor = nullptr;  // optional; ignored with a fixed floor.
 };
 
@@ -249,6 +272,13 @@ class Estimator {
             std::vector<VoxelTemplate> searched, const std::vector<TemplateModels>& shared);
   Result<Estimate> Run(const PointCloud& cloud_sensor, double cloud_ms,
                        const FramePrior* prior) const;
+  // Every (cluster, template) search of a frame and its refinement, with the templates standing
+  // `height_offset_m` above the floor, and the detections: fills `out`'s candidates,
+  // detections, clusters' searched flags, tracking.tracked and timings.refine_ms from its floor
+  // and cluster summaries. `on_floor`: the frame's clusters (ground frame); `range`: its range
+  // image (empty when neither the free space nor the refinement reads it).
+  void SearchClusters(const std::vector<Cluster>& on_floor, const RangeImage& range,
+                      const FramePrior* prior, double height_offset_m, Estimate* out) const;
 
   EstimatorOptions options_;
   std::vector<VoxelTemplate> templates_;

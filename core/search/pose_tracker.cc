@@ -60,6 +60,7 @@ Result<Estimate> PoseTracker::Keep(Result<Estimate> estimate) {
     p.template_name = humans.front().best.template_name;
     p.pose = humans.front().best.pose;
     p.score = humans.front().best.score;
+    p.height_offset_m = humans.front().best.height_offset_m;
     prior_ = p;
   }
   return estimate;
