@@ -520,6 +520,9 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
                      "height_offset_voxels must be within [0, 8], got " +
                          std::to_string(options.height_offset_voxels));
   }
+  if (!(options.height_offset_height_error >= 0.0)) {
+    return MakeError(ErrorCode::kInvalidArgument, "height_offset_height_error must be >= 0");
+  }
   if (!(options.height_offset_min_coverage >= 0.0 && options.height_offset_min_coverage <= 1.0)) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "height_offset_min_coverage must be within [0, 1]");
@@ -692,7 +695,9 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
       const TemplateRotations& rot = *rotations_[j];
       if (options_.max_height_ratio_error >= 0.0) {
         // The template shows up to its top, or up to where the view ends above the cluster.
-        const double e = options_.max_height_ratio_error;
+        const double e = height_offset_m != 0.0 ? std::min(options_.max_height_ratio_error,
+                                                           options_.height_offset_height_error)
+                                                : options_.max_height_ratio_error;
         const double shown = std::min(rot.height_m(), std::max(visible_top, 0.0));
         if (c.height() < (1.0 - e) * shown || c.height() > (1.0 + e) * rot.height_m()) continue;
       }
@@ -1088,7 +1093,9 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   // bent stands lower than its template, ...: EstimatorOptions::height_offset_voxels). The
   // first offsets at which something passes give the detections, the best fit of them.
   const double res = options_.lattice.resolution_m;
-  for (int k = 0; !FoundHumanoid(est) && k <= options_.height_offset_voxels; ++k) {
+  const int offsets =
+      prior == nullptr || prior->search_height_offsets ? options_.height_offset_voxels : -1;
+  for (int k = 0; !FoundHumanoid(est) && k <= offsets; ++k) {
     std::optional<Estimate> best;
     for (const int sign : {-1, 1}) {
       const double offset = sign * k * res;

@@ -172,7 +172,7 @@ struct EstimatorOptions {
   // be off by as much. Frames whose humanoid passes on the floor are searched once, as without
   // it; a tracked stream's frames start at the offset the previous frame's humanoid stood at.
   // 0: only on the floor (before).
-  int height_offset_voxels = 1;
+  int height_offset_voxels = 2;
   // ... where a cluster passes (unless it is the one the previous frame's humanoid stood on)
   // only if the search's pose covers this share of the template's voxels with cluster voxels
   // (Candidate::hits / template_voxels). Clutter that passes the other thresholds off the floor
@@ -182,6 +182,11 @@ struct EstimatorOptions {
   // the body differ), which weighs down HumanoidEvidenceShare's fit to the eighth: the share of
   // the template alone tells them apart.
   double height_offset_min_coverage = 0.15;
+  // ... and only the clusters whose height lies within this fraction of the template's as moved
+  // (max_height_ratio_error, tighter) are searched there: a frame without a humanoid is searched
+  // again whole otherwise, with the clutter of a robot's height or thereabouts only about
+  // (docs/BENCHMARKS.md).
+  double height_offset_height_error = 0.1;
   // A cluster is searched with a template only when its height is within this fraction of the
   // height the template would show there (0.25: 0.75x to 1.25x): the template's height, or,
   // where the top of the image cuts the view lower (a level sensor near the floor sees a 58 cm
@@ -230,6 +235,9 @@ struct FramePrior {
   // How far above the floor its template stood (Candidate::height_offset_m): the frame's
   // searches start there.
   double height_offset_m = 0.0;
+  // false: the templates stay at height_offset_m even when nothing passes there (a stream that
+  // has lost its robot tries the other offsets only now and then: PoseTracker).
+  bool search_height_offsets = true;
   FloorTracker* floor = nullptr;  // optional; ignored with a fixed floor.
 };
 

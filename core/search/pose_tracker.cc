@@ -25,6 +25,7 @@ void PoseTracker::SetInitialPose(const Pose2D& pose) {
 
 void PoseTracker::Reset() {
   prior_.reset();
+  lost_frames_ = 0;
   floor_.Reset();
   initial_pending_ = initial_.has_value();
 }
@@ -36,6 +37,8 @@ FramePrior PoseTracker::Context() {
     context.pose = *initial_;
   }
   context.floor = &floor_;
+  context.search_height_offsets =
+      prior_.has_value() || lost_frames_ % kLostFramesPerOffsetSearch == 0;
   return context;
 }
 
@@ -51,9 +54,11 @@ Result<Estimate> PoseTracker::EstimateCloud(const PointCloud& cloud_sensor) {
 
 Result<Estimate> PoseTracker::Keep(Result<Estimate> estimate) {
   prior_.reset();
+  ++lost_frames_;
   if (!estimate.ok()) return estimate;
   const HumanoidView humans = estimate->Humanoids();
   if (!humans.empty()) {
+    lost_frames_ = 0;
     initial_pending_ = false;
     FramePrior p;
     p.has_pose = true;

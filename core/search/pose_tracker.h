@@ -19,6 +19,13 @@ namespace hpose {
 // Not thread-safe: one stream, one tracker.
 class PoseTracker {
  public:
+  // While the robot is lost (the frames before found no humanoid), the templates are moved off
+  // the floor (EstimatorOptions::height_offset_voxels) in the first such frame and every this
+  // many after: a frame without a humanoid costs up to about three times the search with them,
+  // and a robot that stands lower than its template is then found within this many frames and
+  // tracked at its offset.
+  static constexpr int kLostFramesPerOffsetSearch = 4;
+
   // `estimator` must outlive the tracker.
   explicit PoseTracker(const Estimator* estimator);
 
@@ -48,6 +55,7 @@ class PoseTracker {
   std::optional<FramePrior> prior_;  // with has_pose.
   std::optional<Pose2D> initial_;    // SetInitialPose's.
   bool initial_pending_ = false;     // the robot was not found since it was set or Reset.
+  int lost_frames_ = 0;              // frames in a row without a humanoid (or with an error).
   FloorTracker floor_;
 };
 

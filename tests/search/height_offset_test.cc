@@ -137,6 +137,26 @@ TEST(HeightOffsetTest, ATrackedStreamStartsWhereTheRobotStoodBefore) {
   }
 }
 
+// A stream that has lost its robot moves the templates off the floor in its first frame without
+// one and in every kLostFramesPerOffsetSearch-th after, not in every frame.
+TEST(HeightOffsetTest, AStreamWithoutItsRobotMovesTheTemplatesNowAndThen) {
+  const Intrinsics intrinsics = FrameSpec().intrinsics;
+  const auto estimator = MakeEstimator(0.0, 2);
+  PoseTracker tracker(estimator.get());
+  const int period = PoseTracker::kLostFramesPerOffsetSearch;
+  for (int k = 0; k <= period + 1; ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    FrameSpec spec;
+    spec.humanoid_pose = Pose2D{15.0, 0.0, 0.0};  // out of range: the floor and clutter only.
+    spec.clutter = 2;
+    spec.seed = 120 + k;
+    const Estimate e = *tracker.EstimateDepth(SimulateFrame(spec)->depth, intrinsics);
+    ASSERT_TRUE(e.Humanoids().empty());
+    // On the floor, then one and two voxels lower and higher: five searches.
+    EXPECT_EQ(e.height_passes, k % period == 0 ? 5 : 1);
+  }
+}
+
 TEST(HeightOffsetTest, OffsetsOutsideTheirRangeAreRefused) {
   for (const int offsets : {-1, 9}) {
     EstimatorOptions options = DefaultEstimatorOptions();
