@@ -357,7 +357,6 @@ int HeldCluster(const std::vector<Cluster>& clusters, const FramePrior* prior) {
   return held;
 }
 
-// A cluster's extent across the line of sight from the sensor (ground origin) to its centroid.
 // The floor raised by `dz` metres along its normal: the ground frame's origin that much higher.
 FloorEstimate RaiseFloor(const FloorEstimate& floor, double dz) {
   FloorEstimate raised = floor;
@@ -385,6 +384,7 @@ bool FoundHumanoid(const Estimate& est) {
   return !est.detections.empty() && est.detections.front().is_humanoid;
 }
 
+// A cluster's extent across the line of sight from the sensor (ground origin) to its centroid.
 double ApparentWidth(const Cluster& c) {
   Eigen::Vector2f u = c.centroid.head<2>();
   if (u.norm() < 1e-6) return 0.0;
@@ -622,9 +622,9 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   // The templates stand height_offset_m above the floor: the floor and the clusters as seen
   // from a floor raised that much.
   const FloorEstimate floor = RaiseFloor(est.floor, height_offset_m);
-  std::vector<Cluster> raised;
-  if (height_offset_m != 0.0) raised = LowerClusters(on_floor, height_offset_m);
-  const std::vector<Cluster>* clusters = height_offset_m != 0.0 ? &raised : &on_floor;
+  std::vector<Cluster> moved;
+  if (height_offset_m != 0.0) moved = LowerClusters(on_floor, height_offset_m);
+  const std::vector<Cluster>* clusters = height_offset_m != 0.0 ? &moved : &on_floor;
   // The cluster the previous frame's humanoid stood on, if any, and its lower threshold.
   const int held_cluster = HeldCluster(*clusters, prior);
   const double tracked_threshold =
