@@ -116,11 +116,13 @@ def main():
     args = parser.parse_args()
     if args.frames < 1:
         sys.exit("--frames must be at least 1")
-    robot_flags = ["--robot", args.robot, "--joints", args.joints]
+    # What from-urdf and simulate both take, and simulate's robot besides.
+    mesh_flags = []
     for p in args.package_path:
-        robot_flags += ["--package-path", p]
+        mesh_flags += ["--package-path", p]
     if args.allow_missing:
-        robot_flags.append("--allow-missing")
+        mesh_flags.append("--allow-missing")
+    robot_flags = ["--robot", args.robot, "--joints", args.joints] + mesh_flags
     mounts = [tuple(float(v) for v in m.split(":")) for m in args.mounts.split(",")]
     draws = frame_draws(args.frames, args.seed)
     with tempfile.TemporaryDirectory() as work:
@@ -128,7 +130,7 @@ def main():
         for name in args.template_sets.split(","):
             path = os.path.join(work, name + ".bt")
             cmd = [args.hpose, "template", "from-urdf", args.robot, "--joints", args.joints,
-                   "--joint-set", name, "--out", path] + robot_flags[4:]
+                   "--joint-set", name, "--out", path] + mesh_flags
             subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             templates.append(path)
         print("templates: %s; %d frames a posture and mount" % (args.template_sets, args.frames))

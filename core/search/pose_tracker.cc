@@ -37,8 +37,7 @@ FramePrior PoseTracker::Context() {
     context.pose = *initial_;
   }
   context.floor = &floor_;
-  context.search_height_offsets =
-      prior_.has_value() || lost_frames_ % kLostFramesPerOffsetSearch == 0;
+  context.search_height_offsets = prior_.has_value() || lost_frames_ == 0;
   return context;
 }
 
@@ -54,7 +53,7 @@ Result<Estimate> PoseTracker::EstimateCloud(const PointCloud& cloud_sensor) {
 
 Result<Estimate> PoseTracker::Keep(Result<Estimate> estimate) {
   prior_.reset();
-  ++lost_frames_;
+  lost_frames_ = (lost_frames_ + 1) % kLostFramesPerOffsetSearch;
   if (!estimate.ok()) return estimate;
   const HumanoidView humans = estimate->Humanoids();
   if (!humans.empty()) {

@@ -55,7 +55,8 @@ class PoseTracker {
   std::optional<FramePrior> prior_;  // with has_pose.
   std::optional<Pose2D> initial_;    // SetInitialPose's.
   bool initial_pending_ = false;     // the robot was not found since it was set or Reset.
-  int lost_frames_ = 0;              // frames in a row without a humanoid (or with an error).
+  // Frames in a row without a humanoid (or with an error), modulo kLostFramesPerOffsetSearch.
+  int lost_frames_ = 0;
   FloorTracker floor_;
 };
 
