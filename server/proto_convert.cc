@@ -70,6 +70,7 @@ void CandidateToProto(const Candidate& c, v1::Candidate* out) {
   out->set_heading_ambiguous(c.heading_ambiguous);
   out->set_heading_from_prior(c.heading_from_prior);
   out->set_height_offset(c.height_offset_m);
+  out->set_free_limbs_left_out(c.free_limbs_left_out);
   out->set_stopped_below_threshold(c.stopped_below_threshold);
   out->set_score_upper_bound(c.score_upper_bound);
 }

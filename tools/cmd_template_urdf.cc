@@ -1,5 +1,6 @@
 // `hpose template from-urdf`: templates of a robot from its URDF description and meshes, one
 // per joint set.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -95,12 +96,20 @@ int TemplateFromUrdf(int argc, char** argv) {
                                ", reference link " + posed->reference_link + ", " +
                                std::to_string(robot->skipped().size()) + " mesh(es) skipped)";
     Result<VoxelTemplate> tpl =
-        MakeMeshTemplate(posed->mesh, tpl_name, f.resolution, set.name, source);
+        MakeMeshTemplate(posed->mesh, tpl_name, f.resolution, set.name, source, &posed->free_limbs);
     if (!tpl.ok()) return ReportError(kSub, tpl.error());
     const std::string path =
         to_directory ? (std::filesystem::path(f.out) / (set.name + ".bt")).string() : f.out;
     if (Status s = SaveTemplate(*tpl, path); !s.ok()) return ReportError(kSub, s.error());
     std::cout << SavedTemplateLines(*tpl, path);
+    if (!posed->free_limb_joints.empty()) {
+      const long marked = std::count(tpl->free_limb.begin(), tpl->free_limb.end(), 1);
+      std::cout << "  free limbs (fitted without them where they moved): ";
+      for (size_t k = 0; k < posed->free_limb_joints.size(); ++k) {
+        std::cout << (k > 0 ? ", " : "") << posed->free_limb_joints[k];
+      }
+      std::cout << "; " << marked << " of " << tpl->surface.size() << " surface points\n";
+    }
   }
   return kExitOk;
 }

@@ -99,6 +99,10 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
          << (c.height_offset_m < 0.0 ? "lower" : "higher")
          << " than its template, or the floor is off; --height-offset-voxels)\n";
     }
+    if (c.free_limbs_left_out) {
+      os << "          fitted without the template's free limbs (arms, head): the robot holds "
+            "them otherwise\n";
+    }
     if (c.has_runner_up) {
       os << "          runner-up theta " << Fmt("%.1f", RadToDeg(c.runner_up_pose.theta))
          << " deg, score " << Fmt("%.1f", c.runner_up_score);

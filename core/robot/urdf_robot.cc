@@ -6,6 +6,7 @@
 #include <fstream>
 #include <functional>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -415,11 +416,25 @@ Result<PosedRobot> UrdfRobot::Pose(const JointValues& positions,
     }
     root_from_link[i] = root_from_link[j.parent_link] * j.parent_from_origin * motion;
   }
+  // The limb of every link: the moving joint of the trunk it hangs from (-1: the trunk itself,
+  // the root link and the links fixed to it). Parents come before children.
+  std::vector<int> limb(links_.size(), -1);
+  for (size_t i = 0; i < links_.size(); ++i) {
+    if (links_[i].parent_joint < 0) continue;
+    const Joint& j = joints_[links_[i].parent_joint];
+    limb[i] = limb[j.parent_link] >= 0 ? limb[j.parent_link]
+              : j.info.type == "fixed" ? -1
+                                       : links_[i].parent_joint;
+  }
+  std::vector<float> limb_lowest(joints_.size(), std::numeric_limits<float>::infinity());
   TriangleMesh root_mesh;
   int reference = reference_link.empty() ? 0 : -1;
   for (size_t i = 0; i < links_.size(); ++i) {
     const size_t first = root_mesh.vertices.size();
     root_mesh.Append(links_[i].shapes, root_from_link[i]);
+    for (size_t k = first; limb[i] >= 0 && k < root_mesh.vertices.size(); ++k) {
+      limb_lowest[limb[i]] = std::min(limb_lowest[limb[i]], root_mesh.vertices[k].z());
+    }
     // Single-precision vertices this far out keep no shape at a voxel's scale (see
     // kMaxTemplateOffsetM): name the link rather than make a template of what is left.
     float farthest = 0.0f;
@@ -464,6 +479,18 @@ Result<PosedRobot> UrdfRobot::Pose(const JointValues& positions,
   posed.reference_link = links_[reference].name;
   for (size_t i = 0; i < links_.size(); ++i) {
     posed.template_from_link[links_[i].name] = posed.template_from_root * root_from_link[i];
+  }
+  // The free limbs: those whose lowest point stays clear of the floor.
+  const Eigen::AlignedBox3d bounds = root_mesh.Bounds();
+  const double clearance = bounds.min().z() + kFreeLimbClearance * bounds.sizes().z();
+  for (size_t i = 0; i < links_.size(); ++i) {
+    if (limb[i] < 0 || !(limb_lowest[limb[i]] > clearance)) continue;
+    posed.free_limbs.Append(links_[i].shapes, posed.template_from_root * root_from_link[i]);
+  }
+  for (size_t j = 0; j < joints_.size(); ++j) {
+    if (std::isfinite(limb_lowest[j]) && limb_lowest[j] > clearance) {
+      posed.free_limb_joints.push_back(joints_[j].info.name);
+    }
   }
   root_mesh.Transform(posed.template_from_root);
   // The lowest vertex is on the floor by construction; float rounding may leave it a hair below.

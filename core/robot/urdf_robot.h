@@ -56,6 +56,13 @@ struct UrdfJointInfo {
 // x-y plane (URDF robots stand with their root z axis up).
 struct PosedRobot {
   TriangleMesh mesh;  // every loaded shape, template frame, metres.
+  // The part of `mesh` on free limbs: the links beyond a moving joint of the trunk (the root link
+  // and what is fixed to it) whose lowest point stays more than kFreeLimbClearance of the robot's
+  // height above the floor (arms, head; not the legs it stands on). A standing robot may hold
+  // them otherwise than the template does (VoxelTemplate::free_limb).
+  TriangleMesh free_limbs;
+  // The joints those limbs hang from, in the URDF's order.
+  std::vector<std::string> free_limb_joints;
   Eigen::Isometry3d template_from_root = Eigen::Isometry3d::Identity();
   std::map<std::string, Eigen::Isometry3d> template_from_link;
   std::string reference_link;
@@ -65,6 +72,11 @@ struct PosedRobot {
   // Top of the posed robot above the floor, metres.
   double Height() const { return mesh.empty() ? 0.0 : mesh.Bounds().max().z(); }
 };
+
+// How far above the floor, as a share of the robot's height, a limb's lowest point must stay to
+// count as a free limb (PosedRobot::free_limbs): a humanoid's hands hang at a third of its height
+// or higher, its feet stand on the floor (a foot lifted for a step stays below a tenth).
+inline constexpr double kFreeLimbClearance = 0.15;
 
 // A robot read from a URDF file (urdfdom) with its visual or collision shapes loaded: meshes
 // (STL, COLLADA, OBJ and the other formats assimp reads, with the URDF scale) and primitives

@@ -119,6 +119,7 @@ void RefineBest(const SurfaceModel& model, const Observation& obs, const RefineO
   cand->pose = best.pose;
   cand->refined = true;
   cand->covariance = best.covariance;
+  cand->free_limbs_left_out = best.free_limbs_left_out;
   cand->fit = Summarise(best.evidence);
 }
 
@@ -194,6 +195,7 @@ void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const Ref
     cand->pose = other.pose;
     cand->lattice_pose = other_lattice;
     cand->covariance = other.covariance;
+    cand->free_limbs_left_out = other.free_limbs_left_out;
     cand->fit = other_fit;
     cmp.log_likelihood_ratio = -cmp.log_likelihood_ratio;
     rescore(cand);

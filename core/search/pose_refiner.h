@@ -112,6 +112,17 @@ struct RefineOptions {
   // The template surface the refinement fits to is reduced to one point per cell of this edge
   // (SurfaceModel); 0 keeps the template's own surface (8 mm at 16 mm voxels).
   double surface_spacing_m = 0.0;
+  // A template that marks its free limbs (VoxelTemplate::free_limb: arms, head) is fitted again
+  // without them, from the same start, when more than moved_limb_contradicted of their judged
+  // points (at least moved_limb_min_points) are contradicted where the whole template fitted:
+  // the robot holds them otherwise (arms swung while walking), and fitting them turns the whole
+  // pose toward them (a Darwin-OP with its arms swung 0.4 rad: 7-8 degrees at the median). Held
+  // as in the template, they are confirmed like the rest (no contradicted point in 6 of 6
+  // frames) and the first fit stands. The pose's evidence is always the whole template's.
+  // false: one fit (before).
+  bool refit_without_moved_limbs = true;
+  double moved_limb_contradicted = 0.05;
+  int moved_limb_min_points = 20;
   // Evaluate the objective the direct way, everything recomputed at every pose, instead of the
   // prepared evaluation (RefineObjective). Same result, several times slower: the reference
   // that tests and benchmarks compare with.
@@ -163,7 +174,10 @@ struct RefinedPose {
   int evaluations = 0;  // of the objective: the start's and every trial step's.
   bool converged = false;
   bool at_basin_limit = false;  // it stopped at the max_shift_m / max_turn_rad bound.
-  PoseEvidence evidence;        // at `pose`.
+  // The pose was fitted without the template's free limbs, which the frame contradicted
+  // (RefineOptions::refit_without_moved_limbs).
+  bool free_limbs_left_out = false;
+  PoseEvidence evidence;  // at `pose`.
 };
 
 // What the cluster showed: its points (ground frame) and what the sensor saw in every

@@ -111,6 +111,35 @@ SurfaceModel::SurfaceModel(const VoxelTemplate& tpl, double spacing_m)
     spacing_ = spacing_m;
   }
   normals_ = PlaneNormals(points_, static_cast<float>(2.5 * spacing_));
+  Finish();
+  // The free limbs, marked again on the reduced surface when it was reduced.
+  if (tpl.surface.empty() || tpl.free_limb.size() != tpl.surface.size()) return;
+  std::vector<std::uint8_t> marks = tpl.free_limb;
+  if (points_.size() != tpl.surface.size()) {
+    std::vector<Eigen::Vector3f> limbs;
+    for (size_t i = 0; i < tpl.surface.size(); ++i) {
+      if (tpl.free_limb[i]) limbs.push_back(tpl.surface[i]);
+    }
+    marks = MarkSurfaceCells(points_, limbs, spacing_);
+  }
+  const size_t marked = static_cast<size_t>(std::count(marks.begin(), marks.end(), 1));
+  if (marked == 0 || marked == marks.size()) return;
+  free_limbs_.reset(new SurfaceModel(*this, marks, 1));
+  without_free_limbs_.reset(new SurfaceModel(*this, marks, 0));
+}
+
+SurfaceModel::SurfaceModel(const SurfaceModel& full, const std::vector<std::uint8_t>& marks,
+                           std::uint8_t keep)
+    : spacing_(full.spacing_) {
+  for (size_t i = 0; i < full.points_.size(); ++i) {
+    if (marks[i] != keep) continue;
+    points_.push_back(full.points_[i]);
+    normals_.push_back(full.normals_[i]);
+  }
+  Finish();
+}
+
+void SurfaceModel::Finish() {
   for (const Eigen::Vector3f& p : points_) centre_ += p;
   if (!points_.empty()) centre_ /= static_cast<float>(points_.size());
   xs_.reserve(points_.size());

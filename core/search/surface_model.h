@@ -1,7 +1,9 @@
 #ifndef HPOSE_CORE_SEARCH_SURFACE_MODEL_H_
 #define HPOSE_CORE_SEARCH_SURFACE_MODEL_H_
 
+#include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -34,7 +36,16 @@ class SurfaceModel {
   const Eigen::Vector3d& box_lo() const { return box_lo_; }
   const Eigen::Vector3d& box_hi() const { return box_hi_; }
 
+  // The points on the template's free limbs (VoxelTemplate::free_limb) and the others, each as a
+  // surface of its own (the same points and normals); null when the template marks none.
+  const SurfaceModel* free_limbs() const { return free_limbs_.get(); }
+  const SurfaceModel* without_free_limbs() const { return without_free_limbs_.get(); }
+
  private:
+  // The points of `full` whose mark equals `keep`.
+  SurfaceModel(const SurfaceModel& full, const std::vector<std::uint8_t>& marks, std::uint8_t keep);
+  void Finish();
+
   std::vector<Eigen::Vector3f> points_;
   std::vector<Eigen::Vector3f> normals_;
   double spacing_ = 0.008;
@@ -42,6 +53,7 @@ class SurfaceModel {
   std::vector<float> xs_, ys_, zs_;
   Eigen::Vector3d box_lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d box_hi_ = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+  std::shared_ptr<const SurfaceModel> free_limbs_, without_free_limbs_;
 };
 
 }  // namespace hpose

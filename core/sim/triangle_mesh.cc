@@ -260,13 +260,17 @@ std::vector<Eigen::Vector3f> SampleMeshSurface(const TriangleMesh& mesh, double 
 
 Result<VoxelTemplate> MakeMeshTemplate(const TriangleMesh& mesh, const std::string& name,
                                        double resolution_m, const std::string& variant,
-                                       const std::string& source) {
+                                       const std::string& source, const TriangleMesh* free_limbs) {
   if (Status s = CheckMeshForTemplate(mesh, name, resolution_m); !s.ok()) return s.error();
   Result<VoxelTemplate> tpl = MakeTemplateFromPoints(VoxelizeMeshSurface(mesh, resolution_m), name,
                                                      resolution_m, variant, source);
   if (!tpl.ok()) return tpl;
   tpl->surface =
       ReduceSurfacePoints(SampleMeshSurface(mesh, 0.25 * resolution_m), tpl->SurfaceCellM());
+  if (free_limbs != nullptr && !free_limbs->empty()) {
+    tpl->free_limb = MarkSurfaceCells(
+        tpl->surface, SampleMeshSurface(*free_limbs, 0.25 * resolution_m), tpl->SurfaceCellM());
+  }
   return tpl;
 }
 

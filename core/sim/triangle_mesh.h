@@ -66,10 +66,13 @@ Status CheckMeshForTemplate(const TriangleMesh& mesh, const std::string& name, d
 // A template of a mesh body (in the template frame): the voxels of VoxelizeMeshSurface and the
 // surface kept from samples a quarter voxel apart (VoxelTemplate::surface), so the search and the
 // refinement see the mesh's sub-voxel shape. Fails as CheckMeshForTemplate and
-// MakeTemplateFromPoints do.
+// MakeTemplateFromPoints do. With `free_limbs` (the part of `mesh` on limbs that do not reach
+// the floor, e.g. PosedRobot::free_limbs) the surface points on them are marked
+// (VoxelTemplate::free_limb).
 Result<VoxelTemplate> MakeMeshTemplate(const TriangleMesh& mesh, const std::string& name,
                                        double resolution_m, const std::string& variant = "",
-                                       const std::string& source = "");
+                                       const std::string& source = "",
+                                       const TriangleMesh* free_limbs = nullptr);
 
 }  // namespace hpose
 

@@ -25,8 +25,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr const char* kFormat = "hpose-template";
-// Version 2 adds the surface points; version 1 files (voxels only) are still read.
-constexpr int kVersion = 2;
+// Version 2 adds the surface points, version 3 which of them lie on free limbs ("free_limb");
+// files of versions 1 and 2 are still read.
+constexpr int kVersion = 3;
 constexpr double kSurfaceUnitM = 1e-4;  // surface coordinates are stored in 0.1 mm integers.
 
 // OctoMap's Debian build chatters on std::cout/std::cerr when reading and writing trees
@@ -162,6 +163,13 @@ std::string SidecarText(const VoxelTemplate& tpl) {
   j["voxels"] = tpl.voxels.size();
   j["height_m"] = tpl.Height();
   j["surface_points"] = tpl.surface.size();
+  // One character a surface point, '1' on a free limb (only when some point is).
+  if (tpl.free_limb.size() == tpl.surface.size() &&
+      std::find(tpl.free_limb.begin(), tpl.free_limb.end(), 1) != tpl.free_limb.end()) {
+    std::string marks(tpl.free_limb.size(), '0');
+    for (size_t i = 0; i < marks.size(); ++i) marks[i] = tpl.free_limb[i] ? '1' : '0';
+    j["free_limb"] = marks;
+  }
   // The surface as one flat line [x0, y0, z0, x1, ...] of 0.1 mm integers (compact, and exact
   // far below the sensor's noise) after the readable keys.
   std::string text = j.dump(2);
@@ -185,6 +193,7 @@ struct Sidecar {
   double resolution_m = 0.0;
   long long voxels = -1;
   std::vector<Eigen::Vector3f> surface;
+  std::vector<std::uint8_t> free_limb;
 };
 
 // Reads a sidecar's text as events: its keys' values into a JSON object, except the surface
@@ -292,9 +301,9 @@ Result<Sidecar> ParseSidecar(const std::string& text, const std::string& path) {
     return MakeError(ErrorCode::kDataLoss, path + ": not a JSON object");
   }
   const json& j = reader.top;
-  static const char* const kKnown[] = {"format",         "version",      "name",   "variant",
-                                       "resolution_m",   "source",       "voxels", "height_m",
-                                       "surface_points", "surface_0.1mm"};
+  static const char* const kKnown[] = {"format",         "version",       "name",     "variant",
+                                       "resolution_m",   "source",        "voxels",   "height_m",
+                                       "surface_points", "surface_0.1mm", "free_limb"};
   for (auto it = j.begin(); it != j.end(); ++it) {
     bool known = false;
     for (const char* k : kKnown) known = known || it.key() == k;
@@ -360,6 +369,17 @@ Result<Sidecar> ParseSidecar(const std::string& text, const std::string& path) {
       return MakeError(ErrorCode::kDataLoss,
                        path + ": 'surface_points' disagrees with the length of 'surface_0.1mm'");
     }
+  }
+  if (j.contains("free_limb")) {
+    const json& marks = j["free_limb"];
+    if (!marks.is_string() || marks.get_ref<const std::string&>().size() != s.surface.size() ||
+        marks.get_ref<const std::string&>().find_first_not_of("01") != std::string::npos) {
+      return MakeError(ErrorCode::kDataLoss,
+                       path +
+                           ": 'free_limb' must be a string of one '0' or '1' per surface point (" +
+                           std::to_string(s.surface.size()) + ")");
+    }
+    for (char m : marks.get_ref<const std::string&>()) s.free_limb.push_back(m == '1');
   }
   return s;
 }
@@ -509,6 +529,7 @@ Result<VoxelTemplate> LoadTemplate(const std::string& bt_path) {
     tpl.variant = side->variant.empty() ? tpl.name : side->variant;
     tpl.source = side->source;
     tpl.surface = std::move(side->surface);
+    tpl.free_limb = std::move(side->free_limb);
   }
   return tpl;
 }

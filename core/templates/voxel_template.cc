@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <tuple>
 
 namespace hpose {
@@ -53,6 +54,19 @@ std::string VoxelEdgeText(double m) {
 std::vector<Eigen::Vector3f> ReduceSurfacePoints(const std::vector<Eigen::Vector3f>& points,
                                                  double cell_m) {
   return CellCentroids(points, cell_m);
+}
+
+std::vector<std::uint8_t> MarkSurfaceCells(const std::vector<Eigen::Vector3f>& surface,
+                                           const std::vector<Eigen::Vector3f>& part,
+                                           double cell_m) {
+  const double inv = 1.0 / cell_m;
+  std::set<Cell> cells;
+  for (const Eigen::Vector3f& p : part) {
+    if (p.allFinite()) cells.insert(CellAt(p, inv));
+  }
+  std::vector<std::uint8_t> marks(surface.size(), 0);
+  for (size_t i = 0; i < surface.size(); ++i) marks[i] = cells.count(CellAt(surface[i], inv)) > 0;
+  return marks;
 }
 
 std::vector<Eigen::Vector3f> VoxelTemplate::VoxelSurfaceCentroids() const {
@@ -153,6 +167,13 @@ Result<VoxelTemplate> VoxeliseAgain(const VoxelTemplate& tpl, double resolution_
       MakeTemplateFromPoints(tpl.SurfaceOrVoxels(), "t", resolution_m, tpl.variant, tpl.source);
   if (!again.ok()) return again.error();
   again->name = tpl.name;
+  if (!tpl.free_limb.empty() && tpl.free_limb.size() == tpl.surface.size()) {
+    std::vector<Eigen::Vector3f> limbs;
+    for (size_t i = 0; i < tpl.surface.size(); ++i) {
+      if (tpl.free_limb[i]) limbs.push_back(tpl.surface[i]);
+    }
+    again->free_limb = MarkSurfaceCells(again->surface, limbs, again->SurfaceCellM());
+  }
   return again;
 }
 

@@ -1,6 +1,7 @@
 #ifndef HPOSE_CORE_TEMPLATES_VOXEL_TEMPLATE_H_
 #define HPOSE_CORE_TEMPLATES_VOXEL_TEMPLATE_H_
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,12 @@ struct VoxelTemplate {
   // the pose refinement fits the real surface. Empty for templates that hold voxels only (made
   // before surfaces were kept, or by other OctoMap tools); voxel centres stand in for them.
   std::vector<Eigen::Vector3f> surface;
+  // Which surface points lie on a free limb: a limb that does not reach the floor (arms, head),
+  // which a standing robot may hold otherwise than the template does. Parallel to `surface`
+  // (1: on a free limb), or empty when the template does not say (captured templates, voxel-only
+  // ones). The refinement fits again without them where they contradict the frame
+  // (RefineOptions::refit_without_moved_limbs).
+  std::vector<std::uint8_t> free_limb;
 
   // Height of the highest voxel top above the floor, metres.
   double Height() const;
@@ -64,6 +71,13 @@ std::string VoxelEdgeText(double m);
 // VoxelTemplate::surface is kept), in cell order. Non-finite points are skipped.
 std::vector<Eigen::Vector3f> ReduceSurfacePoints(const std::vector<Eigen::Vector3f>& points,
                                                  double cell_m);
+
+// Marks the points of `surface` (as ReduceSurfacePoints keeps them, on cells of edge `cell_m`)
+// whose cell holds one of `part` (points sampled on a part of the same body): 1 for those, 0 for
+// the others. A cell the part shares with the rest of the body (where a limb joins the torso) is
+// marked.
+std::vector<std::uint8_t> MarkSurfaceCells(const std::vector<Eigen::Vector3f>& surface,
+                                           const std::vector<Eigen::Vector3f>& part, double cell_m);
 
 }  // namespace hpose
 

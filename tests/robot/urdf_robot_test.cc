@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -121,6 +122,38 @@ TEST(UrdfRobotTest, PrimitivesArePosedInTheTemplateFrame) {
   ASSERT_TRUE(far.ok());
   ASSERT_EQ(far->notes.size(), 1u);
   EXPECT_NE(far->notes[0].find("twin_joint"), std::string::npos);
+}
+
+TEST(UrdfRobotTest, FreeLimbsAreTheMovingLimbsClearOfTheFloor) {
+  TempDir dir;
+  Result<UrdfRobot> robot = UrdfRobot::Load(dir.Write("blocky.urdf", kPrimitiveRobot));
+  ASSERT_TRUE(robot.ok()) << robot.error().message;
+  // The arm (on a revolute joint, its lowest point 0.08 m up a 0.40 m robot) is a free limb; the
+  // head is fixed to the base (part of the trunk) and the mimic joint's link has no shape.
+  Result<PosedRobot> posed = robot->Pose({});
+  ASSERT_TRUE(posed.ok()) << posed.error().message;
+  EXPECT_EQ(posed->free_limb_joints, std::vector<std::string>{"shoulder"});
+  ASSERT_FALSE(posed->free_limbs.empty());
+  const Eigen::AlignedBox3d arm = posed->free_limbs.Bounds();
+  EXPECT_NEAR(arm.min().z(), 0.08, 1e-3);
+  EXPECT_NEAR(arm.max().z(), 0.28, 1e-3);
+  EXPECT_NEAR(arm.min().y(), 0.06, 1e-3);
+  EXPECT_NEAR(arm.max().y(), 0.10, 1e-3);
+  // The template marks the surface on the arm, and only there.
+  Result<VoxelTemplate> tpl =
+      MakeMeshTemplate(posed->mesh, "blocky", 0.016, "standing", "test", &posed->free_limbs);
+  ASSERT_TRUE(tpl.ok()) << tpl.error().message;
+  ASSERT_EQ(tpl->free_limb.size(), tpl->surface.size());
+  int marked = 0;
+  for (size_t i = 0; i < tpl->surface.size(); ++i) {
+    const Eigen::Vector3f& p = tpl->surface[i];
+    if (!tpl->free_limb[i]) continue;
+    ++marked;
+    EXPECT_GT(p.y(), 0.05f - 0.008f) << "marked point off the arm at " << p.transpose();
+    EXPECT_GT(p.z(), 0.08f - 0.008f);
+  }
+  EXPECT_GT(marked, 20);
+  EXPECT_LT(marked, static_cast<int>(tpl->surface.size()) / 2);
 }
 
 TEST(UrdfRobotTest, JointErrorsNameTheJoints) {
@@ -364,6 +397,25 @@ TEST(UrdfRobotTest, DarwinVisualWithAllowMissingSkipsOnlyTheHead) {
   // Darwin-OP stands about 0.45 m tall; without its head about 0.40 m.
   EXPECT_GT(posed->Height(), 0.35);
   EXPECT_LT(posed->Height(), 0.45);
+}
+
+TEST(UrdfRobotTest, DarwinFreeLimbsAreTheArmsAndTheHeadNotTheLegs) {
+  if (!HaveDarwin()) GTEST_SKIP() << "shared Darwin-OP data not found at " << kDarwinUrdf;
+  UrdfLoadOptions options;
+  options.allow_missing = true;
+  Result<UrdfRobot> robot = UrdfRobot::Load(kDarwinUrdf, options);
+  ASSERT_TRUE(robot.ok()) << robot.error().message;
+  // Standing with the arms down, and with the left knee bent and its foot lifted: that leg's
+  // lowest point stays low, it is no free limb.
+  for (const JointValues& joints :
+       {JointValues{{"j_shoulder_l", 1.3}, {"j_shoulder_r", -1.3}},
+        JointValues{{"j_thigh2_l", 0.5}, {"j_tibia_l", -1.0}, {"j_ankle1_l", -0.5}}}) {
+    Result<PosedRobot> posed = robot->Pose(joints);
+    ASSERT_TRUE(posed.ok()) << posed.error().message;
+    EXPECT_EQ(posed->free_limb_joints,
+              (std::vector<std::string>{"j_pan", "j_shoulder_l", "j_shoulder_r"}));
+    EXPECT_GT(posed->free_limbs.Bounds().min().z(), 0.15 * posed->Height());
+  }
 }
 
 TEST(UrdfRobotTest, DarwinCollisionGeometryHasTheHead) {

@@ -244,6 +244,41 @@ TEST_F(TemplateSurfaceIoTest, SurfacePointsRoundTripToATenthOfAMillimetre) {
   }
 }
 
+TEST_F(TemplateSurfaceIoTest, FreeLimbMarksRoundTripAndAreOnlyWrittenWhenSomeAreSet) {
+  VoxelTemplate t = RandomTemplate(3000, 9);
+  ASSERT_TRUE(SaveTemplate(t, Path("n.bt")).ok());
+  Result<VoxelTemplate> back = LoadTemplate(Path("n.bt"));
+  ASSERT_TRUE(back.ok()) << back.error().ToString();
+  EXPECT_TRUE(back->free_limb.empty());
+  t.free_limb.assign(t.surface.size(), 0);
+  ASSERT_TRUE(SaveTemplate(t, Path("z.bt")).ok());
+  back = LoadTemplate(Path("z.bt"));
+  ASSERT_TRUE(back.ok()) << back.error().ToString();
+  EXPECT_TRUE(back->free_limb.empty());  // none marked: nothing to say.
+  for (size_t i = 0; i < t.surface.size(); ++i) t.free_limb[i] = t.surface[i].z() > 0.3f;
+  ASSERT_TRUE(SaveTemplate(t, Path("m.bt")).ok());
+  back = LoadTemplate(Path("m.bt"));
+  ASSERT_TRUE(back.ok()) << back.error().ToString();
+  EXPECT_EQ(back->free_limb, t.free_limb);
+}
+
+TEST_F(TemplateSurfaceIoTest, CorruptFreeLimbMarksAreRefusedByName) {
+  const VoxelTemplate t = RandomTemplate(3, 10);
+  ASSERT_EQ(t.surface.size(), 3u);
+  for (const std::string& bad :
+       {std::string("\"01\""), std::string("\"0101\""), std::string("\"01x\""),
+        std::string("[0, 1, 0]"), std::string("7")}) {
+    ASSERT_TRUE(SaveTemplate(t, Path("f.bt")).ok());
+    std::ofstream(Path("f.json")) << "{\"format\": \"hpose-template\", \"version\": 3, "
+                                     "\"resolution_m\": 0.016, \"surface_0.1mm\": "
+                                     "[0, 0, 100, 300, 0, 100, 0, 300, 100], \"free_limb\": "
+                                  << bad << "}\n";
+    Result<VoxelTemplate> back = LoadTemplate(Path("f.bt"));
+    ASSERT_FALSE(back.ok()) << bad;
+    EXPECT_NE(back.error().message.find("'free_limb'"), std::string::npos) << back.error().message;
+  }
+}
+
 TEST_F(TemplateSurfaceIoTest, VersionOneSidecarsWithoutSurfaceStillLoad) {
   const VoxelTemplate t = RandomTemplate(500, 6);
   ASSERT_TRUE(SaveTemplate(t, Path("v1.bt")).ok());

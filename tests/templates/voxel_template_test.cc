@@ -82,5 +82,31 @@ TEST(VoxeliseAgainTest, CoarserFromTheSurfaceNeverFiner) {
   EXPECT_TRUE(VoxeliseAgain(*t, 0.016).ok());
 }
 
+TEST(MarkSurfaceCellsTest, MarksTheCellsThePartTouches) {
+  // Two cells of 8 mm: the part's samples lie in the second only.
+  const std::vector<Eigen::Vector3f> surface = {{0.004f, 0.004f, 0.004f}, {0.012f, 0.004f, 0.004f}};
+  const std::vector<Eigen::Vector3f> part = {{0.009f, 0.001f, 0.007f}, {0.015f, 0.0f, 0.0f}};
+  EXPECT_EQ(MarkSurfaceCells(surface, part, 0.008), (std::vector<std::uint8_t>{0, 1}));
+  EXPECT_EQ(MarkSurfaceCells(surface, {}, 0.008), (std::vector<std::uint8_t>{0, 0}));
+}
+
+TEST(VoxeliseAgainTest, FreeLimbMarksFollowTheCoarserSurface) {
+  std::vector<Eigen::Vector3f> pts;
+  for (int x = 0; x < 40; ++x)
+    for (int z = 0; z < 60; ++z) pts.emplace_back(0.004f * x, 0.0f, 0.004f * z + 0.001f);
+  VoxelTemplate t = *MakeTemplateFromPoints(pts, "wall", 0.016);
+  // The upper part (z above 0.16 m) is a free limb.
+  for (const Eigen::Vector3f& p : t.surface) t.free_limb.push_back(p.z() > 0.16f);
+  Result<VoxelTemplate> coarse = VoxeliseAgain(t, 0.032);
+  ASSERT_TRUE(coarse.ok()) << coarse.error().message;
+  ASSERT_EQ(coarse->free_limb.size(), coarse->surface.size());
+  for (size_t i = 0; i < coarse->surface.size(); ++i) {
+    // Cells of 16 mm: those wholly above 0.176 m are marked, those wholly below 0.16 m are not.
+    const float z = coarse->surface[i].z();
+    if (z > 0.18f) EXPECT_EQ(coarse->free_limb[i], 1) << z;
+    if (z < 0.15f) EXPECT_EQ(coarse->free_limb[i], 0) << z;
+  }
+}
+
 }  // namespace
 }  // namespace hpose
