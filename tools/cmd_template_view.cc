@@ -1,4 +1,5 @@
 // `hpose template show` and `hpose template info`: look at a template before trusting it.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -42,6 +43,8 @@ int TemplateInfo(int argc, char** argv) {
     j["front_back_difference"] = s.front_back_difference;
     j["left_right_difference"] = s.left_right_difference;
     j["mirror_difference"] = s.mirror_difference;
+    j["surface_points"] = tpl->surface.size();
+    j["free_limb_points"] = std::count(tpl->free_limb.begin(), tpl->free_limb.end(), 1);
     std::cout << j.dump(2) << "\n";
     return kExitOk;
   }
@@ -53,7 +56,15 @@ int TemplateInfo(int argc, char** argv) {
             << "voxels:      " << s.voxels << "\n"
             << "height:      " << mm(s.height_m) << " mm\n"
             << "widths:      x (front-back) " << mm(s.width_x_m) << " mm, y (left-right) "
-            << mm(s.width_y_m) << " mm\n";
+            << mm(s.width_y_m) << " mm\n"
+            << "surface:     " << tpl->surface.size() << " points";
+  if (const long limbs = std::count(tpl->free_limb.begin(), tpl->free_limb.end(), 1); limbs > 0) {
+    std::cout << ", " << limbs << " on free limbs (arms, head: fitted without them where the robot "
+              << "holds them otherwise)";
+  } else if (tpl->surface.empty()) {
+    std::cout << " (voxel centres stand in for them)";
+  }
+  std::cout << "\n";
   if (s.voxels > 0) {
     std::cout << "bbox (mm):   x " << mm(s.min.x()) << " .. " << mm(s.max.x()) << ", y "
               << mm(s.min.y()) << " .. " << mm(s.max.y()) << ", z " << mm(s.min.z()) << " .. "

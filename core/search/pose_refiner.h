@@ -113,12 +113,13 @@ struct RefineOptions {
   // (SurfaceModel); 0 keeps the template's own surface (8 mm at 16 mm voxels).
   double surface_spacing_m = 0.0;
   // A template that marks its free limbs (VoxelTemplate::free_limb: arms, head) is fitted again
-  // without them, from the same start, when more than moved_limb_contradicted of their judged
-  // points (at least moved_limb_min_points) are contradicted where the whole template fitted:
-  // the robot holds them otherwise (arms swung while walking), and fitting them turns the whole
-  // pose toward them (a Darwin-OP with its arms swung 0.4 rad: 7-8 degrees at the median). Held
-  // as in the template, they are confirmed like the rest (no contradicted point in 6 of 6
-  // frames) and the first fit stands. The pose's evidence is always the whole template's.
+  // without them, from the same start, when the share of their judged points contradicted where
+  // the whole template fitted (at least moved_limb_min_points judged) exceeds the rest of the
+  // template's share by more than moved_limb_contradicted: the robot holds them otherwise (arms
+  // swung while walking), and fitting them turns the whole pose toward them (a Darwin-OP with
+  // its arms swung 0.4 rad: 7-8 degrees at the median). Held as in the template they are
+  // confirmed like the rest (a share of at most 0.008 in 6 frames), and a robot lower than its
+  // template contradicts the limbs and the rest alike. The evidence stays the first fit's.
   // false: one fit (before).
   bool refit_without_moved_limbs = true;
   double moved_limb_contradicted = 0.05;

@@ -1,5 +1,6 @@
 // End-to-end tests of the URDF robot paths of the CLI: `hpose template from-urdf` and
 // `hpose simulate --robot`, and the estimator finding a robot in its own simulated frames.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -66,6 +67,11 @@ TEST(RobotCliTest, FromUrdfMakesOneTemplatePerJointSet) {
                    (dir / "poses.yaml") + "' --out '" + (dir / "out") + "'",
                dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
+  // The arms and the head are free limbs, the legs (a foot lifted or not) are not.
+  EXPECT_NE(run.out.find("free limbs (fitted without them where they moved): j_pan, j_shoulder_l, "
+                         "j_shoulder_r;"),
+            std::string::npos)
+      << run.out;
   size_t sizes[3] = {0, 0, 0};
   int i = 0;
   for (const char* name : {"standing", "right_arm_raised", "mid_step"}) {
@@ -73,7 +79,14 @@ TEST(RobotCliTest, FromUrdfMakesOneTemplatePerJointSet) {
     ASSERT_TRUE(tpl.ok()) << name << ": " << tpl.error().message;
     EXPECT_EQ(tpl->name, name);
     sizes[i++] = tpl->voxels.size();
+    ASSERT_EQ(tpl->free_limb.size(), tpl->surface.size());
+    const long marked = std::count(tpl->free_limb.begin(), tpl->free_limb.end(), 1);
+    EXPECT_GT(marked, static_cast<long>(tpl->surface.size()) / 10) << name;
+    EXPECT_LT(marked, static_cast<long>(tpl->surface.size()) / 2) << name;
   }
+  const CliRun info = RunHpose("template info '" + (dir / "out/standing.bt") + "'", dir);
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.out.find("on free limbs (arms, head"), std::string::npos) << info.out;
   EXPECT_NE(sizes[0], sizes[1]);
   EXPECT_NE(sizes[0], sizes[2]);
 
