@@ -72,7 +72,11 @@ void DrawView(Canvas* img, int x0, const TemplateView& view, int px, const std::
     for (int u = -view.half_width; u < view.half_width; ++u) {
       const int d = view.at(u, v);
       if (d == TemplateView::kEmpty) continue;
-      img->Rectangle(PxBox{cx + u * px, base_y - (v + 1) * px, px, px}, Shade(d, lo, hi), kFilled);
+      Bgr shade = Shade(d, lo, hi);
+      if (view.free_limb[(v - view.v_min) * view.columns() + (u + view.half_width)]) {
+        shade = Bgr(shade.b * 0.35, shade.g * 0.7, shade.r);  // free limbs in orange.
+      }
+      img->Rectangle(PxBox{cx + u * px, base_y - (v + 1) * px, px, px}, shade, kFilled);
     }
   }
   const Px origin(cx, base_y);
@@ -169,7 +173,9 @@ void DrawKinectView(Canvas* img, int x0, const VoxelTemplate& tpl,
 Status WriteTemplatePicture(const VoxelTemplate& tpl, const std::string& path,
                             const TemplatePictureOptions& options) {
   if (tpl.voxels.empty()) return MakeError(ErrorCode::kInvalidArgument, "template is empty");
-  Result<Canvas> made = Canvas::Create(4 * kPanelW, kPanelH + 30, Bgr(30, 30, 30));
+  const bool limbs =
+      std::find(tpl.free_limb.begin(), tpl.free_limb.end(), 1) != tpl.free_limb.end();
+  Result<Canvas> made = Canvas::Create(4 * kPanelW, kPanelH + (limbs ? 50 : 30), Bgr(30, 30, 30));
   if (!made.ok()) return made.error();
   Canvas& img = *made;
   const TemplateView front = ViewTemplate(tpl, TemplateSide::kFront);
@@ -203,6 +209,12 @@ Status WriteTemplatePicture(const VoxelTemplate& tpl, const std::string& path,
       FormatNumber("%.0f", 100 * shape.left_right_difference) + "%, mirror " +
       FormatNumber("%.0f", 100 * shape.mirror_difference) + "%";
   img.Text(footer, Px(10, kPanelH + 20), 0.5, kText, 1, LineKind::kSmooth);
+  if (limbs) {
+    img.Text(
+        "orange: free limbs (arms, head), fitted without them where the robot holds them "
+        "otherwise",
+        Px(10, kPanelH + 40), 0.5, Bgr(60, 150, 240), 1, LineKind::kSmooth);
+  }
   return WritePicturePng(img, path, 9);
 }
 

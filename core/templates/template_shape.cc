@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <set>
+#include <tuple>
 
 namespace hpose {
 namespace {
@@ -33,6 +35,19 @@ TemplateView ViewTemplate(const VoxelTemplate& tpl, TemplateSide side) {
   view.v_min = top ? -reach : std::min(0, z_lo);
   view.rows = top ? 2 * reach : z_hi - view.v_min + 1;
   view.depth.assign(static_cast<size_t>(view.rows) * view.columns(), TemplateView::kEmpty);
+  view.free_limb.assign(view.depth.size(), 0);
+  // The voxels that hold a surface point on a free limb.
+  std::set<std::tuple<int, int, int>> limb_voxels;
+  if (tpl.free_limb.size() == tpl.surface.size()) {
+    const double inv = 1.0 / tpl.resolution_m;
+    for (size_t k = 0; k < tpl.surface.size(); ++k) {
+      if (!tpl.free_limb[k]) continue;
+      const Eigen::Vector3f& p = tpl.surface[k];
+      limb_voxels.emplace(static_cast<int>(std::floor(p.x() * inv)),
+                          static_cast<int>(std::floor(p.y() * inv)),
+                          static_cast<int>(std::floor(p.z() * inv)));
+    }
+  }
   for (const Eigen::Vector3f& c : tpl.voxels) {
     const Eigen::Vector3i i = VoxelIndex(c, tpl.resolution_m);
     int u = 0, v = i.z(), d = 0;
@@ -59,8 +74,15 @@ TemplateView ViewTemplate(const VoxelTemplate& tpl, TemplateSide side) {
         d = i.z();
         break;
     }
-    int& cell = view.depth[(v - view.v_min) * view.columns() + (u + view.half_width)];
-    cell = std::max(cell, d);
+    const size_t at =
+        static_cast<size_t>((v - view.v_min) * view.columns() + (u + view.half_width));
+    const bool limb = limb_voxels.count({i.x(), i.y(), i.z()}) > 0;
+    if (d > view.depth[at]) {
+      view.depth[at] = d;
+      view.free_limb[at] = limb;
+    } else if (d == view.depth[at] && limb) {
+      view.free_limb[at] = 1;
+    }
   }
   return view;
 }

@@ -2,6 +2,7 @@
 #define HPOSE_CORE_TEMPLATES_TEMPLATE_SHAPE_H_
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -32,6 +33,8 @@ struct TemplateView {
   // Per cell (row-major from v_min upwards, columns from -half_width): how far the nearest
   // voxel stands out towards the viewer, in voxels; kEmpty where none.
   std::vector<int> depth;
+  // Per cell: the nearest voxel holds surface on a free limb (VoxelTemplate::free_limb).
+  std::vector<std::uint8_t> free_limb;
   static constexpr int kEmpty = -1000000;
 
   int columns() const { return 2 * half_width; }

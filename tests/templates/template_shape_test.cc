@@ -37,6 +37,32 @@ TEST(TemplateShapeTest, ViewsMapVoxelsToTheViewersImage) {
   EXPECT_EQ(front.at(0, 0), TemplateView::kEmpty);
 }
 
+TEST(TemplateShapeTest, ViewsMarkTheCellsWhoseNearestVoxelIsOnAFreeLimb) {
+  // Two voxels one behind the other seen from the front, and a third beside them; the front one
+  // (x = 2) and the one beside hold surface on a free limb, the back one (x = 0) does not.
+  VoxelTemplate t;
+  t.resolution_m = kRes;
+  t.voxels = {Centre(0, 0, 1), Centre(2, 0, 1), Centre(0, 1, 3)};
+  t.surface = {Centre(0, 0, 1), Centre(2, 0, 1), Centre(0, 1, 3)};
+  t.free_limb = {0, 1, 1};
+  const TemplateView front = ViewTemplate(t, TemplateSide::kFront);
+  ASSERT_EQ(front.free_limb.size(), front.depth.size());
+  auto limb = [](const TemplateView& v, int u, int row) {
+    return v.free_limb[(row - v.v_min) * v.columns() + (u + v.half_width)];
+  };
+  EXPECT_EQ(front.at(0, 1), 2);
+  EXPECT_EQ(limb(front, 0, 1), 1);  // the nearest voxel is the limb's.
+  EXPECT_EQ(limb(front, 1, 3), 1);
+  // From the back the nearest voxel of that column is the one off the limb.
+  const TemplateView back = ViewTemplate(t, TemplateSide::kBack);
+  EXPECT_EQ(back.at(-1, 1), -1);  // depth ~x: x 0 gives -1, nearer than x 2 (-3).
+  EXPECT_EQ(limb(back, -1, 1), 0);
+  // Without marks nothing is marked.
+  t.free_limb.clear();
+  const TemplateView plain = ViewTemplate(t, TemplateSide::kFront);
+  EXPECT_EQ(limb(plain, 0, 1), 0);
+}
+
 TEST(TemplateShapeTest, SymmetricBlockHasNoAsymmetry) {
   const TemplateShape s = DescribeTemplate(Block());
   EXPECT_EQ(s.voxels, 6u * 8u * 10u);
