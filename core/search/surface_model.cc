@@ -116,11 +116,7 @@ SurfaceModel::SurfaceModel(const VoxelTemplate& tpl, double spacing_m)
   if (tpl.surface.empty() || tpl.free_limb.size() != tpl.surface.size()) return;
   std::vector<std::uint8_t> marks = tpl.free_limb;
   if (points_.size() != tpl.surface.size()) {
-    std::vector<Eigen::Vector3f> limbs;
-    for (size_t i = 0; i < tpl.surface.size(); ++i) {
-      if (tpl.free_limb[i]) limbs.push_back(tpl.surface[i]);
-    }
-    marks = MarkSurfaceCells(points_, limbs, spacing_);
+    marks = MarkSurfaceCells(points_, tpl.FreeLimbPoints(), spacing_);
   }
   const size_t marked = static_cast<size_t>(std::count(marks.begin(), marks.end(), 1));
   if (marked == 0 || marked == marks.size()) return;

@@ -38,15 +38,11 @@ TemplateView ViewTemplate(const VoxelTemplate& tpl, TemplateSide side) {
   view.free_limb.assign(view.depth.size(), 0);
   // The voxels that hold a surface point on a free limb.
   std::set<std::tuple<int, int, int>> limb_voxels;
-  if (tpl.free_limb.size() == tpl.surface.size()) {
-    const double inv = 1.0 / tpl.resolution_m;
-    for (size_t k = 0; k < tpl.surface.size(); ++k) {
-      if (!tpl.free_limb[k]) continue;
-      const Eigen::Vector3f& p = tpl.surface[k];
-      limb_voxels.emplace(static_cast<int>(std::floor(p.x() * inv)),
-                          static_cast<int>(std::floor(p.y() * inv)),
-                          static_cast<int>(std::floor(p.z() * inv)));
-    }
+  const double inv = 1.0 / tpl.resolution_m;
+  for (const Eigen::Vector3f& p : tpl.FreeLimbPoints()) {
+    limb_voxels.emplace(static_cast<int>(std::floor(p.x() * inv)),
+                        static_cast<int>(std::floor(p.y() * inv)),
+                        static_cast<int>(std::floor(p.z() * inv)));
   }
   for (const Eigen::Vector3f& c : tpl.voxels) {
     const Eigen::Vector3i i = VoxelIndex(c, tpl.resolution_m);

@@ -69,6 +69,15 @@ std::vector<std::uint8_t> MarkSurfaceCells(const std::vector<Eigen::Vector3f>& s
   return marks;
 }
 
+std::vector<Eigen::Vector3f> VoxelTemplate::FreeLimbPoints() const {
+  std::vector<Eigen::Vector3f> out;
+  if (free_limb.size() != surface.size()) return out;
+  for (size_t i = 0; i < surface.size(); ++i) {
+    if (free_limb[i]) out.push_back(surface[i]);
+  }
+  return out;
+}
+
 std::vector<Eigen::Vector3f> VoxelTemplate::VoxelSurfaceCentroids() const {
   if (surface.empty()) return voxels;
   // Sums per (x, y) column of voxels.
@@ -168,11 +177,8 @@ Result<VoxelTemplate> VoxeliseAgain(const VoxelTemplate& tpl, double resolution_
   if (!again.ok()) return again.error();
   again->name = tpl.name;
   if (!tpl.free_limb.empty() && tpl.free_limb.size() == tpl.surface.size()) {
-    std::vector<Eigen::Vector3f> limbs;
-    for (size_t i = 0; i < tpl.surface.size(); ++i) {
-      if (tpl.free_limb[i]) limbs.push_back(tpl.surface[i]);
-    }
-    again->free_limb = MarkSurfaceCells(again->surface, limbs, again->SurfaceCellM());
+    again->free_limb =
+        MarkSurfaceCells(again->surface, tpl.FreeLimbPoints(), again->SurfaceCellM());
   }
   return again;
 }

@@ -41,6 +41,8 @@ struct VoxelTemplate {
   // scoring a column with one bit mask), or the voxel centre when the template has no surface.
   // What the search rotates: sub-voxel positions do not alias on the grid as centres do.
   std::vector<Eigen::Vector3f> VoxelSurfaceCentroids() const;
+  // The surface points on free limbs (none when `free_limb` does not match `surface`).
+  std::vector<Eigen::Vector3f> FreeLimbPoints() const;
   // The surface points, or the voxel centres when there are none.
   const std::vector<Eigen::Vector3f>& SurfaceOrVoxels() const {
     return surface.empty() ? voxels : surface;
