@@ -70,7 +70,7 @@ int RunDemo(int argc, char** argv) {
   std::cout << "simulated 640x480 Kinect v1 frame: sensor 0.34 m high, level; " << f.spec.clutter
             << " clutter objects (seed " << f.spec.seed << ")\n"
             << "truth     " << truth << "\n"
-            << EstimateToText(*estimate);
+            << EstimateToText(*estimate, &options);
   const HumanoidView humans = estimate->Humanoids();
   if (!humans.empty()) {
     const Candidate& c = humans.front().best;
@@ -81,7 +81,7 @@ int RunDemo(int argc, char** argv) {
   }
   Result<PointCloud> cloud = DepthToCloud(frame->depth, f.spec.intrinsics, options.cloud);
   if (cloud.ok()) {
-    Status st = WriteMatchPicture(*estimate, *templates, *cloud, f.picture);
+    Status st = WriteMatchPicture(*estimate, *templates, *cloud, f.picture, &options);
     if (!st.ok()) return ReportError(cmd, st.error());
     std::cout << "picture   " << f.picture << "\n";
   }

@@ -198,7 +198,7 @@ int RunEstimate(int argc, char** argv) {
     std::cout << EstimateToText(*estimate, &f.options);
   }
   if (!f.picture.empty()) {
-    Status st = WriteMatchPicture(*estimate, *templates, cloud, f.picture);
+    Status st = WriteMatchPicture(*estimate, *templates, cloud, f.picture, &f.options);
     if (!st.ok()) return ReportError(cmd, st.error());
     if (!f.json) std::cout << "picture   " << f.picture << "\n";
   }

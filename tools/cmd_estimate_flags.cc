@@ -91,7 +91,9 @@ FlagParser EstimateFlags::Parser() {
                   "a fitted floor's inliers must spread at least this wide, metres (narrower "
                   "planes are strips through objects when no floor is in view; 0: no check)",
                   "M");
-  flags.AddString("picture", &picture, "also draw the match (top and front views) to a PNG",
+  flags.AddString("picture", &picture,
+                  "also draw the match (top and front views) to a PNG; without a humanoid, the "
+                  "nearest miss and why it was refused",
                   "OUT.png");
   flags.AddInt("threads", &options.threads,
                "threads for the frame's (cluster, template) searches, 0 = one per core this "

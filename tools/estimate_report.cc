@@ -20,6 +20,36 @@ std::string Fmt(const char* fmt, double a) {
 
 }  // namespace
 
+std::string NearestMissReason(const Detection& d, const EstimatorOptions* options) {
+  const Candidate& c = d.best;
+  if (c.stopped_below_threshold) {
+    return "proved below score " + Fmt("%.0f", d.score_threshold) + ": at most " +
+           Fmt("%.1f", c.score_upper_bound);
+  }
+  if (c.score < d.score_threshold) {
+    return "score " + Fmt("%.1f", c.score) + ", below " + Fmt("%.0f", d.score_threshold);
+  }
+  if (options != nullptr && c.refined && c.fit.fit >= options->min_humanoid_fit &&
+      HumanoidEvidenceShare(c) < options->min_humanoid_evidence) {
+    return "score " + Fmt("%.1f", c.score) + " and a refined fit of " + Fmt("%.1f", c.fit.fit) +
+           ", but evidence of " + Fmt("%.3f", HumanoidEvidenceShare(c)) +
+           " (the share of the template it covers times (fit/100)^8), below " +
+           Fmt("%.2f", options->min_humanoid_evidence) + ": --min-evidence";
+  }
+  if (options != nullptr && c.refined && c.fit.fit >= options->min_humanoid_fit &&
+      c.score < options->score_threshold) {
+    // A far cluster that passed only the far score and then lacked the evidence.
+    return "score " + Fmt("%.1f", c.score) + " and a refined fit of " + Fmt("%.1f", c.fit.fit) +
+           ", but a cluster " + Fmt("%.1f", options->far_range_m) +
+           " m away or more that scores under " + Fmt("%.0f", options->score_threshold) +
+           " needs evidence of " + Fmt("%.2f", options->far_min_evidence) + " and this has " +
+           Fmt("%.3f", HumanoidEvidenceShare(c)) +
+           ": the share of the template it covers times (fit/100)^8";
+  }
+  return "score " + Fmt("%.1f", c.score) + " but a refined fit of " + Fmt("%.1f", c.fit.fit) +
+         ", below the fit threshold: --min-fit";
+}
+
 std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
   std::ostringstream os;
   const FloorEstimate& f = e.floor;
@@ -39,33 +69,8 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
       const Candidate& c = d.best;
       const double distance = std::hypot(c.pose.x, c.pose.y);
       os << " (best: " << c.template_name << " on cluster " << c.cluster_index << ", "
-         << Fmt("%.1f", distance) << " m away, ";
+         << Fmt("%.1f", distance) << " m away, " << NearestMissReason(d, options) << ")\n";
       const bool low_score = c.stopped_below_threshold || c.score < d.score_threshold;
-      if (c.stopped_below_threshold) {
-        os << "proved below score " << Fmt("%.0f", d.score_threshold) << ": at most "
-           << Fmt("%.1f", c.score_upper_bound) << ")\n";
-      } else if (low_score) {
-        os << "score " << Fmt("%.1f", c.score) << ", below " << Fmt("%.0f", d.score_threshold)
-           << ")\n";
-      } else if (options != nullptr && c.refined && c.fit.fit >= options->min_humanoid_fit &&
-                 HumanoidEvidenceShare(c) < options->min_humanoid_evidence) {
-        os << "score " << Fmt("%.1f", c.score) << " and a refined fit of " << Fmt("%.1f", c.fit.fit)
-           << ", but evidence of " << Fmt("%.3f", HumanoidEvidenceShare(c))
-           << " (the share of the template it covers times (fit/100)^8), below "
-           << Fmt("%.2f", options->min_humanoid_evidence) << ": --min-evidence)\n";
-      } else if (options != nullptr && c.refined && c.fit.fit >= options->min_humanoid_fit &&
-                 c.score < options->score_threshold) {
-        // A far cluster that passed only the far score and then lacked the evidence.
-        os << "score " << Fmt("%.1f", c.score) << " and a refined fit of " << Fmt("%.1f", c.fit.fit)
-           << ", but a cluster " << Fmt("%.1f", options->far_range_m)
-           << " m away or more that scores under " << Fmt("%.0f", options->score_threshold)
-           << " needs evidence of " << Fmt("%.2f", options->far_min_evidence) << " and this has "
-           << Fmt("%.3f", HumanoidEvidenceShare(c))
-           << ": the share of the template it covers times (fit/100)^8)\n";
-      } else {
-        os << "score " << Fmt("%.1f", c.score) << " but a refined fit of " << Fmt("%.1f", c.fit.fit)
-           << ", below the fit threshold: --min-fit)\n";
-      }
       if (low_score && distance >= 2.5) {
         os << "          far humanoids score less (depth noise thickens them): when nothing "
               "passes, a cluster\n"

@@ -17,6 +17,13 @@ namespace hpose::tools {
 // humanoid also says which of them refused the nearest miss.
 std::string EstimateToText(const Estimate& estimate, const EstimatorOptions* options = nullptr);
 
+// Why a detection that is not a humanoid was refused: its score against the threshold, or
+// which rule after the refinement (fit, evidence, the far clusters' evidence) with the option
+// that sets it, e.g. "score 52.0 but a refined fit of 41.5, below the fit threshold: --min-fit".
+// Without the options the fit is blamed when the score passed.
+std::string NearestMissReason(const Detection& detection,
+                              const EstimatorOptions* options = nullptr);
+
 // A sentence for a note when templates are searched on coarser voxels than they were made
 // with (a tall body, EstimatorOptions::max_height_voxels, or the search's edge set coarser);
 // empty otherwise.

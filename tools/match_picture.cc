@@ -5,7 +5,9 @@
 #include <set>
 #include <tuple>
 
+#include "core/search/estimator.h"
 #include "tools/canvas.h"
+#include "tools/estimate_report.h"
 #include "tools/fixed_text.h"
 #include "tools/picture_png.h"
 
@@ -42,10 +44,44 @@ std::vector<Eigen::Vector3f> PlacedVoxels(const VoxelTemplate& t, const Candidat
   return out;
 }
 
+// `text` broken at spaces into lines of at most `width` characters (a longer word stays whole).
+std::vector<std::string> WrapWords(const std::string& text, size_t width) {
+  std::vector<std::string> lines;
+  std::string line;
+  size_t at = 0;
+  while (at < text.size()) {
+    size_t end = text.find(' ', at);
+    if (end == std::string::npos) end = text.size();
+    const std::string word = text.substr(at, end - at);
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      lines.push_back(line);
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    at = end + 1;
+  }
+  if (!line.empty()) lines.push_back(line);
+  return lines;
+}
+
+// Metres shown across each close-up: the template whole, its height within the side view's
+// half of the panel, never less than half a metre (0.9 m without a template).
+double CloseUpSpan(const VoxelTemplate* t) {
+  if (t == nullptr || t->voxels.empty()) return 0.9;
+  float top = 0.0f, reach = 0.0f;
+  for (const Eigen::Vector3f& v : t->voxels) {
+    top = std::max(top, v.z());
+    reach = std::max(reach, v.head<2>().norm());
+  }
+  const double height = top + t->resolution_m, width = 2.0 * reach + t->resolution_m;
+  return std::max({0.5, 1.05 * height, 1.3 * width});
+}
+
 }  // namespace
 
 Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTemplate>& templates,
-                         const PointCloud& cloud_sensor, const std::string& path) {
+                         const PointCloud& cloud_sensor, const std::string& path,
+                         const EstimatorOptions* options) {
   Result<Canvas> made = Canvas::Create(2 * kPanel, kPanel, Bgr(30, 30, 30));
   if (!made.ok()) return made.error();
   Canvas& img = *made;
@@ -102,17 +138,39 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
                      over.At(p.x + 0.35 * std::cos(p.theta), p.y + 0.35 * std::sin(p.theta)),
                      Bgr(80, 80, 255), 2, LineKind::kSmooth, 0.25);
   }
+  // Without a humanoid, the nearest miss (the detection the report names) in grey.
+  const Detection* miss =
+      humans.empty() && !estimate.detections.empty() ? &estimate.detections.front() : nullptr;
+  if (miss != nullptr) {
+    if (const VoxelTemplate* t = find_template(miss->best.template_name)) {
+      for (const Eigen::Vector3f& v : PlacedVoxels(*t, miss->best)) {
+        left.Circle(over.At(v.x(), v.y()), 1, Bgr(150, 150, 150), -1);
+      }
+    }
+    const Pose2D& p = miss->best.pose;
+    left.ArrowedLine(over.At(p.x, p.y),
+                     over.At(p.x + 0.35 * std::cos(p.theta), p.y + 0.35 * std::sin(p.theta)),
+                     Bgr(170, 170, 170), 2, LineKind::kSmooth, 0.25);
+  }
   left.Text("top view (ground frame, x up, y left)", Px(10, 20), 0.5, Bgr(230, 230, 230), 1,
             LineKind::kSmooth);
 
-  // Close-ups of the best humanoid (or a note that there is none).
+  // Close-ups of the best humanoid, else of the nearest miss with why it was refused, else a
+  // note that nothing was searched.
   const int x1 = kPanel;
   img.Line(Px(x1, 0), Px(x1, kPanel), Bgr(90, 90, 90), 1);
-  if (humans.empty()) {
-    img.Text("no humanoid above the score threshold", Px(x1 + 20, kPanel / 2), 0.6,
-             Bgr(120, 120, 255), 1, LineKind::kSmooth);
+  if (humans.empty() && miss == nullptr) {
+    int searched = 0;
+    for (const ClusterSummary& c : estimate.clusters) searched += c.searched;
+    const std::string note = estimate.clusters.empty()
+                                 ? "no humanoid: nothing stands on the floor"
+                                 : "no humanoid: " + std::to_string(estimate.clusters.size()) +
+                                       (estimate.clusters.size() == 1 ? " cluster" : " clusters") +
+                                       " on the floor, none of a template's size";
+    img.Text(searched == 0 ? note : "no humanoid", Px(x1 + 20, kPanel / 2), 0.6, Bgr(120, 120, 255),
+             1, LineKind::kSmooth);
   } else {
-    const Detection& d = humans.front();
+    const Detection& d = miss != nullptr ? *miss : humans.front();
     const VoxelTemplate* t = find_template(d.best.template_name);
     const ClusterSummary* cluster = nullptr;
     for (const ClusterSummary& c : estimate.clusters) {
@@ -139,7 +197,7 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
       }
     }
     const int half = kPanel / 2;
-    const double span = 0.9;  // metres shown in each close-up.
+    const double span = CloseUpSpan(t);  // metres shown in each close-up.
     const double s = half / span;
     // Top close-up in the upper half, side close-up (y horizontal, z up) in the lower half.
     auto draw_cell = [&](const Cell& c, const Bgr& colour, bool top) {
@@ -163,12 +221,21 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
       }
     }
     const Pose2D& p = d.best.pose;
+    const Bgr heading_colour = miss != nullptr ? Bgr(120, 120, 255) : Bgr(230, 230, 230);
     img.Text(d.best.template_name + "  x " + FormatNumber("%.3f", p.x) + " m  y " +
                  FormatNumber("%.3f", p.y) + " m  theta " +
                  FormatNumber("%.1f", RadToDeg(p.theta)) + " deg  score " +
                  FormatNumber("%.1f", d.best.score),
-             Px(x1 + 10, 20), 0.5, Bgr(230, 230, 230), 1, LineKind::kSmooth);
-    img.Text("close-up from above", Px(x1 + 10, 42), 0.45, Bgr(170, 170, 170), 1,
+             Px(x1 + 10, 20), 0.5, heading_colour, 1, LineKind::kSmooth);
+    int row = 42;
+    if (miss != nullptr) {
+      for (const std::string& line : WrapWords(
+               "the nearest miss, not a humanoid: " + NearestMissReason(*miss, options), 72)) {
+        img.Text(line, Px(x1 + 10, row), 0.45, Bgr(120, 120, 255), 1, LineKind::kSmooth);
+        row += 18;
+      }
+    }
+    img.Text("close-up from above", Px(x1 + 10, row), 0.45, Bgr(170, 170, 170), 1,
              LineKind::kSmooth);
     img.Text("seen from the sensor (y-z)", Px(x1 + 10, half + 12), 0.45, Bgr(170, 170, 170), 1,
              LineKind::kSmooth);
