@@ -75,6 +75,24 @@ void CandidateToProto(const Candidate& c, v1::Candidate* out) {
   out->set_score_upper_bound(c.score_upper_bound);
 }
 
+v1::Refusal RefusalToProto(Refusal r) {
+  switch (r) {
+    case Refusal::kNone:
+      return v1::REFUSAL_NONE;
+    case Refusal::kScore:
+      return v1::REFUSAL_SCORE;
+    case Refusal::kFit:
+      return v1::REFUSAL_FIT;
+    case Refusal::kEvidence:
+      return v1::REFUSAL_EVIDENCE;
+    case Refusal::kFarEvidence:
+      return v1::REFUSAL_FAR_EVIDENCE;
+    case Refusal::kOffFloorCoverage:
+      return v1::REFUSAL_OFF_FLOOR_COVERAGE;
+  }
+  return v1::REFUSAL_NONE;
+}
+
 void DetectionToProto(const Detection& d, v1::Detection* out) {
   CandidateToProto(d.best, out->mutable_best());
   out->set_second_template(d.second_template);
@@ -82,6 +100,7 @@ void DetectionToProto(const Detection& d, v1::Detection* out) {
   out->set_is_humanoid(d.is_humanoid);
   out->set_template_ambiguous(d.template_ambiguous);
   out->set_score_threshold(d.score_threshold);
+  out->set_refused_by(RefusalToProto(d.refused_by));
 }
 
 Error Invalid(const std::string& message) {

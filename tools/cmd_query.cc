@@ -87,14 +87,24 @@ std::string DescribeDepth(const v1::PoseEstimate& e) {
   } else {
     const v1::Detection& d = r.best();
     const v1::Candidate& c = d.best();
-    // Why the best match is no humanoid: its score, or (refined) its fit.
+    // Why the best match is no humanoid: the rule that refused it.
     char why[64] = "";
-    if (!d.is_humanoid()) {
-      if (c.stopped_below_threshold() || c.score() < d.score_threshold()) {
+    switch (d.is_humanoid() ? v1::REFUSAL_NONE : d.refused_by()) {
+      case v1::REFUSAL_SCORE:
         std::snprintf(why, sizeof(why), " (below threshold %.0f)", d.score_threshold());
-      } else {
+        break;
+      case v1::REFUSAL_FIT:
         std::snprintf(why, sizeof(why), " (poor fit %.0f)", c.fit().fit());
-      }
+        break;
+      case v1::REFUSAL_EVIDENCE:
+      case v1::REFUSAL_FAR_EVIDENCE:
+        std::snprintf(why, sizeof(why), " (weak evidence, fit %.0f)", c.fit().fit());
+        break;
+      case v1::REFUSAL_OFF_FLOOR_COVERAGE:
+        std::snprintf(why, sizeof(why), " (covers too little off the floor)");
+        break;
+      default:
+        break;
     }
     std::snprintf(buf, sizeof(buf), "  %s%s  %s  score %.1f  margin %.1f",
                   c.template_name().c_str(), why, PoseText("", c.pose()).c_str(), c.score(),

@@ -22,32 +22,53 @@ std::string Fmt(const char* fmt, double a) {
 
 std::string NearestMissReason(const Detection& d, const EstimatorOptions* options) {
   const Candidate& c = d.best;
-  if (c.stopped_below_threshold) {
-    return "proved below score " + Fmt("%.0f", d.score_threshold) + ": at most " +
-           Fmt("%.1f", c.score_upper_bound);
+  const std::string score = "score " + Fmt("%.1f", c.score);
+  const std::string fit = " a refined fit of " + Fmt("%.1f", c.fit.fit);
+  // A threshold's value when the options are known, else `unknown`.
+  auto value = [&](const char* fmt, double EstimatorOptions::*field, const char* unknown) {
+    return options != nullptr ? " " + Fmt(fmt, options->*field) : std::string(unknown);
+  };
+  switch (d.refused_by) {
+    case Refusal::kNone:
+      return "not refused";
+    case Refusal::kScore:
+      if (c.stopped_below_threshold) {
+        return "proved below score " + Fmt("%.0f", d.score_threshold) + ": at most " +
+               Fmt("%.1f", c.score_upper_bound);
+      }
+      return score + ", below " + Fmt("%.0f", d.score_threshold);
+    case Refusal::kFit:
+      return score + " but" + fit + ", below the fit threshold" +
+             value("%.0f", &EstimatorOptions::min_humanoid_fit, "") + ": --min-fit";
+    case Refusal::kEvidence:
+      return score + " and" + fit + ", but evidence of " + Fmt("%.3f", HumanoidEvidenceShare(c)) +
+             " (the share of the template it covers times (fit/100)^8), below" +
+             value("%.2f", &EstimatorOptions::min_humanoid_evidence, " the threshold") +
+             ": --min-evidence";
+    case Refusal::kFarEvidence: {
+      // A far cluster that passed only the far score and then lacked the evidence.
+      std::string far = "a far cluster that scores under the full threshold needs more evidence";
+      if (options != nullptr) {
+        far = "a cluster " + Fmt("%.1f", options->far_range_m) +
+              " m away or more that scores under " + Fmt("%.0f", options->score_threshold) +
+              " needs evidence of " + Fmt("%.2f", options->far_min_evidence);
+      }
+      return score + " and" + fit + ", but " + far + " and this has " +
+             Fmt("%.3f", HumanoidEvidenceShare(c)) +
+             ": the share of the template it covers times (fit/100)^8";
+    }
+    case Refusal::kOffFloorCoverage: {
+      const double covered =
+          c.template_voxels > 0 ? static_cast<double>(c.hits) / c.template_voxels : 0.0;
+      return score + " and" + fit + " with the template " +
+             Fmt("%.0f", 1000.0 * std::abs(c.height_offset_m)) + " mm " +
+             (c.height_offset_m < 0.0 ? "below" : "above") + " the floor, but covering " +
+             Fmt("%.2f", covered) + " of the template, under the" +
+             value("%.2f", &EstimatorOptions::height_offset_min_coverage, "") +
+             " a body off the floor must cover: search.height_offset_min_coverage";
+    }
   }
-  if (c.score < d.score_threshold) {
-    return "score " + Fmt("%.1f", c.score) + ", below " + Fmt("%.0f", d.score_threshold);
-  }
-  if (options != nullptr && c.refined && c.fit.fit >= options->min_humanoid_fit &&
-      HumanoidEvidenceShare(c) < options->min_humanoid_evidence) {
-    return "score " + Fmt("%.1f", c.score) + " and a refined fit of " + Fmt("%.1f", c.fit.fit) +
-           ", but evidence of " + Fmt("%.3f", HumanoidEvidenceShare(c)) +
-           " (the share of the template it covers times (fit/100)^8), below " +
-           Fmt("%.2f", options->min_humanoid_evidence) + ": --min-evidence";
-  }
-  if (options != nullptr && c.refined && c.fit.fit >= options->min_humanoid_fit &&
-      c.score < options->score_threshold) {
-    // A far cluster that passed only the far score and then lacked the evidence.
-    return "score " + Fmt("%.1f", c.score) + " and a refined fit of " + Fmt("%.1f", c.fit.fit) +
-           ", but a cluster " + Fmt("%.1f", options->far_range_m) +
-           " m away or more that scores under " + Fmt("%.0f", options->score_threshold) +
-           " needs evidence of " + Fmt("%.2f", options->far_min_evidence) + " and this has " +
-           Fmt("%.3f", HumanoidEvidenceShare(c)) +
-           ": the share of the template it covers times (fit/100)^8";
-  }
-  return "score " + Fmt("%.1f", c.score) + " but a refined fit of " + Fmt("%.1f", c.fit.fit) +
-         ", below the fit threshold: --min-fit";
+  return "refused";
 }
 
 std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {

@@ -79,6 +79,17 @@ struct Candidate {
   std::int64_t bounds_evaluated = 0;  // branch-and-bound upper bounds (exact search only).
 };
 
+// Which rule refused a cluster's best candidate as the humanoid: the first it failed, in this
+// order (EstimatorOptions names each threshold).
+enum class Refusal {
+  kNone,              // not refused: the humanoid.
+  kScore,             // the search score stayed below the cluster's threshold.
+  kFit,               // refined, its fit is below min_humanoid_fit.
+  kEvidence,          // ... its evidence (HumanoidEvidenceShare) below min_humanoid_evidence.
+  kFarEvidence,       // a far cluster passing only the far score, without far_min_evidence.
+  kOffFloorCoverage,  // templates off the floor: it covers less than height_offset_min_coverage.
+};
+
 // A cluster's verdict: its best template, and how far ahead of the next template it is.
 // The template is chosen by the refined evidence (highest Candidate::fit.fit) of each
 // template's pose.
@@ -90,7 +101,8 @@ struct Detection {
   double template_margin = 0.0;
   // The margin is within what noise explains (two standard errors of the fits).
   bool template_ambiguous = false;
-  bool is_humanoid = false;  // best.score >= score_threshold and, refined, the fit threshold.
+  bool is_humanoid = false;  // not refused (the estimator sets both).
+  Refusal refused_by = Refusal::kNone;
   // The score threshold this cluster was held to: EstimatorOptions::tracked_score_threshold on
   // the cluster the previous frame's humanoid stood on, else score_threshold.
   double score_threshold = 0.0;

@@ -233,13 +233,20 @@ size_t PriorHeadingChoice(const std::vector<const Candidate*>& cands, double pri
   return chosen;
 }
 
-// Whether a candidate passes as a humanoid: its search reached `threshold`, and when refined its
-// fit reaches min_humanoid_fit and, unless its cluster is the held one (its hysteresis), its
-// evidence min_humanoid_evidence.
+// Whether a candidate passes as a humanoid, and if not the first rule it fails: its search must
+// reach `threshold`, and when refined its fit min_humanoid_fit and, unless its cluster is the
+// held one (its hysteresis), its evidence min_humanoid_evidence.
+Refusal HumanoidRefusal(const Candidate& c, double threshold, bool held,
+                        const EstimatorOptions& o) {
+  if (c.stopped_below_threshold || !(c.score >= threshold)) return Refusal::kScore;
+  if (!c.refined) return Refusal::kNone;
+  if (!(c.fit.fit >= o.min_humanoid_fit)) return Refusal::kFit;
+  if (!held && !(HumanoidEvidenceShare(c) >= o.min_humanoid_evidence)) return Refusal::kEvidence;
+  return Refusal::kNone;
+}
+
 bool PassesAsHumanoid(const Candidate& c, double threshold, bool held, const EstimatorOptions& o) {
-  return !c.stopped_below_threshold && c.score >= threshold &&
-         (!c.refined || (c.fit.fit >= o.min_humanoid_fit &&
-                         (held || HumanoidEvidenceShare(c) >= o.min_humanoid_evidence)));
+  return HumanoidRefusal(c, threshold, held, o) == Refusal::kNone;
 }
 
 // One detection per cluster: among its templates with a pose, the one whose pose the refined
@@ -279,17 +286,18 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
       d.best.heading_from_prior = true;
     }
     d.score_threshold = thresholds[cluster];
-    d.is_humanoid = PassesAsHumanoid(d.best, d.score_threshold, cluster == held_cluster, o);
+    d.refused_by = HumanoidRefusal(d.best, d.score_threshold, cluster == held_cluster, o);
     // A far cluster below the full threshold passes on strong refined evidence only.
-    if (far[cluster] && d.best.score < o.score_threshold &&
+    if (d.refused_by == Refusal::kNone && far[cluster] && d.best.score < o.score_threshold &&
         HumanoidEvidenceShare(d.best) < o.far_min_evidence) {
-      d.is_humanoid = false;
+      d.refused_by = Refusal::kFarEvidence;
     }
-    if (off_floor && cluster != held_cluster &&
+    if (d.refused_by == Refusal::kNone && off_floor && cluster != held_cluster &&
         !(d.best.template_voxels > 0 &&
           d.best.hits >= o.height_offset_min_coverage * d.best.template_voxels)) {
-      d.is_humanoid = false;
+      d.refused_by = Refusal::kOffFloorCoverage;
     }
+    d.is_humanoid = d.refused_by == Refusal::kNone;
     if (cands.size() > 1) {
       const Candidate& second = *cands[1];
       d.second_template = second.template_name;

@@ -121,7 +121,11 @@ TEST(EstimatorGatesTest, ClutterThatFitsPoorlyIsNoHumanoid) {
       EXPECT_TRUE(near_truth(d)) << "seed " << seed << ": clutter taken for the humanoid, fit "
                                  << d.best.fit.fit;
       EXPECT_GE(d.best.fit.fit, gated.min_humanoid_fit);
+      EXPECT_EQ(d.refused_by, Refusal::kNone);
       humanoid += near_truth(d) ? 1 : 0;
+    }
+    for (const Detection& d : a.detections) {
+      if (!d.is_humanoid) EXPECT_NE(d.refused_by, Refusal::kNone) << "seed " << seed;
     }
     EXPECT_EQ(humanoid, 1) << "seed " << seed;
     // Humanoids come first, whatever clutter scored: the first detection is the humanoid.
@@ -135,6 +139,12 @@ TEST(EstimatorGatesTest, ClutterThatFitsPoorlyIsNoHumanoid) {
       ++clutter_by_score;
       outscored += d.best.score > humanoid_score ? 1 : 0;
       EXPECT_LT(d.best.fit.fit, gated.min_humanoid_fit) << "seed " << seed;
+      // With the gate the same cluster is refused by its fit, and says so.
+      for (const Detection& g : a.detections) {
+        if (g.best.cluster_index != d.best.cluster_index) continue;
+        EXPECT_FALSE(g.is_humanoid) << "seed " << seed;
+        EXPECT_EQ(g.refused_by, Refusal::kFit) << "seed " << seed;
+      }
     }
   }
   EXPECT_GT(clutter_by_score, 0);  // the frames do test the gate,
@@ -253,6 +263,7 @@ TEST(EstimatorGatesTest, ClutterCoveringLittleOfTheTemplateIsNoHumanoid) {
   for (const Detection& d : now.detections) {
     if (d.best.cluster_index != clutter->best.cluster_index) continue;
     refused = !d.is_humanoid;
+    EXPECT_EQ(d.refused_by, Refusal::kEvidence);
     EXPECT_EQ(d.best.score, clutter->best.score);
     EXPECT_EQ(d.best.fit.fit, clutter->best.fit.fit);
   }

@@ -50,6 +50,9 @@ TEST(FarThresholdTest, AFarRobotIsFoundColdOnStrongEvidence) {
   one.far_score_ratio = 1.0;
   const Estimate one_threshold = f.Run(one);
   EXPECT_TRUE(one_threshold.Humanoids().empty());
+  for (const Detection& o : one_threshold.detections) {
+    if (f.NearTruth(o)) EXPECT_EQ(o.refused_by, Refusal::kScore);
+  }
   EstimatorOptions near_only = options;
   near_only.far_range_m = 3.5;  // the robot's cluster is nearer than this.
   const Estimate near_search = f.Run(near_only);
@@ -65,6 +68,7 @@ TEST(FarThresholdTest, AFarRobotIsFoundColdOnStrongEvidence) {
     seen = true;
     EXPECT_EQ(o.best.score, d.best.score);
     EXPECT_EQ(o.score_threshold, d.score_threshold);
+    EXPECT_EQ(o.refused_by, Refusal::kFarEvidence);
   }
   EXPECT_TRUE(seen);
 }

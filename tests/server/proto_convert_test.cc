@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+#include <vector>
+
 #include <cmath>
 
 namespace hpose::server {
@@ -95,6 +98,20 @@ TEST(ProtoConvertTest, EstimateCarriesPoseIn3DAndMargins) {
   EXPECT_NEAR(p.pose_3d().orientation().z(), std::sin(1.25), 1e-12);
   EXPECT_NEAR(p.pose_3d().orientation().w(), std::cos(1.25), 1e-12);
   EXPECT_DOUBLE_EQ(p.pose_3d().position().y(), -0.2);
+  EXPECT_EQ(out.best().refused_by(), v1::REFUSAL_NONE);
+  // A refused cluster says which rule refused it.
+  for (const auto& [rule, wire] : std::vector<std::pair<Refusal, v1::Refusal>>{
+           {Refusal::kScore, v1::REFUSAL_SCORE},
+           {Refusal::kFit, v1::REFUSAL_FIT},
+           {Refusal::kEvidence, v1::REFUSAL_EVIDENCE},
+           {Refusal::kFarEvidence, v1::REFUSAL_FAR_EVIDENCE},
+           {Refusal::kOffFloorCoverage, v1::REFUSAL_OFF_FLOOR_COVERAGE}}) {
+    e.detections[0].is_humanoid = false;
+    e.detections[0].refused_by = rule;
+    EstimateToProto(e, &out);
+    EXPECT_FALSE(out.humanoid_found());
+    EXPECT_EQ(out.best().refused_by(), wire);
+  }
 
   v1::PoseEstimate pe;
   const Error err = MakeError(ErrorCode::kFailedPrecondition, "no floor: only 3 points");

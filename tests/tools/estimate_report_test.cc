@@ -12,7 +12,7 @@ namespace hpose::tools {
 namespace {
 
 // A frame whose only detection is a refined candidate 3.6 m away that is not a humanoid.
-Estimate Miss(double score, double fit, int hits, double threshold) {
+Estimate Miss(double score, double fit, int hits, double threshold, Refusal refused_by) {
   Candidate c;
   c.template_name = "standing";
   c.cluster_index = 6;
@@ -25,6 +25,7 @@ Estimate Miss(double score, double fit, int hits, double threshold) {
   Detection d;
   d.best = c;
   d.score_threshold = threshold;
+  d.refused_by = refused_by;
   Estimate e;
   e.detections.push_back(d);
   return e;
@@ -44,7 +45,7 @@ TEST(EstimateReportTest, AFarClusterWithoutTheEvidenceSaysWhatItHasAndNeeds) {
   const EstimatorOptions o;  // far clusters from 2.5 m, under score 50, need evidence 0.08.
   // Passed the far score (40) and the fit (60), but 400 hits of 1000 at a fit of 75 are
   // 0.4 * 0.75^8 = 0.040 of the template.
-  EXPECT_EQ(Why(Miss(45.6, 75.0, 400, 40.0), o),
+  EXPECT_EQ(Why(Miss(45.6, 75.0, 400, 40.0, Refusal::kFarEvidence), o),
             "score 45.6 and a refined fit of 75.0, but a cluster 2.5 m away or more that scores "
             "under 50 needs evidence of 0.08 and this has 0.040: the share of the template it "
             "covers times (fit/100)^8)");
@@ -52,10 +53,20 @@ TEST(EstimateReportTest, AFarClusterWithoutTheEvidenceSaysWhatItHasAndNeeds) {
 
 TEST(EstimateReportTest, EachRefusalNamesItsRule) {
   const EstimatorOptions o;
-  EXPECT_EQ(Why(Miss(52.0, 41.5, 500, 50.0), o),
-            "score 52.0 but a refined fit of 41.5, below the fit threshold: --min-fit)");
-  EXPECT_EQ(Why(Miss(38.0, 90.0, 400, 40.0), o), "score 38.0, below 40)");
-  Estimate stopped = Miss(0.0, 0.0, 0, 50.0);
+  EXPECT_EQ(Why(Miss(52.0, 41.5, 500, 50.0, Refusal::kFit), o),
+            "score 52.0 but a refined fit of 41.5, below the fit threshold 60: --min-fit)");
+  EXPECT_EQ(Why(Miss(38.0, 90.0, 400, 40.0, Refusal::kScore), o), "score 38.0, below 40)");
+  // 5 hits of 1000 at a fit of 90: 0.005 * 0.9^8 = 0.002 of the template.
+  EXPECT_EQ(Why(Miss(55.0, 90.0, 5, 50.0, Refusal::kEvidence), o),
+            "score 55.0 and a refined fit of 90.0, but evidence of 0.002 (the share of the "
+            "template it covers times (fit/100)^8), below 0.01: --min-evidence)");
+  Estimate lower = Miss(55.0, 80.0, 120, 50.0, Refusal::kOffFloorCoverage);
+  lower.detections[0].best.height_offset_m = -0.016;
+  EXPECT_EQ(Why(lower, o),
+            "score 55.0 and a refined fit of 80.0 with the template 16 mm below the floor, but "
+            "covering 0.12 of the template, under the 0.15 a body off the floor must cover: "
+            "search.height_offset_min_coverage)");
+  Estimate stopped = Miss(0.0, 0.0, 0, 50.0, Refusal::kScore);
   stopped.detections[0].best.stopped_below_threshold = true;
   stopped.detections[0].best.score_upper_bound = 31.24;
   EXPECT_EQ(Why(stopped, o), "proved below score 50: at most 31.2)");

@@ -68,6 +68,7 @@ Scene BlockScene(double height, bool humanoid) {
   d.best.fit.fit = humanoid ? 90.0 : 41.5;
   d.score_threshold = 50.0;
   d.is_humanoid = humanoid;
+  d.refused_by = humanoid ? Refusal::kNone : Refusal::kFit;
   s.estimate.detections.push_back(d);
   return s;
 }
