@@ -34,14 +34,20 @@ Bgr HeightColour(double z) {
   return Bgr(90 + 120 * (1 - t), 90 + 120 * t, 90);  // BGR: blue-ish low, green high.
 }
 
-// The template's voxels where the candidate placed it (at its pose, as high as it stood).
-std::vector<Eigen::Vector3f> PlacedVoxels(const VoxelTemplate& t, const Candidate& c) {
+// Template-frame points where the candidate placed its template (at its pose, as high as it
+// stood).
+std::vector<Eigen::Vector3f> Placed(const std::vector<Eigen::Vector3f>& points,
+                                    const Candidate& c) {
   Eigen::Isometry3d g = c.pose.ToIsometry();
   g.pretranslate(Eigen::Vector3d(0.0, 0.0, c.height_offset_m));
   std::vector<Eigen::Vector3f> out;
-  out.reserve(t.voxels.size());
-  for (const Eigen::Vector3f& v : t.voxels) out.push_back((g * v.cast<double>()).cast<float>());
+  out.reserve(points.size());
+  for (const Eigen::Vector3f& v : points) out.push_back((g * v.cast<double>()).cast<float>());
   return out;
+}
+
+std::vector<Eigen::Vector3f> PlacedVoxels(const VoxelTemplate& t, const Candidate& c) {
+  return Placed(t.voxels, c);
 }
 
 // `text` broken at spaces into lines of at most `width` characters (a longer word stays whole).
@@ -178,22 +184,27 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
     }
     const double res = t != nullptr ? t->resolution_m : 0.016;
     using Cell = std::tuple<int, int, int>;
-    std::set<Cell> cluster_cells, template_cells;
+    std::set<Cell> cluster_cells, template_cells, limb_cells;
+    const auto cell_of = [res](const Eigen::Vector3f& v) {
+      return Cell{static_cast<int>(std::floor(v.x() / res)),
+                  static_cast<int>(std::floor(v.y() / res)),
+                  static_cast<int>(std::floor(v.z() / res))};
+    };
     if (cluster != nullptr) {
       for (const Eigen::Vector3f& g : ground) {
         if ((g.array() >= cluster->min.array() - 0.01f).all() &&
             (g.array() <= cluster->max.array() + 0.01f).all()) {
-          cluster_cells.insert({static_cast<int>(std::floor(g.x() / res)),
-                                static_cast<int>(std::floor(g.y() / res)),
-                                static_cast<int>(std::floor(g.z() / res))});
+          cluster_cells.insert(cell_of(g));
         }
       }
     }
     if (t != nullptr) {
-      for (const Eigen::Vector3f& v : PlacedVoxels(*t, d.best)) {
-        template_cells.insert({static_cast<int>(std::floor(v.x() / res)),
-                               static_cast<int>(std::floor(v.y() / res)),
-                               static_cast<int>(std::floor(v.z() / res))});
+      for (const Eigen::Vector3f& v : PlacedVoxels(*t, d.best)) template_cells.insert(cell_of(v));
+      // Free limbs the pose was fitted without (the robot holds them otherwise): their voxels.
+      if (d.best.free_limbs_left_out) {
+        for (const Eigen::Vector3f& v : Placed(t->FreeLimbPoints(), d.best)) {
+          if (template_cells.count(cell_of(v))) limb_cells.insert(cell_of(v));
+        }
       }
     }
     const int half = kPanel / 2;
@@ -215,7 +226,9 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
       img.Rectangle(p - Px(r, r), p + Px(r, r), colour, -1);
     };
     for (bool top : {true, false}) {
-      for (const Cell& c : template_cells) draw_cell(c, Bgr(50, 50, 200), top);
+      for (const Cell& c : template_cells) {
+        draw_cell(c, limb_cells.count(c) ? Bgr(40, 140, 255) : Bgr(50, 50, 200), top);
+      }
       for (const Cell& c : cluster_cells) {
         draw_cell(c, template_cells.count(c) ? Bgr(220, 60, 220) : Bgr(220, 130, 40), top);
       }
@@ -234,6 +247,11 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
         img.Text(line, Px(x1 + 10, row), 0.45, Bgr(120, 120, 255), 1, LineKind::kSmooth);
         row += 18;
       }
+    }
+    if (!limb_cells.empty()) {
+      img.Text("orange: the free limbs, held otherwise: the pose was fitted without them",
+               Px(x1 + 10, row), 0.45, Bgr(40, 140, 255), 1, LineKind::kSmooth);
+      row += 18;
     }
     img.Text("close-up from above", Px(x1 + 10, row), 0.45, Bgr(170, 170, 170), 1,
              LineKind::kSmooth);

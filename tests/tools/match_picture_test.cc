@@ -149,6 +149,34 @@ TEST(MatchPictureTest, NothingSearchedLeavesTheCloseUpsEmpty) {
   EXPECT_GT(CountRight(img, 0, kPanel, MissRed), 50);  // the note says why.
 }
 
+bool Orange(const Rgb& c) { return c.r == 255 && c.g == 140 && c.b == 40; }
+
+TEST(MatchPictureTest, FreeLimbsThePoseWasFittedWithoutAreOrange) {
+  // The block's left side (y > 0.08 m) marked as a free limb, and missing from the cluster: the
+  // robot holds it elsewhere.
+  Scene s = BlockScene(0.45, true);
+  VoxelTemplate& t = s.templates[0];
+  ASSERT_FALSE(t.surface.empty());
+  t.free_limb.clear();
+  for (const Eigen::Vector3f& p : t.surface) t.free_limb.push_back(p.y() > 0.08f);
+  std::vector<Eigen::Vector3f> kept;
+  for (const Eigen::Vector3f& p : s.cloud.points) {
+    if (p.y() <= 0.08f) kept.push_back(p);
+  }
+  s.cloud.points = kept;
+  const RgbImage fitted_with = Draw(s, "limbs_fitted");
+  s.estimate.detections[0].best.free_limbs_left_out = true;
+  const RgbImage left_out = Draw(s, "limbs_left_out");
+  ASSERT_EQ(left_out.width, 2 * kPanel);
+  ASSERT_EQ(fitted_with.width, 2 * kPanel);
+  EXPECT_EQ(CountRight(fitted_with, 0, kPanel, Orange), 0);
+  EXPECT_GT(CountRight(left_out, 80, kPanel, Orange), 100);  // the limb's voxels, both views.
+  // The line under the pose says what orange means (anti-aliased orange text).
+  const auto note = [](const Rgb& c) { return c.r > 150 && c.r > c.g + 40 && c.g > c.b + 40; };
+  EXPECT_GT(CountRight(left_out, 28, 46, note), 50);
+  EXPECT_EQ(CountRight(fitted_with, 28, 46, note), 0);
+}
+
 TEST(MatchPictureTest, TheCloseUpsAreScaledToTheTemplate) {
   // The side view (lower half, below its label) shows the whole body, large: a 0.45 m robot
   // over more than half the half's height, a 1.6 m one no less and not cut off at the top.
