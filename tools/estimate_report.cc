@@ -91,8 +91,7 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
       const double distance = std::hypot(c.pose.x, c.pose.y);
       os << " (best: " << c.template_name << " on cluster " << c.cluster_index << ", "
          << Fmt("%.1f", distance) << " m away, " << NearestMissReason(d, options) << ")\n";
-      const bool low_score = c.stopped_below_threshold || c.score < d.score_threshold;
-      if (low_score && distance >= 2.5) {
+      if (d.refused_by == Refusal::kScore && distance >= 2.5) {
         os << "          far humanoids score less (depth noise thickens them): when nothing "
               "passes, a cluster\n"
               "          2.5 m away or more passes from a lower score on strong evidence "

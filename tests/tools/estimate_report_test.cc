@@ -72,5 +72,14 @@ TEST(EstimateReportTest, EachRefusalNamesItsRule) {
   EXPECT_EQ(Why(stopped, o), "proved below score 50: at most 31.2)");
 }
 
+TEST(EstimateReportTest, AFarClusterRefusedByItsScoreGetsTheFarHint) {
+  const EstimatorOptions o;
+  const std::string hint = "far humanoids score less";
+  EXPECT_NE(EstimateToText(Miss(38.0, 90.0, 400, 40.0, Refusal::kScore), &o).find(hint),
+            std::string::npos);
+  EXPECT_EQ(EstimateToText(Miss(52.0, 41.5, 500, 50.0, Refusal::kFit), &o).find(hint),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace hpose::tools
