@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -15,9 +16,12 @@
 namespace hpose {
 namespace {
 
+// A fresh, empty directory: one left by an earlier process of the same pid (its frames listed
+// with these) is removed first.
 std::string TempDir(const std::string& name) {
   const std::string dir =
       testing::TempDir() + "/stereo_seq_" + std::to_string(::getpid()) + "_" + name;
+  std::filesystem::remove_all(dir);
   mkdir(dir.c_str(), 0755);
   return dir;
 }
