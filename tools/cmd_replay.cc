@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -37,7 +38,18 @@ namespace {
 const char kCsvHeader[] =
     "sequence,source_time_s,origin,ok,error,clusters,template,is_humanoid,x_m,y_m,theta_rad,"
     "score,template_margin,has_runner_up,runner_up_theta_rad,runner_up_score,floor_height_m,"
-    "total_s\n";
+    "total_s,refused_by\n";
+
+// The rule that refused the best detection as the humanoid, in lower case ("fit", "score", ...);
+// empty for a humanoid.
+std::string RefusalWord(v1::Refusal r) {
+  if (r == v1::REFUSAL_NONE) return "";
+  std::string name = v1::Refusal_Name(r);
+  name.erase(0, std::string("REFUSAL_").size());
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return name;
+}
 
 std::string CsvField(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
@@ -58,13 +70,14 @@ std::string CsvRow(const v1::PoseEstimate& e) {
   if (ok && r.detections_size() > 0) {
     const v1::Detection& d = r.best();
     const v1::Candidate& c = d.best();
-    std::snprintf(buf, sizeof(buf), "%s,%d,%.6f,%.6f,%.6f,%.3f,%.3f,%d,%.6f,%.3f,%.6f,%.6f",
+    std::snprintf(buf, sizeof(buf), "%s,%d,%.6f,%.6f,%.6f,%.3f,%.3f,%d,%.6f,%.3f,%.6f,%.6f,%s",
                   CsvField(c.template_name()).c_str(), d.is_humanoid() ? 1 : 0, c.pose().x(),
                   c.pose().y(), c.pose().theta(), c.score(), d.template_margin(),
                   c.has_runner_up() ? 1 : 0, c.runner_up_pose().theta(), c.runner_up_score(),
-                  r.floor().height(), e.timings().total());
+                  r.floor().height(), e.timings().total(),
+                  RefusalWord(d.is_humanoid() ? v1::REFUSAL_NONE : d.refused_by()).c_str());
   } else {
-    std::snprintf(buf, sizeof(buf), ",0,,,,,,0,,,%s,%.6f",
+    std::snprintf(buf, sizeof(buf), ",0,,,,,,0,,,%s,%.6f,",
                   ok ? std::to_string(r.floor().height()).c_str() : "", e.timings().total());
   }
   return row + buf + "\n";

@@ -17,7 +17,10 @@ FlagParser ReplayFlags::Parser() {
       "humanoid template: a .bt file or a shipped template's name (default: the shipped templates)",
       "FILE.bt");
   flags.AddString("out", &out_path, "output file (default: standard output)", "FILE");
-  flags.AddString("format", &format, "jsonl or csv (default: from --out's extension, else jsonl)",
+  flags.AddString("format", &format,
+                  "jsonl (every field of each estimate) or csv (a row a frame: the best "
+                  "detection's template, pose, score and, when it is no humanoid, refused_by: the "
+                  "rule that refused it); default: from --out's extension, else jsonl",
                   "FMT");
   flags.AddString("config", &config_path, "hposed YAML config for search and floor settings",
                   "FILE");

@@ -304,14 +304,18 @@ TEST_F(EstimateCliTest, ReplayFromAnInitialPoseFindsAFarRobot) {
     std::istringstream lines(run.out);
     std::string line;
     std::getline(lines, line);  // the header.
-    int rows = 0, humanoids = 0;
+    EXPECT_EQ(line.substr(line.rfind(',') + 1), "refused_by");
+    int rows = 0, humanoids = 0, refused_by_score = 0;
     while (std::getline(lines, line)) {
       ++rows;
       humanoids += line.find(",standing,1,") != std::string::npos ||
                    line.find(",right_arm_raised,1,") != std::string::npos;
+      // The last column: empty for a humanoid, else the rule (one score threshold: the score).
+      refused_by_score += line.substr(line.rfind(',') + 1) == "score";
     }
     EXPECT_EQ(rows, 3) << run.out;
     EXPECT_EQ(humanoids, given ? 3 : 0) << run.out;
+    EXPECT_EQ(refused_by_score, given ? 0 : 3) << run.out;
   }
   const CliRun bad = RunHpose(replay + " --initial-pose 3.5,0", *dir_);
   EXPECT_EQ(bad.exit_code, 2);
