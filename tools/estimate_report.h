@@ -13,14 +13,15 @@ struct EstimatorOptions;
 namespace hpose::tools {
 
 // A few lines for people: the floor, the humanoid(s) with pose in m and degrees, the runner-up,
-// the other candidates and the stage timings. With the estimator's options, a frame without a
-// humanoid also says which of them refused the nearest miss.
+// the other candidates and the stage timings. A frame without a humanoid says which rule refused
+// the nearest miss (NearestMissReason; the thresholds' values given with the estimator's options).
 std::string EstimateToText(const Estimate& estimate, const EstimatorOptions* options = nullptr);
 
-// Why a detection that is not a humanoid was refused: its score against the threshold, or
-// which rule after the refinement (fit, evidence, the far clusters' evidence) with the option
-// that sets it, e.g. "score 52.0 but a refined fit of 41.5, below the fit threshold: --min-fit".
-// Without the options the fit is blamed when the score passed.
+// Why a detection that is not a humanoid was refused (Detection::refused_by) in words: its score
+// against the threshold, or which rule after the refinement (fit, evidence, the far clusters'
+// evidence, the coverage off the floor) with the option that sets it, e.g. "score 52.0 but a
+// refined fit of 41.5, below the fit threshold 60: --min-fit". Without the options the
+// thresholds' values are left out.
 std::string NearestMissReason(const Detection& detection,
                               const EstimatorOptions* options = nullptr);
 
