@@ -97,15 +97,20 @@ class WebViewTest(unittest.TestCase):
         # The browser first: it can take seconds to start on a busy machine, and the page must
         # see the recording play.
         self.driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+        self.frames = frames
+        self.proc = None
+
+    def start_daemon(self, *args):
+        """hposed serving the recording with the shipped templates; `args` are further flags."""
         templates = os.path.join(SOURCE_DIR, "templates")
         self.proc, self.grpc, self.http = start_daemon_with_http(HPOSED, [
-            "--source", frames, "--fps", "1",
+            "--source", self.frames,
             "--template", os.path.join(templates, "standing.bt"),
-            "--template", os.path.join(templates, "right_arm_raised.bt")])
+            "--template", os.path.join(templates, "right_arm_raised.bt")] + list(args))
 
     def tearDown(self):
         self.driver.quit()
-        if self.proc.poll() is None:
+        if self.proc is not None and self.proc.poll() is None:
             self.proc.kill()
             self.proc.wait()
         self.tmp.cleanup()
@@ -130,7 +135,26 @@ class WebViewTest(unittest.TestCase):
         except ValueError:
             return None
 
+    def wait_until_settled(self):
+        """Until the recording finished and every frame read was published or dropped: under the
+        sanitizers the last frames are still being estimated when the source reports FINISHED,
+        and the latest estimate then changes while the page is read."""
+        def settled():
+            if get_json(self.http + "/api/status")["source"]["state"] != "SOURCE_STATE_FINISHED":
+                return False
+            with urllib.request.urlopen(self.http + "/metrics", timeout=10) as reply:
+                text = reply.read().decode()
+            count = {}
+            for name in ("received", "estimated", "dropped", "failed"):
+                found = re.search(r'^hposed_frames_%s_total\{source="depth"\} (\d+)$' % name,
+                                  text, re.MULTILINE)
+                count[name] = int(found.group(1)) if found else -1
+            return count["received"] == 12 and (
+                count["estimated"] + count["dropped"] + count["failed"] >= count["received"])
+        self.wait_for("every frame read to be estimated or dropped", settled, 120)
+
     def test_live_view(self):
+        self.start_daemon("--fps", "1")
         self.driver.get(self.http + "/")
         self.wait_for("the page to connect", lambda: self.text("conn") == "live", 60)
 
@@ -155,20 +179,7 @@ class WebViewTest(unittest.TestCase):
         self.assertGreaterEqual(len(thetas), 2, "the heading shown never changed: %s" % thetas)
         self.assertGreater(max(thetas) - min(thetas), 20.0, sorted(thetas))
 
-        # Finished reading is not finished estimating: under the sanitizers the last frames are
-        # still being estimated when the source reports FINISHED, and the latest estimate then
-        # changes while the page is read. Wait until every frame read was published or dropped.
-        def settled():
-            with urllib.request.urlopen(self.http + "/metrics", timeout=10) as reply:
-                text = reply.read().decode()
-            count = {}
-            for name in ("received", "estimated", "dropped", "failed"):
-                found = re.search(r'^hposed_frames_%s_total\{source="depth"\} (\d+)$' % name,
-                                  text, re.MULTILINE)
-                count[name] = int(found.group(1)) if found else -1
-            return count["received"] == 12 and (
-                count["estimated"] + count["dropped"] + count["failed"] >= count["received"])
-        self.wait_for("every frame read to be estimated or dropped", settled, 120)
+        self.wait_until_settled()
 
         # Finished: the last estimate stays; page, web JSON and GetLatest must agree on it.
         latest = grpc_latest(self.grpc)
@@ -182,6 +193,8 @@ class WebViewTest(unittest.TestCase):
         self.assertAlmostEqual(theta, math.degrees(best["pose"]["theta"]), delta=0.05 + 1e-9)
         self.assertEqual(self.text("template"), best["template_name"])
         self.assertEqual(self.text("score"), "%.1f" % best["score"])
+        self.assertEqual(self.text("found"), "yes")
+        self.assertEqual(self.text("fit"), "%.1f" % best["fit"]["fit"])
         web = get_json(self.http + "/api/latest")["estimate"]
         self.assertEqual(differences(web, latest), [])
 
@@ -204,6 +217,29 @@ class WebViewTest(unittest.TestCase):
         self.proc.wait(timeout=30)
         self.wait_for("the page to show the daemon disconnected",
                       lambda: self.text("conn") == "disconnected", 15)
+
+    def test_refusal_shown(self):
+        # Asked for more evidence than one view of a robot holds (it sees under half of the
+        # template), the robot is refused: the page must say why, with its fit, not a bare "no".
+        config = os.path.join(self.tmp.name, "strict.yaml")
+        with open(config, "w") as f:
+            f.write("search:\n  min_humanoid_evidence: 0.9\n")
+        self.start_daemon("--fps", "10", "--config", config)
+        self.driver.get(self.http + "/")
+        self.wait_for("the page to connect", lambda: self.text("conn") == "live", 60)
+        self.wait_until_settled()
+        latest = grpc_latest(self.grpc)
+        self.assertFalse(latest["depth_template"].get("humanoid_found", False))
+        detection = latest["depth_template"]["best"]
+        self.assertEqual(detection["refused_by"], "REFUSAL_EVIDENCE")
+        fit = "%.1f" % detection["best"]["fit"]["fit"]
+        self.wait_for("the page to show the last frame",
+                      lambda: self.text("sequence") == str(latest["sequence"]), 10)
+        self.assertEqual(self.text("found"),
+                         "no: fit %s, too little evidence: search.min_humanoid_evidence" % fit)
+        self.assertEqual(self.text("fit"), fit)
+        errors = [e for e in self.driver.get_log("browser") if e["level"] == "SEVERE"]
+        self.assertEqual(errors, [])
 
 
 if __name__ == "__main__":
