@@ -140,7 +140,9 @@ Status HumanoidJoints::Validate() const {
   return Status::Ok();
 }
 
-std::vector<std::string> HumanoidJoints::PresetNames() { return {"standing", "right_arm_raised"}; }
+std::vector<std::string> HumanoidJoints::PresetNames() {
+  return {"standing", "right_arm_raised", "arms_swung"};
+}
 
 Result<HumanoidJoints> HumanoidJoints::Preset(const std::string& name) {
   HumanoidJoints j;
@@ -151,6 +153,12 @@ Result<HumanoidJoints> HumanoidJoints::Preset(const std::string& name) {
   if (name == "right_arm_raised") {
     // Forward and up, 30 degrees short of vertical.
     j.right_shoulder_pitch_rad = DegToRad(150.0);
+    return j;
+  }
+  if (name == "arms_swung") {
+    // A walking robot's arms, the left forward and the right back.
+    j.left_shoulder_pitch_rad = 0.4;
+    j.right_shoulder_pitch_rad = -0.4;
     return j;
   }
   std::string known;
@@ -260,7 +268,25 @@ HumanoidModel::HumanoidModel(const HumanoidDimensions& dimensions, const Humanoi
   }
 }
 
+bool HumanoidModel::IsFreeLimb(const std::string& name) {
+  const auto ends_with = [&](const std::string& suffix) {
+    return name.size() >= suffix.size() &&
+           name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  return ends_with("upper_arm") || ends_with("forearm") || name == "neck" || name == "head" ||
+         name == "ears";
+}
+
 Result<std::vector<Eigen::Vector3f>> HumanoidModel::SampleSurface(double spacing_m) const {
+  return Sample(spacing_m, false);
+}
+
+Result<std::vector<Eigen::Vector3f>> HumanoidModel::SampleFreeLimbSurface(double spacing_m) const {
+  return Sample(spacing_m, true);
+}
+
+Result<std::vector<Eigen::Vector3f>> HumanoidModel::Sample(double spacing_m,
+                                                           bool free_limbs_only) const {
   if (!std::isfinite(spacing_m) || spacing_m < 0.0005 || spacing_m > 0.1) {
     return MakeError(
         ErrorCode::kInvalidArgument,
@@ -270,6 +296,7 @@ Result<std::vector<Eigen::Vector3f>> HumanoidModel::SampleSurface(double spacing
   const double margin = std::min(0.001, 0.25 * spacing_m);
   std::vector<Eigen::Vector3f> out;
   for (size_t i = 0; i < primitives_.size(); ++i) {
+    if (free_limbs_only && !IsFreeLimb(primitives_[i].name)) continue;
     for (const Eigen::Vector3d& p : primitives_[i].SampleSurface(spacing_m)) {
       bool hidden = false;
       for (size_t k = 0; k < primitives_.size() && !hidden; ++k) {

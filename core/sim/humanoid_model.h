@@ -92,9 +92,10 @@ struct HumanoidJoints {
   double left_ankle_pitch_rad = 0.0;
   double right_ankle_pitch_rad = 0.0;
 
-  // Named presets: "standing" (arms hanging slightly away from the body, symmetric) and
+  // Named presets: "standing" (arms hanging slightly away from the body, symmetric),
   // "right_arm_raised" (the right arm raised forward and up, so the robot is not left/right
-  // symmetric). kInvalidArgument for another name, listing the known ones.
+  // symmetric) and "arms_swung" (as standing, the arms swung 0.4 rad forward and back against
+  // each other, as when walking). kInvalidArgument for another name, listing the known ones.
   static Result<HumanoidJoints> Preset(const std::string& name);
   static std::vector<std::string> PresetNames();
 
@@ -128,9 +129,18 @@ class HumanoidModel final {
   // Points hidden inside another primitive (where limbs join the torso) are left out.
   // Fails (kInvalidArgument) unless 0.5 mm <= spacing_m <= 0.1 m.
   Result<std::vector<Eigen::Vector3f>> SampleSurface(double spacing_m) const;
+  // The points of SampleSurface that lie on free limbs (IsFreeLimb). Fails as SampleSurface.
+  Result<std::vector<Eigen::Vector3f>> SampleFreeLimbSurface(double spacing_m) const;
+
+  // Whether the primitive named `name` is on a free limb: a limb that does not reach the floor
+  // and that a standing robot may hold otherwise than its template (the arms, the neck and the
+  // head with its ears; not the torso, its pack or the legs). VoxelTemplate::free_limb.
+  static bool IsFreeLimb(const std::string& name);
 
  private:
   HumanoidModel(const HumanoidDimensions& dimensions, const HumanoidJoints& joints);
+  // SampleSurface's points, of the free limbs only when `free_limbs_only`.
+  Result<std::vector<Eigen::Vector3f>> Sample(double spacing_m, bool free_limbs_only) const;
 
   HumanoidDimensions dimensions_;
   HumanoidJoints joints_;

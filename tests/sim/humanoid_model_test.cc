@@ -137,6 +137,48 @@ TEST(HumanoidModelTest, RightArmRaisedIsAsymmetric) {
   EXPECT_LT(NearOverlap(mirrored, cells), 0.95);
 }
 
+TEST(HumanoidModelTest, ArmsSwungSwingOneArmForwardAndTheOtherBack) {
+  const Result<HumanoidModel> model = HumanoidModel::FromPreset("arms_swung");
+  const Result<HumanoidModel> standing = HumanoidModel::FromPreset("standing");
+  ASSERT_TRUE(model.ok() && standing.ok());
+  const Primitive* left = Find(*model, "left_forearm");
+  const Primitive* right = Find(*model, "right_forearm");
+  const Primitive* hanging = Find(*standing, "left_forearm");
+  ASSERT_TRUE(left && right && hanging);
+  // Hands about 0.4 rad x the arm's 0.2 m reach ahead of and behind where they hang.
+  EXPECT_GT(left->Bounds().center().x(), hanging->Bounds().center().x() + 0.05);
+  EXPECT_LT(right->Bounds().center().x(), hanging->Bounds().center().x() - 0.05);
+  EXPECT_NEAR(model->Height(), standing->Height(), 1e-9);  // the legs are as standing.
+}
+
+// The free limbs are the arms, neck and head: points of the surface, none on the legs or feet.
+TEST(HumanoidModelTest, FreeLimbSurfaceIsTheArmsNeckAndHead) {
+  for (const char* name : {"left_upper_arm", "right_forearm", "neck", "head", "ears"}) {
+    EXPECT_TRUE(HumanoidModel::IsFreeLimb(name)) << name;
+  }
+  for (const char* name : {"torso", "battery_pack", "left_thigh", "right_shank", "left_foot"}) {
+    EXPECT_FALSE(HumanoidModel::IsFreeLimb(name)) << name;
+  }
+  const Result<HumanoidModel> model = HumanoidModel::FromPreset("standing");
+  ASSERT_TRUE(model.ok());
+  const auto all = model->SampleSurface(0.004);
+  const auto limbs = model->SampleFreeLimbSurface(0.004);
+  ASSERT_TRUE(all.ok() && limbs.ok());
+  ASSERT_GT(limbs->size(), all->size() / 5);
+  ASSERT_LT(limbs->size(), all->size() / 2);
+  const auto key = [](const Eigen::Vector3f& p) { return std::make_tuple(p.x(), p.y(), p.z()); };
+  std::set<std::tuple<float, float, float>> surface;
+  for (const Eigen::Vector3f& p : *all) surface.insert(key(p));
+  const Primitive* hip = Find(*model, "left_thigh");
+  ASSERT_NE(hip, nullptr);
+  for (const Eigen::Vector3f& p : *limbs) {
+    ASSERT_TRUE(surface.count(key(p))) << p.transpose();
+    // The hands hang at mid-thigh; nothing lower than that is a free limb.
+    EXPECT_GT(p.z(), hip->Bounds().min().z()) << p.transpose();
+  }
+  EXPECT_FALSE(model->SampleFreeLimbSurface(0.0).ok());
+}
+
 TEST(HumanoidModelTest, SurfaceSamplesAreOnTheOuterSurface) {
   const Result<HumanoidModel> model = HumanoidModel::FromPreset("standing");
   ASSERT_TRUE(model.ok());
