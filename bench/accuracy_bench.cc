@@ -167,6 +167,11 @@ std::vector<Variant> AllVariants() {
   fits_only.heading_views.enabled = false;
   out.push_back({"fits-only", fits_only, true});
   out.push_back({"default", DefaultEstimatorOptions(), true});
+  // No second fit without the templates' free limbs (before the parametric templates marked
+  // them, the parametric bodies' poses were these).
+  EstimatorOptions no_limb_refit = DefaultEstimatorOptions();
+  no_limb_refit.refine.refit_without_moved_limbs = false;
+  out.push_back({"no-limb-refit", no_limb_refit, true});
   // The depth images' comparison with a shorter settle (5 rounds of the pattern search).
   EstimatorOptions quick_views = DefaultEstimatorOptions();
   quick_views.heading_views.settle_by_gauss_newton = false;

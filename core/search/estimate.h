@@ -33,8 +33,12 @@ struct Candidate {
   // voxels; EstimatorOptions::height_offset_voxels): 0 unless nothing passed on the floor.
   double height_offset_m = 0.0;
   bool refined = false;  // `pose` comes from the continuous refinement of lattice_pose.
-  // `pose` was fitted without the template's free limbs, which the frame contradicted
-  // (RefineOptions::refit_without_moved_limbs): the robot holds its arms otherwise.
+  // The frame contradicted the template's free limbs where the whole template fitted, more than
+  // the rest of it (RefineOptions::refit_without_moved_limbs): the robot holds its arms
+  // otherwise. The candidate each cluster's detection takes is then fitted again without them.
+  bool free_limbs_moved = false;
+  // `pose` was fitted without the template's free limbs (free_limbs_moved; `fit` stays the
+  // whole template's where it fitted first).
   bool free_limbs_left_out = false;
   // Covariance of the refined (x, y, theta) (m^2, rad^2); zero when not refined.
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();

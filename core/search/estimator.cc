@@ -119,7 +119,7 @@ void RefineBest(const SurfaceModel& model, const Observation& obs, const RefineO
   cand->pose = best.pose;
   cand->refined = true;
   cand->covariance = best.covariance;
-  cand->free_limbs_left_out = best.free_limbs_left_out;
+  cand->free_limbs_moved = best.free_limbs_moved;
   cand->fit = Summarise(best.evidence);
 }
 
@@ -195,7 +195,7 @@ void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const Ref
     cand->pose = other.pose;
     cand->lattice_pose = other_lattice;
     cand->covariance = other.covariance;
-    cand->free_limbs_left_out = other.free_limbs_left_out;
+    cand->free_limbs_moved = other.free_limbs_moved;
     cand->fit = other_fit;
     cmp.log_likelihood_ratio = -cmp.log_likelihood_ratio;
     rescore(cand);
@@ -236,6 +236,16 @@ size_t PriorHeadingChoice(const std::vector<const Candidate*>& cands, double pri
 // Whether a candidate passes as a humanoid, and if not the first rule it fails: its search must
 // reach `threshold`, and when refined its fit min_humanoid_fit and, unless its cluster is the
 // held one (its hysteresis), its evidence min_humanoid_evidence.
+// The candidate of `candidates` on the same cluster with the same template as `c`, or null.
+Candidate* CandidateOf(std::vector<Candidate>* candidates, const Candidate& c) {
+  for (Candidate& other : *candidates) {
+    if (other.cluster_index == c.cluster_index && other.template_name == c.template_name) {
+      return &other;
+    }
+  }
+  return nullptr;
+}
+
 Refusal HumanoidRefusal(const Candidate& c, double threshold, bool held,
                         const EstimatorOptions& o) {
   if (c.stopped_below_threshold || !(c.score >= threshold)) return Refusal::kScore;
@@ -1035,6 +1045,36 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   }
   est.detections = ChooseTemplates(est.candidates, thresholds, far, prior_theta, held_cluster,
                                    height_offset_m != 0.0, options_);
+  // A humanoid's candidate whose free limbs moved is fitted again without them from its lattice
+  // pose. Only its pose moves: its fit stays the whole template's, so which clusters pass and
+  // which templates and headings were taken stay as chosen; candidates not taken, and clusters
+  // refused, are left as they are (their refits would change no pose reported as a humanoid's).
+  for (Detection& d : est.detections) {
+    if (!d.is_humanoid || !d.best.refined || !d.best.free_limbs_moved) continue;
+    for (const Task& task : tasks) {
+      if (!task.kept || task.cluster != d.best.cluster_index ||
+          rotations_[task.tpl]->name() != d.best.template_name) {
+        continue;
+      }
+      const Clock::time_point t_refine = Clock::now();
+      const Cluster& c = (*clusters)[task.cluster];
+      const ClusterWork& w = work[task.cluster];
+      const PreparedCluster* prepared = w.prepared ? &*w.prepared : nullptr;
+      const RefinedPose again = RefineWithoutFreeLimbs(
+          *surfaces_[task.tpl], Observation{&c.points, &range, sensor_from_ground, prepared},
+          d.best.lattice_pose, options_.refine);
+      const double ms = MsSince(t_refine);
+      for (Candidate* cand : {&d.best, CandidateOf(&est.candidates, d.best)}) {
+        if (cand == nullptr) continue;
+        cand->pose = again.pose;
+        cand->covariance = again.covariance;
+        cand->free_limbs_left_out = again.free_limbs_left_out;
+        cand->refine_ms += ms;
+      }
+      est.timings.refine_ms += ms;
+      break;
+    }
+  }
 }
 
 Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,

@@ -132,49 +132,34 @@ RefinedPose RefineOnSurface(const SurfaceModel& model, const Observation& obs, c
   return out;
 }
 
-// The model side of `all` (the whole template's evidence) without what `limbs` (its free limbs'
-// own, at the same pose) counts: the template points the frame judges, the limbs left out. The
-// data side and the cost stay the whole's.
-PoseEvidence WithoutLimbsJudged(PoseEvidence all, const PoseEvidence& limbs) {
-  all.model_visible = std::max(0, all.model_visible - limbs.model_visible);
-  all.model_seen = std::max(0, all.model_seen - limbs.model_seen);
-  all.model_free = std::max(0, all.model_free - limbs.model_free);
-  all.model_no_return = std::max(0, all.model_no_return - limbs.model_no_return);
-  all.model_occluded = std::max(0, all.model_occluded - limbs.model_occluded);
-  return all;
-}
-
 }  // namespace
 
 RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const Pose2D& start,
                        const RefineOptions& o) {
   RefinedPose out = RefineOnSurface(model, obs, start, o);
-  const SurfaceModel* limbs = model.free_limbs();
-  if (!o.enabled || !o.refit_without_moved_limbs || limbs == nullptr) return out;
+  if (!o.enabled || !o.refit_without_moved_limbs || model.free_limb_marks().empty()) return out;
   // The free limbs where the whole fitted, against the rest of the template: a robot that holds
   // them as the template does has them confirmed as the rest (a robot lower than its template
-  // contradicts both alike).
-  const PoseEvidence seen = EvaluatePose(*limbs, obs, out.pose, o);
-  ++out.evaluations;
-  const PoseEvidence rest = WithoutLimbsJudged(out.evidence, seen);
-  const int judged = seen.model_seen + seen.model_free + seen.model_no_return;
-  const int rest_judged = rest.model_seen + rest.model_free + rest.model_no_return;
-  const double rest_contradicted = rest_judged > 0 ? rest.Contradicted() : 0.0;
-  if (judged < o.moved_limb_min_points ||
-      seen.Contradicted() <= rest_contradicted + o.moved_limb_contradicted) {
-    return out;
-  }
-  RefinedPose again = RefineOnSurface(*model.without_free_limbs(), obs, start, o);
-  // The evidence stays the first fit's: how well the whole template, limbs and all, explains the
-  // cluster where it fits best, so that whether the cluster passes as a humanoid and which
-  // template is taken stay as they were. At the new pose the limbs held otherwise would count
-  // against the robot (a Darwin-OP with its arms swung fitted 64 there instead of 79, and 6 of
-  // 23 such robots failed the gates), and without them the template explains less of the robot.
-  again.evidence = out.evidence;
-  again.iterations += out.iterations;
-  again.evaluations += out.evaluations;
-  again.free_limbs_left_out = true;
-  return again;
+  // contradicts both alike). The fit's own evidence counts them.
+  const PoseEvidence& e = out.evidence;
+  const int judged = e.limbs_seen + e.limbs_free + e.limbs_no_return;
+  const int contradicted = e.limbs_free + e.limbs_no_return;
+  const int rest_judged = e.model_seen + e.model_free + e.model_no_return - judged;
+  const int rest_contradicted = e.model_free + e.model_no_return - contradicted;
+  const double rest_share =
+      rest_judged > 0 ? static_cast<double>(rest_contradicted) / rest_judged : 0.0;
+  out.free_limbs_moved =
+      judged >= o.moved_limb_min_points &&
+      static_cast<double>(contradicted) / judged > rest_share + o.moved_limb_contradicted;
+  return out;
+}
+
+RefinedPose RefineWithoutFreeLimbs(const SurfaceModel& model, const Observation& obs,
+                                   const Pose2D& start, const RefineOptions& o) {
+  const SurfaceModel* rest = model.without_free_limbs();
+  RefinedPose out = RefineOnSurface(rest != nullptr ? *rest : model, obs, start, o);
+  out.free_limbs_left_out = rest != nullptr;
+  return out;
 }
 
 }  // namespace hpose

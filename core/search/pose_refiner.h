@@ -152,6 +152,11 @@ struct PoseEvidence {
   int model_free = 0;       // ... the sensor saw through.
   int model_no_return = 0;  // ... where the sensor got no return within its range.
   int model_occluded = 0;   // ... hidden behind something nearer.
+  // Of model_seen, model_free and model_no_return, the points on the template's free limbs
+  // (SurfaceModel::free_limb_marks; 0 without marks).
+  int limbs_seen = 0;
+  int limbs_free = 0;
+  int limbs_no_return = 0;
   // Robust negative log-likelihood of the observation under the pose (nats): Cauchy on the
   // cluster points' normalised distances (unexplained points cost as at the association gate),
   // Huber on seen-through template points, a fixed cost per template point without a return.
@@ -175,8 +180,10 @@ struct RefinedPose {
   int evaluations = 0;  // of the objective: the start's and every trial step's.
   bool converged = false;
   bool at_basin_limit = false;  // it stopped at the max_shift_m / max_turn_rad bound.
-  // The pose was fitted without the template's free limbs, which the frame contradicted
-  // (RefineOptions::refit_without_moved_limbs).
+  // The frame contradicts the template's free limbs at `pose` more than the rest of it
+  // (RefineOptions::refit_without_moved_limbs): RefineWithoutFreeLimbs fits the robot better.
+  bool free_limbs_moved = false;
+  // The pose was fitted without the template's free limbs (RefineWithoutFreeLimbs).
   bool free_limbs_left_out = false;
   PoseEvidence evidence;  // at `pose`.
 };
@@ -198,8 +205,16 @@ struct Observation {
 // Kinect noise along the surface normal), and template points the sensor should see (from its
 // position, self-occlusion by a z-buffer) that it saw through (a one-sided cost). Never leaves
 // the basin bounds of the options. Returns `start` unchanged with its evidence when disabled.
+// With a template that marks free limbs, judges them at the refined pose (free_limbs_moved).
 RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const Pose2D& start,
                        const RefineOptions& options = {});
+
+// RefinePose from `start` on the template without its free limbs (free_limbs_left_out), for a
+// pose whose limbs moved: the robot holds them otherwise than the template. The evidence is the
+// caller's to keep: the whole template's where it fitted best decides whether the cluster passes
+// as a humanoid and which template is taken. `model` without free limbs is refined whole.
+RefinedPose RefineWithoutFreeLimbs(const SurfaceModel& model, const Observation& obs,
+                                   const Pose2D& start, const RefineOptions& options = {});
 
 // The evidence for `pose` without moving it.
 PoseEvidence EvaluatePose(const SurfaceModel& model, const Observation& obs, const Pose2D& pose,

@@ -119,6 +119,7 @@ Linearisation RefineObjective::Linearise(const Pose2D& pose, double stop_above) 
 
   // Visible template points against what the sensor saw along their rays.
   const RangeImage& range = *obs_.range;
+  const std::vector<std::uint8_t>& limbs = model_.free_limb_marks();
   constexpr size_t kAhead = 4;  // visible points whose template point is fetched ahead.
   for (size_t slot = 0; slot < visible_.size(); ++slot) {
     if (slot + kAhead < visible_.size()) {
@@ -133,7 +134,7 @@ Linearisation RefineObjective::Linearise(const Pose2D& pose, double stop_above) 
     const int i = v.index;
     refine_terms::AddViewTerm(range.NearestAroundRay(tx, ty, 1), v.z, c_, s_,
                               Eigen::Vector3d(projector_.mx(i), projector_.my(i), projector_.mz(i)),
-                              a_, options_, &lin);
+                              !limbs.empty() && limbs[i] != 0, a_, options_, &lin);
     if (ev.cost > stop_above) {
       lin.complete = false;
       return lin;

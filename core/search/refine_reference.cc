@@ -135,11 +135,13 @@ Linearisation LineariseReference(const SurfaceModel& model, const Observation& o
   }
 
   // Visible template points against what the sensor saw along their rays.
+  const std::vector<std::uint8_t>& limbs = model.free_limb_marks();
   for (int i : view.visible()) {
     const Eigen::Vector3d& ps = view.in_sensor(i);
     if (!obs.range->Covers(ps)) continue;
     refine_terms::AddViewTerm(obs.range->NearestAround(ps, 1), ps.z(), view.c(), view.s(),
-                              model.points()[i].cast<double>(), a, o, &lin);
+                              model.points()[i].cast<double>(), !limbs.empty() && limbs[i] != 0, a,
+                              o, &lin);
   }
   return lin;
 }

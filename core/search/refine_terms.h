@@ -134,14 +134,17 @@ inline void AddDataTerm(const DataPoint& d, const Pose2D& pose, const Eigen::Vec
 // return) around its ray: confirmed, hidden by something nearer, without a return (a fixed
 // cost), or seen through (a one-sided Huber cost on the excess depth that pulls it back behind
 // the surface). `m`: the template point (template frame), rotated by (c, s) = (cos, sin) of the
-// heading for the Jacobian; `a` as in AddDataTerm.
+// heading for the Jacobian; `a` as in AddDataTerm. `on_limb`: the point is on a free limb (it
+// is counted in the limbs_ counts too).
 inline void AddViewTerm(double seen, double zm, double c, double s, const Eigen::Vector3d& m,
-                        const Eigen::Matrix3d& a, const RefineOptions& o, Linearisation* lin) {
+                        bool on_limb, const Eigen::Matrix3d& a, const RefineOptions& o,
+                        Linearisation* lin) {
   PoseEvidence& ev = lin->evidence;
   ++ev.model_visible;
   if (seen <= 0.0) {
     if (zm > o.min_return_depth_m && zm < o.max_return_depth_m) {
       ++ev.model_no_return;
+      ev.limbs_no_return += on_limb;
       ev.cost += kNoReturnCost;
     }
     return;
@@ -155,9 +158,11 @@ inline void AddViewTerm(double seen, double zm, double c, double s, const Eigen:
   }
   if (r <= o.free_sigmas * sigma) {
     ++ev.model_seen;
+    ev.limbs_seen += on_limb;
     return;
   }
   ++ev.model_free;
+  ev.limbs_free += on_limb;
   const double excess = r - o.free_sigmas * sigma;
   const double w = excess < sigma ? 1.0 / (sigma * sigma) : 1.0 / (sigma * excess);
   ev.cost += excess < sigma ? 0.5 * excess * excess / (sigma * sigma) : excess / sigma - 0.5;

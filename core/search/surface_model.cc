@@ -120,8 +120,8 @@ SurfaceModel::SurfaceModel(const VoxelTemplate& tpl, double spacing_m)
   }
   const size_t marked = static_cast<size_t>(std::count(marks.begin(), marks.end(), 1));
   if (marked == 0 || marked == marks.size()) return;
-  free_limbs_.reset(new SurfaceModel(*this, marks, 1));
   without_free_limbs_.reset(new SurfaceModel(*this, marks, 0));
+  free_limb_marks_ = std::move(marks);
 }
 
 SurfaceModel::SurfaceModel(const SurfaceModel& full, const std::vector<std::uint8_t>& marks,

@@ -36,10 +36,11 @@ class SurfaceModel {
   const Eigen::Vector3d& box_lo() const { return box_lo_; }
   const Eigen::Vector3d& box_hi() const { return box_hi_; }
 
-  // The points on the template's free limbs (VoxelTemplate::free_limb) and the others, each as a
-  // surface of its own (the same points and normals); null when the template marks none.
-  const SurfaceModel* free_limbs() const { return free_limbs_.get(); }
+  // The points off the template's free limbs (VoxelTemplate::free_limb) as a surface of their
+  // own (the same points and normals); null when the template marks none.
   const SurfaceModel* without_free_limbs() const { return without_free_limbs_.get(); }
+  // Per point of `points`, 1 on a free limb; empty when the template marks none.
+  const std::vector<std::uint8_t>& free_limb_marks() const { return free_limb_marks_; }
 
  private:
   // The points of `full` whose mark equals `keep`.
@@ -53,7 +54,8 @@ class SurfaceModel {
   std::vector<float> xs_, ys_, zs_;
   Eigen::Vector3d box_lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d box_hi_ = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
-  std::shared_ptr<const SurfaceModel> free_limbs_, without_free_limbs_;
+  std::shared_ptr<const SurfaceModel> without_free_limbs_;
+  std::vector<std::uint8_t> free_limb_marks_;
 };
 
 }  // namespace hpose

@@ -14,6 +14,7 @@
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
 #include "core/sim/humanoid_model.h"
+#include "core/sim/humanoid_template.h"
 #include "core/sim/mesh_bvh.h"
 #include "core/sim/triangle_mesh.h"
 #include "core/templates/voxel_template.h"
@@ -24,17 +25,10 @@ namespace {
 constexpr double kEdge = 0.016;
 
 // The parametric humanoid's template of `preset` with its arms, neck and head marked as free
-// limbs (as `template from-urdf` marks a URDF robot's).
+// limbs (as `template generate` and `template from-urdf` mark them).
 VoxelTemplate MarkedTemplate(const std::string& preset) {
   const HumanoidModel model = *HumanoidModel::FromPreset(preset);
-  VoxelTemplate tpl = *MakeTemplateFromPoints(*model.SampleSurface(0.004), preset, kEdge, preset);
-  std::vector<Eigen::Vector3f> limbs;
-  for (const Primitive& p : model.primitives()) {
-    if (p.name.find("arm") == std::string::npos && p.name != "neck" && p.name != "head") continue;
-    for (const Eigen::Vector3d& q : p.SampleSurface(0.004)) limbs.push_back(q.cast<float>());
-  }
-  tpl.free_limb = MarkSurfaceCells(tpl.surface, limbs, tpl.SurfaceCellM());
-  return tpl;
+  return *MakeHumanoidTemplate(model, preset, kEdge, preset);
 }
 
 std::unique_ptr<Estimator> MakeEstimator(const std::vector<VoxelTemplate>& templates, bool refit) {
@@ -85,6 +79,36 @@ TEST(FreeLimbRefitTest, ARobotInTheTemplatesOwnPostureKeepsTheOneFit) {
   }
 }
 
+// With a template of each posture, the one whose arms the robot does not hold contradicts the
+// frame there (free_limbs_moved) but is not taken, and is not fitted again: every pose stays the
+// one fit's, and the time of a second fit is spent only where a humanoid's pose needs it.
+TEST(FreeLimbRefitTest, OnlyTheCandidateAHumanoidTakesIsFittedAgain) {
+  const std::vector<VoxelTemplate> both = {MarkedTemplate("standing"),
+                                           MarkedTemplate("right_arm_raised")};
+  const auto refit = MakeEstimator(both, true);
+  const auto once = MakeEstimator(both, false);
+  const Intrinsics intrinsics = FrameSpec().intrinsics;
+  int moved_not_taken = 0;
+  for (size_t k = 0; k < kPoses.size(); ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    const SimulatedFrame frame = *SimulateFrame(Spec(kPoses[k], 40 + k));
+    const Estimate a = *refit->EstimateDepth(frame.depth, intrinsics);
+    const Estimate b = *once->EstimateDepth(frame.depth, intrinsics);
+    ASSERT_EQ(a.Humanoids().size(), 1u);
+    EXPECT_EQ(a.Humanoids().front().best.template_name, "standing");
+    ASSERT_EQ(a.candidates.size(), b.candidates.size());
+    for (size_t i = 0; i < a.candidates.size(); ++i) {
+      const Candidate& c = a.candidates[i];
+      EXPECT_FALSE(c.free_limbs_left_out) << c.template_name;
+      EXPECT_EQ(c.pose.theta, b.candidates[i].pose.theta) << c.template_name;
+      EXPECT_FALSE(b.candidates[i].free_limbs_moved);  // not judged without the refit.
+      moved_not_taken += c.free_limbs_moved && c.template_name == "right_arm_raised";
+    }
+  }
+  // The raised arm of the other template lies where the robot's hangs (seen through).
+  EXPECT_GE(moved_not_taken, 2);
+}
+
 TEST(FreeLimbRefitTest, ARaisedArmTheTemplateHasNotIsLeftOutOfTheFit) {
   // The robot raises its right arm; the only template stands with both arms down. The arm lies
   // off the template's, so the whole is fitted again without the arms and head.
@@ -107,6 +131,13 @@ TEST(FreeLimbRefitTest, ARaisedArmTheTemplateHasNotIsLeftOutOfTheFit) {
     const Candidate& cb = b.Humanoids().front().best;
     EXPECT_FALSE(cb.free_limbs_left_out);
     left_out += ca.free_limbs_left_out;
+    EXPECT_EQ(ca.free_limbs_left_out, ca.free_limbs_moved);
+    // The estimate's list of candidates holds the same pose as the detection.
+    for (const Candidate& c : a.candidates) {
+      if (c.cluster_index != ca.cluster_index || c.template_name != ca.template_name) continue;
+      EXPECT_EQ(c.pose.theta, ca.pose.theta);
+      EXPECT_EQ(c.free_limbs_left_out, ca.free_limbs_left_out);
+    }
     EXPECT_EQ(ca.fit.fit, cb.fit.fit);
     EXPECT_LT(HeadingErrorDeg(ca, kPoses[k]), 1.0);
     EXPECT_LE(HeadingErrorDeg(ca, kPoses[k]), HeadingErrorDeg(cb, kPoses[k]) + 0.1);

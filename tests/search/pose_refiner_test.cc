@@ -25,13 +25,15 @@
 #include "core/search/surface_model.h"
 #include "core/sim/frame_simulator.h"
 #include "core/sim/humanoid_model.h"
+#include "core/sim/humanoid_template.h"
 
 namespace hpose {
 namespace {
 
+// The parametric humanoid's template with its free limbs marked (as `template generate` makes).
 VoxelTemplate ModelTemplate(const std::string& preset) {
   const HumanoidModel model = *HumanoidModel::FromPreset(preset);
-  return *MakeTemplateFromPoints(*model.SampleSurface(0.004), preset, 0.016, preset, "test");
+  return *MakeHumanoidTemplate(model, preset, 0.016, preset, "test");
 }
 
 // One simulated frame, cut into what the refinement reads: the humanoid's cluster points, the
@@ -500,6 +502,9 @@ void ExpectSameLinearisation(const Linearisation& fast, const Linearisation& ref
   EXPECT_EQ(fast.evidence.model_free, ref.evidence.model_free) << where;
   EXPECT_EQ(fast.evidence.model_no_return, ref.evidence.model_no_return) << where;
   EXPECT_EQ(fast.evidence.model_occluded, ref.evidence.model_occluded) << where;
+  EXPECT_EQ(fast.evidence.limbs_seen, ref.evidence.limbs_seen) << where;
+  EXPECT_EQ(fast.evidence.limbs_free, ref.evidence.limbs_free) << where;
+  EXPECT_EQ(fast.evidence.limbs_no_return, ref.evidence.limbs_no_return) << where;
   ExpectClose(fast.evidence.cost, ref.evidence.cost, 1e-12, where + " cost");
   const double h_scale = ref.h.cwiseAbs().maxCoeff();
   const double g_scale = ref.g.cwiseAbs().maxCoeff();
@@ -524,8 +529,10 @@ TEST(PoseRefinerTest, PreparedObjectiveEqualsTheReference) {
       {"right_arm_raised", {1.6, 0.2, DegToRad(170.0)}, 0.9, 20.0},
   };
   int compared = 0;
+  int limbs_judged = 0;
   for (const Case& c : cases) {
     const SurfaceModel model(ModelTemplate(c.preset));
+    ASSERT_FALSE(model.free_limb_marks().empty());
     const Scene s = MakeScene(c.truth, /*noise=*/true, /*seed=*/11, c.preset, c.height,
                               DegToRad(c.pitch_deg), /*clutter=*/3);
     ASSERT_GT(s.humanoid.points.size(), 100u) << c.preset;
@@ -544,8 +551,9 @@ TEST(PoseRefinerTest, PreparedObjectiveEqualsTheReference) {
     for (const Pose2D& pose : poses) {
       const std::string where = c.preset + " at (" + std::to_string(pose.x) + ", " +
                                 std::to_string(pose.y) + ", " + std::to_string(pose.theta) + ")";
-      ExpectSameLinearisation(objective.Linearise(pose),
-                              LineariseReference(model, obs, pose, options), where);
+      const Linearisation fast = objective.Linearise(pose);
+      ExpectSameLinearisation(fast, LineariseReference(model, obs, pose, options), where);
+      limbs_judged += fast.evidence.limbs_seen + fast.evidence.limbs_free;
       ++compared;
     }
     // The stride over many cluster points, a coarser surface, and association by distance in
@@ -563,6 +571,7 @@ TEST(PoseRefinerTest, PreparedObjectiveEqualsTheReference) {
     }
   }
   EXPECT_EQ(compared, 48);
+  EXPECT_GT(limbs_judged, 1000);  // the arms and head were judged, and alike.
 }
 
 // The cluster's side prepared once and shared (as the estimator shares it among the templates of
