@@ -6,6 +6,7 @@
 #include "core/robot/joint_sets.h"
 #include "core/robot/urdf_robot.h"
 #include "core/sim/humanoid_model.h"
+#include "core/sim/humanoid_template.h"
 #include "core/sim/triangle_mesh.h"
 
 namespace hpose::bench {
@@ -19,9 +20,8 @@ Body ParametricBody(const std::string& variant) {
   const HumanoidDimensions dims = HumanoidDimensions::Variant(variant).value();
   for (const char* shape : kShapes) {
     const HumanoidModel model = HumanoidModel::FromPreset(shape, dims).value();
-    b.templates.push_back(MakeTemplateFromPoints(model.SampleSurface(0.004).value(), shape, 0.016,
-                                                 shape, "bench " + variant)
-                              .value());
+    b.templates.push_back(
+        MakeHumanoidTemplate(model, shape, 0.016, shape, "bench " + variant).value());
   }
   return b;
 }

@@ -14,6 +14,7 @@
 #include "core/scoring/free_space.h"
 #include "core/search/vector_paths.h"
 #include "core/sim/humanoid_model.h"
+#include "core/sim/humanoid_template.h"
 #include "core/templates/template_io.h"
 
 namespace hpose::bench {
@@ -35,9 +36,7 @@ Result<std::vector<VoxelTemplate>> BodyTemplates(const std::string& body) {
   for (const char* name : {"standing", "right_arm_raised"}) {
     Result<HumanoidModel> model = HumanoidModel::FromPreset(name, *dimensions);
     if (!model.ok()) return model.error();
-    Result<std::vector<Eigen::Vector3f>> points = model->SampleSurface(0.004);
-    if (!points.ok()) return points.error();
-    Result<VoxelTemplate> t = MakeTemplateFromPoints(*points, name, 0.016, name, "bench " + body);
+    Result<VoxelTemplate> t = MakeHumanoidTemplate(*model, name, 0.016, name, "bench " + body);
     if (!t.ok()) return t.error();
     templates.push_back(std::move(*t));
   }

@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
-"""A URDF robot seen in postures its templates were not made in (docs/BENCHMARKS.md).
+"""A robot seen in postures its templates were not made in (docs/BENCHMARKS.md).
 
-Makes templates of --template-sets with `hpose template from-urdf`, then for every --postures set
+The robot is a URDF (--robot, with --joints) or, without --robot, hpose's parametric humanoid
+(--body; its postures and template sets are then the joint presets of `hpose template generate
+--pose`). Makes templates of --template-sets with `hpose template from-urdf` (or `generate`), or
+takes the --templates files given, then for every --postures set
 and --mounts mount renders --frames frames of the robot in that posture with `hpose simulate`
 (1.0-3.5 m ahead within 12 degrees of the optical axis, any heading, three clutter objects,
 depth noise shared as a Kinect's) and estimates each with the templates (`hpose estimate
@@ -14,6 +17,8 @@ for every posture (same seeds and draws) and for every binary.
   python3 bench/posture_bench.py build/tools/hpose --robot ROBOT.urdf --joints SETS.yaml
       [--template-sets standing,right_arm_raised] [--postures standing,crouch,...]
       [--frames 24] [--mounts 0.34:0,0.9:20] [--allow-missing] [--estimate-args '...']
+  python3 bench/posture_bench.py build/tools/hpose [--body nao] --postures standing,arms_swung
+      [--templates A.bt,B.bt]
 """
 import argparse
 import json
@@ -57,7 +62,7 @@ def one_case(args, robot_flags, templates, posture, height, pitch, draws, work):
     for index, (x, y, heading) in enumerate(draws):
         out = os.path.join(work, "frame")
         subprocess.run([args.hpose, "simulate", "--out", out] + robot_flags +
-                       ["--joint-set", posture, "--x", "%.3f" % x, "--y", "%.3f" % y,
+                       [posture, "--x", "%.3f" % x, "--y", "%.3f" % y,
                         "--theta-deg", "%.1f" % heading, "--clutter", "3",
                         "--seed", str(index + 1), "--sensor-height", str(height),
                         "--pitch-deg", str(pitch), "--noise-correlation", "0.9", "--no-cloud"],
@@ -98,8 +103,12 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("hpose", help="the hpose program")
-    parser.add_argument("--robot", required=True, help="the robot's URDF")
-    parser.add_argument("--joints", required=True, help="YAML of named joint sets")
+    parser.add_argument("--robot", help="the robot's URDF (default: the parametric humanoid)")
+    parser.add_argument("--joints", help="YAML of named joint sets (with --robot)")
+    parser.add_argument("--body", default="nao",
+                        help="the parametric humanoid's proportions (default %(default)s)")
+    parser.add_argument("--templates", default="",
+                        help="template files to use (comma-separated) instead of making them")
     parser.add_argument("--template-sets", default="standing,right_arm_raised",
                         help="the joint sets templates are made of (default %(default)s)")
     parser.add_argument("--postures", default="standing",
@@ -122,18 +131,30 @@ def main():
         mesh_flags += ["--package-path", p]
     if args.allow_missing:
         mesh_flags.append("--allow-missing")
-    robot_flags = ["--robot", args.robot, "--joints", args.joints] + mesh_flags
+    if args.robot and not args.joints:
+        sys.exit("--robot needs --joints")
+    # simulate's flags for the robot, ending in the flag that takes the posture's name.
+    if args.robot:
+        robot_flags = ["--robot", args.robot, "--joints", args.joints] + mesh_flags + [
+            "--joint-set"]
+    else:
+        robot_flags = ["--body", args.body, "--pose"]
     mounts = [tuple(float(v) for v in m.split(":")) for m in args.mounts.split(",")]
     draws = frame_draws(args.frames, args.seed)
     with tempfile.TemporaryDirectory() as work:
-        templates = []
-        for name in args.template_sets.split(","):
+        templates = [t for t in args.templates.split(",") if t]
+        for name in [] if templates else args.template_sets.split(","):
             path = os.path.join(work, name + ".bt")
-            cmd = [args.hpose, "template", "from-urdf", args.robot, "--joints", args.joints,
-                   "--joint-set", name, "--out", path] + mesh_flags
+            if args.robot:
+                cmd = [args.hpose, "template", "from-urdf", args.robot, "--joints", args.joints,
+                       "--joint-set", name, "--out", path] + mesh_flags
+            else:
+                cmd = [args.hpose, "template", "generate", "--pose", name, "--body", args.body,
+                       "--out", path]
             subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             templates.append(path)
-        print("templates: %s; %d frames a posture and mount" % (args.template_sets, args.frames))
+        print("templates: %s; %d frames a posture and mount" %
+              (args.templates or args.template_sets, args.frames))
         print("| posture | mount | found | heading within 5 deg | median heading error (deg) "
               "| median position error (mm) | mean error along the line of sight (mm) "
               "| template's height off the floor: frames |")

@@ -21,8 +21,8 @@ FlagParser DemoFlags::Parser() {
   flags.AddDouble("x", &spec.humanoid_pose.x, "humanoid x in the ground frame, metres", "M");
   flags.AddDouble("y", &spec.humanoid_pose.y, "humanoid y in the ground frame, metres", "M");
   flags.AddDouble("theta-deg", &theta_deg, "humanoid heading, degrees (0 = facing away)", "DEG");
-  flags.AddString("pose", &spec.preset, "humanoid joint preset: standing or right_arm_raised",
-                  "NAME");
+  flags.AddString("pose", &spec.preset,
+                  "humanoid joint preset: standing, right_arm_raised or arms_swung", "NAME");
   flags.AddString("body", &spec.body, "humanoid proportions: nao, long_legs or tall", "NAME");
   flags.AddString("robot", &robot_urdf,
                   "simulate and look for this URDF robot (template made from it, 16 mm voxels)",

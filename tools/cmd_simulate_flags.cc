@@ -23,7 +23,8 @@ FlagParser SimulateFlags::Parser() {
   flags.AddDouble("x", &x, "humanoid x in the ground frame, metres (distance ahead)", "M");
   flags.AddDouble("y", &y, "humanoid y in the ground frame, metres (left)", "M");
   flags.AddDouble("theta-deg", &theta_deg, "humanoid heading, degrees (0 = facing away)", "D");
-  flags.AddString("pose", &pose_name, "joint preset: standing or right_arm_raised", "NAME");
+  flags.AddString("pose", &pose_name, "joint preset: standing, right_arm_raised or arms_swung",
+                  "NAME");
   flags.AddString("body", &body, "humanoid proportions: nao, long_legs or tall", "NAME");
   flags.AddString("robot", &robot_urdf,
                   "render this URDF robot instead of the parametric humanoid (see the joint "

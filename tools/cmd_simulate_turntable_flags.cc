@@ -31,7 +31,8 @@ FlagParser TurntableFlags::Parser() {
                   "turntable top above the floor, metres (0: no disc)", "M");
   flags.AddDouble("hand-error-deg", &error_deg,
                   "random error of every angle but the first, up to +-D degrees", "D");
-  flags.AddString("pose", &pose_name, "joint preset: standing or right_arm_raised", "NAME");
+  flags.AddString("pose", &pose_name, "joint preset: standing, right_arm_raised or arms_swung",
+                  "NAME");
   flags.AddDouble("sensor-height", &spec.sensor_height_m, "optical centre above the floor, m", "M");
   flags.AddDouble("pitch-deg", &pitch_deg, "sensor pitch, degrees (+ looks down)", "D");
   flags.AddDouble("roll-deg", &roll_deg, "sensor roll, degrees", "D");

@@ -9,6 +9,7 @@
 
 #include "core/io/cloud_io.h"
 #include "core/sim/humanoid_model.h"
+#include "core/sim/humanoid_template.h"
 #include "core/templates/template_io.h"
 #include "core/templates/voxel_template.h"
 #include "tools/cmd_template_flags.h"
@@ -43,13 +44,15 @@ int Generate(int argc, char** argv) {
     return UsageError("template generate", "--body: " + dimensions.error().message);
   Result<HumanoidModel> model = HumanoidModel::FromPreset(f.pose, *dimensions);
   if (!model.ok()) return UsageError("template generate", "--pose: " + model.error().message);
-  Result<std::vector<Eigen::Vector3f>> points = model->SampleSurface(f.spacing);
-  if (!points.ok()) return UsageError("template generate", "--spacing: " + points.error().message);
+  if (Result<std::vector<Eigen::Vector3f>> points = model->SampleSurface(f.spacing); !points.ok()) {
+    return UsageError("template generate", "--spacing: " + points.error().message);
+  }
   const std::string source = "hpose template generate --pose " + f.pose +
                              (f.body == "nao" ? "" : " --body " + f.body) + " --resolution " +
                              Fixed(f.resolution, 4) + " (parametric humanoid, " +
                              Fixed(model->Height(), 3) + " m tall)";
-  Result<VoxelTemplate> tpl = MakeTemplateFromPoints(*points, f.name, f.resolution, f.pose, source);
+  Result<VoxelTemplate> tpl =
+      MakeHumanoidTemplate(*model, f.name, f.resolution, f.pose, source, f.spacing);
   if (!tpl.ok()) return UsageError("template generate", tpl.error().message);
   if (Status s = SaveTemplate(*tpl, f.out); !s.ok()) return ReportError(kTemplateCmd, s.error());
   PrintSaved(*tpl, f.out);

@@ -25,12 +25,14 @@ void PrintHelp() {
 
 FlagParser TemplateGenerateFlags::Parser() {
   FlagParser flags(
-      "hpose template generate --pose standing|right_arm_raised --out FILE.bt "
+      "hpose template generate --pose standing|right_arm_raised|arms_swung --out FILE.bt "
       "[--resolution M] [--name N]",
       "Builds a template from the parametric Nao-sized humanoid: samples the surface of its\n"
       "primitives in the template frame (origin on the floor below the torso centre, x forward,\n"
-      "y left, z up) and voxelises it. Writes FILE.bt (OctoMap) and its FILE.json sidecar.");
-  flags.AddString("pose", &pose, "joint preset: standing or right_arm_raised", "NAME");
+      "y left, z up) and voxelises it. Its arms, neck and head are marked as free limbs (fitted\n"
+      "without them where a robot holds them otherwise). Writes FILE.bt (OctoMap) and its\n"
+      "FILE.json sidecar.");
+  flags.AddString("pose", &pose, "joint preset: standing, right_arm_raised or arms_swung", "NAME");
   flags.AddString("body", &body, "proportions: nao, long_legs or tall", "NAME");
   flags.AddString("out", &out, "template file to write (.bt)", "FILE.bt");
   flags.AddDouble("resolution", &resolution, "voxel edge, metres", "M");

@@ -6,6 +6,7 @@
 
 #include "core/io/cloud_io.h"
 #include "core/sim/humanoid_model.h"
+#include "core/sim/humanoid_template.h"
 #include "core/templates/template_io.h"
 #include "core/templates/voxel_template.h"
 #include "tests/tools/cli_test_util.h"
@@ -41,6 +42,16 @@ TEST(TemplateCliTest, GenerateThenInfo) {
   EXPECT_NE(info.out.find("arm"), std::string::npos);
   EXPECT_NE(info.out.find(std::to_string(tpl->voxels.size())), std::string::npos);
   EXPECT_NE(info.out.find("bbox"), std::string::npos);
+
+  // Its arms, neck and head are marked as free limbs, the same points as the model's own.
+  ASSERT_EQ(tpl->free_limb.size(), tpl->surface.size());
+  const Result<VoxelTemplate> direct = MakeHumanoidTemplate(*model, "arm", 0.016);
+  ASSERT_TRUE(direct.ok()) << direct.error().ToString();
+  EXPECT_EQ(tpl->free_limb, direct->free_limb);
+  EXPECT_GT(tpl->FreeLimbPoints().size(), 0u);
+  EXPECT_NE(info.out.find(std::to_string(tpl->FreeLimbPoints().size()) + " on free limbs"),
+            std::string::npos)
+      << info.out;
 }
 
 // Templates made at another edge than 16 mm are searched at theirs (`hpose estimate` refused
