@@ -233,9 +233,6 @@ size_t PriorHeadingChoice(const std::vector<const Candidate*>& cands, double pri
   return chosen;
 }
 
-// Whether a candidate passes as a humanoid, and if not the first rule it fails: its search must
-// reach `threshold`, and when refined its fit min_humanoid_fit and, unless its cluster is the
-// held one (its hysteresis), its evidence min_humanoid_evidence.
 // The candidate of `candidates` on the same cluster with the same template as `c`, or null.
 Candidate* CandidateOf(std::vector<Candidate>* candidates, const Candidate& c) {
   for (Candidate& other : *candidates) {
@@ -246,6 +243,9 @@ Candidate* CandidateOf(std::vector<Candidate>* candidates, const Candidate& c) {
   return nullptr;
 }
 
+// Whether a candidate passes as a humanoid, and if not the first rule it fails: its search must
+// reach `threshold`, and when refined its fit min_humanoid_fit and, unless its cluster is the
+// held one (its hysteresis), its evidence min_humanoid_evidence.
 Refusal HumanoidRefusal(const Candidate& c, double threshold, bool held,
                         const EstimatorOptions& o) {
   if (c.stopped_below_threshold || !(c.score >= threshold)) return Refusal::kScore;
