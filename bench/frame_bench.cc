@@ -568,6 +568,10 @@ std::vector<Variant> ScatteredVariants() {
                  Exact(o);
                  o->two_points_a_voxel_within_m = 2.5;
                }});
+  v.push_back({"exact search, no height offsets", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->height_offset_voxels = 0;
+               }});
   // The paper's 320x240: every second pixel of every second row (the `stride` option).
   v.push_back({"exact search, every second pixel", [](EstimatorOptions* o) {
                  Exact(o);
