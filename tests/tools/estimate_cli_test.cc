@@ -405,6 +405,32 @@ TEST_F(EstimateCliTest, ASteepMountNeedsTheTiltFlagAndSaysSo) {
   }
 }
 
+// The shipped templates mark their arms and head as free limbs: a robot walking with its arms
+// swung (the parametric humanoid's `arms_swung`) is fitted without them, and its heading comes
+// out right where the search's lattice optimum had turned it toward its arms.
+TEST(EstimateShippedTemplatesTest, ArmsSwungAreLeftOutOfTheFit) {
+  TempDir dir("estimate_cli_swung");
+  const CliRun sim = RunHpose("simulate --out '" + (dir / "swung") +
+                                  "' --pose arms_swung --x 1.8 --y 0.15 --theta-deg 60 "
+                                  "--clutter 4 --seed 7",
+                              dir);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const CliRun run = RunHpose("estimate '" + (dir / "swung/depth.png") + "' --json", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  ASSERT_TRUE(j.at("depth_template").at("humanoid_found").get<bool>());
+  const nlohmann::json& c = j.at("depth_template").at("detections").at(0).at("best");
+  EXPECT_TRUE(c.value("free_limbs_left_out", false));
+  const double theta = c.at("pose").at("theta").get<double>();
+  const double lattice = c.at("lattice_pose").at("theta").get<double>();
+  EXPECT_LT(std::abs(AngleDiff(theta, DegToRad(60))), DegToRad(2));
+  EXPECT_GT(std::abs(AngleDiff(lattice, DegToRad(60))), std::abs(AngleDiff(theta, DegToRad(60))));
+  const CliRun text = RunHpose("estimate '" + (dir / "swung/depth.png") + "'", dir);
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("fitted without the template's free limbs"), std::string::npos)
+      << text.out;
+}
+
 TEST(DemoCliTest, RunsWithoutInput) {
   TempDir dir("demo_cli");
   const CliRun run = RunHpose("demo --picture '" + (dir / "demo.png") + "'", dir);
