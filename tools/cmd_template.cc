@@ -37,6 +37,11 @@ int Generate(int argc, char** argv) {
     return UsageError("template generate", "--resolution must be in [0.001, 0.5] m");
   }
   if (!flags.Seen("spacing")) f.spacing = 0.25 * f.resolution;
+  if (!(f.spacing >= 0.0005 && f.spacing <= 0.1)) {
+    return UsageError(
+        "template generate",
+        "--spacing (by default a quarter of --resolution) must be in [0.0005, 0.1] m");
+  }
   if (f.name.empty()) f.name = f.pose;
 
   Result<HumanoidDimensions> dimensions = HumanoidDimensions::Variant(f.body);
@@ -44,9 +49,6 @@ int Generate(int argc, char** argv) {
     return UsageError("template generate", "--body: " + dimensions.error().message);
   Result<HumanoidModel> model = HumanoidModel::FromPreset(f.pose, *dimensions);
   if (!model.ok()) return UsageError("template generate", "--pose: " + model.error().message);
-  if (Result<std::vector<Eigen::Vector3f>> points = model->SampleSurface(f.spacing); !points.ok()) {
-    return UsageError("template generate", "--spacing: " + points.error().message);
-  }
   const std::string source = "hpose template generate --pose " + f.pose +
                              (f.body == "nao" ? "" : " --body " + f.body) + " --resolution " +
                              Fixed(f.resolution, 4) + " (parametric humanoid, " +

@@ -210,9 +210,10 @@ RefinedPose RefinePose(const SurfaceModel& model, const Observation& obs, const 
                        const RefineOptions& options = {});
 
 // RefinePose from `start` on the template without its free limbs (free_limbs_left_out), for a
-// pose whose limbs moved: the robot holds them otherwise than the template. The evidence is the
-// caller's to keep: the whole template's where it fitted best decides whether the cluster passes
-// as a humanoid and which template is taken. `model` without free limbs is refined whole.
+// pose whose limbs moved: the robot holds them otherwise than the template. Its evidence is that
+// of the template without them; the estimator keeps the whole template's first fit, which decides
+// whether the cluster passes as a humanoid and which template is taken. A `model` that marks no
+// free limbs is refined whole.
 RefinedPose RefineWithoutFreeLimbs(const SurfaceModel& model, const Observation& obs,
                                    const Pose2D& start, const RefineOptions& options = {});
 

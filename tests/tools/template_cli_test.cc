@@ -43,6 +43,13 @@ TEST(TemplateCliTest, GenerateThenInfo) {
   EXPECT_NE(info.out.find(std::to_string(tpl->voxels.size())), std::string::npos);
   EXPECT_NE(info.out.find("bbox"), std::string::npos);
 
+  // A surface spacing out of range is refused, naming the flag; nothing is written.
+  const CliRun spaced =
+      RunHpose("template generate --pose standing --spacing 0 --out '" + (dir / "s.bt") + "'", dir);
+  EXPECT_EQ(spaced.exit_code, 2) << spaced.err;
+  EXPECT_NE(spaced.err.find("--spacing"), std::string::npos) << spaced.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "s.bt"));
+
   // Its arms, neck and head are marked as free limbs, the same points as the model's own.
   ASSERT_EQ(tpl->free_limb.size(), tpl->surface.size());
   const Result<VoxelTemplate> direct = MakeHumanoidTemplate(*model, "arm", 0.016);
