@@ -659,6 +659,12 @@ std::vector<Variant> SequenceVariants() {
                  o->prior_heading_across_templates = false;
                },
                true});
+  v.push_back({"walk, tracked, every runner-up searched (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->tracked_heading_confirm_rad = 0.0;
+               },
+               true});
   v.push_back({"walk, tracked, depth images asked whatever the fits (before)",
                [](EstimatorOptions* o) {
                  Exact(o);

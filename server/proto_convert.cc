@@ -69,6 +69,7 @@ void CandidateToProto(const Candidate& c, v1::Candidate* out) {
   if (c.has_runner_up) SetFit(c.runner_up_fit, out->mutable_runner_up_fit());
   out->set_heading_ambiguous(c.heading_ambiguous);
   out->set_heading_from_prior(c.heading_from_prior);
+  out->set_heading_confirmed(c.heading_confirmed);
   out->set_height_offset(c.height_offset_m);
   out->set_free_limbs_left_out(c.free_limbs_left_out);
   out->set_stopped_below_threshold(c.stopped_below_threshold);

@@ -79,6 +79,10 @@ struct Candidate {
   // The heading was ambiguous and the pose given is the one nearer the previous frame's heading
   // (a tracked stream, FramePrior): continuity decided what this frame alone could not.
   bool heading_from_prior = false;
+  // A tracked frame: the pose confirmed the previous frame's heading (facing within
+  // EstimatorOptions::tracked_heading_confirm_rad of it, its turned-about pose fitting far
+  // worse), so no runner-up heading was searched for (has_runner_up false).
+  bool heading_confirmed = false;
   std::int64_t poses_evaluated = 0;   // exact score evaluations.
   std::int64_t bounds_evaluated = 0;  // branch-and-bound upper bounds (exact search only).
 };
@@ -132,8 +136,9 @@ struct StageTimings {
 
 // Everything one frame produced.
 // How a frame was searched: cold, or seeded with the previous frame's pose (PoseTracker). The
-// result is the same either way: a seeded search still proves the global optimum, so a robot
-// that moved far (or a second one) is found in the same frame.
+// optimum is the same either way: a seeded search still proves the global optimum, so a robot
+// that moved far (or a second one) is found in the same frame. Only a pose that confirms the
+// previous heading has no runner-up searched for (Candidate::heading_confirmed).
 struct TrackingInfo {
   bool tracked = false;       // the previous pose seeded the search of the cluster holding it.
   bool prior_given = false;   // a previous pose was offered (false: a cold start).

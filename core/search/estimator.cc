@@ -16,7 +16,9 @@
 #include "core/depth/floor_tracker.h"
 #include "core/search/detection_order.h"
 #include "core/search/exact_search.h"
+#include "core/search/fit_summary.h"
 #include "core/search/free_space_grow.h"
+#include "core/search/heading_confirmation.h"
 #include "core/search/prepared_cluster.h"
 #include "core/search/view_comparison.h"
 
@@ -93,25 +95,6 @@ TopOfView TopOfViewOf(const RangeImage& range, const FloorEstimate& floor) {
   return v;
 }
 
-FitSummary Summarise(const PoseEvidence& e) {
-  FitSummary s;
-  s.explained = e.Explained();
-  s.contradicted = e.Contradicted();
-  s.fit = e.Fit();
-  const int judged = e.model_seen + e.model_free + e.model_no_return;
-  const double p = s.explained, q = s.contradicted;
-  const double var_p = e.data_points > 0 ? p * (1.0 - p) / e.data_points : 0.25;
-  const double var_q = judged > 0 ? q * (1.0 - q) / judged : 0.25;
-  s.fit_sigma = 100.0 * std::sqrt((1.0 - q) * (1.0 - q) * var_p + p * p * var_q);
-  s.cost = e.cost;
-  return s;
-}
-
-// Two fits differ by no more than noise explains (two standard errors of the difference).
-bool WithinNoise(const FitSummary& a, const FitSummary& b) {
-  return std::abs(a.fit - b.fit) <= 2.0 * std::hypot(a.fit_sigma, b.fit_sigma);
-}
-
 // Refines the candidate's pose (the search's optimum); RefineRunnerUp then decides its heading.
 void RefineBest(const SurfaceModel& model, const Observation& obs, const RefineOptions& o,
                 Candidate* cand) {
@@ -166,13 +149,12 @@ void RefineRunnerUp(const SurfaceModel& model, const Observation& obs, const Ref
   // In a tracked stream the fits decide alone (ViewComparisonOptions::max_fit_sigmas) when the
   // better one (take_other so far) faces the previous frame's way, both pass as a humanoid and
   // they are far apart.
-  const bool fits_decide =
-      views.max_fit_sigmas > 0.0 && prior_theta != nullptr &&
-      std::abs(AngleDiff(take_other ? other.pose.theta : cand->pose.theta, *prior_theta)) <=
-          0.5 * kPi &&
-      std::min(cand->fit.fit, other_fit.fit) >= humanoid_fit &&
-      std::abs(other_fit.fit - cand->fit.fit) >
-          views.max_fit_sigmas * std::hypot(cand->fit.fit_sigma, other_fit.fit_sigma);
+  const bool fits_decide = views.max_fit_sigmas > 0.0 && prior_theta != nullptr &&
+                           std::abs(AngleDiff(take_other ? other.pose.theta : cand->pose.theta,
+                                              *prior_theta)) <= 0.5 * kPi &&
+                           std::min(cand->fit.fit, other_fit.fit) >= humanoid_fit &&
+                           (take_other ? FarAhead(other_fit, cand->fit, views.max_fit_sigmas)
+                                       : FarAhead(cand->fit, other_fit, views.max_fit_sigmas));
   if (views.enabled && close && !fits_decide &&
       std::max(cand->fit.fit, other_fit.fit) >= humanoid_fit) {
     cmp = CompareViews(model, obs, cand->pose, other.pose, o, views);
@@ -590,6 +572,10 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
     return MakeError(ErrorCode::kInvalidArgument,
                      "tracked_score_threshold must be within [0, 100]");
   }
+  if (!(options.tracked_heading_confirm_rad >= 0.0 && options.tracked_heading_confirm_rad <= kPi)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "tracked_heading_confirm_rad must be within [0, pi] (radians; 0: off)");
+  }
   if (!(options.two_points_a_voxel_within_m >= 0.0)) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "two_points_a_voxel_within_m must be at least 0 (metres; 0: off)");
@@ -990,6 +976,22 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
                    task.has_prior ? &task.prior_theta : nullptr, contend, rescore, &task.cand);
     task.refine_ms += MsSince(t_refine);
   };
+  // EstimatorOptions::tracked_heading_confirm_rad.
+  const HeadingConfirmOptions confirm{options_.tracked_heading_confirm_rad,
+                                      options_.min_humanoid_fit,
+                                      options_.heading_views.max_fit_sigmas};
+  const auto confirms_previous_heading = [&](Task& task) {
+    const Clock::time_point t_check = Clock::now();
+    const ClusterWork& w = work[task.cluster];
+    const bool confirmed = ConfirmsPreviousHeading(
+        *surfaces_[task.tpl],
+        Observation{&(*clusters)[task.cluster].points, &range, sensor_from_ground,
+                    w.prepared ? &*w.prepared : nullptr},
+        task.cand.lattice_pose, task.cand.pose, task.cand.fit, task.prior_theta, confirm,
+        options_.refine);
+    task.refine_ms += MsSince(t_check);
+    return confirmed;
+  };
   const std::vector<std::optional<FitSummary>> leader = leaders();
   std::vector<int> with_runner_up;
   for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
@@ -1002,6 +1004,12 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     Task& task = tasks[with_runner_up[i]];
     const bool contend = !task.cand.refined || contends(task, leader);
     if (!contend && task.runner_up != nullptr) return;  // perhaps later, see below.
+    if (task.runner_up != nullptr && task.has_prior && task.cand.refined &&
+        confirms_previous_heading(task)) {
+      task.runner_up.reset();
+      task.cand.heading_confirmed = true;
+      return;
+    }
     find_runner_up(task);
     refine_runner_up(task, contend);
   });

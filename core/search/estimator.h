@@ -125,6 +125,18 @@ struct EstimatorOptions {
   // facing opposite ways is a front/back question the frame has not decided, as within one
   // template. false: the higher fit alone (before).
   bool prior_heading_across_templates = true;
+  // In a tracked stream, a template's refined pose on the cluster the previous frame's humanoid
+  // stood on that confirms that frame's heading has no runner-up heading searched for
+  // (Candidate::heading_confirmed): it faces within this angle of the previous heading, passes
+  // min_humanoid_fit, and the same place turned about fits worse by more than
+  // heading_views.max_fit_sigmas standard errors (ConfirmsPreviousHeading) -- where the runner-up,
+  // had it been searched, could only have been decided against by its fit or the depth images.
+  // The turned-about pose is evaluated once (about 0.15 ms); the runner-up's search and
+  // refinement it saves took about 0.9 ms of a tracked walk's frame (docs/BENCHMARKS.md). A robot
+  // turned about between frames is still seen turned at once: where the optimum faces its old
+  // way, the turned-about pose (its true heading) fits as well. The optimum is the same either
+  // way. 0: every runner-up searched, tracked frames' candidates equal to cold frames' (before).
+  double tracked_heading_confirm_rad = 15.0 * kPi / 180.0;
   // A far cluster, cold: Kinect noise lowers a humanoid's score there too (above), and a cold
   // frame has no prior to hold it by. A cluster whose centroid lies at least far_range_m from
   // the sensor's optical centre is searched down to far_score_ratio * score_threshold, and passes
@@ -260,9 +272,10 @@ class Estimator {
   // Fails with kInvalidArgument (bad intrinsics, size mismatch, no valid depth) or
   // kFailedPrecondition (no floor found). "No humanoid" is not a failure: see
   // Estimate::Humanoids().
-  // With `prior`, the cluster holding the prior pose is searched from it first (same search
-  // result, see TrackingInfo), and where its heading is ambiguous the one nearer the prior's is
-  // given (Candidate::heading_from_prior).
+  // With `prior`, the cluster holding the prior pose is searched from it first (same optimum,
+  // see TrackingInfo), where its heading is ambiguous the one nearer the prior's is given
+  // (Candidate::heading_from_prior), and where the frame confirms the prior's heading no
+  // runner-up is searched for (Candidate::heading_confirmed).
   Result<Estimate> EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics,
                                  const FramePrior* prior = nullptr) const;
   // `cloud_sensor` in the sensor frame (x right, y down, z forward), metres; NaNs are skipped.

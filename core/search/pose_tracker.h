@@ -12,11 +12,12 @@ namespace hpose {
 // Estimates the frames of one stream in order, each seeded with the humanoid pose of the frame
 // before (Estimator's FramePrior) and with the stream's floor kept while it still fits
 // (FloorTracker). The search starts from where the robot was, a heading the frame cannot
-// tell from its flip keeps to the one before, and the cluster the robot stood on passes from
-// the lower tracked_score_threshold (a humanoid walking away scores less). Every frame is still
-// searched globally: a robot that was carried away, or lost and found again, comes back in the
-// same frame. A frame without a humanoid (or an error) drops the pose: the next search starts cold.
-// Not thread-safe: one stream, one tracker.
+// tell from its flip keeps to the one before, a pose whose heading the frame confirms needs no
+// runner-up heading searched for (Candidate::heading_confirmed), and the cluster the robot stood on
+// passes from the lower tracked_score_threshold (a humanoid walking away scores less). Every frame
+// is still searched globally: a robot that was carried away, or lost and found again, comes back in
+// the same frame. A frame without a humanoid (or an error) drops the pose: the next search starts
+// cold. Not thread-safe: one stream, one tracker.
 class PoseTracker {
  public:
   // While the robot is lost (the frames before found no humanoid), the templates are moved off

@@ -513,6 +513,9 @@ TEST(ViewComparisonTest, TrackedFitsFarApartDecideWithoutTheDepthImages) {
   EstimatorOptions now = DefaultEstimatorOptions();
   ASSERT_GT(now.heading_views.max_fit_sigmas, 0.0);
   now.score_threshold = 0.0;
+  // Every runner-up searched: frames that confirm the previous heading would not search theirs
+  // (tracked_heading_confirm_rad, HeadingConfirmationTest).
+  now.tracked_heading_confirm_rad = 0.0;
   EstimatorOptions before = now;
   before.heading_views.max_fit_sigmas = 0.0;
   int by_fits = 0, compared = 0;

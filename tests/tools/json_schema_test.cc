@@ -4,6 +4,7 @@
 #include <google/protobuf/descriptor.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -173,6 +174,14 @@ TEST_F(JsonSchemaTest, EstimateAndReplayShareOneSchema) {
   EXPECT_TRUE(t1.at("tracked").get<bool>());
   EXPECT_TRUE(t1.at("floor_reused").get<bool>());
   EXPECT_EQ(t1.at("prior_template"), a.at("template_name"));
+  // The tracked frame confirms the first frame's heading (the robot stands still, seen near), so
+  // it searched no runner-up; the cold frames did not ask.
+  const json& a1 = replayed[1].at("depth_template").at("best").at("best");
+  EXPECT_FALSE(a.at("heading_confirmed").get<bool>());
+  EXPECT_FALSE(b.at("heading_confirmed").get<bool>());
+  EXPECT_TRUE(a1.at("heading_confirmed").get<bool>());
+  EXPECT_FALSE(a1.at("has_runner_up").get<bool>());
+  EXPECT_NEAR(a1.at("pose").at("theta").get<double>(), 30.0 * M_PI / 180.0, 3.0 * M_PI / 180.0);
   EXPECT_FALSE(e.at("depth_template").at("tracking").at("tracked").get<bool>());
 }
 
