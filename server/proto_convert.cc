@@ -71,6 +71,7 @@ void CandidateToProto(const Candidate& c, v1::Candidate* out) {
   out->set_heading_from_prior(c.heading_from_prior);
   out->set_heading_confirmed(c.heading_confirmed);
   out->set_height_offset(c.height_offset_m);
+  out->set_free_limbs_moved(c.free_limbs_moved);
   out->set_free_limbs_left_out(c.free_limbs_left_out);
   out->set_stopped_below_threshold(c.stopped_below_threshold);
   out->set_score_upper_bound(c.score_upper_bound);

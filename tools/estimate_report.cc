@@ -91,6 +91,18 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
       const double distance = std::hypot(c.pose.x, c.pose.y);
       os << " (best: " << c.template_name << " on cluster " << c.cluster_index << ", "
          << Fmt("%.1f", distance) << " m away, " << NearestMissReason(d, options) << ")\n";
+      const bool fit_refused = d.refused_by == Refusal::kFit ||
+                               d.refused_by == Refusal::kEvidence ||
+                               d.refused_by == Refusal::kFarEvidence;
+      if (fit_refused && c.free_limbs_moved) {
+        os << "          the frame contradicts the template's free limbs (arms, head) more than "
+              "the rest of it:\n"
+              "          if this is the robot, it holds them otherwise, which lowers the fit, "
+              "and a template of\n"
+              "          that posture would fit it (docs/TEMPLATES.md, \"Which postures\"); "
+              "clutter often\n"
+              "          contradicts them too\n";
+      }
       if (d.refused_by == Refusal::kScore && distance >= 2.5) {
         os << "          far humanoids score less (depth noise thickens them): when nothing "
               "passes, a cluster\n"

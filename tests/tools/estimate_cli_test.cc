@@ -421,6 +421,7 @@ TEST(EstimateShippedTemplatesTest, ArmsSwungAreLeftOutOfTheFit) {
   ASSERT_TRUE(j.at("depth_template").at("humanoid_found").get<bool>());
   const nlohmann::json& c = j.at("depth_template").at("detections").at(0).at("best");
   EXPECT_TRUE(c.value("free_limbs_left_out", false));
+  EXPECT_TRUE(c.value("free_limbs_moved", false));
   const double theta = c.at("pose").at("theta").get<double>();
   const double lattice = c.at("lattice_pose").at("theta").get<double>();
   EXPECT_LT(std::abs(AngleDiff(theta, DegToRad(60))), DegToRad(2));
@@ -429,6 +430,14 @@ TEST(EstimateShippedTemplatesTest, ArmsSwungAreLeftOutOfTheFit) {
   ASSERT_EQ(text.exit_code, 0) << text.err;
   EXPECT_NE(text.out.find("fitted without the template's free limbs"), std::string::npos)
       << text.out;
+  // Refused for its fit (a bar no swung-armed robot reaches), the report says why it may fit
+  // so poorly and what would fit it.
+  const CliRun strict = RunHpose("estimate '" + (dir / "swung/depth.png") + "' --min-fit 99", dir);
+  ASSERT_EQ(strict.exit_code, 3) << strict.out << strict.err;  // no humanoid.
+  EXPECT_NE(strict.out.find("humanoid  none found"), std::string::npos) << strict.out;
+  EXPECT_NE(strict.out.find("contradicts the template's free limbs"), std::string::npos)
+      << strict.out;
+  EXPECT_NE(strict.out.find("that posture would fit it"), std::string::npos) << strict.out;
 }
 
 TEST(DemoCliTest, RunsWithoutInput) {

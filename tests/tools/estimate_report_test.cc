@@ -72,6 +72,24 @@ TEST(EstimateReportTest, EachRefusalNamesItsRule) {
   EXPECT_EQ(Why(stopped, o), "proved below score 50: at most 31.2)");
 }
 
+// A cluster refused for its fit or evidence whose template's free limbs the frame contradicted
+// (Candidate::free_limbs_moved) may be the robot in another posture: the report says so, and
+// only then.
+TEST(EstimateReportTest, LimbsHeldOtherwisePointToATemplateOfThePosture) {
+  const EstimatorOptions o;
+  const std::string hint = "contradicts the template's free limbs";
+  for (const Refusal r : {Refusal::kFit, Refusal::kEvidence, Refusal::kFarEvidence}) {
+    Estimate moved = Miss(55.0, 58.0, 400, 50.0, r);
+    moved.detections[0].best.free_limbs_moved = true;
+    EXPECT_NE(EstimateToText(moved, &o).find(hint), std::string::npos) << static_cast<int>(r);
+    EXPECT_EQ(EstimateToText(Miss(55.0, 58.0, 400, 50.0, r), &o).find(hint), std::string::npos)
+        << static_cast<int>(r);
+  }
+  Estimate low_score = Miss(38.0, 90.0, 400, 50.0, Refusal::kScore);
+  low_score.detections[0].best.free_limbs_moved = true;
+  EXPECT_EQ(EstimateToText(low_score, &o).find(hint), std::string::npos);
+}
+
 TEST(EstimateReportTest, AFarClusterRefusedByItsScoreGetsTheFarHint) {
   const EstimatorOptions o;
   const std::string hint = "far humanoids score less";
