@@ -195,6 +195,13 @@ class WebViewTest(unittest.TestCase):
         self.assertEqual(self.text("score"), "%.1f" % best["score"])
         self.assertEqual(self.text("found"), "yes")
         self.assertEqual(self.text("fit"), "%.1f" % best["fit"]["fit"])
+        # A tracked frame that confirmed the previous heading searched no runner-up.
+        if best.get("heading_confirmed"):
+            self.assertFalse(best.get("has_runner_up"))
+            self.assertEqual(self.text("margin"), "previous heading confirmed")
+        elif best.get("has_runner_up"):
+            self.assertTrue(self.text("margin").startswith("%.1f" % best["runner_up_margin"]),
+                            self.text("margin"))
         web = get_json(self.http + "/api/latest")["estimate"]
         self.assertEqual(differences(web, latest), [])
 
