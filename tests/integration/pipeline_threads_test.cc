@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -160,8 +161,11 @@ TEST_F(PipelineThreadsTest, AnInitialPoseFindsAFarRobotInEveryFrame) {
                      /*one_threshold=*/true);
     pipeline->Start();
     const auto seen = FollowEstimates(pipeline.get());
+    const PipelineStatus s = pipeline->Status();
     pipeline->Stop();
-    ASSERT_EQ(seen.size(), static_cast<size_t>(kFarFrames)) << given;
+    // Every frame estimated; the follower sees the latest whenever it looks (the last always).
+    EXPECT_EQ(s.frames_estimated, static_cast<std::uint64_t>(kFarFrames)) << given;
+    ASSERT_FALSE(seen.empty()) << given;
     for (const auto& e : seen) {
       ASSERT_TRUE(e->ok) << e->error.message;
       const std::vector<Detection> humans = e->estimate.Humanoids();
@@ -179,15 +183,20 @@ TEST_F(PipelineThreadsTest, AnInitialPoseFindsAFarRobotInEveryFrame) {
 
 // The warm-up estimate before the stream leaves nothing behind: a tracked replay gives the same
 // estimate of every frame, tracked alike, with and without it; only the status tells them apart.
+// Every frame is estimated in both runs; the follower sees the latest estimate whenever it looks,
+// so on a busy machine it may miss one published right after another: the frames both runs'
+// followers saw are compared.
 TEST_F(PipelineThreadsTest, WarmingUpChangesNoEstimate) {
-  std::vector<std::shared_ptr<const PublishedEstimate>> seen[2];
+  std::map<std::uint64_t, std::shared_ptr<const PublishedEstimate>> seen[2];
   for (const bool warm : {false, true}) {
     warm_up_ = warm;
     std::unique_ptr<PosePipeline> pipeline = MakePipeline(/*realtime=*/false, 30.0, 1);
     pipeline->Start();
-    seen[warm] = FollowEstimates(pipeline.get());
+    for (const auto& e : FollowEstimates(pipeline.get())) seen[warm][e->sequence] = e;
     const PipelineStatus s = pipeline->Status();
     pipeline->Stop();
+    EXPECT_EQ(s.frames_in, static_cast<std::uint64_t>(kFrames));
+    EXPECT_EQ(s.frames_estimated + s.frames_failed, static_cast<std::uint64_t>(kFrames));
     EXPECT_EQ(s.warmed_up, warm);
     if (warm) {
       EXPECT_GT(s.warm_up_ms, 0.0);
@@ -195,35 +204,38 @@ TEST_F(PipelineThreadsTest, WarmingUpChangesNoEstimate) {
       EXPECT_EQ(s.warm_up_ms, 0.0);
     }
   }
-  ASSERT_EQ(seen[0].size(), static_cast<size_t>(kFrames));
-  ASSERT_EQ(seen[1].size(), seen[0].size());
-  int humanoids = 0, tracked = 0;
-  for (size_t i = 0; i < seen[0].size(); ++i) {
-    const PublishedEstimate& cold = *seen[0][i];
-    const PublishedEstimate& warm = *seen[1][i];
-    ASSERT_EQ(cold.sequence, warm.sequence);
-    ASSERT_EQ(cold.ok, warm.ok) << "frame " << cold.sequence;
+  int compared = 0, humanoids = 0, tracked = 0;
+  for (const auto& [sequence, seen_cold] : seen[0]) {
+    const auto found = seen[1].find(sequence);
+    if (found == seen[1].end()) continue;
+    ++compared;
+    const PublishedEstimate& cold = *seen_cold;
+    const PublishedEstimate& warm = *found->second;
+    ASSERT_EQ(cold.ok, warm.ok) << "frame " << sequence;
     if (!cold.ok) continue;
-    EXPECT_EQ(cold.estimate.tracking.tracked, warm.estimate.tracking.tracked) << cold.sequence;
+    EXPECT_EQ(cold.estimate.tracking.tracked, warm.estimate.tracking.tracked) << sequence;
     EXPECT_EQ(cold.estimate.tracking.floor_reused, warm.estimate.tracking.floor_reused);
     tracked += warm.estimate.tracking.tracked ? 1 : 0;
     EXPECT_EQ(cold.estimate.floor.ground_from_sensor.matrix(),
               warm.estimate.floor.ground_from_sensor.matrix())
-        << "frame " << cold.sequence;
+        << "frame " << sequence;
     ASSERT_EQ(cold.estimate.candidates.size(), warm.estimate.candidates.size());
     for (size_t c = 0; c < cold.estimate.candidates.size(); ++c) {
       const Candidate& a = cold.estimate.candidates[c];
       const Candidate& b = warm.estimate.candidates[c];
-      EXPECT_EQ(a.template_name, b.template_name) << "frame " << cold.sequence;
-      EXPECT_EQ(a.score, b.score) << "frame " << cold.sequence;
-      EXPECT_EQ(a.pose.x, b.pose.x) << "frame " << cold.sequence;
-      EXPECT_EQ(a.pose.y, b.pose.y) << "frame " << cold.sequence;
-      EXPECT_EQ(a.pose.theta, b.pose.theta) << "frame " << cold.sequence;
+      EXPECT_EQ(a.template_name, b.template_name) << "frame " << sequence;
+      EXPECT_EQ(a.score, b.score) << "frame " << sequence;
+      EXPECT_EQ(a.pose.x, b.pose.x) << "frame " << sequence;
+      EXPECT_EQ(a.pose.y, b.pose.y) << "frame " << sequence;
+      EXPECT_EQ(a.pose.theta, b.pose.theta) << "frame " << sequence;
+      EXPECT_EQ(a.heading_confirmed, b.heading_confirmed) << "frame " << sequence;
     }
     humanoids += static_cast<int>(warm.estimate.Humanoids().size());
   }
-  EXPECT_GE(humanoids, kFrames - 1);  // the frames hold a robot: the comparison says something.
-  EXPECT_GE(tracked, kFrames - 2);
+  // The frames hold a robot and most are tracked: the comparison says something.
+  EXPECT_GE(compared, kFrames - 2);
+  EXPECT_GE(humanoids, compared - 1);
+  EXPECT_GE(tracked, compared - 2);
 }
 
 // Stopped while its estimators warm up: Stop returns (the capture thread waiting for them is
