@@ -742,6 +742,12 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     }
   });
 
+  // What the refinements of a cluster's templates read, with its prepared side once made.
+  const auto observation_of = [&](int cluster) {
+    const ClusterWork& w = work[cluster];
+    return Observation{&(*clusters)[cluster].points, &range, sensor_from_ground,
+                       w.prepared ? &*w.prepared : nullptr};
+  };
   // The refinement of a task's optimum.
   const auto refine_task = [&](Task& task) {
     const Cluster& c = (*clusters)[task.cluster];
@@ -749,9 +755,7 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     const Clock::time_point t_refine = Clock::now();
     std::call_once(w.prepare_once,
                    [&] { w.prepared.emplace(c.points, sensor_from_ground, options_.refine); });
-    RefineBest(*surfaces_[task.tpl],
-               Observation{&c.points, &range, sensor_from_ground, &*w.prepared}, options_.refine,
-               &task.cand);
+    RefineBest(*surfaces_[task.tpl], observation_of(task.cluster), options_.refine, &task.cand);
     task.refine_ms = MsSince(t_refine);
   };
   // The task's candidate from its search's result, refined when the search did not stop.
@@ -953,7 +957,6 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   const auto refine_runner_up = [&](Task& task, bool contend) {
     if (!task.cand.refined || !task.cand.has_runner_up) return;
     const Clock::time_point t_refine = Clock::now();
-    const Cluster& c = (*clusters)[task.cluster];
     const ClusterWork& w = work[task.cluster];
     const int j = task.tpl;
     const TemplateRotations& rot = *rotations_[j];
@@ -970,9 +973,8 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
               : 0;
       cd->coverage = n > 0 ? 100.0 * cd->hits / n : 0.0;
     };
-    const PreparedCluster* prepared = w.prepared ? &*w.prepared : nullptr;
-    RefineRunnerUp(*surfaces_[j], Observation{&c.points, &range, sensor_from_ground, prepared},
-                   options_.refine, options_.heading_views, options_.min_humanoid_fit,
+    RefineRunnerUp(*surfaces_[j], observation_of(task.cluster), options_.refine,
+                   options_.heading_views, options_.min_humanoid_fit,
                    task.has_prior ? &task.prior_theta : nullptr, contend, rescore, &task.cand);
     task.refine_ms += MsSince(t_refine);
   };
@@ -982,13 +984,9 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
                                       options_.heading_views.max_fit_sigmas};
   const auto confirms_previous_heading = [&](Task& task) {
     const Clock::time_point t_check = Clock::now();
-    const ClusterWork& w = work[task.cluster];
     const bool confirmed = ConfirmsPreviousHeading(
-        *surfaces_[task.tpl],
-        Observation{&(*clusters)[task.cluster].points, &range, sensor_from_ground,
-                    w.prepared ? &*w.prepared : nullptr},
-        task.cand.lattice_pose, task.cand.pose, task.cand.fit, task.prior_theta, confirm,
-        options_.refine);
+        *surfaces_[task.tpl], observation_of(task.cluster), task.cand.lattice_pose, task.cand.pose,
+        task.cand.fit, task.prior_theta, confirm, options_.refine);
     task.refine_ms += MsSince(t_check);
     return confirmed;
   };
@@ -1065,12 +1063,8 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
         continue;
       }
       const Clock::time_point t_refine = Clock::now();
-      const Cluster& c = (*clusters)[task.cluster];
-      const ClusterWork& w = work[task.cluster];
-      const PreparedCluster* prepared = w.prepared ? &*w.prepared : nullptr;
       const RefinedPose again = RefineWithoutFreeLimbs(
-          *surfaces_[task.tpl], Observation{&c.points, &range, sensor_from_ground, prepared},
-          d.best.lattice_pose, options_.refine);
+          *surfaces_[task.tpl], observation_of(task.cluster), d.best.lattice_pose, options_.refine);
       const double ms = MsSince(t_refine);
       for (Candidate* cand : {&d.best, CandidateOf(&est.candidates, d.best)}) {
         if (cand == nullptr) continue;
