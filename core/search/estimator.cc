@@ -341,6 +341,29 @@ bool StandsOn(const Cluster& c, const Pose2D& pose) {
          pose.y >= c.min.y() - kFootprintMargin && pose.y <= c.max.y() + kFootprintMargin;
 }
 
+// The heights off the floor (metres) at which a frame whose humanoid did not pass at
+// `first_offset` searches again (EstimatorOptions::height_offset_voxels, of `edge` metres): in
+// rounds of equal size, the floor itself first when the frame started off it, then one voxel
+// lower and higher, then two, ...; with `turn` >= 0, only the turn-th of them in that order
+// (modulo their number), alone (FramePrior::height_offset_turn).
+std::vector<std::vector<double>> HeightOffsetRounds(int voxels, double edge, double first_offset,
+                                                    int turn) {
+  std::vector<std::vector<double>> rounds;
+  std::vector<double> every;
+  for (int k = 0; k <= voxels; ++k) {
+    std::vector<double> round;
+    for (const int sign : {-1, 1}) {
+      const double offset = sign * k * edge;
+      if ((k == 0 && sign > 0) || std::abs(offset - first_offset) < 1e-9) continue;
+      round.push_back(offset);
+      every.push_back(offset);
+    }
+    if (!round.empty()) rounds.push_back(std::move(round));
+  }
+  if (turn < 0 || every.empty()) return rounds;
+  return {{every[static_cast<size_t>(turn) % every.size()]}};
+}
+
 // The cluster the prior's humanoid stood on: the nearest by centroid of those it stands on;
 // -1 when none (or no prior).
 int HeldCluster(const std::vector<Cluster>& clusters, const FramePrior* prior) {
@@ -1144,14 +1167,12 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   // Nothing passed: the templates raised and lowered a voxel at a time (a robot with its knees
   // bent stands lower than its template, ...: EstimatorOptions::height_offset_voxels). The
   // first offsets at which something passes give the detections, the best fit of them.
-  const double res = options_.lattice.resolution_m;
-  const int offsets =
-      prior == nullptr || prior->search_height_offsets ? options_.height_offset_voxels : -1;
-  for (int k = 0; !FoundHumanoid(est) && k <= offsets; ++k) {
+  const std::vector<std::vector<double>> rounds =
+      HeightOffsetRounds(options_.height_offset_voxels, options_.lattice.resolution_m, first_offset,
+                         prior != nullptr ? prior->height_offset_turn : -1);
+  for (size_t k = 0; !FoundHumanoid(est) && k < rounds.size(); ++k) {
     std::optional<Estimate> best;
-    for (const int sign : {-1, 1}) {
-      const double offset = sign * k * res;
-      if ((k == 0 && sign > 0) || std::abs(offset - first_offset) < 1e-9) continue;
+    for (const double offset : rounds[k]) {
       Estimate trial;
       trial.floor = est.floor;
       trial.clusters = est.clusters;

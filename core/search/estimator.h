@@ -249,9 +249,12 @@ struct FramePrior {
   // How far above the floor its template stood (Candidate::height_offset_m): the frame's
   // searches start there.
   double height_offset_m = 0.0;
-  // false: the templates stay at height_offset_m even when nothing passes there (a stream that
-  // has lost its robot tries the other offsets only now and then: PoseTracker).
-  bool search_height_offsets = true;
+  // When nothing passes at height_offset_m, the templates are tried off the floor
+  // (EstimatorOptions::height_offset_voxels) at every offset in their order (one voxel lower,
+  // one higher, two lower, two higher, ...) while this is negative; else at the one offset of
+  // that order this indexes (modulo their number), as a stream that has lost its robot tries
+  // them, one a frame (PoseTracker).
+  int height_offset_turn = -1;
   FloorTracker* floor = nullptr;  // optional; ignored with a fixed floor.
 };
 

@@ -1,5 +1,6 @@
 #include "core/search/pose_tracker.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "core/search/humanoid_view.h"
@@ -37,7 +38,9 @@ FramePrior PoseTracker::Context() {
     context.pose = *initial_;
   }
   context.floor = &floor_;
-  context.search_height_offsets = prior_.has_value() || lost_frames_ == 0;
+  // Every offset off the floor in a stream's first frame and in the first frame without the
+  // robot (it may have bent its knees), then one offset a frame in turn.
+  context.height_offset_turn = prior_.has_value() || lost_frames_ == 0 ? -1 : lost_frames_ - 1;
   return context;
 }
 
@@ -53,7 +56,8 @@ Result<Estimate> PoseTracker::EstimateCloud(const PointCloud& cloud_sensor) {
 
 Result<Estimate> PoseTracker::Keep(Result<Estimate> estimate) {
   prior_.reset();
-  lost_frames_ = (lost_frames_ + 1) % kLostFramesPerOffsetSearch;
+  // 1, 2, ... up to the number of offsets off the floor, then 1 again.
+  lost_frames_ = lost_frames_ % std::max(1, 2 * estimator_->options().height_offset_voxels) + 1;
   if (!estimate.ok()) return estimate;
   const HumanoidView humans = estimate->Humanoids();
   if (!humans.empty()) {

@@ -17,16 +17,15 @@ namespace hpose {
 // passes from the lower tracked_score_threshold (a humanoid walking away scores less). Every frame
 // is still searched globally: a robot that was carried away, or lost and found again, comes back in
 // the same frame. A frame without a humanoid (or an error) drops the pose: the next search starts
-// cold. Not thread-safe: one stream, one tracker.
+// cold. While the robot is lost, a frame in which nothing passes tries the templates off the floor
+// (EstimatorOptions::height_offset_voxels) at every offset in the stream's first frame and the
+// first frame without the robot, then at one offset a frame, in turn: such a frame costs about
+// twice the search on the floor alone rather than up to five times in one frame of four, and a
+// robot standing lower or higher than its template (bent knees) is found within as many frames as
+// there are offsets (four by default), then tracked at its offset. Not thread-safe: one stream,
+// one tracker.
 class PoseTracker {
  public:
-  // While the robot is lost (the frames before found no humanoid), the templates are moved off
-  // the floor (EstimatorOptions::height_offset_voxels) in the first such frame and every this
-  // many after: a frame without a humanoid costs up to about three times the search with them,
-  // and a robot that stands lower than its template is then found within this many frames and
-  // tracked at its offset.
-  static constexpr int kLostFramesPerOffsetSearch = 4;
-
   // `estimator` must outlive the tracker.
   explicit PoseTracker(const Estimator* estimator);
 
@@ -56,7 +55,9 @@ class PoseTracker {
   std::optional<FramePrior> prior_;  // with has_pose.
   std::optional<Pose2D> initial_;    // SetInitialPose's.
   bool initial_pending_ = false;     // the robot was not found since it was set or Reset.
-  // Frames in a row without a humanoid (or with an error), modulo kLostFramesPerOffsetSearch.
+  // 0 at the stream's start and while the robot is found; else frames in a row without a
+  // humanoid (or with an error), counted from 1 up to the number of offsets off the floor
+  // (FramePrior::height_offset_turn) and around again.
   int lost_frames_ = 0;
   FloorTracker floor_;
 };

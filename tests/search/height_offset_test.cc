@@ -137,23 +137,79 @@ TEST(HeightOffsetTest, ATrackedStreamStartsWhereTheRobotStoodBefore) {
   }
 }
 
-// A stream that has lost its robot moves the templates off the floor in its first frame without
-// one and in every kLostFramesPerOffsetSearch-th after, not in every frame.
-TEST(HeightOffsetTest, AStreamWithoutItsRobotMovesTheTemplatesNowAndThen) {
+SimulatedFrame EmptyFrame(std::uint64_t seed) {
+  FrameSpec spec;
+  spec.humanoid_pose = Pose2D{15.0, 0.0, 0.0};  // out of range: the floor and clutter only.
+  spec.clutter = 2;
+  spec.seed = seed;
+  Result<SimulatedFrame> frame = SimulateFrame(spec);
+  EXPECT_TRUE(frame.ok()) << frame.error().ToString();
+  return std::move(frame).value();
+}
+
+// A stream that has lost its robot moves the templates off the floor to every offset in its
+// first frame without one, then to one offset a frame: each frame after the first searches
+// twice (on the floor, then at its offset), not five times in one frame of four.
+TEST(HeightOffsetTest, AStreamWithoutItsRobotTriesOneOffsetAFrame) {
   const Intrinsics intrinsics = FrameSpec().intrinsics;
   const auto estimator = MakeEstimator(0.0, 2);
   PoseTracker tracker(estimator.get());
-  const int period = PoseTracker::kLostFramesPerOffsetSearch;
-  for (int k = 0; k <= period + 1; ++k) {
+  for (int k = 0; k < 6; ++k) {
     SCOPED_TRACE("frame " + std::to_string(k));
-    FrameSpec spec;
-    spec.humanoid_pose = Pose2D{15.0, 0.0, 0.0};  // out of range: the floor and clutter only.
-    spec.clutter = 2;
-    spec.seed = 120 + k;
-    const Estimate e = *tracker.EstimateDepth(SimulateFrame(spec)->depth, intrinsics);
+    const Estimate e = *tracker.EstimateDepth(EmptyFrame(120 + k).depth, intrinsics);
     ASSERT_TRUE(e.Humanoids().empty());
-    // On the floor, then one and two voxels lower and higher: five searches.
-    EXPECT_EQ(e.height_passes, k % period == 0 ? 5 : 1);
+    // On the floor, then one and two voxels lower and higher: five searches; then two.
+    EXPECT_EQ(e.height_passes, k == 0 ? 5 : 2);
+  }
+}
+
+// The offsets taken in turn are one voxel lower, one higher, two lower, two higher, and around
+// again: a robot 28 mm lower than its template passes a voxel or two lower, never higher.
+TEST(HeightOffsetTest, OneOffsetInTurnTakesTheOffsetsInTheirOrder) {
+  const Intrinsics intrinsics = FrameSpec().intrinsics;
+  const auto estimator = MakeEstimator(0.028, 2);
+  const Pose2D truth{1.6, 0.1, DegToRad(40.0)};
+  const SimulatedFrame frame = Frame(truth, 130);
+  const double expected[] = {-kEdge, 0.0, -2.0 * kEdge, 0.0, -kEdge};  // 0.0: nothing passes.
+  for (int turn = 0; turn < 5; ++turn) {
+    SCOPED_TRACE("turn " + std::to_string(turn));
+    FramePrior prior;
+    prior.height_offset_turn = turn;
+    const Estimate e = *estimator->EstimateDepth(frame.depth, intrinsics, &prior);
+    EXPECT_EQ(e.height_passes, 2);
+    const HumanoidView humans = e.Humanoids();
+    if (expected[turn] == 0.0) {
+      EXPECT_TRUE(humans.empty());
+      continue;
+    }
+    ASSERT_EQ(humans.size(), 1u);
+    EXPECT_DOUBLE_EQ(humans.front().best.height_offset_m, expected[turn]);
+    EXPECT_LT(HeadingErrorDeg(humans.front().best, truth), 3.0);
+  }
+}
+
+// A robot lower than its template walking into a stream that has lost it is found when its
+// offset's turn comes, and from then on tracked there, searched once a frame.
+TEST(HeightOffsetTest, ALostStreamFindsALowerRobotWhenItsOffsetsTurnComes) {
+  const Intrinsics intrinsics = FrameSpec().intrinsics;
+  const auto estimator = MakeEstimator(0.028, 2);
+  PoseTracker tracker(estimator.get());
+  // Frames 0 and 1 without it (every offset, then one voxel lower); from frame 2 on it stands
+  // there: frame 2 takes one voxel higher (missed), frame 3 two lower (found).
+  for (int k = 0; k < 6; ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    const Pose2D truth{1.5 + 0.03 * k, -0.1, DegToRad(-50.0 + 4.0 * k)};
+    const SimulatedFrame frame = k < 2 ? EmptyFrame(140 + k) : Frame(truth, 140 + k);
+    const Estimate e = *tracker.EstimateDepth(frame.depth, intrinsics);
+    const HumanoidView humans = e.Humanoids();
+    EXPECT_EQ(e.height_passes, k == 0 ? 5 : k <= 3 ? 2 : 1);
+    if (k < 3) {
+      EXPECT_TRUE(humans.empty());
+      continue;
+    }
+    ASSERT_EQ(humans.size(), 1u);
+    EXPECT_DOUBLE_EQ(humans.front().best.height_offset_m, -2.0 * kEdge);
+    EXPECT_LT(HeadingErrorDeg(humans.front().best, truth), 3.0);
   }
 }
 
