@@ -150,6 +150,7 @@ void EstimateToProto(const Estimate& e, v1::DepthTemplateResult* out) {
   tracking->set_tracked(e.tracking.tracked);
   tracking->set_prior_given(e.tracking.prior_given);
   tracking->set_floor_reused(e.tracking.floor_reused);
+  tracking->set_height_searches(e.height_passes);
   if (e.tracking.prior_given) {
     tracking->set_prior_template(e.tracking.prior_template);
     SetPose2D(e.tracking.prior_pose, tracking->mutable_prior_pose());

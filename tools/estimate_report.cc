@@ -157,8 +157,12 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
   }
   os << "timings   cloud " << Fmt("%.1f", e.timings.cloud_ms) << " ms, floor "
      << Fmt("%.1f", e.timings.floor_ms) << " ms, clustering " << Fmt("%.1f", e.timings.cluster_ms)
-     << " ms, search " << Fmt("%.1f", e.timings.search_ms) << " ms, total "
-     << Fmt("%.1f", e.timings.total_ms) << " ms\n";
+     << " ms, search " << Fmt("%.1f", e.timings.search_ms) << " ms";
+  // Nothing passed at the first height: the frame was searched again off the floor.
+  if (e.height_passes > 1) {
+    os << " at " << e.height_passes << " heights (--height-offset-voxels)";
+  }
+  os << ", total " << Fmt("%.1f", e.timings.total_ms) << " ms\n";
   return os.str();
 }
 

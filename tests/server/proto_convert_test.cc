@@ -99,6 +99,10 @@ TEST(ProtoConvertTest, EstimateCarriesPoseIn3DAndMargins) {
   EXPECT_NEAR(p.pose_3d().orientation().w(), std::cos(1.25), 1e-12);
   EXPECT_DOUBLE_EQ(p.pose_3d().position().y(), -0.2);
   EXPECT_EQ(out.best().refused_by(), v1::REFUSAL_NONE);
+  EXPECT_EQ(out.tracking().height_searches(), 1);
+  e.height_passes = 3;
+  EstimateToProto(e, &out);
+  EXPECT_EQ(out.tracking().height_searches(), 3);
   // A refused cluster says which rule refused it.
   for (const auto& [rule, wire] : std::vector<std::pair<Refusal, v1::Refusal>>{
            {Refusal::kScore, v1::REFUSAL_SCORE},

@@ -267,6 +267,15 @@ TEST_F(EstimateCliTest, AFarHumanoidBelowTheThresholdIsExplained) {
   EXPECT_NE(run.out.find("none found (best: "), std::string::npos) << run.out;
   EXPECT_NE(run.out.find(" m away, proved below score 50"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("far humanoids score less"), std::string::npos) << run.out;
+  // Nothing passed on the floor, so the frame was searched again one and two voxels lower and
+  // higher: five searches, which its JSON counts.
+  const CliRun json_run =
+      RunHpose("estimate --depth '" + (*dir_ / "far/depth.png") + "' --far-ratio 1 --json", *dir_);
+  ASSERT_EQ(json_run.exit_code, 3) << json_run.err;
+  EXPECT_EQ(nlohmann::json::parse(json_run.out)["depth_template"]["tracking"]["height_searches"]
+                .get<int>(),
+            5)
+      << json_run.out;
   // With the bar lowered for this frame it is found where it stands.
   EXPECT_NE(run.out.find("(--far-ratio)"), std::string::npos) << run.out;
   const CliRun low = RunHpose(

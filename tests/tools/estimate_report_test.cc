@@ -99,5 +99,16 @@ TEST(EstimateReportTest, AFarClusterRefusedByItsScoreGetsTheFarHint) {
             std::string::npos);
 }
 
+// A frame searched again off the floor says how many heights its search time went to.
+TEST(EstimateReportTest, TimingsSayHowManyHeightsWereSearched) {
+  const EstimatorOptions o;
+  Estimate e = Miss(38.0, 90.0, 400, 40.0, Refusal::kScore);
+  EXPECT_EQ(EstimateToText(e, &o).find("heights"), std::string::npos);
+  e.height_passes = 5;
+  EXPECT_NE(EstimateToText(e, &o).find(" ms at 5 heights (--height-offset-voxels), total "),
+            std::string::npos)
+      << EstimateToText(e, &o);
+}
+
 }  // namespace
 }  // namespace hpose::tools

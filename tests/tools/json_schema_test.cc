@@ -174,6 +174,9 @@ TEST_F(JsonSchemaTest, EstimateAndReplayShareOneSchema) {
   EXPECT_TRUE(t1.at("tracked").get<bool>());
   EXPECT_TRUE(t1.at("floor_reused").get<bool>());
   EXPECT_EQ(t1.at("prior_template"), a.at("template_name"));
+  // The robot passes on the floor: each frame searched once.
+  EXPECT_EQ(t0.at("height_searches").get<int>(), 1);
+  EXPECT_EQ(t1.at("height_searches").get<int>(), 1);
   // The tracked frame confirms the first frame's heading (the robot stands still, seen near), so
   // it searched no runner-up; the cold frames did not ask.
   const json& a1 = replayed[1].at("depth_template").at("best").at("best");
