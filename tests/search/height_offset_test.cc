@@ -194,12 +194,14 @@ TEST(HeightOffsetTest, ALostStreamFindsALowerRobotWhenItsOffsetsTurnComes) {
   const Intrinsics intrinsics = FrameSpec().intrinsics;
   const auto estimator = MakeEstimator(0.028, 2);
   PoseTracker tracker(estimator.get());
-  // Frames 0 and 1 without it (every offset, then one voxel lower); from frame 2 on it stands
-  // there: frame 2 takes one voxel higher (missed), frame 3 two lower (found).
+  // Frames 0 and 1 without it, seen from the same mount (every offset, then one voxel lower);
+  // from frame 2 on it stands there: frame 2 takes one voxel higher (missed), frame 3 two lower
+  // (found).
   for (int k = 0; k < 6; ++k) {
     SCOPED_TRACE("frame " + std::to_string(k));
     const Pose2D truth{1.5 + 0.03 * k, -0.1, DegToRad(-50.0 + 4.0 * k)};
-    const SimulatedFrame frame = k < 2 ? EmptyFrame(140 + k) : Frame(truth, 140 + k);
+    const Pose2D out_of_range{15.0, 0.0, 0.0};
+    const SimulatedFrame frame = Frame(k < 2 ? out_of_range : truth, 140 + k);
     const Estimate e = *tracker.EstimateDepth(frame.depth, intrinsics);
     const HumanoidView humans = e.Humanoids();
     EXPECT_EQ(e.height_passes, k == 0 ? 5 : k <= 3 ? 2 : 1);
