@@ -82,10 +82,12 @@ class WebViewTest(unittest.TestCase):
     def setUp(self):
         self.tmp = tempfile.TemporaryDirectory()
         frames = os.path.join(self.tmp.name, "frames")
-        # A humanoid walking a curve (4 cm and 15 degrees a frame) among clutter, replayed once at
-        # 1 Hz.
+        # A humanoid walking a curve (4 cm and 12 degrees a frame) among clutter, replayed once at
+        # 1 Hz. A tracked frame confirms the previous heading when its pose faces within 15 degrees
+        # of it (EstimatorOptions::tracked_heading_confirm_rad): most frames of this walk do (at
+        # 15 degrees a frame, few did).
         subprocess.run([HPOSE, "simulate", "--out", frames, "--frames", "12", "--width", "320",
-                        "--height", "240", "--no-cloud", "--turn-deg", "15", "--step-m", "0.04",
+                        "--height", "240", "--no-cloud", "--turn-deg", "12", "--step-m", "0.04",
                         "--clutter", "2"],
                        check=True, stdout=subprocess.DEVNULL)
         options = webdriver.ChromeOptions()
@@ -160,12 +162,14 @@ class WebViewTest(unittest.TestCase):
 
         # While the recording plays, the displayed heading follows the turning robot.
         thetas = set()
+        margins = set()  # what the page said of the runner-up heading, frame by frame.
         screenshot_taken = False
         deadline = time.monotonic() + 240
         while time.monotonic() < deadline:
             pose = self.displayed_pose()
             if pose is not None:
                 thetas.add(pose[3])
+                margins.add(self.text("margin"))
             if SCREENSHOT and not screenshot_taken and len(thetas) >= 8:  # a trail to show.
                 time.sleep(0.5)
                 self.driver.save_screenshot(SCREENSHOT)
@@ -178,6 +182,10 @@ class WebViewTest(unittest.TestCase):
                          "SOURCE_STATE_FINISHED")
         self.assertGreaterEqual(len(thetas), 2, "the heading shown never changed: %s" % thetas)
         self.assertGreater(max(thetas) - min(thetas), 20.0, sorted(thetas))
+        # The first frame, cold, searched a runner-up and shows its margin (a number); tracked
+        # frames that confirmed the previous heading say so instead.
+        self.assertIn("previous heading confirmed", margins)
+        self.assertTrue(any(re.match(r"^-?\d+\.\d", m) for m in margins), sorted(margins))
 
         self.wait_until_settled()
 
