@@ -68,9 +68,11 @@ Status ValidateClusterOptions(const ClusterOptions& o) {
     return bad("veil_max_angle_rad must be in [0, pi/2)");
   }
   if (!std::isfinite(o.merge_hidden_max_depth_gap_m) || o.merge_hidden_max_depth_gap_m < 0.0 ||
-      !std::isfinite(o.merge_hidden_max_fraction) || o.merge_hidden_max_fraction < 0.0) {
+      !std::isfinite(o.merge_hidden_max_fraction) || o.merge_hidden_max_fraction < 0.0 ||
+      !std::isfinite(o.merge_hidden_min_lift_m) || o.merge_hidden_min_lift_m < 0.0) {
     return bad(
-        "merge_hidden_max_depth_gap_m and merge_hidden_max_fraction must be finite and >= 0");
+        "merge_hidden_max_depth_gap_m, merge_hidden_max_fraction and merge_hidden_min_lift_m must "
+        "be finite and >= 0");
   }
   if (!std::isfinite(o.split_min_top_separation_m) || o.split_min_top_separation_m < 0.0) {
     return bad("split_min_top_separation_m must be finite and >= 0");
@@ -358,6 +360,7 @@ Result<std::vector<Cluster>> ExtractClusters(const PointCloud& cloud_sensor,
   OccludedPieceOptions hidden;
   hidden.max_depth_gap_m = options.merge_hidden_max_depth_gap_m;
   hidden.max_point_fraction = options.merge_hidden_max_fraction;
+  hidden.min_lift_m = options.merge_hidden_min_lift_m;
   hidden.leaf_m = options.downsample_leaf_m;
   MergeOccludedPieces(floor.ground_from_sensor.translation().cast<float>(), hidden, &raw);
 

@@ -66,6 +66,10 @@ struct ClusterOptions {
   // disables). 0.3 m: the width of a 1.5 m person's shoulders, more than a small robot's.
   double merge_hidden_max_depth_gap_m = 0.30;
   double merge_hidden_max_fraction = 0.5;
+  // ... unless it stands where the body stands: its lowest point less than this above the body's
+  // and its top below the body's mid-height, an object behind it (OccludedPieceOptions::
+  // min_lift_m; 0: any piece).
+  double merge_hidden_min_lift_m = 0.05;
 };
 
 // kInvalidArgument naming the first option out of range ("cluster options: tolerance_m must be >

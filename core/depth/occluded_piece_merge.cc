@@ -128,6 +128,24 @@ void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptio
   }
   size_t largest = 0;
   for (const Cluster& c : *clusters) largest = std::max(largest, c.points.size());
+  // Each involved cluster's lowest and highest point (ground frame), for
+  // OccludedPieceOptions::min_lift_m.
+  std::vector<float> lowest(n, std::numeric_limits<float>::max());
+  std::vector<float> highest(n, std::numeric_limits<float>::lowest());
+  for (int c = 0; c < n; ++c) {
+    if (!involved[c]) continue;
+    for (const Eigen::Vector3f& p : (*clusters)[c].points) {
+      lowest[c] = std::min(lowest[c], p.z());
+      highest[c] = std::max(highest[c], p.z());
+    }
+  }
+  const bool lift_rule = options.min_lift_m > 0.0;
+  const float min_lift = static_cast<float>(options.min_lift_m);
+  // Whether `piece` stands where `body` stands and stays in its lower half: an object behind it.
+  const auto stands_behind = [&](int piece, int body) {
+    return lift_rule && lowest[piece] < lowest[body] + min_lift &&
+           highest[piece] < 0.5f * (lowest[body] + highest[body]);
+  };
   // Per bin, the one cluster all its points belong to (kEmpty without points, kMixed with
   // several): a point whose 3 x 3 bins hold only its own cluster has no neighbour to test.
   constexpr int kEmpty = -1, kMixed = -2;
@@ -164,6 +182,7 @@ void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptio
           if (near.cluster == far.cluster) continue;
           const size_t near_size = (*clusters)[near.cluster].points.size();
           if (static_cast<double>(far_size) > options.max_point_fraction * near_size) continue;
+          if (stands_behind(far.cluster, near.cluster)) continue;
           const float step = far.distance - near.distance;
           if (!(step > 0.0f) || step > options.max_depth_gap_m) continue;
           const double limit =

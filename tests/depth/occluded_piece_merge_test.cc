@@ -70,6 +70,39 @@ TEST(MergeOccludedPiecesTest, KeepsPiecesFarBehindApartInTheImageOrInFrontOrLarg
   EXPECT_EQ(arm.size(), 2u);
 }
 
+TEST(MergeOccludedPiecesTest, KeepsAnObjectStandingBehindTheBodyApart) {
+  // A box 0.2 m behind the body, on the floor, seen beside its right edge in the image: a
+  // neighbour behind the silhouette, small enough, near enough, but standing where the body
+  // stands (its lowest point as low as the body's) and no higher than the body's lower half.
+  const Cluster box = Slab(1.2f, 0.085f, 0.25f, 0.05f, 0.15f);
+  std::vector<Cluster> standing = {Body(), box};
+  MergeOccludedPieces(kSensor, {}, &standing);
+  EXPECT_EQ(standing.size(), 2u);
+  // Without the rule (min_lift_m 0, as before) it merged as a hidden limb would.
+  OccludedPieceOptions any_piece;
+  any_piece.min_lift_m = 0.0;
+  std::vector<Cluster> merged = {Body(), box};
+  MergeOccludedPieces(kSensor, any_piece, &merged);
+  EXPECT_EQ(merged.size(), 1u);
+  // The same box lifted off the floor by the rule's margin (a limb hanging from a hidden
+  // joint) merges again; lifted by less it does not.
+  OccludedPieceOptions o;
+  std::vector<Cluster> lifted = {Body(), Slab(1.2f, 0.085f, 0.25f, 0.11f, 0.21f)};
+  MergeOccludedPieces(kSensor, o, &lifted);
+  EXPECT_EQ(lifted.size(), 1u);
+  std::vector<Cluster> low = {Body(), Slab(1.2f, 0.085f, 0.25f, 0.08f, 0.18f)};
+  MergeOccludedPieces(kSensor, o, &low);
+  EXPECT_EQ(low.size(), 2u);
+  // A piece from the floor up into the body's upper half (a far foot and the arm above it,
+  // joined along the line of sight before) is still a limb: it merges.
+  std::vector<Cluster> tall = {Body(), Slab(1.2f, 0.085f, 0.12f, 0.05f, 0.30f)};
+  const size_t tall_total = tall[0].points.size() + tall[1].points.size();
+  ASSERT_LE(tall[1].points.size(), tall[0].points.size() / 2);
+  MergeOccludedPieces(kSensor, o, &tall);
+  ASSERT_EQ(tall.size(), 1u);
+  EXPECT_EQ(tall[0].points.size(), tall_total);
+}
+
 TEST(MergeOccludedPiecesTest, MergesChainsAndIgnoresEmptyOrDegenerateInput) {
   // A hand behind the arm behind the body: both join the body.
   Cluster hand =

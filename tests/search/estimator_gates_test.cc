@@ -289,6 +289,80 @@ TEST(EstimatorGatesTest, ClutterCoveringLittleOfTheTemplateIsNoHumanoid) {
   }
 }
 
+// ClusterOptions::merge_hidden_min_lift_m: a box standing behind the robot, in its silhouette,
+// was merged into the robot's cluster as a limb whose joint the body hides, and its voxels
+// lowered every template's score and fit there. Frames 10-12 of frame_bench's walk (the Nao
+// 1.5 m away, the same four objects in every frame).
+TEST(EstimatorGatesTest, AnObjectStandingBehindTheRobotStaysOutOfItsCluster) {
+  const std::vector<VoxelTemplate> templates = {ModelTemplate("standing"),
+                                                ModelTemplate("right_arm_raised")};
+  const EstimatorOptions now_options = DefaultEstimatorOptions();
+  ASSERT_GT(now_options.clusters.merge_hidden_min_lift_m, 0.0);
+  EstimatorOptions before_options = now_options;
+  before_options.clusters.merge_hidden_min_lift_m = 0.0;
+  int merged_frames = 0;
+  for (int i = 10; i <= 12; ++i) {
+    FrameSpec spec;
+    const double phi = kPi + DegToRad(2.5 * i);
+    spec.humanoid_pose =
+        Pose2D{2.2 + 0.8 * std::cos(phi), 0.8 * std::sin(phi), NormalizeAngle(phi + 0.5 * kPi)};
+    spec.clutter = 4;
+    spec.seed = 1;
+    const SimulatedFrame frame = *SimulateFrame(spec);
+    const auto estimate = [&](const EstimatorOptions& o) {
+      return *Estimator::Create(o, templates).value()->EstimateDepth(frame.depth, spec.intrinsics);
+    };
+    // The robot's cluster (nearest the truth) and the standing template's candidate on it.
+    struct Seen {
+      int points = 0;
+      const Candidate* standing = nullptr;
+    };
+    const auto robot = [&](const Estimate& e) {
+      Seen seen;
+      int index = -1;
+      double nearest = 0.3;
+      for (const ClusterSummary& c : e.clusters) {
+        const double d = std::hypot(c.centroid.x() - spec.humanoid_pose.x,
+                                    c.centroid.y() - spec.humanoid_pose.y);
+        if (d < nearest) nearest = d, index = c.index, seen.points = c.points;
+      }
+      for (const Candidate& c : e.candidates) {
+        if (c.cluster_index == index && c.template_name == "standing") seen.standing = &c;
+      }
+      return seen;
+    };
+    const Estimate before = estimate(before_options), now = estimate(now_options);
+    const Seen b = robot(before), n = robot(now);
+    ASSERT_NE(b.standing, nullptr) << "frame " << i;
+    ASSERT_NE(n.standing, nullptr) << "frame " << i;
+    EXPECT_LE(n.points, b.points) << "frame " << i;
+    // Found where it stands either way.
+    ASSERT_FALSE(now.Humanoids().empty()) << "frame " << i;
+    const Candidate& found = now.Humanoids().front().best;
+    EXPECT_LT(std::hypot(found.pose.x - spec.humanoid_pose.x, found.pose.y - spec.humanoid_pose.y),
+              0.03)
+        << "frame " << i;
+    EXPECT_LT(std::abs(RadToDeg(AngleDiff(found.pose.theta, spec.humanoid_pose.theta))), 3.0)
+        << "frame " << i;
+    if (n.points == b.points) continue;
+    // The box left out: the template covers more of the robot's cluster, and little of the
+    // template is contradicted any more.
+    ++merged_frames;
+    EXPECT_GE(n.standing->score, b.standing->score + 5.0) << "frame " << i;
+    EXPECT_GE(n.standing->fit.fit, 95.0) << "frame " << i;
+    EXPECT_GT(n.standing->fit.fit, b.standing->fit.fit) << "frame " << i;
+  }
+  EXPECT_GE(merged_frames, 1);
+
+  EstimatorOptions bad = now_options;
+  for (const double v : {-0.01, std::nan("")}) {
+    bad.clusters.merge_hidden_min_lift_m = v;
+    const Result<std::unique_ptr<Estimator>> e = Estimator::Create(bad, templates);
+    ASSERT_FALSE(e.ok()) << v;
+    EXPECT_NE(e.error().message.find("merge_hidden_min_lift_m"), std::string::npos) << v;
+  }
+}
+
 // EstimatorOptions::two_points_a_voxel_within_m: a robot 1.5 m away is searched on fewer voxels
 // (its lone points' voxels left out) and found where it stands all the same; a cluster beyond the
 // distance keeps every voxel with a point.
