@@ -42,9 +42,9 @@ struct OccludedPieceOptions {
 // Piece B joins cluster A when B has at most max_point_fraction of A's points, does not stand
 // where A stands (min_lift_m), and some point of B is A's neighbour in the image (seen from
 // `sensor`, ground frame) while lying behind it by less than max_depth_gap_m: B continues behind
-// A's silhouette. Objects apart in the image
-// never merge, nor objects farther behind. Chains merge too (a hand behind an arm behind a
-// body). Only `points` are used and kept; merged clusters keep the hiding cluster's place.
+// A's silhouette. Objects apart in the image never merge, nor objects farther behind. Chains
+// merge too (a hand behind an arm behind a body). Only `points` are used and kept; merged
+// clusters keep the hiding cluster's place.
 void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptions& options,
                          std::vector<Cluster>* clusters);
 
