@@ -86,9 +86,15 @@ void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptio
   for (int c = 0; c < n; ++c) total += involved[c] ? (*clusters)[c].points.size() : 0;
   seen.reserve(total);
   float nearest = std::numeric_limits<float>::max();
+  // Each involved cluster's lowest and highest point (ground frame), for
+  // OccludedPieceOptions::min_lift_m.
+  std::vector<float> lowest(n, std::numeric_limits<float>::max());
+  std::vector<float> highest(n, std::numeric_limits<float>::lowest());
   for (int c = 0; c < n; ++c) {
     if (!involved[c]) continue;
     for (const Eigen::Vector3f& p : (*clusters)[c].points) {
+      lowest[c] = std::min(lowest[c], p.z());
+      highest[c] = std::max(highest[c], p.z());
       const Eigen::Vector3f d = p - sensor;
       const float distance = d.norm();
       if (!(distance > 1e-6f)) continue;
@@ -128,17 +134,6 @@ void MergeOccludedPieces(const Eigen::Vector3f& sensor, const OccludedPieceOptio
   }
   size_t largest = 0;
   for (const Cluster& c : *clusters) largest = std::max(largest, c.points.size());
-  // Each involved cluster's lowest and highest point (ground frame), for
-  // OccludedPieceOptions::min_lift_m.
-  std::vector<float> lowest(n, std::numeric_limits<float>::max());
-  std::vector<float> highest(n, std::numeric_limits<float>::lowest());
-  for (int c = 0; c < n; ++c) {
-    if (!involved[c]) continue;
-    for (const Eigen::Vector3f& p : (*clusters)[c].points) {
-      lowest[c] = std::min(lowest[c], p.z());
-      highest[c] = std::max(highest[c], p.z());
-    }
-  }
   const bool lift_rule = options.min_lift_m > 0.0;
   const float min_lift = static_cast<float>(options.min_lift_m);
   // Whether `piece` stands where `body` stands and stays in its lower half: an object behind it.
