@@ -11,7 +11,9 @@
 // Per variant: median / p90 (and p99 of the total) wall time of each stage, CPU time per frame
 // (all threads), branch-and-bound bounds per frame, how many frames found the humanoid within 5
 // cm and 10 degrees, and a digest of every candidate's optimum and runner-up (template, cluster,
-// pose, scores; see MixEstimate): equal digests mean equal results. Every variant makes its
+// pose, scores; see MixEstimate): equal digests mean equal results; and a digest of each
+// frame's humanoids alone (MixHumanoids), equal where variants differ only in candidates no
+// humanoid takes. Every variant makes its
 // search tables at start (make_tables_at_start, as the daemon does) unless its name says
 // otherwise. Pin it to one core for the documented numbers:
 //   taskset -c 0 frame_bench [--frames N] [--sequence N] [--clutter N] [--max-distance M]
@@ -66,6 +68,8 @@ struct Variant {
   int tracked = 0;
   int searches = 0;  // recorded clouds: (cluster, template) searches of the first run.
   std::uint64_t digest = 1469598103934665603ull;  // FNV-1a.
+  // Of what a reader is given: each frame's humanoids (MixHumanoids).
+  std::uint64_t humanoid_digest = 1469598103934665603ull;
 };
 
 void Mix(std::uint64_t* h, const void* data, size_t n) {
@@ -108,6 +112,21 @@ void MixEstimate(std::uint64_t* h, const Estimate& e) {
     const int ints[] = {s.index, s.points, s.searched ? 1 : 0};
     Mix(h, ints, sizeof ints);
     Mix(h, s.centroid.data(), sizeof(float) * 3);
+  }
+}
+
+// What a reader of the estimate is given: each humanoid's template, cluster, pose and heading
+// flags, in their order. Equal where variants differ only in candidates no humanoid takes.
+void MixHumanoids(std::uint64_t* h, const Estimate& e) {
+  const int count = static_cast<int>(e.Humanoids().size());
+  Mix(h, &count, sizeof count);
+  for (const Detection& d : e.Humanoids()) {
+    const Candidate& c = d.best;
+    Mix(h, c.template_name.data(), c.template_name.size());
+    const int ints[] = {c.cluster_index, c.heading_ambiguous ? 1 : 0, c.refined ? 1 : 0};
+    Mix(h, ints, sizeof ints);
+    const double values[] = {c.pose.x, c.pose.y, c.pose.theta};
+    Mix(h, values, sizeof values);
   }
 }
 
@@ -220,6 +239,7 @@ Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>*
         ++v.frames;
         v.tracked += e->tracking.tracked ? 1 : 0;
         MixEstimate(&v.digest, *e);
+        MixHumanoids(&v.humanoid_digest, *e);
         if (flags.dump) {
           for (const Candidate& c : e->candidates) {
             std::printf(
@@ -307,17 +327,18 @@ void PrintTable(const std::vector<Variant>& variants) {
   std::printf(
       "| variant | cloud | floor | clustering | search (incl. refinement) | refinement | "
       "refinement, humanoid's cluster | total | total p99 | CPU per frame | bounds (k) | tracked "
-      "| humanoid found | other humanoids | digest |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "| humanoid found | other humanoids | digest | humanoid digest |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Variant& v : variants) {
     std::printf(
         "| %s | %s | %s | %s | %s | %s | %s | %s | %.1f | %s | %s | %d | %d / %d | %d | %016llx "
-        "|\n",
+        "| %016llx |\n",
         v.name.c_str(), Cell(v.cloud).c_str(), Cell(v.floor).c_str(), Cell(v.cluster).c_str(),
         Cell(v.search).c_str(), Cell(v.refine, 2).c_str(), Cell(v.refine_humanoid, 2).c_str(),
         Cell(v.total).c_str(), Percentile(v.total, 99.0), Cell(v.cpu).c_str(),
         Cell(v.bounds).c_str(), v.tracked, v.found, v.frames, v.false_humanoids,
-        static_cast<unsigned long long>(v.digest));
+        static_cast<unsigned long long>(v.digest),
+        static_cast<unsigned long long>(v.humanoid_digest));
   }
 }
 
@@ -665,6 +686,12 @@ std::vector<Variant> SequenceVariants() {
                  o->tracked_heading_confirm_rad = 0.0;
                },
                true});
+  v.push_back({"walk, tracked, every template refined (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->tracked_other_template_margin = -1.0;
+               },
+               true});
   v.push_back({"walk, tracked, depth images asked whatever the fits (before)",
                [](EstimatorOptions* o) {
                  Exact(o);
@@ -907,7 +934,8 @@ int Run(int argc, char** argv) {
       "cluster nearest the true pose, over the frames where they were refined (the humanoid "
       "scored above the threshold). humanoid found: the best humanoid detection within 5 cm and "
       "10 deg of the truth. other humanoids: detections more than 0.3 m from it (clutter taken "
-      "for a humanoid).\n");
+      "for a humanoid). humanoid digest: of each frame's humanoids alone (template, pose, "
+      "heading flag).\n");
   return 0;
 }
 

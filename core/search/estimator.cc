@@ -599,6 +599,11 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
     return MakeError(ErrorCode::kInvalidArgument,
                      "tracked_heading_confirm_rad must be within [0, pi] (radians; 0: off)");
   }
+  if (!(options.tracked_other_template_margin <= 100.0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "tracked_other_template_margin must be at most 100 (score points; "
+                     "negative: off)");
+  }
   if (!(options.two_points_a_voxel_within_m >= 0.0)) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "two_points_a_voxel_within_m must be at least 0 (metres; 0: off)");
@@ -656,6 +661,14 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   const std::vector<Cluster>* clusters = height_offset_m != 0.0 ? &moved : &on_floor;
   // The cluster the previous frame's humanoid stood on, if any, and its lower threshold.
   const int held_cluster = HeldCluster(*clusters, prior);
+  // The previous frame's template, whose refinement on the held cluster comes before the
+  // others' (EstimatorOptions::tracked_other_template_margin); -1 when none or off.
+  int prior_tpl = -1;
+  if (held_cluster >= 0 && options_.tracked_other_template_margin >= 0.0) {
+    for (size_t j = 0; j < rotations_.size(); ++j) {
+      if (rotations_[j]->name() == prior->template_name) prior_tpl = static_cast<int>(j);
+    }
+  }
   const double tracked_threshold =
       std::min(options_.tracked_score_threshold, options_.score_threshold);
   std::vector<double> thresholds(clusters->size(), options_.score_threshold);
@@ -707,7 +720,10 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     // The search's scorer, kept for the rescore of a runner-up that wins.
     std::unique_ptr<PoseScorer> scorer;
     // The runner-up's search, left until the refined fits say whether it is needed.
-    std::unique_ptr<RunnerUpSearch> runner_up;
+    std::unique_ptr<RunnerUpSearch>
+        runner_up;  // Its refinement waits for the previous frame's template's on the held cluster
+    // (EstimatorOptions::tracked_other_template_margin).
+    bool refine_deferred = false;
   };
   const int cluster_count = static_cast<int>(clusters->size());
   std::vector<ClusterWork> work(cluster_count);
@@ -803,7 +819,12 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     cand.runner_up_score = r.runner_up_score;
     cand.poses_evaluated = r.poses_evaluated;
     cand.bounds_evaluated = r.bounds_evaluated;
-    if (refine && !r.below_min_value) refine_task(task);
+    if (!refine || r.below_min_value) return;
+    if (task.cluster == held_cluster && prior_tpl >= 0 && task.tpl != prior_tpl) {
+      task.refine_deferred = true;
+    } else {
+      refine_task(task);
+    }
   };
   // A score threshold as the search's min_value on a cluster of n voxels.
   const auto min_value_of = [&](double threshold, int n) {
@@ -904,6 +925,30 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
       pool_->ParallelFor(static_cast<int>(again.size()),
                          [&](int i) { search_again(tasks[again[i]], tracked_threshold); });
     }
+  }
+  // The held cluster's other templates: refined unless the previous frame's template passes
+  // there and the search put them more than tracked_other_template_margin points behind it.
+  {
+    const Task* lead = nullptr;
+    for (const Task& task : tasks) {
+      if (task.cluster == held_cluster && task.tpl == prior_tpl && task.kept) lead = &task;
+    }
+    const bool lead_passes = lead != nullptr && lead->cand.refined &&
+                             PassesAsHumanoid(lead->cand, thresholds[held_cluster], true, options_);
+    std::vector<int> deferred;
+    for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
+      Task& task = tasks[k];
+      if (!task.refine_deferred) continue;
+      task.refine_deferred = false;
+      if (lead_passes &&
+          task.cand.score < lead->cand.score - options_.tracked_other_template_margin) {
+        task.runner_up.reset();
+        continue;
+      }
+      deferred.push_back(k);
+    }
+    pool_->ParallelFor(static_cast<int>(deferred.size()),
+                       [&](int i) { refine_task(tasks[deferred[i]]); });
   }
   // Far clusters when nothing in the frame passed (a humanoid, or clutter refused by the fit):
   // Kinect noise lowers a far humanoid's score (EstimatorOptions::far_score_ratio). Their

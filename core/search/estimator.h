@@ -138,6 +138,17 @@ struct EstimatorOptions {
   // way, the turned-about pose (its true heading) fits as well. The optimum is the same either
   // way. 0: every runner-up searched, tracked frames' candidates equal to cold frames' (before).
   double tracked_heading_confirm_rad = 15.0 * kPi / 180.0;
+  // In a tracked stream, on the cluster the previous frame's humanoid stood on, a template other
+  // than that frame's is refined only when its search score comes within this many points of
+  // the previous frame's template's score there, or when that template's refined pose does not
+  // pass as a humanoid; otherwise its candidate keeps its search pose (Candidate::refined false,
+  // no runner-up searched) and the detection keeps the previous frame's template. Which template
+  // a frame fits best shows in the search scores first: on the frame benchmark's protocols
+  // (five bodies and mounts, 1 080 frames) the template with the best refined fit never scored
+  // more than 1.1 points below another (docs/BENCHMARKS.md, "Other templates of a tracked
+  // humanoid"), and a robot that changes posture raises the other template's score above the
+  // previous one's. Negative: every template refined, as in a cold frame (before).
+  double tracked_other_template_margin = 3.0;
   // A far cluster, cold: Kinect noise lowers a humanoid's score there too (above), and a cold
   // frame has no prior to hold it by. A cluster whose centroid lies at least far_range_m from
   // the sensor's optical centre is searched down to far_score_ratio * score_threshold, and passes

@@ -63,6 +63,8 @@ int SeededAgainstCold(double confirm_rad) {
   options.use_fixed_floor = true;
   options.fixed_floor = Frame({1.3, -0.2, 0.0}, 11).sensor_mount;
   options.tracked_heading_confirm_rad = confirm_rad;
+  // Every template refined, as in a cold frame (tracked_templates_test covers the default).
+  options.tracked_other_template_margin = -1.0;
   auto estimator = std::move(Estimator::Create(options, tpls).value());
   PoseTracker tracker(estimator.get());
   const Intrinsics intrinsics = FrameSpec().intrinsics;
