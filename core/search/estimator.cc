@@ -720,8 +720,8 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     // The search's scorer, kept for the rescore of a runner-up that wins.
     std::unique_ptr<PoseScorer> scorer;
     // The runner-up's search, left until the refined fits say whether it is needed.
-    std::unique_ptr<RunnerUpSearch>
-        runner_up;  // Its refinement waits for the previous frame's template's on the held cluster
+    std::unique_ptr<RunnerUpSearch> runner_up;
+    // Its refinement waits for the previous frame's template's on the held cluster
     // (EstimatorOptions::tracked_other_template_margin).
     bool refine_deferred = false;
   };
