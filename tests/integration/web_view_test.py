@@ -163,6 +163,7 @@ class WebViewTest(unittest.TestCase):
         # While the recording plays, the displayed heading follows the turning robot.
         thetas = set()
         margins = set()  # what the page said of the runner-up heading, frame by frame.
+        template_margins = set()  # ... and of the second template.
         screenshot_taken = False
         deadline = time.monotonic() + 240
         while time.monotonic() < deadline:
@@ -170,6 +171,7 @@ class WebViewTest(unittest.TestCase):
             if pose is not None:
                 thetas.add(pose[3])
                 margins.add(self.text("margin"))
+                template_margins.add(self.text("template-margin"))
             if SCREENSHOT and not screenshot_taken and len(thetas) >= 8:  # a trail to show.
                 time.sleep(0.5)
                 self.driver.save_screenshot(SCREENSHOT)
@@ -186,6 +188,13 @@ class WebViewTest(unittest.TestCase):
         # frames that confirmed the previous heading say so instead.
         self.assertIn("previous heading confirmed", margins)
         self.assertTrue(any(re.match(r"^-?\d+\.\d", m) for m in margins), sorted(margins))
+        # The second template's margin in fit points where both were refined, in score points
+        # where a tracked frame left it unrefined far behind (this walk's second to fourth
+        # frames, at 4-7 points).
+        self.assertTrue(any(re.match(r"^-?\d+\.\d score points over ", m)
+                            for m in template_margins), sorted(template_margins))
+        self.assertTrue(any(re.match(r"^-?\d+\.\d over ", m) for m in template_margins),
+                        sorted(template_margins))
 
         self.wait_until_settled()
 
@@ -210,6 +219,19 @@ class WebViewTest(unittest.TestCase):
         elif best.get("has_runner_up"):
             self.assertTrue(self.text("margin").startswith("%.1f" % best["runner_up_margin"]),
                             self.text("margin"))
+        # The margin over the second template: in score points where the tracked frame left that
+        # template unrefined (far behind in score), else in fit points.
+        detection = latest["depth_template"]["best"]
+        if detection.get("second_template"):
+            second = [c for c in latest["depth_template"].get("candidates", [])
+                      if c.get("cluster_index", 0) == best.get("cluster_index", 0) and
+                      c.get("template_name") == detection["second_template"]]
+            shown = self.text("template-margin")
+            self.assertTrue(shown.startswith("%.1f" % detection["template_margin"]), shown)
+            self.assertEqual("score points" in shown,
+                             bool(second) and not second[0].get("refined", False), shown)
+            self.assertTrue(shown.endswith(detection["second_template"]) or "(ambiguous)" in shown,
+                            shown)
         web = get_json(self.http + "/api/latest")["estimate"]
         self.assertEqual(differences(web, latest), [])
 
