@@ -99,6 +99,7 @@ void DetectionToProto(const Detection& d, v1::Detection* out) {
   CandidateToProto(d.best, out->mutable_best());
   out->set_second_template(d.second_template);
   out->set_template_margin(d.template_margin);
+  out->set_template_margin_in_fit(d.template_margin_in_fit);
   out->set_is_humanoid(d.is_humanoid);
   out->set_template_ambiguous(d.template_ambiguous);
   out->set_score_threshold(d.score_threshold);

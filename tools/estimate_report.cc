@@ -152,13 +152,7 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
     if (!d.second_template.empty()) {
       // Fit points when both were refined (in a tracked stream a template far behind may not
       // be: EstimatorOptions::tracked_other_template_margin), else score points.
-      bool both_refined = c.refined;
-      for (const Candidate& o : e.candidates) {
-        if (o.cluster_index == c.cluster_index && o.template_name == d.second_template) {
-          both_refined = both_refined && o.refined;
-        }
-      }
-      os << "          " << d.second_template << (both_refined ? " fits " : " scored ")
+      os << "          " << d.second_template << (d.template_margin_in_fit ? " fits " : " scored ")
          << Fmt("%.1f", d.template_margin) << " lower"
          << (d.template_ambiguous ? " (AMBIGUOUS: within noise)" : "") << "\n";
     }

@@ -104,9 +104,13 @@ enum class Refusal {
 struct Detection {
   Candidate best;
   std::string second_template;  // empty with one template.
-  // best.fit.fit minus the second template's fit when refined, else the difference of their
-  // search scores.
+  // best.fit.fit minus the second template's fit when both were refined, else the difference
+  // of their search scores (template_margin_in_fit says which).
   double template_margin = 0.0;
+  // template_margin is in fit points: both templates were refined. False with one template,
+  // with refinement off, and where a tracked frame left the second unrefined
+  // (EstimatorOptions::tracked_other_template_margin).
+  bool template_margin_in_fit = false;
   // The margin is within what noise explains (two standard errors of the fits).
   bool template_ambiguous = false;
   bool is_humanoid = false;  // not refused (the estimator sets both).

@@ -295,6 +295,7 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
       d.second_template = second.template_name;
       if (d.best.refined && second.refined) {
         d.template_margin = d.best.fit.fit - second.fit.fit;
+        d.template_margin_in_fit = true;
         d.template_ambiguous = WithinNoise(d.best.fit, second.fit);
       } else {
         d.template_margin = d.best.score - second.score;

@@ -219,17 +219,21 @@ class WebViewTest(unittest.TestCase):
         elif best.get("has_runner_up"):
             self.assertTrue(self.text("margin").startswith("%.1f" % best["runner_up_margin"]),
                             self.text("margin"))
-        # The margin over the second template: in score points where the tracked frame left that
-        # template unrefined (far behind in score), else in fit points.
+        # The margin over the second template: in fit points where both templates were refined
+        # (the detection says so), in score points where the tracked frame left the second
+        # unrefined (far behind in score).
         detection = latest["depth_template"]["best"]
         if detection.get("second_template"):
             second = [c for c in latest["depth_template"].get("candidates", [])
                       if c.get("cluster_index", 0) == best.get("cluster_index", 0) and
                       c.get("template_name") == detection["second_template"]]
+            self.assertTrue(second, "no candidate of the second template on the best's cluster")
+            in_fit = detection.get("template_margin_in_fit", False)
+            self.assertEqual(in_fit, bool(best.get("refined")) and
+                             bool(second[0].get("refined")), detection)
             shown = self.text("template-margin")
             self.assertTrue(shown.startswith("%.1f" % detection["template_margin"]), shown)
-            self.assertEqual("score points" in shown,
-                             bool(second) and not second[0].get("refined", False), shown)
+            self.assertEqual("score points" in shown, not in_fit, shown)
             self.assertTrue(shown.endswith(detection["second_template"]) or "(ambiguous)" in shown,
                             shown)
         web = get_json(self.http + "/api/latest")["estimate"]

@@ -92,6 +92,9 @@ void StreamBoth(const std::vector<Step>& steps, std::vector<std::string>* chosen
     ASSERT_NE(oa, nullptr) << where;
     ASSERT_NE(ob, nullptr) << where;
     EXPECT_EQ(oa->score, ob->score) << where;  // the same search.
+    // The detection says in which points its margin over the other template is.
+    EXPECT_EQ(ea.Humanoids().front().template_margin_in_fit, oa->refined) << where;
+    EXPECT_EQ(eb.Humanoids().front().template_margin_in_fit, ob->refined) << where;
     if (oa->refined || oa->stopped_below_threshold) continue;
     // Left unrefined: only in a tracked frame, on the previous frame's template's lead, the
     // search pose reported as is and no runner-up searched.

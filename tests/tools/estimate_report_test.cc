@@ -110,5 +110,22 @@ TEST(EstimateReportTest, TimingsSayHowManyHeightsWereSearched) {
       << EstimateToText(e, &o);
 }
 
+// The margin over the second template is named in the points it is in: fit points where both
+// templates were refined (Detection::template_margin_in_fit), else score points.
+TEST(EstimateReportTest, TheTemplateMarginSaysWhichPointsItIsIn) {
+  const EstimatorOptions o;
+  Estimate e = Miss(66.0, 97.0, 800, 50.0, Refusal::kNone);
+  Detection& d = e.detections[0];
+  d.is_humanoid = true;
+  d.second_template = "right_arm_raised";
+  d.template_margin = 4.5;
+  d.template_margin_in_fit = true;
+  EXPECT_NE(EstimateToText(e, &o).find("right_arm_raised fits 4.5 lower\n"), std::string::npos)
+      << EstimateToText(e, &o);
+  d.template_margin_in_fit = false;
+  EXPECT_NE(EstimateToText(e, &o).find("right_arm_raised scored 4.5 lower\n"), std::string::npos)
+      << EstimateToText(e, &o);
+}
+
 }  // namespace
 }  // namespace hpose::tools

@@ -72,13 +72,16 @@ struct PoseEstimate {
   std::uint64_t skipped = 0;     // estimates of a stream skipped before this one (slow reader).
 
   // Depth template.
-  bool humanoid_found = false;   // the best match passes the daemon's thresholds.
-  bool has_match = false;        // a cluster was matched (pose, score... below are valid).
-  std::string template_name;     // the best-matching template.
-  Pose2D pose;                   // robot frame in the ground frame.
-  double score = 0.0;            // 0-100: share of the cluster's voxels the template covers.
-  double template_margin = 0.0;  // score points ahead of the best other template.
-  bool has_runner_up = false;    // a second-best pose (often the robot turned around).
+  bool humanoid_found = false;  // the best match passes the daemon's thresholds.
+  bool has_match = false;       // a cluster was matched (pose, score... below are valid).
+  std::string template_name;    // the best-matching template.
+  Pose2D pose;                  // robot frame in the ground frame.
+  double score = 0.0;           // 0-100: share of the cluster's voxels the template covers.
+  // Points ahead of the best other template: fit points when template_margin_in_fit (both
+  // were refined), else score points.
+  double template_margin = 0.0;
+  bool template_margin_in_fit = false;
+  bool has_runner_up = false;  // a second-best pose (often the robot turned around).
   Pose2D runner_up_pose;
   double runner_up_margin = 0.0;  // score - runner-up score.
   int clusters = 0;               // clusters found above the floor.
