@@ -692,6 +692,12 @@ std::vector<Variant> SequenceVariants() {
                  o->tracked_other_template_margin = -1.0;
                },
                true});
+  v.push_back({"walk, tracked, other templates searched to their optimum (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->tracked_other_template_stops = false;
+               },
+               true});
   v.push_back({"walk, tracked, depth images asked whatever the fits (before)",
                [](EstimatorOptions* o) {
                  Exact(o);

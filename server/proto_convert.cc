@@ -95,11 +95,23 @@ v1::Refusal RefusalToProto(Refusal r) {
   return v1::REFUSAL_NONE;
 }
 
+v1::TemplateMarginKind MarginKindToProto(MarginKind k) {
+  switch (k) {
+    case MarginKind::kScore:
+      return v1::TEMPLATE_MARGIN_SCORE;
+    case MarginKind::kFit:
+      return v1::TEMPLATE_MARGIN_FIT;
+    case MarginKind::kScoreAtLeast:
+      return v1::TEMPLATE_MARGIN_SCORE_AT_LEAST;
+  }
+  return v1::TEMPLATE_MARGIN_SCORE;
+}
+
 void DetectionToProto(const Detection& d, v1::Detection* out) {
   CandidateToProto(d.best, out->mutable_best());
   out->set_second_template(d.second_template);
   out->set_template_margin(d.template_margin);
-  out->set_template_margin_in_fit(d.template_margin_in_fit);
+  out->set_template_margin_kind(MarginKindToProto(d.template_margin_kind));
   out->set_is_humanoid(d.is_humanoid);
   out->set_template_ambiguous(d.template_ambiguous);
   out->set_score_threshold(d.score_threshold);

@@ -152,7 +152,10 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
     if (!d.second_template.empty()) {
       // Fit points when both were refined (in a tracked stream a template far behind may not
       // be: EstimatorOptions::tracked_other_template_margin), else score points.
-      os << "          " << d.second_template << (d.template_margin_in_fit ? " fits " : " scored ")
+      os << "          " << d.second_template
+         << (d.template_margin_kind == MarginKind::kFit            ? " fits "
+             : d.template_margin_kind == MarginKind::kScoreAtLeast ? " scored at least "
+                                                                   : " scored ")
          << Fmt("%.1f", d.template_margin) << " lower"
          << (d.template_ambiguous ? " (AMBIGUOUS: within noise)" : "") << "\n";
     }

@@ -34,7 +34,8 @@ void FillDepth(const v1::DepthTemplateResult& r, PoseEstimate* out) {
   out->pose = FromProto(c.pose());
   out->score = c.score();
   out->template_margin = d.template_margin();
-  out->template_margin_in_fit = d.template_margin_in_fit();
+  out->template_margin_in_fit = d.template_margin_kind() == v1::TEMPLATE_MARGIN_FIT;
+  out->template_margin_at_least = d.template_margin_kind() == v1::TEMPLATE_MARGIN_SCORE_AT_LEAST;
   out->has_runner_up = c.has_runner_up();
   out->runner_up_pose = FromProto(c.runner_up_pose());
   out->runner_up_margin = c.runner_up_margin();

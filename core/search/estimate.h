@@ -46,9 +46,11 @@ struct Candidate {
   double score = 0.0;       // what the search maximised, 100 * value / cluster voxels (<= 100).
   double coverage = 0.0;    // the paper's score: 100 * cluster voxels covered / cluster voxels.
   int free_space_hits = 0;  // template voxels in observed free space at the pose.
-  // True when the search stopped once it had proved that no pose reaches the threshold: `pose`
-  // and `score` are then the best pose it evaluated and its exact score (a real pose, not
-  // proven the optimum), `score_upper_bound` bounds every pose's score, and there is no
+  // True when the search stopped once it had proved that no pose reaches the threshold (the
+  // score threshold; in a tracked frame, for a template other than the previous frame's on
+  // its cluster, that template's score less EstimatorOptions::tracked_other_template_margin):
+  // `pose` and `score` are then the best pose it evaluated and its exact score (a real pose,
+  // not proven the optimum), `score_upper_bound` bounds every pose's score, and there is no
   // runner-up.
   bool stopped_below_threshold = false;
   double score_upper_bound = 0.0;
@@ -98,19 +100,27 @@ enum class Refusal {
   kOffFloorCoverage,  // templates off the floor: it covers less than height_offset_min_coverage.
 };
 
+// In which points Detection::template_margin is.
+enum class MarginKind {
+  // Search score points: the best's score less the second template's (refinement off, or a
+  // tracked frame left the second unrefined: EstimatorOptions::tracked_other_template_margin).
+  kScore,
+  kFit,  // fit points: both templates refined, the best's fit less the second's.
+  // Score points, at least: the second's search stopped (Candidate::stopped_below_threshold);
+  // the best's score less the second's score_upper_bound.
+  kScoreAtLeast,
+};
+
 // A cluster's verdict: its best template, and how far ahead of the next template it is.
 // The template is chosen by the refined evidence (highest Candidate::fit.fit) of each
 // template's pose.
 struct Detection {
   Candidate best;
   std::string second_template;  // empty with one template.
-  // best.fit.fit minus the second template's fit when both were refined, else the difference
-  // of their search scores (template_margin_in_fit says which).
+  // How far ahead of the second template it is, in the points template_margin_kind names;
+  // with one template, its score.
   double template_margin = 0.0;
-  // template_margin is in fit points: both templates were refined. False with one template,
-  // with refinement off, and where a tracked frame left the second unrefined
-  // (EstimatorOptions::tracked_other_template_margin).
-  bool template_margin_in_fit = false;
+  MarginKind template_margin_kind = MarginKind::kScore;
   // The margin is within what noise explains (two standard errors of the fits).
   bool template_ambiguous = false;
   bool is_humanoid = false;  // not refused (the estimator sets both).

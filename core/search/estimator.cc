@@ -295,8 +295,13 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
       d.second_template = second.template_name;
       if (d.best.refined && second.refined) {
         d.template_margin = d.best.fit.fit - second.fit.fit;
-        d.template_margin_in_fit = true;
+        d.template_margin_kind = MarginKind::kFit;
         d.template_ambiguous = WithinNoise(d.best.fit, second.fit);
+      } else if (second.stopped_below_threshold) {
+        // Its score is a pose's it met on the way, not its optimum: the bound says how far
+        // behind it is at least.
+        d.template_margin = d.best.score - second.score_upper_bound;
+        d.template_margin_kind = MarginKind::kScoreAtLeast;
       } else {
         d.template_margin = d.best.score - second.score;
       }
@@ -725,6 +730,9 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     // Its refinement waits for the previous frame's template's on the held cluster
     // (EstimatorOptions::tracked_other_template_margin).
     bool refine_deferred = false;
+    // Above `threshold`: the score its search may stop below, that template's less the margin
+    // (EstimatorOptions::tracked_other_template_stops); its stopped search is then kept.
+    double stop_below = 0.0;
   };
   const int cluster_count = static_cast<int>(clusters->size());
   std::vector<ClusterWork> work(cluster_count);
@@ -821,7 +829,10 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     cand.poses_evaluated = r.poses_evaluated;
     cand.bounds_evaluated = r.bounds_evaluated;
     if (!refine || r.below_min_value) return;
-    if (task.cluster == held_cluster && prior_tpl >= 0 && task.tpl != prior_tpl) {
+    // The previous frame's template's refinement too waits, for its score to set where the
+    // others' searches may stop (EstimatorOptions::tracked_other_template_stops).
+    if (task.cluster == held_cluster && prior_tpl >= 0 &&
+        (task.tpl != prior_tpl || options_.tracked_other_template_stops)) {
       task.refine_deferred = true;
     } else {
       refine_task(task);
@@ -858,6 +869,8 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     problem.free_space_weight = options_.free_space_weight;
     problem.hit_weight = options_.hit_weight;
     if (options_.stop_below_threshold) problem.min_value = min_value_of(threshold, n);
+    const bool stops_behind = task.stop_below > threshold;
+    if (stops_behind) problem.optimum_min_value = min_value_of(task.stop_below, n);
     if (options_.refine.runner_up_within_score_window) {
       // Every runner-up within the window of the optimum's score is found: a value of at
       // least the optimum's less this.
@@ -877,7 +890,8 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
       task.prior_theta = prior->pose.theta;
     }
     SearchResult r;
-    task.runner_up = search_->SearchBest(problem, &r, task.far ? &task.stopped : nullptr);
+    task.runner_up =
+        search_->SearchBest(problem, &r, task.far || stops_behind ? &task.stopped : nullptr);
     if (!defer_runner_ups && task.runner_up != nullptr) {
       task.runner_up->Find(&r);
       task.runner_up.reset();
@@ -907,7 +921,41 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
                ((*clusters)[task.cluster].centroid.cast<double>() - sensor_in_ground).norm() >=
                    options_.far_range_m;
   }
-  pool_->ParallelFor(static_cast<int>(tasks.size()), [&](int k) { search_task(tasks[k]); });
+  // The held cluster's other templates may wait for the previous frame's template's search and
+  // stop once they are proved far behind it (EstimatorOptions::tracked_other_template_stops).
+  std::vector<int> first, behind;
+  int lead_k = -1;
+  for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
+    const Task& task = tasks[k];
+    const bool held_other = task.cluster == held_cluster && prior_tpl >= 0 && task.tpl != prior_tpl;
+    (held_other && options_.tracked_other_template_stops ? behind : first).push_back(k);
+    if (task.cluster == held_cluster && prior_tpl >= 0 && task.tpl == prior_tpl) lead_k = k;
+  }
+  if (lead_k < 0) {
+    first.insert(first.end(), behind.begin(), behind.end());
+    behind.clear();
+  }
+  pool_->ParallelFor(static_cast<int>(first.size()), [&](int i) { search_task(tasks[first[i]]); });
+  if (!behind.empty()) {
+    // They search while the lead is refined.
+    Task& lead = tasks[lead_k];
+    if (lead.kept && !lead.cand.stopped_below_threshold) {
+      for (int k : behind) {
+        tasks[k].stop_below = lead.cand.score - options_.tracked_other_template_margin;
+      }
+    }
+    std::vector<int> work_items = behind;
+    if (lead.refine_deferred) work_items.push_back(lead_k);
+    pool_->ParallelFor(static_cast<int>(work_items.size()), [&](int i) {
+      Task& task = tasks[work_items[i]];
+      if (work_items[i] == lead_k) {
+        task.refine_deferred = false;
+        refine_task(task);
+      } else {
+        search_task(task);
+      }
+    });
+  }
   // Hysteresis: when none of the held cluster's templates reached score_threshold, those whose
   // search stopped below it or that its voxel count ruled out are searched again down to
   // tracked_score_threshold (a search that was not stopped has its optimum already).
@@ -936,6 +984,37 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     }
     const bool lead_passes = lead != nullptr && lead->cand.refined &&
                              PassesAsHumanoid(lead->cand, thresholds[held_cluster], true, options_);
+    // A search that stopped behind the lead goes on down to its threshold where the lead does
+    // not pass (or was searched again: its refinement is then among the deferred).
+    std::vector<int> go_on;
+    for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
+      Task& task = tasks[k];
+      if (!(task.stop_below > task.threshold)) continue;
+      if (lead_passes || !task.cand.stopped_below_threshold) {
+        task.stopped.reset();
+      } else {
+        go_on.push_back(k);
+      }
+    }
+    pool_->ParallelFor(static_cast<int>(go_on.size()), [&](int i) {
+      Task& task = tasks[go_on[i]];
+      if (task.stopped == nullptr) {  // it kept nothing.
+        search_again(task, task.threshold);
+        return;
+      }
+      SearchResult r;
+      task.runner_up = task.stopped->Lower(options_.stop_below_threshold
+                                               ? min_value_of(task.threshold, work[task.cluster].n)
+                                               : std::numeric_limits<int>::min(),
+                                           &r);
+      task.stopped.reset();
+      task.stop_below = 0.0;
+      if (!defer_runner_ups && task.runner_up != nullptr) {
+        task.runner_up->Find(&r);
+        task.runner_up.reset();
+      }
+      finish_task(task, r);
+    });
     std::vector<int> deferred;
     for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
       Task& task = tasks[k];

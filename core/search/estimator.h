@@ -150,6 +150,13 @@ struct EstimatorOptions {
   // raises the other template's score above the previous one's. Negative: every template refined,
   // as in a cold frame (before).
   double tracked_other_template_margin = 3.0;
+  // ... and its search waits for that template's and stops once it has proved that no pose comes
+  // within tracked_other_template_margin of that template's score (Candidate::
+  // stopped_below_threshold, its score_upper_bound below that), so that its optimum is not
+  // proved where it would not be refined; where the previous frame's template then fails to
+  // pass, the search goes on down to the score threshold and the template is refined. The
+  // detection is the same either way. False: the search proves its optimum (before).
+  bool tracked_other_template_stops = true;
   // A far cluster, cold: Kinect noise lowers a humanoid's score there too (above), and a cold
   // frame has no prior to hold it by. A cluster whose centroid lies at least far_range_m from
   // the sensor's optical centre is searched down to far_score_ratio * score_threshold, and passes

@@ -370,8 +370,8 @@ class BranchAndBound {
     return best_exact_;
   }
 
-  // After Next() stopped below min_value: goes on down to a lower `min_value`, from the node it
-  // stopped at and the rest of the queue.
+  // After Next(): goes on down to a lower `min_value`, from the node it stopped at and the rest
+  // of the queue (it stopped below min_value), or for the next optimum (it found one).
   void Lower(int min_value) {
     min_value_ = min_value;
     if (has_stopped_) Enqueue(stopped_);
@@ -996,7 +996,8 @@ std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(
   // A known pose's value (e.g. the previous frame's): nodes whose bound cannot reach it stay
   // out of the queue until the search gets down to them (if ever). Same result, fewer heap
   // operations.
-  int defer_below = problem.min_value;
+  const int stop_value = std::max(problem.min_value, problem.optimum_min_value);
+  int defer_below = stop_value;
   if (problem.incumbent != nullptr) {
     const LatticePose& p = *problem.incumbent;
     if (p.ix >= region.ix_min && p.ix <= region.ix_max && p.iy >= region.iy_min &&
@@ -1008,7 +1009,7 @@ std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(
     }
   }
   state->bnb = std::make_unique<BranchAndBound>(
-      &eval, rotations, region, top, options_.top_theta_level, problem.min_value, defer_below,
+      &eval, rotations, region, top, options_.top_theta_level, stop_value, defer_below,
       options_.theta_split_lead, options_.theta_split_ratio, &state->counters);
   state->n = n;
   state->runner_up_window = problem.runner_up_window;
@@ -1017,6 +1018,8 @@ std::unique_ptr<RunnerUpSearch> ExactSearch::SearchBest(
     if (stopped != nullptr) *stopped = std::make_unique<ExactStopped>(std::move(state), result);
     return nullptr;
   }
+  // The optimum reached optimum_min_value: its runner-up down to min_value.
+  if (stop_value > problem.min_value) state->bnb->Lower(problem.min_value);
   return state;
 }
 

@@ -55,6 +55,11 @@ struct SearchProblem {
   // may stop as soon as it has proved that no pose reaches it, and then reports only that
   // bound (SearchResult::below_min_value). The default asks for the optimum whatever it is.
   int min_value = std::numeric_limits<int>::min();
+  // Optional, above min_value: the optimum matters only from this value. A search may stop once
+  // it has proved that no pose reaches it, as below min_value (and, kept, go on from there when
+  // lowered); a runner-up of an optimum it finds is still looked for down to min_value, as
+  // without this.
+  int optimum_min_value = std::numeric_limits<int>::min();
   // The runner-up (kRunnerUpMinSeparationRad away) matters only within this much value of the
   // optimum: a search may stop looking for it once no other heading can come that near, and then
   // reports none, with an upper bound of its value as when it is below min_value. The default

@@ -188,10 +188,10 @@ class WebViewTest(unittest.TestCase):
         # frames that confirmed the previous heading say so instead.
         self.assertIn("previous heading confirmed", margins)
         self.assertTrue(any(re.match(r"^-?\d+\.\d", m) for m in margins), sorted(margins))
-        # The second template's margin in fit points where both were refined, in score points
-        # where a tracked frame left it unrefined far behind (this walk's second to fourth
-        # frames, at 4-7 points).
-        self.assertTrue(any(re.match(r"^-?\d+\.\d score points over ", m)
+        # The second template's margin in fit points where both were refined, in score points,
+        # at least, where a tracked frame stopped its search far behind (this walk's second to
+        # fourth frames, at 4-7 points).
+        self.assertTrue(any(re.match(r"^at least -?\d+\.\d score points over ", m)
                             for m in template_margins), sorted(template_margins))
         self.assertTrue(any(re.match(r"^-?\d+\.\d over ", m) for m in template_margins),
                         sorted(template_margins))
@@ -219,21 +219,26 @@ class WebViewTest(unittest.TestCase):
         elif best.get("has_runner_up"):
             self.assertTrue(self.text("margin").startswith("%.1f" % best["runner_up_margin"]),
                             self.text("margin"))
-        # The margin over the second template: in fit points where both templates were refined
-        # (the detection says so), in score points where the tracked frame left the second
-        # unrefined (far behind in score).
+        # The margin over the second template: in fit points where both templates were refined,
+        # in score points where the tracked frame left the second unrefined, at least that many
+        # where its search stopped (Detection.template_margin_kind).
         detection = latest["depth_template"]["best"]
         if detection.get("second_template"):
             second = [c for c in latest["depth_template"].get("candidates", [])
                       if c.get("cluster_index", 0) == best.get("cluster_index", 0) and
                       c.get("template_name") == detection["second_template"]]
             self.assertTrue(second, "no candidate of the second template on the best's cluster")
-            in_fit = detection.get("template_margin_in_fit", False)
-            self.assertEqual(in_fit, bool(best.get("refined")) and
-                             bool(second[0].get("refined")), detection)
+            kind = detection["template_margin_kind"]
+            expected = ("TEMPLATE_MARGIN_FIT" if best.get("refined") and second[0].get("refined")
+                        else "TEMPLATE_MARGIN_SCORE_AT_LEAST"
+                        if second[0].get("stopped_below_threshold")
+                        else "TEMPLATE_MARGIN_SCORE")
+            self.assertEqual(kind, expected, detection)
             shown = self.text("template-margin")
-            self.assertTrue(shown.startswith("%.1f" % detection["template_margin"]), shown)
-            self.assertEqual("score points" in shown, not in_fit, shown)
+            at_least = kind == "TEMPLATE_MARGIN_SCORE_AT_LEAST"
+            self.assertTrue(shown.startswith(("at least " if at_least else "") +
+                                             "%.1f" % detection["template_margin"]), shown)
+            self.assertEqual("score points" in shown, kind != "TEMPLATE_MARGIN_FIT", shown)
             self.assertTrue(shown.endswith(detection["second_template"]) or "(ambiguous)" in shown,
                             shown)
         web = get_json(self.http + "/api/latest")["estimate"]

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -32,11 +33,12 @@ SimulatedFrame Frame(const std::string& preset, const Pose2D& pose, std::uint64_
   return *SimulateFrame(spec);
 }
 
-EstimatorOptions Options(double margin) {
+EstimatorOptions Options(double margin, bool stops = true) {
   EstimatorOptions o = DefaultEstimatorOptions();
   o.use_fixed_floor = true;
   o.fixed_floor = Frame("standing", {1.5, 0.0, 0.0}, 1).sensor_mount;
   o.tracked_other_template_margin = margin;
+  o.tracked_other_template_stops = stops;
   return o;
 }
 
@@ -57,28 +59,38 @@ struct Step {
   Pose2D pose;
 };
 
-// Streams `steps` through two trackers, one leaving far-behind templates unrefined (the
-// default margin) and one refining every template; checks that both give the same humanoid,
-// template and pose in every frame. Counts in `left` the frames in which the first left the
-// other template unrefined on the humanoid's cluster.
-void StreamBoth(const std::vector<Step>& steps, std::vector<std::string>* chosen, int* left) {
+// Streams `steps` through three trackers: one leaving far-behind templates unrefined and
+// stopping their searches there (the defaults), one leaving them unrefined but proving their
+// optima, and one refining every template; checks that all give the same humanoid, template
+// and pose in every frame, and the first two the same refinements. Counts in `left` the frames
+// in which the first left the other template unrefined on the humanoid's cluster, in `stopped`
+// those in which its search stopped.
+void StreamAll(const std::vector<Step>& steps, std::vector<std::string>* chosen, int* left,
+               int* stopped) {
   const auto leaving = std::move(Estimator::Create(Options(3.0), Templates()).value());
+  const auto proving = std::move(Estimator::Create(Options(3.0, false), Templates()).value());
   const auto refining = std::move(Estimator::Create(Options(-1.0), Templates()).value());
   PoseTracker a(leaving.get());
+  PoseTracker p(proving.get());
   PoseTracker b(refining.get());
   const Intrinsics intrinsics = FrameSpec().intrinsics;
   for (size_t k = 0; k < steps.size(); ++k) {
     const SimulatedFrame frame = Frame(steps[k].preset, steps[k].pose, 20 + k);
     const Estimate ea = *a.EstimateDepth(frame.depth, intrinsics);
+    const Estimate ep = *p.EstimateDepth(frame.depth, intrinsics);
     const Estimate eb = *b.EstimateDepth(frame.depth, intrinsics);
     const std::string where = "frame " + std::to_string(k);
     ASSERT_EQ(ea.Humanoids().size(), 1u) << where;
+    ASSERT_EQ(ep.Humanoids().size(), 1u) << where;
     ASSERT_EQ(eb.Humanoids().size(), 1u) << where;
     const Candidate& ha = ea.Humanoids().front().best;
+    const Candidate& hp = ep.Humanoids().front().best;
     const Candidate& hb = eb.Humanoids().front().best;
     EXPECT_EQ(ha.template_name, hb.template_name) << where;
+    EXPECT_EQ(hp.template_name, hb.template_name) << where;
     EXPECT_TRUE(ha.refined) << where;
     EXPECT_TRUE(SamePose(ha.pose, hb.pose)) << where;
+    EXPECT_TRUE(SamePose(hp.pose, hb.pose)) << where;
     EXPECT_LT(std::hypot(ha.pose.x - steps[k].pose.x, ha.pose.y - steps[k].pose.y), 0.03) << where;
     EXPECT_LT(std::abs(AngleDiff(ha.pose.theta, steps[k].pose.theta)), DegToRad(5.0)) << where;
     chosen->push_back(ha.template_name);
@@ -88,24 +100,55 @@ void StreamBoth(const std::vector<Step>& steps, std::vector<std::string>* chosen
     }
     const std::string other = ha.template_name == "standing" ? "right_arm_raised" : "standing";
     const Candidate* oa = CandidateOf(ea, ha.cluster_index, other);
+    const Candidate* op = CandidateOf(ep, ha.cluster_index, other);
     const Candidate* ob = CandidateOf(eb, ha.cluster_index, other);
     ASSERT_NE(oa, nullptr) << where;
+    ASSERT_NE(op, nullptr) << where;
     ASSERT_NE(ob, nullptr) << where;
-    EXPECT_EQ(oa->score, ob->score) << where;  // the same search.
+    EXPECT_EQ(op->score, ob->score) << where;  // the same search.
+    // Stopping the search changes nothing of what is refined, nor the runner-ups.
+    EXPECT_EQ(oa->refined, op->refined) << where;
+    for (const auto& [x, y] : {std::pair{&ha, &hp}, std::pair{oa, op}}) {
+      if (!x->refined) continue;
+      EXPECT_EQ(x->score, y->score) << where << " " << x->template_name;
+      EXPECT_TRUE(SamePose(x->pose, y->pose)) << where << " " << x->template_name;
+      EXPECT_EQ(x->has_runner_up, y->has_runner_up) << where << " " << x->template_name;
+      EXPECT_TRUE(SamePose(x->runner_up_pose, y->runner_up_pose))
+          << where << " " << x->template_name;
+      EXPECT_EQ(x->runner_up_score, y->runner_up_score) << where << " " << x->template_name;
+    }
     // The detection says in which points its margin over the other template is.
-    EXPECT_EQ(ea.Humanoids().front().template_margin_in_fit, oa->refined) << where;
-    EXPECT_EQ(eb.Humanoids().front().template_margin_in_fit, ob->refined) << where;
-    if (oa->refined || oa->stopped_below_threshold) continue;
+    const MarginKind kind = ea.Humanoids().front().template_margin_kind;
+    EXPECT_EQ(kind, oa->refined                   ? MarginKind::kFit
+                    : oa->stopped_below_threshold ? MarginKind::kScoreAtLeast
+                                                  : MarginKind::kScore)
+        << where;
+    EXPECT_EQ(ep.Humanoids().front().template_margin_kind,
+              op->refined ? MarginKind::kFit : MarginKind::kScore)
+        << where;
+    if (oa->refined || op->stopped_below_threshold) continue;
     // Left unrefined: only in a tracked frame, on the previous frame's template's lead, the
     // search pose reported as is and no runner-up searched.
     ++*left;
     EXPECT_TRUE(ea.tracking.tracked) << where;
     EXPECT_EQ(ea.tracking.prior_template, ha.template_name) << where;
-    EXPECT_LT(oa->score, ha.score - 3.0) << where;
+    EXPECT_LT(op->score, ha.score - 3.0) << where;
     EXPECT_TRUE(SamePose(oa->pose, oa->lattice_pose)) << where;
     EXPECT_FALSE(oa->has_runner_up) << where;
     EXPECT_TRUE(ob->refined) << where;
     EXPECT_LT(ob->fit.fit, hb.fit.fit) << where << ": the template refined anyway fits worse";
+    if (oa->stopped_below_threshold) {
+      // Stopped: proved more than the margin behind; its optimum lies under the bound, the
+      // pose it reports scores what it says and no more than the optimum.
+      ++*stopped;
+      EXPECT_LT(oa->score_upper_bound, ha.score - 3.0) << where;
+      EXPECT_LE(op->score, oa->score_upper_bound + 1e-9) << where;
+      EXPECT_LE(oa->score, op->score) << where;
+      EXPECT_NEAR(ea.Humanoids().front().template_margin, ha.score - oa->score_upper_bound, 1e-9)
+          << where;
+    } else {
+      EXPECT_EQ(oa->score, op->score) << where;
+    }
   }
 }
 
@@ -117,11 +160,15 @@ TEST(TrackedTemplatesTest, AFarBehindTemplateIsLeftUnrefinedWithTheSameHumanoid)
     steps.push_back({"standing", {1.4 + 0.03 * k, -0.1 + 0.02 * k, DegToRad(-70.0 + 3.0 * k)}});
   }
   std::vector<std::string> chosen;
-  int left = 0;
-  StreamBoth(steps, &chosen, &left);
+  int left = 0, stopped = 0;
+  StreamAll(steps, &chosen, &left, &stopped);
   for (const std::string& name : chosen) EXPECT_EQ(name, "standing");
-  std::printf("the other template was left unrefined in %d of %zu frames\n", left, steps.size());
+  std::printf(
+      "the other template was left unrefined in %d of %zu frames, its search stopped in "
+      "%d\n",
+      left, steps.size(), stopped);
   EXPECT_GE(left, 2);
+  EXPECT_GE(stopped, 1);
 }
 
 // A robot that raises its arm while tracked as standing: the raised-arm template's score comes
@@ -134,14 +181,65 @@ TEST(TrackedTemplatesTest, APostureChangeIsSeenInTheFrameThatShowsIt) {
                      {1.6 + 0.02 * k, 0.2, DegToRad(-120.0 + 2.0 * k)}});
   }
   std::vector<std::string> chosen;
-  int left = 0;
-  StreamBoth(steps, &chosen, &left);
+  int left = 0, stopped = 0;
+  StreamAll(steps, &chosen, &left, &stopped);
   ASSERT_EQ(chosen.size(), steps.size());
   EXPECT_EQ(chosen[0], "standing");
   EXPECT_EQ(chosen[1], "standing");
   for (size_t k = 2; k < chosen.size(); ++k) EXPECT_EQ(chosen[k], "right_arm_raised") << k;
   // Once the raised arm is the previous frame's template, standing is the one left behind.
   EXPECT_GE(left, 1);
+}
+
+// Where the previous frame's template does not pass on its cluster (here: no refined pose meets
+// the fit asked), a search stopped behind it goes on down to the score threshold and
+// its template is refined: every candidate is then what the searches that prove their optima
+// give.
+TEST(TrackedTemplatesTest, AStoppedSearchGoesOnWhereThePreviousTemplateFails) {
+  EstimatorOptions strict = Options(3.0);
+  strict.min_humanoid_fit = 100.0;
+  EstimatorOptions strict_proving = strict;
+  strict_proving.tracked_other_template_stops = false;
+  const auto stopping = std::move(Estimator::Create(strict, Templates()).value());
+  const auto proving = std::move(Estimator::Create(strict_proving, Templates()).value());
+  const Intrinsics intrinsics = FrameSpec().intrinsics;
+  const Pose2D truth{1.5, -0.1, DegToRad(-60.0)};
+  const SimulatedFrame frame = Frame("standing", truth, 7);
+  FramePrior prior;
+  prior.has_pose = true;
+  prior.template_name = "standing";
+  prior.pose = truth;
+  prior.score = 65.0;
+  const Estimate es = *stopping->EstimateDepth(frame.depth, intrinsics, &prior);
+  const Estimate ep = *proving->EstimateDepth(frame.depth, intrinsics, &prior);
+  EXPECT_TRUE(es.Humanoids().empty());
+  const Candidate* lead = nullptr;
+  for (const Candidate& c : es.candidates) {
+    if (c.template_name == "standing" && std::hypot(c.pose.x - truth.x, c.pose.y - truth.y) < 0.1) {
+      lead = &c;
+    }
+  }
+  ASSERT_NE(lead, nullptr);
+  ASSERT_TRUE(lead->refined);
+  ASSERT_LT(lead->fit.fit, 100.0);
+  const Candidate* other = CandidateOf(es, lead->cluster_index, "right_arm_raised");
+  ASSERT_NE(other, nullptr);
+  // Far enough behind that its search had stopped behind the lead's score.
+  const Candidate* other_proved = CandidateOf(ep, lead->cluster_index, "right_arm_raised");
+  ASSERT_NE(other_proved, nullptr);
+  EXPECT_LT(other_proved->score, lead->score - 3.0);
+  ASSERT_EQ(es.candidates.size(), ep.candidates.size());
+  for (size_t i = 0; i < es.candidates.size(); ++i) {
+    const Candidate& a = es.candidates[i];
+    const Candidate& b = ep.candidates[i];
+    const std::string what = a.template_name + " on cluster " + std::to_string(a.cluster_index);
+    EXPECT_EQ(a.template_name, b.template_name) << what;
+    EXPECT_EQ(a.score, b.score) << what;
+    EXPECT_TRUE(SamePose(a.pose, b.pose)) << what;
+    EXPECT_EQ(a.refined, b.refined) << what;
+    EXPECT_EQ(a.stopped_below_threshold, b.stopped_below_threshold) << what;
+    EXPECT_EQ(a.fit.fit, b.fit.fit) << what;
+  }
 }
 
 TEST(TrackedTemplatesTest, MarginOutOfRangeIsRefused) {

@@ -84,7 +84,7 @@ TEST(ProtoConvertTest, EstimateCarriesPoseIn3DAndMargins) {
   d.best = c;
   d.second_template = "right_arm_raised";
   d.template_margin = 4.0;
-  d.template_margin_in_fit = true;
+  d.template_margin_kind = MarginKind::kFit;
   d.is_humanoid = true;
   d.score_threshold = 35.0;
   e.candidates = {c};
@@ -95,7 +95,7 @@ TEST(ProtoConvertTest, EstimateCarriesPoseIn3DAndMargins) {
   const v1::Candidate& p = out.best().best();
   EXPECT_DOUBLE_EQ(p.runner_up_margin(), 10.0);
   EXPECT_DOUBLE_EQ(out.best().template_margin(), 4.0);
-  EXPECT_TRUE(out.best().template_margin_in_fit());
+  EXPECT_EQ(out.best().template_margin_kind(), v1::TEMPLATE_MARGIN_FIT);
   EXPECT_DOUBLE_EQ(out.best().score_threshold(), 35.0);
   EXPECT_NEAR(p.pose_3d().orientation().z(), std::sin(1.25), 1e-12);
   EXPECT_NEAR(p.pose_3d().orientation().w(), std::cos(1.25), 1e-12);

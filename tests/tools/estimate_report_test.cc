@@ -110,8 +110,9 @@ TEST(EstimateReportTest, TimingsSayHowManyHeightsWereSearched) {
       << EstimateToText(e, &o);
 }
 
-// The margin over the second template is named in the points it is in: fit points where both
-// templates were refined (Detection::template_margin_in_fit), else score points.
+// The margin over the second template is named in the points it is in
+// (Detection::template_margin_kind): fit points where both templates were refined, else score
+// points, at least that many where the second's search stopped.
 TEST(EstimateReportTest, TheTemplateMarginSaysWhichPointsItIsIn) {
   const EstimatorOptions o;
   Estimate e = Miss(66.0, 97.0, 800, 50.0, Refusal::kNone);
@@ -119,11 +120,15 @@ TEST(EstimateReportTest, TheTemplateMarginSaysWhichPointsItIsIn) {
   d.is_humanoid = true;
   d.second_template = "right_arm_raised";
   d.template_margin = 4.5;
-  d.template_margin_in_fit = true;
+  d.template_margin_kind = MarginKind::kFit;
   EXPECT_NE(EstimateToText(e, &o).find("right_arm_raised fits 4.5 lower\n"), std::string::npos)
       << EstimateToText(e, &o);
-  d.template_margin_in_fit = false;
+  d.template_margin_kind = MarginKind::kScore;
   EXPECT_NE(EstimateToText(e, &o).find("right_arm_raised scored 4.5 lower\n"), std::string::npos)
+      << EstimateToText(e, &o);
+  d.template_margin_kind = MarginKind::kScoreAtLeast;
+  EXPECT_NE(EstimateToText(e, &o).find("right_arm_raised scored at least 4.5 lower\n"),
+            std::string::npos)
       << EstimateToText(e, &o);
 }
 

@@ -78,9 +78,11 @@ struct PoseEstimate {
   Pose2D pose;                  // robot frame in the ground frame.
   double score = 0.0;           // 0-100: share of the cluster's voxels the template covers.
   // Points ahead of the best other template: fit points when template_margin_in_fit (both
-  // were refined), else score points.
+  // were refined), else score points, and then at least that many when
+  // template_margin_at_least (the other template's search stopped that far behind).
   double template_margin = 0.0;
   bool template_margin_in_fit = false;
+  bool template_margin_at_least = false;
   bool has_runner_up = false;  // a second-best pose (often the robot turned around).
   Pose2D runner_up_pose;
   double runner_up_margin = 0.0;  // score - runner-up score.
