@@ -681,6 +681,10 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
 
   const bool use_free_space = options_.score == ScoreKind::kFreeSpace;
   const bool refine = options_.refine.enabled;
+  // The held cluster's templates other than the previous frame's search only until they are
+  // proved far behind it (EstimatorOptions::tracked_other_template_stops; without refinement
+  // none is left behind).
+  const bool stop_behind = refine && options_.tracked_other_template_stops;
   // Runner-ups are searched for once the refined fits are known: only the templates that
   // contend on their cluster need them.
   const bool defer_runner_ups = refine && !options_.refine.search_far_behind_runner_up &&
@@ -831,8 +835,7 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     if (!refine || r.below_min_value) return;
     // The previous frame's template's refinement too waits, for its score to set where the
     // others' searches may stop (EstimatorOptions::tracked_other_template_stops).
-    if (task.cluster == held_cluster && prior_tpl >= 0 &&
-        (task.tpl != prior_tpl || options_.tracked_other_template_stops)) {
+    if (task.cluster == held_cluster && prior_tpl >= 0 && (task.tpl != prior_tpl || stop_behind)) {
       task.refine_deferred = true;
     } else {
       refine_task(task);
@@ -908,6 +911,24 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     task = std::move(fresh);
     search_task(task);
   };
+  // A task whose search stopped above `threshold` goes on down to it from where it stopped, or
+  // is searched anew there when it kept nothing (or was not searched: its voxel count).
+  const auto go_on = [&](Task& task, double threshold, int min_value) {
+    task.threshold = threshold;
+    task.stop_below = 0.0;
+    if (task.stopped == nullptr) {
+      search_again(task, threshold);
+      return;
+    }
+    SearchResult r;
+    task.runner_up = task.stopped->Lower(min_value, &r);
+    task.stopped.reset();
+    if (!defer_runner_ups && task.runner_up != nullptr) {
+      task.runner_up->Find(&r);
+      task.runner_up.reset();
+    }
+    finish_task(task, r);
+  };
   // A prior that passed by the lower threshold itself: its cluster goes straight down to it.
   if (held_cluster >= 0 && prior->score < options_.score_threshold) {
     thresholds[held_cluster] = tracked_threshold;
@@ -922,13 +943,13 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
                    options_.far_range_m;
   }
   // The held cluster's other templates may wait for the previous frame's template's search and
-  // stop once they are proved far behind it (EstimatorOptions::tracked_other_template_stops).
+  // stop once they are proved far behind it (stop_behind).
   std::vector<int> first, behind;
   int lead_k = -1;
   for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
     const Task& task = tasks[k];
     const bool held_other = task.cluster == held_cluster && prior_tpl >= 0 && task.tpl != prior_tpl;
-    (held_other && options_.tracked_other_template_stops ? behind : first).push_back(k);
+    (held_other && stop_behind ? behind : first).push_back(k);
     if (task.cluster == held_cluster && prior_tpl >= 0 && task.tpl == prior_tpl) lead_k = k;
   }
   if (lead_k < 0) {
@@ -985,35 +1006,23 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     const bool lead_passes = lead != nullptr && lead->cand.refined &&
                              PassesAsHumanoid(lead->cand, thresholds[held_cluster], true, options_);
     // A search that stopped behind the lead goes on down to its threshold where the lead does
-    // not pass (or was searched again: its refinement is then among the deferred).
-    std::vector<int> go_on;
+    // not pass, and its template is refined below.
+    std::vector<int> behind_lead;
     for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
       Task& task = tasks[k];
       if (!(task.stop_below > task.threshold)) continue;
       if (lead_passes || !task.cand.stopped_below_threshold) {
         task.stopped.reset();
       } else {
-        go_on.push_back(k);
+        behind_lead.push_back(k);
       }
     }
-    pool_->ParallelFor(static_cast<int>(go_on.size()), [&](int i) {
-      Task& task = tasks[go_on[i]];
-      if (task.stopped == nullptr) {  // it kept nothing.
-        search_again(task, task.threshold);
-        return;
-      }
-      SearchResult r;
-      task.runner_up = task.stopped->Lower(options_.stop_below_threshold
-                                               ? min_value_of(task.threshold, work[task.cluster].n)
-                                               : std::numeric_limits<int>::min(),
-                                           &r);
-      task.stopped.reset();
-      task.stop_below = 0.0;
-      if (!defer_runner_ups && task.runner_up != nullptr) {
-        task.runner_up->Find(&r);
-        task.runner_up.reset();
-      }
-      finish_task(task, r);
+    pool_->ParallelFor(static_cast<int>(behind_lead.size()), [&](int i) {
+      Task& task = tasks[behind_lead[i]];
+      // As far down as its search would have gone without the lead.
+      go_on(task, task.threshold,
+            options_.stop_below_threshold ? min_value_of(task.threshold, work[task.cluster].n)
+                                          : std::numeric_limits<int>::min());
     });
     std::vector<int> deferred;
     for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
@@ -1058,19 +1067,7 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   }
   pool_->ParallelFor(static_cast<int>(lower.size()), [&](int i) {
     Task& task = tasks[lower[i]];
-    task.threshold = far_threshold;
-    if (task.stopped == nullptr) {  // not searched (its voxel count), or it kept nothing.
-      search_again(task, far_threshold);
-      return;
-    }
-    SearchResult r;
-    task.runner_up = task.stopped->Lower(min_value_of(far_threshold, work[task.cluster].n), &r);
-    task.stopped.reset();
-    if (!defer_runner_ups && task.runner_up != nullptr) {
-      task.runner_up->Find(&r);
-      task.runner_up.reset();
-    }
-    finish_task(task, r);
+    go_on(task, far_threshold, min_value_of(far_threshold, work[task.cluster].n));
   });
 
   // The runner-up headings, once every template of a cluster has its refined fit: a template
