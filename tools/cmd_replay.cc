@@ -38,17 +38,20 @@ namespace {
 const char kCsvHeader[] =
     "sequence,source_time_s,origin,ok,error,clusters,template,is_humanoid,x_m,y_m,theta_rad,"
     "score,template_margin,has_runner_up,runner_up_theta_rad,runner_up_score,floor_height_m,"
-    "total_s,refused_by\n";
+    "total_s,refused_by,template_margin_kind\n";
+
+// An enum value's name without its prefix, in lower case ("REFUSAL_FIT" -> "fit").
+std::string EnumWord(const std::string& name, const std::string& prefix) {
+  std::string word = name.substr(name.rfind(prefix, 0) == 0 ? prefix.size() : 0);
+  std::transform(word.begin(), word.end(), word.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return word;
+}
 
 // The rule that refused the best detection as the humanoid, in lower case ("fit", "score", ...);
 // empty for a humanoid.
 std::string RefusalWord(v1::Refusal r) {
-  if (r == v1::REFUSAL_NONE) return "";
-  std::string name = v1::Refusal_Name(r);
-  name.erase(0, std::string("REFUSAL_").size());
-  std::transform(name.begin(), name.end(), name.begin(),
-                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  return name;
+  return r == v1::REFUSAL_NONE ? "" : EnumWord(v1::Refusal_Name(r), "REFUSAL_");
 }
 
 std::string CsvField(const std::string& s) {
@@ -70,14 +73,16 @@ std::string CsvRow(const v1::PoseEstimate& e) {
   if (ok && r.detections_size() > 0) {
     const v1::Detection& d = r.best();
     const v1::Candidate& c = d.best();
-    std::snprintf(buf, sizeof(buf), "%s,%d,%.6f,%.6f,%.6f,%.3f,%.3f,%d,%.6f,%.3f,%.6f,%.6f,%s",
-                  CsvField(c.template_name()).c_str(), d.is_humanoid() ? 1 : 0, c.pose().x(),
-                  c.pose().y(), c.pose().theta(), c.score(), d.template_margin(),
-                  c.has_runner_up() ? 1 : 0, c.runner_up_pose().theta(), c.runner_up_score(),
-                  r.floor().height(), e.timings().total(),
-                  RefusalWord(d.is_humanoid() ? v1::REFUSAL_NONE : d.refused_by()).c_str());
+    std::snprintf(
+        buf, sizeof(buf), "%s,%d,%.6f,%.6f,%.6f,%.3f,%.3f,%d,%.6f,%.3f,%.6f,%.6f,%s,%s",
+        CsvField(c.template_name()).c_str(), d.is_humanoid() ? 1 : 0, c.pose().x(), c.pose().y(),
+        c.pose().theta(), c.score(), d.template_margin(), c.has_runner_up() ? 1 : 0,
+        c.runner_up_pose().theta(), c.runner_up_score(), r.floor().height(), e.timings().total(),
+        RefusalWord(d.is_humanoid() ? v1::REFUSAL_NONE : d.refused_by()).c_str(),
+        EnumWord(v1::TemplateMarginKind_Name(d.template_margin_kind()), "TEMPLATE_MARGIN_")
+            .c_str());
   } else {
-    std::snprintf(buf, sizeof(buf), ",0,,,,,,0,,,%s,%.6f,",
+    std::snprintf(buf, sizeof(buf), ",0,,,,,,0,,,%s,%.6f,,",
                   ok ? std::to_string(r.floor().height()).c_str() : "", e.timings().total());
   }
   return row + buf + "\n";

@@ -19,8 +19,10 @@ FlagParser ReplayFlags::Parser() {
   flags.AddString("out", &out_path, "output file (default: standard output)", "FILE");
   flags.AddString("format", &format,
                   "jsonl (every field of each estimate) or csv (a row a frame: the best "
-                  "detection's template, pose, score and, when it is no humanoid, refused_by: the "
-                  "rule that refused it); default: from --out's extension, else jsonl",
+                  "detection's template, pose, score, template_margin over the next template in "
+                  "the points template_margin_kind names (fit, score, score_at_least) and, when it "
+                  "is no humanoid, refused_by: the rule that refused it); default: from --out's "
+                  "extension, else jsonl",
                   "FMT");
   flags.AddString("config", &config_path, "hposed YAML config for search and floor settings",
                   "FILE");

@@ -151,7 +151,8 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
     }
     if (!d.second_template.empty()) {
       // Fit points when both were refined (in a tracked stream a template far behind may not
-      // be: EstimatorOptions::tracked_other_template_margin), else score points.
+      // be: EstimatorOptions::tracked_other_template_margin), else score points, at least that
+      // many where the second's search stopped (Detection::template_margin_kind).
       os << "          " << d.second_template
          << (d.template_margin_kind == MarginKind::kFit            ? " fits "
              : d.template_margin_kind == MarginKind::kScoreAtLeast ? " scored at least "

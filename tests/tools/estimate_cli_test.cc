@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -312,15 +313,26 @@ TEST_F(EstimateCliTest, ReplayFromAnInitialPoseFindsAFarRobot) {
     ASSERT_EQ(run.exit_code, 0) << run.err;
     std::istringstream lines(run.out);
     std::string line;
+    // The last two columns of a row.
+    const auto last_two = [](const std::string& row) {
+      const size_t last = row.rfind(',');
+      const size_t before = row.rfind(',', last - 1);
+      return std::pair{row.substr(before + 1, last - before - 1), row.substr(last + 1)};
+    };
     std::getline(lines, line);  // the header.
-    EXPECT_EQ(line.substr(line.rfind(',') + 1), "refused_by");
+    EXPECT_EQ(last_two(line),
+              (std::pair<std::string, std::string>{"refused_by", "template_margin_kind"}));
     int rows = 0, humanoids = 0, refused_by_score = 0;
     while (std::getline(lines, line)) {
       ++rows;
       humanoids += line.find(",standing,1,") != std::string::npos ||
                    line.find(",right_arm_raised,1,") != std::string::npos;
-      // The last column: empty for a humanoid, else the rule (one score threshold: the score).
-      refused_by_score += line.substr(line.rfind(',') + 1) == "score";
+      const auto [refused_by, margin_kind] = last_two(line);
+      // Empty for a humanoid, else the rule (one score threshold: the score).
+      refused_by_score += refused_by == "score";
+      // The points of the margin over the other template.
+      EXPECT_TRUE(margin_kind == "fit" || margin_kind == "score" || margin_kind == "score_at_least")
+          << line;
     }
     EXPECT_EQ(rows, 3) << run.out;
     EXPECT_EQ(humanoids, given ? 3 : 0) << run.out;
