@@ -999,9 +999,15 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   // The held cluster's other templates: refined unless the previous frame's template passes
   // there and the search put them more than tracked_other_template_margin points behind it.
   {
-    const Task* lead = nullptr;
-    for (const Task& task : tasks) {
+    Task* lead = nullptr;
+    for (Task& task : tasks) {
       if (task.cluster == held_cluster && task.tpl == prior_tpl && task.kept) lead = &task;
+    }
+    // Searched again down to the tracked threshold above, its refinement waited (stop_behind):
+    // first of all now, since whether the others are refined depends on it.
+    if (lead != nullptr && lead->refine_deferred) {
+      lead->refine_deferred = false;
+      refine_task(*lead);
     }
     const bool lead_passes = lead != nullptr && lead->cand.refined &&
                              PassesAsHumanoid(lead->cand, thresholds[held_cluster], true, options_);
