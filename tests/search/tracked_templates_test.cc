@@ -193,9 +193,10 @@ TEST(TrackedTemplatesTest, APostureChangeIsSeenInTheFrameThatShowsIt) {
 }
 
 // Estimates `frame` with `prior` by an estimator with `options` and by the same with the other
-// templates' searches proving their optima (tracked_other_template_stops off); expects every
-// candidate to be the same, and `lead_template`'s near the truth refined, with
-// `other_template`'s proved more than the margin behind it. Returns the first estimate.
+// templates' searches proving their optima (tracked_other_template_stops off); expects the prior
+// template's candidate near `truth` refined, the other template proved more than the margin
+// behind it, and every candidate the same in both (a stopped search's bound at or above the
+// proved optimum). Returns the first estimate.
 Estimate SameAsProving(const EstimatorOptions& options, const SimulatedFrame& frame,
                        const FramePrior& prior, const Pose2D& truth) {
   EstimatorOptions proving_options = options;
