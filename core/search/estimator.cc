@@ -945,7 +945,7 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   // The held cluster's other templates may wait for the previous frame's template's search and
   // stop once they are proved far behind it (stop_behind).
   std::vector<int> first, behind;
-  int lead_k = -1;
+  int lead_k = -1;  // the held cluster's task of the previous frame's template, if any.
   for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
     const Task& task = tasks[k];
     const bool held_other = task.cluster == held_cluster && prior_tpl >= 0 && task.tpl != prior_tpl;
@@ -999,10 +999,7 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   // The held cluster's other templates: refined unless the previous frame's template passes
   // there and the search put them more than tracked_other_template_margin points behind it.
   {
-    Task* lead = nullptr;
-    for (Task& task : tasks) {
-      if (task.cluster == held_cluster && task.tpl == prior_tpl && task.kept) lead = &task;
-    }
+    Task* lead = lead_k >= 0 && tasks[lead_k].kept ? &tasks[lead_k] : nullptr;
     // Searched again down to the tracked threshold above, its refinement waited (stop_behind):
     // first of all now, since whether the others are refined depends on it.
     if (lead != nullptr && lead->refine_deferred) {
