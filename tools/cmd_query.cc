@@ -106,13 +106,22 @@ std::string DescribeDepth(const v1::PoseEstimate& e) {
       default:
         break;
     }
-    std::snprintf(buf, sizeof(buf), "  %s%s  %s  score %.1f  margin %.1f",
-                  c.template_name().c_str(), why, PoseText("", c.pose()).c_str(), c.score(),
-                  d.template_margin());
+    std::snprintf(buf, sizeof(buf), "  %s%s  %s  score %.1f", c.template_name().c_str(), why,
+                  PoseText("", c.pose()).c_str(), c.score());
     line += buf;
+    if (!d.second_template().empty()) {
+      // The margin over the next template, in the points its kind names: ">=" where the other
+      // template's search stopped that far behind.
+      const bool at_least = d.template_margin_kind() == v1::TEMPLATE_MARGIN_SCORE_AT_LEAST;
+      std::snprintf(buf, sizeof(buf), "  margin %s%.1f %s", at_least ? ">=" : "",
+                    d.template_margin(),
+                    d.template_margin_kind() == v1::TEMPLATE_MARGIN_FIT ? "fit" : "score");
+      line += buf;
+    }
     if (c.has_runner_up()) {
-      std::snprintf(buf, sizeof(buf), "  runner-up theta %.1f deg (-%.1f)",
-                    RadToDeg(c.runner_up_pose().theta()), c.runner_up_margin());
+      // Its score against the best's: below it, or above where the refined fit chose the best.
+      std::snprintf(buf, sizeof(buf), "  runner-up theta %.1f deg (%+.1f)",
+                    RadToDeg(c.runner_up_pose().theta()), 0.0 - c.runner_up_margin());
       line += buf;
     }
     if (e.has_robot_pose_world()) line += "  | " + PoseText("world ", e.robot_pose_world());

@@ -1,5 +1,6 @@
 // Starts the daemon in-process on a free loopback port and checks every RPC, streaming with
 // cancellation, and that bad requests get the right status while the daemon keeps serving.
+#include <google/protobuf/util/json_util.h>
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
@@ -133,6 +134,33 @@ TEST_F(DaemonRpcTest, QueryOfACloudWithoutFinitePointsNamesTheFile) {
             std::string::npos)
       << out;
   ExpectStillServing();
+}
+
+// `hpose query estimate` of a frame: its line gives the template margin in the points the
+// estimate's --json form names (score, fit, or at least so many score points).
+TEST_F(DaemonRpcTest, QueryLineGivesTheTemplateMarginInItsPoints) {
+  const std::string query = tu::HposeProgram() + " query estimate '" + suite_->dir() +
+                            "/frames/depth_000.png' --timeout 60 --server 127.0.0.1:" +
+                            std::to_string(suite_->daemon().port());
+  std::string json, text;
+  ASSERT_EQ(tu::RunCommand(query + " --json 2>&1", &json), 0) << json;
+  ASSERT_EQ(tu::RunCommand(query + " 2>&1", &text), 0) << text;
+  v1::PoseEstimate e;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(json, &e).ok()) << json;
+  const v1::Detection& d = e.depth_template().best();
+  ASSERT_FALSE(d.second_template().empty()) << json;  // the daemon holds two templates.
+  char expected[64];
+  std::snprintf(expected, sizeof(expected), "  margin %s%.1f %s",
+                d.template_margin_kind() == v1::TEMPLATE_MARGIN_SCORE_AT_LEAST ? ">=" : "",
+                d.template_margin(),
+                d.template_margin_kind() == v1::TEMPLATE_MARGIN_FIT ? "fit" : "score");
+  EXPECT_NE(text.find(expected), std::string::npos) << expected << "\n" << text;
+  // The runner-up's score against the best's, signed (above it where the fit chose the best).
+  const v1::Candidate& c = d.best();
+  ASSERT_TRUE(c.has_runner_up()) << json;
+  std::snprintf(expected, sizeof(expected), " deg (%+.1f)", 0.0 - c.runner_up_margin());
+  EXPECT_NE(text.find(expected), std::string::npos) << expected << "\n" << text;
+  EXPECT_EQ(text.find("(--"), std::string::npos) << text;
 }
 
 // Deadlines the clock cannot hold are usage errors, not a deadline already past.
