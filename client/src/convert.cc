@@ -21,6 +21,17 @@ Estimator FromProto(v1::EstimatorKind kind) {
   }
 }
 
+MarginKind FromProto(v1::TemplateMarginKind kind) {
+  switch (kind) {
+    case v1::TEMPLATE_MARGIN_FIT:
+      return MarginKind::kFit;
+    case v1::TEMPLATE_MARGIN_SCORE_AT_LEAST:
+      return MarginKind::kScoreAtLeast;
+    default:
+      return MarginKind::kScore;
+  }
+}
+
 void FillDepth(const v1::DepthTemplateResult& r, PoseEstimate* out) {
   out->humanoid_found = r.humanoid_found();
   out->clusters = r.clusters_size();
@@ -34,8 +45,7 @@ void FillDepth(const v1::DepthTemplateResult& r, PoseEstimate* out) {
   out->pose = FromProto(c.pose());
   out->score = c.score();
   out->template_margin = d.template_margin();
-  out->template_margin_in_fit = d.template_margin_kind() == v1::TEMPLATE_MARGIN_FIT;
-  out->template_margin_at_least = d.template_margin_kind() == v1::TEMPLATE_MARGIN_SCORE_AT_LEAST;
+  out->template_margin_kind = FromProto(d.template_margin_kind());
   out->has_runner_up = c.has_runner_up();
   out->runner_up_pose = FromProto(c.runner_up_pose());
   out->runner_up_margin = c.runner_up_margin();

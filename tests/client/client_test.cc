@@ -206,9 +206,7 @@ TEST_F(ClientTest, EstimateDepthAgreesWithTheRawApi) {
   EXPECT_DOUBLE_EQ(e.runner_up_margin, c.runner_up_margin());
   const v1::Detection& d = response.estimate().depth_template().best();
   EXPECT_DOUBLE_EQ(e.template_margin, d.template_margin());
-  EXPECT_EQ(e.template_margin_in_fit, d.template_margin_kind() == v1::TEMPLATE_MARGIN_FIT);
-  EXPECT_EQ(e.template_margin_at_least,
-            d.template_margin_kind() == v1::TEMPLATE_MARGIN_SCORE_AT_LEAST);
+  EXPECT_EQ(static_cast<int>(e.template_margin_kind), static_cast<int>(d.template_margin_kind()));
   EXPECT_NEAR(e.pose.theta_rad, 20.0 * M_PI / 180.0, 5.0 * M_PI / 180.0);  // frame 1: turned 20.
 }
 

@@ -48,6 +48,11 @@ struct ConnectOptions {
 
 enum class Estimator { kAny = 0, kDepthTemplate = 1, kStereoMarker = 2 };
 
+// In which points PoseEstimate::template_margin is: score points, fit points (both templates
+// were refined), or at least that many score points (the other template's search stopped that
+// far behind).
+enum class MarginKind { kScore = 0, kFit = 1, kScoreAtLeast = 2 };
+
 struct Pose2D {
   double x_m = 0.0;
   double y_m = 0.0;
@@ -77,12 +82,9 @@ struct PoseEstimate {
   std::string template_name;    // the best-matching template.
   Pose2D pose;                  // robot frame in the ground frame.
   double score = 0.0;           // 0-100: share of the cluster's voxels the template covers.
-  // Points ahead of the best other template: fit points when template_margin_in_fit (both
-  // were refined), else score points, and then at least that many when
-  // template_margin_at_least (the other template's search stopped that far behind).
+  // Points ahead of the best other template, in the points template_margin_kind names.
   double template_margin = 0.0;
-  bool template_margin_in_fit = false;
-  bool template_margin_at_least = false;
+  MarginKind template_margin_kind = MarginKind::kScore;
   bool has_runner_up = false;  // a second-best pose (often the robot turned around).
   Pose2D runner_up_pose;
   double runner_up_margin = 0.0;  // score - runner-up score.
