@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "core/common/quantile.h"
+
 namespace hpose::server {
 namespace {
 
@@ -20,13 +22,6 @@ double RecentRate(const std::deque<PipelineStats::Clock::time_point>& times,
   if (times.size() < 2 || Seconds(now - times.back()) >= kRateWindowS) return 0.0;
   const double span = Seconds(times.back() - times.front());
   return span > 0.0 ? (times.size() - 1) / span : 0.0;
-}
-
-double Quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t i = std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * v.size())) - (q > 0));
-  return v[i];
 }
 
 }  // namespace

@@ -19,6 +19,8 @@
 #include "core/io/intrinsics_file.h"
 #include "core/search/estimator.h"
 #include "core/search/pose_tracker.h"
+#include "core/sim/sim_truth.h"
+#include "core/sim/truth_comparison.h"
 #include "core/templates/template_io.h"
 #include "server/daemon_config.h"
 #include "server/frame_source.h"
@@ -141,6 +143,15 @@ int RunReplay(int argc, char** argv) {
     if (!writable.ok()) return ReportError("replay", writable.error());
   }
 
+  std::unique_ptr<SimTruth> truth;
+  if (!f.truth_path.empty()) {  // before the work, as the output.
+    Result<std::string> text = ReadFile(f.truth_path);
+    if (!text.ok()) return ReportError("replay", text.error());
+    Result<SimTruth> parsed = ParseSimTruthJson(*text, f.truth_path);
+    if (!parsed.ok()) return ReportError("replay", parsed.error());
+    truth = std::make_unique<SimTruth>(std::move(*parsed));
+  }
+
   server::DaemonConfig config;
   if (!f.config_path.empty()) {
     Result<server::DaemonConfig> loaded = server::LoadDaemonConfig(f.config_path);
@@ -206,6 +217,8 @@ int RunReplay(int argc, char** argv) {
   long frames = 0, estimated = 0, failed = 0, unreadable = 0, humanoids = 0;
   std::string first_failure;  // "FRAME: why", said after the summary.
   std::vector<double> times_ms;
+  TruthComparer comparer;
+  long without_truth = 0;  // frames that --truth does not name.
   const auto start = std::chrono::steady_clock::now();
   while (f.max_frames <= 0 || frames < f.max_frames) {
     Result<server::Frame> frame = (*source)->Next();
@@ -240,6 +253,16 @@ int RunReplay(int argc, char** argv) {
     } else {
       if (failed++ == 0) first_failure = frame->origin + ": " + result.error().message;
     }
+    if (truth != nullptr) {
+      const SimFrameTruth* stood = FindFrameTruth(*truth, frame->origin);
+      if (stood == nullptr) {
+        ++without_truth;
+      } else {
+        const bool found = result.ok() && !result->Humanoids().empty();
+        comparer.Add(stood->humanoid_pose, found,
+                     found ? result->Humanoids().front().best.pose : Pose2D());
+      }
+    }
     if (f.format == "csv") {
       out << CsvRow(msg);
     } else {
@@ -267,6 +290,28 @@ int RunReplay(int argc, char** argv) {
                frames, wall, wall > 0 ? frames / wall : 0.0, estimated, failed, unreadable,
                humanoids, median);
   if (failed > 0) std::cerr << "hpose replay: the first that failed, " << first_failure << "\n";
+  if (truth != nullptr) {
+    const TruthComparison c = comparer.Summary();
+    if (c.frames == 0) {
+      std::cerr << "hpose replay: --truth " << f.truth_path
+                << ": names none of the recording's frames (they are matched by file name)\n";
+      return kExitError;
+    }
+    std::fprintf(stderr,
+                 "hpose replay: against %s: humanoid found in %d of %d frame(s), %d within 5 deg "
+                 "and 0.1 m, %d turned about (over 150 deg off)",
+                 f.truth_path.c_str(), c.found, c.frames, c.within_5deg, c.turned_about);
+    if (c.found > 0) {
+      std::fprintf(stderr,
+                   "; position error median %.1f mm, p95 %.1f, max %.1f; heading error median "
+                   "%.2f deg, p95 %.2f, max %.2f",
+                   c.position_median_m * 1000.0, c.position_p95_m * 1000.0,
+                   c.position_max_m * 1000.0, RadToDeg(c.heading_median_rad),
+                   RadToDeg(c.heading_p95_rad), RadToDeg(c.heading_max_rad));
+    }
+    if (without_truth > 0) std::fprintf(stderr, "; %ld frame(s) not in it", without_truth);
+    std::fprintf(stderr, "\n");
+  }
   if (!f.out_path.empty()) file.close();
   if (!out || (!f.out_path.empty() && file.fail())) {
     return ReportError("replay", MakeError(ErrorCode::kInternal,

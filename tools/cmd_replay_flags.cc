@@ -41,13 +41,19 @@ FlagParser ReplayFlags::Parser() {
                   "so a robot too far to pass the score threshold cold is found "
                   "(search.tracked_score_threshold); default: source.initial_pose of --config",
                   "X,Y,DEG");
+  flags.AddString("truth", &truth_path,
+                  "truth.json that `hpose simulate` wrote beside the frames: each frame's "
+                  "humanoid is compared with where it stood (frames matched by file name) and the "
+                  "errors are summed up after the summary",
+                  "FILE");
   flags.AddBool("no-progress", &no_progress, "no progress bar");
   flags.AllowPositional("RECORDING");
   flags.SetEpilog(
       "examples:\n  hpose replay walk.oni --template templates/standing.bt --out walk.jsonl\n"
       "  hpose replay grabber_sequences/tiff/ --out poses.jsonl\n"
       "  hpose replay frame_20121214T142255.814212.pcd\n"
-      "  hpose replay frames/ --template templates/standing.bt --format csv > poses.csv\n");
+      "  hpose replay frames/ --template templates/standing.bt --format csv > poses.csv\n"
+      "  hpose replay sim/ --truth sim/truth.json --out sim.jsonl   # errors against the truth\n");
   return flags;
 }
 

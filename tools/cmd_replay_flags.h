@@ -10,7 +10,8 @@ namespace hpose::tools {
 
 // The flags of `hpose replay`, holding their defaults until parsed.
 struct ReplayFlags {
-  std::string out_path, format, config_path, intrinsics_path, rate = "fast", initial_pose;
+  std::string out_path, format, config_path, intrinsics_path, rate = "fast", initial_pose,
+                                                              truth_path;
   std::vector<std::string> templates;
   int max_frames = 0;
   double fps = 30.0;

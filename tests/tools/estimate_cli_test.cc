@@ -296,7 +296,8 @@ TEST_F(EstimateCliTest, AFarHumanoidBelowTheThresholdIsExplained) {
 
 // hpose replay --initial-pose: the far robot above, turning on the spot, is found in every frame
 // of the recording; without it in none (with one score threshold at every range, from --config:
-// the far clusters' lower one finds it cold). A malformed pose is a usage error.
+// the far clusters' lower one finds it cold). A malformed pose is a usage error. --truth sums up
+// the errors against the simulation's truth.json, and refuses one that names none of the frames.
 TEST_F(EstimateCliTest, ReplayFromAnInitialPoseFindsAFarRobot) {
   const CliRun sim = RunHpose("simulate --out '" + (*dir_ / "farseq") +
                                   "' --x 3.5 --theta-deg 60 --sensor-height 0.9 --pitch-deg 20 "
@@ -309,8 +310,15 @@ TEST_F(EstimateCliTest, ReplayFromAnInitialPoseFindsAFarRobot) {
   const std::string replay = "replay '" + (*dir_ / "farseq") + "' --no-progress --format csv" +
                              " --config '" + config + "'";
   for (const bool given : {false, true}) {
-    const CliRun run = RunHpose(replay + (given ? " --initial-pose 3.5,0,60" : ""), *dir_);
+    const CliRun run = RunHpose(replay + (given ? " --initial-pose 3.5,0,60" : "") + " --truth '" +
+                                    (*dir_ / "farseq/truth.json") + "'",
+                                *dir_);
     ASSERT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_NE(run.err.find(given ? "humanoid found in 3 of 3 frame(s)"
+                                 : "humanoid found in 0 of 3 frame(s)"),
+              std::string::npos)
+        << run.err;
+    EXPECT_EQ(run.err.find("position error median") != std::string::npos, given) << run.err;
     std::istringstream lines(run.out);
     std::string line;
     // The last two columns of a row.
@@ -341,6 +349,15 @@ TEST_F(EstimateCliTest, ReplayFromAnInitialPoseFindsAFarRobot) {
   const CliRun bad = RunHpose(replay + " --initial-pose 3.5,0", *dir_);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--initial-pose"), std::string::npos) << bad.err;
+  // Another simulation's truth (one frame, depth.png) names none of these frames.
+  ASSERT_EQ(RunHpose("simulate --out '" + (*dir_ / "other") +
+                         "' --x 15 --width 320 --height 240 --no-cloud",
+                     *dir_)
+                .exit_code,
+            0);
+  const CliRun other = RunHpose(replay + " --truth '" + (*dir_ / "other/truth.json") + "'", *dir_);
+  EXPECT_EQ(other.exit_code, 1);
+  EXPECT_NE(other.err.find("names none of the recording's frames"), std::string::npos) << other.err;
 }
 
 TEST_F(EstimateCliTest, NoFloorAndNoHumanoidHaveTheirOwnExitStatus) {
