@@ -290,13 +290,8 @@ int RunReplay(int argc, char** argv) {
                frames, wall, wall > 0 ? frames / wall : 0.0, estimated, failed, unreadable,
                humanoids, median);
   if (failed > 0) std::cerr << "hpose replay: the first that failed, " << first_failure << "\n";
-  if (truth != nullptr) {
-    const TruthComparison c = comparer.Summary();
-    if (c.frames == 0) {
-      std::cerr << "hpose replay: --truth " << f.truth_path
-                << ": names none of the recording's frames (they are matched by file name)\n";
-      return kExitError;
-    }
+  const TruthComparison c = comparer.Summary();
+  if (truth != nullptr && c.frames > 0) {
     std::fprintf(stderr,
                  "hpose replay: against %s: humanoid found in %d of %d frame(s), %d within 5 deg "
                  "and 0.1 m, %d turned about (over 150 deg off)",
@@ -317,6 +312,11 @@ int RunReplay(int argc, char** argv) {
     return ReportError("replay", MakeError(ErrorCode::kInternal,
                                            (f.out_path.empty() ? "standard output" : f.out_path) +
                                                ": write failed: " + std::strerror(errno)));
+  }
+  if (truth != nullptr && c.frames == 0) {  // after the estimates are safely written.
+    std::cerr << "hpose replay: --truth " << f.truth_path
+              << ": names none of the recording's frames (they are matched by file name)\n";
+    return kExitError;
   }
   return frames > 0 ? kExitOk : kExitError;
 }
