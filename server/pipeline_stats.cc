@@ -42,11 +42,12 @@ StatsSnapshot PipelineStats::Snapshot(Clock::time_point now) const {
   StatsSnapshot s;
   s.input_rate_hz = RecentRate(input_times_, now);
   s.estimate_rate_hz = RecentRate(publish_times_, now);
-  const std::vector<double> lat(latencies_.begin(), latencies_.end());
+  std::vector<double> lat(latencies_.begin(), latencies_.end());
   s.latency_samples = static_cast<std::uint32_t>(lat.size());
-  s.latency_median_s = Quantile(lat, 0.5);
-  s.latency_p99_s = Quantile(lat, 0.99);
   s.latency_last_s = lat.empty() ? 0.0 : lat.back();
+  std::sort(lat.begin(), lat.end());
+  s.latency_median_s = QuantileOfSorted(lat, 0.5);
+  s.latency_p99_s = QuantileOfSorted(lat, 0.99);
   return s;
 }
 

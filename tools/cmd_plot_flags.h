@@ -10,6 +10,7 @@ namespace hpose::tools {
 // The flags of `hpose plot`, holding their defaults until parsed.
 struct PlotFlags {
   std::string out, title;
+  std::string truth_path;  // a simulation's truth.json, drawn beneath the estimates.
 
   // The command's parser, writing into these fields (which must outlive it).
   FlagParser Parser();

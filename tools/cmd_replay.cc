@@ -145,9 +145,7 @@ int RunReplay(int argc, char** argv) {
 
   std::unique_ptr<SimTruth> truth;
   if (!f.truth_path.empty()) {  // before the work, as the output.
-    Result<std::string> text = ReadFile(f.truth_path);
-    if (!text.ok()) return ReportError("replay", text.error());
-    Result<SimTruth> parsed = ParseSimTruthJson(*text, f.truth_path);
+    Result<SimTruth> parsed = LoadSimTruth(f.truth_path);
     if (!parsed.ok()) return ReportError("replay", parsed.error());
     truth = std::make_unique<SimTruth>(std::move(*parsed));
   }
@@ -246,10 +244,12 @@ int RunReplay(int argc, char** argv) {
     server::FillPoseEstimate(frame->sequence, frame->source_time_s, frame->received, frame->origin,
                              result.ok() ? &*result : nullptr,
                              result.ok() ? nullptr : &result.error(), &msg);
+    std::vector<Pose2D> found;  // the humanoids' poses.
     if (result.ok()) {
       ++estimated;
       times_ms.push_back(result->timings.total_ms);
-      if (!result->Humanoids().empty()) ++humanoids;
+      for (const Detection& d : result->Humanoids()) found.push_back(d.best.pose);
+      if (!found.empty()) ++humanoids;
     } else {
       if (failed++ == 0) first_failure = frame->origin + ": " + result.error().message;
     }
@@ -258,9 +258,7 @@ int RunReplay(int argc, char** argv) {
       if (stood == nullptr) {
         ++without_truth;
       } else {
-        const bool found = result.ok() && !result->Humanoids().empty();
-        comparer.Add(stood->humanoid_pose, found,
-                     found ? result->Humanoids().front().best.pose : Pose2D());
+        comparer.Add(stood->humanoid_pose, found);
       }
     }
     if (f.format == "csv") {
@@ -292,20 +290,9 @@ int RunReplay(int argc, char** argv) {
   if (failed > 0) std::cerr << "hpose replay: the first that failed, " << first_failure << "\n";
   const TruthComparison c = comparer.Summary();
   if (truth != nullptr && c.frames > 0) {
-    std::fprintf(stderr,
-                 "hpose replay: against %s: humanoid found in %d of %d frame(s), %d within 5 deg "
-                 "and 0.1 m, %d turned about (over 150 deg off)",
-                 f.truth_path.c_str(), c.found, c.frames, c.within_5deg, c.turned_about);
-    if (c.found > 0) {
-      std::fprintf(stderr,
-                   "; position error median %.1f mm, p95 %.1f, max %.1f; heading error median "
-                   "%.2f deg, p95 %.2f, max %.2f",
-                   c.position_median_m * 1000.0, c.position_p95_m * 1000.0,
-                   c.position_max_m * 1000.0, RadToDeg(c.heading_median_rad),
-                   RadToDeg(c.heading_p95_rad), RadToDeg(c.heading_max_rad));
-    }
-    if (without_truth > 0) std::fprintf(stderr, "; %ld frame(s) not in it", without_truth);
-    std::fprintf(stderr, "\n");
+    std::cerr << "hpose replay: against " << f.truth_path << ": " << DescribeTruthComparison(c);
+    if (without_truth > 0) std::cerr << "; " << without_truth << " frame(s) not in it";
+    std::cerr << "\n";
   }
   if (!f.out_path.empty()) file.close();
   if (!out || (!f.out_path.empty() && file.fail())) {

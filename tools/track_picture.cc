@@ -23,6 +23,7 @@ const Bgr kText(230, 230, 230);
 const Bgr kAmbiguous(40, 160, 255);  // BGR orange.
 const Bgr kFoundStrip(90, 180, 90);
 const Bgr kMissedStrip(70, 70, 190);
+const Bgr kTruth(150, 225, 150);  // BGR pale green.
 
 void Text(Canvas& img, const std::string& s, Px at, double scale, const Bgr& c) {
   img.Text(s, at, scale, c, 1, LineKind::kSmooth);
@@ -74,6 +75,16 @@ void DrawTopView(Canvas& img, const TrackTopView& v, const std::vector<TrackPoin
   view.Marker(px(0, 0), kText, MarkerShape::kTriangleUp, 16, 2);
   Text(view, "sensor", px(0, 0) + Px(12, 4), 0.45, kText);
 
+  // The true path beneath, a broad band the estimated path runs along where it is right, between
+  // frames with a truth one after the other, a dot at each.
+  for (size_t i = 0; i < track.size(); ++i) {
+    if (!track[i].has_truth) continue;
+    const Px at = px(track[i].truth.x, track[i].truth.y);
+    if (i > 0 && track[i - 1].has_truth) {
+      view.Line(px(track[i - 1].truth.x, track[i - 1].truth.y), at, kTruth, 4, LineKind::kSmooth);
+    }
+    view.Circle(at, 3, kTruth, -1);
+  }
   // The path, between frames found one after the other.
   for (size_t i = 1; i < track.size(); ++i) {
     if (!track[i - 1].found || !track[i].found) continue;
@@ -119,12 +130,17 @@ struct Series {
   const char* name;
   double (*value)(const TrackPoint&);
   bool heading;  // degrees: shown over [-180, 180], not joined across the wrap.
+  // The same of the frame's truth (where it has one), or nullptr for a value without a truth.
+  double (*truth)(const TrackPoint&);
 };
 constexpr Series kSeries[] = {
-    {"x (m)", [](const TrackPoint& p) { return p.pose.x; }, false},
-    {"y (m)", [](const TrackPoint& p) { return p.pose.y; }, false},
-    {"heading (deg)", [](const TrackPoint& p) { return RadToDeg(p.pose.theta); }, true},
-    {"score", [](const TrackPoint& p) { return p.score; }, false},
+    {"x (m)", [](const TrackPoint& p) { return p.pose.x; }, false,
+     [](const TrackPoint& p) { return p.truth.x; }},
+    {"y (m)", [](const TrackPoint& p) { return p.pose.y; }, false,
+     [](const TrackPoint& p) { return p.truth.y; }},
+    {"heading (deg)", [](const TrackPoint& p) { return RadToDeg(p.pose.theta); }, true,
+     [](const TrackPoint& p) { return RadToDeg(p.truth.theta); }},
+    {"score", [](const TrackPoint& p) { return p.score; }, false, nullptr},
 };
 
 // One chart of a value against time: its frame, the range, and the samples of the frames found
@@ -132,12 +148,18 @@ constexpr Series kSeries[] = {
 void DrawChart(Canvas& img, const PxBox& box, const Series& series,
                const std::vector<TrackPoint>& track, const TimeAxis& time) {
   const auto value = series.value;
+  const auto truth = series.truth;
   const bool wraps = series.heading;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const TrackPoint& p : track) {
-    if (!p.found || !std::isfinite(value(p))) continue;
-    lo = std::min(lo, value(p));
-    hi = std::max(hi, value(p));
+    if (p.found && std::isfinite(value(p))) {
+      lo = std::min(lo, value(p));
+      hi = std::max(hi, value(p));
+    }
+    if (truth != nullptr && p.has_truth && std::isfinite(truth(p))) {
+      lo = std::min(lo, truth(p));
+      hi = std::max(hi, truth(p));
+    }
   }
   if (wraps) {
     lo = -180.0;
@@ -155,12 +177,23 @@ void DrawChart(Canvas& img, const PxBox& box, const Series& series,
   Text(img, series.name, Px(box.x + 6, box.y + 16), 0.45, kText);
   Text(img, FormatNumber("%.3g", hi), Px(box.x + box.width + 4, box.y + 10), 0.38, kLabel);
   Text(img, FormatNumber("%.3g", lo), Px(box.x + box.width + 4, box.y + box.height), 0.38, kLabel);
-  const auto at = [&](const TrackPoint& p) {
+  const auto at_value = [&](const TrackPoint& p, double v) {
     const double u = time.Share(p.time_s, 0.5);
-    const double w = (value(p) - lo) / (hi - lo);
+    const double w = (v - lo) / (hi - lo);
     return Px(box.x + static_cast<int>(std::lround(u * (box.width - 1))),
               box.y + box.height - 1 - static_cast<int>(std::lround(w * (box.height - 1))));
   };
+  const auto at = [&](const TrackPoint& p) { return at_value(p, value(p)); };
+  // The truth beneath as a broad line, joined while frames with a truth follow one another.
+  for (size_t i = 0; truth != nullptr && i < track.size(); ++i) {
+    const TrackPoint& p = track[i];
+    if (!p.has_truth) continue;
+    if (i > 0 && track[i - 1].has_truth &&
+        !(wraps && std::abs(truth(p) - truth(track[i - 1])) > 0.5 * (hi - lo))) {
+      img.Line(at_value(track[i - 1], truth(track[i - 1])), at_value(p, truth(p)), kTruth, 3,
+               LineKind::kSmooth);
+    }
+  }
   for (size_t i = 0; i < track.size(); ++i) {
     const TrackPoint& p = track[i];
     if (!p.found) continue;
@@ -186,13 +219,17 @@ int TrackTopView::Row(double x) const {
 TrackTopView FitTrackTopView(const std::vector<TrackPoint>& track) {
   double xmin = 0.0, xmax = 0.0, ymin = 0.0, ymax = 0.0;  // the sensor is always in view.
   bool any = false;
-  for (const TrackPoint& p : track) {
-    if (!p.found || !std::isfinite(p.pose.x) || !std::isfinite(p.pose.y)) continue;
+  const auto take = [&](const Pose2D& pose) {
+    if (!std::isfinite(pose.x) || !std::isfinite(pose.y)) return;
     any = true;
-    xmin = std::min(xmin, p.pose.x);
-    xmax = std::max(xmax, p.pose.x);
-    ymin = std::min(ymin, p.pose.y);
-    ymax = std::max(ymax, p.pose.y);
+    xmin = std::min(xmin, pose.x);
+    xmax = std::max(xmax, pose.x);
+    ymin = std::min(ymin, pose.y);
+    ymax = std::max(ymax, pose.y);
+  };
+  for (const TrackPoint& p : track) {
+    if (p.found) take(p.pose);
+    if (p.has_truth) take(p.truth);
   }
   // The sensor looks along +x: without a pose to show, the view is of the floor ahead of it.
   if (!any) xmax = kMinViewSpanM - 2 * kViewMarginM;
@@ -222,10 +259,11 @@ Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string
     time.t0 = i == 0 ? track[i].time_s : std::min(time.t0, track[i].time_s);
     time.t1 = i == 0 ? track[i].time_s : std::max(time.t1, track[i].time_s);
   }
-  int found = 0, ambiguous = 0;
+  int found = 0, ambiguous = 0, with_truth = 0;
   for (const TrackPoint& p : track) {
     found += p.found ? 1 : 0;
     ambiguous += p.found && p.heading_ambiguous ? 1 : 0;
+    with_truth += p.has_truth ? 1 : 0;
   }
   Text(img,
        title + ": " + std::to_string(track.size()) + " frames over " +
@@ -255,7 +293,8 @@ Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string
   Text(img, "found", Px(left + width + 4, strip_top + 11), 0.38, kLabel);
   Text(img,
        "time " + FormatNumber("%.1f", 0.0) + " .. " + FormatNumber("%.1f s", time.t1 - time.t0) +
-           " (blue .. red); orange arrows: heading ambiguous",
+           " (blue .. red); orange arrows: heading ambiguous" +
+           (with_truth > 0 ? "; pale green: the truth" : ""),
        Px(left, strip_top + strip + 16), 0.4, kLabel);
   return WritePicturePng(img, path);
 }

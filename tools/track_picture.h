@@ -16,6 +16,8 @@ struct TrackPoint {
   Pose2D pose;          // ground frame.
   double score = 0.0;
   bool heading_ambiguous = false;
+  bool has_truth = false;  // where the humanoid truly stood is known (a simulation's truth) ...
+  Pose2D truth;            // ... and is this, ground frame.
 };
 
 // Where the track picture's top view draws a ground point: pixel = centre - (y, x) * scale
@@ -30,16 +32,18 @@ struct TrackTopView {
   int Row(double x) const;
 };
 
-// The top view that shows the sensor (the ground frame's origin) and every found pose of
-// `track`, with a margin; without a found pose, the floor ahead of the sensor.
+// The top view that shows the sensor (the ground frame's origin) and every found pose and truth
+// of `track`, with a margin; without either, the floor ahead of the sensor.
 TrackTopView FitTrackTopView(const std::vector<TrackPoint>& track);
 
 // Draws a replay's track for people: left, the floor from above (the sensor at the origin, +x
 // up, +y left, a grid) with the humanoid's path coloured from its first frame (blue) to its
 // last (red), its heading every few frames (orange where it was ambiguous), the start (circle)
 // and the end (square); right, x, y, heading and score against time, with gaps where no
-// humanoid was found, and a strip of the frames found (green) and not (red). `title` heads it.
-// A track without any humanoid found is drawn too, and says so.
+// humanoid was found, and a strip of the frames found (green) and not (red). Where frames have
+// a truth it is drawn beneath, in pale green: the true path in the top view, the true x, y and
+// heading in the charts. `title` heads it. A track without any humanoid found is drawn too, and
+// says so.
 Status WriteTrackPicture(const std::vector<TrackPoint>& track, const std::string& title,
                          const std::string& path);
 

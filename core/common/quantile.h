@@ -8,13 +8,18 @@
 
 namespace hpose {
 
-// The value at fraction q (0-1) of the values in order, by nearest rank: q = 0.5 the median,
-// 1 the largest. 0 for no values.
+// The value at fraction q (0-1) of `sorted` (in ascending order), by nearest rank: q = 0.5 the
+// median, 1 the largest. 0 for no values.
+inline double QuantileOfSorted(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return 0.0;
+  const std::size_t rank = static_cast<std::size_t>(std::ceil(q * sorted.size()));
+  return sorted[std::min(sorted.size() - 1, rank > 0 ? rank - 1 : 0)];
+}
+
+// The same of values in any order.
 inline double Quantile(std::vector<double> values, double q) {
-  if (values.empty()) return 0.0;
   std::sort(values.begin(), values.end());
-  const std::size_t rank = static_cast<std::size_t>(std::ceil(q * values.size()));
-  return values[std::min(values.size() - 1, rank > 0 ? rank - 1 : 0)];
+  return QuantileOfSorted(values, q);
 }
 
 }  // namespace hpose

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/io/atomic_file.h"
+
 namespace hpose {
 namespace {
 
@@ -148,6 +150,12 @@ Result<SimTruth> ParseSimTruthJson(const std::string& text, const std::string& o
   } catch (const std::exception& e) {
     return MakeError(ErrorCode::kDataLoss, origin + ": bad simulation truth: " + e.what());
   }
+}
+
+Result<SimTruth> LoadSimTruth(const std::string& path) {
+  Result<std::string> text = ReadFile(path);
+  if (!text.ok()) return text.error();
+  return ParseSimTruthJson(*text, path);
 }
 
 }  // namespace hpose

@@ -53,6 +53,8 @@ std::string SimTruthToJson(const SimTruth& truth);
 // Parses SimTruthToJson's output. Fails (kDataLoss) on malformed JSON, missing or mistyped
 // fields, naming `origin` (e.g. the file path) and the field.
 Result<SimTruth> ParseSimTruthJson(const std::string& text, const std::string& origin);
+// Reads and parses the truth.json at `path`; errors name the file.
+Result<SimTruth> LoadSimTruth(const std::string& path);
 
 }  // namespace hpose
 

@@ -60,6 +60,76 @@ TEST(PlotCliTest, DrawsWhatReplayWrote) {
   EXPECT_EQ(PngSize(dir / "s.png"), std::make_pair(1280, 720));
 }
 
+TEST(PlotCliTest, DrawsASimulationsTruthAndSaysTheErrors) {
+  TempDir dir("plot_cli_truth");
+  const CliRun sim = RunHpose("simulate --out '" + (dir / "walk") +
+                                  "' --frames 4 --x 1.4 --turn-deg 20 --step-m 0.05 "
+                                  "--width 320 --height 240 --no-cloud",
+                              dir);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const std::string poses = dir / "walk.jsonl";
+  const std::string truth = dir / "walk/truth.json";
+  const CliRun replay = RunHpose(
+      "replay '" + (dir / "walk") + "' --no-progress --truth '" + truth + "' --out '" + poses + "'",
+      dir);
+  ASSERT_EQ(replay.exit_code, 0) << replay.err;
+  // The replay's summary of the errors and the plot's are one and the same.
+  const std::string against = "against " + truth + ": ";
+  const std::size_t line = replay.err.find(against);
+  ASSERT_NE(line, std::string::npos) << replay.err;
+  const std::size_t from = line + against.size();
+  const std::string summary = replay.err.substr(from, replay.err.find('\n', from) - from);
+  EXPECT_NE(summary.find("humanoid found in 4 of 4 frame(s)"), std::string::npos) << summary;
+
+  const CliRun plot =
+      RunHpose("plot '" + poses + "' --truth '" + truth + "' --out '" + (dir / "t.png") + "'", dir);
+  ASSERT_EQ(plot.exit_code, 0) << plot.err;
+  EXPECT_NE(plot.out.find(against + summary + "\n"), std::string::npos)
+      << plot.out << "\nreplay said: " << summary;
+  EXPECT_EQ(PngSize(dir / "t.png"), std::make_pair(1280, 720));
+
+  // A line whose frame the truth does not name is drawn, and counted apart.
+  std::string lines = Slurp(poses);
+  const std::size_t at = lines.find("depth_000.png");
+  ASSERT_NE(at, std::string::npos);
+  std::string renamed = lines;
+  renamed.replace(at, 13, "other_000.png");
+  std::ofstream(dir / "renamed.jsonl") << renamed;
+  const CliRun partly = RunHpose("plot '" + (dir / "renamed.jsonl") + "' --truth '" + truth +
+                                     "' --out '" + (dir / "r.png") + "'",
+                                 dir);
+  ASSERT_EQ(partly.exit_code, 0) << partly.err;
+  EXPECT_NE(partly.out.find("of 3 frame(s)"), std::string::npos) << partly.out;
+  EXPECT_NE(partly.out.find("; 1 estimate(s) not in it"), std::string::npos) << partly.out;
+
+  // A truth of other frames, and no truth at all, are errors that name the file; nothing drawn.
+  std::string others = Slurp(truth);
+  for (std::size_t p = 0; (p = others.find("depth_", p)) != std::string::npos;) {
+    others.replace(p, 6, "frame_");
+  }
+  std::ofstream(dir / "others.json") << others;
+  const CliRun unmatched = RunHpose("plot '" + poses + "' --truth '" + (dir / "others.json") +
+                                        "' --out '" + (dir / "u.png") + "'",
+                                    dir);
+  EXPECT_EQ(unmatched.exit_code, 1);
+  EXPECT_NE(unmatched.err.find("others.json: names none of walk.jsonl's frames"), std::string::npos)
+      << unmatched.err;
+  const CliRun missing = RunHpose(
+      "plot '" + poses + "' --truth '" + (dir / "none.json") + "' --out '" + (dir / "m.png") + "'",
+      dir);
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("none.json"), std::string::npos) << missing.err;
+  std::ofstream(dir / "broken.json") << "{\"format\": \"hpose-sim-truth\"";
+  const CliRun broken = RunHpose("plot '" + poses + "' --truth '" + (dir / "broken.json") +
+                                     "' --out '" + (dir / "b.png") + "'",
+                                 dir);
+  EXPECT_EQ(broken.exit_code, 1);
+  EXPECT_NE(broken.err.find("broken.json"), std::string::npos) << broken.err;
+  for (const char* png : {"u.png", "m.png", "b.png"}) {
+    EXPECT_FALSE(std::ifstream(dir / png).good()) << png;
+  }
+}
+
 TEST(PlotCliTest, InputItCannotDrawIsNamed) {
   TempDir dir("plot_cli_bad");
   const auto plot = [&](const std::string& content) {

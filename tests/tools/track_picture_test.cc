@@ -90,6 +90,52 @@ TEST(TrackPictureTest, ThePathIsDrawnWhereThePosesAreAndNowhereElse) {
   EXPECT_FALSE(ColouredNear(*img, v.Col(-0.4), v.Row(1.8), 6));
 }
 
+// Whether the truth's pale green lies within `radius` pixels of (col, row).
+bool TruthNear(const RgbImage& img, int col, int row, int radius) {
+  for (int dr = -radius; dr <= radius; ++dr) {
+    for (int dc = -radius; dc <= radius; ++dc) {
+      const Rgb c = At(img, col + dc, row + dr);
+      if (c.g > 180 && c.r < c.g - 40 && c.b < c.g - 40) return true;
+    }
+  }
+  return false;
+}
+
+TEST(TrackPictureTest, TheTruthIsDrawnBeneathWhereTheRobotStood) {
+  // The robot truly walked a circle 0.5 m further from the sensor than the one estimated, and
+  // its truth reaches beyond every estimate: the view takes it in.
+  std::vector<TrackPoint> track = Circle();
+  for (TrackPoint& p : track) {
+    p.has_truth = true;
+    p.truth = Pose2D{p.pose.x + 0.5, p.pose.y, p.pose.theta};
+  }
+  const TrackTopView v = FitTrackTopView(track);
+  EXPECT_GT(v.Row(2.8), v.top);  // the truth's farthest point, 2.7 m.
+  const std::string path = TempPng("truth");
+  ASSERT_TRUE(WriteTrackPicture(track, "truth", path).ok());
+  const Result<RgbImage> img = ReadRgbImage(path);
+  std::filesystem::remove(path);
+  ASSERT_TRUE(img.ok());
+  int truth_seen = 0;
+  for (const TrackPoint& p : track)
+    truth_seen += TruthNear(*img, v.Col(p.truth.y), v.Row(p.truth.x), 1);
+  EXPECT_GE(truth_seen, 55);  // of 60: where the estimated path crosses it, it is drawn over.
+  // Not where nothing stood: the middle of the true circle, and the estimates' own middle.
+  EXPECT_FALSE(TruthNear(*img, v.Col(0.3), v.Row(2.3), 6));
+  EXPECT_FALSE(TruthNear(*img, v.Col(0.3), v.Row(1.8), 6));
+  // Without a truth nothing is drawn in its colour.
+  const std::string plain = TempPng("plain");
+  ASSERT_TRUE(WriteTrackPicture(Circle(), "plain", plain).ok());
+  const Result<RgbImage> without = ReadRgbImage(plain);
+  std::filesystem::remove(plain);
+  ASSERT_TRUE(without.ok());
+  int pale_green = 0;
+  for (int row = 0; row < without->height; ++row) {
+    for (int col = 0; col < without->width; ++col) pale_green += TruthNear(*without, col, row, 0);
+  }
+  EXPECT_EQ(pale_green, 0);
+}
+
 TEST(TrackPictureTest, ATrackWithoutAHumanoidIsDrawnWithoutAPath) {
   std::vector<TrackPoint> track = Circle();
   for (TrackPoint& p : track) p.found = false;
