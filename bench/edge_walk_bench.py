@@ -9,8 +9,9 @@ and stepping a little every frame among three clutter objects, the sensor 0.34 m
 and one after, and every estimate is held against the simulation's truth. Per program: frames,
 frames with the humanoid found (the first humanoid within 0.3 m of the truth), of those the
 headings within 5 degrees and those off by more than 90 (front taken for back), frames flagged
-heading_ambiguous, and the median heading and position errors; then the walks whose counts
-differ between the programs. The walks are the same for every program and every run of a seed.
+heading_ambiguous, frames with a humanoid more than 0.3 m from the truth (clutter taken for a
+humanoid, most often while the robot is out of view), and the median heading and position
+errors; then the walks whose counts differ between the programs. The walks are the same for every program and every run of a seed.
 
   python3 bench/edge_walk_bench.py build/tools/hpose [OTHER_HPOSE ...] [--walks 32]
       [--frames 40] [--seed 7]
@@ -55,12 +56,15 @@ def score_walk(truth_path, estimates_path):
     with open(estimates_path, encoding="utf-8") as f:
         estimates = [json.loads(line) for line in f if line.strip()]
     counts = {"frames": len(truth), "found": 0, "within_5": 0, "off_90": 0, "ambiguous": 0,
-              "heading_errors": [], "position_errors": []}
+              "elsewhere": 0, "heading_errors": [], "position_errors": []}
     for estimate, t in zip(estimates, truth):
         result = estimate.get("depth_template") or {}
         humans = [d for d in result.get("detections", []) if d["is_humanoid"]]
         if not humans:
             continue
+        counts["elsewhere"] += any(
+            math.hypot(h["best"]["pose"]["x"] - t["x"], h["best"]["pose"]["y"] - t["y"]) > 0.3
+            for h in humans)
         best = humans[0]["best"]
         pose = best["pose"]
         position_error = math.hypot(pose["x"] - t["x"], pose["y"] - t["y"])
@@ -87,8 +91,8 @@ def main():
         parser.error("--walks and --frames must be at least 1")
 
     rng = random.Random(args.seed)
-    totals = [dict(frames=0, found=0, within_5=0, off_90=0, ambiguous=0, heading_errors=[],
-                   position_errors=[]) for _ in args.programs]
+    totals = [dict(frames=0, found=0, within_5=0, off_90=0, ambiguous=0, elsewhere=0,
+                   heading_errors=[], position_errors=[]) for _ in args.programs]
     differing = []
     with tempfile.TemporaryDirectory() as tmp:
         for w in range(args.walks):
@@ -104,7 +108,7 @@ def main():
                 for key, value in counts.items():
                     totals[p][key] += value
                 per_program.append(counts)
-            keys = ("found", "within_5", "off_90", "ambiguous")
+            keys = ("found", "within_5", "off_90", "ambiguous", "elsewhere")
             if any(tuple(c[k] for k in keys) != tuple(per_program[0][k] for k in keys)
                    for c in per_program):
                 differing.append((" ".join(simulate[1:]).replace(walk_dir, "walk%02d" % w),
@@ -112,22 +116,24 @@ def main():
             print("walk %d of %d" % (w + 1, args.walks), flush=True, end="\r")
     print()
     print("| program | frames | humanoid found | heading within 5 deg | heading off by more than "
-          "90 deg | flagged ambiguous | median heading error (deg) | median position error "
-          "(mm) |")
-    print("|---|---|---|---|---|---|---|---|")
+          "90 deg | flagged ambiguous | a humanoid elsewhere | median heading error (deg) | "
+          "median position error (mm) |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for program, t in zip(args.programs, totals):
-        print("| %s | %d | %d | %d | %d | %d | %.2f | %.1f |" % (
+        print("| %s | %d | %d | %d | %d | %d | %d | %.2f | %.1f |" % (
             program, t["frames"], t["found"], t["within_5"], t["off_90"], t["ambiguous"],
+            t["elsewhere"],
             statistics.median(t["heading_errors"]) if t["heading_errors"] else float("nan"),
             1000.0 * statistics.median(t["position_errors"]) if t["position_errors"]
             else float("nan")))
     if len(args.programs) > 1:
-        print("\nwalks whose counts differ (found / within 5 / off by 90 / ambiguous, per "
-              "program):" if differing else "\nno walk's counts differ between the programs")
+        print("\nwalks whose counts differ (found / within 5 / off by 90 / ambiguous / elsewhere, "
+              "per program):" if differing else "\nno walk's counts differ between the programs")
         for command, per_program in differing:
             print("  hpose " + command)
-            print("    " + "   ".join("%d / %d / %d / %d" % (
-                c["found"], c["within_5"], c["off_90"], c["ambiguous"]) for c in per_program))
+            print("    " + "   ".join("%d / %d / %d / %d / %d" % (
+                c["found"], c["within_5"], c["off_90"], c["ambiguous"], c["elsewhere"])
+                for c in per_program))
 
 
 if __name__ == "__main__":

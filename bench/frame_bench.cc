@@ -45,6 +45,7 @@
 #include "bench/bench_bodies.h"
 #include "bench/bench_frames.h"
 #include "core/io/cloud_io.h"
+#include "core/search/detection_order.h"
 #include "core/search/estimator.h"
 #include "core/search/humanoid_view.h"
 #include "core/search/pose_tracker.h"
@@ -252,6 +253,16 @@ Status RunAll(const Frames& frames, const RunFlags& flags, std::vector<Variant>*
                 static_cast<long long>(c.bounds_evaluated),
                 static_cast<long long>(c.poses_evaluated), c.fit.fit, c.runner_up_fit.fit,
                 c.refine_ms);
+          }
+          for (const Detection& d : e->detections) {
+            const Pose2D& p = d.best.pose;
+            std::printf(
+                "dump %s frame %zu detection cluster %d %s: humanoid %d refused %d threshold "
+                "%.1f score %.4f fit %.1f evidence %.4f truth %.3f m\n",
+                v.name.c_str(), f, d.best.cluster_index, d.best.template_name.c_str(),
+                d.is_humanoid ? 1 : 0, static_cast<int>(d.refused_by), d.score_threshold,
+                d.best.score, d.best.fit.fit, HumanoidEvidenceShare(d.best),
+                std::hypot(p.x - truth.x, p.y - truth.y));
           }
         }
         const HumanoidView humans = e->Humanoids();

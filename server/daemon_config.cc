@@ -247,6 +247,7 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("score_threshold", &e.score_threshold));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_humanoid_fit", &e.min_humanoid_fit));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("min_humanoid_evidence", &e.min_humanoid_evidence));
+    HPOSE_RETURN_IF_ERROR(r.ReadDouble("tracked_hold_min_evidence", &e.tracked_hold_min_evidence));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("tracked_score_threshold", &e.tracked_score_threshold));
     HPOSE_RETURN_IF_ERROR(r.ReadDouble("far_range_m", &e.far_range_m));
     HPOSE_RETURN_IF_ERROR(
@@ -484,6 +485,10 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (!(c.estimator.min_humanoid_evidence >= 0.0 && c.estimator.min_humanoid_evidence <= 1.0)) {
     return fail("search.min_humanoid_evidence", "must be in [0, 1]");
   }
+  if (!(c.estimator.tracked_hold_min_evidence >= 0.0 &&
+        c.estimator.tracked_hold_min_evidence <= 1.0)) {
+    return fail("search.tracked_hold_min_evidence", "must be in [0, 1]");
+  }
   if (c.source.has_initial_pose) {
     const Pose2D& p = c.source.initial_pose;
     if (!(std::abs(p.x) <= 100.0 && std::abs(p.y) <= 100.0 && std::isfinite(p.theta))) {
@@ -628,6 +633,7 @@ std::string DaemonConfigToYaml(const DaemonConfig& c) {
   out << YAML::Key << "score_threshold" << YAML::Value << e.score_threshold;
   out << YAML::Key << "min_humanoid_fit" << YAML::Value << e.min_humanoid_fit;
   out << YAML::Key << "min_humanoid_evidence" << YAML::Value << e.min_humanoid_evidence;
+  out << YAML::Key << "tracked_hold_min_evidence" << YAML::Value << e.tracked_hold_min_evidence;
   out << YAML::Key << "tracked_score_threshold" << YAML::Value << e.tracked_score_threshold;
   out << YAML::Key << "far_range_m" << YAML::Value << e.far_range_m;
   out << YAML::Key << "two_points_a_voxel_within_m" << YAML::Value << e.two_points_a_voxel_within_m;

@@ -159,6 +159,8 @@ struct TrackingInfo {
   bool floor_reused = false;  // the previous frame's floor still fitted this frame's points.
   std::string prior_template;
   Pose2D prior_pose;  // ground frame.
+  // The cluster the previous frame's humanoid stood on (Estimate::clusters' index), -1 if none.
+  int held_cluster = -1;
 };
 
 struct Estimate {

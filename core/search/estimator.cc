@@ -226,19 +226,23 @@ Candidate* CandidateOf(std::vector<Candidate>* candidates, const Candidate& c) {
 }
 
 // Whether a candidate passes as a humanoid, and if not the first rule it fails: its search must
-// reach `threshold`, and when refined its fit min_humanoid_fit and, unless its cluster is the
-// held one (its hysteresis), its evidence min_humanoid_evidence.
-Refusal HumanoidRefusal(const Candidate& c, double threshold, bool held,
+// reach `threshold`, and when refined its fit min_humanoid_fit and, unless `evidence_exempt`
+// (the held cluster of a confirmed track: FramePrior::hold_confirmed), its evidence
+// min_humanoid_evidence.
+Refusal HumanoidRefusal(const Candidate& c, double threshold, bool evidence_exempt,
                         const EstimatorOptions& o) {
   if (c.stopped_below_threshold || !(c.score >= threshold)) return Refusal::kScore;
   if (!c.refined) return Refusal::kNone;
   if (!(c.fit.fit >= o.min_humanoid_fit)) return Refusal::kFit;
-  if (!held && !(HumanoidEvidenceShare(c) >= o.min_humanoid_evidence)) return Refusal::kEvidence;
+  if (!evidence_exempt && !(HumanoidEvidenceShare(c) >= o.min_humanoid_evidence)) {
+    return Refusal::kEvidence;
+  }
   return Refusal::kNone;
 }
 
-bool PassesAsHumanoid(const Candidate& c, double threshold, bool held, const EstimatorOptions& o) {
-  return HumanoidRefusal(c, threshold, held, o) == Refusal::kNone;
+bool PassesAsHumanoid(const Candidate& c, double threshold, bool evidence_exempt,
+                      const EstimatorOptions& o) {
+  return HumanoidRefusal(c, threshold, evidence_exempt, o) == Refusal::kNone;
 }
 
 // One detection per cluster: among its templates with a pose, the one whose pose the refined
@@ -247,13 +251,14 @@ bool PassesAsHumanoid(const Candidate& c, double threshold, bool held, const Est
 // cluster it stood on); in the order of DetectionBefore. `held_cluster`: the cluster the
 // previous frame's humanoid stood on, or -1. `off_floor`: the templates stood off the floor
 // (EstimatorOptions::height_offset_voxels), where every cluster but the held one must also cover
-// height_offset_min_coverage of its template.
+// height_offset_min_coverage of its template. `evidence_exempt_cluster`: the held cluster when
+// its track is confirmed (FramePrior::hold_confirmed), else -1.
 std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
                                        const std::vector<double>& thresholds,
                                        const std::vector<char>& far,
                                        const std::vector<std::optional<double>>& prior_theta,
-                                       int held_cluster, bool off_floor,
-                                       const EstimatorOptions& o) {
+                                       int held_cluster, int evidence_exempt_cluster,
+                                       bool off_floor, const EstimatorOptions& o) {
   std::map<int, std::vector<const Candidate*>> by_cluster;
   for (const Candidate& c : candidates) by_cluster[c.cluster_index].push_back(&c);
   std::vector<Detection> out;
@@ -278,7 +283,8 @@ std::vector<Detection> ChooseTemplates(const std::vector<Candidate>& candidates,
       d.best.heading_from_prior = true;
     }
     d.score_threshold = thresholds[cluster];
-    d.refused_by = HumanoidRefusal(d.best, d.score_threshold, cluster == held_cluster, o);
+    d.refused_by =
+        HumanoidRefusal(d.best, d.score_threshold, cluster == evidence_exempt_cluster, o);
     // A far cluster below the full threshold passes on strong refined evidence only.
     if (d.refused_by == Refusal::kNone && far[cluster] && d.best.score < o.score_threshold &&
         HumanoidEvidenceShare(d.best) < o.far_min_evidence) {
@@ -597,6 +603,10 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
   if (!(options.min_humanoid_evidence >= 0.0 && options.min_humanoid_evidence <= 1.0)) {
     return MakeError(ErrorCode::kInvalidArgument, "min_humanoid_evidence must be within [0, 1]");
   }
+  if (!(options.tracked_hold_min_evidence >= 0.0 && options.tracked_hold_min_evidence <= 1.0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "tracked_hold_min_evidence must be within [0, 1]");
+  }
   if (!(options.tracked_score_threshold >= 0.0 && options.tracked_score_threshold <= 100.0)) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "tracked_score_threshold must be within [0, 100]");
@@ -667,6 +677,9 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   const std::vector<Cluster>* clusters = height_offset_m != 0.0 ? &moved : &on_floor;
   // The cluster the previous frame's humanoid stood on, if any, and its lower threshold.
   const int held_cluster = HeldCluster(*clusters, prior);
+  est.tracking.held_cluster = held_cluster;
+  // ... exempt from min_humanoid_evidence where its track has shown tracked_hold_min_evidence.
+  const int evidence_exempt = held_cluster >= 0 && prior->hold_confirmed ? held_cluster : -1;
   // The previous frame's template, whose refinement on the held cluster comes before the
   // others' (EstimatorOptions::tracked_other_template_margin); -1 when none or off.
   int prior_tpl = -1;
@@ -1007,7 +1020,8 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
       refine_task(*lead);
     }
     const bool lead_passes = lead != nullptr && lead->cand.refined &&
-                             PassesAsHumanoid(lead->cand, thresholds[held_cluster], true, options_);
+                             PassesAsHumanoid(lead->cand, thresholds[held_cluster],
+                                              evidence_exempt == held_cluster, options_);
     // A search that stopped behind the lead goes on down to its threshold where the lead does
     // not pass, and its template is refined below.
     std::vector<int> behind_lead;
@@ -1052,7 +1066,7 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   for (const Task& task : tasks) {
     const Candidate& c = task.cand;
     passed = passed || (task.kept && PassesAsHumanoid(c, thresholds[task.cluster],
-                                                      task.cluster == held_cluster, options_));
+                                                      task.cluster == evidence_exempt, options_));
   }
   std::vector<int> lower;
   for (int k = 0; k < static_cast<int>(tasks.size()); ++k) {
@@ -1198,7 +1212,7 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     if (task.has_prior) prior_theta[task.cluster] = task.prior_theta;
   }
   est.detections = ChooseTemplates(est.candidates, thresholds, far, prior_theta, held_cluster,
-                                   height_offset_m != 0.0, options_);
+                                   evidence_exempt, height_offset_m != 0.0, options_);
   // A humanoid's candidate whose free limbs moved is fitted again without them from its lattice
   // pose. Only its pose moves: its fit stays the whole template's, so which clusters pass and
   // which templates and headings were taken stay as chosen; candidates not taken, and clusters

@@ -104,8 +104,18 @@ struct EstimatorOptions {
   // (docs/BENCHMARKS.md); as it weighs the fit to the eighth, a larger value would refuse robots
   // whose fit a noisier sensor lowers. A frame whose only passing cluster lacks it counts as one
   // where nothing passed (far_range_m). Not applied to the cluster the previous frame's humanoid
-  // stood on (its hysteresis, tracked_score_threshold). 0: off (before).
+  // stood on (its hysteresis, tracked_score_threshold) once its track has shown
+  // tracked_hold_min_evidence. 0: off (before).
   double min_humanoid_evidence = 0.01;
+  // A track is exempt from min_humanoid_evidence on the cluster its humanoid stood on only once
+  // one of its frames showed this much evidence (HumanoidEvidenceShare; FramePrior::
+  // hold_confirmed): a robot followed out of view, behind an object or in a posture its
+  // templates lack keeps being found as its evidence falls, while clutter taken for a humanoid in
+  // one frame (evidence about min_humanoid_evidence) is not held in the frames where it lacks
+  // it. Robots in simulated walks show 0.1-0.25 in every frame, clutter taken for a humanoid
+  // 0.008-0.013 at the median and at most 0.05-0.15 (docs/BENCHMARKS.md). 0: every track is
+  // exempt (before).
+  double tracked_hold_min_evidence = 0.05;
   // Hysteresis for a tracked humanoid: the cluster the previous frame's humanoid stood on
   // (FramePrior, PoseTracker) is a humanoid from this score on when none of its templates
   // reaches score_threshold (the fit threshold still applies); every other cluster is held to
@@ -268,6 +278,10 @@ struct FramePrior {
   // How far above the floor its template stood (Candidate::height_offset_m): the frame's
   // searches start there.
   double height_offset_m = 0.0;
+  // Its track has shown EstimatorOptions::tracked_hold_min_evidence in some frame (or the pose
+  // is one given, as an initial pose): the cluster it stands on is exempt from
+  // min_humanoid_evidence. False: held to it like any other cluster.
+  bool hold_confirmed = true;
   // When nothing passes at height_offset_m, the templates are tried off the floor
   // (EstimatorOptions::height_offset_voxels) at every offset in their order (one voxel lower,
   // one higher, two lower, two higher, ...) while this is negative; else at the one offset of

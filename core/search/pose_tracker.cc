@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "core/search/detection_order.h"
 #include "core/search/humanoid_view.h"
 
 namespace hpose {
@@ -46,15 +47,15 @@ FramePrior PoseTracker::Context() {
 
 Result<Estimate> PoseTracker::EstimateDepth(const DepthImage& depth, const Intrinsics& intrinsics) {
   const FramePrior context = Context();
-  return Keep(estimator_->EstimateDepth(depth, intrinsics, &context));
+  return Keep(context, estimator_->EstimateDepth(depth, intrinsics, &context));
 }
 
 Result<Estimate> PoseTracker::EstimateCloud(const PointCloud& cloud_sensor) {
   const FramePrior context = Context();
-  return Keep(estimator_->EstimateCloud(cloud_sensor, &context));
+  return Keep(context, estimator_->EstimateCloud(cloud_sensor, &context));
 }
 
-Result<Estimate> PoseTracker::Keep(Result<Estimate> estimate) {
+Result<Estimate> PoseTracker::Keep(const FramePrior& context, Result<Estimate> estimate) {
   prior_.reset();
   // 1, 2, ... up to the number of offsets off the floor, then 1 again.
   lost_frames_ = lost_frames_ % std::max(1, 2 * estimator_->options().height_offset_voxels) + 1;
@@ -69,6 +70,13 @@ Result<Estimate> PoseTracker::Keep(Result<Estimate> estimate) {
     p.pose = humans.front().best.pose;
     p.score = humans.front().best.score;
     p.height_offset_m = humans.front().best.height_offset_m;
+    // The track is confirmed by this frame's evidence, or carried on from a confirmed one (or a
+    // given initial pose) where the humanoid stands on the cluster the last pose held.
+    const bool continues =
+        context.has_pose && humans.front().best.cluster_index == estimate->tracking.held_cluster;
+    p.hold_confirmed = (continues && context.hold_confirmed) ||
+                       HumanoidEvidenceShare(humans.front().best) >=
+                           estimator_->options().tracked_hold_min_evidence;
     prior_ = p;
   }
   return estimate;

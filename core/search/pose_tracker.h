@@ -47,7 +47,8 @@ class PoseTracker {
   const std::optional<FramePrior>& prior() const { return prior_; }
 
  private:
-  Result<Estimate> Keep(Result<Estimate> estimate);
+  // Keeps the pose `estimate` gives for the next frame; `context` is what it started from.
+  Result<Estimate> Keep(const FramePrior& context, Result<Estimate> estimate);
 
   FramePrior Context();
 

@@ -13,6 +13,7 @@
 
 #include "core/search/detection_order.h"
 #include "core/search/estimator.h"
+#include "core/search/pose_tracker.h"
 #include "core/sim/frame_simulator.h"
 #include "tests/search/model_templates.h"
 
@@ -279,6 +280,20 @@ TEST(EstimatorGatesTest, ClutterCoveringLittleOfTheTemplateIsNoHumanoid) {
   bool kept = false;
   for (const Detection& d : held.Humanoids()) kept = kept || miss(d) >= 0.3;
   EXPECT_TRUE(kept);
+  EXPECT_EQ(held.tracking.held_cluster, clutter->best.cluster_index);
+
+  // ... unless its track never showed tracked_hold_min_evidence: then it is held to the gate
+  // like any other cluster (its lower score threshold stays), and the robot is kept.
+  prior.hold_confirmed = false;
+  const Estimate unconfirmed = estimate(gated, &prior);
+  EXPECT_EQ(unconfirmed.tracking.held_cluster, clutter->best.cluster_index);
+  ASSERT_EQ(unconfirmed.Humanoids().size(), 1u);
+  EXPECT_LT(miss(unconfirmed.Humanoids().front()), 0.05);
+  for (const Detection& d : unconfirmed.detections) {
+    if (d.best.cluster_index == clutter->best.cluster_index) {
+      EXPECT_EQ(d.refused_by, Refusal::kEvidence);
+    }
+  }
 
   EstimatorOptions bad = gated;
   for (const double v : {-0.01, 1.5, std::nan("")}) {
@@ -286,7 +301,69 @@ TEST(EstimatorGatesTest, ClutterCoveringLittleOfTheTemplateIsNoHumanoid) {
     const Result<std::unique_ptr<Estimator>> e = Estimator::Create(bad, templates);
     ASSERT_FALSE(e.ok()) << v;
     EXPECT_NE(e.error().message.find("min_humanoid_evidence"), std::string::npos) << v;
+    bad = gated;
+    bad.tracked_hold_min_evidence = v;
+    const Result<std::unique_ptr<Estimator>> f = Estimator::Create(bad, templates);
+    ASSERT_FALSE(f.ok()) << v;
+    EXPECT_NE(f.error().message.find("tracked_hold_min_evidence"), std::string::npos) << v;
+    bad = gated;
   }
+}
+
+// FramePrior::hold_confirmed as PoseTracker keeps it: a track is confirmed by a frame whose
+// humanoid shows EstimatorOptions::tracked_hold_min_evidence, or carried on from a confirmed
+// track (or a given initial pose) while the humanoid stands on the cluster the last pose held.
+TEST(EstimatorGatesTest, ATrackIsConfirmedByItsEvidenceAndCarriedOnWhereItStood) {
+  FrameSpec spec;  // a Nao 1.6 m away, two objects beside it.
+  spec.preset = "standing";
+  spec.humanoid_pose = Pose2D{1.6, 0.1, 0.6};
+  spec.clutter = 2;
+  spec.seed = 21;
+  const SimulatedFrame frame = *SimulateFrame(spec);
+  const std::vector<VoxelTemplate> templates = {ModelTemplate("standing")};
+  const auto track = [&](double hold_min_evidence) {
+    EstimatorOptions o = DefaultEstimatorOptions();
+    o.tracked_hold_min_evidence = hold_min_evidence;
+    return Estimator::Create(o, templates).value();
+  };
+
+  const std::unique_ptr<Estimator> usual = track(0.05);
+  PoseTracker tracker(usual.get());
+  const Estimate first = *tracker.EstimateDepth(frame.depth, spec.intrinsics);
+  ASSERT_EQ(first.Humanoids().size(), 1u);
+  EXPECT_EQ(first.tracking.held_cluster, -1);  // a cold frame.
+  EXPECT_GE(HumanoidEvidenceShare(first.Humanoids().front().best), 0.05);
+  ASSERT_TRUE(tracker.prior().has_value());
+  EXPECT_TRUE(tracker.prior()->hold_confirmed);
+
+  // No frame can show a share of 1.01: the track is not confirmed ...
+  const std::unique_ptr<Estimator> strict = track(1.0);
+  PoseTracker unconfirmed(strict.get());
+  ASSERT_EQ(unconfirmed.EstimateDepth(frame.depth, spec.intrinsics)->Humanoids().size(), 1u);
+  ASSERT_TRUE(unconfirmed.prior().has_value());
+  EXPECT_FALSE(unconfirmed.prior()->hold_confirmed);
+  const Estimate next = *unconfirmed.EstimateDepth(frame.depth, spec.intrinsics);
+  EXPECT_EQ(next.tracking.held_cluster, next.Humanoids().front().best.cluster_index);
+  EXPECT_FALSE(unconfirmed.prior()->hold_confirmed);
+
+  // ... unless it starts from a given initial pose where the robot stands, and then it stays
+  // confirmed frame after frame on that cluster.
+  PoseTracker given(strict.get());
+  given.SetInitialPose(spec.humanoid_pose);
+  for (int i = 0; i < 2; ++i) {
+    const Estimate e = *given.EstimateDepth(frame.depth, spec.intrinsics);
+    ASSERT_EQ(e.Humanoids().size(), 1u) << i;
+    EXPECT_EQ(e.tracking.held_cluster, e.Humanoids().front().best.cluster_index) << i;
+    ASSERT_TRUE(given.prior().has_value());
+    EXPECT_TRUE(given.prior()->hold_confirmed) << i;
+  }
+  // A pose given elsewhere (bare floor) confirms nothing it does not hold.
+  PoseTracker elsewhere(strict.get());
+  elsewhere.SetInitialPose(Pose2D{1.0, -0.8, 0.0});
+  const Estimate away = *elsewhere.EstimateDepth(frame.depth, spec.intrinsics);
+  ASSERT_EQ(away.Humanoids().size(), 1u);
+  EXPECT_EQ(away.tracking.held_cluster, -1);
+  EXPECT_FALSE(elsewhere.prior()->hold_confirmed);
 }
 
 // ClusterOptions::merge_hidden_min_lift_m: a box standing behind the robot, in its silhouette,

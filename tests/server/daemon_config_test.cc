@@ -17,7 +17,8 @@ source: {path: rec/walk.oni, rate: fast, loop: true, fps: 15, queue_capacity: 2,
 templates: [t/standing.bt, /abs/arm.bt]
 search: {score_threshold: 55, min_humanoid_fit: 70, tracked_score_threshold: 42,
          scorer: reference, far_range_m: 3.0, far_score_ratio: 0.9, far_min_evidence: 0.1,
-         two_points_a_voxel_within_m: 1.5, min_humanoid_evidence: 0.03}
+         two_points_a_voxel_within_m: 1.5, min_humanoid_evidence: 0.03,
+         tracked_hold_min_evidence: 0.2}
 floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1, max_tilt_rad: 1.4}
 )";
   Result<DaemonConfig> c = ParseDaemonConfig(yaml, "test.yaml", "/etc/hpose");
@@ -45,6 +46,7 @@ floor: {mode: fixed, height_m: 0.5, pitch_rad: 0.1, max_tilt_rad: 1.4}
   EXPECT_DOUBLE_EQ(c->estimator.score_threshold, 55.0);
   EXPECT_DOUBLE_EQ(c->estimator.min_humanoid_fit, 70.0);
   EXPECT_DOUBLE_EQ(c->estimator.min_humanoid_evidence, 0.03);
+  EXPECT_DOUBLE_EQ(c->estimator.tracked_hold_min_evidence, 0.2);
   EXPECT_DOUBLE_EQ(c->estimator.tracked_score_threshold, 42.0);
   EXPECT_DOUBLE_EQ(c->estimator.far_range_m, 3.0);
   EXPECT_DOUBLE_EQ(c->estimator.far_score_ratio, 0.9);
@@ -188,6 +190,11 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
     bad = c;
     bad.estimator.min_humanoid_evidence = v;
     EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.min_humanoid_evidence"),
+              std::string::npos)
+        << v;
+    bad = c;
+    bad.estimator.tracked_hold_min_evidence = v;
+    EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.tracked_hold_min_evidence"),
               std::string::npos)
         << v;
   }
