@@ -63,7 +63,9 @@ std::pair<double, double> SilhouetteWidths(const VoxelTemplate& tpl, double min_
 
 // Where the top of the sensor's view is: the ray through the top row of the image (its middle
 // column), as a slope in the ground frame. A cluster whose top would lie above that ray is cut
-// by the image border.
+// by the image border. The image is the depth image where the frame came as one (its
+// intrinsics), else the cloud's own extent (RangeImage), which ends at the highest point seen:
+// below the image's top where nothing above returned a reading (open space, beyond range).
 struct TopOfView {
   bool known = false;
   double sensor_height_m = 0.0;
@@ -82,17 +84,67 @@ struct TopOfView {
   }
 };
 
-TopOfView TopOfViewOf(const RangeImage& range, const FloorEstimate& floor) {
+TopOfView TopOfViewOf(const RangeImage& range, const ImageEdges& edges,
+                      const FloorEstimate& floor) {
   TopOfView v;
-  if (range.height() == 0) return v;
+  double top_tan = range.height() > 0 ? range.TopTan() : std::nan("");
+  if (std::isfinite(edges.top_tan)) {  // the image's top, above any point it holds.
+    top_tan = std::isfinite(top_tan) ? std::min(top_tan, edges.top_tan) : edges.top_tan;
+  }
+  if (!std::isfinite(top_tan)) return v;
   const Eigen::Vector3d dir =
-      floor.ground_from_sensor.linear() * Eigen::Vector3d(0.0, range.TopTan(), 1.0);
+      floor.ground_from_sensor.linear() * Eigen::Vector3d(0.0, top_tan, 1.0);
   const double horizontal = dir.head<2>().norm();
   if (!(horizontal > 1e-6)) return v;
   v.known = true;
   v.sensor_height_m = floor.ground_from_sensor.translation().z();
   v.slope = dir.z() / horizontal;
   return v;
+}
+
+// The image's left and right edges (slopes x / z) and how near to them a point counts as cut:
+// the depth image's, else the range image's extent; `known` false without either.
+struct SideEdges {
+  bool known = false;
+  double left_tan = 0.0, right_tan = 0.0, near_tan = 0.0;
+  Eigen::Isometry3d sensor_from_ground = Eigen::Isometry3d::Identity();
+
+  // Whether a point of `c` (ground frame) lies within near_tan of the left or right edge: the
+  // image cuts the cluster there, and what shows of it may not reach its top (a robot at the
+  // image's side shows an arm or a shoulder, not its head).
+  bool Cuts(const Cluster& c) const {
+    if (!known) return false;
+    for (const Eigen::Vector3f& p : c.points) {
+      const Eigen::Vector3d s = sensor_from_ground * p.cast<double>();
+      if (!(s.z() > 1e-3)) continue;
+      const double t = s.x() / s.z();
+      if (t <= left_tan + near_tan || t >= right_tan - near_tan) return true;
+    }
+    return false;
+  }
+};
+
+// The share of the height a template shows that a cluster the image's side cuts must reach.
+constexpr double kSideCutShare = 0.5;
+
+SideEdges SideEdgesOf(const RangeImage& range, const ImageEdges& edges,
+                      const FloorEstimate& floor) {
+  SideEdges e;
+  constexpr double kNearPixels = 3.0;
+  if (std::isfinite(edges.left_tan) && std::isfinite(edges.right_tan) &&
+      std::isfinite(edges.pixel_tan)) {
+    e.known = true;
+    e.left_tan = edges.left_tan;
+    e.right_tan = edges.right_tan;
+    e.near_tan = kNearPixels * edges.pixel_tan;
+  } else if (range.width() > 0) {
+    e.known = true;
+    e.left_tan = -range.u0() / range.focal();
+    e.right_tan = (range.width() - range.u0()) / range.focal();
+    e.near_tan = kNearPixels / range.focal();
+  }
+  e.sensor_from_ground = floor.ground_from_sensor.inverse();
+  return e;
 }
 
 // Refines the candidate's pose (the search's optimum); RefineRunnerUp then decides its heading.
@@ -657,17 +709,23 @@ Result<Estimate> Estimator::EstimateDepth(const DepthImage& depth, const Intrins
     return MakeError(ErrorCode::kInvalidArgument,
                      "no depth to estimate from: " + NoPointInRangeReason(depth, options_.cloud));
   }
-  return Run(*cloud, MsSince(t0), prior);
+  // The rays through the outermost pixel centres: DepthToCloud's (u - cx) / fx, (v - cy) / fy.
+  ImageEdges edges;
+  edges.left_tan = -intrinsics.cx / intrinsics.fx;
+  edges.right_tan = (intrinsics.width - 1 - intrinsics.cx) / intrinsics.fx;
+  edges.top_tan = -intrinsics.cy / intrinsics.fy;
+  edges.pixel_tan = 1.0 / intrinsics.fx;
+  return Run(*cloud, MsSince(t0), prior, edges);
 }
 
 Result<Estimate> Estimator::EstimateCloud(const PointCloud& cloud_sensor,
                                           const FramePrior* prior) const {
-  return Run(cloud_sensor, 0.0, prior);
+  return Run(cloud_sensor, 0.0, prior, ImageEdges{});
 }
 
 void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const RangeImage& range,
-                               const FramePrior* prior, double height_offset_m,
-                               Estimate* out) const {
+                               const ImageEdges& edges, const FramePrior* prior,
+                               double height_offset_m, Estimate* out) const {
   Estimate& est = *out;
   // The templates stand height_offset_m above the floor: the floor and the clusters as seen
   // from a floor raised that much.
@@ -704,7 +762,8 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
                                 options_.refine.runner_up_fit_sigmas > 0.0;
   const Eigen::Isometry3d sensor_from_ground = floor.ground_from_sensor.inverse();
   const Eigen::Vector3d sensor_in_ground(0.0, 0.0, floor.height_m);
-  const TopOfView top_of_view = TopOfViewOf(range, floor);
+  const TopOfView top_of_view = TopOfViewOf(range, edges, floor);
+  const SideEdges side_edges = SideEdgesOf(range, edges, est.floor);
   // Free space along steep rays is read from the nearest depth around them
   // (FreeSpaceOptions::steep_ray_rad); most mounts have none, and read the range image itself.
   RangeImage steep_range;
@@ -761,6 +820,9 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
     const double visible_top = options_.height_check_uses_view
                                    ? top_of_view.HeightAbove(c)
                                    : std::numeric_limits<double>::infinity();
+    // Cut by the image's side, a cluster need show only half the height (lazily: a point
+    // transform each).
+    std::optional<bool> cut_at_side;
     const size_t before = tasks.size();
     for (size_t j = 0; j < templates_.size(); ++j) {
       const TemplateRotations& rot = *rotations_[j];
@@ -770,7 +832,12 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
                                                            options_.height_offset_height_error)
                                                 : options_.max_height_ratio_error;
         const double shown = std::min(rot.height_m(), std::max(visible_top, 0.0));
-        if (c.height() < (1.0 - e) * shown || c.height() > (1.0 + e) * rot.height_m()) continue;
+        if (c.height() > (1.0 + e) * rot.height_m()) continue;
+        if (c.height() < (1.0 - e) * shown) {
+          if (!options_.height_check_uses_view || c.height() < kSideCutShare * shown) continue;
+          if (!cut_at_side) cut_at_side = side_edges.Cuts(on_floor[i]);
+          if (!*cut_at_side) continue;
+        }
       }
       const auto [narrow, wide] = silhouette_widths_[j];
       if (options_.min_width_ratio >= 0.0 && width < options_.min_width_ratio * narrow) continue;
@@ -1241,8 +1308,8 @@ void Estimator::SearchClusters(const std::vector<Cluster>& on_floor, const Range
   }
 }
 
-Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
-                                const FramePrior* prior) const {
+Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms, const FramePrior* prior,
+                                const ImageEdges& edges) const {
   const Clock::time_point t_start = Clock::now();
   Estimate est;
   if (prior != nullptr && prior->has_pose) {
@@ -1302,7 +1369,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
   }
   // The templates stand on the floor, or as high as the previous frame's humanoid stood.
   const double first_offset = prior != nullptr && prior->has_pose ? prior->height_offset_m : 0.0;
-  SearchClusters(*clusters, range, prior, first_offset, &est);
+  SearchClusters(*clusters, range, edges, prior, first_offset, &est);
   // Nothing passed: the templates raised and lowered a voxel at a time (a robot with its knees
   // bent stands lower than its template, ...: EstimatorOptions::height_offset_voxels). The
   // first offsets at which something passes give the detections, the best fit of them.
@@ -1316,7 +1383,7 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms,
       trial.floor = est.floor;
       trial.clusters = est.clusters;
       trial.tracking = est.tracking;
-      SearchClusters(*clusters, range, prior, offset, &trial);
+      SearchClusters(*clusters, range, edges, prior, offset, &trial);
       ++est.height_passes;
       est.timings.refine_ms += trial.timings.refine_ms;
       if (FoundHumanoid(trial) && (!best || trial.detections.front().best.fit.fit >

@@ -1,6 +1,7 @@
 #ifndef HPOSE_CORE_SEARCH_ESTIMATOR_H_
 #define HPOSE_CORE_SEARCH_ESTIMATOR_H_
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -233,8 +234,10 @@ struct EstimatorOptions {
   // A cluster is searched with a template only when its height is within this fraction of the
   // height the template would show there (0.25: 0.75x to 1.25x): the template's height, or,
   // where the top of the image cuts the view lower (a level sensor near the floor sees a 58 cm
-  // robot only up to ~0.75 m at 1 m), the highest point the sensor sees above the cluster.
-  // Occlusion from below keeps a cluster's top. Negative disables the check.
+  // robot only up to ~0.75 m at 1 m), the highest point the sensor sees above the cluster: along
+  // the depth image's top row (its intrinsics), or for a cloud alone its highest point's ray
+  // (where nothing above returned a reading, that ends lower than the image and lets shorter
+  // clusters through). Occlusion from below keeps a cluster's top. Negative disables the check.
   double max_height_ratio_error = 0.25;
   // false: compare with the template's full height even where the view ends lower (the
   // previous behaviour, which skipped raised arms cut off by the image top).
@@ -291,6 +294,16 @@ struct FramePrior {
   FloorTracker* floor = nullptr;  // optional; ignored with a fixed floor.
 };
 
+// Where a depth image's view ends, as slopes of rays in the sensor frame (x / z, y / z) through
+// its outermost pixel centres, and one pixel's slope; NaN for a frame given as a cloud alone,
+// whose points' own extent (RangeImage) stands in for them.
+struct ImageEdges {
+  double left_tan = std::numeric_limits<double>::quiet_NaN();
+  double right_tan = std::numeric_limits<double>::quiet_NaN();
+  double top_tan = std::numeric_limits<double>::quiet_NaN();
+  double pixel_tan = std::numeric_limits<double>::quiet_NaN();
+};
+
 // The depth-template estimator: cloud -> floor -> clusters -> search every template on every
 // cluster. Thread-compatible: one Estimate call at a time per instance.
 class Estimator {
@@ -329,15 +342,17 @@ class Estimator {
  private:
   Estimator(EstimatorOptions options, std::vector<VoxelTemplate> templates,
             std::vector<VoxelTemplate> searched, const std::vector<TemplateModels>& shared);
-  Result<Estimate> Run(const PointCloud& cloud_sensor, double cloud_ms,
-                       const FramePrior* prior) const;
+  // `edges`: the depth image's where the frame came as an image with intrinsics.
+  Result<Estimate> Run(const PointCloud& cloud_sensor, double cloud_ms, const FramePrior* prior,
+                       const ImageEdges& edges) const;
   // Every (cluster, template) search of a frame and its refinement, with the templates standing
   // `height_offset_m` above the floor, and the detections: fills `out`'s candidates,
   // detections, clusters' searched flags, tracking.tracked and timings.refine_ms from its floor
   // and cluster summaries. `on_floor`: the frame's clusters (ground frame); `range`: its range
-  // image (empty when neither the free space nor the refinement reads it).
+  // image (empty when neither the free space nor the refinement reads it); `edges` as for Run.
   void SearchClusters(const std::vector<Cluster>& on_floor, const RangeImage& range,
-                      const FramePrior* prior, double height_offset_m, Estimate* out) const;
+                      const ImageEdges& edges, const FramePrior* prior, double height_offset_m,
+                      Estimate* out) const;
 
   EstimatorOptions options_;
   std::vector<VoxelTemplate> templates_;

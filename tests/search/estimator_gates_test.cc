@@ -11,10 +11,15 @@
 
 #include <gtest/gtest.h>
 
+#include "core/depth/depth_to_cloud.h"
+#include "core/depth/floor_estimate.h"
 #include "core/search/detection_order.h"
 #include "core/search/estimator.h"
 #include "core/search/pose_tracker.h"
+#include "core/sim/depth_renderer.h"
 #include "core/sim/frame_simulator.h"
+#include "core/sim/primitive.h"
+#include "core/sim/scene.h"
 #include "tests/search/model_templates.h"
 
 namespace hpose {
@@ -64,6 +69,50 @@ TEST(EstimatorGatesTest, RobotCutByTheImageTopIsStillSearchedWithItsTemplate) {
     EXPECT_LT(std::hypot(c.pose.x - 1.0, c.pose.y), 0.01);
     EXPECT_LT(std::abs(RadToDeg(AngleDiff(c.pose.theta, spec.humanoid_pose.theta))), 3.0);
   }
+}
+
+// Where nothing above an object returned a reading (open space, beyond the sensor's range) the
+// cloud's points end at the object's top, but the depth image's intrinsics say where the view
+// ends: a post 0.36 m high, 2.5 m ahead of a level sensor 0.34 m up that sees to 1.3 m there, is
+// too short for the 0.59 m template and is not searched; given as a cloud alone, it is. The same
+// post half out of the image at its left edge is searched: the image's side cuts it, and what
+// shows of a robot there (an arm, a shoulder) need not reach its top.
+TEST(EstimatorGatesTest, TheImagesTopNotTheHighestPointSeenEndsTheView) {
+  const Intrinsics intrinsics = Intrinsics::KinectV1(640, 480);
+  Scene scene;
+  Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+  at.translation() = Eigen::Vector3d(2.5, 0.1, 0.18);
+  ASSERT_TRUE(scene.AddClutter(Primitive::Cylinder("post", 0.05, 0.36, at)).ok());
+  const double edge_y = 2.5 * intrinsics.cx / intrinsics.fx;  // the left edge's ray at x 2.5 m.
+  at.translation() = Eigen::Vector3d(2.5, edge_y, 0.18);
+  ASSERT_TRUE(scene.AddClutter(Primitive::Cylinder("cut", 0.05, 0.36, at)).ok());
+  const DepthImage depth =
+      DepthRenderer::Create(intrinsics, FloorEstimate::FromHeightPitchRoll(0.34, 0.0, 0.0))
+          ->Render(scene);
+  const std::unique_ptr<Estimator> estimator =
+      Estimator::Create(DefaultEstimatorOptions(), {ModelTemplate("standing")}).value();
+  const auto near = [](const Estimate& e, double y) -> const ClusterSummary* {
+    for (const ClusterSummary& c : e.clusters) {
+      if (std::hypot(c.centroid.x() - 2.5, c.centroid.y() - y) < 0.1) return &c;
+    }
+    return nullptr;
+  };
+  const auto post = [&](const Estimate& e) { return near(e, 0.1); };
+  const Estimate from_image = *estimator->EstimateDepth(depth, intrinsics);
+  ASSERT_NE(post(from_image), nullptr);
+  EXPECT_NEAR(post(from_image)->max.z(), 0.36, 0.02);
+  EXPECT_FALSE(post(from_image)->searched);
+  const ClusterSummary* cut = near(from_image, edge_y - 0.02);
+  ASSERT_NE(cut, nullptr);
+  EXPECT_NEAR(cut->max.z(), 0.36, 0.02);
+  EXPECT_TRUE(cut->searched);
+  for (const Candidate& c : from_image.candidates) EXPECT_EQ(c.cluster_index, cut->index);
+
+  const Result<PointCloud> cloud = DepthToCloud(depth, intrinsics);
+  ASSERT_TRUE(cloud.ok());
+  const Estimate from_cloud = *estimator->EstimateCloud(*cloud);
+  ASSERT_NE(post(from_cloud), nullptr);
+  EXPECT_TRUE(post(from_cloud)->searched);
 }
 
 TEST(EstimatorGatesTest, AClusterTooLargeForATemplateIsSkippedByABound) {
