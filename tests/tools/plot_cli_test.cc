@@ -28,12 +28,17 @@ std::pair<int, int> PngSize(const std::string& path) {
   return {be32(16), be32(20)};
 }
 
+// Four frames of a robot turning and stepping 1.4 m away, in DIR/walk (with its truth.json).
+CliRun SimulateWalk(const TempDir& dir) {
+  return RunHpose("simulate --out '" + (dir / "walk") +
+                      "' --frames 4 --x 1.4 --turn-deg 20 --step-m 0.05 --width 320 --height "
+                      "240 --no-cloud",
+                  dir);
+}
+
 TEST(PlotCliTest, DrawsWhatReplayWrote) {
   TempDir dir("plot_cli");
-  const CliRun sim = RunHpose("simulate --out '" + (dir / "walk") +
-                                  "' --frames 4 --x 1.4 --turn-deg 20 --step-m 0.05 "
-                                  "--width 320 --height 240 --no-cloud",
-                              dir);
+  const CliRun sim = SimulateWalk(dir);
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   const std::string poses = dir / "walk.jsonl";
   const CliRun replay =
@@ -62,10 +67,7 @@ TEST(PlotCliTest, DrawsWhatReplayWrote) {
 
 TEST(PlotCliTest, DrawsASimulationsTruthAndSaysTheErrors) {
   TempDir dir("plot_cli_truth");
-  const CliRun sim = RunHpose("simulate --out '" + (dir / "walk") +
-                                  "' --frames 4 --x 1.4 --turn-deg 20 --step-m 0.05 "
-                                  "--width 320 --height 240 --no-cloud",
-                              dir);
+  const CliRun sim = SimulateWalk(dir);
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   const std::string poses = dir / "walk.jsonl";
   const std::string truth = dir / "walk/truth.json";
