@@ -161,7 +161,7 @@ bool WriteDump(std::FILE* f, std::uint64_t seed, const std::vector<Scene>& scene
       "seed,body,scene,rank,on_robot,off_robot,pose_ok,template,range_m,score,coverage,fit,"
       "explained,contradicted,fit_sigma,hits,cluster_voxels,template_voxels,"
       "evidence_share,free_space_hits,cluster_points,cluster_width_m,cluster_depth_m,"
-      "cluster_height_m,sensor_height_m,sensor_pitch_deg\n");
+      "cluster_height_m,sensor_height_m,sensor_pitch_deg,in_view\n");
   for (size_t i = 0; i < scenes.size(); ++i) {
     const Scene& s = scenes[i];
     for (size_t r = 0; r < outcomes[i].humanoids.size(); ++r) {
@@ -171,13 +171,13 @@ bool WriteDump(std::FILE* f, std::uint64_t seed, const std::vector<Scene>& scene
       std::fprintf(
           f,
           "%llu,%s,%zu,%zu,%d,%d,%d,%s,%.3f,%.2f,%.2f,%.2f,%.4f,%.4f,%.2f,%d,%d,%d,%.5f,%d,%d,"
-          "%.3f,%.3f,%.3f,%.2f,%.1f\n",
+          "%.3f,%.3f,%.3f,%.2f,%.1f,%.3f\n",
           static_cast<unsigned long long>(seed), bodies[s.body].name.c_str(), i, r,
           h.on_robot ? 1 : 0, h.off_robot ? 1 : 0, h.pose_ok ? 1 : 0, c.template_name.c_str(),
           std::hypot(c.pose.x, c.pose.y), c.score, c.coverage, c.fit.fit, c.fit.explained,
           c.fit.contradicted, c.fit.fit_sigma, c.hits, c.cluster_voxels, c.template_voxels,
           HumanoidEvidenceShare(c), c.free_space_hits, h.cluster.points, size.x(), size.y(),
-          size.z(), s.height_m, s.pitch_deg);
+          size.z(), s.height_m, s.pitch_deg, c.fit.in_view);
     }
   }
   return std::fclose(f) == 0;

@@ -37,6 +37,7 @@ void SetFit(const FitSummary& f, v1::Fit* out) {
   out->set_contradicted(f.contradicted);
   out->set_fit_sigma(f.fit_sigma);
   out->set_cost(f.cost);
+  out->set_in_view(f.in_view);
 }
 
 void CandidateToProto(const Candidate& c, v1::Candidate* out) {

@@ -18,7 +18,19 @@ std::string Fmt(const char* fmt, double a) {
   return buf;
 }
 
+// The second line of a partly-in-view note.
+constexpr const char* kRestBeyondTheEdges =
+    "          the rest beyond the image's edges: the fit rests on the part in view\n";
+
 }  // namespace
+
+std::string PartlyInViewNote(const Candidate& c) {
+  // A robot the image holds whole shows nearly all of its template.
+  constexpr double kPartlyInViewBelow = 0.9;
+  if (!c.refined || !(c.fit.in_view < kPartlyInViewBelow)) return "";
+  return "partly in view: " + Fmt("%.0f", 100.0 * c.fit.in_view) +
+         "% of the template's surface facing the sensor lies within the view";
+}
 
 std::string NearestMissReason(const Detection& d, const EstimatorOptions* options) {
   const Candidate& c = d.best;
@@ -103,6 +115,8 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
               "clutter often\n"
               "          contradicts them too\n";
       }
+      const std::string in_view = PartlyInViewNote(c);
+      if (!in_view.empty()) os << "          " << in_view << ",\n" << kRestBeyondTheEdges;
       if (d.refused_by == Refusal::kScore && distance >= 2.5) {
         os << "          far humanoids score less (depth noise thickens them): when nothing "
               "passes, a cluster\n"
@@ -129,6 +143,8 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
          << Fmt("%.2f", RadToDeg(std::sqrt(c.covariance(2, 2)))) << " deg; fit "
          << Fmt("%.1f", c.fit.fit) << "\n";
     }
+    const std::string in_view = PartlyInViewNote(c);
+    if (!in_view.empty()) os << "          " << in_view << ",\n" << kRestBeyondTheEdges;
     if (c.height_offset_m != 0.0) {
       os << "          template standing " << Fmt("%.0f", 1000.0 * std::abs(c.height_offset_m))
          << " mm " << (c.height_offset_m < 0.0 ? "below" : "above")

@@ -25,6 +25,11 @@ std::string EstimateToText(const Estimate& estimate, const EstimatorOptions* opt
 std::string NearestMissReason(const Detection& detection,
                               const EstimatorOptions* options = nullptr);
 
+// "partly in view: N% of the template's surface facing the sensor lies within the view" for a
+// refined candidate whose template the image's edges cut (FitSummary::in_view under 0.9); empty
+// otherwise.
+std::string PartlyInViewNote(const Candidate& candidate);
+
 // A sentence for a note when templates are searched on coarser voxels than they were made
 // with (a tall body, EstimatorOptions::max_height_voxels, or the search's edge set coarser);
 // empty otherwise.

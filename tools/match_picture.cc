@@ -248,6 +248,14 @@ Status WriteMatchPicture(const Estimate& estimate, const std::vector<VoxelTempla
         row += 18;
       }
     }
+    const std::string in_view = PartlyInViewNote(d.best);
+    if (!in_view.empty()) {
+      for (const std::string& line :
+           WrapWords(in_view + ", the rest beyond the image's edges", 72)) {
+        img.Text(line, Px(x1 + 10, row), 0.45, Bgr(90, 200, 230), 1, LineKind::kSmooth);
+        row += 18;
+      }
+    }
     if (!limb_cells.empty()) {
       img.Text("orange: the free limbs, held otherwise: the pose was fitted without them",
                Px(x1 + 10, row), 0.45, Bgr(40, 140, 255), 1, LineKind::kSmooth);

@@ -15,6 +15,8 @@ FitSummary Summarise(const PoseEvidence& e) {
   const double var_q = judged > 0 ? q * (1.0 - q) / judged : 0.25;
   s.fit_sigma = 100.0 * std::sqrt((1.0 - q) * (1.0 - q) * var_p + p * p * var_q);
   s.cost = e.cost;
+  const int facing = e.model_visible + e.model_out_of_view;
+  s.in_view = facing > 0 ? static_cast<double>(e.model_visible) / facing : 0.0;
   return s;
 }
 

@@ -145,13 +145,14 @@ struct RefineOptions {
 
 // What a pose explains of the observation and what contradicts it.
 struct PoseEvidence {
-  int data_points = 0;      // cluster points considered.
-  int data_inliers = 0;     // ... within 3 sigma of the template surface.
-  int model_visible = 0;    // template points facing the sensor, in view.
-  int model_seen = 0;       // ... whose depth the sensor confirmed (within free_sigmas).
-  int model_free = 0;       // ... the sensor saw through.
-  int model_no_return = 0;  // ... where the sensor got no return within its range.
-  int model_occluded = 0;   // ... hidden behind something nearer.
+  int data_points = 0;        // cluster points considered.
+  int data_inliers = 0;       // ... within 3 sigma of the template surface.
+  int model_visible = 0;      // template points facing the sensor, in view.
+  int model_seen = 0;         // ... whose depth the sensor confirmed (within free_sigmas).
+  int model_free = 0;         // ... the sensor saw through.
+  int model_no_return = 0;    // ... where the sensor got no return within its range.
+  int model_occluded = 0;     // ... hidden behind something nearer.
+  int model_out_of_view = 0;  // template points facing the sensor, outside the view.
   // Of model_seen, model_free and model_no_return, the points on the template's free limbs
   // (SurfaceModel::free_limb_marks; 0 without marks).
   int limbs_seen = 0;

@@ -130,7 +130,10 @@ Linearisation RefineObjective::Linearise(const Pose2D& pose, double stop_above) 
     }
     const VisiblePoint& v = visible_[slot];
     const double tx = v.x / v.z, ty = v.y / v.z;
-    if (!range.CoversRay(tx, ty)) continue;
+    if (!range.CoversRay(tx, ty)) {
+      ++ev.model_out_of_view;
+      continue;
+    }
     const int i = v.index;
     refine_terms::AddViewTerm(range.NearestAroundRay(tx, ty, 1), v.z, c_, s_,
                               Eigen::Vector3d(projector_.mx(i), projector_.my(i), projector_.mz(i)),

@@ -138,7 +138,10 @@ Linearisation LineariseReference(const SurfaceModel& model, const Observation& o
   const std::vector<std::uint8_t>& limbs = model.free_limb_marks();
   for (int i : view.visible()) {
     const Eigen::Vector3d& ps = view.in_sensor(i);
-    if (!obs.range->Covers(ps)) continue;
+    if (!obs.range->Covers(ps)) {
+      ++ev.model_out_of_view;
+      continue;
+    }
     refine_terms::AddViewTerm(obs.range->NearestAround(ps, 1), ps.z(), view.c(), view.s(),
                               model.points()[i].cast<double>(), !limbs.empty() && limbs[i] != 0, a,
                               o, &lin);

@@ -211,7 +211,10 @@ class WebViewTest(unittest.TestCase):
         self.assertEqual(self.text("template"), best["template_name"])
         self.assertEqual(self.text("score"), "%.1f" % best["score"])
         self.assertEqual(self.text("found"), "yes")
-        self.assertEqual(self.text("fit"), "%.1f" % best["fit"]["fit"])
+        in_view = best["fit"].get("in_view")
+        partly = (" (%d%% in view)" % math.floor(100 * in_view + 0.5)
+                  if in_view is not None and in_view < 0.9 else "")
+        self.assertEqual(self.text("fit"), "%.1f" % best["fit"]["fit"] + partly)
         # A tracked frame that confirmed the previous heading searched no runner-up.
         if best.get("heading_confirmed"):
             self.assertFalse(best.get("has_runner_up"))

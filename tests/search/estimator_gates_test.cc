@@ -71,6 +71,34 @@ TEST(EstimatorGatesTest, RobotCutByTheImageTopIsStillSearchedWithItsTemplate) {
   }
 }
 
+// A fit says how much of its template the view holds: the robot above, its head and raised
+// arm above the image's top, shows part of it; seen from a level sensor, all of it.
+TEST(EstimatorGatesTest, AFitSaysHowMuchOfItsTemplateIsInView) {
+  const std::vector<VoxelTemplate> templates = {ModelTemplate("right_arm_raised")};
+  FrameSpec spec;
+  spec.preset = "right_arm_raised";
+  spec.humanoid_pose = Pose2D{1.0, 0.0, DegToRad(150.0)};
+  spec.seed = 11;
+  std::vector<double> in_view;
+  for (const double pitch_deg : {15.0, 0.0}) {
+    spec.sensor_pitch_rad = DegToRad(pitch_deg);
+    const SimulatedFrame frame = *SimulateFrame(spec);
+    const Estimate e = *Estimator::Create(DefaultEstimatorOptions(), templates)
+                            .value()
+                            ->EstimateDepth(frame.depth, spec.intrinsics);
+    const std::vector<Detection> humans = e.Humanoids();
+    ASSERT_EQ(humans.size(), 1u) << pitch_deg;
+    const Candidate& c = humans.front().best;
+    ASSERT_TRUE(c.refined);
+    EXPECT_LT(std::hypot(c.pose.x - 1.0, c.pose.y), 0.01) << pitch_deg;
+    in_view.push_back(c.fit.in_view);
+  }
+  EXPECT_GT(in_view[0], 0.3);
+  EXPECT_LT(in_view[0], 0.9);
+  EXPECT_GT(in_view[1], 0.97);
+  EXPECT_LE(in_view[1], 1.0);
+}
+
 // Where nothing above an object returned a reading (open space, beyond the sensor's range) the
 // cloud's points end at the object's top, but the depth image's intrinsics say where the view
 // ends: a post 0.36 m high, 2.5 m ahead of a level sensor 0.34 m up that sees to 1.3 m there, is

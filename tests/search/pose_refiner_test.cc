@@ -502,6 +502,7 @@ void ExpectSameLinearisation(const Linearisation& fast, const Linearisation& ref
   EXPECT_EQ(fast.evidence.model_free, ref.evidence.model_free) << where;
   EXPECT_EQ(fast.evidence.model_no_return, ref.evidence.model_no_return) << where;
   EXPECT_EQ(fast.evidence.model_occluded, ref.evidence.model_occluded) << where;
+  EXPECT_EQ(fast.evidence.model_out_of_view, ref.evidence.model_out_of_view) << where;
   EXPECT_EQ(fast.evidence.limbs_seen, ref.evidence.limbs_seen) << where;
   EXPECT_EQ(fast.evidence.limbs_free, ref.evidence.limbs_free) << where;
   EXPECT_EQ(fast.evidence.limbs_no_return, ref.evidence.limbs_no_return) << where;
@@ -527,9 +528,12 @@ TEST(PoseRefinerTest, PreparedObjectiveEqualsTheReference) {
       {"right_arm_raised", {2.2, -0.3, DegToRad(-135.0)}, 0.34, 0.0},
       {"standing", {3.3, 0.4, DegToRad(95.0)}, 0.34, 0.0},
       {"right_arm_raised", {1.6, 0.2, DegToRad(170.0)}, 0.9, 20.0},
+      // Pitched down, the image's top cuts the head and the raised arm.
+      {"right_arm_raised", {1.0, 0.0, DegToRad(150.0)}, 0.34, 15.0},
   };
   int compared = 0;
   int limbs_judged = 0;
+  int out_of_view = 0;
   for (const Case& c : cases) {
     const SurfaceModel model(ModelTemplate(c.preset));
     ASSERT_FALSE(model.free_limb_marks().empty());
@@ -554,6 +558,7 @@ TEST(PoseRefinerTest, PreparedObjectiveEqualsTheReference) {
       const Linearisation fast = objective.Linearise(pose);
       ExpectSameLinearisation(fast, LineariseReference(model, obs, pose, options), where);
       limbs_judged += fast.evidence.limbs_seen + fast.evidence.limbs_free;
+      out_of_view += fast.evidence.model_out_of_view;
       ++compared;
     }
     // The stride over many cluster points, a coarser surface, and association by distance in
@@ -570,8 +575,9 @@ TEST(PoseRefinerTest, PreparedObjectiveEqualsTheReference) {
       ++compared;
     }
   }
-  EXPECT_EQ(compared, 48);
+  EXPECT_EQ(compared, 60);
   EXPECT_GT(limbs_judged, 1000);  // the arms and head were judged, and alike.
+  EXPECT_GT(out_of_view, 100);    // and the template's points beyond the image's top, alike.
 }
 
 // The cluster's side prepared once and shared (as the estimator shares it among the templates of

@@ -80,6 +80,9 @@ TEST(ProtoConvertTest, EstimateCarriesPoseIn3DAndMargins) {
   c.has_runner_up = true;
   c.runner_up_score = 60.0;
   c.runner_up_pose = {1.0, -0.2, -0.6};
+  c.refined = true;
+  c.fit.fit = 91.5;
+  c.fit.in_view = 0.625;
   Detection d;
   d.best = c;
   d.second_template = "right_arm_raised";
@@ -101,6 +104,8 @@ TEST(ProtoConvertTest, EstimateCarriesPoseIn3DAndMargins) {
   EXPECT_NEAR(p.pose_3d().orientation().w(), std::cos(1.25), 1e-12);
   EXPECT_DOUBLE_EQ(p.pose_3d().position().y(), -0.2);
   EXPECT_EQ(out.best().refused_by(), v1::REFUSAL_NONE);
+  EXPECT_DOUBLE_EQ(p.fit().fit(), 91.5);
+  EXPECT_DOUBLE_EQ(p.fit().in_view(), 0.625);
   EXPECT_EQ(out.tracking().height_searches(), 1);
   e.height_passes = 3;
   EstimateToProto(e, &out);

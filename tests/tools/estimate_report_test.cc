@@ -132,5 +132,25 @@ TEST(EstimateReportTest, TheTemplateMarginSaysWhichPointsItIsIn) {
       << EstimateToText(e, &o);
 }
 
+// A pose whose template the image's edges cut says how much of it the view holds, a humanoid's
+// and a nearest miss's alike; one in view whole says nothing of it.
+TEST(EstimateReportTest, APartlyInViewPoseSaysHowMuch) {
+  const EstimatorOptions o;
+  const std::string lines =
+      "          partly in view: 42% of the template's surface facing the sensor lies within the "
+      "view,\n          the rest beyond the image's edges: the fit rests on the part in view\n";
+  Estimate e = Miss(66.0, 97.0, 800, 50.0, Refusal::kNone);
+  e.detections[0].is_humanoid = true;
+  e.detections[0].best.fit.in_view = 0.42;
+  EXPECT_NE(EstimateToText(e, &o).find(lines), std::string::npos) << EstimateToText(e, &o);
+  Estimate miss = Miss(55.0, 90.0, 5, 50.0, Refusal::kEvidence);
+  miss.detections[0].best.fit.in_view = 0.42;
+  EXPECT_NE(EstimateToText(miss, &o).find(lines), std::string::npos) << EstimateToText(miss, &o);
+  e.detections[0].best.fit.in_view = 0.97;
+  miss.detections[0].best.fit.in_view = 0.97;
+  EXPECT_EQ(EstimateToText(e, &o).find("partly in view"), std::string::npos);
+  EXPECT_EQ(EstimateToText(miss, &o).find("partly in view"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace hpose::tools
