@@ -27,6 +27,7 @@
 #include "server/stereo_proto_convert.h"
 #include "tools/cmd_query_flags.h"
 #include "tools/command.h"
+#include "tools/estimate_report.h"
 #include "tools/exit_codes.h"
 #include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
@@ -122,6 +123,11 @@ std::string DescribeDepth(const v1::PoseEstimate& e) {
       // Its score against the best's: below it, or above where the refined fit chose the best.
       std::snprintf(buf, sizeof(buf), "  runner-up theta %.1f deg (%+.1f)",
                     RadToDeg(c.runner_up_pose().theta()), 0.0 - c.runner_up_margin());
+      line += buf;
+    }
+    // A template the image's edges cut: how much of it the fit rests on.
+    if (c.refined() && c.fit().has_in_view() && c.fit().in_view() < kPartlyInViewBelow) {
+      std::snprintf(buf, sizeof(buf), "  in view %.0f%%", 100.0 * c.fit().in_view());
       line += buf;
     }
     if (e.has_robot_pose_world()) line += "  | " + PoseText("world ", e.robot_pose_world());

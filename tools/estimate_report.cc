@@ -25,8 +25,6 @@ constexpr const char* kRestBeyondTheEdges =
 }  // namespace
 
 std::string PartlyInViewNote(const Candidate& c) {
-  // A robot the image holds whole shows nearly all of its template.
-  constexpr double kPartlyInViewBelow = 0.9;
   if (!c.refined || !(c.fit.in_view < kPartlyInViewBelow)) return "";
   return "partly in view: " + Fmt("%.0f", 100.0 * c.fit.in_view) +
          "% of the template's surface facing the sensor lies within the view";

@@ -25,9 +25,12 @@ std::string EstimateToText(const Estimate& estimate, const EstimatorOptions* opt
 std::string NearestMissReason(const Detection& detection,
                               const EstimatorOptions* options = nullptr);
 
+// Under this share of its template in view (FitSummary::in_view) a refined pose is said to be
+// partly in view: a robot the image holds whole shows nearly all of its template.
+constexpr double kPartlyInViewBelow = 0.9;
+
 // "partly in view: N% of the template's surface facing the sensor lies within the view" for a
-// refined candidate whose template the image's edges cut (FitSummary::in_view under 0.9); empty
-// otherwise.
+// refined candidate under kPartlyInViewBelow; empty otherwise.
 std::string PartlyInViewNote(const Candidate& candidate);
 
 // A sentence for a note when templates are searched on coarser voxels than they were made

@@ -161,6 +161,40 @@ TEST_F(DaemonRpcTest, QueryLineGivesTheTemplateMarginInItsPoints) {
   std::snprintf(expected, sizeof(expected), " deg (%+.1f)", 0.0 - c.runner_up_margin());
   EXPECT_NE(text.find(expected), std::string::npos) << expected << "\n" << text;
   EXPECT_EQ(text.find("(--"), std::string::npos) << text;
+  // In view whole: the line says nothing of it.
+  ASSERT_TRUE(c.refined()) << json;
+  EXPECT_GE(c.fit().in_view(), 0.9) << json;
+  EXPECT_EQ(text.find("in view"), std::string::npos) << text;
+}
+
+// A robot whose head and raised arm the image's top cuts: its line says how much of its template
+// was in view, as the estimate's --json form gives it.
+TEST_F(DaemonRpcTest, QueryLineSaysHowMuchOfACutTemplateWasInView) {
+  const std::string dir = suite_->dir() + "/cut";
+  std::string out;
+  ASSERT_EQ(tu::RunCommand(tu::HposeProgram() + " simulate --out '" + dir +
+                               "' --pose right_arm_raised --x 1.0 --theta-deg 150 --pitch-deg 15 "
+                               "--seed 11 --no-cloud 2>&1",
+                           &out),
+            0)
+      << out;
+  const std::string query =
+      tu::HposeProgram() + " query estimate '" + dir +
+      "/depth.png' --timeout 60 --server 127.0.0.1:" + std::to_string(suite_->daemon().port());
+  std::string json, text;
+  ASSERT_EQ(tu::RunCommand(query + " --json 2>&1", &json), 0) << json;
+  ASSERT_EQ(tu::RunCommand(query + " 2>&1", &text), 0) << text;
+  v1::PoseEstimate e;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(json, &e).ok()) << json;
+  ASSERT_TRUE(e.depth_template().humanoid_found()) << json;
+  const v1::Candidate& c = e.depth_template().best().best();
+  ASSERT_TRUE(c.refined()) << json;
+  EXPECT_GT(c.fit().in_view(), 0.3) << json;
+  EXPECT_LT(c.fit().in_view(), 0.9) << json;
+  char expected[32];
+  std::snprintf(expected, sizeof(expected), "  in view %.0f%%", 100.0 * c.fit().in_view());
+  EXPECT_NE(text.find(expected), std::string::npos) << expected << "\n" << text;
+  ExpectStillServing();
 }
 
 // Deadlines the clock cannot hold are usage errors, not a deadline already past.

@@ -105,6 +105,7 @@ TEST(ProtoConvertTest, EstimateCarriesPoseIn3DAndMargins) {
   EXPECT_DOUBLE_EQ(p.pose_3d().position().y(), -0.2);
   EXPECT_EQ(out.best().refused_by(), v1::REFUSAL_NONE);
   EXPECT_DOUBLE_EQ(p.fit().fit(), 91.5);
+  ASSERT_TRUE(p.fit().has_in_view());
   EXPECT_DOUBLE_EQ(p.fit().in_view(), 0.625);
   EXPECT_EQ(out.tracking().height_searches(), 1);
   e.height_passes = 3;
