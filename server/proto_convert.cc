@@ -31,13 +31,15 @@ void SetPose3D(const Eigen::Isometry3d& t, v1::Pose3D* out) {
   out->mutable_orientation()->set_z(q.z());
 }
 
-void SetFit(const FitSummary& f, v1::Fit* out) {
+// `refined` false: the candidate kept its lattice pose, nothing was measured, and in_view stays
+// unset (the other fields are zeros).
+void SetFit(const FitSummary& f, bool refined, v1::Fit* out) {
   out->set_fit(f.fit);
   out->set_explained(f.explained);
   out->set_contradicted(f.contradicted);
   out->set_fit_sigma(f.fit_sigma);
   out->set_cost(f.cost);
-  out->set_in_view(f.in_view);
+  if (refined) out->set_in_view(f.in_view);
 }
 
 void CandidateToProto(const Candidate& c, v1::Candidate* out) {
@@ -66,8 +68,8 @@ void CandidateToProto(const Candidate& c, v1::Candidate* out) {
       for (int k = 0; k < 3; ++k) out->add_pose_covariance(c.covariance(r, k));
     }
   }
-  SetFit(c.fit, out->mutable_fit());
-  if (c.has_runner_up) SetFit(c.runner_up_fit, out->mutable_runner_up_fit());
+  SetFit(c.fit, c.refined, out->mutable_fit());
+  if (c.has_runner_up) SetFit(c.runner_up_fit, c.refined, out->mutable_runner_up_fit());
   out->set_heading_ambiguous(c.heading_ambiguous);
   out->set_heading_from_prior(c.heading_from_prior);
   out->set_heading_confirmed(c.heading_confirmed);
@@ -148,6 +150,7 @@ void TimingsToProto(const StageTimings& t, v1::Timings* out) {
 }
 
 void EstimateToProto(const Estimate& e, v1::DepthTemplateResult* out) {
+  out->Clear();
   FloorToProto(e.floor, out->mutable_floor());
   out->set_cloud_points(e.cloud_points);
   for (const ClusterSummary& c : e.clusters) {

@@ -20,7 +20,8 @@ namespace hpose::server {
 // Largest point cloud accepted in a request (points).
 constexpr size_t kMaxRequestCloudPoints = 4'000'000;
 
-// Core results -> API messages (SI units, frames as documented in the proto).
+// Core results -> API messages (SI units, frames as documented in the proto). EstimateToProto
+// writes the whole message: whatever *out held before is cleared.
 void FloorToProto(const FloorEstimate& floor, v1::FloorFrame* out);
 void EstimateToProto(const Estimate& estimate, v1::DepthTemplateResult* out);
 void TimingsToProto(const StageTimings& timings, v1::Timings* out);

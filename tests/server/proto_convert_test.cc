@@ -107,6 +107,13 @@ TEST(ProtoConvertTest, EstimateCarriesPoseIn3DAndMargins) {
   EXPECT_DOUBLE_EQ(p.fit().fit(), 91.5);
   ASSERT_TRUE(p.fit().has_in_view());
   EXPECT_DOUBLE_EQ(p.fit().in_view(), 0.625);
+  // A candidate left at its lattice pose measured nothing: its share in view is unset, not 1.
+  e.detections[0].best.refined = false;
+  e.detections[0].best.fit = FitSummary{};
+  EstimateToProto(e, &out);
+  EXPECT_FALSE(out.best().best().refined());
+  EXPECT_FALSE(out.best().best().fit().has_in_view());
+  e.detections[0].best = c;
   EXPECT_EQ(out.tracking().height_searches(), 1);
   e.height_passes = 3;
   EstimateToProto(e, &out);
