@@ -312,7 +312,8 @@ constexpr auto* SlopeExtentAvx2 = &SlopeExtent;
 
 }  // namespace
 
-RangeImage RangeImage::Build(const PointCloud& cloud, double focal_px, Lanes lanes) {
+RangeImage RangeImage::Build(const PointCloud& cloud, double focal_px, Lanes lanes,
+                             const ViewSpan& at_least) {
   RangeImage r;
   r.focal_ = focal_px;
   constexpr double kMaxTan = 3.0;
@@ -323,10 +324,13 @@ RangeImage RangeImage::Build(const PointCloud& cloud, double focal_px, Lanes lan
                             : SlopeExtent)(cloud.points.data(), cloud.points.size(), extent);
   const float tx_lo_f = extent[0], tx_hi_f = extent[1], ty_lo_f = extent[2], ty_hi_f = extent[3];
   if (!(tx_lo_f <= tx_hi_f)) return r;  // no point in front of the sensor.
-  const double tx_lo = std::clamp<double>(tx_lo_f, -kMaxTan, kMaxTan);
-  const double tx_hi = std::clamp<double>(tx_hi_f, -kMaxTan, kMaxTan);
-  const double ty_lo = std::clamp<double>(ty_lo_f, -kMaxTan, kMaxTan);
-  const double ty_hi = std::clamp<double>(ty_hi_f, -kMaxTan, kMaxTan);
+  // The points' extent, widened to the known edges (a NaN edge fails both comparisons).
+  const auto lower = [](double points, double edge) { return edge < points ? edge : points; };
+  const auto upper = [](double points, double edge) { return edge > points ? edge : points; };
+  const double tx_lo = std::clamp<double>(lower(tx_lo_f, at_least.left), -kMaxTan, kMaxTan);
+  const double tx_hi = std::clamp<double>(upper(tx_hi_f, at_least.right), -kMaxTan, kMaxTan);
+  const double ty_lo = std::clamp<double>(lower(ty_lo_f, at_least.top), -kMaxTan, kMaxTan);
+  const double ty_hi = std::clamp<double>(upper(ty_hi_f, at_least.bottom), -kMaxTan, kMaxTan);
   r.u0_ = -tx_lo * focal_px;
   r.v0_ = -ty_lo * focal_px;
   r.width_ = static_cast<int>((tx_hi - tx_lo) * focal_px) + 1;
@@ -423,20 +427,23 @@ RangeImage RangeImage::NearestAroundSteepRays(const Eigen::Isometry3d& ground_fr
   return out;
 }
 
-RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px) {
+RangeImage RangeImage::FromCloud(const PointCloud& cloud, double focal_px,
+                                 const ViewSpan& at_least) {
   return Build(cloud, focal_px,
                PointLanesAvailable()    ? Lanes::kSixteen
                : PointLanes8Available() ? Lanes::kEight
-                                        : Lanes::kFour);
+                                        : Lanes::kFour,
+               at_least);
 }
 
-RangeImage RangeImage::FromCloudFourLanes(const PointCloud& cloud, double focal_px) {
-  return Build(cloud, focal_px, Lanes::kFour);
+RangeImage RangeImage::FromCloudFourLanes(const PointCloud& cloud, double focal_px,
+                                          const ViewSpan& at_least) {
+  return Build(cloud, focal_px, Lanes::kFour, at_least);
 }
 
 RangeImage RangeImage::FromCloudEightLanes(const PointCloud& cloud, double focal_px) {
   assert(EightLanes());
-  return Build(cloud, focal_px, Lanes::kEight);
+  return Build(cloud, focal_px, Lanes::kEight, {});
 }
 
 bool RangeImage::SixteenLanes() { return PointLanesAvailable(); }

@@ -16,17 +16,30 @@ namespace hpose {
 // pinhole camera at the sensor's optical centre. Built from any cloud in the sensor frame
 // (organised or not, from a depth image or a PCD), so free-space reasoning does not need the
 // original intrinsics. Bins without a point are unknown.
+// Slopes (x / z, y / z in the sensor frame, y down) of a view's edges. NaN: not known.
+struct ViewSpan {
+  double left = std::numeric_limits<double>::quiet_NaN();
+  double right = std::numeric_limits<double>::quiet_NaN();
+  double top = std::numeric_limits<double>::quiet_NaN();
+  double bottom = std::numeric_limits<double>::quiet_NaN();
+};
+
 class RangeImage {
  public:
   // `focal_px` sets the bin size (300: about 3.3 mm at 1 m, like a 320x240 Kinect). The image
-  // spans the cloud's own field of view (tan up to +-3).
+  // spans the cloud's own field of view (tan up to +-3), widened to `at_least` where that is
+  // known and wider: a depth image's own edges, so that a direction the sensor looked in and
+  // got no return from is known as such, not taken for one it did not look in (a level sensor
+  // in an open room has no reading above its tallest object).
   // Sixteen points a step with AVX-512 where the CPU has it (SixteenLanes()), eight with AVX2
   // where it has only that (EightLanes(); FromCloudEightLanes takes that path whatever else the
   // CPU has, for the tests), four otherwise: FromCloudFourLanes, the reference they are tested
   // against. All compute every slope and bin with the same operations, so their images are
   // equal to the bit.
-  static RangeImage FromCloud(const PointCloud& cloud_sensor, double focal_px = 300.0);
-  static RangeImage FromCloudFourLanes(const PointCloud& cloud_sensor, double focal_px = 300.0);
+  static RangeImage FromCloud(const PointCloud& cloud_sensor, double focal_px = 300.0,
+                              const ViewSpan& at_least = {});
+  static RangeImage FromCloudFourLanes(const PointCloud& cloud_sensor, double focal_px = 300.0,
+                                       const ViewSpan& at_least = {});
   static RangeImage FromCloudEightLanes(const PointCloud& cloud_sensor, double focal_px = 300.0);
   static bool SixteenLanes();
   static bool EightLanes();
@@ -95,7 +108,8 @@ class RangeImage {
  private:
   // Points a step of the passes over the cloud.
   enum class Lanes { kFour, kEight, kSixteen };
-  static RangeImage Build(const PointCloud& cloud_sensor, double focal_px, Lanes lanes);
+  static RangeImage Build(const PointCloud& cloud_sensor, double focal_px, Lanes lanes,
+                          const ViewSpan& at_least);
   double focal_ = 300.0;
   double u0_ = 0.0;  // bin of tan = 0.
   double v0_ = 0.0;

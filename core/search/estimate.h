@@ -20,8 +20,9 @@ struct FitSummary {
   double contradicted = 0.0;  // fraction of the template's visible surface seen through.
   double fit_sigma = 0.0;     // standard error of `fit` from the counts behind it.
   double cost = 0.0;  // robust negative log-likelihood (nats); lower is better (PoseEvidence).
-  // Share of the template's surface facing the sensor that lies within the view (the span of
-  // the frame's readings): 1 for all of it, less where the image's edges cut the template.
+  // Share of the template's surface facing the sensor that lies within the view (the range
+  // image's: the depth image's own, or a cloud's readings' span; EstimatorOptions::
+  // range_image_spans_view): 1 for all of it, less where the image's edges cut the template.
   double in_view = 1.0;
 };
 

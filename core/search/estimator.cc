@@ -714,6 +714,7 @@ Result<Estimate> Estimator::EstimateDepth(const DepthImage& depth, const Intrins
   edges.left_tan = -intrinsics.cx / intrinsics.fx;
   edges.right_tan = (intrinsics.width - 1 - intrinsics.cx) / intrinsics.fx;
   edges.top_tan = -intrinsics.cy / intrinsics.fy;
+  edges.bottom_tan = (intrinsics.height - 1 - intrinsics.cy) / intrinsics.fy;
   edges.pixel_tan = 1.0 / intrinsics.fx;
   return Run(*cloud, MsSince(t0), prior, edges);
 }
@@ -1365,7 +1366,14 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms, const 
   t = Clock::now();
   RangeImage range;
   if (options_.score == ScoreKind::kFreeSpace || options_.refine.enabled) {
-    range = RangeImage::FromCloud(cloud, options_.range_image_focal_px);
+    ViewSpan view;
+    if (options_.range_image_spans_view) {
+      view.left = edges.left_tan;
+      view.right = edges.right_tan;
+      view.top = edges.top_tan;
+      view.bottom = edges.bottom_tan;
+    }
+    range = RangeImage::FromCloud(cloud, options_.range_image_focal_px, view);
   }
   // The templates stand on the floor, or as high as the previous frame's humanoid stood.
   const double first_offset = prior != nullptr && prior->has_pose ? prior->height_offset_m : 0.0;

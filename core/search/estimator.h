@@ -86,6 +86,13 @@ struct EstimatorOptions {
   int free_space_weight = 1;
   int hit_weight = 2;
   double range_image_focal_px = 300.0;  // bin size of the free-space range image.
+  // The range image spans a depth image's own view (its edges from the intrinsics), not only
+  // its readings' extent: where nothing returned a reading above the tallest object (a level
+  // sensor in a room whose walls are beyond range, or none), a template placed reaching higher
+  // is seen through there (no return) instead of being out of view, unconfirmed and
+  // uncontradicted. false: the readings' extent alone (before). A frame given as a cloud
+  // alone has no edges and keeps its readings' extent either way.
+  bool range_image_spans_view = true;
   // A cluster is the humanoid when its best score passes this. On simulated frames humanoids
   // score 60-77 at 1-2 m and clutter of similar height up to about 45 (docs/BENCHMARKS.md).
   double score_threshold = 50.0;
@@ -301,6 +308,7 @@ struct ImageEdges {
   double left_tan = std::numeric_limits<double>::quiet_NaN();
   double right_tan = std::numeric_limits<double>::quiet_NaN();
   double top_tan = std::numeric_limits<double>::quiet_NaN();
+  double bottom_tan = std::numeric_limits<double>::quiet_NaN();
   double pixel_tan = std::numeric_limits<double>::quiet_NaN();
 };
 

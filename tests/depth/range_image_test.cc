@@ -129,6 +129,58 @@ TEST(RangeImageTest, EmptyAndBehindTheSensorGiveAnEmptyImage) {
   EXPECT_FALSE(image.Covers(Eigen::Vector3d(0, 0, 1)));
 }
 
+// A view's known edges widen the image past its points' extent, never narrow it: rays within
+// the edges and beyond every point are covered (an empty bin: no return), the points' bins and
+// depths are those of the image without edges, and unknown (NaN) edges change nothing.
+TEST(RangeImageTest, KnownEdgesWidenTheImageToTheView) {
+  PointCloud cloud;  // a patch 0.2 wide and 0.1 high (slopes) about the optical axis, 2 m away.
+  for (int i = 0; i <= 20; ++i) {
+    for (int j = 0; j <= 10; ++j) {
+      cloud.points.emplace_back(2.0f * (-0.1f + 0.01f * i), 2.0f * (-0.05f + 0.01f * j), 2.0f);
+    }
+  }
+  ViewSpan view;
+  view.left = -0.6;
+  view.right = 0.55;
+  view.top = -0.45;
+  view.bottom = 0.4;
+  const RangeImage own = RangeImage::FromCloud(cloud);
+  const RangeImage wide = RangeImage::FromCloud(cloud, 300.0, view);
+  const RangeImage four = RangeImage::FromCloudFourLanes(cloud, 300.0, view);
+  const Eigen::Vector3d above(0.0, -0.3, 1.0), right(0.5, 0.0, 1.0), beyond(0.0, -0.5, 1.0);
+  EXPECT_FALSE(own.Covers(above));
+  EXPECT_FALSE(own.Covers(right));
+  EXPECT_TRUE(wide.Covers(above));
+  EXPECT_TRUE(wide.Covers(right));
+  EXPECT_FALSE(wide.Covers(beyond));  // above the view's top.
+  EXPECT_EQ(wide.DepthToward(above), 0.0f);
+  EXPECT_NEAR(wide.TopTan(), -0.45, 1.0 / 300.0);
+  EXPECT_NEAR(wide.width(), 1.15 * 300.0, 1.0);
+  EXPECT_NEAR(wide.height(), 0.85 * 300.0, 1.0);
+  ASSERT_EQ(four.width(), wide.width());
+  ASSERT_EQ(four.height(), wide.height());
+  EXPECT_EQ(std::memcmp(four.depth_data(), wide.depth_data(),
+                        sizeof(float) * static_cast<size_t>(wide.width()) * wide.height()),
+            0);
+  int known = 0;
+  for (const Eigen::Vector3f& p : cloud.points) {
+    EXPECT_EQ(wide.DepthToward(p.cast<double>()), own.DepthToward(p.cast<double>()));
+    known += wide.DepthToward(p.cast<double>()) > 0.0f;
+  }
+  EXPECT_EQ(known, static_cast<int>(cloud.points.size()));
+  // Edges inside the points' extent, or unknown, leave the points' extent.
+  ViewSpan narrow;
+  narrow.left = -0.05;
+  narrow.top = 0.0;
+  for (const ViewSpan& v : {narrow, ViewSpan{}}) {
+    const RangeImage same = RangeImage::FromCloud(cloud, 300.0, v);
+    EXPECT_EQ(same.width(), own.width());
+    EXPECT_EQ(same.height(), own.height());
+    EXPECT_EQ(same.u0(), own.u0());
+    EXPECT_EQ(same.v0(), own.v0());
+  }
+}
+
 // A wider pass (`build`) against the four-lane one, to the bit: the same extent, offsets and
 // depths in every bin, on clouds with NaN, points behind the sensor, near-infinite slopes and
 // infinite coordinates, and on uneven ones whose extent the points set, of sizes with and

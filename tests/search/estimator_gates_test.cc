@@ -143,6 +143,46 @@ TEST(EstimatorGatesTest, TheImagesTopNotTheHighestPointSeenEndsTheView) {
   EXPECT_TRUE(post(from_cloud)->searched);
 }
 
+// A level sensor in an open room (nothing beyond the objects within range) sees nothing above
+// its tallest object. A box a little shorter than the template, the only object: the
+// template placed on it reaches above the box's top, where the depth image looked and got no
+// return. The range image spans the image's view (range_image_spans_view), so that part is
+// seen through and counts against the fit; spanning the readings alone, it was out of view,
+// neither confirmed nor contradicted, and the fit rested on the part the box matched.
+TEST(EstimatorGatesTest, NoReturnAboveTheTallestObjectCountsAgainstTheFit) {
+  const Intrinsics intrinsics = Intrinsics::KinectV1(640, 480);
+  Scene scene;
+  Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+  at.translation() = Eigen::Vector3d(1.6, 0.1, 0.25);
+  ASSERT_TRUE(scene.AddClutter(Primitive::Box("box", Eigen::Vector3d(0.16, 0.22, 0.5), at)).ok());
+  const DepthImage depth =
+      DepthRenderer::Create(intrinsics, FloorEstimate::FromHeightPitchRoll(0.34, 0.0, 0.0))
+          ->Render(scene);
+  EstimatorOptions options = DefaultEstimatorOptions();
+  options.score_threshold = 0.0;  // refine the box's candidate whatever it scores.
+  std::vector<FitSummary> fits;
+  for (const bool spans_view : {false, true}) {
+    options.range_image_spans_view = spans_view;
+    const Estimate e = *Estimator::Create(options, {ModelTemplate("standing")})
+                            .value()
+                            ->EstimateDepth(depth, intrinsics);
+    ASSERT_EQ(e.candidates.size(), 1u) << spans_view;
+    ASSERT_TRUE(e.candidates[0].refined) << spans_view;
+    fits.push_back(e.candidates[0].fit);
+  }
+  EXPECT_LT(fits[0].in_view, 0.95);
+  EXPECT_GT(fits[1].in_view, 0.99);
+  EXPECT_GT(fits[1].contradicted, fits[0].contradicted + 0.03);
+  EXPECT_LT(fits[1].fit, fits[0].fit - 3.0);
+  // A cloud alone has no edges: its readings' extent stands for the view, as before.
+  const Result<PointCloud> cloud = DepthToCloud(depth, intrinsics);
+  ASSERT_TRUE(cloud.ok());
+  const Estimate from_cloud =
+      *Estimator::Create(options, {ModelTemplate("standing")}).value()->EstimateCloud(*cloud);
+  ASSERT_EQ(from_cloud.candidates.size(), 1u);
+  EXPECT_LT(from_cloud.candidates[0].fit.in_view, 0.95);
+}
+
 TEST(EstimatorGatesTest, AClusterTooLargeForATemplateIsSkippedByABound) {
   // A template can cover at most as many cluster voxels as it has voxels: a tiny template
   // cannot reach the threshold on a humanoid-sized cluster, so it is not searched.

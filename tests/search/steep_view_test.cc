@@ -56,7 +56,7 @@ struct Frame {
 constexpr double kOff = 4.0;  // above pi/2: no ray is that steep.
 
 TEST(SteepViewTest, ARobotSeenFromAboveIsFound) {
-  const Frame f(2.6, 80.0, Pose2D{0.5, 0.1, DegToRad(40.0)});
+  const Frame f(2.6, 80.0, Pose2D{0.4, 0.1, DegToRad(100.0)});
   const double by_default = FreeSpaceOptions{}.steep_ray_rad;
   const Estimate found = f.Run(by_default);
   const HumanoidView humans = found.Humanoids();
