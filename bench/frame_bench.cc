@@ -600,6 +600,10 @@ std::vector<Variant> ScatteredVariants() {
                  Exact(o);
                  o->two_points_a_voxel_within_m = 2.5;
                }});
+  v.push_back({"exact search, range image over the readings (before)", [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->range_image_spans_view = false;
+               }});
   v.push_back({"exact search, no height offsets", [](EstimatorOptions* o) {
                  Exact(o);
                  o->height_offset_voxels = 0;
@@ -707,6 +711,12 @@ std::vector<Variant> SequenceVariants() {
                [](EstimatorOptions* o) {
                  Exact(o);
                  o->tracked_other_template_stops = false;
+               },
+               true});
+  v.push_back({"walk, tracked, range image over the readings (before)",
+               [](EstimatorOptions* o) {
+                 Exact(o);
+                 o->range_image_spans_view = false;
                },
                true});
   v.push_back({"walk, tracked, depth images asked whatever the fits (before)",
