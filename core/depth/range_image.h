@@ -12,10 +12,6 @@
 
 namespace hpose {
 
-// What the sensor saw in each direction: the nearest depth (z, metres) per bin of a virtual
-// pinhole camera at the sensor's optical centre. Built from any cloud in the sensor frame
-// (organised or not, from a depth image or a PCD), so free-space reasoning does not need the
-// original intrinsics. Bins without a point are unknown.
 // Slopes (x / z, y / z in the sensor frame, y down) of a view's edges. NaN: not known.
 struct ViewSpan {
   double left = std::numeric_limits<double>::quiet_NaN();
@@ -24,13 +20,17 @@ struct ViewSpan {
   double bottom = std::numeric_limits<double>::quiet_NaN();
 };
 
+// What the sensor saw in each direction: the nearest depth (z, metres) per bin of a virtual
+// pinhole camera at the sensor's optical centre. Built from any cloud in the sensor frame
+// (organised or not, from a depth image or a PCD), so free-space reasoning does not need the
+// original intrinsics. Bins without a point are unknown.
 class RangeImage {
  public:
   // `focal_px` sets the bin size (300: about 3.3 mm at 1 m, like a 320x240 Kinect). The image
   // spans the cloud's own field of view (tan up to +-3), widened to `at_least` where that is
   // known and wider: a depth image's own edges, so that a direction the sensor looked in and
   // got no return from is known as such, not taken for one it did not look in (a level sensor
-  // in an open room has no reading above its tallest object).
+  // in an open room has no reading above its tallest object). A NaN edge leaves that side.
   // Sixteen points a step with AVX-512 where the CPU has it (SixteenLanes()), eight with AVX2
   // where it has only that (EightLanes(); FromCloudEightLanes takes that path whatever else the
   // CPU has, for the tests), four otherwise: FromCloudFourLanes, the reference they are tested

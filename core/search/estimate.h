@@ -21,8 +21,9 @@ struct FitSummary {
   double fit_sigma = 0.0;     // standard error of `fit` from the counts behind it.
   double cost = 0.0;  // robust negative log-likelihood (nats); lower is better (PoseEvidence).
   // Share of the template's surface facing the sensor that lies within the view (the range
-  // image's: the depth image's own, or a cloud's readings' span; EstimatorOptions::
-  // range_image_spans_view): 1 for all of it, less where the image's edges cut the template.
+  // image's: the depth image's rows and its readings' columns, or a cloud's readings' span;
+  // EstimatorOptions::range_image_spans_view): 1 for all of it, less where the image's edges
+  // cut the template.
   double in_view = 1.0;
 };
 

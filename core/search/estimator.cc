@@ -672,6 +672,10 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
                      "tracked_other_template_margin must be at most 100 (score points; "
                      "negative: off)");
   }
+  if (!(options.range_image_edge_band >= 0.0 && options.range_image_edge_band < 0.5)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "range_image_edge_band must be within [0, 0.5) (a share of the image's rows)");
+  }
   if (!(options.two_points_a_voxel_within_m >= 0.0)) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "two_points_a_voxel_within_m must be at least 0 (metres; 0: off)");
@@ -1366,12 +1370,13 @@ Result<Estimate> Estimator::Run(const PointCloud& cloud, double cloud_ms, const 
   t = Clock::now();
   RangeImage range;
   if (options_.score == ScoreKind::kFreeSpace || options_.refine.enabled) {
+    // The image's rows but for a band at its top and bottom (EstimatorOptions::
+    // range_image_spans_view, range_image_edge_band); its sides stay those of the readings.
     ViewSpan view;
     if (options_.range_image_spans_view) {
-      view.left = edges.left_tan;
-      view.right = edges.right_tan;
-      view.top = edges.top_tan;
-      view.bottom = edges.bottom_tan;
+      const double band = options_.range_image_edge_band * (edges.bottom_tan - edges.top_tan);
+      view.top = edges.top_tan + band;
+      view.bottom = edges.bottom_tan - band;
     }
     range = RangeImage::FromCloud(cloud, options_.range_image_focal_px, view);
   }

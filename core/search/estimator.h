@@ -86,13 +86,21 @@ struct EstimatorOptions {
   int free_space_weight = 1;
   int hit_weight = 2;
   double range_image_focal_px = 300.0;  // bin size of the free-space range image.
-  // The range image spans a depth image's own view (its edges from the intrinsics), not only
-  // its readings' extent: where nothing returned a reading above the tallest object (a level
-  // sensor in a room whose walls are beyond range, or none), a template placed reaching higher
-  // is seen through there (no return) instead of being out of view, unconfirmed and
-  // uncontradicted. false: the readings' extent alone (before). A frame given as a cloud
-  // alone has no edges and keeps its readings' extent either way.
+  // The range image spans a depth image's rows from its top to its bottom (its edges from the
+  // intrinsics), not only its readings' extent: where nothing returned a reading above the
+  // tallest object (a level sensor in a room whose walls are beyond range, or none; a sensor
+  // looking down on a floor that runs out of range), a template placed reaching higher is seen
+  // through there (no return) instead of being out of view, unconfirmed and uncontradicted.
+  // Its sides stay the readings': every column a sensor can measure sees the floor somewhere,
+  // so columns without a single reading are ones it cannot (a Kinect's invalid band at the
+  // image's side), not open space. false: the readings' extent alone (before). A frame given
+  // as a cloud alone has no edges and keeps its readings' extent either way.
   bool range_image_spans_view = true;
+  // ... but for a band of this share of the image's rows at its top and at its bottom: rows
+  // there without a reading are taken for the sensor's invalid border, where its depth and
+  // colour views do not overlap (PCL's recorded Kinect frames, registered to colour: the top 15
+  // and the bottom 5 of 480 rows), not for open space. Within [0, 0.5).
+  double range_image_edge_band = 0.05;
   // A cluster is the humanoid when its best score passes this. On simulated frames humanoids
   // score 60-77 at 1-2 m and clutter of similar height up to about 45 (docs/BENCHMARKS.md).
   double score_threshold = 50.0;

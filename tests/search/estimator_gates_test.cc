@@ -183,6 +183,46 @@ TEST(EstimatorGatesTest, NoReturnAboveTheTallestObjectCountsAgainstTheFit) {
   EXPECT_LT(from_cloud.candidates[0].fit.in_view, 0.95);
 }
 
+// A depth image registered to colour has a border without readings where the two views do not
+// overlap (PCL's recorded Kinect frames: the top 15 of 480 rows). The robot whose head and
+// raised arm reach the image's top (as above) is seen through the blank rows' band only with
+// no band left to the readings (range_image_edge_band 0): its fit rests on the rows that can
+// have a reading, as where the image's top cuts it, with the band by default.
+TEST(EstimatorGatesTest, ABlankBandAtTheImagesTopDoesNotContradictARobot) {
+  FrameSpec spec;
+  spec.preset = "right_arm_raised";
+  spec.humanoid_pose = Pose2D{1.0, 0.0, DegToRad(150.0)};
+  spec.sensor_pitch_rad = DegToRad(15.0);
+  spec.seed = 11;
+  SimulatedFrame frame = *SimulateFrame(spec);
+  int blanked = 0;
+  for (int v = 0; v < 15; ++v) {
+    for (int u = 0; u < frame.depth.width; ++u) {
+      blanked += frame.depth.at(u, v) != 0;
+      frame.depth.at(u, v) = 0;
+    }
+  }
+  ASSERT_GT(blanked, 100);  // the robot reached those rows.
+  EstimatorOptions options = DefaultEstimatorOptions();
+  std::vector<FitSummary> fits;
+  for (const double band : {0.0, options.range_image_edge_band}) {
+    options.range_image_edge_band = band;
+    const Estimate e = *Estimator::Create(options, {ModelTemplate("right_arm_raised")})
+                            .value()
+                            ->EstimateDepth(frame.depth, spec.intrinsics);
+    ASSERT_EQ(e.Humanoids().size(), 1u) << band;
+    ASSERT_TRUE(e.candidates[0].refined) << band;
+    fits.push_back(e.candidates[0].fit);
+  }
+  EXPECT_GT(fits[0].in_view, fits[1].in_view + 0.03);
+  EXPECT_GT(fits[0].contradicted, fits[1].contradicted + 0.03);
+  EXPECT_GT(fits[1].fit, fits[0].fit + 3.0);
+  options.range_image_edge_band = 0.5;
+  EXPECT_FALSE(Estimator::Create(options, {ModelTemplate("right_arm_raised")}).ok());
+  options.range_image_edge_band = std::nan("");
+  EXPECT_FALSE(Estimator::Create(options, {ModelTemplate("right_arm_raised")}).ok());
+}
+
 TEST(EstimatorGatesTest, AClusterTooLargeForATemplateIsSkippedByABound) {
   // A template can cover at most as many cluster voxels as it has voxels: a tiny template
   // cannot reach the threshold on a humanoid-sized cluster, so it is not searched.
