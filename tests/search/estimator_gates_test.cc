@@ -43,14 +43,19 @@ int CandidatesOf(const Estimate& e, const std::string& name) {
   return n;
 }
 
-TEST(EstimatorGatesTest, RobotCutByTheImageTopIsStillSearchedWithItsTemplate) {
-  // Sensor 0.34 m high looking 15 degrees down: at 1 m it sees up to about 0.45 m, so the
-  // raised arm (top at 0.64 m) and the head are cut off.
+// A sensor 0.34 m high looking 15 degrees down: at 1 m it sees up to about 0.45 m, so the Nao's
+// raised arm (top at 0.64 m) and its head are cut off.
+FrameSpec NaoCutByTheImageTop() {
   FrameSpec spec;
   spec.preset = "right_arm_raised";
   spec.humanoid_pose = Pose2D{1.0, 0.0, DegToRad(150.0)};
   spec.sensor_pitch_rad = DegToRad(15.0);
   spec.seed = 11;
+  return spec;
+}
+
+TEST(EstimatorGatesTest, RobotCutByTheImageTopIsStillSearchedWithItsTemplate) {
+  const FrameSpec spec = NaoCutByTheImageTop();
   const SimulatedFrame frame = *SimulateFrame(spec);
   EstimatorOptions options = DefaultEstimatorOptions();
   options.score_threshold = 0.0;
@@ -75,10 +80,7 @@ TEST(EstimatorGatesTest, RobotCutByTheImageTopIsStillSearchedWithItsTemplate) {
 // arm above the image's top, shows part of it; seen from a level sensor, all of it.
 TEST(EstimatorGatesTest, AFitSaysHowMuchOfItsTemplateIsInView) {
   const std::vector<VoxelTemplate> templates = {ModelTemplate("right_arm_raised")};
-  FrameSpec spec;
-  spec.preset = "right_arm_raised";
-  spec.humanoid_pose = Pose2D{1.0, 0.0, DegToRad(150.0)};
-  spec.seed = 11;
+  FrameSpec spec = NaoCutByTheImageTop();
   std::vector<double> in_view;
   for (const double pitch_deg : {15.0, 0.0}) {
     spec.sensor_pitch_rad = DegToRad(pitch_deg);
@@ -189,11 +191,7 @@ TEST(EstimatorGatesTest, NoReturnAboveTheTallestObjectCountsAgainstTheFit) {
 // no band left to the readings (range_image_edge_band 0): its fit rests on the rows that can
 // have a reading, as where the image's top cuts it, with the band by default.
 TEST(EstimatorGatesTest, ABlankBandAtTheImagesTopDoesNotContradictARobot) {
-  FrameSpec spec;
-  spec.preset = "right_arm_raised";
-  spec.humanoid_pose = Pose2D{1.0, 0.0, DegToRad(150.0)};
-  spec.sensor_pitch_rad = DegToRad(15.0);
-  spec.seed = 11;
+  const FrameSpec spec = NaoCutByTheImageTop();
   SimulatedFrame frame = *SimulateFrame(spec);
   int blanked = 0;
   for (int v = 0; v < 15; ++v) {
