@@ -20,6 +20,25 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Depth frames in a finished .oni file, by OpenNI2's file driver (OpenNI2 initialised).
+Result<long> FramesInRecording(const std::string& path) {
+  openni::Device file;
+  if (file.open(path.c_str()) != openni::STATUS_OK) {
+    return MakeError(ErrorCode::kInternal, path + ": the recording cannot be read back: " +
+                                               openni::OpenNI::getExtendedError());
+  }
+  openni::VideoStream depth;
+  openni::PlaybackControl* playback = file.getPlaybackControl();
+  if (playback == nullptr || depth.create(file, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
+    file.close();
+    return MakeError(ErrorCode::kInternal, path + ": the recording holds no depth stream");
+  }
+  const long frames = playback->getNumberOfFrames(depth);
+  depth.destroy();
+  file.close();
+  return frames;
+}
+
 bool Done(const RecordOptions& o, long frames, Clock::time_point start) {
   if (o.frames > 0 && frames >= o.frames) return true;
   return o.duration_s > 0.0 &&
@@ -47,15 +66,19 @@ Result<RecordSummary> RecordOni(const std::string& spec, const std::string& outp
                          ": " + openni::OpenNI::getExtendedError());
   }
   openni::VideoStream depth;
-  if (depth.create(device, openni::SENSOR_DEPTH) != openni::STATUS_OK ||
-      depth.start() != openni::STATUS_OK) {
-    return MakeError(ErrorCode::kUnavailable, spec + ": cannot start the depth stream");
+  if (depth.create(device, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
+    return MakeError(ErrorCode::kUnavailable, spec + ": cannot create the depth stream");
   }
+  // The recorder runs before the stream does, so every frame read below is in the file.
   openni::Recorder recorder;
   if (recorder.create(output.c_str()) != openni::STATUS_OK ||
       recorder.attach(depth) != openni::STATUS_OK || recorder.start() != openni::STATUS_OK) {
     return MakeError(ErrorCode::kInternal, output + ": OpenNI2 cannot record here: " +
                                                openni::OpenNI::getExtendedError());
+  }
+  if (depth.start() != openni::STATUS_OK) {
+    recorder.destroy();
+    return MakeError(ErrorCode::kUnavailable, spec + ": cannot start the depth stream");
   }
   RecordSummary summary;
   summary.format = "oni";
@@ -75,13 +98,21 @@ Result<RecordSummary> RecordOni(const std::string& spec, const std::string& outp
     ++summary.frames;
     if (progress && !progress(summary.frames)) break;
   }
-  recorder.stop();
-  recorder.destroy();  // finalises the file (seek table, header).
+  // The stream stops first (no frame arrives after), then the recorder finalises the file (seek
+  // table, header).
   depth.stop();
+  recorder.stop();
+  recorder.destroy();
   depth.destroy();
   device.close();
   summary.duration_s = std::chrono::duration<double>(Clock::now() - start).count();
   if (!failure.ok()) return failure.error();
+  // The recorder takes every frame the device delivers while it runs, read or not: one that
+  // arrived after the last read, or while a read was late, is in the file too. The summary
+  // counts what the file holds.
+  Result<long> held = FramesInRecording(output);
+  if (!held.ok()) return held.error();
+  summary.frames = *held;
   return summary;
 }
 

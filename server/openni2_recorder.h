@@ -15,7 +15,7 @@ struct RecordOptions {
 };
 
 struct RecordSummary {
-  long frames = 0;
+  long frames = 0;  // frames written: for .oni, counted in the finished file.
   double duration_s = 0.0;
   std::string format;  // "oni" or "png-dir".
 };
@@ -25,8 +25,11 @@ struct RecordSummary {
 // (created if needed) of 16-bit PNG frames (frame_000000.png, ... millimetres) plus
 // intrinsics.json derived from the stream's field of view. `progress(frames_so_far)` is called
 // after each frame; returning false stops early. At least one of frames / duration_s must
-// bound the recording unless progress stops it. Fails with kUnavailable (no device, timeout),
-// kInvalidArgument (not a device spec) or kInternal (cannot write).
+// bound the recording unless progress stops it. OpenNI2's recorder keeps every frame the device
+// delivers while it runs, so an .oni file holds at least the frames read, and more when frames
+// arrive as the recording stops or while a read is late; the summary counts the file's frames.
+// Fails with kUnavailable (no device, timeout), kInvalidArgument (not a device spec) or kInternal
+// (cannot write).
 Result<RecordSummary> RecordOpenni2(const std::string& device_spec, const std::string& output,
                                     const RecordOptions& options,
                                     const std::function<bool(long)>& progress);

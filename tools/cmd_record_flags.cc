@@ -8,7 +8,10 @@ FlagParser RecordFlags::Parser() {
       "Records depth frames from an OpenNI2 device. An --out ending in .oni is written by "
       "OpenNI2's recorder (replayable by hposed, hpose replay and any OpenNI2 tool); anything "
       "else is a directory of 16-bit PNG frames in millimetres plus intrinsics.json (from the "
-      "stream's field of view). Stops after --frames, --duration or Ctrl-C.");
+      "stream's field of view). Stops after --frames, --duration or Ctrl-C. OpenNI2's recorder "
+      "keeps every frame the device sends while it runs, so an .oni file holds at least --frames "
+      "(usually exactly; more when frames arrive while it stops or while a read is late); the "
+      "count printed is the file's.");
   flags.AddString("out", &out, "output .oni file or directory", "PATH");
   flags.AddString("device", &device, "openni2:// (any device) or openni2://URI", "SPEC");
   flags.AddInt("frames", &frames, "number of frames (0 = no limit)", "N");
