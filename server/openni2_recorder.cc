@@ -10,6 +10,7 @@
 
 #include "core/common/clock_limits.h"
 #include "core/common/file_names.h"
+#include "core/io/atomic_file.h"
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
 #include "server/openni2_source.h"
@@ -20,18 +21,24 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// A device's failure after some frames were recorded, saying where they are.
+Error WithFramesKept(const Error& failure, long frames, const std::string& output) {
+  return MakeError(failure.code, failure.message + "; the " + std::to_string(frames) +
+                                     " frame(s) recorded before are in " + output);
+}
+
 // Depth frames in a finished .oni file, by OpenNI2's file driver (OpenNI2 initialised).
-Result<long> FramesInRecording(const std::string& path) {
+Result<long> FramesInRecording(const std::string& path, const std::string& shown_as) {
   openni::Device file;
   if (file.open(path.c_str()) != openni::STATUS_OK) {
-    return MakeError(ErrorCode::kInternal, path + ": the recording cannot be read back: " +
+    return MakeError(ErrorCode::kInternal, shown_as + ": the recording cannot be read back: " +
                                                openni::OpenNI::getExtendedError());
   }
   openni::VideoStream depth;
   openni::PlaybackControl* playback = file.getPlaybackControl();
   if (playback == nullptr || depth.create(file, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
     file.close();
-    return MakeError(ErrorCode::kInternal, path + ": the recording holds no depth stream");
+    return MakeError(ErrorCode::kInternal, shown_as + ": the recording holds no depth stream");
   }
   const long frames = playback->getNumberOfFrames(depth);
   depth.destroy();
@@ -45,11 +52,12 @@ bool Done(const RecordOptions& o, long frames, Clock::time_point start) {
          std::chrono::duration<double>(Clock::now() - start).count() >= o.duration_s;
 }
 
-// .oni through openni::Recorder: the frames are read (and counted) while the recorder, attached
-// to the same stream, writes them.
-Result<RecordSummary> RecordOni(const std::string& spec, const std::string& output,
-                                const RecordOptions& options,
-                                const std::function<bool(long)>& progress) {
+// .oni through openni::Recorder to `output`: the frames are read while the recorder, attached
+// to the same stream, writes them. A device that stops sending after some frames leaves them
+// in a finished file, the summary returned and *stalled set to why.
+Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& output,
+                                  const std::string& shown_as, const RecordOptions& options,
+                                  const std::function<bool(long)>& progress, Status* stalled) {
   const std::string uri = spec.substr(std::string("openni2://").size());
   if (openni::OpenNI::initialize() != openni::STATUS_OK) {
     return MakeError(ErrorCode::kUnavailable, std::string("OpenNI2 failed to initialise: ") +
@@ -73,7 +81,7 @@ Result<RecordSummary> RecordOni(const std::string& spec, const std::string& outp
   openni::Recorder recorder;
   if (recorder.create(output.c_str()) != openni::STATUS_OK ||
       recorder.attach(depth) != openni::STATUS_OK || recorder.start() != openni::STATUS_OK) {
-    return MakeError(ErrorCode::kInternal, output + ": OpenNI2 cannot record here: " +
+    return MakeError(ErrorCode::kInternal, shown_as + ": OpenNI2 cannot record here: " +
                                                openni::OpenNI::getExtendedError());
   }
   if (depth.start() != openni::STATUS_OK) {
@@ -106,19 +114,58 @@ Result<RecordSummary> RecordOni(const std::string& spec, const std::string& outp
   depth.destroy();
   device.close();
   summary.duration_s = std::chrono::duration<double>(Clock::now() - start).count();
-  if (!failure.ok()) return failure.error();
+  if (!failure.ok() && summary.frames == 0) return failure.error();
+  *stalled = failure;
   // The recorder takes every frame the device delivers while it runs, read or not: one that
   // arrived after the last read, or while a read was late, is in the file too. The summary
   // counts what the file holds.
-  Result<long> held = FramesInRecording(output);
+  Result<long> held = FramesInRecording(output, shown_as);
   if (!held.ok()) return held.error();
   summary.frames = *held;
   return summary;
 }
 
+// Records through a temporary file beside `output`, renamed over it once finished: a recording
+// that fails before its first frame leaves any previous file as it was, and none is ever seen
+// half-written. Frames recorded before a device stopped sending are kept, and the error says so.
+Result<RecordSummary> RecordOni(const std::string& spec, const std::string& output,
+                                const RecordOptions& options,
+                                const std::function<bool(long)>& progress) {
+  RecordSummary summary;
+  Status stalled;
+  const Status written = WriteAtomically(output, [&](const std::string& temp) -> Status {
+    Result<RecordSummary> recorded = RecordOniTo(spec, temp, output, options, progress, &stalled);
+    if (!recorded.ok()) return recorded.error();
+    summary = *recorded;
+    return Status::Ok();
+  });
+  if (!written.ok()) return written.error();
+  if (!stalled.ok()) {
+    return WithFramesKept(stalled.error(), summary.frames, output);
+  }
+  return summary;
+}
+
+// A directory that already holds a recording is refused: the new frames would replace as many
+// of the old ones and leave the rest, one recording's frames among another's.
+Status CheckNoRecordingIn(const std::string& dir) {
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name == "intrinsics.json" || (name.rfind("frame_", 0) == 0 && EndsWith(name, ".png"))) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       dir + " already holds a recording (" + name +
+                           "); record to a new directory, or remove that one first");
+    }
+  }
+  return Status::Ok();  // empty, or not there yet.
+}
+
 Result<RecordSummary> RecordPngDirectory(const std::string& spec, const std::string& output,
                                          const RecordOptions& options,
                                          const std::function<bool(long)>& progress) {
+  const Status fresh = CheckNoRecordingIn(output);
+  if (!fresh.ok()) return fresh.error();
   std::error_code ec;
   std::filesystem::create_directories(output, ec);
   if (ec) {
@@ -135,6 +182,9 @@ Result<RecordSummary> RecordPngDirectory(const std::string& spec, const std::str
   bool wrote_intrinsics = false;
   while (!Done(options, summary.frames, start)) {
     Result<Frame> frame = source.Next();
+    if (!frame.ok() && summary.frames > 0) {
+      return WithFramesKept(frame.error(), summary.frames, output);
+    }
     if (!frame.ok()) return frame.error();
     if (!wrote_intrinsics) {
       Status s = WriteIntrinsicsJson(frame->intrinsics, output + "/intrinsics.json");

@@ -11,7 +11,9 @@ FlagParser RecordFlags::Parser() {
       "stream's field of view). Stops after --frames, --duration or Ctrl-C. OpenNI2's recorder "
       "keeps every frame the device sends while it runs, so an .oni file holds at least --frames "
       "(usually exactly; more when frames arrive while it stops or while a read is late); the "
-      "count printed is the file's.");
+      "count printed is the file's. An .oni replaces a file of that name only once finished; a "
+      "directory must not hold a recording already. When the device stops sending, the frames "
+      "before are kept and the error says where.");
   flags.AddString("out", &out, "output .oni file or directory", "PATH");
   flags.AddString("device", &device, "openni2:// (any device) or openni2://URI", "SPEC");
   flags.AddInt("frames", &frames, "number of frames (0 = no limit)", "N");

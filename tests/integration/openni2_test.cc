@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/io/atomic_file.h"
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
 #include "server/frame_source.h"
@@ -169,6 +170,88 @@ TEST_F(Openni2Test, AnOniRecordingCountsTheFramesItHoldsNotTheFramesRead) {
   (*source)->Close();
 }
 
+// Names in `dir` that are not `keep`: what a recording leaves behind besides its file.
+std::vector<std::string> OtherFiles(const std::string& dir, const std::string& keep) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().filename() != keep) names.push_back(entry.path().filename().string());
+  }
+  return names;
+}
+
+// Records up to 20 frames to `output` from the simulated device, which unplugs after `frames`
+// frames and stays away longer than the recording's frame wait (0.5 s).
+Result<RecordSummary> RecordFromADeviceThatUnplugs(int frames, const std::string& output) {
+  setenv("HPOSE_SIM_DEPTH_DISCONNECT_AFTER", std::to_string(frames).c_str(), 1);
+  setenv("HPOSE_SIM_DEPTH_OFFLINE_MS", "3000", 1);
+  RecordOptions options;
+  options.frames = 20;
+  options.frame_timeout_s = 0.5;
+  Result<RecordSummary> rec = RecordOpenni2("openni2://", output, options, nullptr);
+  unsetenv("HPOSE_SIM_DEPTH_DISCONNECT_AFTER");
+  unsetenv("HPOSE_SIM_DEPTH_OFFLINE_MS");
+  return rec;
+}
+
+TEST_F(Openni2Test, AFailedOniRecordingLeavesThePreviousFileAsItWas) {
+  const std::string dir = *dir_ + "/kept";
+  std::filesystem::create_directories(dir);
+  const std::string oni = dir + "/take.oni";
+  ASSERT_TRUE(WriteFileAtomically(oni, "an earlier take").ok());
+  // The device opens, the recording starts, and no frame comes.
+  Result<RecordSummary> rec = RecordFromADeviceThatUnplugs(0, oni);
+  ASSERT_FALSE(rec.ok());
+  EXPECT_EQ(rec.error().code, ErrorCode::kUnavailable);
+  EXPECT_NE(rec.error().message.find("no frame for 500 ms"), std::string::npos)
+      << rec.error().ToString();
+  Result<std::string> kept = ReadFile(oni);
+  ASSERT_TRUE(kept.ok());
+  EXPECT_TRUE(*kept == "an earlier take")
+      << "the earlier file was replaced: " << kept->size() << " bytes";
+  EXPECT_TRUE(OtherFiles(dir, "take.oni").empty());
+  // A directory that does not exist is named before any device opens.
+  rec = RecordOpenni2("openni2://", dir + "/missing/take.oni", {}, nullptr);
+  ASSERT_FALSE(rec.ok());
+  EXPECT_NE(rec.error().message.find("missing"), std::string::npos) << rec.error().ToString();
+}
+
+TEST_F(Openni2Test, FramesRecordedBeforeTheDeviceStoppedAreKept) {
+  const std::string dir = *dir_ + "/stalled";
+  std::filesystem::create_directories(dir);
+  const std::string oni = dir + "/take.oni";
+  ASSERT_TRUE(WriteFileAtomically(oni, "an earlier take").ok());
+  Result<RecordSummary> rec = RecordFromADeviceThatUnplugs(5, oni);
+  ASSERT_FALSE(rec.ok());
+  EXPECT_EQ(rec.error().code, ErrorCode::kUnavailable);
+  EXPECT_NE(rec.error().message.find("no frame for 500 ms"), std::string::npos)
+      << rec.error().ToString();
+  EXPECT_NE(rec.error().message.find("the 5 frame(s) recorded before are in " + oni),
+            std::string::npos)
+      << rec.error().ToString();
+  EXPECT_TRUE(OtherFiles(dir, "take.oni").empty());
+
+  ReplayOptions replay;
+  replay.realtime = false;
+  Result<std::unique_ptr<FrameSource>> source = MakeFrameSource(oni, replay);
+  ASSERT_TRUE(source.ok()) << source.error().ToString();
+  ASSERT_TRUE((*source)->Open().ok());
+  EXPECT_EQ((*source)->frame_count(), 5);
+  (*source)->Close();
+
+  // A directory of PNG frames keeps its frames too.
+  rec = RecordFromADeviceThatUnplugs(3, dir + "/frames");
+  ASSERT_FALSE(rec.ok());
+  EXPECT_EQ(rec.error().code, ErrorCode::kUnavailable) << rec.error().ToString();
+  // At most the 3 frames sent (one may be missed while a frame is written), all named.
+  const long pngs = static_cast<long>(OtherFiles(dir + "/frames", "intrinsics.json").size());
+  EXPECT_GE(pngs, 1);
+  EXPECT_LE(pngs, 3);
+  EXPECT_NE(rec.error().message.find("the " + std::to_string(pngs) +
+                                     " frame(s) recorded before are in " + dir + "/frames"),
+            std::string::npos)
+      << rec.error().ToString();
+}
+
 TEST_F(Openni2Test, RecordsAPngDirectoryThatReplays) {
   const std::string out_dir = *dir_ + "/recorded";
   RecordOptions options;
@@ -196,6 +279,16 @@ TEST_F(Openni2Test, RecordsAPngDirectoryThatReplays) {
   for (size_t i = 1; i < rows.size(); ++i) {
     EXPECT_NE(rows[i].find(",standing,"), std::string::npos) << rows[i];
   }
+
+  // Recording into it again is refused: the new frames would lie among the old ones.
+  const auto written = std::filesystem::last_write_time(out_dir + "/frame_000000.png");
+  options.frames = 1;
+  rec = RecordOpenni2("openni2://", out_dir, options, nullptr);
+  ASSERT_FALSE(rec.ok());
+  EXPECT_EQ(rec.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(rec.error().message.find("already holds a recording"), std::string::npos)
+      << rec.error().ToString();
+  EXPECT_EQ(std::filesystem::last_write_time(out_dir + "/frame_000000.png"), written);
 }
 
 TEST_F(Openni2Test, RecordingFromANonDeviceIsRejected) {
