@@ -31,9 +31,9 @@ struct RecordSummary {
 // The .oni file is written beside `output` and renamed over it once finished: a recording that
 // fails before its first frame leaves a previous file as it was; one whose device stops sending
 // after some frames keeps them and fails saying so (a PNG directory keeps its frames the same
-// way). A directory that already holds a recording (frame_*.png, intrinsics.json) is refused
-// with kInvalidArgument. Fails with kUnavailable (no device, timeout),
-// kInvalidArgument (not a device spec) or kInternal (cannot write).
+// way). Fails with kUnavailable (no device, timeout), kInvalidArgument (not a device spec, or a
+// directory that already holds a recording: frame_*.png, intrinsics.json) or kInternal (cannot
+// write).
 Result<RecordSummary> RecordOpenni2(const std::string& device_spec, const std::string& output,
                                     const RecordOptions& options,
                                     const std::function<bool(long)>& progress);
