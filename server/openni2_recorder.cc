@@ -27,25 +27,6 @@ Error WithFramesKept(const Error& failure, long frames, const std::string& outpu
                                      " frame(s) recorded before are in " + output);
 }
 
-// Depth frames in a finished .oni file, by OpenNI2's file driver (OpenNI2 initialised).
-Result<long> FramesInRecording(const std::string& path, const std::string& shown_as) {
-  openni::Device file;
-  if (file.open(path.c_str()) != openni::STATUS_OK) {
-    return MakeError(ErrorCode::kInternal, shown_as + ": the recording cannot be read back: " +
-                                               openni::OpenNI::getExtendedError());
-  }
-  openni::VideoStream depth;
-  openni::PlaybackControl* playback = file.getPlaybackControl();
-  if (playback == nullptr || depth.create(file, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
-    file.close();
-    return MakeError(ErrorCode::kInternal, shown_as + ": the recording holds no depth stream");
-  }
-  const long frames = playback->getNumberOfFrames(depth);
-  depth.destroy();
-  file.close();
-  return frames;
-}
-
 bool Done(const RecordOptions& o, long frames, Clock::time_point start) {
   if (o.frames > 0 && frames >= o.frames) return true;
   return o.duration_s > 0.0 &&
@@ -119,9 +100,14 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
   // The recorder takes every frame the device delivers while it runs, read or not: one that
   // arrived after the last read, or while a read was late, is in the file too. The summary
   // counts what the file holds.
-  Result<long> held = FramesInRecording(output, shown_as);
-  if (!held.ok()) return held.error();
-  summary.frames = *held;
+  Openni2Source written(output, Openni2SourceOptions{});
+  const Status opened = written.Open();
+  if (!opened.ok()) {
+    return MakeError(ErrorCode::kInternal,
+                     shown_as + ": the recording cannot be read back: " + opened.error().message);
+  }
+  summary.frames = written.frame_count();
+  written.Close();
   return summary;
 }
 
