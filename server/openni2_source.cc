@@ -16,6 +16,8 @@ namespace hpose::server {
 namespace {
 
 constexpr const char* kDevicePrefix = "openni2://";
+// How long closing a recording waits for its player's first frame (see Impl::Close).
+constexpr int kPlayerStartTimeoutMs = 3000;
 
 std::string OpenniError(const char* what) {
   std::string msg = what;
@@ -96,6 +98,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       return MakeError(ErrorCode::kUnavailable,
                        OpenniError((spec + ": cannot start the depth stream").c_str()));
     }
+    started_ = true;
     frames_read_ = 0;
     loop_ = options.replay.loop;
     has_intrinsics_ = options.replay.has_intrinsics;
@@ -128,6 +131,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
                        OpenniError((spec + ": cannot read a depth frame").c_str()));
     }
     ++frames_read_;
+    player_running_ = true;
     Frame frame;
     frame.received = std::chrono::system_clock::now();
     frame.received_steady = std::chrono::steady_clock::now();
@@ -183,9 +187,18 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       listening_ = false;
     }
     if (stream_.isValid()) {
+      // OpenNI2's file player marks itself running in its own thread, first thing. Closed
+      // before that thread has run (a recording opened for its frame count, or that fails at
+      // once), the player would then mark itself running after the close asked it to stop,
+      // spin, be cancelled by OpenNI2 3 s later and crash unwinding through its driver once
+      // shutdown has unloaded it. A delivered frame shows the thread has run.
+      if (!is_device_ && started_ && !player_running_) {
+        WaitForFrame(kPlayerStartTimeoutMs);
+      }
       stream_.stop();
       stream_.destroy();
     }
+    started_ = false;
     if (device_.isValid()) device_.close();
     if (initialised_) {
       openni::OpenNI::shutdown();
@@ -204,7 +217,10 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     openni::VideoStream* streams[] = {&stream_};
     int ready = -1;
     if (!is_device_) {
-      return openni::OpenNI::waitForAnyStream(streams, 1, &ready, timeout_ms) == openni::STATUS_OK;
+      const bool arrived =
+          openni::OpenNI::waitForAnyStream(streams, 1, &ready, timeout_ms) == openni::STATUS_OK;
+      if (arrived) player_running_ = true;
+      return arrived;
     }
     using Clock = std::chrono::steady_clock;
     const Clock::time_point end = Clock::now() + std::chrono::milliseconds(timeout_ms);
@@ -252,6 +268,8 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   int timeout_ms_ = 2000;
   long frame_count_ = -1;
   long frames_read_ = 0;
+  bool started_ = false;         // the depth stream was started.
+  bool player_running_ = false;  // a file's player thread has delivered a frame.
   std::atomic<bool> disconnected_{false};
 };
 

@@ -4,6 +4,7 @@
 // directory of the build (see server/openni2_driver/CMakeLists.txt).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -168,6 +169,40 @@ TEST_F(Openni2Test, AnOniRecordingCountsTheFramesItHoldsNotTheFramesRead) {
   while ((*source)->Next().ok()) ++played;
   EXPECT_EQ(played, rec->frames);
   (*source)->Close();
+}
+
+TEST_F(Openni2Test, ARecordingOpenedAndClosedAtOnceStopsItsPlayer) {
+  // OpenNI2's file player marks itself running in its own thread; a recording closed before
+  // that thread first ran left it running, and OpenNI2 cancelled it after 3 s, a crash once
+  // its driver was unloaded. Opened and closed at once, many times, on a busy machine.
+  const std::string oni = *dir_ + "/short.oni";
+  RecordOptions options;
+  options.frames = 2;
+  ASSERT_TRUE(RecordOpenni2("openni2://", oni, options, nullptr).ok());
+  std::atomic<bool> busy{true};
+  std::vector<std::thread> load;
+  for (int i = 0; i < 2; ++i) {
+    load.emplace_back([&busy] {
+      volatile unsigned long x = 0;
+      while (busy.load(std::memory_order_relaxed)) x = x + 1;
+    });
+  }
+  for (int i = 0; i < 40; ++i) {
+    ReplayOptions replay;
+    replay.realtime = false;
+    Openni2SourceOptions source_options;
+    source_options.replay = replay;
+    Openni2Source source(oni, source_options);
+    ASSERT_TRUE(source.Open().ok());
+    EXPECT_GE(source.frame_count(), 2);
+    const auto start = std::chrono::steady_clock::now();
+    source.Close();
+    // OpenNI2 waits 3 s for a player thread that does not stop before cancelling it.
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(2500))
+        << "close " << i;
+  }
+  busy = false;
+  for (std::thread& t : load) t.join();
 }
 
 // Names in `dir` that are not `keep`: what a recording leaves behind besides its file.
