@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -203,6 +205,55 @@ TEST_F(Openni2Test, ARecordingOpenedAndClosedAtOnceStopsItsPlayer) {
   }
   busy = false;
   for (std::thread& t : load) t.join();
+}
+
+TEST_F(Openni2Test, ATruncatedRecordingIsRefusedOrPlaysTheFramesItHolds) {
+  // A recording cut short (a full disk, a copy interrupted), at points through the whole file:
+  // OpenNI2 refuses it, named as a damaged recording, or it plays frames in order, no more than
+  // it counts, and ends; never a hang, a crash or a frame twice.
+  const std::string oni = *dir_ + "/whole.oni";
+  RecordOptions options;
+  options.frames = 3;
+  ASSERT_TRUE(RecordOpenni2("openni2://", oni, options, nullptr).ok());
+  std::ifstream in(oni, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 1000u);
+  const std::string cut_path = *dir_ + "/cut.oni";
+  int refused = 0;
+  int played = 0;
+  for (size_t part = 0; part < 24; ++part) {
+    const size_t cut = bytes.size() * part / 24;
+    std::ofstream(cut_path, std::ios::binary | std::ios::trunc).write(bytes.data(), cut);
+    Openni2SourceOptions source_options;
+    source_options.replay.realtime = false;
+    Openni2Source source(cut_path, source_options);
+    Status opened = source.Open();
+    if (!opened.ok()) {
+      ++refused;
+      EXPECT_EQ(opened.error().code, ErrorCode::kDataLoss) << cut;
+      EXPECT_NE(opened.error().message.find(cut_path), std::string::npos) << cut;
+      continue;
+    }
+    ++played;
+    const long count = source.frame_count();
+    EXPECT_GE(count, 1) << cut;
+    std::vector<long> indices;  // OpenNI2's frame index, from the frame's origin "path#index".
+    Result<Frame> frame = source.Next();
+    for (; frame.ok() && indices.size() <= static_cast<size_t>(count); frame = source.Next()) {
+      const long index = std::stol(frame->origin.substr(frame->origin.rfind('#') + 1));
+      EXPECT_TRUE(indices.empty() || indices.back() < index) << cut;
+      indices.push_back(index);
+    }
+    EXPECT_LE(indices.size(), static_cast<size_t>(count)) << cut;
+    ASSERT_FALSE(frame.ok());
+    EXPECT_TRUE(frame.error().code == ErrorCode::kOutOfRange ||
+                frame.error().code == ErrorCode::kDataLoss)
+        << cut << ": " << frame.error().ToString();
+    source.Close();
+  }
+  // The cuts include an empty file and the recording less its last 1/24.
+  EXPECT_GT(refused, 0);
+  EXPECT_GT(played, 0);
 }
 
 // Names in `dir` that are not `keep`: what a recording leaves behind besides its file.
