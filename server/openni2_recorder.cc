@@ -119,6 +119,7 @@ Result<RecordSummary> RecordOni(const std::string& spec, const std::string& outp
                                 const std::function<bool(long)>& progress) {
   RecordSummary summary;
   Status stalled;
+  RemoveStaleTemporaries(output);  // a recording of `output` killed before it finished.
   const Status written = WriteAtomically(output, [&](const std::string& temp) -> Status {
     Result<RecordSummary> recorded = RecordOniTo(spec, temp, output, options, progress, &stalled);
     if (!recorded.ok()) return recorded.error();

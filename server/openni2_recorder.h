@@ -28,11 +28,12 @@ struct RecordSummary {
 // bound the recording unless progress stops it. OpenNI2's recorder keeps every frame the device
 // delivers while it runs, so an .oni file holds at least the frames read, and more when frames
 // arrive as the recording stops or while a read is late; the summary counts the file's frames.
-// The .oni file is written beside `output` and renamed over it once finished: a recording that
-// fails before its first frame leaves a previous file as it was; one whose device stops sending
-// after some frames keeps them and fails saying so (a PNG directory keeps its frames the same
-// way). Fails with kUnavailable (no device, timeout), kInvalidArgument (not a device spec, or a
-// directory that already holds a recording: frame_*.png, intrinsics.json) or kInternal (cannot
+// The .oni file is written beside `output` and renamed over it once finished (and what a
+// recording of `output` killed before it finished left beside it is removed first): a recording
+// that fails before its first frame leaves a previous file as it was; one whose device stops
+// sending after some frames keeps them and fails saying so (a PNG directory keeps its frames the
+// same way). Fails with kUnavailable (no device, timeout), kInvalidArgument (not a device spec, or
+// a directory that already holds a recording: frame_*.png, intrinsics.json) or kInternal (cannot
 // write).
 Result<RecordSummary> RecordOpenni2(const std::string& device_spec, const std::string& output,
                                     const RecordOptions& options,

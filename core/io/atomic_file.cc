@@ -1,6 +1,7 @@
 #include "core/io/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -8,6 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -28,15 +30,25 @@ std::string DirectoryOf(const std::string& path) {
   return path.substr(0, slash);
 }
 
+// The start of the names of `path`'s temporary files, without their directory:
+// ".BASE.tmp." followed by the writer's process id, a dot and a counter.
+std::string TempPrefixFor(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return "." + (slash == std::string::npos ? path : path.substr(slash + 1)) + ".tmp.";
+}
+
 // A name in the same directory as `path` (so rename() stays on one file system) that no other
 // writer in this or another process picks at the same time.
 std::string TempPathFor(const std::string& path) {
   static std::atomic<unsigned> counter{0};
   const size_t slash = path.find_last_of('/');
   const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-  return dir + "." + base + ".tmp." + std::to_string(::getpid()) + "." +
+  return dir + TempPrefixFor(path) + std::to_string(::getpid()) + "." +
          std::to_string(counter.fetch_add(1));
+}
+
+bool AllDigits(const std::string& s) {
+  return !s.empty() && s.size() <= 10 && s.find_first_not_of("0123456789") == std::string::npos;
 }
 
 // Flushes a file (or directory) to disk; best effort, failures are not fatal for correctness
@@ -49,6 +61,32 @@ void SyncPath(const std::string& path, int flags) {
 }
 
 }  // namespace
+
+int RemoveStaleTemporaries(const std::string& path) {
+  const std::string prefix = TempPrefixFor(path);
+  const std::string dir = DirectoryOf(path);
+  int removed = 0;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string rest = name.substr(prefix.size());  // "PID.N"
+    const size_t dot = rest.find('.');
+    if (dot == std::string::npos || !AllDigits(rest.substr(0, dot)) ||
+        !AllDigits(rest.substr(dot + 1))) {
+      continue;
+    }
+    const long long pid = std::stoll(rest.substr(0, dot));
+    if (pid <= 0 || pid == ::getpid()) continue;
+    // kill(pid, 0) sends nothing: ESRCH says no such process; EPERM one that is running.
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    std::error_code remove_ec;
+    if (it->is_regular_file(remove_ec) && std::filesystem::remove(it->path(), remove_ec)) {
+      ++removed;
+    }
+  }
+  return removed;
+}
 
 Status WriteAtomically(const std::string& path,
                        const std::function<Status(const std::string& temp_path)>& write_temp) {

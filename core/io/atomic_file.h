@@ -21,6 +21,12 @@ Status WriteAtomically(const std::string& path,
 // writable directory. Fails with kNotFound (missing directory) or kInvalidArgument naming why.
 Status CheckOutputPath(const std::string& path);
 
+// Removes the temporary files of `path` that WriteAtomically left behind in a process no longer
+// running (a writer killed mid-write: SIGKILL, power loss), and returns how many. Temporaries of
+// running processes, this one's included, are left alone. Meant for large outputs written
+// rarely (a recording), not for every write: it reads the whole directory.
+int RemoveStaleTemporaries(const std::string& path);
+
 // Convenience: atomically writes `contents` to `path`.
 Status WriteFileAtomically(const std::string& path, const std::string& contents);
 

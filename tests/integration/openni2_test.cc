@@ -92,10 +92,15 @@ TEST_F(Openni2Test, MissingDeviceUriIsUnavailable) {
 
 TEST_F(Openni2Test, RecordsOniAndPlaysItBackThroughTheFileDriver) {
   const std::string oni = *dir_ + "/walk.oni";
+  // What a recording of walk.oni killed mid-way leaves (no process has this id: Linux's stop at
+  // pid_max, at most 2^22); recording walk.oni again removes it.
+  const std::string killed = *dir_ + "/.walk.oni.tmp." + std::to_string((1 << 22) + 1) + ".0";
+  ASSERT_TRUE(WriteFileAtomically(killed, "half a recording").ok());
   RecordOptions options;
   options.frames = 6;
   Result<RecordSummary> rec = RecordOpenni2("openni2://", oni, options, nullptr);
   ASSERT_TRUE(rec.ok()) << rec.error().ToString();
+  EXPECT_FALSE(std::filesystem::exists(killed));
   // Every frame read is in the file; the device may have sent a few more while the recording
   // stopped (30 frames a second), and the summary counts the file's.
   EXPECT_GE(rec->frames, 6);

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -89,6 +90,28 @@ TEST(AtomicFileTest, DevicesAreWrittenInPlaceAndTheirFailuresReported) {
   ASSERT_EQ(::stat("/dev/full", &st), 0);
   EXPECT_TRUE(S_ISCHR(st.st_mode));
   EXPECT_TRUE(WriteFileAtomically("/dev/null", "discarded").ok());
+}
+
+TEST(AtomicFileTest, TemporariesOfWritersNoLongerRunningAreRemoved) {
+  TempDir dir;
+  const std::string path = dir.Write("take.oni", "an earlier take");
+  // No process has this id: Linux's process ids stop at pid_max, at most 2^22.
+  const std::string dead = std::to_string((1 << 22) + 1);
+  const std::string alive = std::to_string(::getppid());  // the process that ran this test.
+  const std::string stale = dir.Write(".take.oni.tmp." + dead + ".0", "half a recording");
+  const std::string running = dir.Write(".take.oni.tmp." + alive + ".2", "being written");
+  const std::string ours = dir.Write(".take.oni.tmp." + std::to_string(::getpid()) + ".7", "x");
+  const std::string other_file = dir.Write(".walk.oni.tmp." + dead + ".0", "another output's");
+  const std::string not_a_temp = dir.Write(".take.oni.tmp." + dead + ".old", "not our name");
+  EXPECT_EQ(RemoveStaleTemporaries(path), 1);
+  EXPECT_FALSE(std::filesystem::exists(stale));
+  EXPECT_TRUE(std::filesystem::exists(running));
+  EXPECT_TRUE(std::filesystem::exists(ours));
+  EXPECT_TRUE(std::filesystem::exists(other_file));
+  EXPECT_TRUE(std::filesystem::exists(not_a_temp));
+  EXPECT_EQ(Slurp(path), "an earlier take");
+  EXPECT_EQ(RemoveStaleTemporaries(path), 0);
+  EXPECT_EQ(RemoveStaleTemporaries(dir.File("missing/take.oni")), 0);
 }
 
 TEST(AtomicFileTest, ReadFileErrors) {
