@@ -186,15 +186,8 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       openni::OpenNI::removeDeviceDisconnectedListener(this);
       listening_ = false;
     }
+    if (!is_device_ && device_.isValid() && !player_running_) LetThePlayerStart();
     if (stream_.isValid()) {
-      // OpenNI2's file player marks itself running in its own thread, first thing. Closed
-      // before that thread has run (a recording opened for its frame count, or that fails at
-      // once), the player would then mark itself running after the close asked it to stop,
-      // spin, be cancelled by OpenNI2 3 s later and crash unwinding through its driver once
-      // shutdown has unloaded it. A delivered frame shows the thread has run.
-      if (!is_device_ && started_ && !player_running_) {
-        WaitForFrame(kPlayerStartTimeoutMs);
-      }
       stream_.stop();
       stream_.destroy();
     }
@@ -234,6 +227,33 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       }
     }
     return false;
+  }
+
+  // OpenNI2's file player marks itself running in its own thread, first thing. Closed before
+  // that thread has run (a recording opened for its frame count, or refused at once: no depth
+  // in it), the player marks itself running after the close asked it to stop, spins, and is
+  // cancelled by OpenNI2 3 s later, a crash once shutdown has unloaded its driver. A frame
+  // delivered shows the thread has run: from the depth stream, started if it was not, or, in a
+  // recording without depth, from the first stream it has.
+  void LetThePlayerStart() {
+    if (stream_.isValid()) {
+      if (!started_) started_ = stream_.start() == openni::STATUS_OK;
+      if (started_) WaitForFrame(kPlayerStartTimeoutMs);
+      return;
+    }
+    for (const openni::SensorType type :
+         {openni::SENSOR_DEPTH, openni::SENSOR_COLOR, openni::SENSOR_IR}) {
+      openni::VideoStream other;
+      if (!device_.hasSensor(type) || other.create(device_, type) != openni::STATUS_OK) continue;
+      if (other.start() == openni::STATUS_OK) {
+        openni::VideoStream* streams[] = {&other};
+        int ready = -1;
+        openni::OpenNI::waitForAnyStream(streams, 1, &ready, kPlayerStartTimeoutMs);
+        other.stop();
+      }
+      other.destroy();
+      return;
+    }
   }
 
   bool is_device() const { return is_device_; }

@@ -22,6 +22,9 @@
 //                                     only by a driver loaded after.
 //   HPOSE_SIM_DEPTH_LOAD_LOG          a line is appended to this file each time the driver is
 //                                     initialised (tests count OpenNI2's loads of its drivers).
+//   HPOSE_SIM_DEPTH_AS_IR=1           the device's one sensor is an infrared camera instead
+//                                     (16-bit grey frames of the same data): a device, and its
+//                                     recordings, without depth.
 // OpenNI2 reports the field of view only; the driver derives it from the intrinsics (principal
 // point assumed at the image centre).
 #include <dirent.h>
@@ -149,6 +152,8 @@ bool LoadDirectory(const std::string& dir, FrameSet* set) {
 // Shared between the driver (connect/disconnect) and its stream (frames).
 struct DeviceState {
   FrameSet frames;
+  OniSensorType sensor = ONI_SENSOR_DEPTH;  // ONI_SENSOR_IR: see HPOSE_SIM_DEPTH_AS_IR.
+  OniPixelFormat format = ONI_PIXEL_FORMAT_DEPTH_1_MM;
   int fps = 30;
   int disconnect_after = -1;  // frames; -1 = never.
   int offline_ms = 1500;
@@ -160,7 +165,7 @@ struct DeviceState {
 class SimDepthStream final : public oni::driver::StreamBase {
  public:
   explicit SimDepthStream(DeviceState* state) : state_(state) {
-    mode_.pixelFormat = ONI_PIXEL_FORMAT_DEPTH_1_MM;
+    mode_.pixelFormat = state->format;
     mode_.resolutionX = state->frames.width;
     mode_.resolutionY = state->frames.height;
     mode_.fps = state->fps;
@@ -284,7 +289,7 @@ class SimDepthStream final : public oni::driver::StreamBase {
     const std::vector<std::uint16_t>& src = f.frames[index % f.frames.size()];
     std::memcpy(frame->data, src.data(), src.size() * sizeof(std::uint16_t));
     frame->dataSize = static_cast<int>(src.size() * sizeof(std::uint16_t));
-    frame->sensorType = ONI_SENSOR_DEPTH;
+    frame->sensorType = state_->sensor;
     frame->timestamp = static_cast<uint64_t>(index) * 1000000ull / std::max(1, state_->fps);
     frame->frameIndex = index + 1;
     frame->width = f.width;
@@ -310,11 +315,11 @@ class SimDepthStream final : public oni::driver::StreamBase {
 class SimDepthDevice final : public oni::driver::DeviceBase {
  public:
   explicit SimDepthDevice(DeviceState* state) : state_(state) {
-    mode_.pixelFormat = ONI_PIXEL_FORMAT_DEPTH_1_MM;
+    mode_.pixelFormat = state->format;
     mode_.resolutionX = state->frames.width;
     mode_.resolutionY = state->frames.height;
     mode_.fps = state->fps;
-    sensor_.sensorType = ONI_SENSOR_DEPTH;
+    sensor_.sensorType = state->sensor;
     sensor_.numSupportedVideoModes = 1;
     sensor_.pSupportedVideoModes = &mode_;
   }
@@ -326,7 +331,7 @@ class SimDepthDevice final : public oni::driver::DeviceBase {
   }
 
   oni::driver::StreamBase* createStream(OniSensorType type) override {
-    if (type != ONI_SENSOR_DEPTH) return nullptr;
+    if (type != state_->sensor) return nullptr;
     return new (std::nothrow) SimDepthStream(state_);
   }
   void destroyStream(oni::driver::StreamBase* stream) override { delete stream; }
@@ -373,6 +378,10 @@ class SimDepthDriver final : public oni::driver::DriverBase {
     state_.offline_ms = std::max(0, EnvInt("HPOSE_SIM_DEPTH_OFFLINE_MS", 1500));
     unplugged_file_ = EnvString("HPOSE_SIM_DEPTH_UNPLUGGED_FILE");
     hotplug_ = EnvInt("HPOSE_SIM_DEPTH_NO_HOTPLUG", 0) == 0;
+    if (EnvInt("HPOSE_SIM_DEPTH_AS_IR", 0) != 0) {
+      state_.sensor = ONI_SENSOR_IR;
+      state_.format = ONI_PIXEL_FORMAT_GRAY16;
+    }
     const std::string load_log = EnvString("HPOSE_SIM_DEPTH_LOAD_LOG");
     if (!load_log.empty()) std::ofstream(load_log, std::ios::app) << "initialised\n";
 

@@ -2,6 +2,7 @@
 // of `hpose simulate` as a device; OpenNI2's recorder writes them to .oni; OpenNI2's file driver
 // plays the .oni back. The test runs with LD_LIBRARY_PATH pointing at the staged OpenNI2
 // directory of the build (see server/openni2_driver/CMakeLists.txt).
+#include <OpenNI.h>
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -9,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <sstream>
 #include <string>
@@ -178,38 +180,99 @@ TEST_F(Openni2Test, AnOniRecordingCountsTheFramesItHoldsNotTheFramesRead) {
   (*source)->Close();
 }
 
+// Two threads spinning for as long as it lives: a busy machine, where a thread just created
+// may wait to run.
+class BusyCores {
+ public:
+  BusyCores() {
+    for (int i = 0; i < 2; ++i) {
+      threads_.emplace_back([this] {
+        volatile unsigned long spins = 0;
+        while (busy_.load(std::memory_order_relaxed)) spins = spins + 1;
+      });
+    }
+  }
+  ~BusyCores() {
+    busy_ = false;
+    for (std::thread& t : threads_) t.join();
+  }
+
+ private:
+  std::atomic<bool> busy_{true};
+  std::vector<std::thread> threads_;
+};
+
+// OpenNI2's file player marks itself running in its own thread. A recording closed before that
+// thread first ran left it running; OpenNI2 cancelled it 3 s later, a crash once its driver was
+// unloaded. `open_and_close(i)` opens and closes one, at once, 40 times on a busy machine; each
+// close must come sooner than OpenNI2's 3 s wait for a player that does not stop.
+void ExpectPromptCloses(const std::function<void(int)>& open_and_close) {
+  BusyCores busy;
+  for (int i = 0; i < 40; ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    open_and_close(i);
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(2500))
+        << "open and close " << i;
+  }
+}
+
+Openni2SourceOptions AsFastAsRead() {
+  Openni2SourceOptions options;
+  options.replay.realtime = false;
+  return options;
+}
+
 TEST_F(Openni2Test, ARecordingOpenedAndClosedAtOnceStopsItsPlayer) {
-  // OpenNI2's file player marks itself running in its own thread; a recording closed before
-  // that thread first ran left it running, and OpenNI2 cancelled it after 3 s, a crash once
-  // its driver was unloaded. Opened and closed at once, many times, on a busy machine.
   const std::string oni = *dir_ + "/short.oni";
   RecordOptions options;
   options.frames = 2;
   ASSERT_TRUE(RecordOpenni2("openni2://", oni, options, nullptr).ok());
-  std::atomic<bool> busy{true};
-  std::vector<std::thread> load;
-  for (int i = 0; i < 2; ++i) {
-    load.emplace_back([&busy] {
-      volatile unsigned long x = 0;
-      while (busy.load(std::memory_order_relaxed)) x = x + 1;
-    });
-  }
-  for (int i = 0; i < 40; ++i) {
-    ReplayOptions replay;
-    replay.realtime = false;
-    Openni2SourceOptions source_options;
-    source_options.replay = replay;
-    Openni2Source source(oni, source_options);
-    ASSERT_TRUE(source.Open().ok());
+  ExpectPromptCloses([&](int i) {
+    Openni2Source source(oni, AsFastAsRead());
+    ASSERT_TRUE(source.Open().ok()) << i;
     EXPECT_GE(source.frame_count(), 2);
-    const auto start = std::chrono::steady_clock::now();
     source.Close();
-    // OpenNI2 waits 3 s for a player thread that does not stop before cancelling it.
-    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(2500))
-        << "close " << i;
+  });
+}
+
+// Records `frames` frames of the simulated device's infrared stream (HPOSE_SIM_DEPTH_AS_IR) to
+// `oni` with OpenNI2's own recorder: hpose record takes depth only.
+bool RecordInfrared(const std::string& oni, int frames) {
+  setenv("HPOSE_SIM_DEPTH_AS_IR", "1", 1);
+  bool ok = openni::OpenNI::initialize() == openni::STATUS_OK;
+  openni::Device device;
+  openni::VideoStream ir;
+  openni::Recorder recorder;
+  ok = ok && device.open(openni::ANY_DEVICE) == openni::STATUS_OK &&
+       ir.create(device, openni::SENSOR_IR) == openni::STATUS_OK &&
+       recorder.create(oni.c_str()) == openni::STATUS_OK &&
+       recorder.attach(ir) == openni::STATUS_OK && recorder.start() == openni::STATUS_OK &&
+       ir.start() == openni::STATUS_OK;
+  for (int i = 0; ok && i < frames; ++i) {
+    openni::VideoFrameRef frame;
+    ok = ir.readFrame(&frame) == openni::STATUS_OK;
   }
-  busy = false;
-  for (std::thread& t : load) t.join();
+  ir.stop();
+  recorder.stop();
+  recorder.destroy();
+  ir.destroy();
+  device.close();
+  openni::OpenNI::shutdown();
+  unsetenv("HPOSE_SIM_DEPTH_AS_IR");
+  return ok;
+}
+
+TEST_F(Openni2Test, ARecordingWithoutDepthIsRefusedAndClosedCleanly) {
+  const std::string oni = *dir_ + "/infrared.oni";
+  ASSERT_TRUE(RecordInfrared(oni, 3));
+  ExpectPromptCloses([&](int i) {
+    Openni2Source source(oni, AsFastAsRead());
+    const Status opened = source.Open();
+    ASSERT_FALSE(opened.ok()) << i;
+    EXPECT_EQ(opened.error().code, ErrorCode::kDataLoss);
+    EXPECT_NE(opened.error().message.find(oni + ": no depth stream"), std::string::npos)
+        << opened.error().message;
+  });
 }
 
 TEST_F(Openni2Test, ATruncatedRecordingIsRefusedOrPlaysTheFramesItHolds) {
