@@ -13,6 +13,7 @@
 #include "core/io/atomic_file.h"
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
+#include "server/openni2_file_player.h"
 #include "server/openni2_source.h"
 
 namespace hpose::server {
@@ -55,6 +56,17 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
                          ": " + openni::OpenNI::getExtendedError());
   }
   openni::VideoStream depth;
+  // A recording as the device (openni2://FILE.oni) that fails before its first frame: its
+  // player is let start before the stream and device close (see LetTheFilePlayerStart).
+  long frames_read = 0;
+  struct PlayerStarted {
+    openni::Device& device;
+    openni::VideoStream& stream;
+    const long& frames_read;
+    ~PlayerStarted() {
+      if (frames_read == 0) LetTheFilePlayerStart(device, &stream);
+    }
+  } player_started{device, depth, frames_read};
   if (depth.create(device, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
     return MakeError(ErrorCode::kUnavailable, spec + ": cannot create the depth stream");
   }
@@ -84,7 +96,7 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
     }
     openni::VideoFrameRef frame;
     if (depth.readFrame(&frame) != openni::STATUS_OK) continue;
-    ++summary.frames;
+    frames_read = ++summary.frames;
     if (progress && !progress(summary.frames)) break;
   }
   // The stream stops first (no frame arrives after), then the recorder finalises the file (seek

@@ -11,13 +11,13 @@
 #include <mutex>
 #include <utility>
 
+#include "server/openni2_file_player.h"
+
 namespace hpose::server {
 
 namespace {
 
 constexpr const char* kDevicePrefix = "openni2://";
-// How long closing a recording waits for its player's first frame (see Impl::Close).
-constexpr int kPlayerStartTimeoutMs = 3000;
 
 std::string OpenniError(const char* what) {
   std::string msg = what;
@@ -98,7 +98,6 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       return MakeError(ErrorCode::kUnavailable,
                        OpenniError((spec + ": cannot start the depth stream").c_str()));
     }
-    started_ = true;
     frames_read_ = 0;
     loop_ = options.replay.loop;
     has_intrinsics_ = options.replay.has_intrinsics;
@@ -186,12 +185,11 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       openni::OpenNI::removeDeviceDisconnectedListener(this);
       listening_ = false;
     }
-    if (!is_device_ && device_.isValid() && !player_running_) LetThePlayerStart();
+    if (!player_running_) LetTheFilePlayerStart(device_, &stream_);
     if (stream_.isValid()) {
       stream_.stop();
       stream_.destroy();
     }
-    started_ = false;
     if (device_.isValid()) device_.close();
     if (initialised_) {
       openni::OpenNI::shutdown();
@@ -229,33 +227,6 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     return false;
   }
 
-  // OpenNI2's file player marks itself running in its own thread, first thing. Closed before
-  // that thread has run (a recording opened for its frame count, or refused at once: no depth
-  // in it), the player marks itself running after the close asked it to stop, spins, and is
-  // cancelled by OpenNI2 3 s later, a crash once shutdown has unloaded its driver. A frame
-  // delivered shows the thread has run: from the depth stream, started if it was not, or, in a
-  // recording without depth, from the first stream it has.
-  void LetThePlayerStart() {
-    if (stream_.isValid()) {
-      if (!started_) started_ = stream_.start() == openni::STATUS_OK;
-      if (started_) WaitForFrame(kPlayerStartTimeoutMs);
-      return;
-    }
-    for (const openni::SensorType type :
-         {openni::SENSOR_DEPTH, openni::SENSOR_COLOR, openni::SENSOR_IR}) {
-      openni::VideoStream other;
-      if (!device_.hasSensor(type) || other.create(device_, type) != openni::STATUS_OK) continue;
-      if (other.start() == openni::STATUS_OK) {
-        openni::VideoStream* streams[] = {&other};
-        int ready = -1;
-        openni::OpenNI::waitForAnyStream(streams, 1, &ready, kPlayerStartTimeoutMs);
-        other.stop();
-      }
-      other.destroy();
-      return;
-    }
-  }
-
   bool is_device() const { return is_device_; }
   long frame_count() const { return frame_count_; }
 
@@ -288,7 +259,6 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   int timeout_ms_ = 2000;
   long frame_count_ = -1;
   long frames_read_ = 0;
-  bool started_ = false;         // the depth stream was started.
   bool player_running_ = false;  // a file's player thread has delivered a frame.
   std::atomic<bool> disconnected_{false};
 };

@@ -273,6 +273,17 @@ TEST_F(Openni2Test, ARecordingWithoutDepthIsRefusedAndClosedCleanly) {
     EXPECT_NE(opened.error().message.find(oni + ": no depth stream"), std::string::npos)
         << opened.error().message;
   });
+  // Re-recorded as a device (openni2://FILE.oni, as hpose record --device takes it).
+  const std::string out = *dir_ + "/rerecorded.oni";
+  ExpectPromptCloses([&](int i) {
+    RecordOptions options;
+    options.frames = 2;
+    Result<RecordSummary> rec = RecordOpenni2("openni2://" + oni, out, options, nullptr);
+    ASSERT_FALSE(rec.ok()) << i;
+    EXPECT_NE(rec.error().message.find("cannot create the depth stream"), std::string::npos)
+        << rec.error().message;
+  });
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST_F(Openni2Test, ATruncatedRecordingIsRefusedOrPlaysTheFramesItHolds) {
