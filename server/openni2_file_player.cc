@@ -8,8 +8,9 @@ namespace {
 // As long as OpenNI2's own close waits for its player thread.
 constexpr int kPlayerStartTimeoutMs = 3000;
 
+// Starts `stream` (nothing to do when it runs already) and waits for a frame from it.
 void AwaitFrame(openni::VideoStream& stream) {
-  if (stream.start() != openni::STATUS_OK) return;  // already started: no change.
+  if (stream.start() != openni::STATUS_OK) return;
   openni::VideoStream* streams[] = {&stream};
   int ready = -1;
   openni::OpenNI::waitForAnyStream(streams, 1, &ready, kPlayerStartTimeoutMs);

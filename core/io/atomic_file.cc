@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "core/io/input_file.h"
@@ -77,7 +78,7 @@ int RemoveStaleTemporaries(const std::string& path) {
       continue;
     }
     const long long pid = std::stoll(rest.substr(0, dot));
-    if (pid <= 0 || pid == ::getpid()) continue;
+    if (pid <= 0 || pid > std::numeric_limits<pid_t>::max() || pid == ::getpid()) continue;
     // kill(pid, 0) sends nothing: ESRCH says no such process; EPERM one that is running.
     if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
     std::error_code remove_ec;

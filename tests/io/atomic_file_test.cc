@@ -103,12 +103,14 @@ TEST(AtomicFileTest, TemporariesOfWritersNoLongerRunningAreRemoved) {
   const std::string ours = dir.Write(".take.oni.tmp." + std::to_string(::getpid()) + ".7", "x");
   const std::string other_file = dir.Write(".walk.oni.tmp." + dead + ".0", "another output's");
   const std::string not_a_temp = dir.Write(".take.oni.tmp." + dead + ".old", "not our name");
+  const std::string not_a_pid = dir.Write(".take.oni.tmp.9999999999.0", "beyond any pid_t");
   EXPECT_EQ(RemoveStaleTemporaries(path), 1);
   EXPECT_FALSE(std::filesystem::exists(stale));
   EXPECT_TRUE(std::filesystem::exists(running));
   EXPECT_TRUE(std::filesystem::exists(ours));
   EXPECT_TRUE(std::filesystem::exists(other_file));
   EXPECT_TRUE(std::filesystem::exists(not_a_temp));
+  EXPECT_TRUE(std::filesystem::exists(not_a_pid));
   EXPECT_EQ(Slurp(path), "an earlier take");
   EXPECT_EQ(RemoveStaleTemporaries(path), 0);
   EXPECT_EQ(RemoveStaleTemporaries(dir.File("missing/take.oni")), 0);
