@@ -68,11 +68,15 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
                        OpenniError(what.c_str()));
     }
     uri_ = device_.getDeviceInfo().getUri();
-    if (!device_.hasSensor(openni::SENSOR_DEPTH) ||
-        stream_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
+    if (!device_.hasSensor(openni::SENSOR_DEPTH)) {
+      const std::string what = spec + ": no depth stream (" + OtherSensors() + ")";
+      Close();
+      return MakeError(is_device_ ? ErrorCode::kUnavailable : ErrorCode::kDataLoss, what);
+    }
+    if (stream_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
       Close();
       return MakeError(is_device_ ? ErrorCode::kUnavailable : ErrorCode::kDataLoss,
-                       OpenniError((spec + ": no depth stream").c_str()));
+                       OpenniError((spec + ": cannot open the depth stream").c_str()));
     }
     if (is_device_) {
       SelectMillimetreMode();
@@ -231,6 +235,15 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   long frame_count() const { return frame_count_; }
 
  private:
+  // What the open device or recording has instead of depth, for an error: "it has colour and
+  // infrared only", "it has no stream".
+  std::string OtherSensors() {
+    std::string names;
+    if (device_.hasSensor(openni::SENSOR_COLOR)) names = "colour";
+    if (device_.hasSensor(openni::SENSOR_IR)) names += names.empty() ? "infrared" : " and infrared";
+    return names.empty() ? "it has no stream" : "it has " + names + " only";
+  }
+
   // Prefers a 1 mm depth mode of the current resolution (Kinect drivers default to it anyway).
   void SelectMillimetreMode() {
     const openni::VideoMode current = stream_.getVideoMode();
