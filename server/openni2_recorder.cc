@@ -56,9 +56,10 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
                          ": " + openni::OpenNI::getExtendedError());
   }
   openni::VideoStream depth;
+  RecordSummary summary;
+  summary.format = "oni";
   // A recording as the device (openni2://FILE.oni) that fails before its first frame: its
   // player is let start before the stream and device close (see LetTheFilePlayerStart).
-  long frames_read = 0;
   struct PlayerStarted {
     openni::Device& device;
     openni::VideoStream& stream;
@@ -66,7 +67,7 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
     ~PlayerStarted() {
       if (frames_read == 0) LetTheFilePlayerStart(device, &stream);
     }
-  } player_started{device, depth, frames_read};
+  } player_started{device, depth, summary.frames};
   if (depth.create(device, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
     return MakeError(ErrorCode::kUnavailable, spec + ": cannot create the depth stream");
   }
@@ -81,8 +82,6 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
     recorder.destroy();
     return MakeError(ErrorCode::kUnavailable, spec + ": cannot start the depth stream");
   }
-  RecordSummary summary;
-  summary.format = "oni";
   const Clock::time_point start = Clock::now();
   const int timeout_ms = static_cast<int>(options.frame_timeout_s * 1000.0);
   Status failure;
@@ -96,7 +95,7 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
     }
     openni::VideoFrameRef frame;
     if (depth.readFrame(&frame) != openni::STATUS_OK) continue;
-    frames_read = ++summary.frames;
+    ++summary.frames;
     if (progress && !progress(summary.frames)) break;
   }
   // The stream stops first (no frame arrives after), then the recorder finalises the file (seek
