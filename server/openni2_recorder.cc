@@ -14,6 +14,7 @@
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
 #include "server/openni2_file_player.h"
+#include "server/openni2_sensors.h"
 #include "server/openni2_source.h"
 
 namespace hpose::server {
@@ -68,6 +69,9 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
       if (frames_read == 0) LetTheFilePlayerStart(device, &stream);
     }
   } player_started{device, depth, summary.frames};
+  if (!device.hasSensor(openni::SENSOR_DEPTH)) {
+    return MakeError(ErrorCode::kUnavailable, NoDepthStreamError(device, spec));
+  }
   if (depth.create(device, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
     return MakeError(ErrorCode::kUnavailable, spec + ": cannot create the depth stream");
   }

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "server/openni2_file_player.h"
+#include "server/openni2_sensors.h"
 
 namespace hpose::server {
 
@@ -69,7 +70,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     }
     uri_ = device_.getDeviceInfo().getUri();
     if (!device_.hasSensor(openni::SENSOR_DEPTH)) {
-      const std::string what = spec + ": no depth stream (" + OtherSensors() + ")";
+      const std::string what = NoDepthStreamError(device_, spec);
       Close();
       return MakeError(is_device_ ? ErrorCode::kUnavailable : ErrorCode::kDataLoss, what);
     }
@@ -235,15 +236,6 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   long frame_count() const { return frame_count_; }
 
  private:
-  // What the open device or recording has instead of depth, for an error: "it has colour and
-  // infrared only", "it has no stream".
-  std::string OtherSensors() {
-    std::string names;
-    if (device_.hasSensor(openni::SENSOR_COLOR)) names = "colour";
-    if (device_.hasSensor(openni::SENSOR_IR)) names += names.empty() ? "infrared" : " and infrared";
-    return names.empty() ? "it has no stream" : "it has " + names + " only";
-  }
-
   // Prefers a 1 mm depth mode of the current resolution (Kinect drivers default to it anyway).
   void SelectMillimetreMode() {
     const openni::VideoMode current = stream_.getVideoMode();

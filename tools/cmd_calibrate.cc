@@ -166,7 +166,7 @@ Result<std::vector<TimedPose>> DepthPoses(const std::string& depth,
                                           const server::DaemonConfig& config, int* frames) {
   std::vector<std::string> paths = config.templates;
   if (paths.empty()) paths = DefaultTemplatePaths();
-  Result<std::vector<VoxelTemplate>> templates = LoadTemplates(ResolveTemplateNames(paths));
+  Result<std::vector<VoxelTemplate>> templates = LoadTemplates(paths);
   if (!templates.ok()) return templates.error();
   Result<std::unique_ptr<Estimator>> estimator =
       Estimator::Create(server::EffectiveEstimatorOptions(config), std::move(*templates));

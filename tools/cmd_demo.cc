@@ -29,10 +29,6 @@ int RunDemo(int argc, char** argv) {
   FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
   f.spec.humanoid_pose.theta = NormalizeAngle(DegToRad(f.theta_deg));
-  if (f.seed < 0 || f.spec.clutter < 0 || f.spec.clutter > 50) {
-    std::cerr << "hpose demo: --seed must be >= 0 and --clutter within [0, 50]\n";
-    return kExitUsage;
-  }
   if (flags.Seen("robot") && f.robot_urdf.empty()) {
     return UsageError(cmd, "--robot needs a URDF file, got an empty path");
   }

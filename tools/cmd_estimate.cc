@@ -77,13 +77,17 @@ int RunEstimate(int argc, char** argv) {
     std::cerr << "hpose estimate: --intrinsics goes with --depth, not --cloud\n";
     return kExitUsage;
   }
-  if (f.stride < 1 || f.stride > 16) {
-    std::cerr << "hpose estimate: --stride must be within [1, 16]\n";
-    return kExitUsage;
+  if (f.options.max_height_voxels != 0 &&
+      (f.options.max_height_voxels < 8 || f.options.max_height_voxels > 1024)) {
+    return UsageError(cmd, "--max-height-voxels must be 0 (off) or within [8, 1024], got " +
+                               std::to_string(f.options.max_height_voxels));
   }
-  if (f.options.threads < 0 || f.options.threads > 256) {
-    std::cerr << "hpose estimate: --threads must be within [0, 256] (0: one per core)\n";
-    return kExitUsage;
+  if (!flags.Seen("floor-height") &&
+      (flags.Seen("floor-pitch-deg") || flags.Seen("floor-roll-deg"))) {
+    return UsageError(cmd, std::string("--floor-") +
+                               (flags.Seen("floor-pitch-deg") ? "pitch" : "roll") +
+                               "-deg goes with --floor-height (a fixed floor); without it the "
+                               "floor is fitted to each frame");
   }
   if (!f.picture.empty()) {  // before the work: a picture that cannot be written is an error.
     const Status writable = CheckOutputPath(f.picture);
@@ -91,15 +95,11 @@ int RunEstimate(int argc, char** argv) {
   }
   f.options.cloud.stride = f.stride;
   Result<SearchKind> kind = ParseSearchKind(f.search);
-  if (!kind.ok()) return ReportError(cmd, kind.error());
+  if (!kind.ok()) return UsageError(cmd, "--search: " + kind.error().message);
   f.options.search = *kind;
   Result<ScoreKind> score_kind = ParseScoreKind(f.score);
-  if (!score_kind.ok()) return ReportError(cmd, score_kind.error());
+  if (!score_kind.ok()) return UsageError(cmd, "--score: " + score_kind.error().message);
   f.options.score = *score_kind;
-  if (!(f.options.floor_fit.min_width_m >= 0.0 && f.options.floor_fit.min_width_m < 100.0)) {
-    std::cerr << "hpose estimate: --floor-min-width must be within [0, 100) m\n";
-    return kExitUsage;
-  }
   if (flags.Seen("floor-max-tilt-deg")) {
     // As hposed's floor.max_tilt_rad: within 1.5 rad, as a fixed floor's pitch.
     if (!(f.floor_max_tilt_deg > 0.0 && f.floor_max_tilt_deg <= 85.9)) {

@@ -32,8 +32,8 @@ FlagParser EstimateFlags::Parser() {
                   "metres",
                   "FRAME.pcd");
   flags.AddStrings("template", &template_paths,
-                   "humanoid template (.bt with its .json sidecar); default: the shipped "
-                   "standing and right_arm_raised",
+                   "humanoid template (.bt with its .json sidecar) or a shipped template's "
+                   "name; default: the shipped standing and right_arm_raised",
                    "FILE.bt");
   flags.AddString("search", &search,
                   "pose search: 'exact' (global optimum on a lattice of 1 deg and a quarter "
@@ -46,8 +46,8 @@ FlagParser EstimateFlags::Parser() {
   flags.AddInt("max-height-voxels", &options.max_height_voxels,
                "the search runs on the templates' voxels, or on coarser ones for a body taller "
                "than N of them (its height / N, to the mm; a note says so): a 1.23 m robot made "
-               "at 16 mm is searched at 28 mm in about half the time, as accurately; 0: always "
-               "the templates' own",
+               "at 16 mm is searched at 28 mm in about half the time, as accurately; 8-1024, or "
+               "0: always the templates' own",
                "N");
   flags.AddDouble("threshold", &options.score_threshold,
                   "score (0-100) a cluster needs to count as the humanoid");
@@ -68,12 +68,12 @@ FlagParser EstimateFlags::Parser() {
                   "R");
   flags.AddInt("height-offset-voxels", &options.height_offset_voxels,
                "when nothing passes, search again with the templates standing 1, 2, ... up to "
-               "N voxels lower and higher than the floor (a robot with bent knees stands lower "
-               "than a template made with straight legs; 0: only on the floor)",
+               "N (0-8) voxels lower and higher than the floor (a robot with bent knees stands "
+               "lower than a template made with straight legs; 0: only on the floor)",
                "N");
   flags.AddInt("stride", &stride,
-               "use every N-th depth pixel in each direction (2: 640x480 -> 320x240 like the "
-               "paper; about 0.73x the time of a tracked frame, at the cost of less certain "
+               "use every N-th (1-16) depth pixel in each direction (2: 640x480 -> 320x240 like "
+               "the paper; about 0.73x the time of a tracked frame, at the cost of less certain "
                "headings and robots missed at 3.5 m)");
   flags.AddDouble("floor-height", &floor_height,
                   "fixed floor calibration: sensor height above the floor in metres (skips the "
@@ -96,10 +96,18 @@ FlagParser EstimateFlags::Parser() {
                   "nearest miss and why it was refused",
                   "OUT.png");
   flags.AddInt("threads", &options.threads,
-               "threads for the frame's (cluster, template) searches, 0 = one per core this "
-               "process may use; the result does not depend on it",
+               "threads (0-256) for the frame's (cluster, template) searches, 0 = one per core "
+               "this process may use; the result does not depend on it",
                "N");
   flags.AddBool("json", &json, "print one JSON object instead of text");
+  flags.Within("threshold", 0.0, 100.0);
+  flags.Within("min-fit", 0.0, 100.0);
+  flags.Within("min-evidence", 0.0, 1.0);
+  flags.Within("far-ratio", 0.0, 1.0);
+  flags.Within("height-offset-voxels", 0, 8);
+  flags.Within("stride", 1, 16);
+  flags.Within("threads", 0, 256);
+  flags.Within("floor-min-width", 0.0, 100.0);
   flags.SetEpilog(
       "exit status: 0 humanoid found, 3 no humanoid passed the threshold, 4 no floor found,\n"
       "             1 bad input (the message names it), 2 usage\n\n"

@@ -158,16 +158,11 @@ int RunReplay(int argc, char** argv) {
   }
   if (!f.templates.empty()) config.templates = f.templates;
   if (config.templates.empty()) config.templates = DefaultTemplatePaths();
-  config.templates = ResolveTemplateNames(config.templates);
   if (f.intrinsics_path.empty()) f.intrinsics_path = config.source.intrinsics;
-  std::vector<VoxelTemplate> loaded;
-  for (const std::string& path : config.templates) {
-    Result<VoxelTemplate> t = LoadTemplate(path);
-    if (!t.ok()) return ReportError("replay", t.error());
-    loaded.push_back(std::move(*t));
-  }
+  Result<std::vector<VoxelTemplate>> loaded = LoadTemplates(config.templates);
+  if (!loaded.ok()) return ReportError("replay", loaded.error());
   EstimatorOptions options = server::EffectiveEstimatorOptions(config);
-  Result<std::unique_ptr<Estimator>> estimator = Estimator::Create(options, std::move(loaded));
+  Result<std::unique_ptr<Estimator>> estimator = Estimator::Create(options, std::move(*loaded));
   if (!estimator.ok()) return ReportError("replay", estimator.error());
   if (const std::string note = SearchVoxelsNote(**estimator); !note.empty()) {
     std::cerr << "hpose replay: note: " << note << "\n";

@@ -35,6 +35,7 @@ FlagParser ReplayFlags::Parser() {
                   "else Kinect v1 for TIFF)",
                   "FILE");
   flags.AddInt("max-frames", &max_frames, "stop after N frames (0 = all)", "N");
+  flags.Within("max-frames", 0, 2147483647.0);
   flags.AddString("initial-pose", &initial_pose,
                   "where the robot stands at the start, ground frame (metres, degrees): until "
                   "it is first found, frames are searched as if the one before had seen it there, "

@@ -14,6 +14,7 @@
 #include "tools/exit_codes.h"
 #include "tools/fixed_text.h"
 #include "tools/flag_parser.h"
+#include "tools/template_paths.h"
 #include "tools/template_picture.h"
 
 namespace hpose::tools {
@@ -24,7 +25,7 @@ int TemplateInfo(int argc, char** argv) {
   if (const int code = flags.ParseOrExitCode(argc, argv, 2); code >= 0) return code;
   if (flags.positional().size() != 1)
     return UsageError("template info", "give exactly one FILE.bt");
-  Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
+  Result<VoxelTemplate> tpl = LoadTemplateEntry(flags.positional().front());
   if (!tpl.ok()) return ReportError("template info", tpl.error());
   const TemplateShape s = DescribeTemplate(*tpl);
   if (f.json) {
@@ -89,7 +90,7 @@ int TemplateShow(int argc, char** argv) {
   if (!(f.options.sensor_height_m > 0.0 && f.options.sensor_height_m <= 3.0)) {
     return UsageError("template show", "--sensor-height must be in (0, 3] m");
   }
-  Result<VoxelTemplate> tpl = LoadTemplate(flags.positional().front());
+  Result<VoxelTemplate> tpl = LoadTemplateEntry(flags.positional().front());
   if (!tpl.ok()) return ReportError("template show", tpl.error());
   if (Status s = WriteTemplatePicture(*tpl, f.picture, f.options); !s.ok()) {
     return ReportError("template show", s.error());

@@ -17,7 +17,8 @@ FlagParser TemplateInfoFlags::Parser() {
   FlagParser flags(
       "hpose template info FILE.bt [--json]",
       std::string("Prints a template's name, variant, source, resolution, voxel count,\n"
-                  "height, widths, bounding box (template frame) and asymmetry.\n\n") +
+                  "height, widths, bounding box (template frame) and asymmetry. FILE.bt may be\n"
+                  "a shipped template's name (standing, right_arm_raised).\n\n") +
           kAsymmetryHelp);
   flags.AllowPositional("FILE.bt");
   flags.AddBool("json", &json, "print one JSON object (SI units) instead of text");
@@ -31,7 +32,8 @@ FlagParser TemplateShowFlags::Parser() {
       "Draws a template: its voxels from the front, from the side (its left) and from above,\n"
       "shaded by depth (nearer is brighter), and as a level Kinect v1 sees them; the template\n"
       "frame's origin and axes (x red, y green, z blue) drawn in each view, and the figures of\n"
-      "`hpose template info` underneath.");
+      "`hpose template info` underneath. FILE.bt may be a shipped template's name (standing,\n"
+      "right_arm_raised).");
   flags.AllowPositional("FILE.bt");
   flags.AddString("picture", &picture, "PNG file to write", "OUT.png");
   flags.AddDouble("distance", &options.sensor_distance_m,

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 namespace hpose::tools {
 
@@ -46,6 +47,10 @@ bool ParseInt(const std::string& s, int* out) {
 
 std::string FormatDouble(double v) {
   std::ostringstream os;
+  if (v == std::floor(v) && std::abs(v) < 1e15) {
+    os << static_cast<long long>(v);  // whole numbers in full (2147483647, not 2.14748e+09).
+    return os.str();
+  }
   os << v;
   return os.str();
 }
@@ -81,13 +86,15 @@ void FlagParser::AddStrings(const std::string& name, std::vector<std::string>* o
 void FlagParser::AddDouble(const std::string& name, double* out, const std::string& help,
                            const std::string& metavar) {
   flags_.push_back({name, help, metavar, true, false, FormatDouble(*out),
-                    [out](const std::string& v) { return ParseDouble(v, out); }});
+                    [out](const std::string& v) { return ParseDouble(v, out); },
+                    [out] { return *out; }});
 }
 
 void FlagParser::AddInt(const std::string& name, int* out, const std::string& help,
                         const std::string& metavar) {
   flags_.push_back({name, help, metavar, true, false, std::to_string(*out),
-                    [out](const std::string& v) { return ParseInt(v, out); }});
+                    [out](const std::string& v) { return ParseInt(v, out); },
+                    [out] { return static_cast<double>(*out); }});
 }
 
 void FlagParser::AddBool(const std::string& name, bool* out, const std::string& help) {
@@ -101,6 +108,16 @@ void FlagParser::AddBool(const std::string& name, bool* out, const std::string& 
                       }
                       return true;
                     }});
+}
+
+void FlagParser::Within(const std::string& name, double lo, double hi) {
+  Flag* flag = Find(name);
+  if (flag == nullptr || !flag->number) {
+    throw std::logic_error("FlagParser::Within: --" + name + " is not a numeric flag");
+  }
+  flag->bounded = true;
+  flag->lo = lo;
+  flag->hi = hi;
 }
 
 FlagParser::Flag* FlagParser::Find(const std::string& name) {
@@ -175,6 +192,10 @@ FlagParser::Outcome FlagParser::Parse(int argc, char** argv, int first) {
       value = argv[++i];
     }
     if (!flag->set(value)) return fail("bad value '" + value + "' for --" + name);
+    if (flag->bounded && !(flag->number() >= flag->lo && flag->number() <= flag->hi)) {
+      return fail("--" + name + " must be within [" + FormatDouble(flag->lo) + ", " +
+                  FormatDouble(flag->hi) + "], got " + value);
+    }
     flag->seen = true;
   }
   return Outcome::kOk;

@@ -32,6 +32,9 @@ class FlagParser {
   void AddInt(const std::string& name, int* out, const std::string& help,
               const std::string& metavar = "INT");
   void AddBool(const std::string& name, bool* out, const std::string& help);
+  // A value of the numeric flag `name` (added before) outside [lo, hi] is a usage error that
+  // names the flag, the range and the value given (say the range in the flag's help).
+  void Within(const std::string& name, double lo, double hi);
   // Text appended after the flag list in --help (examples, exit statuses).
   void SetEpilog(std::string epilog) { epilog_ = std::move(epilog); }
   // Allow positional arguments (otherwise they are an error).
@@ -70,6 +73,9 @@ class FlagParser {
     bool repeatable = false;
     std::string default_text;
     std::function<bool(const std::string&)> set;  // returns false on a bad value.
+    std::function<double()> number;               // a numeric flag's value once set.
+    bool bounded = false;
+    double lo = 0.0, hi = 0.0;
     bool seen = false;
   };
   Flag* Find(const std::string& name);

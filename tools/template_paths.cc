@@ -1,5 +1,6 @@
 #include "tools/template_paths.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
@@ -61,18 +62,37 @@ std::vector<std::string> ResolveTemplateNames(const std::vector<std::string>& en
   return out;
 }
 
-Result<std::vector<VoxelTemplate>> LoadTemplates(const std::vector<std::string>& paths) {
-  const std::vector<std::string> use = paths.empty() ? DefaultTemplatePaths() : paths;
+Result<VoxelTemplate> LoadTemplateEntry(const std::string& entry) {
+  if (!server::IsTemplateName(entry)) return LoadTemplate(entry);
+  const std::string dir = DefaultTemplateDir();
+  Result<VoxelTemplate> t = LoadTemplate(dir + "/" + entry + ".bt");
+  if (t.ok() || t.error().code != ErrorCode::kNotFound) return t;
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->path().extension() == ".bt") names.push_back(it->path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  std::string shipped;
+  for (const std::string& name : names) shipped += (shipped.empty() ? "" : ", ") + name;
+  return MakeError(ErrorCode::kNotFound,
+                   "'" + entry + "' is no shipped template (" +
+                       (shipped.empty() ? "none found" : "those are " + shipped) + ", in " + dir +
+                       "); give a template file by its path, FILE.bt");
+}
+
+Result<std::vector<VoxelTemplate>> LoadTemplates(const std::vector<std::string>& entries) {
+  const std::vector<std::string> use = entries.empty() ? DefaultTemplatePaths() : entries;
   std::vector<VoxelTemplate> out;
-  for (const std::string& p : use) {
-    Result<VoxelTemplate> t = LoadTemplate(p);
+  for (const std::string& e : use) {
+    Result<VoxelTemplate> t = LoadTemplateEntry(e);
     if (!t.ok()) {
-      Error e = t.error();
-      if (paths.empty() && e.code == ErrorCode::kNotFound) {
-        e.message += " (the shipped templates are looked up in " + DefaultTemplateDir() +
-                     "; set HPOSE_TEMPLATE_DIR or pass --template)";
+      Error error = t.error();
+      if (entries.empty() && error.code == ErrorCode::kNotFound) {
+        error.message += " (the shipped templates are looked up in " + DefaultTemplateDir() +
+                         "; set HPOSE_TEMPLATE_DIR or pass --template)";
       }
-      return e;
+      return error;
     }
     out.push_back(std::move(t).value());
   }

@@ -22,9 +22,13 @@ std::vector<std::string> DefaultTemplatePaths();
 // replaced by its path in DefaultTemplateDir(); paths are kept.
 std::vector<std::string> ResolveTemplateNames(const std::vector<std::string>& entries);
 
-// Loads each path; an empty list loads the shipped templates. The first failure is returned
-// (its message names the file).
-Result<std::vector<VoxelTemplate>> LoadTemplates(const std::vector<std::string>& paths);
+// Loads a template file, or a shipped template by its name ("standing": see
+// server::IsTemplateName); an unknown name's error lists the shipped ones.
+Result<VoxelTemplate> LoadTemplateEntry(const std::string& entry);
+
+// LoadTemplateEntry() of each entry; an empty list loads the shipped templates. The first
+// failure is returned (its message names the file).
+Result<std::vector<VoxelTemplate>> LoadTemplates(const std::vector<std::string>& entries);
 
 }  // namespace hpose::tools
 

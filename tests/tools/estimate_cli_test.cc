@@ -165,7 +165,9 @@ TEST_F(EstimateCliTest, BadInputNamesTheProblem) {
       {"estimate --cloud '" + (*dir_ / "empty.pcd") + "'", 1, "empty"},
       {"estimate --depth '" + Frame("depth.png") + "' --template '" + (*dir_ / "nope.bt") + "'", 1,
        "nope.bt"},
-      {"estimate --depth '" + Frame("depth.png") + "' --search fastest", 1, "fastest"},
+      {"estimate --depth '" + Frame("depth.png") + "' --search fastest", 2, "--search: "},
+      {"estimate --depth '" + Frame("depth.png") + "' --template no_such_body", 1,
+       "'no_such_body' is no shipped template (those are right_arm_raised, standing, in "},
       {"estimate --depth '" + Frame("depth.png") + "' --cloud '" + Frame("cloud.pcd") + "'", 2,
        "either"},
       {"estimate --frobnicate", 2, "frobnicate"},
@@ -175,6 +177,55 @@ TEST_F(EstimateCliTest, BadInputNamesTheProblem) {
     EXPECT_EQ(run.exit_code, c.exit_code) << c.args << "\n" << run.err;
     EXPECT_NE(run.err.find(c.says), std::string::npos) << c.args << "\n" << run.err;
   }
+}
+
+// Out-of-range values are usage errors (exit 2) that name the flag, its range and the value,
+// before any work; a flag that only goes with another says so.
+TEST_F(EstimateCliTest, FlagsOutOfRangeNameTheFlag) {
+  const std::string frame = "estimate --depth '" + Frame("depth.png") + "'";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {" --threshold 101", "--threshold must be within [0, 100], got 101"},
+      {" --min-fit -2", "--min-fit must be within [0, 100], got -2"},
+      {" --min-evidence 1.5", "--min-evidence must be within [0, 1], got 1.5"},
+      {" --far-ratio 5", "--far-ratio must be within [0, 1], got 5"},
+      {" --height-offset-voxels 9", "--height-offset-voxels must be within [0, 8], got 9"},
+      {" --max-height-voxels 3", "--max-height-voxels must be 0 (off) or within [8, 1024], got 3"},
+      {" --max-height-voxels 2000", "--max-height-voxels must be 0 (off) or within [8, 1024]"},
+      {" --stride 0", "--stride must be within [1, 16], got 0"},
+      {" --threads 300", "--threads must be within [0, 256], got 300"},
+      {" --floor-min-width -1", "--floor-min-width must be within [0, 100], got -1"},
+      {" --floor-roll-deg 3", "--floor-roll-deg goes with --floor-height"},
+      {" --score loudest", "--score: unknown score 'loudest'"},
+  };
+  for (const auto& [flags, says] : cases) {
+    const CliRun run = RunHpose(frame + flags, *dir_);
+    EXPECT_EQ(run.exit_code, 2) << flags << "\n" << run.err;
+    EXPECT_NE(run.err.find(says), std::string::npos) << flags << "\n" << run.err;
+    EXPECT_EQ(run.err.find("score_threshold"), std::string::npos) << run.err;  // no option keys.
+  }
+  // The ends of each range are accepted.
+  const CliRun ends = RunHpose(frame +
+                                   " --threshold 0 --min-fit 100 --height-offset-voxels 8 "
+                                   "--far-ratio 1 --json",
+                               *dir_);
+  EXPECT_NE(ends.exit_code, 2) << ends.err;
+}
+
+// A shipped template is given by its name as well as by its path, as `hpose replay` and hposed
+// take it: the same estimate.
+TEST_F(EstimateCliTest, ShippedTemplatesByName) {
+  const std::string frame = "estimate --depth '" + Frame("depth.png") + "' --json --template ";
+  const CliRun by_name = RunHpose(frame + "standing", *dir_);
+  const CliRun by_path =
+      RunHpose(frame + "'" + std::string(HPOSE_SOURCE_DIR) + "/templates/standing.bt'", *dir_);
+  ASSERT_EQ(by_name.exit_code, 0) << by_name.err;
+  ASSERT_EQ(by_path.exit_code, 0) << by_path.err;
+  const nlohmann::json a = nlohmann::json::parse(by_name.out).at("depth_template");
+  const nlohmann::json b = nlohmann::json::parse(by_path.out).at("depth_template");
+  ASSERT_TRUE(a.at("humanoid_found").get<bool>());
+  EXPECT_EQ(a.at("detections").at(0).at("best").at("template_name"), "standing");
+  EXPECT_EQ(a.at("detections").at(0).at("best").at("pose"),
+            b.at("detections").at(0).at("best").at("pose"));
 }
 
 // `hpose estimate FRAME`: the kind of frame from its extension, and the intrinsics.json beside
@@ -349,6 +400,11 @@ TEST_F(EstimateCliTest, ReplayFromAnInitialPoseFindsAFarRobot) {
   const CliRun bad = RunHpose(replay + " --initial-pose 3.5,0", *dir_);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--initial-pose"), std::string::npos) << bad.err;
+  const CliRun negative = RunHpose(replay + " --max-frames -1", *dir_);
+  EXPECT_EQ(negative.exit_code, 2);
+  EXPECT_NE(negative.err.find("--max-frames must be within [0, 2147483647], got -1"),
+            std::string::npos)
+      << negative.err;
   // Another simulation's truth (one frame, depth.png) names none of these frames.
   ASSERT_EQ(RunHpose("simulate --out '" + (*dir_ / "other") +
                          "' --x 15 --width 320 --height 240 --no-cloud",
@@ -485,6 +541,17 @@ TEST(DemoCliTest, RunsWithoutInput) {
   EXPECT_NE(run.out.find("truth"), std::string::npos);
   EXPECT_NE(run.out.find("error     x"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir / "demo.png"));
+  // A robot placed where no simulated room reaches, or too much clutter, is refused by the flag.
+  for (const auto& [flags, says] : std::vector<std::pair<std::string, std::string>>{
+           {"--x 1e9", "--x must be within [-20, 20], got 1e9"},
+           {"--y -30", "--y must be within [-20, 20], got -30"},
+           {"--clutter 51", "--clutter must be within [0, 50], got 51"},
+           {"--seed -1", "--seed must be within [0, "}}) {
+    const CliRun bad = RunHpose("demo " + flags + " --picture '" + (dir / "bad.png") + "'", dir);
+    EXPECT_EQ(bad.exit_code, 2) << flags << "\n" << bad.err;
+    EXPECT_NE(bad.err.find(says), std::string::npos) << flags << "\n" << bad.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad.png")) << flags;
+  }
 }
 
 }  // namespace

@@ -112,7 +112,7 @@ TEST(TemplateCliTest, EstimateSearchesAtTheTemplatesEdgeAndATallBodyCoarser) {
   ASSERT_EQ(own.exit_code, 0) << own.err << own.out;
   EXPECT_NE(own.out.find("humanoid  standing at x 2.2"), std::string::npos) << own.out;
   EXPECT_EQ(own.err.find("searched on"), std::string::npos) << own.err;
-  EXPECT_EQ(RunHpose(tall_estimate + " --max-height-voxels 3", dir).exit_code, 1);
+  EXPECT_EQ(RunHpose(tall_estimate + " --max-height-voxels 3", dir).exit_code, 2);  // usage.
 }
 
 TEST(TemplateCliTest, FromCloudVoxelisesTheCloud) {

@@ -35,6 +35,18 @@ TEST(TemplateViewCliTest, InfoJsonGivesSizesAndAsymmetry) {
   const CliRun text = RunHpose("template info '" + kTemplates + "standing.bt'", dir);
   EXPECT_NE(text.out.find("asymmetry:"), std::string::npos);
   EXPECT_NE(text.out.find("widths:"), std::string::npos);
+  // A shipped template by its name is the same file; a name that is none says which are.
+  const CliRun named = RunHpose("template info --json standing", dir);
+  ASSERT_EQ(named.exit_code, 0) << named.err;
+  const nlohmann::json n = nlohmann::json::parse(named.out);
+  EXPECT_EQ(n.at("voxels"), s.at("voxels"));
+  EXPECT_EQ(n.at("height_m"), s.at("height_m"));
+  const CliRun unknown = RunHpose("template info standng", dir);
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.err.find("'standng' is no shipped template (those are right_arm_raised, "
+                             "standing, in "),
+            std::string::npos)
+      << unknown.err;
 }
 
 TEST(TemplateViewCliTest, ShowWritesAPicture) {
