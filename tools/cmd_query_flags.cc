@@ -48,6 +48,7 @@ FlagParser QueryFlags::Parser() {
       "  hpose query stream --compare\n"
       "  hpose query --server 127.0.0.1:50051 estimate frames/depth_000.png\n"
       "  hpose query estimate-stereo seq/left/000000.png seq/right/000000.png\n");
+  flags.Within("count", 0, 2147483647.0);
   return flags;
 }
 

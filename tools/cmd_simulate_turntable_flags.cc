@@ -47,6 +47,12 @@ FlagParser TurntableFlags::Parser() {
       "  hpose simulate turntable --out hand --views 8 --step-deg 45 --table-height 0 "
       "--hand-error-deg 10\n"
       "\nexit status: 0 ok, 1 error writing the files, 2 bad flags or values");
+  // As `hpose simulate`'s.
+  flags.Within("sensor-height", 0.05, 3.0);
+  flags.Within("pitch-deg", -85.0, 85.0);
+  flags.Within("roll-deg", -45.0, 45.0);
+  flags.Within("start-deg", -3600.0, 3600.0);
+  flags.Within("robot-yaw-deg", -3600.0, 3600.0);
   return flags;
 }
 

@@ -33,6 +33,7 @@ FlagParser EstimateStereoFlags::Parser() {
       "exit status: 0 ok; 1 bad input; 2 usage; 3 a single pair gave no robot pose.\n"
       "example:\n  hpose simulate stereo --out /tmp/seq && hpose estimate-stereo --sequence "
       "/tmp/seq --json\n");
+  flags.Within("fps", 0.01, 10000.0);  // as hposed's.
   return flags;
 }
 
@@ -97,6 +98,28 @@ FlagParser SimulateStereoFlags::Parser() {
       "(DIR/depth) and stereo.source (DIR/stereo).\n"
       "example:\n  hpose simulate stereo --out rec --scenario walking --frames 90 --fps 10 "
       "--speed 0.08 --robot-y -1.35 --depth-sensor -1.1,-2.1,45\n");
+  // Ranges a simulated rig and field can take (the simulator checks the camera's again).
+  flags.Within("frames", 1, 100000);
+  flags.Within("fps", 0.01, 10000.0);
+  flags.Within("width", 16, 4096);
+  flags.Within("height", 16, 4096);
+  flags.Within("hfov", 10.0, 150.0);
+  flags.Within("baseline", 0.005, 2.0);
+  flags.Within("head-height", 0.05, 10.0);
+  flags.Within("tilt", -89.0, 89.0);
+  flags.Within("noise", 0.0, 255.0);
+  flags.Within("robot-x", -20.0, 20.0);
+  flags.Within("robot-y", -20.0, 20.0);
+  flags.Within("robot-theta", -100.0, 100.0);
+  flags.Within("kick-time", 0.0, 100000.0);
+  flags.Within("ball-vx", -50.0, 50.0);
+  flags.Within("ball-vy", -50.0, 50.0);
+  flags.Within("frames-per-position", 1, 10000);
+  flags.Within("seed", 0, 2147483647.0);
+  flags.Within("speed", -2.0, 2.0);
+  flags.Within("depth-mount-height", 0.05, 3.0);
+  flags.Within("depth-pitch", -85.0, 85.0);
+  flags.Within("depth-every", 1, 10000);
   return flags;
 }
 

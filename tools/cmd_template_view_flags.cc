@@ -44,6 +44,7 @@ FlagParser TemplateShowFlags::Parser() {
                   "Kinect view: robot heading, degrees (0 = facing away, 180 = facing the "
                   "sensor)",
                   "D");
+  flags.Within("heading-deg", -3600.0, 3600.0);
   return flags;
 }
 

@@ -259,9 +259,20 @@ TEST_F(StereoCliTest, UsageErrors) {
   EXPECT_NE(run.err.find("no_such_dir"), std::string::npos) << run.err;
   // A frame rate no clock can step (1e300 frames a second) is refused, nothing written.
   run = RunHpose("simulate stereo --out " + Q(*dir_ / "fast") + " --frames 2 --fps 1e300", *dir_);
-  EXPECT_NE(run.exit_code, 0);
-  EXPECT_NE(run.err.find("fps must be 0.01..10000"), std::string::npos) << run.err;
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--fps must be within [0.01, 10000], got 1e300"), std::string::npos)
+      << run.err;
   EXPECT_FALSE(std::filesystem::exists(*dir_ / "fast/frames.csv"));
+  // A rig or a field no room holds is a usage error naming the flag, nothing written.
+  for (const std::string flag : {"--head-height 1e9", "--robot-x -1e9", "--tilt 95",
+                                 "--ball-vx 1e9", "--kick-time -1", "--seed -1"}) {
+    run = RunHpose("simulate stereo --out " + Q(*dir_ / "far") + " --frames 2 " + flag, *dir_);
+    EXPECT_EQ(run.exit_code, 2) << flag << "\n" << run.err;
+    EXPECT_NE(run.err.find(flag.substr(0, flag.find(' ')) + " must be within ["), std::string::npos)
+        << flag << "\n"
+        << run.err;
+    EXPECT_FALSE(std::filesystem::exists(*dir_ / "far")) << flag;
+  }
 }
 
 TEST_F(StereoCliTest, HardVgaSimulationRecordsOcclusionAndDistractorTruth) {

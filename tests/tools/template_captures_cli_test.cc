@@ -124,6 +124,15 @@ TEST(TemplateCapturesCliTest, BadInputsAreNamed) {
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("within +-3600"), std::string::npos) << run.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "r.bt"));
+  // Turntable captures from a sensor no room holds are refused by the flag, as simulate's.
+  for (const std::string flag : {"--sensor-height -1e9", "--pitch-deg 1e9", "--roll-deg 60"}) {
+    run = RunHpose("simulate turntable --out '" + (dir / "odd") + "' --views 2 " + flag, dir);
+    EXPECT_EQ(run.exit_code, 2) << flag << "\n" << run.err;
+    EXPECT_NE(run.err.find(flag.substr(0, flag.find(' ')) + " must be within ["), std::string::npos)
+        << flag << "\n"
+        << run.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "odd")) << flag;
+  }
 }
 
 TEST(TemplateCapturesCliTest, HelpExplainsTheFrameAndWhatIsNotObservable) {
