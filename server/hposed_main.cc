@@ -113,6 +113,7 @@ int main(int argc, char** argv) {
   flags.AddString("stereo-options", &stereo_options,
                   "stereo estimator options (landmarks, colours, thresholds)", "FILE");
   flags.AddDouble("stereo-fps", &stereo_fps, "rate of stereo directories without frames.csv", "HZ");
+  flags.Within("stereo-fps", 0.01, 10000.0);  // as stereo.fps in a config.
   flags.AddString("world-from-ground", &world_from_ground,
                   "the depth sensor's ground frame in the world (landmark) frame: its origin "
                   "X,Y in metres and its yaw in radians; depth poses are then also reported in "
@@ -198,6 +199,7 @@ int main(int argc, char** argv) {
   }
   // Without templates in the config or on the command line, the shipped ones are used.
   if (config.templates.empty()) config.templates = hpose::tools::DefaultTemplatePaths();
+  const hpose::Status names = hpose::tools::CheckTemplateNames(config.templates);
   config.templates = hpose::tools::ResolveTemplateNames(config.templates);
   if (print_config) {
     std::cout << hpose::server::DaemonConfigToYaml(config);
@@ -205,6 +207,7 @@ int main(int argc, char** argv) {
     if (!valid.ok()) return hpose::tools::ReportProgramError("hposed", valid.error());
     return hpose::tools::kExitOk;
   }
+  if (!names.ok()) return hpose::tools::ReportProgramError("hposed", names.error());
 
   // Block the shutdown signals in every thread (gRPC's and ours inherit the mask); the main
   // thread waits for them below.

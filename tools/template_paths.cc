@@ -62,23 +62,33 @@ std::vector<std::string> ResolveTemplateNames(const std::vector<std::string>& en
   return out;
 }
 
+Status CheckTemplateNames(const std::vector<std::string>& entries) {
+  const std::string dir = DefaultTemplateDir();
+  for (const std::string& entry : entries) {
+    std::error_code ec;
+    if (!server::IsTemplateName(entry) || std::filesystem::exists(dir + "/" + entry + ".bt", ec)) {
+      continue;
+    }
+    std::vector<std::string> names;
+    for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+      if (it->path().extension() == ".bt") names.push_back(it->path().stem().string());
+    }
+    std::sort(names.begin(), names.end());
+    std::string shipped;
+    for (const std::string& name : names) shipped += (shipped.empty() ? "" : ", ") + name;
+    return MakeError(ErrorCode::kNotFound,
+                     "'" + entry + "' is no shipped template (" +
+                         (shipped.empty() ? "none found" : "those are " + shipped) + ", in " + dir +
+                         "); give a template file by its path, FILE.bt");
+  }
+  return Status::Ok();
+}
+
 Result<VoxelTemplate> LoadTemplateEntry(const std::string& entry) {
   if (!server::IsTemplateName(entry)) return LoadTemplate(entry);
-  const std::string dir = DefaultTemplateDir();
-  Result<VoxelTemplate> t = LoadTemplate(dir + "/" + entry + ".bt");
-  if (t.ok() || t.error().code != ErrorCode::kNotFound) return t;
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    if (it->path().extension() == ".bt") names.push_back(it->path().stem().string());
-  }
-  std::sort(names.begin(), names.end());
-  std::string shipped;
-  for (const std::string& name : names) shipped += (shipped.empty() ? "" : ", ") + name;
-  return MakeError(ErrorCode::kNotFound,
-                   "'" + entry + "' is no shipped template (" +
-                       (shipped.empty() ? "none found" : "those are " + shipped) + ", in " + dir +
-                       "); give a template file by its path, FILE.bt");
+  const Status shipped = CheckTemplateNames({entry});
+  if (!shipped.ok()) return shipped.error();
+  return LoadTemplate(DefaultTemplateDir() + "/" + entry + ".bt");
 }
 
 Result<std::vector<VoxelTemplate>> LoadTemplates(const std::vector<std::string>& entries) {

@@ -22,6 +22,10 @@ std::vector<std::string> DefaultTemplatePaths();
 // replaced by its path in DefaultTemplateDir(); paths are kept.
 std::vector<std::string> ResolveTemplateNames(const std::vector<std::string>& entries);
 
+// An error naming the first entry that is a name (see server::IsTemplateName) but no shipped
+// template, and listing the shipped ones; paths are not checked.
+Status CheckTemplateNames(const std::vector<std::string>& entries);
+
 // Loads a template file, or a shipped template by its name ("standing": see
 // server::IsTemplateName); an unknown name's error lists the shipped ones.
 Result<VoxelTemplate> LoadTemplateEntry(const std::string& entry);

@@ -125,6 +125,12 @@ TEST(ExampleConfigTest, ACopyWorksAnywhereAndRelativePathsFollowTheFile) {
       0);
   EXPECT_NE(err.find(dir + "/conf/mine/robot.bt"), std::string::npos) << err;
   EXPECT_EQ(err.find("hpose hposed"), std::string::npos) << err;
+  // A name that is no shipped template says which are, before anything starts.
+  EXPECT_EQ(RunHposed("--template standng --listen 127.0.0.1:0", dir, &out, &err), 1);
+  EXPECT_NE(err.find("hposed: 'standng' is no shipped template (those are right_arm_raised, "
+                     "standing, in "),
+            std::string::npos)
+      << err;
   std::filesystem::remove_all(dir);
 }
 
@@ -135,6 +141,9 @@ TEST(HposedMessagesTest, FlagsPortInUseAndQueryErrorsReadAsSentences) {
   std::string out, err;
   EXPECT_EQ(RunHposed("--fps 0", dir, &out, &err), 2);
   EXPECT_NE(err.find("hposed: --fps:"), std::string::npos) << err;
+  EXPECT_EQ(err.find("config:"), std::string::npos) << err;
+  EXPECT_EQ(RunHposed("--stereo-fps 0", dir, &out, &err), 2);
+  EXPECT_NE(err.find("--stereo-fps must be within [0.01, 10000], got 0"), std::string::npos) << err;
   EXPECT_EQ(err.find("config:"), std::string::npos) << err;
   // A cap on the vector paths that names no level: refused before anything starts.
   const std::string level_err = dir + "/level.err";
