@@ -17,12 +17,7 @@ Body ParametricBody(const std::string& variant) {
   Body b;
   b.name = variant;
   b.variant = variant;
-  const HumanoidDimensions dims = HumanoidDimensions::Variant(variant).value();
-  for (const char* shape : kShapes) {
-    const HumanoidModel model = HumanoidModel::FromPreset(shape, dims).value();
-    b.templates.push_back(
-        MakeHumanoidTemplate(model, shape, 0.016, shape, "bench " + variant).value());
-  }
+  for (const char* shape : kShapes) b.templates.push_back(PoseTemplate(b, shape).value());
   return b;
 }
 
@@ -63,6 +58,18 @@ Result<Body> BodyByName(const std::string& name, const std::string& shared_data_
     return MakeError(ErrorCode::kNotFound, "unknown body '" + name + "'");
   }
   return ParametricBody(name);
+}
+
+Result<VoxelTemplate> PoseTemplate(const Body& body, const std::string& pose) {
+  if (body.variant.empty()) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     body.name + " is a mesh robot: no joint preset '" + pose + "' to make");
+  }
+  Result<HumanoidDimensions> dims = HumanoidDimensions::Variant(body.variant);
+  if (!dims.ok()) return dims.error();
+  Result<HumanoidModel> model = HumanoidModel::FromPreset(pose, *dims);
+  if (!model.ok()) return model.error();
+  return MakeHumanoidTemplate(*model, pose, 0.016, pose, "bench " + body.variant);
 }
 
 std::vector<std::string> ParseNames(const std::string& list) {

@@ -38,6 +38,10 @@ Result<Body> DarwinBody(const std::string& shared_data_dir, const std::string& s
 Result<Body> BodyByName(const std::string& name, const std::string& shared_data_dir,
                         const std::string& source_dir);
 
+// A template of parametric `body` in the joint preset `pose` (e.g. arms_swung), made as its
+// own are; an error for a mesh robot or an unknown preset.
+Result<VoxelTemplate> PoseTemplate(const Body& body, const std::string& pose);
+
 // The names of a comma-separated flag value ("nao,darwin_op").
 std::vector<std::string> ParseNames(const std::string& list);
 

@@ -19,9 +19,10 @@
 
 namespace hpose::bench {
 
-Result<std::vector<VoxelTemplate>> LoadShippedTemplates(const std::string& dir) {
+Result<std::vector<VoxelTemplate>> LoadShippedTemplates(const std::string& dir,
+                                                        const std::vector<std::string>& names) {
   std::vector<VoxelTemplate> templates;
-  for (const char* name : {"standing", "right_arm_raised"}) {
+  for (const std::string& name : names) {
     Result<VoxelTemplate> t = LoadTemplate(dir + "/" + name + ".bt");
     if (!t.ok()) return t.error();
     templates.push_back(std::move(*t));
@@ -29,11 +30,12 @@ Result<std::vector<VoxelTemplate>> LoadShippedTemplates(const std::string& dir) 
   return templates;
 }
 
-Result<std::vector<VoxelTemplate>> BodyTemplates(const std::string& body) {
+Result<std::vector<VoxelTemplate>> BodyTemplates(const std::string& body,
+                                                 const std::vector<std::string>& names) {
   Result<HumanoidDimensions> dimensions = HumanoidDimensions::Variant(body);
   if (!dimensions.ok()) return dimensions.error();
   std::vector<VoxelTemplate> templates;
-  for (const char* name : {"standing", "right_arm_raised"}) {
+  for (const std::string& name : names) {
     Result<HumanoidModel> model = HumanoidModel::FromPreset(name, *dimensions);
     if (!model.ok()) return model.error();
     Result<VoxelTemplate> t = MakeHumanoidTemplate(*model, name, 0.016, name, "bench " + body);

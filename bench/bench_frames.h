@@ -18,11 +18,16 @@
 
 namespace hpose::bench {
 
-// Loads standing.bt and right_arm_raised.bt from `dir`.
-Result<std::vector<VoxelTemplate>> LoadShippedTemplates(const std::string& dir);
-// The same two templates made from the parametric humanoid with the proportions `body`
-// (HumanoidDimensions::Variant), as `hpose template generate --body` makes them.
-Result<std::vector<VoxelTemplate>> BodyTemplates(const std::string& body);
+// The two templates every benchmark searches, in this order.
+inline const std::vector<std::string> kBenchTemplateNames = {"standing", "right_arm_raised"};
+
+// Loads NAME.bt of each of `names` from `dir`.
+Result<std::vector<VoxelTemplate>> LoadShippedTemplates(
+    const std::string& dir, const std::vector<std::string>& names = kBenchTemplateNames);
+// Templates of those joint presets made from the parametric humanoid with the proportions
+// `body` (HumanoidDimensions::Variant), as `hpose template generate --body` makes them.
+Result<std::vector<VoxelTemplate>> BodyTemplates(
+    const std::string& body, const std::vector<std::string>& names = kBenchTemplateNames);
 
 // `count` frame specs: both presets, headings spread over the circle (77 degree strides),
 // 0.9-`max_distance_m` away in 12 steps, `clutter` clutter objects, seeds 1..count.

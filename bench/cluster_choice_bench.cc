@@ -19,11 +19,12 @@
 // --min-evidence E EstimatorOptions::min_humanoid_evidence (0: off), to compare either in runs
 // of the same seed. --dump FILE writes every humanoid detection as a CSV row (its scene, whether
 // it is on the robot, its search and refined evidence, its cluster's size), to study what tells
-// clutter from robots.
+// clutter from robots. --extra-pose NAME searches a third template of each parametric body,
+// made in that joint preset (arms_swung), beside its two.
 //
 // usage: cluster_choice_bench [--scenes N] [--bodies a,b] [--seed S] [--threads N]
 //                             [--far-ratio R] [--two-points-within M] [--min-evidence E]
-//                             [--dump FILE]
+//                             [--dump FILE] [--extra-pose NAME]
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -192,7 +193,7 @@ int main(int argc, char** argv) {
   double min_evidence = DefaultEstimatorOptions().min_humanoid_evidence;
   std::uint64_t seed = 1;
   std::vector<std::string> body_names = {"nao", "long_legs", "darwin_op"};
-  std::string dump_path;
+  std::string dump_path, extra_pose;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const std::string v = i + 1 < argc ? argv[i + 1] : "";
@@ -212,11 +213,13 @@ int main(int argc, char** argv) {
       min_evidence = std::atof(v.c_str()), ++i;
     } else if (a == "--dump" && !v.empty()) {
       dump_path = v, ++i;
+    } else if (a == "--extra-pose" && !v.empty()) {
+      extra_pose = v, ++i;
     } else {
       std::fprintf(stderr,
                    "usage: cluster_choice_bench [--scenes N] [--bodies a,b] [--seed S] "
                    "[--threads N] [--far-ratio R] [--two-points-within M] [--min-evidence E] "
-                   "[--dump FILE]\n"
+                   "[--dump FILE] [--extra-pose NAME]\n"
                    "  --scenes N   random scenes per body (default 100)\n"
                    "  --bodies     nao, long_legs, tall, darwin_op (default: all but tall;\n"
                    "               darwin_op needs the shared data, skipped without it)\n"
@@ -229,13 +232,23 @@ int main(int argc, char** argv) {
                    "               (default the estimator's, 0: off)\n"
                    "  --min-evidence E  EstimatorOptions::min_humanoid_evidence (default the\n"
                    "               estimator's; 0: off)\n"
-                   "  --dump FILE  every humanoid detection as a CSV row\n");
+                   "  --dump FILE  every humanoid detection as a CSV row\n"
+                   "  --extra-pose NAME  a third template of each parametric body, made in this\n"
+                   "               joint preset (e.g. arms_swung), searched beside its two\n");
       return a == "--help" ? 0 : 2;
     }
   }
   std::vector<Body> bodies;
   for (const std::string& name : body_names) {
     Result<Body> body = bench::BodyByName(name, HPOSE_SHARED_DATA_DIR, HPOSE_SOURCE_DIR);
+    if (body.ok() && !extra_pose.empty()) {
+      Result<VoxelTemplate> extra = bench::PoseTemplate(*body, extra_pose);
+      if (!extra.ok()) {
+        std::fprintf(stderr, "cluster_choice_bench: %s\n", extra.error().message.c_str());
+        return 2;
+      }
+      body->templates.push_back(*extra);
+    }
     if (body.ok()) {
       bodies.push_back(*body);
     } else if (name == "darwin_op") {  // the shared data may be absent.

@@ -20,11 +20,13 @@
 //                            [--repeat N] [--only VARIANT] [--frames-detail] [--dump]
 //                            [--body NAME] [--sensor-height M] [--pitch-deg D] [--walk-far M]
 //                            [--noise-correlation SHARE] [--cloud FILE]... [--pick I,J,...]
+//                            [--extra-pose NAME]
 // With --cloud, recorded point clouds (no truth) go through the scattered frames' variants too,
 // each cold, --repeat times. With --repeat 2 or more, a second table sets each frame's least
 // total over its runs beside the totals of every run (LeastOfRuns).
 // With --body other than nao the humanoid has those proportions and the two templates are made
-// from them (BodyTemplates) instead of the shipped ones.
+// from them (BodyTemplates) instead of the shipped ones. --extra-pose NAME adds a third
+// template in that joint preset (what searching it costs where no robot holds it).
 #include <sys/resource.h>
 #include <time.h>
 
@@ -740,7 +742,7 @@ int Usage(FILE* out) {
                "                   [--repeat N] [--only VARIANT] [--frames-detail] [--dump]\n"
                "                   [--body NAME] [--sensor-height M] [--pitch-deg D]\n"
                "                   [--walk-far M] [--noise-correlation SHARE] [--cloud FILE]...\n"
-               "                   [--pick I,J,...]\n"
+               "                   [--pick I,J,...] [--extra-pose NAME]\n"
                "  --frames N        scattered frames, every variant cold (default 30; 0: none)\n"
                "  --sequence N      frames of the walk, cold and tracked (default 30; 0: none)\n"
                "  --clutter N       clutter objects per frame (default 4)\n"
@@ -753,6 +755,10 @@ int Usage(FILE* out) {
                "  --body NAME       humanoid proportions (nao, long_legs, tall); other than nao,\n"
                "                    the templates are made from the body (default nao: the\n"
                "                    shipped templates)\n"
+               "  --extra-pose NAME a third template searched beside the two: the shipped\n"
+               "                    NAME.bt (nao) or the body made in joint preset NAME\n"
+               "                    (e.g. arms_swung); the frames' robots keep the two's\n"
+               "                    postures\n"
                "  --sensor-height M optical centre above the floor, metres (0.34)\n"
                "  --pitch-deg D     sensor pitch, degrees, + looks down (0)\n"
                "  --walk-far M      farthest point of the walk's circle, metres (3.0; it starts\n"
@@ -780,6 +786,7 @@ int Run(int argc, char** argv) {
   double max_distance = 3.5;
   double walk_far = 3.0;
   std::string body = "nao";
+  std::vector<std::string> template_names = kBenchTemplateNames;
   double sensor_height = 0.34, pitch_deg = 0.0, noise_correlation = 0.0;
   RunFlags flags;
   std::vector<std::string> only;
@@ -810,6 +817,8 @@ int Run(int argc, char** argv) {
       flags.repeat = std::atoi(argv[++i]);
     } else if (a == "--body") {
       body = argv[++i];
+    } else if (a == "--extra-pose") {
+      template_names.push_back(argv[++i]);
     } else if (a == "--sensor-height") {
       sensor_height = std::atof(argv[++i]);
     } else if (a == "--pitch-deg") {
@@ -863,7 +872,8 @@ int Run(int argc, char** argv) {
     return 2;
   }
   Result<std::vector<VoxelTemplate>> templates =
-      body == "nao" ? LoadShippedTemplates(HPOSE_TEMPLATE_DIR) : BodyTemplates(body);
+      body == "nao" ? LoadShippedTemplates(HPOSE_TEMPLATE_DIR, template_names)
+                    : BodyTemplates(body, template_names);
   if (!templates.ok()) {
     std::fprintf(stderr, "frame_bench: %s\n", templates.error().message.c_str());
     return 1;
@@ -922,9 +932,10 @@ int Run(int argc, char** argv) {
     if (!pick.empty()) std::printf("\nFrames picked: %zu of the %d below.\n", pick.size(), frames);
     std::printf(
         "\n%d scattered simulated 640x480 frames (humanoid '%s' 0.9-%.1f m away, sensor %.2f m "
-        "high pitched %.0f deg, %d clutter objects, 2 templates), %d run(s) each; median / p90 "
-        "in ms\n\n",
-        frames, body.c_str(), max_distance, sensor_height, pitch_deg, clutter, flags.repeat);
+        "high pitched %.0f deg, %d clutter objects, %zu templates), %d run(s) each; median / "
+        "p90 in ms\n\n",
+        frames, body.c_str(), max_distance, sensor_height, pitch_deg, clutter,
+        template_names.size(), flags.repeat);
     PrintTable(scattered);
     PrintLeastOfRuns(scattered, flags.repeat);
     PrintByDistance(scattered);
