@@ -84,6 +84,7 @@ templates: configure
 	./$(BUILD_DIR)/tools/hpose template generate --pose standing --out templates/standing.bt
 	./$(BUILD_DIR)/tools/hpose template generate --pose right_arm_raised \
 	  --out templates/right_arm_raised.bt
+	./$(BUILD_DIR)/tools/hpose template generate --pose arms_swung --out templates/arms_swung.bt
 
 # The sanitized build: clang with AddressSanitizer and UndefinedBehaviorSanitizer over the whole
 # project (tests and fuzz targets; no benchmarks) and libFuzzer's coverage over the code fuzzed

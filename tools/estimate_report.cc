@@ -109,7 +109,9 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
               "the rest of it:\n"
               "          if this is the robot, it holds them otherwise, which lowers the fit, "
               "and a template of\n"
-              "          that posture would fit it (docs/TEMPLATES.md, \"Which postures\"); "
+              "          that posture would fit it (docs/TEMPLATES.md, \"Which postures\"; "
+              "arms swung while\n"
+              "          walking: the shipped arms_swung, given beside the two with --template); "
               "clutter often\n"
               "          contradicts them too\n";
       }

@@ -167,7 +167,8 @@ TEST_F(EstimateCliTest, BadInputNamesTheProblem) {
        "nope.bt"},
       {"estimate --depth '" + Frame("depth.png") + "' --search fastest", 2, "--search: "},
       {"estimate --depth '" + Frame("depth.png") + "' --template no_such_body", 1,
-       "'no_such_body' is no shipped template (those are right_arm_raised, standing, in "},
+       "'no_such_body' is no shipped template (those are arms_swung, right_arm_raised, standing, "
+       "in "},
       {"estimate --depth '" + Frame("depth.png") + "' --cloud '" + Frame("cloud.pcd") + "'", 2,
        "either"},
       {"estimate --frobnicate", 2, "frobnicate"},
@@ -532,6 +533,19 @@ TEST(EstimateShippedTemplatesTest, ArmsSwungAreLeftOutOfTheFit) {
   EXPECT_NE(strict.out.find("contradicts the template's free limbs"), std::string::npos)
       << strict.out;
   EXPECT_NE(strict.out.find("that posture would fit it"), std::string::npos) << strict.out;
+  EXPECT_NE(strict.out.find("the shipped arms_swung"), std::string::npos) << strict.out;
+  // The shipped template of that posture, given beside the two, is taken and fits it closer.
+  const CliRun three = RunHpose("estimate '" + (dir / "swung/depth.png") +
+                                    "' --json --template standing --template right_arm_raised "
+                                    "--template arms_swung",
+                                dir);
+  ASSERT_EQ(three.exit_code, 0) << three.err;
+  const nlohmann::json k = nlohmann::json::parse(three.out);
+  const nlohmann::json& swung = k.at("depth_template").at("detections").at(0).at("best");
+  EXPECT_EQ(swung.at("template_name"), "arms_swung");
+  EXPECT_LT(std::abs(AngleDiff(swung.at("pose").at("theta").get<double>(), DegToRad(60))),
+            DegToRad(1.5));
+  EXPECT_GT(swung.at("fit").at("fit").get<double>(), c.at("fit").at("fit").get<double>());
 }
 
 TEST(DemoCliTest, RunsWithoutInput) {

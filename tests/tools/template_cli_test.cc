@@ -185,7 +185,7 @@ TEST(TemplateCliTest, BadInputGivesClearErrors) {
 // The shipped templates must be what `make templates` produces from the current model.
 TEST(TemplateCliTest, ShippedTemplatesMatchTheModel) {
   TempDir dir("template_cli_shipped");
-  for (const std::string pose : {"standing", "right_arm_raised"}) {
+  for (const std::string pose : {"standing", "right_arm_raised", "arms_swung"}) {
     const std::string shipped = std::string(HPOSE_SOURCE_DIR) + "/templates/" + pose + ".bt";
     const Result<VoxelTemplate> a = LoadTemplate(shipped);
     ASSERT_TRUE(a.ok()) << a.error().ToString();
