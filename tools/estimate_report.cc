@@ -110,10 +110,10 @@ std::string EstimateToText(const Estimate& e, const EstimatorOptions* options) {
               "          if this is the robot, it holds them otherwise, which lowers the fit, "
               "and a template of\n"
               "          that posture would fit it (docs/TEMPLATES.md, \"Which postures\"; "
-              "arms swung while\n"
-              "          walking: the shipped arms_swung, given beside the two with --template); "
-              "clutter often\n"
-              "          contradicts them too\n";
+              "for the shipped\n"
+              "          templates' robot swinging its arms: arms_swung, given with them by "
+              "--template);\n"
+              "          clutter often contradicts them too\n";
       }
       const std::string in_view = PartlyInViewNote(c);
       if (!in_view.empty()) os << "          " << in_view << ",\n" << kRestBeyondTheEdges;
