@@ -34,7 +34,8 @@ class InstalledProgramsTest(unittest.TestCase):
         for rel in ["bin/hpose", "bin/hposed", "share/hpose/templates/standing.bt",
                     "share/hpose/templates/standing.json",
                     "share/hpose/templates/right_arm_raised.bt",
-                    "share/hpose/templates/right_arm_raised.json", "etc/hpose/hposed.yaml",
+                    "share/hpose/templates/right_arm_raised.json",
+                    "share/hpose/templates/arms_swung.bt", "etc/hpose/hposed.yaml",
                     "lib/systemd/system/hposed.service", "include/hpose/client.h",
                     "libexec/hpose/hpose-estimate", "libexec/hpose/hpose-drawing.so"]:
             self.assertTrue(os.path.isfile(os.path.join(PREFIX, rel)), rel + " not installed")
