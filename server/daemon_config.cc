@@ -549,6 +549,15 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
     return fail("world_from_ground",
                 "x_m and y_m must be within 10000 m and yaw_rad within 1000 rad (finite)");
   }
+  const DepthToCloudOptions& cloud = c.estimator.cloud;
+  if (cloud.stride < 1 || cloud.stride > 16) {
+    return fail("search.stride", "must be in [1, 16], got " + std::to_string(cloud.stride));
+  }
+  if (!(cloud.min_range_m >= 0.0 && cloud.max_range_m > cloud.min_range_m &&
+        cloud.max_range_m <= 100.0)) {
+    return fail("search.max_range_m",
+                "the readings kept must lie within 0 <= min_range_m < max_range_m <= 100 metres");
+  }
   Status lattice = c.estimator.lattice.Validate();
   if (!c.estimator.resolution_from_templates && !lattice.ok()) {
     return fail("search.resolution_m", lattice.error().message + " (0: the templates' own)");

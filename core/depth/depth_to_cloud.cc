@@ -41,16 +41,8 @@ Result<Projection> Prepare(const DepthImage& depth, const Intrinsics& intrinsics
                          " values, expected width * height = " +
                          std::to_string(static_cast<size_t>(depth.width) * depth.height));
   }
-  if (options.stride < 1) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "depth to cloud: stride " + std::to_string(options.stride) + " must be >= 1");
-  }
-  if (!(options.min_range_m >= 0.0) || !(options.max_range_m > options.min_range_m)) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "depth to cloud: need 0 <= min_range_m < max_range_m, got " +
-                         std::to_string(options.min_range_m) + " and " +
-                         std::to_string(options.max_range_m));
-  }
+  const Status usable = ValidateDepthToCloudOptions(options);
+  if (!usable.ok()) return usable.error();
   Projection p;
   p.depth = &depth;
   p.stride = options.stride;
@@ -225,6 +217,20 @@ Result<PointCloud> Project(const DepthImage& depth, const Intrinsics& intrinsics
 }
 
 }  // namespace
+
+Status ValidateDepthToCloudOptions(const DepthToCloudOptions& options) {
+  if (options.stride < 1) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "depth to cloud: stride " + std::to_string(options.stride) + " must be >= 1");
+  }
+  if (!(options.min_range_m >= 0.0) || !(options.max_range_m > options.min_range_m)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "depth to cloud: need 0 <= min_range_m < max_range_m, got " +
+                         std::to_string(options.min_range_m) + " and " +
+                         std::to_string(options.max_range_m));
+  }
+  return Status::Ok();
+}
 
 Result<PointCloud> DepthToCloud(const DepthImage& depth, const Intrinsics& intrinsics,
                                 const DepthToCloudOptions& options) {

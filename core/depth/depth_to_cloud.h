@@ -17,6 +17,9 @@ struct DepthToCloudOptions {
   bool keep_organised = false;  // true: keep invalid pixels as NaN and set width/height.
 };
 
+// kInvalidArgument naming what is wrong unless stride >= 1 and 0 <= min_range_m < max_range_m.
+Status ValidateDepthToCloudOptions(const DepthToCloudOptions& options);
+
 // Back-projects a depth image through pinhole intrinsics into the sensor frame.
 // Fails (kInvalidArgument) when the intrinsics are invalid or do not match the image size.
 // Sixteen pixels a step with AVX-512 where the CPU has it, eight with AVX2 where it has that

@@ -594,6 +594,8 @@ Result<std::unique_ptr<Estimator>> Estimator::Create(EstimatorOptions options,
   if (!st.ok()) return st.error();
   st = ValidateClusterOptions(options.clusters);
   if (!st.ok()) return st.error();
+  st = ValidateDepthToCloudOptions(options.cloud);
+  if (!st.ok()) return st.error();
   std::set<std::string> names;
   for (const VoxelTemplate& t : templates) {
     if (!names.insert(t.name).second) {

@@ -131,6 +131,18 @@ TEST(EstimatorTest, ThreadsGiveTheSameCandidates) {
   EstimatorOptions bad = one;
   bad.threads = -1;
   EXPECT_FALSE(Estimator::Create(bad, tpls).ok());
+  // Cloud options that every frame would refuse are refused when the estimator is made.
+  bad = one;
+  bad.cloud.stride = 0;
+  const Result<std::unique_ptr<Estimator>> no_stride = Estimator::Create(bad, tpls);
+  ASSERT_FALSE(no_stride.ok());
+  EXPECT_NE(no_stride.error().message.find("stride 0 must be >= 1"), std::string::npos);
+  bad = one;
+  bad.cloud.min_range_m = 5.0;
+  bad.cloud.max_range_m = 1.0;
+  const Result<std::unique_ptr<Estimator>> no_range = Estimator::Create(bad, tpls);
+  ASSERT_FALSE(no_range.ok());
+  EXPECT_NE(no_range.error().message.find("min_range_m < max_range_m"), std::string::npos);
 }
 
 // Estimators made with another's models() share each template's rotations (and so the search

@@ -254,6 +254,21 @@ TEST(DaemonConfigTest, ValidationNamesTheKey) {
   bad.estimator.max_height_voxels = 5;
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.max_height_voxels"),
             std::string::npos);
+  // Cloud options every frame would refuse are refused at start.
+  bad = c;
+  bad.estimator.cloud.stride = 0;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.stride: must be in [1, 16]"),
+            std::string::npos);
+  bad = c;
+  bad.estimator.cloud.min_range_m = 5.0;
+  bad.estimator.cloud.max_range_m = 1.0;
+  EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("search.max_range_m"),
+            std::string::npos);
+  bad.estimator.cloud.max_range_m = std::nan("");
+  EXPECT_FALSE(ValidateDaemonConfig(bad).ok());
+  bad.estimator.cloud.min_range_m = 0.5;
+  bad.estimator.cloud.max_range_m = 8.0;
+  EXPECT_TRUE(ValidateDaemonConfig(bad).ok());
   bad = c;
   bad.source.driver_reload_interval_s = std::nan("");
   EXPECT_NE(ValidateDaemonConfig(bad).error().message.find("source.driver_reload_interval_s"),
