@@ -60,16 +60,20 @@ Result<Body> BodyByName(const std::string& name, const std::string& shared_data_
   return ParametricBody(name);
 }
 
+Result<VoxelTemplate> PoseTemplate(const std::string& variant, const std::string& pose) {
+  Result<HumanoidDimensions> dims = HumanoidDimensions::Variant(variant);
+  if (!dims.ok()) return dims.error();
+  Result<HumanoidModel> model = HumanoidModel::FromPreset(pose, *dims);
+  if (!model.ok()) return model.error();
+  return MakeHumanoidTemplate(*model, pose, 0.016, pose, "bench " + variant);
+}
+
 Result<VoxelTemplate> PoseTemplate(const Body& body, const std::string& pose) {
   if (body.variant.empty()) {
     return MakeError(ErrorCode::kInvalidArgument,
                      body.name + " is a mesh robot: no joint preset '" + pose + "' to make");
   }
-  Result<HumanoidDimensions> dims = HumanoidDimensions::Variant(body.variant);
-  if (!dims.ok()) return dims.error();
-  Result<HumanoidModel> model = HumanoidModel::FromPreset(pose, *dims);
-  if (!model.ok()) return model.error();
-  return MakeHumanoidTemplate(*model, pose, 0.016, pose, "bench " + body.variant);
+  return PoseTemplate(body.variant, pose);
 }
 
 std::vector<std::string> ParseNames(const std::string& list) {

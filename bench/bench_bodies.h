@@ -38,8 +38,11 @@ Result<Body> DarwinBody(const std::string& shared_data_dir, const std::string& s
 Result<Body> BodyByName(const std::string& name, const std::string& shared_data_dir,
                         const std::string& source_dir);
 
-// A template of parametric `body` in the joint preset `pose` (e.g. arms_swung), made as its
-// own are; an error for a mesh robot or an unknown preset.
+// A template of the parametric humanoid with the proportions `variant` (HumanoidDimensions::
+// Variant) in the joint preset `pose` (e.g. arms_swung), at 16 mm, as `hpose template generate
+// --body` makes it; an error for an unknown variant or preset.
+Result<VoxelTemplate> PoseTemplate(const std::string& variant, const std::string& pose);
+// The same for a Body: an error for a mesh robot.
 Result<VoxelTemplate> PoseTemplate(const Body& body, const std::string& pose);
 
 // The names of a comma-separated flag value ("nao,darwin_op").

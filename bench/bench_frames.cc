@@ -6,6 +6,7 @@
 #include <ctime>
 #include <string>
 
+#include "bench/bench_bodies.h"
 #include "core/common/vector_level.h"
 #include "core/depth/cluster_extractor.h"
 #include "core/depth/depth_to_cloud.h"
@@ -32,13 +33,9 @@ Result<std::vector<VoxelTemplate>> LoadShippedTemplates(const std::string& dir,
 
 Result<std::vector<VoxelTemplate>> BodyTemplates(const std::string& body,
                                                  const std::vector<std::string>& names) {
-  Result<HumanoidDimensions> dimensions = HumanoidDimensions::Variant(body);
-  if (!dimensions.ok()) return dimensions.error();
   std::vector<VoxelTemplate> templates;
   for (const std::string& name : names) {
-    Result<HumanoidModel> model = HumanoidModel::FromPreset(name, *dimensions);
-    if (!model.ok()) return model.error();
-    Result<VoxelTemplate> t = MakeHumanoidTemplate(*model, name, 0.016, name, "bench " + body);
+    Result<VoxelTemplate> t = PoseTemplate(body, name);
     if (!t.ok()) return t.error();
     templates.push_back(std::move(*t));
   }
