@@ -94,6 +94,12 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       playback->setRepeatEnabled(options.replay.loop || frame_count_ > 0);
       playback->setSpeed(options.replay.realtime ? 1.0f : -1.0f);
     }
+    // Mirrored streams (a PS1080 configured with Mirror=1, or its recording) are read back
+    // into the sensor's own columns, frame by frame; a device is asked to stop mirroring first.
+    mirrored_ = stream_.getMirroringEnabled();
+    if (mirrored_ && is_device_ && stream_.setMirroringEnabled(false) == openni::STATUS_OK) {
+      mirrored_ = stream_.getMirroringEnabled();
+    }
     if (!IsDepthFormat(stream_.getVideoMode().getPixelFormat())) {
       Close();
       return MakeError(ErrorCode::kDataLoss, spec + ": the depth stream is not in mm or 100 um");
@@ -147,40 +153,60 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     if (w <= 0 || h <= 0 || stride < w * 2 || ref.getDataSize() < stride * h) {
       return MakeError(ErrorCode::kDataLoss, spec + ": malformed depth frame");
     }
+    // A cropped frame is a window of the video mode's image; its pixels keep their rays.
+    const bool cropped = ref.getCroppingEnabled();
+    const int full_w = cropped ? ref.getVideoMode().getResolutionX() : w;
+    const int full_h = cropped ? ref.getVideoMode().getResolutionY() : h;
+    const int origin_u = cropped ? ref.getCropOriginX() : 0;
+    const int origin_v = cropped ? ref.getCropOriginY() : 0;
+    if (origin_u < 0 || origin_v < 0 || origin_u + w > full_w || origin_v + h > full_h) {
+      return MakeError(ErrorCode::kDataLoss,
+                       spec + ": a depth frame cropped to " + std::to_string(w) + "x" +
+                           std::to_string(h) + " at (" + std::to_string(origin_u) + ", " +
+                           std::to_string(origin_v) + ") lies outside its " +
+                           std::to_string(full_w) + "x" + std::to_string(full_h) + " image");
+    }
     frame.depth = DepthImage(w, h);
     const bool tenth_mm = ref.getVideoMode().getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_100_UM;
     const auto* base = static_cast<const std::uint8_t*>(ref.getData());
     for (int v = 0; v < h; ++v) {
       const auto* row = reinterpret_cast<const openni::DepthPixel*>(base + v * stride);
       for (int u = 0; u < w; ++u) {
-        frame.depth.at(u, v) = tenth_mm ? static_cast<std::uint16_t>(row[u] / 10) : row[u];
+        // A mirrored stream's rows are reversed (after cropping, as the PS1080 driver does):
+        // reversed again, each pixel is back in the sensor's own column.
+        const openni::DepthPixel d = row[mirrored_ ? w - 1 - u : u];
+        frame.depth.at(u, v) = tenth_mm ? static_cast<std::uint16_t>(d / 10) : d;
       }
     }
+    Intrinsics& k = frame.intrinsics;
     if (has_intrinsics_) {  // a calibrated camera: the given intrinsics, principal point included.
-      if (intrinsics_.width != w || intrinsics_.height != h) {
+      if (intrinsics_.width != full_w || intrinsics_.height != full_h) {
         return MakeError(ErrorCode::kInvalidArgument,
                          spec + ": the given intrinsics are for " +
                              std::to_string(intrinsics_.width) + "x" +
                              std::to_string(intrinsics_.height) + " but the depth stream is " +
-                             std::to_string(w) + "x" + std::to_string(h));
+                             std::to_string(full_w) + "x" + std::to_string(full_h));
       }
-      frame.intrinsics = intrinsics_;
-      return frame;
+      k = intrinsics_;
+    } else {
+      // OpenNI2 reports only the field of view: the principal point is taken at the image centre.
+      const double hfov = stream_.getHorizontalFieldOfView();
+      const double vfov = stream_.getVerticalFieldOfView();
+      k.fx = full_w / (2.0 * std::tan(hfov / 2.0));
+      k.fy = full_h / (2.0 * std::tan(vfov / 2.0));
+      k.cx = full_w / 2.0;
+      k.cy = full_h / 2.0;
     }
-    // OpenNI2 reports only the field of view: the principal point is taken at the image centre.
-    const double hfov = stream_.getHorizontalFieldOfView();
-    const double vfov = stream_.getVerticalFieldOfView();
-    Intrinsics& k = frame.intrinsics;
     k.width = w;
     k.height = h;
-    k.fx = w / (2.0 * std::tan(hfov / 2.0));
-    k.fy = h / (2.0 * std::tan(vfov / 2.0));
-    k.cx = w / 2.0;
-    k.cy = h / 2.0;
+    k.cx -= origin_u;
+    k.cy -= origin_v;
+    if (has_intrinsics_ && !cropped) return frame;
     Status valid = k.Validate();
     if (!valid.ok()) {
-      return MakeError(ErrorCode::kDataLoss,
-                       spec + ": unusable field of view from OpenNI2: " + valid.error().message);
+      const std::string what = cropped ? "the depth stream's crop window leaves no usable camera: "
+                                       : "unusable field of view from OpenNI2: ";
+      return MakeError(ErrorCode::kDataLoss, spec + ": " + what + valid.error().message);
     }
     return frame;
   }
@@ -258,6 +284,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   bool initialised_ = false;
   bool listening_ = false;
   bool is_device_ = false;
+  bool mirrored_ = false;
   bool loop_ = false;
   bool has_intrinsics_ = false;  // intrinsics_ given by the user replace the field-of-view ones.
   Intrinsics intrinsics_;

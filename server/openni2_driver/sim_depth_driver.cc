@@ -25,6 +25,15 @@
 //   HPOSE_SIM_DEPTH_AS_IR=1           the device's one sensor is an infrared camera instead
 //                                     (16-bit grey frames of the same data): a device, and its
 //                                     recordings, without depth.
+//   HPOSE_SIM_DEPTH_MIRRORED=1        the stream starts mirrored (each row reversed), as a
+//                                     PS1080 device with Mirror=1 in its configuration does;
+//                                     a client may switch mirroring either way. "fixed": it
+//                                     mirrors and refuses to stop (as devices whose mirroring
+//                                     is done in firmware may).
+//   HPOSE_SIM_DEPTH_CROP=X,Y,W,H      the stream starts cropped to that window of the image;
+//                                     a client may crop otherwise or switch cropping off.
+// Cropping then mirroring, as the PS1080 driver's software paths do: the window is in the
+// sensor's (unmirrored) columns and the cropped frame is reversed.
 // OpenNI2 reports the field of view only; the driver derives it from the intrinsics (principal
 // point assumed at the image centre).
 #include <dirent.h>
@@ -157,6 +166,9 @@ struct DeviceState {
   int fps = 30;
   int disconnect_after = -1;  // frames; -1 = never.
   int offline_ms = 1500;
+  bool mirrored = false;  // at the stream's creation.
+  bool mirroring_fixed = false;
+  OniCropping cropping{};  // at the stream's creation.
   std::atomic<bool> online{true};
   std::atomic<bool> stale{false};  // without hotplug: unplugged since the driver loaded.
   std::atomic<int> frames_served{0};
@@ -164,7 +176,8 @@ struct DeviceState {
 
 class SimDepthStream final : public oni::driver::StreamBase {
  public:
-  explicit SimDepthStream(DeviceState* state) : state_(state) {
+  explicit SimDepthStream(DeviceState* state)
+      : state_(state), mirrored_(state->mirrored), cropping_(state->cropping) {
     mode_.pixelFormat = state->format;
     mode_.resolutionX = state->frames.width;
     mode_.resolutionY = state->frames.height;
@@ -226,14 +239,13 @@ class SimDepthStream final : public oni::driver::StreamBase {
       case ONI_STREAM_PROPERTY_STRIDE:
         return Put(f.width * static_cast<int>(sizeof(OniDepthPixel)), data, size);
       case ONI_STREAM_PROPERTY_MIRRORING:
-        return Put(static_cast<OniBool>(FALSE), data, size);
+        return Put(static_cast<OniBool>(mirrored_.load() ? TRUE : FALSE), data, size);
       case ONI_STREAM_PROPERTY_CROPPING: {
         // OpenNI2's file player drops frames of streams that do not report cropping.
-        OniCropping none{};
-        none.enabled = FALSE;
-        none.width = f.width;
-        none.height = f.height;
-        return Put(none, data, size);
+        std::lock_guard<std::mutex> lock(mu_);
+        OniCropping c = cropping_;
+        if (!c.enabled) c = OniCropping{FALSE, 0, 0, f.width, f.height};
+        return Put(c, data, size);
       }
       default:
         return ONI_STATUS_NOT_SUPPORTED;
@@ -249,11 +261,17 @@ class SimDepthStream final : public oni::driver::StreamBase {
       return same ? ONI_STATUS_OK : ONI_STATUS_NOT_SUPPORTED;
     }
     if (id == ONI_STREAM_PROPERTY_CROPPING && size == static_cast<int>(sizeof(OniCropping))) {
-      return static_cast<const OniCropping*>(data)->enabled ? ONI_STATUS_NOT_SUPPORTED
-                                                            : ONI_STATUS_OK;
+      const OniCropping c = *static_cast<const OniCropping*>(data);
+      if (c.enabled && !WithinImage(c)) return ONI_STATUS_BAD_PARAMETER;
+      std::lock_guard<std::mutex> lock(mu_);
+      cropping_ = c;
+      return ONI_STATUS_OK;
     }
     if (id == ONI_STREAM_PROPERTY_MIRRORING && size == static_cast<int>(sizeof(OniBool))) {
-      return *static_cast<const OniBool*>(data) ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
+      const bool mirror = *static_cast<const OniBool*>(data) != FALSE;
+      if (state_->mirroring_fixed && !mirror) return ONI_STATUS_NOT_SUPPORTED;
+      mirrored_ = mirror;
+      return ONI_STATUS_OK;
     }
     return ONI_STATUS_NOT_SUPPORTED;
   }
@@ -282,23 +300,45 @@ class SimDepthStream final : public oni::driver::StreamBase {
     }
   }
 
+  bool WithinImage(const OniCropping& c) const {
+    const FrameSet& f = state_->frames;
+    return c.originX >= 0 && c.originY >= 0 && c.width > 0 && c.height > 0 &&
+           c.originX + c.width <= f.width && c.originY + c.height <= f.height;
+  }
+
   void Emit(int index) {
     OniFrame* frame = getServices().acquireFrame();
     if (frame == nullptr) return;
     const FrameSet& f = state_->frames;
     const std::vector<std::uint16_t>& src = f.frames[index % f.frames.size()];
-    std::memcpy(frame->data, src.data(), src.size() * sizeof(std::uint16_t));
-    frame->dataSize = static_cast<int>(src.size() * sizeof(std::uint16_t));
+    OniCropping c;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      c = cropping_;
+    }
+    if (!c.enabled) c = OniCropping{FALSE, 0, 0, f.width, f.height};
+    const bool mirrored = mirrored_.load();
+    auto* out = static_cast<std::uint16_t*>(frame->data);
+    for (int v = 0; v < c.height; ++v) {
+      const std::uint16_t* row = &src[static_cast<size_t>(c.originY + v) * f.width + c.originX];
+      std::uint16_t* dst = out + static_cast<size_t>(v) * c.width;
+      if (mirrored) {
+        std::reverse_copy(row, row + c.width, dst);
+      } else {
+        std::copy(row, row + c.width, dst);
+      }
+    }
+    frame->dataSize = c.width * c.height * static_cast<int>(sizeof(std::uint16_t));
     frame->sensorType = state_->sensor;
     frame->timestamp = static_cast<uint64_t>(index) * 1000000ull / std::max(1, state_->fps);
     frame->frameIndex = index + 1;
-    frame->width = f.width;
-    frame->height = f.height;
+    frame->width = c.width;
+    frame->height = c.height;
     frame->videoMode = mode_;
-    frame->croppingEnabled = FALSE;
-    frame->cropOriginX = 0;
-    frame->cropOriginY = 0;
-    frame->stride = f.width * static_cast<int>(sizeof(OniDepthPixel));
+    frame->croppingEnabled = c.enabled;
+    frame->cropOriginX = c.originX;
+    frame->cropOriginY = c.originY;
+    frame->stride = c.width * static_cast<int>(sizeof(OniDepthPixel));
     raiseNewFrame(frame);
     getServices().releaseFrame(frame);
     state_->frames_served.fetch_add(1);
@@ -306,7 +346,9 @@ class SimDepthStream final : public oni::driver::StreamBase {
 
   DeviceState* state_;
   OniVideoMode mode_{};
+  std::atomic<bool> mirrored_;
   std::mutex mu_;
+  OniCropping cropping_;  // guarded by mu_.
   std::condition_variable cv_;
   bool running_ = false;
   std::thread thread_;
@@ -381,6 +423,25 @@ class SimDepthDriver final : public oni::driver::DriverBase {
     if (EnvInt("HPOSE_SIM_DEPTH_AS_IR", 0) != 0) {
       state_.sensor = ONI_SENSOR_IR;
       state_.format = ONI_PIXEL_FORMAT_GRAY16;
+    }
+    const std::string mirrored = EnvString("HPOSE_SIM_DEPTH_MIRRORED");
+    state_.mirroring_fixed = mirrored == "fixed";
+    state_.mirrored = state_.mirroring_fixed || EnvInt("HPOSE_SIM_DEPTH_MIRRORED", 0) != 0;
+    const std::string crop = EnvString("HPOSE_SIM_DEPTH_CROP");
+    if (!crop.empty()) {
+      OniCropping& c = state_.cropping;
+      if (std::sscanf(crop.c_str(), "%d,%d,%d,%d", &c.originX, &c.originY, &c.width, &c.height) !=
+              4 ||
+          c.originX < 0 || c.originY < 0 || c.width <= 0 || c.height <= 0 ||
+          c.originX + c.width > state_.frames.width ||
+          c.originY + c.height > state_.frames.height) {
+        getServices().errorLoggerAppend(
+            "hpose-sim: HPOSE_SIM_DEPTH_CROP '%s' is no window of the "
+            "image (X,Y,W,H)",
+            crop.c_str());
+        return ONI_STATUS_ERROR;
+      }
+      c.enabled = TRUE;
     }
     const std::string load_log = EnvString("HPOSE_SIM_DEPTH_LOAD_LOG");
     if (!load_log.empty()) std::ofstream(load_log, std::ios::app) << "initialised\n";

@@ -457,6 +457,175 @@ TEST_F(Openni2Test, RecordsAPngDirectoryThatReplays) {
   EXPECT_EQ(std::filesystem::last_write_time(out_dir + "/frame_000000.png"), written);
 }
 
+// Sets an environment variable of the simulated driver for one scope, then puts back what was
+// there (read by the driver when OpenNI2 initialises, that is at every open).
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::string& value) : name_(name) {
+    const char* before = std::getenv(name);
+    had_ = before != nullptr;
+    if (had_) before_ = before;
+    setenv(name, value.c_str(), 1);
+  }
+  ~ScopedEnv() {
+    if (had_) {
+      setenv(name_, before_.c_str(), 1);
+    } else {
+      unsetenv(name_);
+    }
+  }
+
+ private:
+  const char* name_;
+  bool had_ = false;
+  std::string before_;
+};
+
+// The window (u0, v0, w, h) of `image`, its rows reversed if `mirrored`.
+DepthImage Window(const DepthImage& image, int u0, int v0, int w, int h, bool mirrored) {
+  DepthImage out(w, h);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) out.at(u, v) = image.at(u0 + (mirrored ? w - 1 - u : u), v0 + v);
+  }
+  return out;
+}
+
+// The first frame that OpenNI2 itself delivers from `uri`, as the stream has it.
+DepthImage RawFirstFrame(const std::string& uri, bool* mirrored) {
+  DepthImage out;
+  if (openni::OpenNI::initialize() != openni::STATUS_OK) return out;
+  {
+    openni::Device device;
+    openni::VideoStream depth;
+    if (device.open(uri.c_str()) == openni::STATUS_OK &&
+        depth.create(device, openni::SENSOR_DEPTH) == openni::STATUS_OK &&
+        depth.start() == openni::STATUS_OK) {
+      *mirrored = depth.getMirroringEnabled();
+      openni::VideoFrameRef ref;
+      if (depth.readFrame(&ref) == openni::STATUS_OK) {
+        out = DepthImage(ref.getWidth(), ref.getHeight());
+        const auto* base = static_cast<const std::uint8_t*>(ref.getData());
+        for (int v = 0; v < out.height; ++v) {
+          const auto* row =
+              reinterpret_cast<const openni::DepthPixel*>(base + v * ref.getStrideInBytes());
+          for (int u = 0; u < out.width; ++u) out.at(u, v) = row[u];
+        }
+      }
+      depth.stop();
+      depth.destroy();
+    }
+    device.close();
+  }
+  openni::OpenNI::shutdown();
+  return out;
+}
+
+TEST_F(Openni2Test, AMirroredStreamIsReadInTheSensorsOwnColumns) {
+  // A PS1080 configured to mirror (Mirror=1) reverses every row: read as it comes, the robot
+  // would stand mirrored, its heading and sideways position negated. The device is asked to
+  // stop mirroring; a recording made while it mirrored is reversed back frame by frame.
+  ScopedEnv mirrored("HPOSE_SIM_DEPTH_MIRRORED", "1");
+  bool raw_mirrored = false;
+  const DepthImage raw = RawFirstFrame("hpose-sim://depth0", &raw_mirrored);
+  ASSERT_TRUE(raw_mirrored);
+  ASSERT_EQ(raw.width, 320);
+  ASSERT_EQ(MatchingFrame(raw), -1) << "the device does not mirror";
+  bool matched = false;
+  for (int i = 0; i < 3; ++i) matched |= Window(Png(i), 0, 0, 320, 240, true).mm == raw.mm;
+  ASSERT_TRUE(matched) << "the device's frame is no mirrored PNG";
+
+  // A device that stops mirroring when asked, and one that will not (reversed here instead).
+  for (const char* mode : {"1", "fixed"}) {
+    ScopedEnv how("HPOSE_SIM_DEPTH_MIRRORED", mode);
+    Openni2Source live("openni2://", Openni2SourceOptions{});
+    ASSERT_TRUE(live.Open().ok());
+    for (int i = 0; i < 3; ++i) {
+      Result<Frame> f = live.Next();
+      ASSERT_TRUE(f.ok()) << f.error().ToString();
+      EXPECT_GE(MatchingFrame(f->depth), 0) << mode << ": live frame " << i << " is mirrored";
+    }
+  }
+
+  const std::string oni = *dir_ + "/mirrored.oni";
+  RecordOptions options;
+  options.frames = 3;
+  Result<RecordSummary> rec = RecordOpenni2("openni2://", oni, options, nullptr);
+  ASSERT_TRUE(rec.ok()) << rec.error().ToString();
+  bool file_mirrored = false;
+  const DepthImage recorded = RawFirstFrame(oni, &file_mirrored);
+  EXPECT_TRUE(file_mirrored) << "OpenNI2's recorder kept no mirroring flag";
+  EXPECT_EQ(MatchingFrame(recorded), -1) << "the recording is not mirrored";
+  Openni2Source played(oni, AsFastAsRead());
+  ASSERT_TRUE(played.Open().ok());
+  for (int i = 0; i < rec->frames; ++i) {
+    Result<Frame> f = played.Next();
+    ASSERT_TRUE(f.ok()) << f.error().ToString();
+    EXPECT_GE(MatchingFrame(f->depth), 0) << "played frame " << i << " is still mirrored";
+  }
+  played.Close();
+}
+
+TEST_F(Openni2Test, ACroppedStreamKeepsEachPixelsRay) {
+  // A device cropped to a window (PS1080's Depth.Cropping) sends that window alone: its pixels
+  // keep the rays they have in the whole image, the principal point moved by the window's
+  // origin; mirrored as well, the window is reversed back.
+  Intrinsics k;
+  {
+    // A live source holds OpenNI2 (its drivers loaded) until it is destroyed.
+    Openni2Source whole("openni2://", Openni2SourceOptions{});
+    ASSERT_TRUE(whole.Open().ok());
+    Result<Frame> full = whole.Next();
+    ASSERT_TRUE(full.ok()) << full.error().ToString();
+    k = full->intrinsics;
+  }
+
+  ScopedEnv crop("HPOSE_SIM_DEPTH_CROP", "40,30,200,150");
+  for (const bool mirror : {false, true}) {
+    ScopedEnv mirrored("HPOSE_SIM_DEPTH_MIRRORED", mirror ? "1" : "0");
+    const std::string oni = *dir_ + (mirror ? "/cropped_mirrored.oni" : "/cropped.oni");
+    RecordOptions options;
+    options.frames = 3;
+    Result<RecordSummary> rec = RecordOpenni2("openni2://", oni, options, nullptr);
+    ASSERT_TRUE(rec.ok()) << rec.error().ToString();
+    for (const std::string& spec : {std::string("openni2://"), oni}) {
+      SCOPED_TRACE(spec + (mirror ? ", mirrored" : ""));
+      Openni2Source source(spec, spec == oni ? AsFastAsRead() : Openni2SourceOptions{});
+      ASSERT_TRUE(source.Open().ok());
+      for (int i = 0; i < 3; ++i) {
+        Result<Frame> f = source.Next();
+        ASSERT_TRUE(f.ok()) << f.error().ToString();
+        ASSERT_EQ(f->depth.width, 200);
+        ASSERT_EQ(f->depth.height, 150);
+        int match = -1;
+        for (int p = 0; p < 3; ++p) {
+          if (Window(Png(p), 40, 30, 200, 150, false).mm == f->depth.mm) match = p;
+        }
+        EXPECT_GE(match, 0) << "frame " << i << " is no window of a PNG in the sensor's columns";
+        EXPECT_NEAR(f->intrinsics.fx, k.fx, 1e-9);
+        EXPECT_NEAR(f->intrinsics.fy, k.fy, 1e-9);
+        EXPECT_NEAR(f->intrinsics.cx, k.cx - 40.0, 1e-9);
+        EXPECT_NEAR(f->intrinsics.cy, k.cy - 30.0, 1e-9);
+        EXPECT_EQ(f->intrinsics.width, 200);
+        EXPECT_EQ(f->intrinsics.height, 150);
+      }
+      source.Close();
+    }
+  }
+
+  // A calibrated camera's intrinsics are given for the whole image and moved the same way.
+  Openni2SourceOptions calibrated = AsFastAsRead();
+  calibrated.replay.has_intrinsics = true;
+  calibrated.replay.intrinsics = k;
+  calibrated.replay.intrinsics.cx = 161.5;
+  Openni2Source source(*dir_ + "/cropped.oni", calibrated);
+  ASSERT_TRUE(source.Open().ok());
+  Result<Frame> f = source.Next();
+  ASSERT_TRUE(f.ok()) << f.error().ToString();
+  EXPECT_NEAR(f->intrinsics.cx, 121.5, 1e-9);
+  EXPECT_NEAR(f->intrinsics.cy, k.cy - 30.0, 1e-9);
+  source.Close();
+}
+
 TEST_F(Openni2Test, RecordingFromANonDeviceIsRejected) {
   Result<RecordSummary> rec = RecordOpenni2(*dir_ + "/frames", *dir_ + "/x.oni", {}, nullptr);
   ASSERT_FALSE(rec.ok());
