@@ -175,7 +175,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
         // A mirrored stream's rows are reversed (after cropping, as the PS1080 driver does):
         // reversed again, each pixel is back in the sensor's own column.
         const openni::DepthPixel d = row[mirrored_ ? w - 1 - u : u];
-        frame.depth.at(u, v) = tenth_mm ? static_cast<std::uint16_t>(d / 10) : d;
+        frame.depth.at(u, v) = tenth_mm ? static_cast<std::uint16_t>((d + 5) / 10) : d;
       }
     }
     Intrinsics& k = frame.intrinsics;

@@ -30,6 +30,8 @@
 //                                     a client may switch mirroring either way. "fixed": it
 //                                     mirrors and refuses to stop (as devices whose mirroring
 //                                     is done in firmware may).
+//   HPOSE_SIM_DEPTH_100_UM=1          the depth stream's pixel format is 100 um units: the
+//                                     frames' values are served as they are, in those units.
 //   HPOSE_SIM_DEPTH_CROP=X,Y,W,H      the stream starts cropped to that window of the image;
 //                                     a client may crop otherwise or switch cropping off.
 // Cropping then mirroring, as the PS1080 driver's software paths do: the window is in the
@@ -423,6 +425,8 @@ class SimDepthDriver final : public oni::driver::DriverBase {
     if (EnvInt("HPOSE_SIM_DEPTH_AS_IR", 0) != 0) {
       state_.sensor = ONI_SENSOR_IR;
       state_.format = ONI_PIXEL_FORMAT_GRAY16;
+    } else if (EnvInt("HPOSE_SIM_DEPTH_100_UM", 0) != 0) {
+      state_.format = ONI_PIXEL_FORMAT_DEPTH_100_UM;
     }
     const std::string mirrored = EnvString("HPOSE_SIM_DEPTH_MIRRORED");
     state_.mirroring_fixed = mirrored == "fixed";

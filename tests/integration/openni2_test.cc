@@ -565,6 +565,31 @@ TEST_F(Openni2Test, AMirroredStreamIsReadInTheSensorsOwnColumns) {
   played.Close();
 }
 
+TEST_F(Openni2Test, DepthInTenthsOfAMillimetreIsRoundedToTheNearestMillimetre) {
+  // A stream in 100 um units (the PNGs' values served as such): each pixel is the nearest
+  // millimetre, not the one below (which would bring every point 0.45 mm nearer on average).
+  ScopedEnv units("HPOSE_SIM_DEPTH_100_UM", "1");
+  Openni2Source live("openni2://", Openni2SourceOptions{});
+  ASSERT_TRUE(live.Open().ok());
+  Result<Frame> f = live.Next();
+  ASSERT_TRUE(f.ok()) << f.error().ToString();
+  int match = -1;
+  int rounded_up = 0;
+  for (int p = 0; p < 3; ++p) {
+    const DepthImage png = Png(p);
+    DepthImage expected(png.width, png.height);
+    for (size_t i = 0; i < png.mm.size(); ++i) {
+      expected.mm[i] = static_cast<std::uint16_t>((png.mm[i] + 5) / 10);
+    }
+    if (expected.mm == f->depth.mm) {
+      match = p;
+      for (size_t i = 0; i < png.mm.size(); ++i) rounded_up += png.mm[i] % 10 >= 5 ? 1 : 0;
+    }
+  }
+  ASSERT_GE(match, 0) << "no frame is the PNG's values rounded to millimetres";
+  EXPECT_GT(rounded_up, 1000) << "too few pixels tell rounding from truncation";
+}
+
 TEST_F(Openni2Test, ACroppedStreamKeepsEachPixelsRay) {
   // A device cropped to a window (PS1080's Depth.Cropping) sends that window alone: its pixels
   // keep the rays they have in the whole image, the principal point moved by the window's
