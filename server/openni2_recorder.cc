@@ -13,6 +13,7 @@
 #include "core/io/atomic_file.h"
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
+#include "server/openni2_devices.h"
 #include "server/openni2_file_player.h"
 #include "server/openni2_sensors.h"
 #include "server/openni2_source.h"
@@ -43,18 +44,14 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
                                   const std::function<bool(long)>& progress, Status* stalled) {
   const std::string uri = spec.substr(std::string("openni2://").size());
   if (openni::OpenNI::initialize() != openni::STATUS_OK) {
-    return MakeError(ErrorCode::kUnavailable, std::string("OpenNI2 failed to initialise: ") +
-                                                  openni::OpenNI::getExtendedError());
+    return MakeError(ErrorCode::kUnavailable, WithOpenni2Error("OpenNI2 failed to initialise"));
   }
   struct Shutdown {
     ~Shutdown() { openni::OpenNI::shutdown(); }
   } shutdown;
   openni::Device device;
   if (device.open(uri.empty() ? openni::ANY_DEVICE : uri.c_str()) != openni::STATUS_OK) {
-    return MakeError(ErrorCode::kUnavailable,
-                     (uri.empty() ? std::string("no OpenNI2 device found")
-                                  : "OpenNI2 device '" + uri + "' not found") +
-                         ": " + openni::OpenNI::getExtendedError());
+    return MakeError(ErrorCode::kUnavailable, WithOpenni2Error(DeviceNotFound(uri)));
   }
   openni::VideoStream depth;
   RecordSummary summary;
@@ -79,8 +76,8 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
   openni::Recorder recorder;
   if (recorder.create(output.c_str()) != openni::STATUS_OK ||
       recorder.attach(depth) != openni::STATUS_OK || recorder.start() != openni::STATUS_OK) {
-    return MakeError(ErrorCode::kInternal, shown_as + ": OpenNI2 cannot record here: " +
-                                               openni::OpenNI::getExtendedError());
+    return MakeError(ErrorCode::kInternal,
+                     WithOpenni2Error(shown_as + ": OpenNI2 cannot record here"));
   }
   if (depth.start() != openni::STATUS_OK) {
     recorder.destroy();

@@ -14,6 +14,9 @@ namespace hpose::server {
 // no stream)". `spec` names the device as the user gave it.
 std::string NoDepthStreamError(openni::Device& device, const std::string& spec);
 
+// `what`, then ": " and OpenNI2's last error message (its own whitespace trimmed) if it has one.
+std::string WithOpenni2Error(const std::string& what);
+
 }  // namespace hpose::server
 
 #endif  // HPOSE_SERVER_OPENNI2_SENSORS_H_

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <utility>
 
+#include "server/openni2_devices.h"
 #include "server/openni2_file_player.h"
 #include "server/openni2_sensors.h"
 
@@ -19,17 +20,6 @@ namespace hpose::server {
 namespace {
 
 constexpr const char* kDevicePrefix = "openni2://";
-
-std::string OpenniError(const char* what) {
-  std::string msg = what;
-  const char* ext = openni::OpenNI::getExtendedError();
-  if (ext != nullptr && *ext != '\0') {
-    std::string e = ext;
-    while (!e.empty() && (e.back() == '\n' || e.back() == ' ')) e.pop_back();
-    msg += ": " + e;
-  }
-  return msg;
-}
 
 bool IsDepthFormat(openni::PixelFormat f) {
   return f == openni::PIXEL_FORMAT_DEPTH_1_MM || f == openni::PIXEL_FORMAT_DEPTH_100_UM;
@@ -57,16 +47,15 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       uri = spec;
     }
     if (openni::OpenNI::initialize() != openni::STATUS_OK) {
-      return MakeError(ErrorCode::kUnavailable, OpenniError("OpenNI2 failed to initialise"));
+      return MakeError(ErrorCode::kUnavailable, WithOpenni2Error("OpenNI2 failed to initialise"));
     }
     initialised_ = true;
     if (device_.open(uri.empty() ? openni::ANY_DEVICE : uri.c_str()) != openni::STATUS_OK) {
-      const std::string what = is_device_ ? (uri.empty() ? std::string("no OpenNI2 device found")
-                                                         : "OpenNI2 device '" + uri + "' not found")
-                                          : spec + ": OpenNI2 cannot open the recording";
+      const std::string what =
+          is_device_ ? DeviceNotFound(uri) : spec + ": OpenNI2 cannot open the recording";
       Close();
       return MakeError(is_device_ ? ErrorCode::kUnavailable : ErrorCode::kDataLoss,
-                       OpenniError(what.c_str()));
+                       WithOpenni2Error(what));
     }
     uri_ = device_.getDeviceInfo().getUri();
     if (!device_.hasSensor(openni::SENSOR_DEPTH)) {
@@ -77,7 +66,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     if (stream_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
       Close();
       return MakeError(is_device_ ? ErrorCode::kUnavailable : ErrorCode::kDataLoss,
-                       OpenniError((spec + ": cannot open the depth stream").c_str()));
+                       WithOpenni2Error(spec + ": cannot open the depth stream"));
     }
     if (is_device_) {
       SelectMillimetreMode();
@@ -107,7 +96,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     if (stream_.start() != openni::STATUS_OK) {
       Close();
       return MakeError(ErrorCode::kUnavailable,
-                       OpenniError((spec + ": cannot start the depth stream").c_str()));
+                       WithOpenni2Error(spec + ": cannot start the depth stream"));
     }
     frames_read_ = 0;
     loop_ = options.replay.loop;
@@ -138,7 +127,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     openni::VideoFrameRef ref;
     if (stream_.readFrame(&ref) != openni::STATUS_OK || !ref.isValid()) {
       return MakeError(is_device_ ? ErrorCode::kUnavailable : ErrorCode::kDataLoss,
-                       OpenniError((spec + ": cannot read a depth frame").c_str()));
+                       WithOpenni2Error(spec + ": cannot read a depth frame"));
     }
     ++frames_read_;
     player_running_ = true;

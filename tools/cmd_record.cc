@@ -4,8 +4,10 @@
 #include <cstdio>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "core/common/clock_limits.h"
+#include "server/openni2_devices.h"
 #include "server/openni2_recorder.h"
 #include "tools/cmd_record_flags.h"
 #include "tools/command.h"
@@ -20,12 +22,63 @@ std::atomic<bool> g_stop{false};
 
 void OnStopSignal(int) { g_stop = true; }
 
+std::string UsbIds(const server::Openni2DeviceReport& d) {
+  char ids[32];
+  std::snprintf(ids, sizeof(ids), "USB %04x:%04x", d.usb_vendor_id & 0xffff,
+                d.usb_product_id & 0xffff);
+  return ids;
+}
+
+std::string ModeText(const server::Openni2DepthMode& m) {
+  return std::to_string(m.width) + "x" + std::to_string(m.height) + " at " + std::to_string(m.fps) +
+         " fps in " + m.units;
+}
+
+// `hpose record --list-devices`: what OpenNI2's drivers see, or why there may be nothing.
+int ListDevices() {
+  Result<std::vector<server::Openni2DeviceReport>> devices = server::ListOpenni2Devices();
+  if (!devices.ok()) return ReportError("record", devices.error());
+  if (devices->empty()) {
+    std::cerr << "hpose record: no OpenNI2 device found. Is the camera plugged in and powered, "
+                 "and is its OpenNI2 driver installed? Debian's libopenni2-0 brings PS1080's "
+                 "(PrimeSense, Asus Xtion); a Microsoft Kinect v1 needs libfreenect's OpenNI2 "
+                 "driver (libFreenectDriver.so, built from libfreenect's source) in OpenNI2's "
+                 "Drivers directory. The user also needs the USB device: Debian's udev rules "
+                 "give depth cameras to the group video.\n";
+    return kExitUnavailable;
+  }
+  for (const server::Openni2DeviceReport& d : *devices) {
+    std::printf("openni2://%s\n  %s (%s), %s\n", d.uri.c_str(), d.name.c_str(), d.vendor.c_str(),
+                UsbIds(d).c_str());
+    if (!d.open_error.empty()) {
+      std::printf("  cannot be opened: %s\n", d.open_error.c_str());
+      continue;
+    }
+    if (!d.has_depth) {
+      std::printf(
+          "  no depth stream (%s)\n",
+          d.other_sensors.empty() ? "no stream" : ("it has " + d.other_sensors + " only").c_str());
+      continue;
+    }
+    std::printf("  depth: %s, field of view %.1f x %.1f deg%s%s\n", ModeText(d.current).c_str(),
+                d.horizontal_fov_deg, d.vertical_fov_deg,
+                d.mirrored ? ", mirrored (hpose reads it unmirrored)" : "",
+                d.cropped ? ", cropped (hpose keeps each pixel's ray)" : "");
+    for (const server::Openni2DepthMode& m : d.depth_modes) {
+      std::printf("    mode %s\n", ModeText(m).c_str());
+    }
+    if (!d.other_sensors.empty()) std::printf("  also: %s\n", d.other_sensors.c_str());
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int RunRecord(int argc, char** argv) {
   RecordFlags f;
   FlagParser flags = f.Parser();
   if (const int code = flags.ParseOrExitCode(argc, argv); code >= 0) return code;
+  if (f.list_devices) return ListDevices();
   if (f.out.empty()) {
     std::cerr << flags.Help() << "\nerror: --out is required\n";
     return kExitUsage;

@@ -4,7 +4,8 @@ namespace hpose::tools {
 
 FlagParser RecordFlags::Parser() {
   FlagParser flags(
-      "hpose record --out FILE.oni|DIR [--device openni2://[URI]] [--frames N] [--duration S]",
+      "hpose record --out FILE.oni|DIR [--device openni2://[URI]] [--frames N] [--duration S]\n"
+      "       hpose record --list-devices",
       "Records depth frames from an OpenNI2 device. An --out ending in .oni is written by "
       "OpenNI2's recorder (replayable by hposed, hpose replay and any OpenNI2 tool); anything "
       "else is a directory of 16-bit PNG frames in millimetres plus intrinsics.json (from the "
@@ -20,8 +21,12 @@ FlagParser RecordFlags::Parser() {
   flags.AddDouble("duration", &duration_s, "seconds to record (0 = no limit)", "S");
   flags.AddDouble("timeout", &timeout_s, "fail when no frame arrives for this long, seconds", "S");
   flags.AddBool("quiet", &quiet, "no progress output");
+  flags.AddBool("list-devices", &list_devices,
+                "list the devices OpenNI2 sees (URI, USB ids, depth modes, field of view, "
+                "mirroring) and exit; 5 when there is none");
   flags.SetEpilog(
-      "examples:\n  hpose record --out walk.oni --duration 10\n"
+      "examples:\n  hpose record --list-devices\n"
+      "  hpose record --out walk.oni --duration 10\n"
       "  hpose record --out frames/ --frames 300\n");
   return flags;
 }

@@ -13,6 +13,7 @@ struct RecordFlags {
   int frames = 0;
   double duration_s = 0.0, timeout_s = 5.0;
   bool quiet = false;
+  bool list_devices = false;
 
   // The command's parser, writing into these fields (which must outlive it).
   FlagParser Parser();

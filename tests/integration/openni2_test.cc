@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -649,6 +650,42 @@ TEST_F(Openni2Test, ACroppedStreamKeepsEachPixelsRay) {
   EXPECT_NEAR(f->intrinsics.cx, 121.5, 1e-9);
   EXPECT_NEAR(f->intrinsics.cy, k.cy - 30.0, 1e-9);
   source.Close();
+}
+
+TEST_F(Openni2Test, RecordListsTheDevicesOpenni2Sees) {
+  std::string out;
+  {
+    ScopedEnv mirrored("HPOSE_SIM_DEPTH_MIRRORED", "1");
+    ScopedEnv crop("HPOSE_SIM_DEPTH_CROP", "0,0,320,200");
+    ASSERT_EQ(tu::RunCommand(tu::HposeProgram() + " record --list-devices", &out), 0) << out;
+  }
+  for (const char* expected :
+       {"openni2://hpose-sim://depth0\n", "simulated depth camera (hpose), USB 0000:0000",
+        "depth: 320x240 at 30 fps in 1 mm", "mirrored (hpose reads it unmirrored)",
+        "cropped (hpose keeps each pixel's ray)", "mode 320x240 at 30 fps in 1 mm"}) {
+    EXPECT_NE(out.find(expected), std::string::npos) << expected << " not in:\n" << out;
+  }
+  // The simulated device reports the field of view of its frames' intrinsics.
+  Result<Intrinsics> k = ReadIntrinsicsJson(*dir_ + "/frames/intrinsics.json");
+  ASSERT_TRUE(k.ok());
+  const double hfov_deg = 2.0 * std::atan(k->width / (2.0 * k->fx)) * 180.0 / M_PI;
+  char fov[32];
+  std::snprintf(fov, sizeof(fov), "field of view %.1f x", hfov_deg);
+  EXPECT_NE(out.find(fov), std::string::npos) << fov << " not in:\n" << out;
+
+  // Nothing plugged in: exit 5, and what may be missing.
+  ScopedEnv unplugged("HPOSE_SIM_DEPTH_UNPLUGGED_FILE", *dir_ + "/frames/intrinsics.json");
+  std::string err;
+  EXPECT_EQ(tu::RunCommand(tu::HposeProgram() + " record --list-devices 2>&1", &err), 5) << err;
+  EXPECT_NE(err.find("no OpenNI2 device found"), std::string::npos) << err;
+  EXPECT_NE(err.find("libfreenect's OpenNI2 driver"), std::string::npos) << err;
+  err.clear();
+  EXPECT_EQ(tu::RunCommand(tu::HposeProgram() + " record --out " + *dir_ + "/none.oni 2>&1", &err),
+            5)
+      << err;
+  EXPECT_NE(err.find("no OpenNI2 device found (`hpose record --list-devices`"), std::string::npos)
+      << err;
+  EXPECT_FALSE(std::filesystem::exists(*dir_ + "/none.oni"));
 }
 
 TEST_F(Openni2Test, RecordingFromANonDeviceIsRejected) {

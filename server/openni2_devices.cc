@@ -1,0 +1,99 @@
+#include "server/openni2_devices.h"
+
+#include <OpenNI.h>
+
+#include <cmath>
+
+#include "core/common/pose2d.h"
+#include "server/openni2_sensors.h"
+
+namespace hpose::server {
+
+namespace {
+
+std::string Units(openni::PixelFormat format) {
+  switch (format) {
+    case openni::PIXEL_FORMAT_DEPTH_1_MM:
+      return "1 mm";
+    case openni::PIXEL_FORMAT_DEPTH_100_UM:
+      return "100 um";
+    default:
+      return "pixel format " + std::to_string(static_cast<int>(format));
+  }
+}
+
+Openni2DepthMode Mode(const openni::VideoMode& m) {
+  Openni2DepthMode out;
+  out.width = m.getResolutionX();
+  out.height = m.getResolutionY();
+  out.fps = m.getFps();
+  out.units = Units(m.getPixelFormat());
+  return out;
+}
+
+std::string OtherSensors(openni::Device& device) {
+  std::string names;
+  if (device.hasSensor(openni::SENSOR_COLOR)) names = "colour";
+  if (device.hasSensor(openni::SENSOR_IR)) names += names.empty() ? "infrared" : " and infrared";
+  return names;
+}
+
+// Opens the device and fills in its depth stream as it would start.
+void Inspect(Openni2DeviceReport* report) {
+  openni::Device device;
+  if (device.open(report->uri.c_str()) != openni::STATUS_OK) {
+    report->open_error = WithOpenni2Error("OpenNI2 cannot open it");
+    return;
+  }
+  report->other_sensors = OtherSensors(device);
+  report->has_depth = device.hasSensor(openni::SENSOR_DEPTH);
+  if (report->has_depth) {
+    const openni::SensorInfo* info = device.getSensorInfo(openni::SENSOR_DEPTH);
+    const openni::Array<openni::VideoMode>& modes = info->getSupportedVideoModes();
+    for (int i = 0; i < modes.getSize(); ++i) report->depth_modes.push_back(Mode(modes[i]));
+    openni::VideoStream depth;
+    if (depth.create(device, openni::SENSOR_DEPTH) == openni::STATUS_OK) {
+      report->current = Mode(depth.getVideoMode());
+      report->horizontal_fov_deg = RadToDeg(depth.getHorizontalFieldOfView());
+      report->vertical_fov_deg = RadToDeg(depth.getVerticalFieldOfView());
+      report->mirrored = depth.getMirroringEnabled();
+      int x = 0, y = 0, w = 0, h = 0;
+      report->cropped = depth.getCropping(&x, &y, &w, &h);
+      depth.destroy();
+    }
+  }
+  device.close();
+}
+
+}  // namespace
+
+Result<std::vector<Openni2DeviceReport>> ListOpenni2Devices() {
+  if (openni::OpenNI::initialize() != openni::STATUS_OK) {
+    return MakeError(ErrorCode::kUnavailable, WithOpenni2Error("OpenNI2 failed to initialise"));
+  }
+  std::vector<Openni2DeviceReport> reports;
+  {
+    openni::Array<openni::DeviceInfo> devices;
+    openni::OpenNI::enumerateDevices(&devices);
+    for (int i = 0; i < devices.getSize(); ++i) {
+      Openni2DeviceReport r;
+      r.uri = devices[i].getUri();
+      r.name = devices[i].getName();
+      r.vendor = devices[i].getVendor();
+      r.usb_vendor_id = devices[i].getUsbVendorId();
+      r.usb_product_id = devices[i].getUsbProductId();
+      Inspect(&r);
+      reports.push_back(std::move(r));
+    }
+  }
+  openni::OpenNI::shutdown();
+  return reports;
+}
+
+std::string DeviceNotFound(const std::string& uri) {
+  return (uri.empty() ? std::string("no OpenNI2 device found")
+                      : "OpenNI2 device '" + uri + "' not found") +
+         " (`hpose record --list-devices` lists the devices OpenNI2 sees)";
+}
+
+}  // namespace hpose::server

@@ -1,0 +1,48 @@
+#ifndef HPOSE_SERVER_OPENNI2_DEVICES_H_
+#define HPOSE_SERVER_OPENNI2_DEVICES_H_
+
+#include <string>
+#include <vector>
+
+#include "core/common/status.h"
+
+namespace hpose::server {
+
+// One video mode of a depth sensor.
+struct Openni2DepthMode {
+  int width = 0;
+  int height = 0;
+  int fps = 0;
+  std::string units;  // "1 mm", "100 um", or the OpenNI2 pixel format's number.
+};
+
+// What OpenNI2 reports of one device it sees: its identity, and, when it opens, its depth
+// stream as it would start.
+struct Openni2DeviceReport {
+  std::string uri;  // openni2://URI opens it.
+  std::string name;
+  std::string vendor;
+  int usb_vendor_id = 0;
+  int usb_product_id = 0;
+  std::string open_error;     // empty when it opened.
+  std::string other_sensors;  // "colour and infrared", "" for none.
+  bool has_depth = false;
+  std::vector<Openni2DepthMode> depth_modes;
+  Openni2DepthMode current;
+  double horizontal_fov_deg = 0.0;
+  double vertical_fov_deg = 0.0;
+  bool mirrored = false;
+  bool cropped = false;
+};
+
+// Every device OpenNI2's drivers see now, opened one by one. An error only when OpenNI2 itself
+// cannot start; no device is an empty list.
+Result<std::vector<Openni2DeviceReport>> ListOpenni2Devices();
+
+// "no OpenNI2 device found" (an empty `uri`: any device) or "OpenNI2 device 'URI' not found",
+// with where to look next.
+std::string DeviceNotFound(const std::string& uri);
+
+}  // namespace hpose::server
+
+#endif  // HPOSE_SERVER_OPENNI2_DEVICES_H_
