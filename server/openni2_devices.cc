@@ -38,6 +38,12 @@ std::string OtherSensors(openni::Device& device) {
   return names;
 }
 
+std::vector<Openni2DepthMode> Modes(const openni::Array<openni::VideoMode>& modes) {
+  std::vector<Openni2DepthMode> out;
+  for (int i = 0; i < modes.getSize(); ++i) out.push_back(Mode(modes[i]));
+  return out;
+}
+
 // Opens the device and fills in its depth stream as it would start.
 void Inspect(Openni2DeviceReport* report) {
   openni::Device device;
@@ -49,8 +55,8 @@ void Inspect(Openni2DeviceReport* report) {
   report->has_depth = device.hasSensor(openni::SENSOR_DEPTH);
   if (report->has_depth) {
     const openni::SensorInfo* info = device.getSensorInfo(openni::SENSOR_DEPTH);
-    const openni::Array<openni::VideoMode>& modes = info->getSupportedVideoModes();
-    for (int i = 0; i < modes.getSize(); ++i) report->depth_modes.push_back(Mode(modes[i]));
+    report->depth_modes = Modes(info->getSupportedVideoModes());
+    report->preferred = PreferredDepthMode(report->depth_modes);
     openni::VideoStream depth;
     if (depth.create(device, openni::SENSOR_DEPTH) == openni::STATUS_OK) {
       report->current = Mode(depth.getVideoMode());
@@ -88,6 +94,45 @@ Result<std::vector<Openni2DeviceReport>> ListOpenni2Devices() {
   }
   openni::OpenNI::shutdown();
   return reports;
+}
+
+int PreferredDepthMode(const std::vector<Openni2DepthMode>& modes, int want_width,
+                       int want_height) {
+  constexpr int kWidestWidth = 640;
+  constexpr int kFrameRate = 30;
+  int best = -1;
+  std::vector<long> best_key;
+  for (size_t i = 0; i < modes.size(); ++i) {
+    const Openni2DepthMode& m = modes[i];
+    const bool mm = m.units == "1 mm";
+    if (!mm && m.units != "100 um") continue;
+    const std::vector<long> key = {
+        (want_width > 0 && m.width == want_width && m.height == want_height) ? 1 : 0,
+        m.width <= kWidestWidth ? 1 : 0,
+        m.fps >= kFrameRate ? 1 : 0,
+        static_cast<long>(m.width) * m.height * (m.width <= kWidestWidth ? 1 : -1),
+        m.fps,
+        mm ? 1 : 0};
+    if (best < 0 || key > best_key) {
+      best = static_cast<int>(i);
+      best_key = key;
+    }
+  }
+  return best;
+}
+
+void SelectPreferredDepthMode(openni::VideoStream& stream, int want_width, int want_height) {
+  const openni::Array<openni::VideoMode>& modes = stream.getSensorInfo().getSupportedVideoModes();
+  const int preferred = PreferredDepthMode(Modes(modes), want_width, want_height);
+  if (preferred < 0) return;
+  const openni::VideoMode current = stream.getVideoMode();
+  const openni::VideoMode& want = modes[preferred];
+  if (current.getResolutionX() == want.getResolutionX() &&
+      current.getResolutionY() == want.getResolutionY() && current.getFps() == want.getFps() &&
+      current.getPixelFormat() == want.getPixelFormat()) {
+    return;
+  }
+  stream.setVideoMode(want);  // a device that refuses keeps its mode: still a depth stream.
 }
 
 std::string DeviceNotFound(const std::string& uri) {

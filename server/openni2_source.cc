@@ -69,7 +69,9 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
                        WithOpenni2Error(spec + ": cannot open the depth stream"));
     }
     if (is_device_) {
-      SelectMillimetreMode();
+      SelectPreferredDepthMode(
+          stream_, options.replay.has_intrinsics ? options.replay.intrinsics.width : 0,
+          options.replay.has_intrinsics ? options.replay.intrinsics.height : 0);
       disconnected_ = false;
       openni::OpenNI::addDeviceDisconnectedListener(this);
       listening_ = true;
@@ -251,22 +253,6 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   long frame_count() const { return frame_count_; }
 
  private:
-  // Prefers a 1 mm depth mode of the current resolution (Kinect drivers default to it anyway).
-  void SelectMillimetreMode() {
-    const openni::VideoMode current = stream_.getVideoMode();
-    if (current.getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_1_MM) return;
-    const openni::Array<openni::VideoMode>& modes =
-        stream_.getSensorInfo().getSupportedVideoModes();
-    for (int i = 0; i < modes.getSize(); ++i) {
-      if (modes[i].getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_1_MM &&
-          modes[i].getResolutionX() == current.getResolutionX() &&
-          modes[i].getResolutionY() == current.getResolutionY()) {
-        stream_.setVideoMode(modes[i]);
-        return;
-      }
-    }
-  }
-
   openni::Device device_;
   openni::VideoStream stream_;
   std::string uri_;

@@ -60,12 +60,16 @@ int ListDevices() {
           d.other_sensors.empty() ? "no stream" : ("it has " + d.other_sensors + " only").c_str());
       continue;
     }
-    std::printf("  depth: %s, field of view %.1f x %.1f deg%s%s\n", ModeText(d.current).c_str(),
-                d.horizontal_fov_deg, d.vertical_fov_deg,
-                d.mirrored ? ", mirrored (hpose reads it unmirrored)" : "",
+    std::printf("  depth: field of view %.1f x %.1f deg%s%s\n", d.horizontal_fov_deg,
+                d.vertical_fov_deg, d.mirrored ? ", mirrored (hpose reads it unmirrored)" : "",
                 d.cropped ? ", cropped (hpose keeps each pixel's ray)" : "");
-    for (const server::Openni2DepthMode& m : d.depth_modes) {
-      std::printf("    mode %s\n", ModeText(m).c_str());
+    for (size_t i = 0; i < d.depth_modes.size(); ++i) {
+      const server::Openni2DepthMode& m = d.depth_modes[i];
+      const bool starts = m.width == d.current.width && m.height == d.current.height &&
+                          m.fps == d.current.fps && m.units == d.current.units;
+      const bool chosen = static_cast<int>(i) == d.preferred;
+      std::printf("    %s%s%s\n", ModeText(m).c_str(), starts ? "  (the device starts in it)" : "",
+                  chosen ? "  (hpose streams in it)" : "");
     }
     if (!d.other_sensors.empty()) std::printf("  also: %s\n", d.other_sensors.c_str());
   }

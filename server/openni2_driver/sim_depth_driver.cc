@@ -32,6 +32,10 @@
 //                                     is done in firmware may).
 //   HPOSE_SIM_DEPTH_100_UM=1          the depth stream's pixel format is 100 um units: the
 //                                     frames' values are served as they are, in those units.
+//   HPOSE_SIM_DEPTH_MODES=several     the depth sensor lists two modes, both 30 fps in 1 mm: half
+//                                     the frames' size (every second pixel of every second
+//                                     row), which it starts in as PS1080's starts in 320x240,
+//                                     and their full size.
 //   HPOSE_SIM_DEPTH_CROP=X,Y,W,H      the stream starts cropped to that window of the image;
 //                                     a client may crop otherwise or switch cropping off.
 // Cropping then mirroring, as the PS1080 driver's software paths do: the window is in the
@@ -168,7 +172,8 @@ struct DeviceState {
   int fps = 30;
   int disconnect_after = -1;  // frames; -1 = never.
   int offline_ms = 1500;
-  bool mirrored = false;  // at the stream's creation.
+  std::vector<OniVideoMode> modes;  // the first is the one a stream starts in.
+  bool mirrored = false;            // at the stream's creation.
   bool mirroring_fixed = false;
   OniCropping cropping{};  // at the stream's creation.
   std::atomic<bool> online{true};
@@ -179,12 +184,10 @@ struct DeviceState {
 class SimDepthStream final : public oni::driver::StreamBase {
  public:
   explicit SimDepthStream(DeviceState* state)
-      : state_(state), mirrored_(state->mirrored), cropping_(state->cropping) {
-    mode_.pixelFormat = state->format;
-    mode_.resolutionX = state->frames.width;
-    mode_.resolutionY = state->frames.height;
-    mode_.fps = state->fps;
-  }
+      : state_(state),
+        mode_(state->modes.front()),
+        mirrored_(state->mirrored),
+        cropping_(state->cropping) {}
   ~SimDepthStream() override { stop(); }
 
   OniStatus start() override {
@@ -206,6 +209,7 @@ class SimDepthStream final : public oni::driver::StreamBase {
   }
 
   int getRequiredFrameSize() override {
+    std::lock_guard<std::mutex> lock(mu_);
     return mode_.resolutionX * mode_.resolutionY * static_cast<int>(sizeof(OniDepthPixel));
   }
 
@@ -228,8 +232,10 @@ class SimDepthStream final : public oni::driver::StreamBase {
   OniStatus getProperty(int id, void* data, int* size) override {
     const FrameSet& f = state_->frames;
     switch (id) {
-      case ONI_STREAM_PROPERTY_VIDEO_MODE:
+      case ONI_STREAM_PROPERTY_VIDEO_MODE: {
+        std::lock_guard<std::mutex> lock(mu_);
         return Put(mode_, data, size);
+      }
       case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
         return Put(static_cast<float>(2.0 * std::atan(f.width / (2.0 * f.fx))), data, size);
       case ONI_STREAM_PROPERTY_VERTICAL_FOV:
@@ -238,15 +244,17 @@ class SimDepthStream final : public oni::driver::StreamBase {
         return Put(10000, data, size);
       case ONI_STREAM_PROPERTY_MIN_VALUE:
         return Put(0, data, size);
-      case ONI_STREAM_PROPERTY_STRIDE:
-        return Put(f.width * static_cast<int>(sizeof(OniDepthPixel)), data, size);
+      case ONI_STREAM_PROPERTY_STRIDE: {
+        std::lock_guard<std::mutex> lock(mu_);
+        return Put(mode_.resolutionX * static_cast<int>(sizeof(OniDepthPixel)), data, size);
+      }
       case ONI_STREAM_PROPERTY_MIRRORING:
         return Put(static_cast<OniBool>(mirrored_.load() ? TRUE : FALSE), data, size);
       case ONI_STREAM_PROPERTY_CROPPING: {
         // OpenNI2's file player drops frames of streams that do not report cropping.
         std::lock_guard<std::mutex> lock(mu_);
         OniCropping c = cropping_;
-        if (!c.enabled) c = OniCropping{FALSE, 0, 0, f.width, f.height};
+        if (!c.enabled) c = OniCropping{FALSE, 0, 0, mode_.resolutionX, mode_.resolutionY};
         return Put(c, data, size);
       }
       default:
@@ -257,15 +265,21 @@ class SimDepthStream final : public oni::driver::StreamBase {
   OniStatus setProperty(int id, const void* data, int size) override {
     if (id == ONI_STREAM_PROPERTY_VIDEO_MODE && size == static_cast<int>(sizeof(OniVideoMode))) {
       const auto* m = static_cast<const OniVideoMode*>(data);
-      const bool same = m->pixelFormat == mode_.pixelFormat &&
-                        m->resolutionX == mode_.resolutionX &&
-                        m->resolutionY == mode_.resolutionY && m->fps == mode_.fps;
-      return same ? ONI_STATUS_OK : ONI_STATUS_NOT_SUPPORTED;
+      for (const OniVideoMode& listed : state_->modes) {
+        if (m->pixelFormat == listed.pixelFormat && m->resolutionX == listed.resolutionX &&
+            m->resolutionY == listed.resolutionY && m->fps == listed.fps) {
+          std::lock_guard<std::mutex> lock(mu_);
+          if (running_) return ONI_STATUS_OUT_OF_FLOW;
+          mode_ = listed;
+          return ONI_STATUS_OK;
+        }
+      }
+      return ONI_STATUS_NOT_SUPPORTED;
     }
     if (id == ONI_STREAM_PROPERTY_CROPPING && size == static_cast<int>(sizeof(OniCropping))) {
       const OniCropping c = *static_cast<const OniCropping*>(data);
-      if (c.enabled && !WithinImage(c)) return ONI_STATUS_BAD_PARAMETER;
       std::lock_guard<std::mutex> lock(mu_);
+      if (c.enabled && !WithinImage(c)) return ONI_STATUS_BAD_PARAMETER;
       cropping_ = c;
       return ONI_STATUS_OK;
     }
@@ -302,10 +316,10 @@ class SimDepthStream final : public oni::driver::StreamBase {
     }
   }
 
+  // Whether `c` lies in the current mode's image (mu_ held).
   bool WithinImage(const OniCropping& c) const {
-    const FrameSet& f = state_->frames;
     return c.originX >= 0 && c.originY >= 0 && c.width > 0 && c.height > 0 &&
-           c.originX + c.width <= f.width && c.originY + c.height <= f.height;
+           c.originX + c.width <= mode_.resolutionX && c.originY + c.height <= mode_.resolutionY;
   }
 
   void Emit(int index) {
@@ -314,20 +328,22 @@ class SimDepthStream final : public oni::driver::StreamBase {
     const FrameSet& f = state_->frames;
     const std::vector<std::uint16_t>& src = f.frames[index % f.frames.size()];
     OniCropping c;
+    OniVideoMode mode;
     {
       std::lock_guard<std::mutex> lock(mu_);
       c = cropping_;
+      mode = mode_;
     }
-    if (!c.enabled) c = OniCropping{FALSE, 0, 0, f.width, f.height};
+    if (!c.enabled) c = OniCropping{FALSE, 0, 0, mode.resolutionX, mode.resolutionY};
+    const int step = f.width / mode.resolutionX;  // 2 in a half-size mode.
     const bool mirrored = mirrored_.load();
     auto* out = static_cast<std::uint16_t*>(frame->data);
     for (int v = 0; v < c.height; ++v) {
-      const std::uint16_t* row = &src[static_cast<size_t>(c.originY + v) * f.width + c.originX];
       std::uint16_t* dst = out + static_cast<size_t>(v) * c.width;
-      if (mirrored) {
-        std::reverse_copy(row, row + c.width, dst);
-      } else {
-        std::copy(row, row + c.width, dst);
+      for (int u = 0; u < c.width; ++u) {
+        const int column = mirrored ? c.width - 1 - u : u;
+        dst[column] = src[static_cast<size_t>(c.originY + v) * step * f.width +
+                          static_cast<size_t>(c.originX + u) * step];
       }
     }
     frame->dataSize = c.width * c.height * static_cast<int>(sizeof(std::uint16_t));
@@ -336,7 +352,7 @@ class SimDepthStream final : public oni::driver::StreamBase {
     frame->frameIndex = index + 1;
     frame->width = c.width;
     frame->height = c.height;
-    frame->videoMode = mode_;
+    frame->videoMode = mode;
     frame->croppingEnabled = c.enabled;
     frame->cropOriginX = c.originX;
     frame->cropOriginY = c.originY;
@@ -347,7 +363,7 @@ class SimDepthStream final : public oni::driver::StreamBase {
   }
 
   DeviceState* state_;
-  OniVideoMode mode_{};
+  OniVideoMode mode_;  // guarded by mu_.
   std::atomic<bool> mirrored_;
   std::mutex mu_;
   OniCropping cropping_;  // guarded by mu_.
@@ -359,13 +375,9 @@ class SimDepthStream final : public oni::driver::StreamBase {
 class SimDepthDevice final : public oni::driver::DeviceBase {
  public:
   explicit SimDepthDevice(DeviceState* state) : state_(state) {
-    mode_.pixelFormat = state->format;
-    mode_.resolutionX = state->frames.width;
-    mode_.resolutionY = state->frames.height;
-    mode_.fps = state->fps;
     sensor_.sensorType = state->sensor;
-    sensor_.numSupportedVideoModes = 1;
-    sensor_.pSupportedVideoModes = &mode_;
+    sensor_.numSupportedVideoModes = static_cast<int>(state->modes.size());
+    sensor_.pSupportedVideoModes = state->modes.data();
   }
 
   OniStatus getSensorInfoList(OniSensorInfo** infos, int* count) override {
@@ -394,7 +406,6 @@ class SimDepthDevice final : public oni::driver::DeviceBase {
 
  private:
   DeviceState* state_;
-  OniVideoMode mode_{};
   OniSensorInfo sensor_{};
 };
 
@@ -427,6 +438,15 @@ class SimDepthDriver final : public oni::driver::DriverBase {
       state_.format = ONI_PIXEL_FORMAT_GRAY16;
     } else if (EnvInt("HPOSE_SIM_DEPTH_100_UM", 0) != 0) {
       state_.format = ONI_PIXEL_FORMAT_DEPTH_100_UM;
+    }
+    const OniVideoMode full{state_.format, state_.frames.width, state_.frames.height, state_.fps};
+    state_.modes.assign(1, full);
+    if (EnvString("HPOSE_SIM_DEPTH_MODES") == "several" && state_.sensor == ONI_SENSOR_DEPTH &&
+        state_.frames.width % 2 == 0 && state_.frames.height % 2 == 0) {
+      OniVideoMode half = full;
+      half.resolutionX /= 2;
+      half.resolutionY /= 2;
+      state_.modes.insert(state_.modes.begin(), half);
     }
     const std::string mirrored = EnvString("HPOSE_SIM_DEPTH_MIRRORED");
     state_.mirroring_fixed = mirrored == "fixed";

@@ -22,6 +22,7 @@
 #include "core/io/depth_png.h"
 #include "core/io/intrinsics_json.h"
 #include "server/frame_source.h"
+#include "server/openni2_devices.h"
 #include "server/openni2_recorder.h"
 #include "server/openni2_source.h"
 #include "tests/integration/test_util.h"
@@ -652,6 +653,96 @@ TEST_F(Openni2Test, ACroppedStreamKeepsEachPixelsRay) {
   source.Close();
 }
 
+TEST(PreferredDepthModeTest, TheKinectsImageAtItsFrameRateInMillimetres) {
+  auto mode = [](int w, int h, int fps, const char* units) {
+    Openni2DepthMode m;
+    m.width = w;
+    m.height = h;
+    m.fps = fps;
+    m.units = units;
+    return m;
+  };
+  // PS1080's list starts at 320x240; the 640x480 mode at 30 fps in millimetres is taken.
+  const std::vector<Openni2DepthMode> ps1080 = {mode(320, 240, 30, "1 mm"),
+                                                mode(320, 240, 60, "1 mm"),
+                                                mode(640, 480, 30, "100 um"),
+                                                mode(640, 480, 30, "1 mm"),
+                                                mode(160, 120, 30, "1 mm"),
+                                                mode(1280, 1024, 30, "1 mm"),
+                                                mode(640, 480, 30, "pixel format 103")};
+  EXPECT_EQ(PreferredDepthMode(ps1080), 3);
+  // Given intrinsics of 320x240: that size, at its highest frame rate.
+  EXPECT_EQ(PreferredDepthMode(ps1080, 320, 240), 1);
+  // A size no mode has: as without.
+  EXPECT_EQ(PreferredDepthMode(ps1080, 800, 600), 3);
+  // 30 frames a second before more pixels; tenths of a millimetre when nothing else.
+  EXPECT_EQ(PreferredDepthMode({mode(640, 480, 15, "1 mm"), mode(320, 240, 30, "1 mm")}), 1);
+  EXPECT_EQ(PreferredDepthMode({mode(320, 240, 30, "100 um"), mode(640, 480, 30, "100 um")}), 1);
+  // Wider than a Kinect's image only when nothing else, and then the smallest.
+  EXPECT_EQ(PreferredDepthMode({mode(1280, 1024, 30, "1 mm"), mode(640, 480, 30, "1 mm")}), 1);
+  EXPECT_EQ(PreferredDepthMode({mode(1920, 1080, 30, "1 mm"), mode(1280, 1024, 30, "1 mm")}), 1);
+  // Nothing in depth units (shift values): none.
+  EXPECT_EQ(PreferredDepthMode({mode(640, 480, 30, "pixel format 103")}), -1);
+  EXPECT_EQ(PreferredDepthMode({}), -1);
+}
+
+TEST_F(Openni2Test, ADeviceStartingAtHalfSizeIsStreamedAtItsFullSize) {
+  // As PS1080's driver starts in 320x240 of its 640x480: live, recorded and listed, hpose
+  // takes the full-size mode; with intrinsics of the half size given, the half.
+  ScopedEnv modes("HPOSE_SIM_DEPTH_MODES", "several");
+  Openni2Source live("openni2://", Openni2SourceOptions{});
+  ASSERT_TRUE(live.Open().ok());
+  Result<Frame> f = live.Next();
+  ASSERT_TRUE(f.ok()) << f.error().ToString();
+  EXPECT_EQ(f->depth.width, 320);
+  EXPECT_GE(MatchingFrame(f->depth), 0);
+  live.Close();
+
+  const std::string oni = *dir_ + "/full_size.oni";
+  RecordOptions options;
+  options.frames = 2;
+  ASSERT_TRUE(RecordOpenni2("openni2://", oni, options, nullptr).ok());
+  bool mirrored = true;
+  const DepthImage recorded = RawFirstFrame(oni, &mirrored);
+  EXPECT_EQ(recorded.width, 320);
+  EXPECT_GE(MatchingFrame(recorded), 0);
+
+  Openni2SourceOptions half;
+  half.replay.has_intrinsics = true;
+  Result<Intrinsics> k = ReadIntrinsicsJson(*dir_ + "/frames/intrinsics.json");
+  ASSERT_TRUE(k.ok());
+  half.replay.intrinsics = *k;
+  half.replay.intrinsics.width /= 2;
+  half.replay.intrinsics.height /= 2;
+  half.replay.intrinsics.fx /= 2;
+  half.replay.intrinsics.fy /= 2;
+  half.replay.intrinsics.cx /= 2;
+  half.replay.intrinsics.cy /= 2;
+  Openni2Source calibrated("openni2://", half);
+  ASSERT_TRUE(calibrated.Open().ok());
+  f = calibrated.Next();
+  ASSERT_TRUE(f.ok()) << f.error().ToString();
+  ASSERT_EQ(f->depth.width, 160);
+  bool decimated = false;
+  for (int p = 0; p < 3; ++p) {
+    const DepthImage png = Png(p);
+    DepthImage every_second(160, 120);
+    for (int v = 0; v < 120; ++v) {
+      for (int u = 0; u < 160; ++u) every_second.at(u, v) = png.at(2 * u, 2 * v);
+    }
+    decimated |= every_second.mm == f->depth.mm;
+  }
+  EXPECT_TRUE(decimated);
+  calibrated.Close();
+
+  std::string out;
+  ASSERT_EQ(tu::RunCommand(tu::HposeProgram() + " record --list-devices", &out), 0) << out;
+  EXPECT_NE(out.find("    160x120 at 30 fps in 1 mm  (the device starts in it)\n"
+                     "    320x240 at 30 fps in 1 mm  (hpose streams in it)\n"),
+            std::string::npos)
+      << out;
+}
+
 TEST_F(Openni2Test, RecordListsTheDevicesOpenni2Sees) {
   std::string out;
   {
@@ -661,8 +752,8 @@ TEST_F(Openni2Test, RecordListsTheDevicesOpenni2Sees) {
   }
   for (const char* expected :
        {"openni2://hpose-sim://depth0\n", "simulated depth camera (hpose), USB 0000:0000",
-        "depth: 320x240 at 30 fps in 1 mm", "mirrored (hpose reads it unmirrored)",
-        "cropped (hpose keeps each pixel's ray)", "mode 320x240 at 30 fps in 1 mm"}) {
+        "mirrored (hpose reads it unmirrored)", "cropped (hpose keeps each pixel's ray)",
+        "    320x240 at 30 fps in 1 mm  (the device starts in it)  (hpose streams in it)\n"}) {
     EXPECT_NE(out.find(expected), std::string::npos) << expected << " not in:\n" << out;
   }
   // The simulated device reports the field of view of its frames' intrinsics.
