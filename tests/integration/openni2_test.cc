@@ -522,6 +522,17 @@ DepthImage RawFirstFrame(const std::string& uri, bool* mirrored) {
   return out;
 }
 
+// The first frame of `spec` through an Openni2Source, opened and closed (and destroyed: a live
+// source holds OpenNI2, its drivers loaded, until then).
+Result<Frame> FirstFrame(const std::string& spec, const Openni2SourceOptions& options) {
+  Openni2Source source(spec, options);
+  const Status opened = source.Open();
+  if (!opened.ok()) return opened.error();
+  Result<Frame> frame = source.Next();
+  source.Close();
+  return frame;
+}
+
 TEST_F(Openni2Test, AMirroredStreamIsReadInTheSensorsOwnColumns) {
   // A PS1080 configured to mirror (Mirror=1) reverses every row: read as it comes, the robot
   // would stand mirrored, its heading and sideways position negated. The device is asked to
@@ -571,9 +582,7 @@ TEST_F(Openni2Test, DepthInTenthsOfAMillimetreIsRoundedToTheNearestMillimetre) {
   // A stream in 100 um units (the PNGs' values served as such): each pixel is the nearest
   // millimetre, not the one below (which would bring every point 0.45 mm nearer on average).
   ScopedEnv units("HPOSE_SIM_DEPTH_100_UM", "1");
-  Openni2Source live("openni2://", Openni2SourceOptions{});
-  ASSERT_TRUE(live.Open().ok());
-  Result<Frame> f = live.Next();
+  Result<Frame> f = FirstFrame("openni2://", Openni2SourceOptions{});
   ASSERT_TRUE(f.ok()) << f.error().ToString();
   int match = -1;
   int rounded_up = 0;
@@ -596,15 +605,9 @@ TEST_F(Openni2Test, ACroppedStreamKeepsEachPixelsRay) {
   // A device cropped to a window (PS1080's Depth.Cropping) sends that window alone: its pixels
   // keep the rays they have in the whole image, the principal point moved by the window's
   // origin; mirrored as well, the window is reversed back.
-  Intrinsics k;
-  {
-    // A live source holds OpenNI2 (its drivers loaded) until it is destroyed.
-    Openni2Source whole("openni2://", Openni2SourceOptions{});
-    ASSERT_TRUE(whole.Open().ok());
-    Result<Frame> full = whole.Next();
-    ASSERT_TRUE(full.ok()) << full.error().ToString();
-    k = full->intrinsics;
-  }
+  Result<Frame> full = FirstFrame("openni2://", Openni2SourceOptions{});
+  ASSERT_TRUE(full.ok()) << full.error().ToString();
+  const Intrinsics k = full->intrinsics;
 
   ScopedEnv crop("HPOSE_SIM_DEPTH_CROP", "40,30,200,150");
   for (const bool mirror : {false, true}) {
@@ -644,13 +647,10 @@ TEST_F(Openni2Test, ACroppedStreamKeepsEachPixelsRay) {
   calibrated.replay.has_intrinsics = true;
   calibrated.replay.intrinsics = k;
   calibrated.replay.intrinsics.cx = 161.5;
-  Openni2Source source(*dir_ + "/cropped.oni", calibrated);
-  ASSERT_TRUE(source.Open().ok());
-  Result<Frame> f = source.Next();
+  Result<Frame> f = FirstFrame(*dir_ + "/cropped.oni", calibrated);
   ASSERT_TRUE(f.ok()) << f.error().ToString();
   EXPECT_NEAR(f->intrinsics.cx, 121.5, 1e-9);
   EXPECT_NEAR(f->intrinsics.cy, k.cy - 30.0, 1e-9);
-  source.Close();
 }
 
 TEST(PreferredDepthModeTest, TheKinectsImageAtItsFrameRateInMillimetres) {
@@ -690,13 +690,10 @@ TEST_F(Openni2Test, ADeviceStartingAtHalfSizeIsStreamedAtItsFullSize) {
   // As PS1080's driver starts in 320x240 of its 640x480: live, recorded and listed, hpose
   // takes the full-size mode; with intrinsics of the half size given, the half.
   ScopedEnv modes("HPOSE_SIM_DEPTH_MODES", "several");
-  Openni2Source live("openni2://", Openni2SourceOptions{});
-  ASSERT_TRUE(live.Open().ok());
-  Result<Frame> f = live.Next();
+  Result<Frame> f = FirstFrame("openni2://", Openni2SourceOptions{});
   ASSERT_TRUE(f.ok()) << f.error().ToString();
   EXPECT_EQ(f->depth.width, 320);
   EXPECT_GE(MatchingFrame(f->depth), 0);
-  live.Close();
 
   const std::string oni = *dir_ + "/full_size.oni";
   RecordOptions options;
@@ -718,9 +715,7 @@ TEST_F(Openni2Test, ADeviceStartingAtHalfSizeIsStreamedAtItsFullSize) {
   half.replay.intrinsics.fy /= 2;
   half.replay.intrinsics.cx /= 2;
   half.replay.intrinsics.cy /= 2;
-  Openni2Source calibrated("openni2://", half);
-  ASSERT_TRUE(calibrated.Open().ok());
-  f = calibrated.Next();
+  f = FirstFrame("openni2://", half);
   ASSERT_TRUE(f.ok()) << f.error().ToString();
   ASSERT_EQ(f->depth.width, 160);
   bool decimated = false;
@@ -733,7 +728,6 @@ TEST_F(Openni2Test, ADeviceStartingAtHalfSizeIsStreamedAtItsFullSize) {
     decimated |= every_second.mm == f->depth.mm;
   }
   EXPECT_TRUE(decimated);
-  calibrated.Close();
 
   std::string out;
   ASSERT_EQ(tu::RunCommand(tu::HposeProgram() + " record --list-devices", &out), 0) << out;
