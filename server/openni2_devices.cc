@@ -52,6 +52,8 @@ void Inspect(Openni2DeviceReport* report) {
     return;
   }
   report->other_sensors = OtherSensors(device);
+  report->registered =
+      device.getImageRegistrationMode() == openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR;
   report->has_depth = device.hasSensor(openni::SENSOR_DEPTH);
   if (report->has_depth) {
     const openni::SensorInfo* info = device.getSensorInfo(openni::SENSOR_DEPTH);
@@ -133,6 +135,12 @@ void SelectPreferredDepthMode(openni::VideoStream& stream, int want_width, int w
     return;
   }
   stream.setVideoMode(want);  // a device that refuses keeps its mode: still a depth stream.
+}
+
+void KeepDepthUnregistered(openni::Device& device) {
+  if (device.getImageRegistrationMode() != openni::IMAGE_REGISTRATION_OFF) {
+    device.setImageRegistrationMode(openni::IMAGE_REGISTRATION_OFF);
+  }
 }
 
 std::string DeviceNotFound(const std::string& uri) {

@@ -7,6 +7,7 @@
 #include "core/common/status.h"
 
 namespace openni {
+class Device;
 class VideoStream;
 }  // namespace openni
 
@@ -38,6 +39,7 @@ struct Openni2DeviceReport {
   double vertical_fov_deg = 0.0;
   bool mirrored = false;
   bool cropped = false;
+  bool registered = false;  // depth registered to the colour camera.
 };
 
 // Every device OpenNI2's drivers see now, opened one by one. An error only when OpenNI2 itself
@@ -56,6 +58,11 @@ int PreferredDepthMode(const std::vector<Openni2DepthMode>& modes, int want_widt
 // Sets a created, not yet started depth `stream` to its PreferredDepthMode; leaves it as it is
 // when that is the current one or none qualifies.
 void SelectPreferredDepthMode(openni::VideoStream& stream, int want_width = 0, int want_height = 0);
+
+// Switches off a live `device`'s registration of depth to its colour camera (PS1080's
+// Registration=1): registered depth is drawn from the colour camera's place, whose focal length
+// differs from the depth field of view OpenNI2 reports by some 10%, and hpose needs no colour.
+void KeepDepthUnregistered(openni::Device& device);
 
 // "no OpenNI2 device found" (an empty `uri`: any device) or "OpenNI2 device 'URI' not found",
 // with where to look next.

@@ -72,7 +72,8 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
   if (depth.create(device, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
     return MakeError(ErrorCode::kUnavailable, spec + ": cannot create the depth stream");
   }
-  SelectPreferredDepthMode(depth);  // the mode hposed would stream in.
+  KeepDepthUnregistered(device);  // depth as hposed would stream it.
+  SelectPreferredDepthMode(depth);
   // The recorder runs before the stream does, so every frame read below is in the file.
   openni::Recorder recorder;
   if (recorder.create(output.c_str()) != openni::STATUS_OK ||

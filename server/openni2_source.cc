@@ -69,6 +69,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
                        WithOpenni2Error(spec + ": cannot open the depth stream"));
     }
     if (is_device_) {
+      KeepDepthUnregistered(device_);
       SelectPreferredDepthMode(
           stream_, options.replay.has_intrinsics ? options.replay.intrinsics.width : 0,
           options.replay.has_intrinsics ? options.replay.intrinsics.height : 0);

@@ -60,9 +60,10 @@ int ListDevices() {
           d.other_sensors.empty() ? "no stream" : ("it has " + d.other_sensors + " only").c_str());
       continue;
     }
-    std::printf("  depth: field of view %.1f x %.1f deg%s%s\n", d.horizontal_fov_deg,
+    std::printf("  depth: field of view %.1f x %.1f deg%s%s%s\n", d.horizontal_fov_deg,
                 d.vertical_fov_deg, d.mirrored ? ", mirrored (hpose reads it unmirrored)" : "",
-                d.cropped ? ", cropped (hpose keeps each pixel's ray)" : "");
+                d.cropped ? ", cropped (hpose keeps each pixel's ray)" : "",
+                d.registered ? ", registered to the colour camera (hpose switches it off)" : "");
     for (size_t i = 0; i < d.depth_modes.size(); ++i) {
       const server::Openni2DepthMode& m = d.depth_modes[i];
       const bool starts = m.width == d.current.width && m.height == d.current.height &&

@@ -36,6 +36,10 @@
 //                                     the frames' size (every second pixel of every second
 //                                     row), which it starts in as PS1080's starts in 320x240,
 //                                     and their full size.
+//   HPOSE_SIM_DEPTH_REGISTERED=1      the device starts with depth registered to its (absent)
+//                                     colour camera, as PS1080's Registration=1: the frames
+//                                     are drawn from that camera's place, here shifted 8
+//                                     pixels right; a client may switch registration off.
 //   HPOSE_SIM_DEPTH_CROP=X,Y,W,H      the stream starts cropped to that window of the image;
 //                                     a client may crop otherwise or switch cropping off.
 // Cropping then mirroring, as the PS1080 driver's software paths do: the window is in the
@@ -71,6 +75,7 @@
 namespace {
 
 constexpr const char* kUri = "hpose-sim://depth0";
+constexpr int kRegistrationShift = 8;  // pixels, while depth is registered to colour.
 
 struct FrameSet {
   int width = 320;
@@ -175,7 +180,8 @@ struct DeviceState {
   std::vector<OniVideoMode> modes;  // the first is the one a stream starts in.
   bool mirrored = false;            // at the stream's creation.
   bool mirroring_fixed = false;
-  OniCropping cropping{};  // at the stream's creation.
+  std::atomic<bool> registered{false};  // depth to colour (ONI_IMAGE_REGISTRATION_...).
+  OniCropping cropping{};               // at the stream's creation.
   std::atomic<bool> online{true};
   std::atomic<bool> stale{false};  // without hotplug: unplugged since the driver loaded.
   std::atomic<int> frames_served{0};
@@ -336,14 +342,17 @@ class SimDepthStream final : public oni::driver::StreamBase {
     }
     if (!c.enabled) c = OniCropping{FALSE, 0, 0, mode.resolutionX, mode.resolutionY};
     const int step = f.width / mode.resolutionX;  // 2 in a half-size mode.
+    const int shift = state_->registered.load() ? kRegistrationShift : 0;
     const bool mirrored = mirrored_.load();
     auto* out = static_cast<std::uint16_t*>(frame->data);
     for (int v = 0; v < c.height; ++v) {
       std::uint16_t* dst = out + static_cast<size_t>(v) * c.width;
       for (int u = 0; u < c.width; ++u) {
         const int column = mirrored ? c.width - 1 - u : u;
-        dst[column] = src[static_cast<size_t>(c.originY + v) * step * f.width +
-                          static_cast<size_t>(c.originX + u) * step];
+        const int from = (c.originX + u) * step - shift;
+        dst[column] = from < 0 ? 0
+                               : src[static_cast<size_t>(c.originY + v) * step * f.width +
+                                     static_cast<size_t>(from)];
       }
     }
     frame->dataSize = c.width * c.height * static_cast<int>(sizeof(std::uint16_t));
@@ -393,9 +402,33 @@ class SimDepthDevice final : public oni::driver::DeviceBase {
   void destroyStream(oni::driver::StreamBase* stream) override { delete stream; }
 
   OniBool isPropertySupported(int id) override {
-    return id == ONI_DEVICE_PROPERTY_SERIAL_NUMBER ? TRUE : FALSE;
+    return id == ONI_DEVICE_PROPERTY_SERIAL_NUMBER || id == ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION
+               ? TRUE
+               : FALSE;
+  }
+  OniBool isImageRegistrationModeSupported(OniImageRegistrationMode mode) override {
+    return mode == ONI_IMAGE_REGISTRATION_OFF || mode == ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR;
+  }
+  OniStatus setProperty(int id, const void* data, int size) override {
+    if (id != ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION ||
+        size != static_cast<int>(sizeof(OniImageRegistrationMode))) {
+      return ONI_STATUS_NOT_SUPPORTED;
+    }
+    const auto mode = *static_cast<const OniImageRegistrationMode*>(data);
+    if (!isImageRegistrationModeSupported(mode)) return ONI_STATUS_NOT_SUPPORTED;
+    state_->registered = mode == ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR;
+    return ONI_STATUS_OK;
   }
   OniStatus getProperty(int id, void* data, int* size) override {
+    if (id == ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION) {
+      if (*size != static_cast<int>(sizeof(OniImageRegistrationMode))) {
+        return ONI_STATUS_BAD_PARAMETER;
+      }
+      *static_cast<OniImageRegistrationMode*>(data) = state_->registered.load()
+                                                          ? ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR
+                                                          : ONI_IMAGE_REGISTRATION_OFF;
+      return ONI_STATUS_OK;
+    }
     if (id != ONI_DEVICE_PROPERTY_SERIAL_NUMBER) return ONI_STATUS_NOT_SUPPORTED;
     const char serial[] = "HPOSE-SIM-0";
     if (*size < static_cast<int>(sizeof(serial))) return ONI_STATUS_BAD_PARAMETER;
@@ -450,6 +483,7 @@ class SimDepthDriver final : public oni::driver::DriverBase {
     }
     const std::string mirrored = EnvString("HPOSE_SIM_DEPTH_MIRRORED");
     state_.mirroring_fixed = mirrored == "fixed";
+    state_.registered = EnvInt("HPOSE_SIM_DEPTH_REGISTERED", 0) != 0;
     state_.mirrored = state_.mirroring_fixed || EnvInt("HPOSE_SIM_DEPTH_MIRRORED", 0) != 0;
     const std::string crop = EnvString("HPOSE_SIM_DEPTH_CROP");
     if (!crop.empty()) {

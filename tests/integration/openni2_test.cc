@@ -578,6 +578,27 @@ TEST_F(Openni2Test, AMirroredStreamIsReadInTheSensorsOwnColumns) {
   played.Close();
 }
 
+TEST_F(Openni2Test, DepthRegisteredToColourIsSwitchedOff) {
+  // PS1080's Registration=1 draws depth from the colour camera's place (here: 8 pixels to the
+  // right), whose focal length is not the depth field of view OpenNI2 reports. Live and
+  // recorded, hpose switches it off and takes the depth camera's own image.
+  ScopedEnv registered("HPOSE_SIM_DEPTH_REGISTERED", "1");
+  bool mirrored = true;
+  const DepthImage raw = RawFirstFrame("hpose-sim://depth0", &mirrored);
+  ASSERT_EQ(raw.width, 320);
+  ASSERT_EQ(MatchingFrame(raw), -1) << "the device does not register";
+
+  Result<Frame> f = FirstFrame("openni2://", Openni2SourceOptions{});
+  ASSERT_TRUE(f.ok()) << f.error().ToString();
+  EXPECT_GE(MatchingFrame(f->depth), 0) << "the live frame is still registered";
+
+  const std::string oni = *dir_ + "/unregistered.oni";
+  RecordOptions options;
+  options.frames = 2;
+  ASSERT_TRUE(RecordOpenni2("openni2://", oni, options, nullptr).ok());
+  EXPECT_GE(MatchingFrame(RawFirstFrame(oni, &mirrored)), 0) << "the recording is registered";
+}
+
 TEST_F(Openni2Test, DepthInTenthsOfAMillimetreIsRoundedToTheNearestMillimetre) {
   // A stream in 100 um units (the PNGs' values served as such): each pixel is the nearest
   // millimetre, not the one below (which would bring every point 0.45 mm nearer on average).
