@@ -25,6 +25,9 @@
 //   HPOSE_SIM_DEPTH_AS_IR=1           the device's one sensor is an infrared camera instead
 //                                     (16-bit grey frames of the same data): a device, and its
 //                                     recordings, without depth.
+//   HPOSE_SIM_DEPTH_WITH_IR=1         the device has an infrared camera beside its depth sensor
+//                                     (16-bit grey frames of the same data), as PS1080s have:
+//                                     recordings of both streams.
 //   HPOSE_SIM_DEPTH_MIRRORED=1        the stream starts mirrored (each row reversed), as a
 //                                     PS1080 device with Mirror=1 in its configuration does;
 //                                     a client may switch mirroring either way. "fixed": it
@@ -177,8 +180,9 @@ struct DeviceState {
   int fps = 30;
   int disconnect_after = -1;  // frames; -1 = never.
   int offline_ms = 1500;
-  std::vector<OniVideoMode> modes;  // the first is the one a stream starts in.
-  bool mirrored = false;            // at the stream's creation.
+  std::vector<OniVideoMode> modes;     // the first is the one a stream starts in.
+  std::vector<OniVideoMode> ir_modes;  // with HPOSE_SIM_DEPTH_WITH_IR, the second sensor's.
+  bool mirrored = false;               // at the stream's creation.
   bool mirroring_fixed = false;
   std::atomic<bool> registered{false};  // depth to colour (ONI_IMAGE_REGISTRATION_...).
   OniCropping cropping{};               // at the stream's creation.
@@ -189,9 +193,12 @@ struct DeviceState {
 
 class SimDepthStream final : public oni::driver::StreamBase {
  public:
-  explicit SimDepthStream(DeviceState* state)
+  // A stream of `sensor`, whose modes are `modes` (kept by `state`).
+  SimDepthStream(DeviceState* state, OniSensorType sensor, const std::vector<OniVideoMode>* modes)
       : state_(state),
-        mode_(state->modes.front()),
+        sensor_(sensor),
+        modes_(modes),
+        mode_(modes->front()),
         mirrored_(state->mirrored),
         cropping_(state->cropping) {}
   ~SimDepthStream() override { stop(); }
@@ -271,7 +278,7 @@ class SimDepthStream final : public oni::driver::StreamBase {
   OniStatus setProperty(int id, const void* data, int size) override {
     if (id == ONI_STREAM_PROPERTY_VIDEO_MODE && size == static_cast<int>(sizeof(OniVideoMode))) {
       const auto* m = static_cast<const OniVideoMode*>(data);
-      for (const OniVideoMode& listed : state_->modes) {
+      for (const OniVideoMode& listed : *modes_) {
         if (m->pixelFormat == listed.pixelFormat && m->resolutionX == listed.resolutionX &&
             m->resolutionY == listed.resolutionY && m->fps == listed.fps) {
           std::lock_guard<std::mutex> lock(mu_);
@@ -356,7 +363,7 @@ class SimDepthStream final : public oni::driver::StreamBase {
       }
     }
     frame->dataSize = c.width * c.height * static_cast<int>(sizeof(std::uint16_t));
-    frame->sensorType = state_->sensor;
+    frame->sensorType = sensor_;
     frame->timestamp = static_cast<uint64_t>(index) * 1000000ull / std::max(1, state_->fps);
     frame->frameIndex = index + 1;
     frame->width = c.width;
@@ -372,6 +379,8 @@ class SimDepthStream final : public oni::driver::StreamBase {
   }
 
   DeviceState* state_;
+  OniSensorType sensor_;
+  const std::vector<OniVideoMode>* modes_;
   OniVideoMode mode_;  // guarded by mu_.
   std::atomic<bool> mirrored_;
   std::mutex mu_;
@@ -384,20 +393,31 @@ class SimDepthStream final : public oni::driver::StreamBase {
 class SimDepthDevice final : public oni::driver::DeviceBase {
  public:
   explicit SimDepthDevice(DeviceState* state) : state_(state) {
-    sensor_.sensorType = state->sensor;
-    sensor_.numSupportedVideoModes = static_cast<int>(state->modes.size());
-    sensor_.pSupportedVideoModes = state->modes.data();
+    sensors_[0].sensorType = state->sensor;
+    sensors_[0].numSupportedVideoModes = static_cast<int>(state->modes.size());
+    sensors_[0].pSupportedVideoModes = state->modes.data();
+    if (!state->ir_modes.empty()) {
+      sensors_[1].sensorType = ONI_SENSOR_IR;
+      sensors_[1].numSupportedVideoModes = static_cast<int>(state->ir_modes.size());
+      sensors_[1].pSupportedVideoModes = state->ir_modes.data();
+      sensor_count_ = 2;
+    }
   }
 
   OniStatus getSensorInfoList(OniSensorInfo** infos, int* count) override {
-    *infos = &sensor_;
-    *count = 1;
+    *infos = sensors_;
+    *count = sensor_count_;
     return ONI_STATUS_OK;
   }
 
   oni::driver::StreamBase* createStream(OniSensorType type) override {
-    if (type != state_->sensor) return nullptr;
-    return new (std::nothrow) SimDepthStream(state_);
+    if (type == state_->sensor) {
+      return new (std::nothrow) SimDepthStream(state_, type, &state_->modes);
+    }
+    if (type == ONI_SENSOR_IR && !state_->ir_modes.empty()) {
+      return new (std::nothrow) SimDepthStream(state_, type, &state_->ir_modes);
+    }
+    return nullptr;
   }
   void destroyStream(oni::driver::StreamBase* stream) override { delete stream; }
 
@@ -439,7 +459,8 @@ class SimDepthDevice final : public oni::driver::DeviceBase {
 
  private:
   DeviceState* state_;
-  OniSensorInfo sensor_{};
+  OniSensorInfo sensors_[2]{};
+  int sensor_count_ = 1;
 };
 
 class SimDepthDriver final : public oni::driver::DriverBase {
@@ -483,6 +504,10 @@ class SimDepthDriver final : public oni::driver::DriverBase {
     }
     const std::string mirrored = EnvString("HPOSE_SIM_DEPTH_MIRRORED");
     state_.mirroring_fixed = mirrored == "fixed";
+    if (EnvInt("HPOSE_SIM_DEPTH_WITH_IR", 0) != 0 && state_.sensor == ONI_SENSOR_DEPTH) {
+      state_.ir_modes.assign(1, OniVideoMode{ONI_PIXEL_FORMAT_GRAY16, state_.frames.width,
+                                             state_.frames.height, state_.fps});
+    }
     state_.registered = EnvInt("HPOSE_SIM_DEPTH_REGISTERED", 0) != 0;
     state_.mirrored = state_.mirroring_fixed || EnvInt("HPOSE_SIM_DEPTH_MIRRORED", 0) != 0;
     const std::string crop = EnvString("HPOSE_SIM_DEPTH_CROP");

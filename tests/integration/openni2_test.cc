@@ -237,31 +237,67 @@ TEST_F(Openni2Test, ARecordingOpenedAndClosedAtOnceStopsItsPlayer) {
   });
 }
 
-// Records `frames` frames of the simulated device's infrared stream (HPOSE_SIM_DEPTH_AS_IR) to
-// `oni` with OpenNI2's own recorder: hpose record takes depth only.
-bool RecordInfrared(const std::string& oni, int frames) {
-  setenv("HPOSE_SIM_DEPTH_AS_IR", "1", 1);
-  bool ok = openni::OpenNI::initialize() == openni::STATUS_OK;
-  openni::Device device;
-  openni::VideoStream ir;
-  openni::Recorder recorder;
-  ok = ok && device.open(openni::ANY_DEVICE) == openni::STATUS_OK &&
-       ir.create(device, openni::SENSOR_IR) == openni::STATUS_OK &&
-       recorder.create(oni.c_str()) == openni::STATUS_OK &&
-       recorder.attach(ir) == openni::STATUS_OK && recorder.start() == openni::STATUS_OK &&
-       ir.start() == openni::STATUS_OK;
-  for (int i = 0; ok && i < frames; ++i) {
-    openni::VideoFrameRef frame;
-    ok = ir.readFrame(&frame) == openni::STATUS_OK;
+// Sets an environment variable of the simulated driver for one scope, then puts back what was
+// there (read by the driver when OpenNI2 initialises, that is at every open).
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::string& value) : name_(name) {
+    const char* before = std::getenv(name);
+    had_ = before != nullptr;
+    if (had_) before_ = before;
+    setenv(name, value.c_str(), 1);
   }
-  ir.stop();
-  recorder.stop();
-  recorder.destroy();
-  ir.destroy();
-  device.close();
+  ~ScopedEnv() {
+    if (had_) {
+      setenv(name_, before_.c_str(), 1);
+    } else {
+      unsetenv(name_);
+    }
+  }
+
+ private:
+  const char* name_;
+  bool had_ = false;
+  std::string before_;
+};
+
+// Records the simulated device's `sensors` to `oni` with OpenNI2's own recorder (hpose record
+// takes depth only) until the first of them has delivered `frames` frames.
+bool RecordWithOpenni2(const std::string& oni, int frames,
+                       const std::vector<openni::SensorType>& sensors) {
+  bool ok = openni::OpenNI::initialize() == openni::STATUS_OK;
+  {
+    openni::Device device;
+    std::vector<openni::VideoStream> streams(sensors.size());
+    openni::Recorder recorder;
+    ok = ok && device.open(openni::ANY_DEVICE) == openni::STATUS_OK &&
+         recorder.create(oni.c_str()) == openni::STATUS_OK;
+    for (size_t i = 0; ok && i < sensors.size(); ++i) {
+      ok = streams[i].create(device, sensors[i]) == openni::STATUS_OK &&
+           recorder.attach(streams[i]) == openni::STATUS_OK;
+    }
+    ok = ok && recorder.start() == openni::STATUS_OK;
+    for (size_t i = 0; ok && i < sensors.size(); ++i) {
+      ok = streams[i].start() == openni::STATUS_OK;
+    }
+    for (int i = 0; ok && i < frames; ++i) {
+      openni::VideoFrameRef frame;
+      ok = streams[0].readFrame(&frame) == openni::STATUS_OK;
+    }
+    for (openni::VideoStream& stream : streams) stream.stop();
+    recorder.stop();
+    recorder.destroy();
+    for (openni::VideoStream& stream : streams) stream.destroy();
+    device.close();
+  }
   openni::OpenNI::shutdown();
-  unsetenv("HPOSE_SIM_DEPTH_AS_IR");
   return ok;
+}
+
+// Records `frames` frames of the simulated device's infrared stream (HPOSE_SIM_DEPTH_AS_IR).
+bool RecordInfrared(const std::string& oni, int frames) {
+  ScopedEnv as_ir("HPOSE_SIM_DEPTH_AS_IR", "1");
+  return RecordWithOpenni2(oni, frames, {openni::SENSOR_IR});
 }
 
 TEST_F(Openni2Test, ARecordingWithoutDepthIsRefusedAndClosedCleanly) {
@@ -287,6 +323,43 @@ TEST_F(Openni2Test, ARecordingWithoutDepthIsRefusedAndClosedCleanly) {
         << rec.error().message;
   });
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST_F(Openni2Test, ARecordingOfDepthAndInfraredPlaysItsDepth) {
+  // As a PS1080's recordings hold depth beside colour or infrared: the depth stream alone is
+  // read, every frame of it, in order, both as fast as read and at the recorded pace.
+  const std::string oni = *dir_ + "/depth_and_ir.oni";
+  {
+    ScopedEnv with_ir("HPOSE_SIM_DEPTH_WITH_IR", "1");
+    ASSERT_TRUE(RecordWithOpenni2(oni, 5, {openni::SENSOR_DEPTH, openni::SENSOR_IR}));
+  }
+  for (const bool realtime : {false, true}) {
+    SCOPED_TRACE(realtime ? "at the recorded pace" : "as fast as read");
+    Openni2SourceOptions options;
+    options.replay.realtime = realtime;
+    Openni2Source source(oni, options);
+    const Status opened = source.Open();
+    ASSERT_TRUE(opened.ok()) << opened.error().ToString();
+    ASSERT_GE(source.frame_count(), 5);
+    long frames = 0;
+    double last_time = -1.0;
+    const auto start = std::chrono::steady_clock::now();
+    while (true) {
+      Result<Frame> f = source.Next();
+      if (!f.ok()) {
+        EXPECT_EQ(f.error().code, ErrorCode::kOutOfRange) << f.error().ToString();
+        break;
+      }
+      ++frames;
+      EXPECT_GE(MatchingFrame(f->depth), 0) << "frame " << frames;
+      EXPECT_GT(f->source_time_s, last_time);
+      last_time = f->source_time_s;
+      ASSERT_LE(frames, source.frame_count());
+    }
+    EXPECT_EQ(frames, source.frame_count());
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+    source.Close();
+  }
 }
 
 TEST_F(Openni2Test, ATruncatedRecordingIsRefusedOrPlaysTheFramesItHolds) {
@@ -458,30 +531,6 @@ TEST_F(Openni2Test, RecordsAPngDirectoryThatReplays) {
       << rec.error().ToString();
   EXPECT_EQ(std::filesystem::last_write_time(out_dir + "/frame_000000.png"), written);
 }
-
-// Sets an environment variable of the simulated driver for one scope, then puts back what was
-// there (read by the driver when OpenNI2 initialises, that is at every open).
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const std::string& value) : name_(name) {
-    const char* before = std::getenv(name);
-    had_ = before != nullptr;
-    if (had_) before_ = before;
-    setenv(name, value.c_str(), 1);
-  }
-  ~ScopedEnv() {
-    if (had_) {
-      setenv(name_, before_.c_str(), 1);
-    } else {
-      unsetenv(name_);
-    }
-  }
-
- private:
-  const char* name_;
-  bool had_ = false;
-  std::string before_;
-};
 
 // The window (u0, v0, w, h) of `image`, its rows reversed if `mirrored`.
 DepthImage Window(const DepthImage& image, int u0, int v0, int w, int h, bool mirrored) {
