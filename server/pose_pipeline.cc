@@ -190,6 +190,15 @@ void PosePipeline::CaptureLoop() {
   queue_.Close();
 }
 
+namespace {
+
+bool SameCamera(const Intrinsics& a, const Intrinsics& b) {
+  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy &&
+         a.cx == b.cx && a.cy == b.cy;
+}
+
+}  // namespace
+
 void PosePipeline::CaptureFrames() {
   // Opened once the estimators have warmed up: a recording played at its recorded rate (or a
   // device's stream) starts then, with no frame due before the estimators can take it.
@@ -201,11 +210,22 @@ void PosePipeline::CaptureFrames() {
   // Unreadable frames are logged, at most one line a second (with how many went unsaid).
   Clock::time_point last_bad_log{};
   int bad_unlogged = 0;
+  // The frames' size and camera, logged for the first frame and whenever they change (a device
+  // in another mode after a reconnection): what the estimates rest on, for a person to check.
+  bool camera_logged = false;
+  Intrinsics camera;
   while (!stopping_.load()) {
     Result<Frame> frame = source_->Next();
     if (stopping_.load()) break;
     if (frame.ok()) {
       consecutive_bad = 0;
+      if (!camera_logged || !SameCamera(camera, frame->intrinsics)) {
+        camera = frame->intrinsics;
+        camera_logged = true;
+        spdlog::info("source {}: {}x{} depth frames, fx {:.1f} fy {:.1f} cx {:.1f} cy {:.1f}",
+                     source_->description(), camera.width, camera.height, camera.fx, camera.fy,
+                     camera.cx, camera.cy);
+      }
       {
         std::lock_guard<std::mutex> lock(mu_);
         ++frames_in_;

@@ -25,7 +25,9 @@
 #include "server/openni2_devices.h"
 #include "server/openni2_recorder.h"
 #include "server/openni2_source.h"
+#include "tests/integration/hposed_process.h"
 #include "tests/integration/test_util.h"
+#include "tests/sanitizer_build.h"
 
 namespace hpose::server {
 namespace {
@@ -805,6 +807,33 @@ TEST_F(Openni2Test, ADeviceStartingAtHalfSizeIsStreamedAtItsFullSize) {
                      "    320x240 at 30 fps in 1 mm  (hpose streams in it)\n"),
             std::string::npos)
       << out;
+}
+
+TEST_F(Openni2Test, HposedLogsTheCameraItStreams) {
+  // The mode hposed took, and the camera it derived, in its log for a person to check.
+  ScopedEnv modes("HPOSE_SIM_DEPTH_MODES", "several");
+  tu::HposedProcess hposed({"--source", "openni2://", "--listen", "127.0.0.1:0"});
+  ASSERT_FALSE(hposed.address().empty());
+  // The device reports the field of view of its frames' intrinsics; the principal point is
+  // taken at the image centre.
+  Result<Intrinsics> k = ReadIntrinsicsJson(*dir_ + "/frames/intrinsics.json");
+  ASSERT_TRUE(k.ok());
+  char line[160];
+  std::snprintf(line, sizeof(line),
+                "source openni2://: 320x240 depth frames, fx %.1f fy %.1f cx 160.0 cy 120.0", k->fx,
+                k->fy);
+  const std::string expected = line;
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::seconds(60 * hpose::testing::kTimeScale);
+  while (hposed.output().find(expected) == std::string::npos &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const std::string log = hposed.output();
+  EXPECT_NE(log.find(expected), std::string::npos) << log.substr(0, 3000);
+  // Once: the camera does not change from frame to frame.
+  EXPECT_EQ(log.find("depth frames", log.find(expected) + expected.size()), std::string::npos)
+      << log.substr(0, 3000);
 }
 
 TEST_F(Openni2Test, RecordListsTheDevicesOpenni2Sees) {
