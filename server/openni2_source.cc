@@ -102,6 +102,8 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
                        WithOpenni2Error(spec + ": cannot start the depth stream"));
     }
     frames_read_ = 0;
+    last_index_ = 0;
+    wrapped_ = false;
     loop_ = options.replay.loop;
     has_intrinsics_ = options.replay.has_intrinsics;
     intrinsics_ = options.replay.intrinsics;
@@ -111,7 +113,8 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
 
   Result<Frame> Next(const std::string& spec) {
     if (!stream_.isValid()) return MakeError(ErrorCode::kUnavailable, spec + ": not open");
-    if (!is_device_ && !loop_ && frame_count_ > 0 && frames_read_ >= frame_count_) {
+    const bool ends_itself = !is_device_ && !loop_ && frame_count_ > 0;
+    if (ends_itself && (frames_read_ >= frame_count_ || wrapped_)) {
       return MakeError(ErrorCode::kOutOfRange, spec + ": end of recording");
     }
     if (disconnected_.load()) {
@@ -134,6 +137,16 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     }
     ++frames_read_;
     player_running_ = true;
+    // Played at its recorded pace, the player (repeating: see Open) may start over before the
+    // last frame was read, which the next one then replaces: a frame index that goes back is
+    // the recording's end, not its first frame again.
+    if (ends_itself) {
+      if (ref.getFrameIndex() <= last_index_) {
+        wrapped_ = true;
+        return MakeError(ErrorCode::kOutOfRange, spec + ": end of recording");
+      }
+      last_index_ = ref.getFrameIndex();
+    }
     Frame frame;
     frame.received = std::chrono::system_clock::now();
     frame.received_steady = std::chrono::steady_clock::now();
@@ -267,6 +280,8 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   int timeout_ms_ = 2000;
   long frame_count_ = -1;
   long frames_read_ = 0;
+  int last_index_ = 0;           // of the last frame read from a recording that ends.
+  bool wrapped_ = false;         // its player started over: the recording has ended.
   bool player_running_ = false;  // a file's player thread has delivered a frame.
   std::atomic<bool> disconnected_{false};
 };
