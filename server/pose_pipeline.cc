@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <spdlog/spdlog.h>
@@ -192,9 +194,14 @@ void PosePipeline::CaptureLoop() {
 
 namespace {
 
-bool SameCamera(const Intrinsics& a, const Intrinsics& b) {
-  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy &&
-         a.cx == b.cx && a.cy == b.cy;
+// What a frame's estimate rests on: its size and camera, or that it is a cloud.
+std::string FrameGeometry(const Frame& frame) {
+  if (frame.is_cloud) return "point clouds in the sensor frame";
+  const Intrinsics& k = frame.intrinsics;
+  char text[160];
+  std::snprintf(text, sizeof(text), "%dx%d depth frames, fx %.1f fy %.1f cx %.1f cy %.1f", k.width,
+                k.height, k.fx, k.fy, k.cx, k.cy);
+  return text;
 }
 
 }  // namespace
@@ -212,19 +219,15 @@ void PosePipeline::CaptureFrames() {
   int bad_unlogged = 0;
   // The frames' size and camera, logged for the first frame and whenever they change (a device
   // in another mode after a reconnection): what the estimates rest on, for a person to check.
-  bool camera_logged = false;
-  Intrinsics camera;
+  std::string geometry;
   while (!stopping_.load()) {
     Result<Frame> frame = source_->Next();
     if (stopping_.load()) break;
     if (frame.ok()) {
       consecutive_bad = 0;
-      if (!camera_logged || !SameCamera(camera, frame->intrinsics)) {
-        camera = frame->intrinsics;
-        camera_logged = true;
-        spdlog::info("source {}: {}x{} depth frames, fx {:.1f} fy {:.1f} cx {:.1f} cy {:.1f}",
-                     source_->description(), camera.width, camera.height, camera.fx, camera.fy,
-                     camera.cx, camera.cy);
+      if (std::string now = FrameGeometry(*frame); now != geometry) {
+        geometry = std::move(now);
+        spdlog::info("source {}: {}", source_->description(), geometry);
       }
       {
         std::lock_guard<std::mutex> lock(mu_);

@@ -861,6 +861,23 @@ TEST_F(Openni2Test, HposedLogsTheCameraItStreams) {
   // Once: the camera does not change from frame to frame.
   EXPECT_EQ(log.find("depth frames", log.find(expected) + expected.size()), std::string::npos)
       << log.substr(0, 3000);
+
+  // A recording of point clouds has no camera to show: it says so.
+  const std::string clouds = *dir_ + "/clouds";
+  ASSERT_TRUE(tu::SimulateFrames(*dir_ + "/with_clouds", 2, "", /*clouds=*/true));
+  std::filesystem::create_directories(clouds);
+  for (const char* name : {"cloud_000.pcd", "cloud_001.pcd"}) {
+    std::filesystem::rename(*dir_ + "/with_clouds/" + name, clouds + "/" + name);
+  }
+  tu::HposedProcess cloud_hposed({"--source", clouds, "--listen", "127.0.0.1:0"});
+  ASSERT_FALSE(cloud_hposed.address().empty());
+  const std::string cloud_line = "source " + clouds + ": point clouds in the sensor frame";
+  while (cloud_hposed.output().find(cloud_line) == std::string::npos &&
+         std::chrono::steady_clock::now() < deadline + std::chrono::seconds(60)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_NE(cloud_hposed.output().find(cloud_line), std::string::npos)
+      << cloud_hposed.output().substr(0, 3000);
 }
 
 TEST_F(Openni2Test, RecordListsTheDevicesOpenni2Sees) {
