@@ -31,13 +31,6 @@ Openni2DepthMode Mode(const openni::VideoMode& m) {
   return out;
 }
 
-std::string OtherSensors(openni::Device& device) {
-  std::string names;
-  if (device.hasSensor(openni::SENSOR_COLOR)) names = "colour";
-  if (device.hasSensor(openni::SENSOR_IR)) names += names.empty() ? "infrared" : " and infrared";
-  return names;
-}
-
 std::vector<Openni2DepthMode> Modes(const openni::Array<openni::VideoMode>& modes) {
   std::vector<Openni2DepthMode> out;
   for (int i = 0; i < modes.getSize(); ++i) out.push_back(Mode(modes[i]));
@@ -51,7 +44,7 @@ void Inspect(Openni2DeviceReport* report) {
     report->open_error = WithOpenni2Error("OpenNI2 cannot open it");
     return;
   }
-  report->other_sensors = OtherSensors(device);
+  report->other_sensors = ColourAndInfraredSensors(device);
   report->registered =
       device.getImageRegistrationMode() == openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR;
   report->has_depth = device.hasSensor(openni::SENSOR_DEPTH);

@@ -4,10 +4,15 @@
 
 namespace hpose::server {
 
-std::string NoDepthStreamError(openni::Device& device, const std::string& spec) {
+std::string ColourAndInfraredSensors(openni::Device& device) {
   std::string names;
   if (device.hasSensor(openni::SENSOR_COLOR)) names = "colour";
   if (device.hasSensor(openni::SENSOR_IR)) names += names.empty() ? "infrared" : " and infrared";
+  return names;
+}
+
+std::string NoDepthStreamError(openni::Device& device, const std::string& spec) {
+  const std::string names = ColourAndInfraredSensors(device);
   return spec + ": no depth stream (" +
          (names.empty() ? "it has no stream" : "it has " + names + " only") + ")";
 }

@@ -9,6 +9,10 @@ class Device;
 
 namespace hpose::server {
 
+// The names of an open device's colour and infrared sensors: "colour and infrared", "colour",
+// "infrared", or "" for neither.
+std::string ColourAndInfraredSensors(openni::Device& device);
+
 // For an open OpenNI2 device or recording without a depth sensor, the error that says so and
 // what it has instead: "SPEC: no depth stream (it has colour and infrared only)", "... (it has
 // no stream)". `spec` names the device as the user gave it.

@@ -194,6 +194,15 @@ void PosePipeline::CaptureLoop() {
 
 namespace {
 
+// Whether two frames rest on the same geometry: both clouds, or the same size and camera.
+bool SameGeometry(const Frame& a, const Frame& b) {
+  if (a.is_cloud || b.is_cloud) return a.is_cloud == b.is_cloud;
+  const Intrinsics& k = a.intrinsics;
+  const Intrinsics& l = b.intrinsics;
+  return k.width == l.width && k.height == l.height && k.fx == l.fx && k.fy == l.fy &&
+         k.cx == l.cx && k.cy == l.cy;
+}
+
 // What a frame's estimate rests on: its size and camera, or that it is a cloud.
 std::string FrameGeometry(const Frame& frame) {
   if (frame.is_cloud) return "point clouds in the sensor frame";
@@ -219,15 +228,18 @@ void PosePipeline::CaptureFrames() {
   int bad_unlogged = 0;
   // The frames' size and camera, logged for the first frame and whenever they change (a device
   // in another mode after a reconnection): what the estimates rest on, for a person to check.
-  std::string geometry;
+  bool geometry_logged = false;
+  Frame geometry;  // its is_cloud and intrinsics only.
   while (!stopping_.load()) {
     Result<Frame> frame = source_->Next();
     if (stopping_.load()) break;
     if (frame.ok()) {
       consecutive_bad = 0;
-      if (std::string now = FrameGeometry(*frame); now != geometry) {
-        geometry = std::move(now);
-        spdlog::info("source {}: {}", source_->description(), geometry);
+      if (!geometry_logged || !SameGeometry(geometry, *frame)) {
+        geometry_logged = true;
+        geometry.is_cloud = frame->is_cloud;
+        geometry.intrinsics = frame->intrinsics;
+        spdlog::info("source {}: {}", source_->description(), FrameGeometry(*frame));
       }
       {
         std::lock_guard<std::mutex> lock(mu_);
