@@ -239,6 +239,12 @@ void PosePipeline::CaptureFrames() {
         geometry_logged = true;
         geometry.is_cloud = frame->is_cloud;
         geometry.intrinsics = frame->intrinsics;
+        {
+          std::lock_guard<std::mutex> lock(mu_);
+          point_clouds_ = frame->is_cloud;
+          has_camera_ = !frame->is_cloud;
+          camera_ = frame->intrinsics;
+        }
         spdlog::info("source {}: {}", source_->description(), FrameGeometry(*frame));
       }
       {
@@ -461,6 +467,9 @@ PipelineStatus PosePipeline::Status() const {
   s.frames_estimated = frames_estimated_;
   s.frames_failed = frames_failed_;
   s.reconnects = reconnects_;
+  s.has_camera = has_camera_;
+  s.camera = camera_;
+  s.point_clouds = point_clouds_;
   const StatsSnapshot stats = stats_.Snapshot(Clock::now());
   s.input_rate_hz = stats.input_rate_hz;
   s.estimate_rate_hz = stats.estimate_rate_hz;

@@ -78,6 +78,11 @@ struct PipelineStatus {
   std::uint64_t frames_estimated = 0;
   std::uint64_t frames_failed = 0;
   std::uint64_t reconnects = 0;
+  // The size and camera of the depth frames read last (has_camera), or that the source gives
+  // point clouds; neither before the first frame.
+  bool has_camera = false;
+  Intrinsics camera;
+  bool point_clouds = false;
   double input_rate_hz = 0.0;  // over the last few seconds.
   double estimate_rate_hz = 0.0;
   double latency_median_s = 0.0;  // over the last 256 published frames.
@@ -200,6 +205,10 @@ class PosePipeline {
   std::uint64_t frames_estimated_ = 0;
   std::uint64_t frames_failed_ = 0;
   std::uint64_t reconnects_ = 0;
+  // What the frames read last rest on (PipelineStatus's fields of the same names).
+  bool has_camera_ = false;
+  Intrinsics camera_;
+  bool point_clouds_ = false;
   PipelineStats stats_;
   bool has_floor_ = false;
   FloorEstimate last_floor_;

@@ -56,6 +56,8 @@ void FillSourceStatus(const PipelineStatus& s, v1::SourceStatus* src) {
   src->set_reconnects(s.reconnects);
   src->set_input_rate(s.input_rate_hz);
   src->set_estimate_rate(s.estimate_rate_hz);
+  src->set_point_clouds(s.point_clouds);
+  if (s.has_camera) IntrinsicsToProto(s.camera, src->mutable_camera());
 }
 
 void FillLatency(const PipelineStatus& s, v1::LatencyStatus* lat) {

@@ -271,13 +271,16 @@ void DepthToProto(const DepthImage& depth, const Intrinsics& k, v1::DepthImage* 
     data[2 * i + 1] = static_cast<char>(depth.mm[i] >> 8);
   }
   out->set_data(std::move(data));
-  v1::Intrinsics* pk = out->mutable_intrinsics();
-  pk->set_width(k.width);
-  pk->set_height(k.height);
-  pk->set_fx(k.fx);
-  pk->set_fy(k.fy);
-  pk->set_cx(k.cx);
-  pk->set_cy(k.cy);
+  IntrinsicsToProto(k, out->mutable_intrinsics());
+}
+
+void IntrinsicsToProto(const Intrinsics& k, v1::Intrinsics* out) {
+  out->set_width(static_cast<std::uint32_t>(k.width));
+  out->set_height(static_cast<std::uint32_t>(k.height));
+  out->set_fx(k.fx);
+  out->set_fy(k.fy);
+  out->set_cx(k.cx);
+  out->set_cy(k.cy);
 }
 
 void CloudToProto(const PointCloud& cloud, v1::PointCloud* out) {

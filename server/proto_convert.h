@@ -44,6 +44,7 @@ Result<PointCloud> CloudFromProto(const v1::PointCloud& cloud);
 // The inverse helpers, for clients (hpose query estimate) and tests.
 void DepthToProto(const DepthImage& depth, const Intrinsics& intrinsics, v1::DepthImage* out);
 void CloudToProto(const PointCloud& cloud, v1::PointCloud* out);
+void IntrinsicsToProto(const Intrinsics& intrinsics, v1::Intrinsics* out);
 
 }  // namespace hpose::server
 

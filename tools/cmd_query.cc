@@ -549,6 +549,15 @@ int RunQuery(int argc, char** argv) {
                 src.description().empty() ? "(none)" : src.description().c_str(),
                 src.kind().c_str(), v1::SourceState_Name(src.state()).c_str(),
                 src.state_reason().empty() ? "" : ": ", src.state_reason().c_str());
+    if (src.has_camera()) {
+      const v1::Intrinsics& k = src.camera();
+      std::printf("camera: %ux%u depth frames, fx %.1f fy %.1f cx %.1f cy %.1f\n", k.width(),
+                  k.height(), k.fx(), k.fy(), k.cx(), k.cy());
+    } else if (src.point_clouds()) {
+      std::printf("camera: none, point clouds in the sensor frame\n");
+    } else if (src.state() != v1::SOURCE_STATE_NONE) {
+      std::printf("camera: not known before the first frame\n");
+    }
     std::printf("frames: in %llu, dropped %llu, estimated %llu, failed %llu, reconnects %llu\n",
                 static_cast<unsigned long long>(src.frames_in()),
                 static_cast<unsigned long long>(src.frames_dropped()),

@@ -108,6 +108,14 @@ DaemonStatus FromProto(const v1::GetStatusResponse& s) {
   out.frames_estimated = s.source().frames_estimated();
   out.frames_dropped = s.source().frames_dropped();
   out.templates = s.templates();
+  const v1::Intrinsics& k = s.source().camera();  // all zero when unset.
+  out.frame_width = k.width();
+  out.frame_height = k.height();
+  out.fx = k.fx();
+  out.fy = k.fy();
+  out.cx = k.cx();
+  out.cy = k.cy();
+  out.point_clouds = s.source().point_clouds();
   return out;
 }
 

@@ -108,6 +108,15 @@ TEST_F(ClientTest, ListTemplatesAndStatus) {
   EXPECT_GE(status.frames_in, status.frames_estimated);
   EXPECT_GT(status.frames_estimated, 0u);
   EXPECT_FALSE(status.version.empty());
+  // The frames' size and camera: the recording's intrinsics.json.
+  const hc::DepthImage frame = ClientDepth(suite_->dir() + "/frames", 0);
+  EXPECT_EQ(status.frame_width, frame.width);
+  EXPECT_EQ(status.frame_height, frame.height);
+  EXPECT_EQ(status.fx, frame.fx);
+  EXPECT_EQ(status.fy, frame.fy);
+  EXPECT_EQ(status.cx, frame.cx);
+  EXPECT_EQ(status.cy, frame.cy);
+  EXPECT_FALSE(status.point_clouds);
 }
 
 TEST_F(ClientTest, LatestIsTheHumanoid) {

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "core/depth/depth_to_cloud.h"
+#include "core/io/intrinsics_json.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
 #include "server/daemon.h"
 #include "server/proto_convert.h"
@@ -380,6 +381,29 @@ TEST_F(DaemonRpcTest, ListTemplatesAndStatus) {
   EXPECT_GT(st.floor().height(), 0.2);
   EXPECT_GE(st.latency().samples(), 1u);
   EXPECT_GE(st.latency().p99(), st.latency().median());
+  // The frames' size and camera: the recording's intrinsics.json.
+  Result<Intrinsics> k = ReadIntrinsicsJson(suite_->dir() + "/frames/intrinsics.json");
+  ASSERT_TRUE(k.ok()) << k.error().message;
+  ASSERT_TRUE(st.source().has_camera());
+  EXPECT_FALSE(st.source().point_clouds());
+  const v1::Intrinsics& camera = st.source().camera();
+  EXPECT_EQ(camera.width(), static_cast<std::uint32_t>(k->width));
+  EXPECT_EQ(camera.height(), static_cast<std::uint32_t>(k->height));
+  EXPECT_EQ(camera.fx(), k->fx);
+  EXPECT_EQ(camera.fy(), k->fy);
+  EXPECT_EQ(camera.cx(), k->cx);
+  EXPECT_EQ(camera.cy(), k->cy);
+  // hpose query status says it in a line.
+  std::string out;
+  ASSERT_EQ(tu::RunCommand(tu::HposeProgram() + " query status --server 127.0.0.1:" +
+                               std::to_string(suite_->daemon().port()),
+                           &out),
+            0)
+      << out;
+  char line[160];
+  std::snprintf(line, sizeof(line), "camera: %dx%d depth frames, fx %.1f fy %.1f cx %.1f cy %.1f\n",
+                k->width, k->height, k->fx, k->fy, k->cx, k->cy);
+  EXPECT_NE(out.find(line), std::string::npos) << line << "not in:\n" << out;
 }
 
 TEST(DaemonWithoutSourceTest, GetLatestIsFailedPreconditionAndBadListenFails) {

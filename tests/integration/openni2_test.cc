@@ -861,6 +861,13 @@ TEST_F(Openni2Test, HposedLogsTheCameraItStreams) {
   // Once: the camera does not change from frame to frame.
   EXPECT_EQ(log.find("depth frames", log.find(expected) + expected.size()), std::string::npos)
       << log.substr(0, 3000);
+  // GetStatus gives it too (hpose query status).
+  std::string status;
+  ASSERT_EQ(
+      tu::RunCommand(tu::HposeProgram() + " query status --server " + hposed.address(), &status), 0)
+      << status;
+  const std::string camera_line = "camera: " + expected.substr(expected.find(": ") + 2) + "\n";
+  EXPECT_NE(status.find(camera_line), std::string::npos) << camera_line << "not in:\n" << status;
 
   // A recording of point clouds has no camera to show: it says so.
   const std::string clouds = *dir_ + "/clouds";
@@ -878,6 +885,13 @@ TEST_F(Openni2Test, HposedLogsTheCameraItStreams) {
   }
   EXPECT_NE(cloud_hposed.output().find(cloud_line), std::string::npos)
       << cloud_hposed.output().substr(0, 3000);
+  status.clear();
+  ASSERT_EQ(tu::RunCommand(tu::HposeProgram() + " query status --server " + cloud_hposed.address(),
+                           &status),
+            0)
+      << status;
+  EXPECT_NE(status.find("camera: none, point clouds in the sensor frame\n"), std::string::npos)
+      << status;
 }
 
 TEST_F(Openni2Test, RecordListsTheDevicesOpenni2Sees) {

@@ -246,6 +246,14 @@ class WebViewTest(unittest.TestCase):
                             shown)
         web = get_json(self.http + "/api/latest")["estimate"]
         self.assertEqual(differences(web, latest), [])
+        # The recording's camera, as GetStatus gives it (the directory's intrinsics.json).
+        with open(os.path.join(self.frames, "intrinsics.json")) as f:
+            k = json.load(f)
+        camera = get_json(self.http + "/api/status")["source"]["camera"]
+        for name in ("width", "height", "fx", "fy", "cx", "cy"):
+            self.assertAlmostEqual(camera[name], k[name], delta=1e-9, msg=name)
+        self.assertEqual(self.text("camera"), "%d×%d, fx %.1f fy %.1f cx %.1f cy %.1f" % (
+            k["width"], k["height"], k["fx"], k["fy"], k["cx"], k["cy"]))
 
         # Metrics moved with the frames.
         with urllib.request.urlopen(self.http + "/metrics", timeout=10) as reply:

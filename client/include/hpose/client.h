@@ -127,6 +127,12 @@ struct DaemonStatus {
   std::uint64_t frames_estimated = 0;
   std::uint64_t frames_dropped = 0;
   std::uint32_t templates = 0;
+  // The size and camera of the source's depth frames read last (width 0 before the first
+  // frame, and for a source of point clouds, which point_clouds says).
+  std::uint32_t frame_width = 0;
+  std::uint32_t frame_height = 0;
+  double fx = 0.0, fy = 0.0, cx = 0.0, cy = 0.0;  // pixels.
+  bool point_clouds = false;
 };
 
 struct StreamOptions {
