@@ -382,6 +382,99 @@ Result<DaemonConfig> LoadDaemonConfig(const std::string& path) {
   return ParseDaemonConfig(*text, path, base.empty() ? "." : base);
 }
 
+Status ValidateEstimationConfig(const DaemonConfig& c, const std::string& origin) {
+  auto fail = [&origin](const std::string& key, const std::string& what) {
+    return Status(MakeError(ErrorCode::kInvalidArgument, origin + ": " + key + ": " + what));
+  };
+  if (c.estimator.threads < 0 || c.estimator.threads > 256) {
+    return fail("search.threads", "must be in [0, 256] (0: one per core)");
+  }
+  if (!(c.estimator.score_threshold >= 0.0 && c.estimator.score_threshold <= 100.0)) {
+    return fail("search.score_threshold", "must be in [0, 100]");
+  }
+  if (!(c.estimator.min_humanoid_fit >= 0.0 && c.estimator.min_humanoid_fit <= 100.0)) {
+    return fail("search.min_humanoid_fit", "must be in [0, 100]");
+  }
+  if (!(c.estimator.min_humanoid_evidence >= 0.0 && c.estimator.min_humanoid_evidence <= 1.0)) {
+    return fail("search.min_humanoid_evidence", "must be in [0, 1]");
+  }
+  if (!(c.estimator.tracked_hold_min_evidence >= 0.0 &&
+        c.estimator.tracked_hold_min_evidence <= 1.0)) {
+    return fail("search.tracked_hold_min_evidence", "must be in [0, 1]");
+  }
+  if (c.source.has_initial_pose) {
+    const Pose2D& p = c.source.initial_pose;
+    if (!(std::abs(p.x) <= 100.0 && std::abs(p.y) <= 100.0 && std::isfinite(p.theta))) {
+      return fail("source.initial_pose", "x_m and y_m must be within +-100 m");
+    }
+    if (!c.source.tracking) {
+      return fail("source.initial_pose", "needs source.tracking: true (it seeds the tracking)");
+    }
+  }
+  if (!(c.estimator.tracked_score_threshold >= 0.0 &&
+        c.estimator.tracked_score_threshold <= 100.0)) {
+    return fail("search.tracked_score_threshold", "must be in [0, 100]");
+  }
+  if (!(c.estimator.two_points_a_voxel_within_m >= 0.0)) {
+    return fail("search.two_points_a_voxel_within_m", "must be at least 0 metres (0: off)");
+  }
+  if (!(c.estimator.far_range_m >= 0.0)) {
+    return fail("search.far_range_m", "must be at least 0 metres (.inf: no far clusters)");
+  }
+  if (!(c.estimator.far_score_ratio >= 0.0 && c.estimator.far_score_ratio <= 1.0)) {
+    return fail("search.far_score_ratio", "must be in [0, 1] (1: one threshold at every range)");
+  }
+  if (!(c.estimator.far_min_evidence >= 0.0 && c.estimator.far_min_evidence <= 1.0)) {
+    return fail("search.far_min_evidence", "must be in [0, 1]");
+  }
+  if (!c.floor.fixed) {
+    const FloorFitterOptions& fit = c.estimator.floor_fit;
+    if (!(fit.distance_threshold_m > 0.0 && fit.distance_threshold_m <= 1.0)) {
+      return fail("floor.distance_threshold_m", "must be in (0, 1] metres");
+    }
+    if (!(fit.min_width_m >= 0.0 && fit.min_width_m < 100.0)) {
+      return fail("floor.min_width_m", "must be in [0, 100) metres (0: no width check)");
+    }
+    // As a fixed floor's pitch: within 1.5 rad (85.9 degrees), short of looking straight down.
+    if (!(fit.max_tilt_rad > 0.0 && fit.max_tilt_rad <= 1.5)) {
+      return fail("floor.max_tilt_rad", "must be in (0, 1.5] rad (1.22: 70 degrees)");
+    }
+  } else {
+    if (!(c.floor.height_m > 0.0 && c.floor.height_m < 10.0)) {
+      return fail("floor.height_m", "must be in (0, 10) metres");
+    }
+    if (!(std::fabs(c.floor.pitch_rad) < 1.5 && std::fabs(c.floor.roll_rad) < 1.5)) {
+      return fail("floor.pitch_rad", "pitch and roll must be within +-1.5 rad");
+    }
+  }
+  const DepthToCloudOptions& cloud = c.estimator.cloud;
+  if (cloud.stride < 1 || cloud.stride > 16) {
+    return fail("search.stride", "must be in [1, 16], got " + std::to_string(cloud.stride));
+  }
+  if (!(cloud.min_range_m >= 0.0 && cloud.max_range_m > cloud.min_range_m &&
+        cloud.max_range_m <= 100.0)) {
+    return fail("search.max_range_m",
+                "the readings kept must lie within 0 <= min_range_m < max_range_m <= 100 metres");
+  }
+  Status lattice = c.estimator.lattice.Validate();
+  if (!c.estimator.resolution_from_templates && !lattice.ok()) {
+    return fail("search.resolution_m", lattice.error().message + " (0: the templates' own)");
+  }
+  const int tall = c.estimator.max_height_voxels;
+  if (tall != 0 && (tall < 8 || tall > 1024)) {
+    return fail("search.max_height_voxels", "must be 0 (off) or within [8, 1024]");
+  }
+  const int offsets = c.estimator.height_offset_voxels;
+  if (offsets < 0 || offsets > 8) {
+    return fail("search.height_offset_voxels", "must be within [0, 8]");
+  }
+  const double coverage = c.estimator.height_offset_min_coverage;
+  if (!(coverage >= 0.0 && coverage <= 1.0)) {
+    return fail("search.height_offset_min_coverage", "must be in [0, 1]");
+  }
+  return Status::Ok();
+}
+
 Status ValidateDaemonConfig(const DaemonConfig& c) {
   auto fail = [](const std::string& key, const std::string& what) {
     return Status(MakeError(ErrorCode::kInvalidArgument, "config: " + key + ": " + what));
@@ -447,9 +540,6 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
   if (s.estimate_threads < 1 || s.estimate_threads > 64) {
     return fail("source.estimate_threads", "must be in [1, 64]");
   }
-  if (c.estimator.threads < 0 || c.estimator.threads > 256) {
-    return fail("search.threads", "must be in [0, 256] (0: one per core)");
-  }
   if (!wait_ok(s.frame_timeout_s)) {
     return fail("source.frame_timeout_s", "must be in (0, 86400] seconds");
   }
@@ -476,64 +566,7 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
       return fail("templates", "'" + t + "' is neither a .bt file nor a shipped template's name");
     }
   }
-  if (!(c.estimator.score_threshold >= 0.0 && c.estimator.score_threshold <= 100.0)) {
-    return fail("search.score_threshold", "must be in [0, 100]");
-  }
-  if (!(c.estimator.min_humanoid_fit >= 0.0 && c.estimator.min_humanoid_fit <= 100.0)) {
-    return fail("search.min_humanoid_fit", "must be in [0, 100]");
-  }
-  if (!(c.estimator.min_humanoid_evidence >= 0.0 && c.estimator.min_humanoid_evidence <= 1.0)) {
-    return fail("search.min_humanoid_evidence", "must be in [0, 1]");
-  }
-  if (!(c.estimator.tracked_hold_min_evidence >= 0.0 &&
-        c.estimator.tracked_hold_min_evidence <= 1.0)) {
-    return fail("search.tracked_hold_min_evidence", "must be in [0, 1]");
-  }
-  if (c.source.has_initial_pose) {
-    const Pose2D& p = c.source.initial_pose;
-    if (!(std::abs(p.x) <= 100.0 && std::abs(p.y) <= 100.0 && std::isfinite(p.theta))) {
-      return fail("source.initial_pose", "x_m and y_m must be within +-100 m");
-    }
-    if (!c.source.tracking) {
-      return fail("source.initial_pose", "needs source.tracking: true (it seeds the tracking)");
-    }
-  }
-  if (!(c.estimator.tracked_score_threshold >= 0.0 &&
-        c.estimator.tracked_score_threshold <= 100.0)) {
-    return fail("search.tracked_score_threshold", "must be in [0, 100]");
-  }
-  if (!(c.estimator.two_points_a_voxel_within_m >= 0.0)) {
-    return fail("search.two_points_a_voxel_within_m", "must be at least 0 metres (0: off)");
-  }
-  if (!(c.estimator.far_range_m >= 0.0)) {
-    return fail("search.far_range_m", "must be at least 0 metres (.inf: no far clusters)");
-  }
-  if (!(c.estimator.far_score_ratio >= 0.0 && c.estimator.far_score_ratio <= 1.0)) {
-    return fail("search.far_score_ratio", "must be in [0, 1] (1: one threshold at every range)");
-  }
-  if (!(c.estimator.far_min_evidence >= 0.0 && c.estimator.far_min_evidence <= 1.0)) {
-    return fail("search.far_min_evidence", "must be in [0, 1]");
-  }
-  if (!c.floor.fixed) {
-    const FloorFitterOptions& fit = c.estimator.floor_fit;
-    if (!(fit.distance_threshold_m > 0.0 && fit.distance_threshold_m <= 1.0)) {
-      return fail("floor.distance_threshold_m", "must be in (0, 1] metres");
-    }
-    if (!(fit.min_width_m >= 0.0 && fit.min_width_m < 100.0)) {
-      return fail("floor.min_width_m", "must be in [0, 100) metres (0: no width check)");
-    }
-    // As a fixed floor's pitch: within 1.5 rad (85.9 degrees), short of looking straight down.
-    if (!(fit.max_tilt_rad > 0.0 && fit.max_tilt_rad <= 1.5)) {
-      return fail("floor.max_tilt_rad", "must be in (0, 1.5] rad (1.22: 70 degrees)");
-    }
-  } else {
-    if (!(c.floor.height_m > 0.0 && c.floor.height_m < 10.0)) {
-      return fail("floor.height_m", "must be in (0, 10) metres");
-    }
-    if (!(std::fabs(c.floor.pitch_rad) < 1.5 && std::fabs(c.floor.roll_rad) < 1.5)) {
-      return fail("floor.pitch_rad", "pitch and roll must be within +-1.5 rad");
-    }
-  }
+  HPOSE_RETURN_IF_ERROR(ValidateEstimationConfig(c));
   const StereoConfig& st = c.stereo;
   if (st.calibration_unit != "m" && st.calibration_unit != "mm") {
     return fail("stereo.calibration_unit",
@@ -548,31 +581,6 @@ Status ValidateDaemonConfig(const DaemonConfig& c) {
                         std::abs(w.yaw_rad) <= 1e3)) {  // NaN fails too.
     return fail("world_from_ground",
                 "x_m and y_m must be within 10000 m and yaw_rad within 1000 rad (finite)");
-  }
-  const DepthToCloudOptions& cloud = c.estimator.cloud;
-  if (cloud.stride < 1 || cloud.stride > 16) {
-    return fail("search.stride", "must be in [1, 16], got " + std::to_string(cloud.stride));
-  }
-  if (!(cloud.min_range_m >= 0.0 && cloud.max_range_m > cloud.min_range_m &&
-        cloud.max_range_m <= 100.0)) {
-    return fail("search.max_range_m",
-                "the readings kept must lie within 0 <= min_range_m < max_range_m <= 100 metres");
-  }
-  Status lattice = c.estimator.lattice.Validate();
-  if (!c.estimator.resolution_from_templates && !lattice.ok()) {
-    return fail("search.resolution_m", lattice.error().message + " (0: the templates' own)");
-  }
-  const int tall = c.estimator.max_height_voxels;
-  if (tall != 0 && (tall < 8 || tall > 1024)) {
-    return fail("search.max_height_voxels", "must be 0 (off) or within [8, 1024]");
-  }
-  const int offsets = c.estimator.height_offset_voxels;
-  if (offsets < 0 || offsets > 8) {
-    return fail("search.height_offset_voxels", "must be within [0, 8]");
-  }
-  const double coverage = c.estimator.height_offset_min_coverage;
-  if (!(coverage >= 0.0 && coverage <= 1.0)) {
-    return fail("search.height_offset_min_coverage", "must be in [0, 1]");
   }
   return Status::Ok();
 }

@@ -180,6 +180,11 @@ Result<DaemonConfig> LoadDaemonConfig(const std::string& path);
 // config built from a file and/or flags. Messages name the key.
 Status ValidateDaemonConfig(const DaemonConfig& config);
 
+// The part of ValidateDaemonConfig that estimating frames rests on (search, floor, the initial
+// pose), for programs that estimate without serving (hpose replay): "ORIGIN: search.stride:
+// must be in [1, 16], got 0".
+Status ValidateEstimationConfig(const DaemonConfig& config, const std::string& origin = "config");
+
 // The effective config as YAML that ParseDaemonConfig accepts again.
 std::string DaemonConfigToYaml(const DaemonConfig& config);
 

@@ -155,6 +155,8 @@ int RunReplay(int argc, char** argv) {
     Result<server::DaemonConfig> loaded = server::LoadDaemonConfig(f.config_path);
     if (!loaded.ok()) return ReportError("replay", loaded.error());
     config = std::move(*loaded);
+    const Status valid = server::ValidateEstimationConfig(config, f.config_path);
+    if (!valid.ok()) return ReportError("replay", valid.error());
   }
   if (!f.templates.empty()) config.templates = f.templates;
   if (config.templates.empty()) config.templates = DefaultTemplatePaths();

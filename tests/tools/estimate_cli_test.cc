@@ -500,6 +500,36 @@ TEST_F(EstimateCliTest, ASteepMountNeedsTheTiltFlagAndSaysSo) {
   }
 }
 
+// hpose replay checks a config's search, floor and initial pose as hposed does, naming the file
+// and the key; what only serving needs (an address off loopback without TLS) is not its
+// business.
+TEST_F(EstimateCliTest, ReplayChecksItsConfigAsHposedDoes) {
+  const std::string replay = "replay '" + Frame("depth.png") + "' --no-progress --format csv";
+  const struct {
+    const char* yaml;
+    const char* error;
+  } bad[] = {
+      {"search: {score_threshold: 500}\n", "search.score_threshold: must be in [0, 100]"},
+      {"search: {stride: 0}\n", "search.stride: must be in [1, 16], got 0"},
+      {"floor: {max_tilt_rad: 2}\n", "floor.max_tilt_rad: must be in (0, 1.5] rad"},
+      {"source: {tracking: false, initial_pose: {x_m: 1, y_m: 0}}\n",
+       "source.initial_pose: needs source.tracking: true"},
+  };
+  const std::string config = *dir_ / "replay_check.yaml";
+  for (const auto& c : bad) {
+    std::ofstream(config) << c.yaml;
+    const CliRun run = RunHpose(replay + " --config '" + config + "'", *dir_);
+    EXPECT_EQ(run.exit_code, 1) << c.yaml << run.err;
+    EXPECT_NE(run.err.find("hpose replay: " + config + ": " + c.error), std::string::npos)
+        << c.yaml << run.err;
+    EXPECT_TRUE(run.out.empty()) << c.yaml << run.out;
+  }
+  std::ofstream(config) << "listen: 0.0.0.0:50051\nsearch: {score_threshold: 55}\n";
+  const CliRun run = RunHpose(replay + " --config '" + config + "'", *dir_);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("1 estimated, 0 failed"), std::string::npos) << run.err;
+}
+
 // The shipped templates mark their arms and head as free limbs: a robot walking with its arms
 // swung (the parametric humanoid's `arms_swung`) is fitted without them, and its heading comes
 // out right where the search's lattice optimum had turned it toward its arms.
