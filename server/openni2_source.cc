@@ -6,9 +6,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <thread>
 #include <utility>
 
 #include "server/openni2_devices.h"
@@ -84,7 +86,14 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       // itself (Next() counts frames) and the player repeats, which parks its thread waiting
       // for the next read instead.
       playback->setRepeatEnabled(options.replay.loop || frame_count_ > 0);
-      playback->setSpeed(options.replay.realtime ? 1.0f : -1.0f);
+      // The player gives a frame when the one before was read; the recorded pace, when asked
+      // for, is kept here (Pace). OpenNI2's own pace (speed 1) replaces a frame not read in
+      // time by the next, and at the end of a repeating recording the last by the first.
+      playback->setSpeed(-1.0f);
+      paced_ = options.replay.realtime;
+      const int fps = stream_.getVideoMode().getFps();
+      frame_period_s_ = fps > 0 ? 1.0 / fps : 1.0 / 30.0;
+      has_paced_ = false;
     }
     // Mirrored streams (a PS1080 configured with Mirror=1, or its recording) are read back
     // into the sensor's own columns, frame by frame; a device is asked to stop mirroring first.
@@ -137,9 +146,9 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     }
     ++frames_read_;
     player_running_ = true;
-    // Played at its recorded pace, the player (repeating: see Open) may start over before the
-    // last frame was read, which the next one then replaces: a frame index that goes back is
-    // the recording's end, not its first frame again.
+    // Should the player (repeating: see Open) start over before the last frame was read, as
+    // it did at its own pace, the first frame would take the last one's place: a frame index
+    // that goes back is the recording's end, not its first frame again.
     if (ends_itself) {
       if (ref.getFrameIndex() <= last_index_) {
         wrapped_ = true;
@@ -147,6 +156,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       }
       last_index_ = ref.getFrameIndex();
     }
+    if (paced_) Pace(ref.getTimestamp());
     Frame frame;
     frame.received = std::chrono::system_clock::now();
     frame.received_steady = std::chrono::steady_clock::now();
@@ -267,6 +277,31 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   long frame_count() const { return frame_count_; }
 
  private:
+  // Holds a recording's frame back until it is due at the recorded pace: as long after the
+  // frame before as their timestamps are apart (a frame period when they do not increase, as
+  // where a looping recording starts over; at most kMaxPaceStep, as OpenNI2's player caps a
+  // gap). A reader more than a frame behind is not sped up to catch up: the pace starts again
+  // from the frame it reads.
+  void Pace(std::uint64_t timestamp_us) {
+    using Clock = std::chrono::steady_clock;
+    constexpr double kMaxPaceStepS = 2.0;
+    const Clock::time_point now = Clock::now();
+    if (!has_paced_) {
+      has_paced_ = true;
+      last_due_ = now;
+    } else {
+      const double apart_s = timestamp_us > last_timestamp_us_
+                                 ? static_cast<double>(timestamp_us - last_timestamp_us_) * 1e-6
+                                 : frame_period_s_;
+      const auto step = std::chrono::duration_cast<Clock::duration>(
+          std::chrono::duration<double>(std::min(apart_s, kMaxPaceStepS)));
+      const Clock::time_point due = last_due_ + step;
+      if (due > now) std::this_thread::sleep_until(due);
+      last_due_ = now - due > step ? now : due;
+    }
+    last_timestamp_us_ = timestamp_us;
+  }
+
   openni::Device device_;
   openni::VideoStream stream_;
   std::string uri_;
@@ -283,6 +318,12 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   int last_index_ = 0;           // of the last frame read from a recording that ends.
   bool wrapped_ = false;         // its player started over: the recording has ended.
   bool player_running_ = false;  // a file's player thread has delivered a frame.
+  // A recording read at its recorded pace (Pace): when the last frame was due, its timestamp.
+  bool paced_ = false;
+  bool has_paced_ = false;
+  std::chrono::steady_clock::time_point last_due_;
+  std::uint64_t last_timestamp_us_ = 0;
+  double frame_period_s_ = 1.0 / 30.0;
   std::atomic<bool> disconnected_{false};
 };
 

@@ -453,6 +453,15 @@ bool PosePipeline::IsStale(const PublishedEstimate& e, std::string* reason) cons
                            config_.stale_after_s, "source", "estimate", reason);
 }
 
+void SetRatesAndLatency(const StatsSnapshot& stats, PipelineStatus* s) {
+  s->input_rate_hz = stats.input_rate_hz;
+  s->estimate_rate_hz = stats.estimate_rate_hz;
+  s->latency_samples = stats.latency_samples;
+  s->latency_median_s = stats.latency_median_s;
+  s->latency_p99_s = stats.latency_p99_s;
+  s->latency_last_s = stats.latency_last_s;
+}
+
 PipelineStatus PosePipeline::Status() const {
   std::lock_guard<std::mutex> lock(mu_);
   PipelineStatus s;
@@ -470,13 +479,7 @@ PipelineStatus PosePipeline::Status() const {
   s.has_camera = has_camera_;
   s.camera = camera_;
   s.point_clouds = point_clouds_;
-  const StatsSnapshot stats = stats_.Snapshot(Clock::now());
-  s.input_rate_hz = stats.input_rate_hz;
-  s.estimate_rate_hz = stats.estimate_rate_hz;
-  s.latency_samples = stats.latency_samples;
-  s.latency_median_s = stats.latency_median_s;
-  s.latency_p99_s = stats.latency_p99_s;
-  s.latency_last_s = stats.latency_last_s;
+  SetRatesAndLatency(stats_.Snapshot(Clock::now()), &s);
   s.has_floor = has_floor_;
   s.last_floor = last_floor_;
   s.warmed_up = warmed_up_;

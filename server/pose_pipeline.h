@@ -97,6 +97,9 @@ struct PipelineStatus {
   double warm_up_ms = 0.0;
 };
 
+// A status's rates and latency from the pipeline's window (depth and stereo pipelines alike).
+void SetRatesAndLatency(const StatsSnapshot& stats, PipelineStatus* status);
+
 // Reads the daemon's source on a capture thread into a bounded FrameQueue and estimates on one
 // estimation thread per estimator (each on its own frame, so with two estimators a frame may
 // take up to two frame periods and the daemon still keeps up); the newest result is published

@@ -203,13 +203,7 @@ PipelineStatus StereoPipeline::Status() const {
   s.frames_dropped = frames_dropped_;
   s.frames_estimated = frames_estimated_;
   s.frames_failed = frames_failed_;
-  const StatsSnapshot stats = stats_.Snapshot(Clock::now());
-  s.input_rate_hz = stats.input_rate_hz;
-  s.estimate_rate_hz = stats.estimate_rate_hz;
-  s.latency_samples = stats.latency_samples;
-  s.latency_median_s = stats.latency_median_s;
-  s.latency_p99_s = stats.latency_p99_s;
-  s.latency_last_s = stats.latency_last_s;
+  SetRatesAndLatency(stats_.Snapshot(Clock::now()), &s);
   return s;
 }
 
