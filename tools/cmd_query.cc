@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -25,6 +26,7 @@
 #include "server/message_json.h"
 #include "server/proto_convert.h"
 #include "server/stereo_proto_convert.h"
+#include "tools/closest_name.h"
 #include "tools/cmd_query_flags.h"
 #include "tools/command.h"
 #include "tools/estimate_report.h"
@@ -379,6 +381,16 @@ bool WaitForDaemon(grpc::Channel& channel, const std::string& server, double sec
   return false;
 }
 
+const char* const kQueryCommands[] = {"latest",          "stream", "estimate",
+                                      "estimate-stereo", "status", "templates"};
+
+int UnknownQueryCommand(const std::string& cmd) {
+  std::cerr << "hpose query: unknown command '" << cmd << "'"
+            << DidYouMean(cmd, {std::begin(kQueryCommands), std::end(kQueryCommands)})
+            << " (expected latest, stream, estimate, estimate-stereo, status or templates)\n";
+  return kExitUsage;
+}
+
 }  // namespace
 
 int RunQuery(int argc, char** argv) {
@@ -391,6 +403,10 @@ int RunQuery(int argc, char** argv) {
     return kExitUsage;
   }
   const std::string& cmd = args[0];
+  if (std::find(std::begin(kQueryCommands), std::end(kQueryCommands), cmd) ==
+      std::end(kQueryCommands)) {
+    return UnknownQueryCommand(cmd);  // before waiting for a daemon.
+  }
   const size_t files = cmd == "estimate" ? 1 : cmd == "estimate-stereo" ? 2 : 0;
   if (args.size() != files + 1) {
     std::cerr << "hpose query: "
@@ -617,9 +633,7 @@ int RunQuery(int argc, char** argv) {
     }
     return kExitOk;
   }
-  std::cerr << "hpose query: unknown command '" << cmd
-            << "' (expected latest, stream, estimate, status or templates)\n";
-  return kExitUsage;
+  return UnknownQueryCommand(cmd);
 }
 
 }  // namespace hpose::tools

@@ -3,6 +3,7 @@
 #include <iostream>
 #include <string>
 
+#include "tools/closest_name.h"
 #include "tools/exit_codes.h"
 
 namespace hpose::tools {
@@ -74,7 +75,10 @@ int RunTemplateSubcommand(const TemplateSubcommands& subs, int argc, char** argv
   if (sub == "from-urdf") return subs.from_urdf(argc, argv);
   if (sub == "info") return subs.info(argc, argv);
   if (sub == "show") return subs.show(argc, argv);
-  std::cerr << "hpose template: unknown subcommand '" << sub << "' (see hpose template --help)\n";
+  std::cerr << "hpose template: unknown subcommand '" << sub << "'"
+            << DidYouMean(sub,
+                          {"generate", "from-cloud", "from-captures", "from-urdf", "info", "show"})
+            << " (see hpose template --help)\n";
   return kExitUsage;
 }
 

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "tools/closest_name.h"
+
 namespace hpose::tools {
 
 bool ParsePoseTriple(const std::string& text, Pose2D* pose) {
@@ -185,7 +187,11 @@ FlagParser::Outcome FlagParser::Parse(int argc, char** argv, int first) {
       has_value = true;
     }
     Flag* flag = Find(name);
-    if (flag == nullptr) return fail("unknown flag --" + name);
+    if (flag == nullptr) {
+      std::vector<std::string> names;
+      for (const Flag& f : flags_) names.push_back(f.name);
+      return fail("unknown flag --" + name + DidYouMean(name, names, "--"));
+    }
     if (flag->seen && !flag->repeatable) return fail("--" + name + " given twice");
     if (flag->takes_value && !has_value) {
       if (i + 1 >= argc) return fail("--" + name + " needs a value (" + flag->metavar + ")");

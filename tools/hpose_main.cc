@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "tools/closest_name.h"
 #include "tools/cmd_calibrate_flags.h"
 #include "tools/cmd_demo_flags.h"
 #include "tools/cmd_estimate_flags.h"
@@ -153,6 +154,9 @@ int main(int argc, char** argv) {
     const int code = hpose::tools::RunCommand(c, argc, argv);
     return code == kFlagsAccepted ? ExecCommandProgram(c.name, args) : code;
   }
-  std::cerr << "hpose: unknown command '" << argv[1] << "' (see hpose --help)\n";
+  std::vector<std::string> names;
+  for (const Command& c : kCommands) names.push_back(c.name);
+  std::cerr << "hpose: unknown command '" << argv[1] << "'"
+            << hpose::tools::DidYouMean(argv[1], names) << " (see hpose --help)\n";
   return hpose::tools::kExitUsage;
 }

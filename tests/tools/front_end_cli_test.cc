@@ -52,6 +52,24 @@ TEST(FrontEndCliTest, HelpAndFlagErrorsNeedNoCommandProgram) {
   CliRun bad = RunProgram(alone, "estimate --no-such-flag", dir);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("unknown flag --no-such-flag"), std::string::npos) << bad.err;
+  EXPECT_EQ(bad.err.find("did you mean"), std::string::npos) << bad.err;
+
+  // A slip of the keyboard gets the name meant, for commands and flags alike.
+  CliRun slip = RunProgram(alone, "estmate", dir);
+  EXPECT_EQ(slip.exit_code, 2);
+  EXPECT_NE(slip.err.find("unknown command 'estmate' (did you mean 'estimate'?)"),
+            std::string::npos)
+      << slip.err;
+  slip = RunProgram(alone, "template from-urfd robot.urdf", dir);
+  EXPECT_EQ(slip.exit_code, 2);
+  EXPECT_NE(slip.err.find("unknown subcommand 'from-urfd' (did you mean 'from-urdf'?)"),
+            std::string::npos)
+      << slip.err;
+  slip = RunProgram(alone, "estimate --tempalte standing", dir);
+  EXPECT_EQ(slip.exit_code, 2);
+  EXPECT_NE(slip.err.find("unknown flag --tempalte (did you mean '--template'?)"),
+            std::string::npos)
+      << slip.err;
 
   // Accepted flags need the command's program: without it, a clear error naming it.
   CliRun missing = RunProgram(alone, "estimate --depth frame.png", dir);
@@ -155,6 +173,19 @@ TEST(FrontEndCliTest, EveryCommandHasAProgramWithTheSameFlags) {
     EXPECT_EQ(direct.exit_code, 2);
     EXPECT_NE(direct.err.find("hpose " + c), std::string::npos) << direct.err;
   }
+}
+
+// hpose query names the command it did not know before trying to reach a daemon (none runs at
+// this address).
+TEST(FrontEndCliTest, QueryNamesTheCommandMeant) {
+  TempDir dir("front_end_query");
+  const CliRun run =
+      RunProgram(kToolsDir + "/hpose", "query sttus --server 127.0.0.1:1 --timeout 30", dir);
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_NE(run.err.find("hpose query: unknown command 'sttus' (did you mean 'status'?)"),
+            std::string::npos)
+      << run.err;
+  EXPECT_EQ(run.err.find("unavailable"), std::string::npos) << run.err;
 }
 
 }  // namespace
