@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "core/common/clock_limits.h"
+#include "core/common/closest_name.h"
 #include "core/io/atomic_file.h"
 #include "server/openni2_source.h"
 
@@ -61,7 +62,9 @@ class MapReader {
     if (!node_.IsMap()) return Status::Ok();
     for (const auto& kv : node_) {
       const std::string k = kv.first.as<std::string>();
-      if (seen_.count(k) == 0) return Fail(Key(k), "unknown key");
+      if (seen_.count(k) == 0) {
+        return Fail(Key(k), "unknown key" + DidYouMean(k, {seen_.begin(), seen_.end()}));
+      }
     }
     return Status::Ok();
   }

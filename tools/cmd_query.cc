@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/common/clock_limits.h"
+#include "core/common/closest_name.h"
 #include "core/common/pose2d.h"
 #include "core/io/atomic_file.h"
 #include "core/io/cloud_io.h"
@@ -26,7 +27,6 @@
 #include "server/message_json.h"
 #include "server/proto_convert.h"
 #include "server/stereo_proto_convert.h"
-#include "tools/closest_name.h"
 #include "tools/cmd_query_flags.h"
 #include "tools/command.h"
 #include "tools/estimate_report.h"

@@ -3,7 +3,7 @@
 #include <iostream>
 #include <string>
 
-#include "tools/closest_name.h"
+#include "core/common/closest_name.h"
 #include "tools/exit_codes.h"
 
 namespace hpose::tools {

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "tools/closest_name.h"
+#include "core/common/closest_name.h"
 
 namespace hpose::tools {
 

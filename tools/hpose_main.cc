@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "tools/closest_name.h"
+#include "core/common/closest_name.h"
 #include "tools/cmd_calibrate_flags.h"
 #include "tools/cmd_demo_flags.h"
 #include "tools/cmd_estimate_flags.h"
@@ -156,7 +156,7 @@ int main(int argc, char** argv) {
   }
   std::vector<std::string> names;
   for (const Command& c : kCommands) names.push_back(c.name);
-  std::cerr << "hpose: unknown command '" << argv[1] << "'"
-            << hpose::tools::DidYouMean(argv[1], names) << " (see hpose --help)\n";
+  std::cerr << "hpose: unknown command '" << argv[1] << "'" << hpose::DidYouMean(argv[1], names)
+            << " (see hpose --help)\n";
   return hpose::tools::kExitUsage;
 }

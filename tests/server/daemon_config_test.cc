@@ -109,7 +109,11 @@ TEST(DaemonConfigTest, ErrorsNameTheKey) {
     const char* yaml;
     const char* expected;
   } cases[] = {
-      {"sourc: {}", "sourc: unknown key"},
+      {"sourc: {}", "sourc: unknown key (did you mean 'source'?)"},
+      {"search: {scor_threshold: 40}",
+       "search.scor_threshold: unknown key (did you mean 'score_threshold'?)"},
+      {"floor: {max_tilt: 1}", "floor.max_tilt: unknown key (did you mean 'max_tilt_rad'?)"},
+      {"floor: {colour: 1}", "floor.colour: unknown key\n"},
       {"source: {rate: slow}", "source.rate"},
       {"source: {fps: abc}", "source.fps"},
       {"source: {bogus: 1}", "source.bogus: unknown key"},
@@ -126,7 +130,8 @@ TEST(DaemonConfigTest, ErrorsNameTheKey) {
     Result<DaemonConfig> r = ParseDaemonConfig(c.yaml, "cfg.yaml", "");
     ASSERT_FALSE(r.ok()) << c.yaml;
     EXPECT_EQ(r.error().code, ErrorCode::kInvalidArgument);
-    EXPECT_NE(r.error().message.find(c.expected), std::string::npos)
+    // A trailing newline in `expected`: the message ends there (no name suggested).
+    EXPECT_NE((r.error().message + "\n").find(c.expected), std::string::npos)
         << c.yaml << " -> " << r.error().message;
     EXPECT_EQ(r.error().message.rfind("cfg.yaml", 0), 0u) << r.error().message;
   }

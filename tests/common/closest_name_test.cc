@@ -1,11 +1,11 @@
-#include "tools/closest_name.h"
+#include "core/common/closest_name.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-namespace hpose::tools {
+namespace hpose {
 namespace {
 
 const std::vector<std::string> kNames = {"estimate", "estimate-stereo", "simulate", "template",
@@ -48,4 +48,4 @@ TEST(ClosestNameTest, DidYouMeanQuotesTheNameWithItsPrefix) {
 }
 
 }  // namespace
-}  // namespace hpose::tools
+}  // namespace hpose

@@ -1,10 +1,10 @@
-#ifndef HPOSE_TOOLS_CLOSEST_NAME_H_
-#define HPOSE_TOOLS_CLOSEST_NAME_H_
+#ifndef HPOSE_CORE_COMMON_CLOSEST_NAME_H_
+#define HPOSE_CORE_COMMON_CLOSEST_NAME_H_
 
 #include <string>
 #include <vector>
 
-namespace hpose::tools {
+namespace hpose {
 
 // The name among `names` that `typed` most likely meant, for "did you mean ...?": the one
 // fewest edits away (a letter added, dropped, changed, or two neighbours swapped), when that is
@@ -17,6 +17,6 @@ std::string ClosestName(const std::string& typed, const std::vector<std::string>
 std::string DidYouMean(const std::string& typed, const std::vector<std::string>& names,
                        const std::string& prefix = "");
 
-}  // namespace hpose::tools
+}  // namespace hpose
 
-#endif  // HPOSE_TOOLS_CLOSEST_NAME_H_
+#endif  // HPOSE_CORE_COMMON_CLOSEST_NAME_H_

@@ -1,9 +1,9 @@
-#include "tools/closest_name.h"
+#include "core/common/closest_name.h"
 
 #include <algorithm>
 #include <cstddef>
 
-namespace hpose::tools {
+namespace hpose {
 namespace {
 
 // Edits from `a` to `b`: insertions, deletions, substitutions and transpositions of adjacent
@@ -53,4 +53,4 @@ std::string DidYouMean(const std::string& typed, const std::vector<std::string>&
   return name.empty() ? "" : " (did you mean '" + prefix + name + "'?)";
 }
 
-}  // namespace hpose::tools
+}  // namespace hpose
