@@ -86,9 +86,10 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       // itself (Next() counts frames) and the player repeats, which parks its thread waiting
       // for the next read instead.
       playback->setRepeatEnabled(options.replay.loop || frame_count_ > 0);
-      // The player gives a frame when the one before was read; the recorded pace, when asked
-      // for, is kept here (Pace). OpenNI2's own pace (speed 1) replaces a frame not read in
-      // time by the next, and at the end of a repeating recording the last by the first.
+      // The player gives a frame when the one before was read (its manual speed, -1); the
+      // recorded pace, when asked for, is kept here (Pace). OpenNI2's own pace (speed 1)
+      // replaces a frame not read in time by the next, and at the end of a repeating
+      // recording the last by the first.
       playback->setSpeed(-1.0f);
       paced_ = options.replay.realtime;
       const int fps = stream_.getVideoMode().getFps();
@@ -279,9 +280,9 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
  private:
   // Holds a recording's frame back until it is due at the recorded pace: as long after the
   // frame before as their timestamps are apart (a frame period when they do not increase, as
-  // where a looping recording starts over; at most kMaxPaceStep, as OpenNI2's player caps a
-  // gap). A reader more than a frame behind is not sped up to catch up: the pace starts again
-  // from the frame it reads.
+  // where a looping recording starts over; at most kMaxPaceStepS, 2 s, as OpenNI2's player
+  // caps a gap). A reader more than a frame behind is not sped up to catch up: the pace starts
+  // again from the frame it reads.
   void Pace(std::uint64_t timestamp_us) {
     using Clock = std::chrono::steady_clock;
     constexpr double kMaxPaceStepS = 2.0;
