@@ -6,7 +6,9 @@
 #include <set>
 #include <thread>
 #include <utility>
+#include <vector>
 
+#include "core/common/closest_name.h"
 #include "server/estimate_worker.h"
 
 namespace hpose::server {
@@ -58,9 +60,15 @@ Result<Estimate> EstimatorPool::Run(const std::vector<std::string>& names,
     }
     if (!wanted.empty()) {
       std::string have;
-      for (const VoxelTemplate& t : templates_) have += (have.empty() ? "" : ", ") + t.name;
+      std::vector<std::string> loaded;
+      for (const VoxelTemplate& t : templates_) {
+        have += (have.empty() ? "" : ", ") + t.name;
+        loaded.push_back(t.name);
+      }
+      const std::string meant = ClosestName(*wanted.begin(), loaded);
       return MakeError(ErrorCode::kNotFound,
-                       "unknown template '" + *wanted.begin() + "' (loaded: " + have + ")");
+                       "unknown template '" + *wanted.begin() + "' (loaded: " + have +
+                           (meant.empty() ? "" : "; did you mean '" + meant + "'?") + ")");
     }
   }
   Slot* slot = nullptr;

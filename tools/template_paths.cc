@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <system_error>
 
+#include "core/common/closest_name.h"
 #include "core/templates/template_io.h"
 #include "server/daemon_config.h"
 
@@ -76,10 +77,13 @@ Status CheckTemplateNames(const std::vector<std::string>& entries) {
     std::sort(names.begin(), names.end());
     std::string shipped;
     for (const std::string& name : names) shipped += (shipped.empty() ? "" : ", ") + name;
+    const std::string meant = ClosestName(entry, names);
     return MakeError(ErrorCode::kNotFound,
                      "'" + entry + "' is no shipped template (" +
                          (shipped.empty() ? "none found" : "those are " + shipped) + ", in " + dir +
-                         "); give a template file by its path, FILE.bt");
+                         "); " +
+                         (meant.empty() ? "give" : "did you mean '" + meant + "'? Or give") +
+                         " a template file by its path, FILE.bt");
   }
   return Status::Ok();
 }

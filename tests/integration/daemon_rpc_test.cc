@@ -224,6 +224,16 @@ TEST_F(DaemonRpcTest, UnknownTemplateIsNotFound) {
   grpc::Status s = Estimate(request, &response);
   EXPECT_EQ(s.error_code(), grpc::StatusCode::NOT_FOUND);
   EXPECT_NE(s.error_message().find("sitting"), std::string::npos) << s.error_message();
+  EXPECT_EQ(s.error_message().find("did you mean"), std::string::npos) << s.error_message();
+  // A slip gets the name meant.
+  request = FrameRequest();
+  request.add_templates("standng");
+  s = Estimate(request, &response);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_NE(s.error_message().find("unknown template 'standng' (loaded: "), std::string::npos)
+      << s.error_message();
+  EXPECT_NE(s.error_message().find("; did you mean 'standing'?)"), std::string::npos)
+      << s.error_message();
   ExpectStillServing();
 }
 

@@ -48,6 +48,14 @@ TEST(TemplateViewCliTest, InfoJsonGivesSizesAndAsymmetry) {
                        "standing, in "),
       std::string::npos)
       << unknown.err;
+  EXPECT_NE(unknown.err.find("); did you mean 'standing'? Or give a template file by its path"),
+            std::string::npos)
+      << unknown.err;
+  // A name like none of them gets no suggestion.
+  const CliRun other = RunHpose("template info sitting_down", dir);
+  EXPECT_EQ(other.exit_code, 1);
+  EXPECT_NE(other.err.find("); give a template file by its path, FILE.bt"), std::string::npos)
+      << other.err;
 }
 
 TEST(TemplateViewCliTest, ShowWritesAPicture) {
