@@ -385,9 +385,13 @@ const char* const kQueryCommands[] = {"latest",          "stream", "estimate",
                                       "estimate-stereo", "status", "templates"};
 
 int UnknownQueryCommand(const std::string& cmd) {
-  std::cerr << "hpose query: unknown command '" << cmd << "'"
-            << DidYouMean(cmd, {std::begin(kQueryCommands), std::end(kQueryCommands)})
-            << " (expected latest, stream, estimate, estimate-stereo, status or templates)\n";
+  const std::vector<std::string> names(std::begin(kQueryCommands), std::end(kQueryCommands));
+  std::string expected;
+  for (size_t i = 0; i < names.size(); ++i) {
+    expected += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  }
+  std::cerr << "hpose query: unknown command '" << cmd << "'" << DidYouMean(cmd, names)
+            << " (expected " << expected << ")\n";
   return kExitUsage;
 }
 
