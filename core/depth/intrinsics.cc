@@ -30,17 +30,20 @@ std::string Num(double value) {
   return out.str();
 }
 
-// Range checks of one image axis ("x": width, fx, cx). The principal point must lie within one
-// image size of the image, and the focal length must keep every pixel's ray within
-// kMaxRaySlope of the optical axis (and below kMaxFocalPx): beyond that the back-projected
-// points are not a camera's and their coordinates can overflow downstream.
+// Range checks of one image axis ("x": width, fx, cx). The principal point may lie outside the
+// image, as a window cropped from a larger image has it (a corner window of a 640x480 frame
+// puts it hundreds of pixels away), but no farther than the largest image's side; the focal
+// length must keep every pixel's ray within kMaxRaySlope of the optical axis (and below
+// kMaxFocalPx): beyond that the back-projected points are not a camera's and their
+// coordinates can overflow downstream.
 Status CheckAxis(const char* axis, int size, double f, double c) {
   const std::string fname = std::string("f") + axis, cname = std::string("c") + axis;
-  if (c < -size || c > 2.0 * size) {
+  if (c < -kMaxSide || c > size + kMaxSide) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "intrinsics: " + cname + " " + Num(c) + " is outside [-" +
-                         std::to_string(size) + ", " + std::to_string(2 * size) +
-                         "] (the principal point must lie near the image)");
+                         std::to_string(kMaxSide) + ", " + std::to_string(size + kMaxSide) +
+                         "] (the principal point must lie within " + std::to_string(kMaxSide) +
+                         " px of the image)");
   }
   const double widest = std::max(std::abs(c), std::abs(size - 1 - c));
   if (f > kMaxFocalPx || widest > kMaxRaySlope * f) {

@@ -53,7 +53,8 @@ TEST(IntrinsicsTest, ValidateNamesTheOffendingField) {
       {"fx", [](Intrinsics* k) { k->fx = 30.0; }},  // rays 84+ degrees off axis.
       {"fy", [](Intrinsics* k) { k->fy = 1e30; }},
       {"cx", [](Intrinsics* k) { k->cx = 1e12; }},
-      {"cy", [](Intrinsics* k) { k->cy = -481.0; }},
+      {"cy", [](Intrinsics* k) { k->cy = -8193.0; }},
+      {"cx", [](Intrinsics* k) { k->cx = 640.0 + 8193.0; }},
   };
   for (const Case& c : cases) {
     Intrinsics k = Intrinsics::KinectV1();
@@ -74,8 +75,15 @@ TEST(IntrinsicsTest, ValidateNamesTheOffendingField) {
 
 TEST(IntrinsicsTest, PrincipalPointOutsideTheImageIsAllowed) {
   Intrinsics k = Intrinsics::KinectV1();
-  k.cx = -10.0;  // cropped images can have it outside, within one image size.
+  k.cx = -10.0;  // cropped images can have it outside.
   EXPECT_TRUE(k.Validate().ok());
+  // A 40x40 window at the far corner of a 640x480 image: the principal point is 280 px and
+  // 200 px before the window's first column and row.
+  Intrinsics corner = Intrinsics::KinectV1();
+  corner.width = corner.height = 40;
+  corner.cx -= 600.0;
+  corner.cy -= 440.0;
+  EXPECT_TRUE(corner.Validate().ok()) << corner.Validate().error().message;
   k.cx = 1280.0;
   k.fx = 128.0;  // the widest ray, 1280 px at 128 px focal length, is at the 84 degree limit.
   EXPECT_TRUE(k.Validate().ok());

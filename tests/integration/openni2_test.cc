@@ -757,6 +757,22 @@ TEST_F(Openni2Test, ACroppedStreamKeepsEachPixelsRay) {
   ASSERT_TRUE(f.ok()) << f.error().ToString();
   EXPECT_NEAR(f->intrinsics.cx, 121.5, 1e-9);
   EXPECT_NEAR(f->intrinsics.cy, k.cy - 30.0, 1e-9);
+
+  // A small window in the image's far corner: the principal point lies far before its first
+  // column and row, and its pixels still keep their rays.
+  const int u0 = k.width - 40, v0 = k.height - 30;
+  ScopedEnv corner("HPOSE_SIM_DEPTH_CROP",
+                   std::to_string(u0) + "," + std::to_string(v0) + ",40,30");
+  Result<Frame> c = FirstFrame("openni2://", Openni2SourceOptions{});
+  ASSERT_TRUE(c.ok()) << c.error().ToString();
+  ASSERT_EQ(c->depth.width, 40);
+  ASSERT_EQ(c->depth.height, 30);
+  EXPECT_NEAR(c->intrinsics.cx, k.cx - u0, 1e-9);
+  EXPECT_NEAR(c->intrinsics.cy, k.cy - v0, 1e-9);
+  EXPECT_LT(c->intrinsics.cx, -40.0) << "the window is not off the image's centre";
+  bool is_window = false;
+  for (int p = 0; p < 3; ++p) is_window |= Window(Png(p), u0, v0, 40, 30, false).mm == c->depth.mm;
+  EXPECT_TRUE(is_window) << "the corner frame is no window of a PNG in the sensor's columns";
 }
 
 TEST(PreferredDepthModeTest, TheKinectsImageAtItsFrameRateInMillimetres) {
