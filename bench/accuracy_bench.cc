@@ -59,17 +59,10 @@ namespace {
 using namespace hpose;
 
 using bench::Body;
+using bench::kMounts;
 using bench::kShapes;
 using bench::ParametricBody;
 using bench::ParseNames;
-
-struct Mount {
-  const char* name;
-  double height_m;
-  double pitch_rad;
-};
-const Mount kMounts[] = {{"level 0.34 m", 0.34, 0.0},
-                         {"pitched 0.9 m, 20° down", 0.9, 20.0 * kPi / 180.0}};
 
 struct Outcome {
   bool found = false;  // the right template has a posed candidate on the humanoid's cluster.
@@ -310,18 +303,8 @@ std::vector<double> ParseList(const std::string& s) {
 
 Result<DepthImage> RenderTrial(const Trial& t, const Body& body, int clutter, bool noise_on,
                                double noise_correlation) {
-  FrameSpec spec;
-  spec.preset = kShapes[t.shape];
-  if (body.meshes.empty()) {
-    spec.body = body.variant;
-  } else {
-    spec.robot_mesh = body.meshes[t.shape];
-  }
-  spec.humanoid_pose = Pose2D{t.distance_m, 0.0, NormalizeAngle(t.theta_deg * kPi / 180.0)};
-  spec.sensor_height_m = kMounts[t.mount].height_m;
-  spec.sensor_pitch_rad = kMounts[t.mount].pitch_rad;
-  spec.clutter = clutter;
-  spec.seed = 1000 + t.seed;
+  FrameSpec spec =
+      bench::TrialFrame(body, t.shape, t.mount, t.distance_m, t.theta_deg, clutter, 1000 + t.seed);
   spec.noise = noise_on;
   spec.noise_correlated_share = noise_correlation;
   Result<SimulatedFrame> frame = SimulateFrame(spec);

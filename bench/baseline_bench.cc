@@ -61,7 +61,7 @@ namespace {
 
 using namespace hpose;
 using bench::Body;
-using bench::kShapes;
+using bench::kMounts;
 using Clock = std::chrono::steady_clock;
 
 using PointN = pcl::PointNormal;
@@ -85,14 +85,6 @@ struct BaselineOptions {
   bool upright = true;
   int restarts = 3;  // RANSAC runs per object, from other draws; the one explaining most is kept.
 };
-
-struct Mount {
-  const char* name;
-  double height_m;
-  double pitch_rad;
-};
-const Mount kMounts[] = {{"level 0.34 m", 0.34, 0.0},
-                         {"pitched 0.9 m, 20° down", 0.9, 20.0 * kPi / 180.0}};
 
 struct Outcome {
   bool posed = false;  // the method gave a pose at all.
@@ -485,20 +477,8 @@ int main(int argc, char** argv) {
     }
     for (size_t i = next++; i < trials.size(); i = next++) {
       Trial& t = trials[i];
-      const Body& body = bodies[t.body];
-      FrameSpec spec;
-      spec.preset = kShapes[t.shape];
-      if (body.meshes.empty()) {
-        spec.body = body.variant;
-      } else {
-        spec.robot_mesh = body.meshes[t.shape];
-      }
-      spec.humanoid_pose = Pose2D{t.distance_m, 0.0, NormalizeAngle(t.theta_deg * kPi / 180.0)};
-      spec.sensor_height_m = kMounts[t.mount].height_m;
-      spec.sensor_pitch_rad = kMounts[t.mount].pitch_rad;
-      spec.clutter = clutter;
-      spec.seed = 1000 + i;
-      Result<SimulatedFrame> frame = SimulateFrame(spec);
+      Result<SimulatedFrame> frame = SimulateFrame(bench::TrialFrame(
+          bodies[t.body], t.shape, t.mount, t.distance_m, t.theta_deg, clutter, 1000 + i));
       if (!frame.ok()) {
         ++failed;
         continue;

@@ -12,6 +12,25 @@
 namespace hpose::bench {
 
 const char* const kShapes[2] = {"standing", "right_arm_raised"};
+const Mount kMounts[2] = {{"level 0.34 m", 0.34, 0.0},
+                          {"pitched 0.9 m, 20° down", 0.9, 20.0 * kPi / 180.0}};
+
+FrameSpec TrialFrame(const Body& body, int shape, int mount, double distance_m, double theta_deg,
+                     int clutter, std::uint64_t seed) {
+  FrameSpec spec;
+  spec.preset = kShapes[shape];
+  if (body.meshes.empty()) {
+    spec.body = body.variant;
+  } else {
+    spec.robot_mesh = body.meshes[shape];
+  }
+  spec.humanoid_pose = Pose2D{distance_m, 0.0, NormalizeAngle(theta_deg * kPi / 180.0)};
+  spec.sensor_height_m = kMounts[mount].height_m;
+  spec.sensor_pitch_rad = kMounts[mount].pitch_rad;
+  spec.clutter = clutter;
+  spec.seed = seed;
+  return spec;
+}
 
 Body ParametricBody(const std::string& variant) {
   Body b;
