@@ -79,7 +79,8 @@ struct PipelineStatus {
   std::uint64_t frames_failed = 0;
   std::uint64_t reconnects = 0;
   // The size and camera of the depth frames read last (has_camera), or that the source gives
-  // point clouds; neither before the first frame.
+  // point clouds; neither before the first frame. For the stereo source: the size of the pairs
+  // read and the calibration's left camera.
   bool has_camera = false;
   Intrinsics camera;
   bool point_clouds = false;

@@ -126,6 +126,7 @@ void StereoPipeline::Run() {
       if (!pair.ok()) {
         e->error = pair.error();
       } else {
+        NoteCamera(pair->first.width, pair->first.height);
         const Clock::time_point process_start = Clock::now();
         StereoObjectPrior prior;
         Result<StereoFrameResult> result =
@@ -192,6 +193,18 @@ bool StereoPipeline::IsStale(const PublishedStereoEstimate& e, std::string* reas
                            config_.stale_after_s, "stereo source", "stereo estimate", reason);
 }
 
+void StereoPipeline::NoteCamera(int width, int height) {
+  const Eigen::Matrix3d& k = estimator_->rig().calibration().left.camera_matrix;
+  std::lock_guard<std::mutex> lock(mu_);
+  has_camera_ = true;
+  camera_.width = width;
+  camera_.height = height;
+  camera_.fx = k(0, 0);
+  camera_.fy = k(1, 1);
+  camera_.cx = k(0, 2);
+  camera_.cy = k(1, 2);
+}
+
 PipelineStatus StereoPipeline::Status() const {
   std::lock_guard<std::mutex> lock(mu_);
   PipelineStatus s;
@@ -203,6 +216,8 @@ PipelineStatus StereoPipeline::Status() const {
   s.frames_dropped = frames_dropped_;
   s.frames_estimated = frames_estimated_;
   s.frames_failed = frames_failed_;
+  s.has_camera = has_camera_;
+  s.camera = camera_;
   SetRatesAndLatency(stats_.Snapshot(Clock::now()), &s);
   return s;
 }

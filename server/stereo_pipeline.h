@@ -87,6 +87,9 @@ class StereoPipeline final {
   bool SleepUntil(std::chrono::steady_clock::time_point t);
   void SetState(SourceState state, std::string reason);
   bool EndedLocked() const;  // Ended() with mu_ held.
+  // Records the size of the pair read (its left image's) with the calibration's left camera,
+  // for Status().
+  void NoteCamera(int width, int height);
 
   const StereoSequence sequence_;
   const StereoEstimator* const estimator_;
@@ -109,6 +112,9 @@ class StereoPipeline final {
   std::uint64_t frames_dropped_ = 0;
   std::uint64_t frames_estimated_ = 0;
   std::uint64_t frames_failed_ = 0;
+  // The pairs' size and the left camera of the calibration, from the first pair read on.
+  bool has_camera_ = false;
+  Intrinsics camera_;
   PipelineStats stats_;
 };
 

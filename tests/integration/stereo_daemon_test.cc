@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -20,6 +21,7 @@
 #include "core/io/atomic_file.h"
 #include "core/sim/sim_truth.h"
 #include "core/stereo/rgb_image_io.h"
+#include "core/stereo/stereo_calibration.h"
 #include "core/stereo/stereo_sequence.h"
 #include "core/stereo/stereo_sim_sequence.h"
 #include "hpose/v1/pose_service.grpc.pb.h"
@@ -402,6 +404,30 @@ TEST_F(StereoDaemonTest, StatusReportsBothSourcesAndTheWorldFrame) {
   EXPECT_GE(st.stereo_source().frames_estimated(), 1u);
   EXPECT_GE(st.stereo_latency().samples(), 1u);
   EXPECT_TRUE(st.stereo_calibrated());
+  // The pairs' size and the calibration's left camera.
+  Result<StereoCalibration> cal = ReadStereoCalibration({*dir_ + "/stereo/calibration.yaml"});
+  ASSERT_TRUE(cal.ok()) << cal.error().ToString();
+  ASSERT_TRUE(st.stereo_source().has_camera());
+  const v1::Intrinsics& k = st.stereo_source().camera();
+  ASSERT_GT(cal->image_width, 0);
+  EXPECT_EQ(k.width(), static_cast<unsigned>(cal->image_width));
+  EXPECT_EQ(k.height(), static_cast<unsigned>(cal->image_height));
+  EXPECT_DOUBLE_EQ(k.fx(), cal->left.camera_matrix(0, 0));
+  EXPECT_DOUBLE_EQ(k.fy(), cal->left.camera_matrix(1, 1));
+  EXPECT_DOUBLE_EQ(k.cx(), cal->left.camera_matrix(0, 2));
+  EXPECT_DOUBLE_EQ(k.cy(), cal->left.camera_matrix(1, 2));
+  // hpose query status says it in a line.
+  std::string out;
+  ASSERT_EQ(tu::RunCommand(tu::HposeProgram() + " query status --server 127.0.0.1:" +
+                               std::to_string(daemon_->port()),
+                           &out),
+            0)
+      << out;
+  char line[160];
+  std::snprintf(line, sizeof(line),
+                "stereo camera: %ux%u pairs, left fx %.1f fy %.1f cx %.1f cy %.1f\n", k.width(),
+                k.height(), k.fx(), k.fy(), k.cx(), k.cy());
+  EXPECT_NE(out.find(line), std::string::npos) << out;
   ASSERT_TRUE(st.has_world_from_ground());
   EXPECT_DOUBLE_EQ(st.world_from_ground().x(), kWorldFromGround.x);
   EXPECT_DOUBLE_EQ(st.world_from_ground().theta(), kWorldFromGround.theta);
