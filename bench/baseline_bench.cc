@@ -174,7 +174,7 @@ int Explained(const Model& model, const pcl::search::KdTree<PointN>& tree, const
   const float r2 = static_cast<float>(o.icp_distance_m * o.icp_distance_m);
   for (const PointN& p : model.points->points) {
     PointN q;
-    q.getVector3fMap() = (t * p.getVector4fMap()).head<3>();
+    q.getVector3fMap() = t.topLeftCorner<3, 3>() * p.getVector3fMap() + t.topRightCorner<3, 1>();
     if (tree.nearestKSearch(q, 1, index, d2) == 1 && d2[0] <= r2) ++n;
   }
   return n;
