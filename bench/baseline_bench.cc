@@ -235,7 +235,10 @@ Outcome Baseline(const DepthImage& depth, const Intrinsics& k, const FloorEstima
   Outcome out;
   const Clock::time_point t0 = Clock::now();
   Result<PointCloud> sensor = DepthToCloud(depth, k);
-  if (!sensor.ok()) return out;
+  if (!sensor.ok()) {
+    out.ms = MsSince(t0);
+    return out;
+  }
   CloudN::Ptr scene(new CloudN);
   scene->reserve(sensor->size());
   const Eigen::Affine3f g = truth.ground_from_sensor.cast<float>();
@@ -262,7 +265,10 @@ Outcome Baseline(const DepthImage& depth, const Intrinsics& k, const FloorEstima
   extract.setIndices(floor);
   extract.setNegative(true);
   extract.filter(*objects);
-  if (objects->size() < 10) return out;
+  if (objects->size() < 10) {
+    out.ms = MsSince(t0);
+    return out;
+  }
   Normals(objects, truth.ground_from_sensor.translation().cast<float>(), o);
 
   // The targets: the whole scene, or each object about the model's size.
