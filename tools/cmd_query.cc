@@ -596,14 +596,14 @@ int RunQuery(int argc, char** argv) {
                 ss.description().empty() ? "(none)" : ss.description().c_str(), ss.kind().c_str(),
                 v1::SourceState_Name(ss.state()).c_str(), ss.state_reason().empty() ? "" : ": ",
                 ss.state_reason().c_str(), st.stereo_calibrated() ? ", calibrated" : "");
-    if (ss.has_camera()) {
-      const v1::Intrinsics& k = ss.camera();
-      std::printf("stereo camera: %ux%u pairs, left fx %.1f fy %.1f cx %.1f cy %.1f\n", k.width(),
-                  k.height(), k.fx(), k.fy(), k.cx(), k.cy());
-    } else if (ss.state() != v1::SOURCE_STATE_NONE) {
-      std::printf("stereo camera: not known before the first pair\n");
-    }
     if (ss.state() != v1::SOURCE_STATE_NONE) {
+      if (ss.has_camera()) {
+        const v1::Intrinsics& k = ss.camera();
+        std::printf("stereo camera: %ux%u pairs, left fx %.1f fy %.1f cx %.1f cy %.1f\n", k.width(),
+                    k.height(), k.fx(), k.fy(), k.cx(), k.cy());
+      } else {
+        std::printf("stereo camera: not known before the first pair\n");
+      }
       std::printf(
           "stereo pairs: in %llu, dropped %llu, with pose %llu, without %llu; "
           "rate %.1f Hz; latency median %.1f ms\n",
