@@ -42,15 +42,16 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <Eigen/LU>
 
 #include "bench/bench_bodies.h"
+#include "bench/bench_threads.h"
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
 
@@ -486,19 +487,19 @@ int main(int argc, char** argv) {
                variants.size(), threads);
 
   const Intrinsics intrinsics = Intrinsics::KinectV1(640, 480);
-  std::atomic<size_t> next{0}, done{0}, failed{0};
-  auto worker = [&]() {
-    // Estimators are used by one thread at a time: each worker has its own.
-    std::map<std::pair<int, int>, std::unique_ptr<Estimator>> estimators;  // (variant, body).
+  std::atomic<size_t> failed{0};
+  bench::ForEachOnThreads(threads, trials.size(), "frame", [&]() -> std::function<void(size_t)> {
+    // This thread's estimators, by (variant, body).
+    auto estimators = std::make_shared<std::map<std::pair<int, int>, std::unique_ptr<Estimator>>>();
     for (size_t v = 0; v < variants.size(); ++v) {
       for (size_t b = 0; b < bodies.size(); ++b) {
-        estimators[{static_cast<int>(v), static_cast<int>(b)}] =
+        (*estimators)[{static_cast<int>(v), static_cast<int>(b)}] =
             Estimator::Create(variants[v].options,
                               variants[v].surface ? with_surface[b] : centres[b])
                 .value();
       }
     }
-    for (size_t i = next++; i < trials.size(); i = next++) {
+    return [&, estimators](size_t i) {
       Trial& t = trials[i];
       const Result<DepthImage> depth =
           RenderTrial(t, bodies[t.body], clutter, noise_on, noise_correlation);
@@ -508,19 +509,11 @@ int main(int argc, char** argv) {
       }
       for (size_t v = 0; depth.ok() && v < variants.size(); ++v) {
         Result<Estimate> e =
-            estimators[{static_cast<int>(v), t.body}]->EstimateDepth(*depth, intrinsics);
+            (*estimators)[{static_cast<int>(v), t.body}]->EstimateDepth(*depth, intrinsics);
         if (e.ok()) t.by_variant[v] = Evaluate(*e, t);
       }
-      const size_t n = ++done;
-      if (n % 20 == 0 || n == trials.size()) {
-        std::fprintf(stderr, "\r  frame %zu/%zu", n, trials.size());
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int k = 0; k < threads; ++k) pool.emplace_back(worker);
-  for (std::thread& th : pool) th.join();
-  std::fprintf(stderr, "\n");
+    };
+  });
 
   std::printf("noise %s", noise_on ? "on" : "off");
   if (noise_on && noise_correlation > 0.0)

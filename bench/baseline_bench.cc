@@ -31,10 +31,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <pcl/features/fpfh.h>
@@ -52,6 +52,7 @@
 #include <pcl/segmentation/sac_segmentation.h>
 
 #include "bench/bench_bodies.h"
+#include "bench/bench_threads.h"
 #include "core/common/pose2d.h"
 #include "core/depth/depth_to_cloud.h"
 #include "core/search/estimator.h"
@@ -475,34 +476,27 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "baseline_bench: %zu frames on %d thread(s)\n", trials.size(), threads);
 
   const Intrinsics intrinsics = Intrinsics::KinectV1(640, 480);
-  std::atomic<size_t> next{0}, done{0}, failed{0};
-  auto worker = [&]() {
-    std::vector<std::unique_ptr<Estimator>> estimators;
+  std::atomic<size_t> failed{0};
+  bench::ForEachOnThreads(threads, trials.size(), "frame", [&]() -> std::function<void(size_t)> {
+    // This thread's estimators, one per body.
+    auto estimators = std::make_shared<std::vector<std::unique_ptr<Estimator>>>();
     for (const Body& body : bodies) {
-      estimators.push_back(Estimator::Create(DefaultEstimatorOptions(), body.templates).value());
+      estimators->push_back(Estimator::Create(DefaultEstimatorOptions(), body.templates).value());
     }
-    for (size_t i = next++; i < trials.size(); i = next++) {
+    return [&, estimators](size_t i) {
       Trial& t = trials[i];
       Result<SimulatedFrame> frame = SimulateFrame(bench::TrialFrame(
           bodies[t.body], t.shape, t.mount, t.distance_m, t.theta_deg, clutter, 1000 + i));
       if (!frame.ok()) {
         ++failed;
-        continue;
+        return;
       }
-      t.hpose = Hpose(*estimators[t.body], frame->depth, intrinsics);
+      t.hpose = Hpose(*(*estimators)[t.body], frame->depth, intrinsics);
       t.baseline = Baseline(frame->depth, intrinsics, frame->sensor_mount, models[t.body][t.shape],
                             static_cast<unsigned>(i + 1), o);
       t.ran = true;
-      const size_t n = ++done;
-      if (n % 10 == 0 || n == trials.size()) {
-        std::fprintf(stderr, "\r  frame %zu/%zu", n, trials.size());
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int k = 0; k < threads; ++k) pool.emplace_back(worker);
-  for (std::thread& th : pool) th.join();
-  std::fprintf(stderr, "\n");
+    };
+  });
 
   std::printf("clutter %d, headings every %d°, two shapes, distances", clutter, step_deg);
   for (double d : distances) std::printf(" %.1f", d);

@@ -26,7 +26,6 @@
 //                             [--far-ratio R] [--two-points-within M] [--min-evidence E]
 //                             [--dump FILE] [--extra-pose NAME]
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -34,10 +33,10 @@
 #include <memory>
 #include <random>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "bench/bench_bodies.h"
+#include "bench/bench_threads.h"
 #include "core/search/detection_order.h"
 #include "core/search/estimator.h"
 #include "core/sim/frame_simulator.h"
@@ -272,9 +271,9 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr, "cluster_choice_bench: %zu scenes on %d threads\n", scenes.size(), threads);
   std::vector<Outcome> outcomes(scenes.size());
-  std::atomic<size_t> next{0}, done{0};
-  auto worker = [&]() {
-    std::vector<std::unique_ptr<Estimator>> estimators;  // one per body, this thread's.
+  bench::ForEachOnThreads(threads, scenes.size(), "scene", [&]() -> std::function<void(size_t)> {
+    // This thread's estimators, one per body.
+    auto estimators = std::make_shared<std::vector<std::unique_ptr<Estimator>>>();
     EstimatorOptions options = DefaultEstimatorOptions();
     options.far_score_ratio = far_ratio;
     options.two_points_a_voxel_within_m = two_points_within;
@@ -285,19 +284,12 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "cluster_choice_bench: %s\n", e.error().message.c_str());
         std::exit(2);
       }
-      estimators.push_back(std::move(*e));
+      estimators->push_back(std::move(*e));
     }
-    for (size_t i = next++; i < scenes.size(); i = next++) {
-      outcomes[i] = Run(scenes[i], bodies[scenes[i].body], *estimators[scenes[i].body]);
-      const size_t n = ++done;
-      if (n % 20 == 0 || n == scenes.size())
-        std::fprintf(stderr, "\r  scene %zu/%zu", n, scenes.size());
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int k = 0; k < threads; ++k) pool.emplace_back(worker);
-  for (std::thread& t : pool) t.join();
-  std::fprintf(stderr, "\n");
+    return [&, estimators](size_t i) {
+      outcomes[i] = Run(scenes[i], bodies[scenes[i].body], *(*estimators)[scenes[i].body]);
+    };
+  });
 
   if (dump != nullptr && !WriteDump(dump, seed, scenes, bodies, outcomes)) {
     std::fprintf(stderr, "cluster_choice_bench: cannot write %s\n", dump_path.c_str());
