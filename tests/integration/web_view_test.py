@@ -254,6 +254,10 @@ class WebViewTest(unittest.TestCase):
             self.assertAlmostEqual(camera[name], k[name], delta=1e-9, msg=name)
         self.assertEqual(self.text("camera"), "%d×%d, fx %.1f fy %.1f cx %.1f cy %.1f" % (
             k["width"], k["height"], k["fx"], k["fy"], k["cx"], k["cy"]))
+        # No stereo source: its rows say so rather than showing blanks.
+        self.assertEqual(self.text("stereo-source-state"), "not configured")
+        self.assertEqual(self.text("stereo-camera"), "–")
+        self.assertEqual(self.text("stereo-rate"), "–")
 
         # Metrics moved with the frames.
         with urllib.request.urlopen(self.http + "/metrics", timeout=10) as reply:
@@ -274,6 +278,38 @@ class WebViewTest(unittest.TestCase):
         self.proc.wait(timeout=30)
         self.wait_for("the page to show the daemon disconnected",
                       lambda: self.text("conn") == "disconnected", 15)
+
+    def test_stereo_source_shown(self):
+        # Beside the depth recording, a simulated stereo sequence (looped): the page's stereo rows
+        # give its state, the size of its pairs with the calibration's left camera, and its rate,
+        # as GetStatus does.
+        stereo = os.path.join(self.tmp.name, "stereo")
+        subprocess.run([HPOSE, "simulate-stereo", "--out", stereo, "--frames", "6"], check=True,
+                       stdout=subprocess.DEVNULL)
+        self.start_daemon("--fps", "5", "--stereo-source", stereo, "--loop")
+        self.driver.get(self.http + "/")
+        self.wait_for("the page to connect", lambda: self.text("conn") == "live", 60)
+        self.wait_for("the page to show the stereo camera",
+                      lambda: "pairs, left" in self.text("stereo-camera"), 60)
+        status = get_json(self.http + "/api/status")["stereo_source"]
+        self.assertEqual(status["state"], "SOURCE_STATE_RUNNING")
+        self.assertEqual(self.text("stereo-source-state"), "running")
+        cam = status["camera"]
+        self.assertEqual(self.text("stereo-camera"),
+                         "%d×%d pairs, left fx %.1f fy %.1f cx %.1f cy %.1f" % (
+                             cam["width"], cam["height"], cam["fx"], cam["fy"], cam["cx"],
+                             cam["cy"]))
+        # The simulator's pairs and camera (hpose simulate-stereo: 512x240, a left camera with
+        # its principal point inside the image).
+        self.assertGreater(cam["fx"], 0.0)
+        self.assertTrue(0.0 < cam["cx"] < cam["width"] and 0.0 < cam["cy"] < cam["height"], cam)
+        self.wait_for("the stereo rate to be shown",
+                      lambda: re.match(r"^\d+\.\d Hz$", self.text("stereo-rate")) is not None, 30)
+        self.assertGreater(float(self.text("stereo-rate").split()[0]), 0.0)
+        # The depth source's rows are its own.
+        self.assertTrue(self.text("camera").startswith("320×240, fx "), self.text("camera"))
+        errors = [e for e in self.driver.get_log("browser") if e["level"] == "SEVERE"]
+        self.assertEqual(errors, [])
 
     def test_refusal_shown(self):
         # Asked for more evidence than one view of a robot holds (it sees under half of the
