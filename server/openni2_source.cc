@@ -106,6 +106,12 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       Close();
       return MakeError(ErrorCode::kDataLoss, spec + ": the depth stream is not in mm or 100 um");
     }
+    // The field of view, read once before the stream starts: OpenNI2's file player sets a
+    // recording's stream properties from its own thread as it reads the file (again when it
+    // starts over, and without the lock a stream's property reads take), so a read while it
+    // plays can copy from a property being replaced; a cut-short .oni crashed that way.
+    horizontal_fov_ = stream_.getHorizontalFieldOfView();
+    vertical_fov_ = stream_.getVerticalFieldOfView();
     if (stream_.start() != openni::STATUS_OK) {
       Close();
       return MakeError(ErrorCode::kUnavailable,
@@ -206,10 +212,8 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
       k = intrinsics_;
     } else {
       // OpenNI2 reports only the field of view: the principal point is taken at the image centre.
-      const double hfov = stream_.getHorizontalFieldOfView();
-      const double vfov = stream_.getVerticalFieldOfView();
-      k.fx = full_w / (2.0 * std::tan(hfov / 2.0));
-      k.fy = full_h / (2.0 * std::tan(vfov / 2.0));
+      k.fx = full_w / (2.0 * std::tan(horizontal_fov_ / 2.0));
+      k.fy = full_h / (2.0 * std::tan(vertical_fov_ / 2.0));
       k.cx = full_w / 2.0;
       k.cy = full_h / 2.0;
     }
@@ -310,6 +314,8 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   bool listening_ = false;
   bool is_device_ = false;
   bool mirrored_ = false;
+  double horizontal_fov_ = 0.0;  // radians, as the stream gave them when it opened.
+  double vertical_fov_ = 0.0;
   bool loop_ = false;
   bool has_intrinsics_ = false;  // intrinsics_ given by the user replace the field-of-view ones.
   Intrinsics intrinsics_;
