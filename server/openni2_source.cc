@@ -15,6 +15,7 @@
 
 #include "server/openni2_devices.h"
 #include "server/openni2_file_player.h"
+#include "server/openni2_open_check.h"
 #include "server/openni2_sensors.h"
 
 namespace hpose::server {
@@ -22,6 +23,9 @@ namespace hpose::server {
 namespace {
 
 constexpr const char* kDevicePrefix = "openni2://";
+// How long a recording's next frame may take to come from OpenNI2's player (it reads ahead of
+// the reader, so a healthy file's frame is there at once).
+constexpr int kRecordingFrameWaitMs = 5000;
 
 bool IsDepthFormat(openni::PixelFormat f) {
   return f == openni::PIXEL_FORMAT_DEPTH_1_MM || f == openni::PIXEL_FORMAT_DEPTH_100_UM;
@@ -47,6 +51,9 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
         return MakeError(ErrorCode::kNotFound, spec + ": no such recording");
       }
       uri = spec;
+      // A damaged .oni can crash OpenNI2's file driver as it opens: tried in a child first.
+      const Status opens = CheckRecordingOpens(spec);
+      if (!opens.ok()) return opens;
     }
     if (openni::OpenNI::initialize() != openni::STATUS_OK) {
       return MakeError(ErrorCode::kUnavailable, WithOpenni2Error("OpenNI2 failed to initialise"));
@@ -120,6 +127,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     frames_read_ = 0;
     last_index_ = 0;
     wrapped_ = false;
+    stalled_ = false;
     loop_ = options.replay.loop;
     has_intrinsics_ = options.replay.has_intrinsics;
     intrinsics_ = options.replay.intrinsics;
@@ -133,18 +141,32 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     if (ends_itself && (frames_read_ >= frame_count_ || wrapped_)) {
       return MakeError(ErrorCode::kOutOfRange, spec + ": end of recording");
     }
+    if (stalled_) {
+      return MakeError(ErrorCode::kOutOfRange,
+                       spec + ": end of the readable part of a damaged recording");
+    }
     if (disconnected_.load()) {
       return MakeError(ErrorCode::kUnavailable, "OpenNI2 device '" + uri_ + "' disconnected");
     }
-    if (is_device_ || frame_count_ <= 0) {
-      if (!WaitForFrame(is_device_ ? timeout_ms_ : std::max(timeout_ms_, 5000))) {
-        if (disconnected_.load()) {
-          return MakeError(ErrorCode::kUnavailable, "OpenNI2 device '" + uri_ + "' disconnected");
-        }
-        if (!is_device_) return MakeError(ErrorCode::kOutOfRange, spec + ": end of recording");
+    // A recording's player gives its next frame as soon as the one before was read; one that
+    // gives none (a damaged file can keep it reading forever) ends the recording here rather
+    // than leaving the read below waiting for ever.
+    const int wait_ms = is_device_ ? timeout_ms_ : std::max(timeout_ms_, kRecordingFrameWaitMs);
+    if (!WaitForFrame(wait_ms)) {
+      if (disconnected_.load()) {
+        return MakeError(ErrorCode::kUnavailable, "OpenNI2 device '" + uri_ + "' disconnected");
+      }
+      if (is_device_) {
         return MakeError(ErrorCode::kUnavailable, "OpenNI2 device '" + uri_ + "': no frame for " +
                                                       std::to_string(timeout_ms_) + " ms");
       }
+      if (frame_count_ <= 0) return MakeError(ErrorCode::kOutOfRange, spec + ": end of recording");
+      stalled_ = true;  // its player will give no more: the next read ends the recording.
+      return MakeError(ErrorCode::kDataLoss,
+                       spec + ": damaged recording: OpenNI2's player gave no frame for " +
+                           std::to_string(wait_ms) + " ms after frame " +
+                           std::to_string(frames_read_) + " of the " +
+                           std::to_string(frame_count_) + " it counts");
     }
     openni::VideoFrameRef ref;
     if (stream_.readFrame(&ref) != openni::STATUS_OK || !ref.isValid()) {
@@ -324,6 +346,7 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
   long frames_read_ = 0;
   int last_index_ = 0;           // of the last frame read from a recording that ends.
   bool wrapped_ = false;         // its player started over: the recording has ended.
+  bool stalled_ = false;         // its player gave no frame in time: the file is damaged.
   bool player_running_ = false;  // a file's player thread has delivered a frame.
   // A recording read at its recorded pace (Pace): when the last frame was due, its timestamp.
   bool paced_ = false;

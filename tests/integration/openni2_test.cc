@@ -5,9 +5,11 @@
 #include <OpenNI.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -445,6 +447,109 @@ TEST_F(Openni2Test, ATruncatedRecordingIsRefusedOrPlaysTheFramesItHolds) {
   // The cuts include an empty file and the recording less its last 1/24.
   EXPECT_GT(refused, 0);
   EXPECT_GT(played, 0);
+}
+
+// Byte offsets of the records of type `type` in an .oni: OpenNI's recording format starts each
+// record with the magic "NIR\0", its type as a little-endian 32-bit word (3 an integer
+// property, 10 a frame's data), and more of its header, 28 bytes in all.
+constexpr std::uint32_t kIntPropertyRecord = 3;
+constexpr std::uint32_t kNewDataRecord = 10;
+constexpr size_t kRecordHeaderBytes = 28;
+
+std::uint32_t LittleEndian32(const std::string& bytes, size_t at) {
+  std::uint32_t v = 0;
+  for (int b = 3; b >= 0; --b) v = (v << 8) | static_cast<unsigned char>(bytes[at + b]);
+  return v;
+}
+
+std::vector<size_t> RecordOffsets(const std::string& bytes, std::uint32_t type) {
+  const std::string magic("NIR\0", 4);
+  std::vector<size_t> offsets;
+  for (size_t at = bytes.find(magic); at != std::string::npos; at = bytes.find(magic, at + 1)) {
+    if (at + kRecordHeaderBytes > bytes.size()) break;
+    if (LittleEndian32(bytes, at + 4) == type) offsets.push_back(at);
+  }
+  return offsets;
+}
+
+std::string FileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+TEST_F(Openni2Test, ARecordingThatCrashesOpenni2sFileDriverIsRefused) {
+  // The first integer property's name with its last letter and its terminating zero replaced
+  // by 0xFF (a damaged copy): OpenNI2's file driver dies of SIGSEGV opening such a file. The
+  // source opens a recording in a child process first, so the crash is the child's and the
+  // recording is refused by name.
+  const std::string oni = *dir_ + "/whole_for_crash.oni";
+  RecordOptions options;
+  options.frames = 3;
+  ASSERT_TRUE(RecordOpenni2("openni2://", oni, options, nullptr).ok());
+  std::string bytes = FileBytes(oni);
+  const std::vector<size_t> properties = RecordOffsets(bytes, kIntPropertyRecord);
+  ASSERT_FALSE(properties.empty());
+  const size_t name_at = properties[0] + kRecordHeaderBytes + 4;
+  const size_t name_bytes = LittleEndian32(bytes, name_at - 4);
+  ASSERT_GE(name_bytes, 2u);
+  ASSERT_LT(name_at + name_bytes, bytes.size());
+  ASSERT_EQ(bytes[name_at + name_bytes - 1], '\0') << "the name's terminating zero";
+  bytes[name_at + name_bytes - 2] = '\xff';
+  bytes[name_at + name_bytes - 1] = '\xff';
+  const std::string damaged = *dir_ + "/crashing.oni";
+  std::ofstream(damaged, std::ios::binary | std::ios::trunc).write(bytes.data(), bytes.size());
+
+  Openni2Source source(damaged, Openni2SourceOptions{});
+  const Status opened = source.Open();
+  ASSERT_FALSE(opened.ok());
+  EXPECT_EQ(opened.error().code, ErrorCode::kDataLoss) << opened.error().ToString();
+  EXPECT_NE(opened.error().message.find(damaged), std::string::npos);
+  EXPECT_NE(opened.error().message.find("damaged recording: OpenNI2's file driver"),
+            std::string::npos)
+      << opened.error().message;
+  // The undamaged recording still opens and plays.
+  Openni2Source whole(oni, Openni2SourceOptions{});
+  ASSERT_TRUE(whole.Open().ok());
+  EXPECT_TRUE(whole.Next().ok());
+  whole.Close();
+}
+
+TEST_F(Openni2Test, ARecordingWhosePlayerStallsEndsWithAnError) {
+  // A frame record whose header is wiped (a damaged copy): OpenNI2's player then reads on and
+  // never gives the frame, and a read waiting for it used to wait for ever (hposed's source
+  // thread, `hpose replay`). The frames before it are read; the stalled one is a named error
+  // within seconds, the next read ends the recording, and the source closes.
+  const std::string oni = *dir_ + "/whole_for_stall.oni";
+  RecordOptions options;
+  options.frames = 3;
+  ASSERT_TRUE(RecordOpenni2("openni2://", oni, options, nullptr).ok());
+  std::string bytes = FileBytes(oni);
+  const std::vector<size_t> records = RecordOffsets(bytes, kNewDataRecord);
+  ASSERT_GE(records.size(), 3u) << "frame records found in the recording";
+  std::fill_n(bytes.begin() + static_cast<std::ptrdiff_t>(records[1]), 8, '\0');
+  const std::string damaged = *dir_ + "/stalled.oni";
+  std::ofstream(damaged, std::ios::binary | std::ios::trunc).write(bytes.data(), bytes.size());
+
+  Openni2SourceOptions source_options;
+  source_options.replay.realtime = false;
+  Openni2Source source(damaged, source_options);
+  ASSERT_TRUE(source.Open().ok());
+  Result<Frame> first = source.Next();
+  ASSERT_TRUE(first.ok()) << first.error().ToString();
+  const auto before = std::chrono::steady_clock::now();
+  Result<Frame> stalled = source.Next();
+  const double waited_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count();
+  ASSERT_FALSE(stalled.ok());
+  EXPECT_EQ(stalled.error().code, ErrorCode::kDataLoss) << stalled.error().ToString();
+  EXPECT_NE(stalled.error().message.find(damaged), std::string::npos);
+  EXPECT_NE(stalled.error().message.find("damaged recording"), std::string::npos)
+      << stalled.error().message;
+  EXPECT_LT(waited_s, 15.0);
+  Result<Frame> after = source.Next();
+  ASSERT_FALSE(after.ok());
+  EXPECT_EQ(after.error().code, ErrorCode::kOutOfRange) << after.error().ToString();
+  source.Close();
 }
 
 // Names in `dir` that are not `keep`: what a recording leaves behind besides its file.
