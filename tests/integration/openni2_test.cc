@@ -400,16 +400,26 @@ TEST_F(Openni2Test, ARecordingOfDepthAndInfraredPlaysItsDepth) {
   slow.Close();
 }
 
+// The bytes of the file at `path` (empty when it cannot be read).
+std::string FileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Three frames of the simulated device recorded to `oni` with OpenNI2's recorder.
+bool RecordThreeFrames(const std::string& oni) {
+  RecordOptions options;
+  options.frames = 3;
+  return RecordOpenni2("openni2://", oni, options, nullptr).ok();
+}
+
 TEST_F(Openni2Test, ATruncatedRecordingIsRefusedOrPlaysTheFramesItHolds) {
   // A recording cut short (a full disk, a copy interrupted), at points through the whole file:
   // OpenNI2 refuses it, named as a damaged recording, or it plays frames in order, no more than
   // it counts, and ends; never a hang, a crash or a frame twice.
   const std::string oni = *dir_ + "/whole.oni";
-  RecordOptions options;
-  options.frames = 3;
-  ASSERT_TRUE(RecordOpenni2("openni2://", oni, options, nullptr).ok());
-  std::ifstream in(oni, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_TRUE(RecordThreeFrames(oni));
+  const std::string bytes = FileBytes(oni);
   ASSERT_GT(bytes.size(), 1000u);
   const std::string cut_path = *dir_ + "/cut.oni";
   int refused = 0;
@@ -472,20 +482,13 @@ std::vector<size_t> RecordOffsets(const std::string& bytes, std::uint32_t type) 
   return offsets;
 }
 
-std::string FileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 TEST_F(Openni2Test, ARecordingThatCrashesOpenni2sFileDriverIsRefused) {
   // The first integer property's name with its last letter and its terminating zero replaced
   // by 0xFF (a damaged copy): OpenNI2's file driver dies of SIGSEGV opening such a file. The
   // source opens a recording in a child process first, so the crash is the child's and the
   // recording is refused by name.
   const std::string oni = *dir_ + "/whole_for_crash.oni";
-  RecordOptions options;
-  options.frames = 3;
-  ASSERT_TRUE(RecordOpenni2("openni2://", oni, options, nullptr).ok());
+  ASSERT_TRUE(RecordThreeFrames(oni));
   std::string bytes = FileBytes(oni);
   const std::vector<size_t> properties = RecordOffsets(bytes, kIntPropertyRecord);
   ASSERT_FALSE(properties.empty());
@@ -520,9 +523,7 @@ TEST_F(Openni2Test, ARecordingWhosePlayerStallsEndsWithAnError) {
   // thread, `hpose replay`). The frames before it are read; the stalled one is a named error
   // within seconds, the next read ends the recording, and the source closes.
   const std::string oni = *dir_ + "/whole_for_stall.oni";
-  RecordOptions options;
-  options.frames = 3;
-  ASSERT_TRUE(RecordOpenni2("openni2://", oni, options, nullptr).ok());
+  ASSERT_TRUE(RecordThreeFrames(oni));
   std::string bytes = FileBytes(oni);
   const std::vector<size_t> records = RecordOffsets(bytes, kNewDataRecord);
   ASSERT_GE(records.size(), 3u) << "frame records found in the recording";
