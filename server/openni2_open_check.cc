@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <thread>
 #include <vector>
@@ -111,6 +112,12 @@ Status CheckRecordingOpens(const std::string& path, double timeout_s) {
                               : "ended with status " + std::to_string(WEXITSTATUS(status));
   return MakeError(ErrorCode::kDataLoss, path + ": damaged recording: OpenNI2's file driver " +
                                              how + " opening it (checked in a separate process)");
+}
+
+Status CheckDeviceUriOpens(const std::string& uri) {
+  std::error_code ec;
+  if (uri.empty() || !std::filesystem::is_regular_file(uri, ec)) return Status::Ok();
+  return CheckRecordingOpens(uri);
 }
 
 }  // namespace hpose::server

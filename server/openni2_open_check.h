@@ -17,6 +17,11 @@ namespace hpose::server {
 // check is skipped (OK).
 Status CheckRecordingOpens(const std::string& path, double timeout_s = 20.0);
 
+// The same check for an OpenNI2 device URI (the part after openni2://): OpenNI2 opens a
+// recording given as a device too, so a URI that names a file is checked as a recording; any
+// other URI (a sensor, or none) is OK without a child.
+Status CheckDeviceUriOpens(const std::string& uri);
+
 }  // namespace hpose::server
 
 #endif  // HPOSE_SERVER_OPENNI2_OPEN_CHECK_H_

@@ -15,6 +15,7 @@
 #include "core/io/intrinsics_json.h"
 #include "server/openni2_devices.h"
 #include "server/openni2_file_player.h"
+#include "server/openni2_open_check.h"
 #include "server/openni2_sensors.h"
 #include "server/openni2_source.h"
 
@@ -43,6 +44,10 @@ Result<RecordSummary> RecordOniTo(const std::string& spec, const std::string& ou
                                   const std::string& shown_as, const RecordOptions& options,
                                   const std::function<bool(long)>& progress, Status* stalled) {
   const std::string uri = spec.substr(std::string("openni2://").size());
+  // A recording given as the device (openni2://FILE.oni) is tried in a child first, as a
+  // replayed one is: a damaged file can crash OpenNI2's file driver as it opens.
+  const Status opens = CheckDeviceUriOpens(uri);
+  if (!opens.ok()) return opens.error();
   if (openni::OpenNI::initialize() != openni::STATUS_OK) {
     return MakeError(ErrorCode::kUnavailable, WithOpenni2Error("OpenNI2 failed to initialise"));
   }
@@ -167,16 +172,27 @@ Result<RecordSummary> RecordPngDirectory(const std::string& spec, const std::str
                                          const std::function<bool(long)>& progress) {
   const Status fresh = CheckNoRecordingIn(output);
   if (!fresh.ok()) return fresh.error();
-  std::error_code ec;
-  std::filesystem::create_directories(output, ec);
-  if (ec) {
-    return MakeError(ErrorCode::kInternal, output + ": cannot create directory: " + ec.message());
-  }
+  // The device first: one that cannot be opened, or that sends no frame, leaves no directory
+  // behind (only one this call made, and only while it is still empty).
   Openni2SourceOptions source_options;
   source_options.device.frame_timeout_s = options.frame_timeout_s;
   Openni2Source source(spec, source_options);
   Status opened = source.Open();
   if (!opened.ok()) return opened.error();
+  std::error_code ec;
+  const bool made_here = !std::filesystem::exists(output, ec);
+  std::filesystem::create_directories(output, ec);
+  if (ec) {
+    return MakeError(ErrorCode::kInternal, output + ": cannot create directory: " + ec.message());
+  }
+  struct RemoveIfUnused {
+    const std::string& dir;
+    bool armed;
+    ~RemoveIfUnused() {
+      std::error_code ignored;
+      if (armed) std::filesystem::remove(dir, ignored);  // removes an empty directory only.
+    }
+  } remove_if_unused{output, made_here};
   RecordSummary summary;
   summary.format = "png-dir";
   const Clock::time_point start = Clock::now();
@@ -187,6 +203,7 @@ Result<RecordSummary> RecordPngDirectory(const std::string& spec, const std::str
       return WithFramesKept(frame.error(), summary.frames, output);
     }
     if (!frame.ok()) return frame.error();
+    remove_if_unused.armed = false;
     if (!wrote_intrinsics) {
       Status s = WriteIntrinsicsJson(frame->intrinsics, output + "/intrinsics.json");
       if (!s.ok()) return s.error();

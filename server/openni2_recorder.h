@@ -33,8 +33,9 @@ struct RecordSummary {
 // that fails before its first frame leaves a previous file as it was; one whose device stops
 // sending after some frames keeps them and fails saying so (a PNG directory keeps its frames the
 // same way). Fails with kUnavailable (no device, timeout), kInvalidArgument (not a device spec, or
-// a directory that already holds a recording: frame_*.png, intrinsics.json) or kInternal (cannot
-// write).
+// a directory that already holds a recording: frame_*.png, intrinsics.json), kDataLoss (a
+// recording given as the device, openni2://FILE.oni, that OpenNI2 cannot open without crashing;
+// tried in a child process first) or kInternal (cannot write).
 Result<RecordSummary> RecordOpenni2(const std::string& device_spec, const std::string& output,
                                     const RecordOptions& options,
                                     const std::function<bool(long)>& progress);

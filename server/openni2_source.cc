@@ -45,6 +45,8 @@ class Openni2Source::Impl final : public openni::OpenNI::DeviceDisconnectedListe
     std::string uri;
     if (is_device_) {
       uri = spec.substr(std::strlen(kDevicePrefix));
+      const Status opens = CheckDeviceUriOpens(uri);  // a recording given as the device.
+      if (!opens.ok()) return opens;
     } else {
       std::error_code ec;
       if (!std::filesystem::is_regular_file(spec, ec)) {

@@ -510,6 +510,24 @@ TEST_F(Openni2Test, ARecordingThatCrashesOpenni2sFileDriverIsRefused) {
   EXPECT_NE(opened.error().message.find("damaged recording: OpenNI2's file driver"),
             std::string::npos)
       << opened.error().message;
+  // Given as the device (openni2://FILE.oni), to the source and to the recorder, it is
+  // refused the same way, and the recorder writes nothing.
+  Openni2Source as_device("openni2://" + damaged, Openni2SourceOptions{});
+  const Status device_opened = as_device.Open();
+  ASSERT_FALSE(device_opened.ok());
+  EXPECT_EQ(device_opened.error().code, ErrorCode::kDataLoss);
+  EXPECT_NE(device_opened.error().message.find("damaged recording: OpenNI2's file driver"),
+            std::string::npos)
+      << device_opened.error().message;
+  for (const std::string out : {*dir_ + "/from_crashing.oni", *dir_ + "/from_crashing_png"}) {
+    RecordOptions options;
+    options.frames = 2;
+    const Result<RecordSummary> rec = RecordOpenni2("openni2://" + damaged, out, options, nullptr);
+    ASSERT_FALSE(rec.ok()) << out;
+    EXPECT_EQ(rec.error().code, ErrorCode::kDataLoss) << rec.error().ToString();
+    EXPECT_NE(rec.error().message.find(damaged), std::string::npos) << rec.error().message;
+    EXPECT_FALSE(std::filesystem::exists(out)) << out;
+  }
   // The undamaged recording still opens and plays.
   Openni2Source whole(oni, Openni2SourceOptions{});
   ASSERT_TRUE(whole.Open().ok());
