@@ -1,21 +1,12 @@
 #include "server/openni2_open_check.h"
 
 #include <OpenNI.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cerrno>
-#include <chrono>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <string>
-#include <thread>
-#include <vector>
 
-extern char** environ;
+#include "core/common/self_child.h"
 
 namespace hpose::server {
 namespace {
@@ -59,59 +50,27 @@ constexpr int kRefused = 3;
 // Run at start-up of every program that can open a recording: the child of
 // CheckRecordingOpens does its check and ends before main.
 const bool kRanAsCheck = [] {
-  if (const char* path = std::getenv(kCheckVariable)) RunCheck(path);
+  if (const char* path = RunningAsSelfChild(kCheckVariable)) RunCheck(path);
   return false;
 }();
-
-std::string SignalName(int sig) {
-  const char* name = sigabbrev_np(sig);
-  return name != nullptr ? "SIG" + std::string(name) : "signal " + std::to_string(sig);
-}
 
 }  // namespace
 
 Status CheckRecordingOpens(const std::string& path, double timeout_s) {
   (void)kRanAsCheck;
-  std::vector<std::string> variables;
-  const std::string prefix = std::string(kCheckVariable) + "=";
-  for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
-    if (std::strncmp(*e, prefix.c_str(), prefix.size()) != 0) variables.emplace_back(*e);
+  const SelfChildRun run = RunSelfAsChild(kCheckVariable, path, timeout_s);
+  if (!run.started) return Status::Ok();  // no child to be had: the caller's own open goes ahead.
+  if (run.timed_out) {
+    return MakeError(ErrorCode::kDataLoss,
+                     path + ": damaged recording: OpenNI2 did not open it within " +
+                         std::to_string(static_cast<int>(timeout_s)) + " s");
   }
-  variables.push_back(prefix + path);
-  std::vector<char*> envp;
-  for (std::string& v : variables) envp.push_back(v.data());
-  envp.push_back(nullptr);
-  std::string name = "hpose-openni2-open-check";
-  char* argv[] = {name.data(), nullptr};
-  pid_t pid = -1;
-  if (posix_spawn(&pid, "/proc/self/exe", nullptr, nullptr, argv, envp.data()) != 0) {
-    return Status::Ok();  // no child to be had: the caller's own open goes ahead.
-  }
-  using Clock = std::chrono::steady_clock;
-  const Clock::time_point deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                                        std::chrono::duration<double>(timeout_s));
-  int status = 0;
-  for (;;) {
-    const pid_t done = waitpid(pid, &status, WNOHANG);
-    if (done == pid) break;
-    if (done < 0 && errno != EINTR) return Status::Ok();  // reaped elsewhere: nothing known.
-    if (Clock::now() >= deadline) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      return MakeError(ErrorCode::kDataLoss,
-                       path + ": damaged recording: OpenNI2 did not open it within " +
-                           std::to_string(static_cast<int>(timeout_s)) + " s");
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  if (WIFEXITED(status) && (WEXITSTATUS(status) == kOpened || WEXITSTATUS(status) == kRefused)) {
+  if (run.signal == 0 && (run.exit_status == kOpened || run.exit_status == kRefused)) {
     return Status::Ok();
   }
-  const std::string how = WIFSIGNALED(status)
-                              ? "died of " + SignalName(WTERMSIG(status))
-                              : "ended with status " + std::to_string(WEXITSTATUS(status));
   return MakeError(ErrorCode::kDataLoss, path + ": damaged recording: OpenNI2's file driver " +
-                                             how + " opening it (checked in a separate process)");
+                                             DescribeSelfChildEnd(run, timeout_s) +
+                                             " opening it (checked in a separate process)");
 }
 
 Status CheckDeviceUriOpens(const std::string& uri) {

@@ -4,19 +4,16 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
 
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
-#include <assimp/Importer.hpp>
 
+#include "core/robot/mesh_file.h"
 #include "core/robot/package_resolver.h"
 
 namespace hpose {
@@ -72,6 +69,18 @@ bool CheckLengths(const std::string& link, const std::string& what,
   return true;
 }
 
+// A primitive's largest extent `across_m`: an error naming the link when it is wider than a
+// template may span along an axis, before tessellating it (a 100 km sphere took all memory).
+bool CheckSpan(const std::string& link, const std::string& what, double across_m, Error* error) {
+  if (across_m <= kMaxTemplateBodyM) return true;
+  std::ostringstream msg;
+  msg << "link '" << link << "': " << what << " makes a shape " << across_m
+      << " m across, more than the " << kMaxTemplateBodyM
+      << " m a template may span (are its lengths in millimetres?)";
+  *error = MakeError(ErrorCode::kInvalidArgument, msg.str());
+  return false;
+}
+
 const char* JointTypeName(int type) {
   switch (type) {
     case urdf::Joint::REVOLUTE:
@@ -91,49 +100,31 @@ const char* JointTypeName(int type) {
   }
 }
 
-// Reads every triangle of a mesh file (node transforms applied), in the file's units.
-Result<TriangleMesh> ReadMeshFile(const std::string& path) {
-  Assimp::Importer importer;
-  // URDF meshes are authored in the link frame: keep COLLADA coordinates as they are.
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
-  if (scene == nullptr || scene->mRootNode == nullptr) {
-    return MakeError(ErrorCode::kDataLoss, importer.GetErrorString());
-  }
-  TriangleMesh mesh;
-  std::function<void(const aiNode*, const aiMatrix4x4&)> walk = [&](const aiNode* node,
-                                                                    const aiMatrix4x4& parent) {
-    const aiMatrix4x4 world = parent * node->mTransformation;
-    for (unsigned m = 0; m < node->mNumMeshes; ++m) {
-      const aiMesh* am = scene->mMeshes[node->mMeshes[m]];
-      const int offset = static_cast<int>(mesh.vertices.size());
-      for (unsigned v = 0; v < am->mNumVertices; ++v) {
-        const aiVector3D p = world * am->mVertices[v];
-        mesh.vertices.emplace_back(p.x, p.y, p.z);
-      }
-      for (unsigned f = 0; f < am->mNumFaces; ++f) {
-        const aiFace& face = am->mFaces[f];
-        if (face.mNumIndices != 3) continue;  // points and lines
-        mesh.triangles.emplace_back(offset + static_cast<int>(face.mIndices[0]),
-                                    offset + static_cast<int>(face.mIndices[1]),
-                                    offset + static_cast<int>(face.mIndices[2]));
-      }
-    }
-    for (unsigned c = 0; c < node->mNumChildren; ++c) walk(node->mChildren[c], world);
-  };
-  walk(scene->mRootNode, aiMatrix4x4());
-  if (mesh.empty()) return MakeError(ErrorCode::kDataLoss, "the file holds no triangles");
-  if (!mesh.IsValid()) return MakeError(ErrorCode::kDataLoss, "non-finite vertices");
-  return mesh;
-}
-
 // One URDF geometry as triangles in its own frame (before the visual/collision origin).
 struct GeometryLoader {
   const UrdfLoadOptions& options;
   std::string urdf_dir;
-  std::map<std::string, TriangleMesh> cache;  // by resolved path.
+  std::map<std::string, Result<TriangleMesh>> read;  // mesh files by resolved path.
   std::vector<SkippedMesh>* skipped;
+
+  // Reads the mesh files of these geometries that exist, all in one child process (see
+  // ReadMeshFiles): what Load then finds read. Names that cannot be resolved are left to Load.
+  void ReadMeshesOf(const std::vector<const urdf::Geometry*>& geometries) {
+    std::vector<std::string> paths;
+    for (const urdf::Geometry* g : geometries) {
+      if (g == nullptr || g->type != urdf::Geometry::MESH) continue;
+      Result<std::string> path = ResolveUrdfResource(static_cast<const urdf::Mesh*>(g)->filename,
+                                                     urdf_dir, options.package_paths);
+      std::error_code ec;
+      if (!path.ok() || !fs::is_regular_file(*path, ec) || read.count(*path) > 0 ||
+          std::find(paths.begin(), paths.end(), *path) != paths.end()) {
+        continue;
+      }
+      paths.push_back(*path);
+    }
+    std::vector<Result<TriangleMesh>> meshes = ReadMeshFiles(paths);
+    for (size_t i = 0; i < paths.size(); ++i) read.emplace(paths[i], std::move(meshes[i]));
+  }
 
   // Returns false (and sets *error) when the robot cannot be loaded.
   bool Load(const std::string& link, const urdf::Geometry& geometry, TriangleMesh* out,
@@ -142,7 +133,10 @@ struct GeometryLoader {
     switch (geometry.type) {
       case urdf::Geometry::BOX: {
         const auto& box = static_cast<const urdf::Box&>(geometry);
-        if (!CheckLengths(link, "box size", {box.dim.x, box.dim.y, box.dim.z}, error)) return false;
+        if (!CheckLengths(link, "box size", {box.dim.x, box.dim.y, box.dim.z}, error) ||
+            !CheckSpan(link, "box size", std::max({box.dim.x, box.dim.y, box.dim.z}), error)) {
+          return false;
+        }
         *out = TessellatePrimitive(
             Primitive::Box(link, Eigen::Vector3d(box.dim.x, box.dim.y, box.dim.z),
                            Eigen::Isometry3d::Identity()),
@@ -151,7 +145,9 @@ struct GeometryLoader {
       }
       case urdf::Geometry::CYLINDER: {
         const auto& c = static_cast<const urdf::Cylinder&>(geometry);
-        if (!CheckLengths(link, "cylinder radius and length", {c.radius, c.length}, error)) {
+        if (!CheckLengths(link, "cylinder radius and length", {c.radius, c.length}, error) ||
+            !CheckSpan(link, "cylinder radius and length", std::max(2.0 * c.radius, c.length),
+                       error)) {
           return false;
         }
         *out = TessellatePrimitive(
@@ -160,7 +156,10 @@ struct GeometryLoader {
       }
       case urdf::Geometry::SPHERE: {
         const auto& s = static_cast<const urdf::Sphere&>(geometry);
-        if (!CheckLengths(link, "sphere radius", {s.radius}, error)) return false;
+        if (!CheckLengths(link, "sphere radius", {s.radius}, error) ||
+            !CheckSpan(link, "sphere radius", 2.0 * s.radius, error)) {
+          return false;
+        }
         *out =
             TessellatePrimitive(Primitive::Sphere(link, s.radius, Eigen::Vector3d::Zero()), edge);
         return true;
@@ -185,17 +184,15 @@ struct GeometryLoader {
     std::string reason;
     if (!path.ok()) {
       reason = path.error().message;
-    } else if (auto it = cache.find(*path); it != cache.end()) {
-      *out = it->second;
     } else if (std::error_code ec; !fs::is_regular_file(*path, ec)) {
       reason = "file does not exist";
     } else {
-      Result<TriangleMesh> read = ReadMeshFile(*path);
-      if (read.ok()) {
-        cache.emplace(*path, *read);
-        *out = std::move(*read);
+      auto it = read.find(*path);
+      if (it == read.end()) it = read.emplace(*path, ReadMeshFile(*path)).first;
+      if (it->second.ok()) {
+        *out = *it->second;
       } else {
-        reason = "cannot read it: " + read.error().message;
+        reason = "cannot read it: " + it->second.error().message;
       }
     }
     if (!reason.empty()) {
@@ -275,6 +272,22 @@ Result<UrdfRobot> UrdfRobot::Load(const std::string& urdf_path, const UrdfLoadOp
   robot.name_ = model->getName();
   robot.root_link_ = model->getRoot()->name;
   GeometryLoader loader{options, fs::path(urdf_path).parent_path().string(), {}, &robot.skipped_};
+  {
+    std::vector<const urdf::Geometry*> geometries;
+    for (const auto& [name, link] : model->links_) {
+      if (link == nullptr) continue;
+      if (options.geometry == UrdfGeometryKind::kVisual) {
+        for (const urdf::VisualSharedPtr& v : link->visual_array) {
+          if (v != nullptr) geometries.push_back(v->geometry.get());
+        }
+      } else {
+        for (const urdf::CollisionSharedPtr& c : link->collision_array) {
+          if (c != nullptr) geometries.push_back(c->geometry.get());
+        }
+      }
+    }
+    loader.ReadMeshesOf(geometries);
+  }
   // Breadth first from the root, so parents come before children.
   std::vector<urdf::LinkConstSharedPtr> queue{model->getRoot()};
   for (size_t i = 0; i < queue.size(); ++i) {

@@ -334,6 +334,23 @@ TEST(UrdfRobotTest, UnreadableOrImpossibleShapeNumbersAreErrors) {
   ASSERT_FALSE(cylinder.ok());
   EXPECT_NE(cylinder.error().message.find("link 'head': cylinder"), std::string::npos)
       << cylinder.error().message;
+
+  // Shapes wider than any template (lengths in millimetres, a mutated file's 100 km sphere, which
+  // took all memory to tessellate) are refused before they are tessellated; one just within the
+  // limit loads.
+  for (const std::string& huge :
+       {std::string("<sphere radius=\"100000\"/>"), std::string("<box size=\"200 300 1500\"/>"),
+        std::string("<cylinder radius=\"2.6\" length=\"0.1\"/>")}) {
+    const Result<UrdfRobot> refused = UrdfRobot::Load(dir.Write("huge.urdf", robot(huge)));
+    ASSERT_FALSE(refused.ok()) << huge;
+    EXPECT_EQ(refused.error().code, ErrorCode::kInvalidArgument);
+    EXPECT_NE(refused.error().message.find("link 'head': "), std::string::npos)
+        << refused.error().message;
+    EXPECT_NE(refused.error().message.find("more than the 5 m a template may span"),
+              std::string::npos)
+        << refused.error().message;
+  }
+  EXPECT_TRUE(UrdfRobot::Load(dir.Write("wide.urdf", robot("<box size=\"5 0.1 0.1\"/>"))).ok());
 }
 
 // A joint origin a million kilometres out (a unit slip): the head's single-precision vertices
