@@ -4,6 +4,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -41,6 +42,31 @@ std::string SignalName(int sig) {
 }  // namespace
 
 int SelfChildOutputFd() { return kOutputFd; }
+
+void LimitSelfChildMemory(unsigned long long bytes) {
+#if defined(__SANITIZE_ADDRESS__)
+  (void)bytes;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  (void)bytes;
+#else
+  const rlimit limit{bytes, bytes};
+  setrlimit(RLIMIT_AS, &limit);
+#endif
+#else
+  const rlimit limit{bytes, bytes};
+  setrlimit(RLIMIT_AS, &limit);
+#endif
+}
+
+unsigned long long HalfThePhysicalMemory() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page = sysconf(_SC_PAGESIZE);
+  const unsigned long long gib = 1ull << 30;
+  if (pages <= 0 || page <= 0) return 4 * gib;
+  return std::max(
+      gib, static_cast<unsigned long long>(pages) * static_cast<unsigned long long>(page) / 2);
+}
 
 const char* RunningAsSelfChild(const char* variable) { return std::getenv(variable); }
 

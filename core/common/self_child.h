@@ -27,6 +27,15 @@ SelfChildRun RunSelfAsChild(const std::string& variable, const std::string& valu
 // The value of `variable` when this process is a child started with it, else nullptr.
 const char* RunningAsSelfChild(const char* variable);
 
+// In a child: limits its memory (address space) to `bytes`, so a file that makes a library
+// allocate without end fails there (std::bad_alloc, or the child's death) instead of taking the
+// machine's memory. Does nothing in a build with AddressSanitizer, whose shadow memory needs a
+// far larger address space.
+void LimitSelfChildMemory(unsigned long long bytes);
+
+// Half the machine's physical memory, at least 1 GiB: a child's memory limit.
+unsigned long long HalfThePhysicalMemory();
+
 // The descriptor a child writes its result to (a pipe to its parent).
 int SelfChildOutputFd();
 

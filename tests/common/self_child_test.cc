@@ -5,10 +5,15 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
+#include <new>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
+
+#include "tests/sanitizer_build.h"
 
 namespace hpose {
 namespace {
@@ -24,6 +29,16 @@ constexpr char kVariable[] = "HPOSE_SELF_CHILD_TEST";
   if (what == "status") {
     WriteSelfChildOutput("partial", 7);
     _exit(5);
+  }
+  if (what == "limited") {  // 512 MiB asked for under a 128 MiB limit.
+    LimitSelfChildMemory(128ull << 20);
+    try {
+      std::vector<char> block(512u << 20);
+      std::memset(block.data(), 1, block.size());
+      _exit(block[block.size() - 1] == 1 ? 8 : 1);
+    } catch (const std::bad_alloc&) {
+      _exit(7);
+    }
   }
   if (what == "killed") kill(getpid(), SIGKILL);
   if (what == "silent") std::this_thread::sleep_for(std::chrono::seconds(60));
@@ -82,6 +97,15 @@ TEST(SelfChildTest, ASilentChildIsKilledAtItsTimeAndAWritingOneIsNot) {
   EXPECT_FALSE(talkative.timed_out);
   EXPECT_EQ(talkative.exit_status, 0);
   EXPECT_EQ(talkative.output, std::string(12, '.'));
+}
+
+TEST(SelfChildTest, AChildsMemoryLimitMakesItsAllocationsFail) {
+  const SelfChildRun limited = RunSelfAsChild(kVariable, "limited", 60.0);
+  ASSERT_TRUE(limited.started);
+  // std::bad_alloc past the limit; AddressSanitizer's build leaves the limit off (its shadow
+  // memory needs the address space), so the allocation is made there.
+  EXPECT_EQ(limited.exit_status, testing::kSanitizerBuild ? 8 : 7);
+  EXPECT_GE(HalfThePhysicalMemory(), 1ull << 30);
 }
 
 TEST(SelfChildTest, ChildrenRunFromSeveralThreadsAtOnce) {
