@@ -98,8 +98,9 @@ Result<TriangleMesh> ParseMesh(const std::string& payload) {
       t[k] = index;
     }
   }
-  if (!mesh.IsValid())
+  if (!mesh.IsValid()) {
     return MakeError(ErrorCode::kDataLoss, "the mesh reader's answer is malformed");
+  }
   return mesh;
 }
 
@@ -193,8 +194,9 @@ std::vector<Result<TriangleMesh>> ReadMeshFiles(const std::vector<std::string>& 
       continue;
     }
     std::vector<Result<TriangleMesh>> answered = ParseAnswers(run.output);
-    if (answered.size() > count)
+    if (answered.size() > count) {
       answered.erase(answered.begin() + static_cast<long>(count), answered.end());
+    }
     for (Result<TriangleMesh>& r : answered) results.push_back(std::move(r));
     if (answered.size() < count) {
       // The file being read when the child ended (or fell silent) is the one to blame.
