@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/robot/collada_box.h"
 #include "tests/sanitizer_build.h"
 #include "tests/tools/cli_test_util.h"
 
@@ -126,6 +127,25 @@ TEST_F(HostileFilesCliTest, TemplateThatExpandsToTrillionsOfVoxels) {
   ExpectFailsNaming("template info '" + bt + "'", "expands to 35184372088832");
   ExpectFailsNaming("estimate --depth '" + Frame("depth.png") + "' --template '" + bt + "'",
                     "expands to");
+}
+
+TEST_F(HostileFilesCliTest, RobotWhoseMeshCrashesAssimpOrWhoseSphereIsAHundredKilometres) {
+  // A COLLADA mesh that crashes Debian's assimp (read in a child process, so an error), and a
+  // sphere that would have taken all memory to tessellate.
+  Write("crashing.dae", testing::BoxCollada(false));
+  const std::string meshy =
+      Write("meshy.urdf",
+            "<robot name=\"r\"><link name=\"base\"><visual><geometry><mesh "
+            "filename=\"crashing.dae\"/></geometry></visual></link></robot>\n");
+  ExpectFailsNaming("template from-urdf '" + meshy + "' --out '" + (*dir_ / "meshy.bt") + "'",
+                    "link 'base': mesh " + (*dir_ / "crashing.dae") + ": cannot read it: assimp ");
+  const std::string huge = Write("huge.urdf",
+                                 "<robot name=\"r\"><link name=\"base\"><visual><geometry><sphere "
+                                 "radius=\"100000\"/></geometry></visual></link></robot>\n");
+  ExpectFailsNaming("template from-urdf '" + huge + "' --out '" + (*dir_ / "huge.bt") + "'",
+                    "link 'base': sphere radius makes a shape 200000 m across");
+  EXPECT_FALSE(std::ifstream(*dir_ / "meshy.bt").good());
+  EXPECT_FALSE(std::ifstream(*dir_ / "huge.bt").good());
 }
 
 TEST_F(HostileFilesCliTest, FifoGivenAsADepthFile) {
