@@ -9,6 +9,8 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
@@ -216,6 +218,23 @@ struct GeometryLoader {
   }
 };
 
+// The shapes of `link` that `kind` selects (its visual or its collision elements): each one's
+// geometry, and its origin in the link.
+std::vector<std::pair<const urdf::Geometry*, urdf::Pose>> SelectedShapes(const urdf::Link& link,
+                                                                         UrdfGeometryKind kind) {
+  std::vector<std::pair<const urdf::Geometry*, urdf::Pose>> shapes;
+  if (kind == UrdfGeometryKind::kVisual) {
+    for (const urdf::VisualSharedPtr& v : link.visual_array) {
+      if (v != nullptr) shapes.emplace_back(v->geometry.get(), v->origin);
+    }
+  } else {
+    for (const urdf::CollisionSharedPtr& c : link.collision_array) {
+      if (c != nullptr) shapes.emplace_back(c->geometry.get(), c->origin);
+    }
+  }
+  return shapes;
+}
+
 // A description still written in xacro (ROS's XML macros: <xacro:...> elements, ${...}
 // expressions) is what urdfdom rejects most often; say so, and how to expand it.
 std::string XacroHint(const std::string& text, const std::string& path) {
@@ -276,14 +295,8 @@ Result<UrdfRobot> UrdfRobot::Load(const std::string& urdf_path, const UrdfLoadOp
     std::vector<const urdf::Geometry*> geometries;
     for (const auto& [name, link] : model->links_) {
       if (link == nullptr) continue;
-      if (options.geometry == UrdfGeometryKind::kVisual) {
-        for (const urdf::VisualSharedPtr& v : link->visual_array) {
-          if (v != nullptr) geometries.push_back(v->geometry.get());
-        }
-      } else {
-        for (const urdf::CollisionSharedPtr& c : link->collision_array) {
-          if (c != nullptr) geometries.push_back(c->geometry.get());
-        }
+      for (const auto& shape : SelectedShapes(*link, options.geometry)) {
+        geometries.push_back(shape.first);
       }
     }
     loader.ReadMeshesOf(geometries);
@@ -340,16 +353,8 @@ Result<UrdfRobot> UrdfRobot::Load(const std::string& urdf_path, const UrdfLoadOp
       l.shapes.Append(shape, link_from_shape);
       return Status::Ok();
     };
-    if (options.geometry == UrdfGeometryKind::kVisual) {
-      for (const urdf::VisualSharedPtr& v : link->visual_array) {
-        if (v == nullptr) continue;
-        if (Status s = add_shape(v->geometry.get(), v->origin); !s.ok()) return s.error();
-      }
-    } else {
-      for (const urdf::CollisionSharedPtr& c : link->collision_array) {
-        if (c == nullptr) continue;
-        if (Status s = add_shape(c->geometry.get(), c->origin); !s.ok()) return s.error();
-      }
+    for (const auto& [geometry, origin] : SelectedShapes(*link, options.geometry)) {
+      if (Status s = add_shape(geometry, origin); !s.ok()) return s.error();
     }
     robot.links_.push_back(std::move(l));
     for (const urdf::LinkSharedPtr& child : link->child_links) queue.push_back(child);
