@@ -1,6 +1,9 @@
 #include "core/sim/sim_truth.h"
 
 #include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -11,13 +14,28 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
+constexpr double kMaxSceneM = 1e4;
+constexpr double kMaxHeadingRad = 4 * kPi;
+
 Json PoseToJson(const Pose2D& p) { return Json{{"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
+
+// A number of the file that must be finite and within `limit` of zero: a simulated scene lies
+// within 10 km, as a ground frame is given; a heading within two turns.
+double BoundedNumber(const Json& j, const char* key, double limit, const char* unit) {
+  const double v = j.at(key).get<double>();
+  if (!(std::abs(v) <= limit)) {
+    char text[96];
+    std::snprintf(text, sizeof text, " = %g is not within %g %s", v, limit, unit);
+    throw std::runtime_error(key + std::string(text));
+  }
+  return v;
+}
 
 Pose2D PoseFromJson(const Json& j) {
   Pose2D p;
-  p.x = j.at("x").get<double>();
-  p.y = j.at("y").get<double>();
-  p.theta = j.at("theta").get<double>();
+  p.x = BoundedNumber(j, "x", kMaxSceneM, "m");
+  p.y = BoundedNumber(j, "y", kMaxSceneM, "m");
+  p.theta = BoundedNumber(j, "theta", kMaxHeadingRad, "rad");
   return p;
 }
 
@@ -37,7 +55,11 @@ Eigen::Vector3d Vector3FromJson(const Json& j, const char* field) {
   const Json& a = j.at(field);
   if (!a.is_array() || a.size() != 3)
     throw std::runtime_error(std::string(field) + " needs 3 numbers");
-  return Eigen::Vector3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
+  const Eigen::Vector3d v(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
+  if (!(v.cwiseAbs().maxCoeff() <= kMaxSceneM)) {
+    throw std::runtime_error(std::string(field) + " is not within 10 km");
+  }
+  return v;
 }
 
 Primitive PrimitiveFromJson(const Json& j) {

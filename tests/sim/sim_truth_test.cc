@@ -1,11 +1,14 @@
 #include "core/sim/sim_truth.h"
 
+#include <string>
+#include <utility>
+
 #include <gtest/gtest.h>
 
 namespace hpose {
 namespace {
 
-TEST(SimTruthTest, RoundTripsThroughJson) {
+SimTruth SampleTruth() {
   SimTruth t;
   t.humanoid_preset = "right_arm_raised";
   t.humanoid_height_m = 0.61;
@@ -25,7 +28,11 @@ TEST(SimTruthTest, RoundTripsThroughJson) {
   t.frames.push_back({0, "depth_000.png", "cloud_000.pcd", {1.25, -0.5, 2.5}, 77});
   t.frames.push_back({1, "depth_001.png", "cloud_001.pcd", {1.3, -0.5, 2.6}, 78});
   t.command = "hpose simulate --out x";
+  return t;
+}
 
+TEST(SimTruthTest, RoundTripsThroughJson) {
+  const SimTruth t = SampleTruth();
   const Result<SimTruth> back = ParseSimTruthJson(SimTruthToJson(t), "mem");
   ASSERT_TRUE(back.ok()) << back.error().ToString();
   EXPECT_EQ(back->humanoid_preset, t.humanoid_preset);
@@ -38,7 +45,7 @@ TEST(SimTruthTest, RoundTripsThroughJson) {
   EXPECT_FALSE(back->noise_enabled);
   ASSERT_EQ(back->clutter.size(), 1u);
   EXPECT_EQ(back->clutter[0].shape, PrimitiveShape::kBox);
-  EXPECT_TRUE(back->clutter[0].parent_from_local.isApprox(pose, 1e-12));
+  EXPECT_TRUE(back->clutter[0].parent_from_local.isApprox(t.clutter[0].parent_from_local, 1e-12));
   EXPECT_TRUE(back->clutter[0].half_size.isApprox(Eigen::Vector3d(0.1, 0.15, 0.1)));
   ASSERT_EQ(back->frames.size(), 2u);
   EXPECT_EQ(back->frames[1].depth_file, "depth_001.png");
@@ -55,6 +62,34 @@ TEST(SimTruthTest, MalformedTextIsDataLoss) {
     EXPECT_EQ(r.error().code, ErrorCode::kDataLoss);
     EXPECT_NE(r.error().message.find("truth.json"), std::string::npos);
   }
+}
+
+// A truth file is drawn (`hpose plot --truth`): a pose or clutter far beyond any room, which made
+// the plot's grid loop for ever, is an error naming the number.
+TEST(SimTruthTest, PlacesBeyondTenKilometresAreDataLoss) {
+  SimTruth far_frame = SampleTruth();
+  far_frame.frames[1].humanoid_pose.x = -1e308;
+  SimTruth far_other = SampleTruth();
+  far_other.other_humanoids[0].pose.y = 2e4;
+  SimTruth spun = SampleTruth();
+  spun.humanoid_pose.theta = 100.0;
+  SimTruth far_clutter = SampleTruth();
+  far_clutter.clutter[0].parent_from_local.translation().x() = 1e7;
+  const std::pair<SimTruth, std::string> cases[] = {
+      {far_frame, "x = -1e+308 is not within 10000 m"},
+      {far_other, "y = 20000 is not within 10000 m"},
+      {spun, "theta = 100 is not within 12.5664 rad"},
+      {far_clutter, "position_m is not within 10 km"}};
+  for (const auto& [truth, message] : cases) {
+    const Result<SimTruth> r = ParseSimTruthJson(SimTruthToJson(truth), "truth.json");
+    ASSERT_FALSE(r.ok()) << message;
+    EXPECT_EQ(r.error().code, ErrorCode::kDataLoss);
+    EXPECT_NE(r.error().message.find("truth.json"), std::string::npos) << r.error().message;
+    EXPECT_NE(r.error().message.find(message), std::string::npos) << r.error().message;
+  }
+  SimTruth at_the_edge = SampleTruth();
+  at_the_edge.frames[0].humanoid_pose = {1e4, -1e4, -4 * kPi};
+  EXPECT_TRUE(ParseSimTruthJson(SimTruthToJson(at_the_edge), "truth.json").ok());
 }
 
 }  // namespace
