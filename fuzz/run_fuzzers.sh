@@ -7,6 +7,7 @@
 #   BUILD_DIR: a build with tools/hpose and the Python stubs (python/); may be FUZZ_BUILD_DIR.
 #   TARGET: depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template
 #           daemon_config stereo_calibration estimate_request depth_tiff depth_pclzf
+#           estimate_stereo_request
 set -eu
 build=$1
 fuzz=$2
@@ -15,7 +16,7 @@ fuzz=$2
 seconds=${HPOSE_FUZZ_SECONDS:-$3}
 shift 3
 all_targets="depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template daemon_config
-             stereo_calibration estimate_request depth_tiff depth_pclzf"
+             stereo_calibration estimate_request depth_tiff depth_pclzf estimate_stereo_request"
 targets=${*:-$all_targets}
 src=$(cd "$(dirname "$0")/.." && pwd)
 work=$fuzz/fuzz-work
@@ -57,6 +58,27 @@ if [ ! -f "$seeds/.done" ]; then
     > "$seeds/stereo_calibration/small.json"
   printf '%%YAML:1.0\n---\nlandmark_color: [ 0, 30, 0.5, 1, 0.3, 1 ]\nmethod: svd\nmp:\n   a: 1\n   b: "x y"\nsq:\n   - 1\n   - two\n' \
     > "$seeds/stereo_calibration/options.yaml"
+  # Small stereo pairs (the size fuzz_estimate_stereo_request's calibration has), plain and
+  # with clutter, sensor noise and occluders, as EstimateStereo requests.
+  "$build/tools/hpose" simulate-stereo --out "$seeds/stereo_small" --width 160 --height 75 \
+    --frames 2 > /dev/null
+  "$build/tools/hpose" simulate-stereo --out "$seeds/stereo_hard" --width 160 --height 75 \
+    --frames 3 --hard --seed 4 > /dev/null
+  PYTHONPATH="$build/python:$src/tests/integration" /usr/bin/python3 - "$seeds" <<'PY'
+import os, sys
+from hpose.v1 import pose_service_pb2 as pb
+from png_rgb import read_png_rgb
+seeds = sys.argv[1]
+for rig in ("stereo_small", "stereo_hard"):
+    for name in sorted(os.listdir(os.path.join(seeds, rig, "left"))):
+        req = pb.EstimateStereoRequest(source_time=0.5)
+        for side, image in (("left", req.left), ("right", req.right)):
+            image.width, image.height, image.data = read_png_rgb(
+                os.path.join(seeds, rig, side, name))
+        with open(os.path.join(seeds, "estimate_stereo_request", rig + "_" + name + ".bin"),
+                  "wb") as f:
+            f.write(req.SerializeToString())
+PY
   PYTHONPATH="$build/python" /usr/bin/python3 - "$seeds/frame" "$seeds/estimate_request" <<'PY'
 import json, struct, sys, zlib
 from hpose.v1 import pose_service_pb2 as pb
