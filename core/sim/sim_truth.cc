@@ -21,21 +21,23 @@ Json PoseToJson(const Pose2D& p) { return Json{{"x", p.x}, {"y", p.y}, {"theta",
 
 // A number of the file that must be finite and within `limit` of zero: a simulated scene lies
 // within 10 km, as a ground frame is given; a heading within two turns.
-double BoundedNumber(const Json& j, const char* key, double limit, const char* unit) {
+// `where` names the object in the file ("frames[3]") for the message.
+double BoundedNumber(const Json& j, const std::string& where, const char* key, double limit,
+                     const char* unit) {
   const double v = j.at(key).get<double>();
   if (!(std::abs(v) <= limit)) {
     char text[96];
     std::snprintf(text, sizeof text, " = %g is not within %g %s", v, limit, unit);
-    throw std::runtime_error(key + std::string(text));
+    throw std::runtime_error(where + "." + key + text);
   }
   return v;
 }
 
-Pose2D PoseFromJson(const Json& j) {
+Pose2D PoseFromJson(const Json& j, const std::string& where) {
   Pose2D p;
-  p.x = BoundedNumber(j, "x", kMaxSceneM, "m");
-  p.y = BoundedNumber(j, "y", kMaxSceneM, "m");
-  p.theta = BoundedNumber(j, "theta", kMaxHeadingRad, "rad");
+  p.x = BoundedNumber(j, where, "x", kMaxSceneM, "m");
+  p.y = BoundedNumber(j, where, "y", kMaxSceneM, "m");
+  p.theta = BoundedNumber(j, where, "theta", kMaxHeadingRad, "rad");
   return p;
 }
 
@@ -51,18 +53,18 @@ Json PrimitiveToJson(const Primitive& p) {
               {"half_size_m", {p.half_size.x(), p.half_size.y(), p.half_size.z()}}};
 }
 
-Eigen::Vector3d Vector3FromJson(const Json& j, const char* field) {
+Eigen::Vector3d Vector3FromJson(const Json& j, const std::string& where, const char* field) {
   const Json& a = j.at(field);
   if (!a.is_array() || a.size() != 3)
     throw std::runtime_error(std::string(field) + " needs 3 numbers");
   const Eigen::Vector3d v(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
   if (!(v.cwiseAbs().maxCoeff() <= kMaxSceneM)) {
-    throw std::runtime_error(std::string(field) + " is not within 10 km");
+    throw std::runtime_error(where + "." + field + " is not within 10 km");
   }
   return v;
 }
 
-Primitive PrimitiveFromJson(const Json& j) {
+Primitive PrimitiveFromJson(const Json& j, const std::string& where) {
   Primitive p;
   p.name = j.at("name").get<std::string>();
   const std::optional<PrimitiveShape> shape =
@@ -76,8 +78,8 @@ Primitive PrimitiveFromJson(const Json& j) {
   if (!(quat.norm() > 0.5)) throw std::runtime_error("orientation_wxyz is not a rotation");
   p.parent_from_local = Eigen::Isometry3d::Identity();
   p.parent_from_local.linear() = quat.normalized().toRotationMatrix();
-  p.parent_from_local.translation() = Vector3FromJson(j, "position_m");
-  p.half_size = Vector3FromJson(j, "half_size_m");
+  p.parent_from_local.translation() = Vector3FromJson(j, where, "position_m");
+  p.half_size = Vector3FromJson(j, where, "half_size_m");
   return p;
 }
 
@@ -135,11 +137,12 @@ Result<SimTruth> ParseSimTruthJson(const std::string& text, const std::string& o
     }
     SimTruth t;
     const Json& h = j.at("humanoid");
-    t.humanoid_pose = PoseFromJson(h);
+    t.humanoid_pose = PoseFromJson(h, "humanoid");
     t.humanoid_preset = h.at("preset").get<std::string>();
     t.humanoid_height_m = h.at("height_m").get<double>();
     for (const Json& o : j.at("other_humanoids")) {
-      t.other_humanoids.push_back({PoseFromJson(o), o.at("preset").get<std::string>()});
+      const std::string where = "other_humanoids[" + std::to_string(t.other_humanoids.size()) + "]";
+      t.other_humanoids.push_back({PoseFromJson(o, where), o.at("preset").get<std::string>()});
     }
     const Json& s = j.at("sensor");
     t.sensor_height_m = s.at("height_m").get<double>();
@@ -157,10 +160,13 @@ Result<SimTruth> ParseSimTruthJson(const std::string& text, const std::string& o
     t.noise_correlated_share = j.at("noise").value("correlated_share", 0.0);
     t.noise_correlation_radius_px = j.at("noise").value("correlation_radius_px", 4);
     t.clutter_count = j.at("clutter_count").get<int>();
-    for (const Json& c : j.at("clutter")) t.clutter.push_back(PrimitiveFromJson(c));
+    for (const Json& c : j.at("clutter")) {
+      t.clutter.push_back(
+          PrimitiveFromJson(c, "clutter[" + std::to_string(t.clutter.size()) + "]"));
+    }
     for (const Json& f : j.at("frames")) {
       SimFrameTruth frame;
-      frame.humanoid_pose = PoseFromJson(f);
+      frame.humanoid_pose = PoseFromJson(f, "frames[" + std::to_string(t.frames.size()) + "]");
       frame.index = f.at("index").get<int>();
       frame.depth_file = f.at("depth").get<std::string>();
       frame.cloud_file = f.at("cloud").get<std::string>();

@@ -76,10 +76,10 @@ TEST(SimTruthTest, PlacesBeyondTenKilometresAreDataLoss) {
   SimTruth far_clutter = SampleTruth();
   far_clutter.clutter[0].parent_from_local.translation().x() = 1e7;
   const std::pair<SimTruth, std::string> cases[] = {
-      {far_frame, "x = -1e+308 is not within 10000 m"},
-      {far_other, "y = 20000 is not within 10000 m"},
-      {spun, "theta = 100 is not within 12.5664 rad"},
-      {far_clutter, "position_m is not within 10 km"}};
+      {far_frame, "frames[1].x = -1e+308 is not within 10000 m"},
+      {far_other, "other_humanoids[0].y = 20000 is not within 10000 m"},
+      {spun, "humanoid.theta = 100 is not within 12.5664 rad"},
+      {far_clutter, "clutter[0].position_m is not within 10 km"}};
   for (const auto& [truth, message] : cases) {
     const Result<SimTruth> r = ParseSimTruthJson(SimTruthToJson(truth), "truth.json");
     ASSERT_FALSE(r.ok()) << message;
