@@ -20,8 +20,8 @@ constexpr double kMaxHeadingRad = 4 * kPi;
 Json PoseToJson(const Pose2D& p) { return Json{{"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
 
 // A number of the file that must be finite and within `limit` of zero: a simulated scene lies
-// within 10 km, as a ground frame is given; a heading within two turns.
-// `where` names the object in the file ("frames[3]") for the message.
+// within 10 km, as a ground frame is given; a heading within two turns. `where` names the
+// object in the file ("frames[3]") for the message.
 double BoundedNumber(const Json& j, const std::string& where, const char* key, double limit,
                      const char* unit) {
   const double v = j.at(key).get<double>();
@@ -55,11 +55,15 @@ Json PrimitiveToJson(const Primitive& p) {
 
 Eigen::Vector3d Vector3FromJson(const Json& j, const std::string& where, const char* field) {
   const Json& a = j.at(field);
-  if (!a.is_array() || a.size() != 3)
-    throw std::runtime_error(std::string(field) + " needs 3 numbers");
+  if (!a.is_array() || a.size() != 3) {
+    throw std::runtime_error(where + "." + field + " needs 3 numbers");
+  }
   const Eigen::Vector3d v(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
   if (!(v.cwiseAbs().maxCoeff() <= kMaxSceneM)) {
-    throw std::runtime_error(where + "." + field + " is not within 10 km");
+    char text[160];
+    std::snprintf(text, sizeof text, " = [%g, %g, %g] is not within %g m", v.x(), v.y(), v.z(),
+                  kMaxSceneM);
+    throw std::runtime_error(where + "." + field + text);
   }
   return v;
 }
@@ -69,13 +73,15 @@ Primitive PrimitiveFromJson(const Json& j, const std::string& where) {
   p.name = j.at("name").get<std::string>();
   const std::optional<PrimitiveShape> shape =
       PrimitiveShapeFromName(j.at("shape").get<std::string>());
-  if (!shape) throw std::runtime_error("unknown clutter shape");
+  if (!shape) throw std::runtime_error(where + ": unknown clutter shape");
   p.shape = *shape;
   const Json& q = j.at("orientation_wxyz");
-  if (!q.is_array() || q.size() != 4) throw std::runtime_error("orientation_wxyz needs 4 numbers");
+  if (!q.is_array() || q.size() != 4) {
+    throw std::runtime_error(where + ".orientation_wxyz needs 4 numbers");
+  }
   const Eigen::Quaterniond quat(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
                                 q[3].get<double>());
-  if (!(quat.norm() > 0.5)) throw std::runtime_error("orientation_wxyz is not a rotation");
+  if (!(quat.norm() > 0.5)) throw std::runtime_error(where + ".orientation_wxyz is not a rotation");
   p.parent_from_local = Eigen::Isometry3d::Identity();
   p.parent_from_local.linear() = quat.normalized().toRotationMatrix();
   p.parent_from_local.translation() = Vector3FromJson(j, where, "position_m");

@@ -79,7 +79,7 @@ TEST(SimTruthTest, PlacesBeyondTenKilometresAreDataLoss) {
       {far_frame, "frames[1].x = -1e+308 is not within 10000 m"},
       {far_other, "other_humanoids[0].y = 20000 is not within 10000 m"},
       {spun, "humanoid.theta = 100 is not within 12.5664 rad"},
-      {far_clutter, "clutter[0].position_m is not within 10 km"}};
+      {far_clutter, "clutter[0].position_m = [1e+07, 0.3, 0.1] is not within 10000 m"}};
   for (const auto& [truth, message] : cases) {
     const Result<SimTruth> r = ParseSimTruthJson(SimTruthToJson(truth), "truth.json");
     ASSERT_FALSE(r.ok()) << message;
