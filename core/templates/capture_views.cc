@@ -160,14 +160,16 @@ Result<CaptureViews> ExtractRobotViews(const std::vector<CaptureView>& captures,
   out.floor = FloorEstimate::FromPlane(sum / agreeing);
   out.floor.fitted = true;
 
-  // 3. Clusters standing on the table top, and each view's robot candidate.
+  // 3. Clusters standing on the table top, and each view's robot candidate. Each view is cut on
+  // its own floor, which agrees with the common one: a sensor nudged by a degree between
+  // captures would otherwise lift part of that view's table top or floor above the cut.
   ClusterOptions cluster_options = options.clusters;
   cluster_options.min_height_above_floor_m = options.table_height_m + options.cut_above_table_m;
   const double min_top = options.table_height_m + options.min_robot_height_m;
   for (Pending& p : pending) {
     if (!p.floor) continue;
     Result<std::vector<Cluster>> clusters =
-        ExtractClusters(p.capture->cloud_sensor, out.floor, cluster_options);
+        ExtractClusters(p.capture->cloud_sensor, *p.floor, cluster_options);
     if (!clusters.ok()) return clusters.error();
     double best_bearing = 1e9;
     for (size_t c = 0; c < clusters->size(); ++c) {
