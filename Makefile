@@ -10,7 +10,7 @@ PACKAGES := build-essential cmake ninja-build lld pkg-config ccache git \
   nlohmann-json3-dev libyaml-cpp-dev liburdfdom-dev libassimp-dev libgtest-dev libgmock-dev \
   libbenchmark-dev python3 python3-grpcio python3-protobuf python3-numpy python3-venv \
   python3-setuptools python3-pip opencv-doc openssl systemd \
-  libspdlog-dev libcpp-httplib-dev chromium chromium-driver python3-selenium prometheus
+  libspdlog-dev chromium chromium-driver python3-selenium prometheus
 
 # New build directories use Ninja; an existing one keeps the generator it was made with.
 generator = $(if $(wildcard $(1)/CMakeCache.txt),,-G Ninja)

@@ -7,7 +7,7 @@
 #   BUILD_DIR: a build with tools/hpose and the Python stubs (python/); may be FUZZ_BUILD_DIR.
 #   TARGET: depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template
 #           daemon_config stereo_calibration estimate_request depth_tiff depth_pclzf
-#           estimate_stereo_request
+#           estimate_stereo_request http_request
 set -eu
 build=$1
 fuzz=$2
@@ -16,7 +16,8 @@ fuzz=$2
 seconds=${HPOSE_FUZZ_SECONDS:-$3}
 shift 3
 all_targets="depth_png rgb_image_tiff cloud_pcd cloud_ply intrinsics_json template daemon_config
-             stereo_calibration estimate_request depth_tiff depth_pclzf estimate_stereo_request"
+             stereo_calibration estimate_request depth_tiff depth_pclzf estimate_stereo_request
+             http_request"
 targets=${*:-$all_targets}
 src=$(cd "$(dirname "$0")/.." && pwd)
 work=$fuzz/fuzz-work
@@ -96,6 +97,12 @@ req = pb.EstimateRequest()
 req.cloud.xyz.extend([0.0, 0.3, 1.0, 0.1, 0.3, 1.0, 0.0, -0.2, 1.5] * 20)
 open(out + "/cloud.bin", "wb").write(req.SerializeToString())
 PY
+  # Request heads as a browser and a script send them.
+  printf 'GET /api/latest?estimator=depth&x=a%%20b+c HTTP/1.1\r\nHost: 127.0.0.1:8080\r\nUser-Agent: Mozilla/5.0\r\nAccept: text/html,*/*;q=0.8\r\nRange: bytes=0-99\r\nConnection: keep-alive\r\n\r\n' \
+    > "$seeds/http_request/browser.txt"
+  printf 'HEAD /healthz HTTP/1.0\nHost: x\n\n' > "$seeds/http_request/bare_lf.txt"
+  printf 'POST /events HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n5\r\nhello\r\n0\r\n\r\n' \
+    > "$seeds/http_request/post.txt"
   touch "$seeds/.done"
 fi
 flock -u 9

@@ -1,6 +1,5 @@
 #include "server/http_view.h"
 
-#include <httplib.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -9,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <utility>
 
-#include "server/elastic_task_queue.h"
+#include "server/http_server.h"
 #include "server/live_scene.h"
 #include "server/message_json.h"
 #include "server/metrics.h"
@@ -31,24 +30,16 @@ using Clock = std::chrono::steady_clock;
 constexpr auto kEventWaitSlice = std::chrono::milliseconds(250);   // stop checks this often.
 constexpr auto kEventHeartbeat = std::chrono::seconds(1);          // a message at least this often.
 constexpr auto kEventMinInterval = std::chrono::milliseconds(50);  // at most 20 messages/s.
-constexpr std::size_t kMaxRequestBodyBytes = 64 * 1024;            // no route takes a body.
-constexpr int kRequestReadTimeoutS = 1;
-// Workers the view may start: enough that connections stalled until their read times out do
+// Workers the view may start: enough that connections stalled until their head's deadline do
 // not hold up the others unless there are hundreds of them.
 constexpr int kMaxWorkerThreads = 256;
 
-// httplib's task queue on the ElasticTaskQueue.
-class WebTaskQueue final : public httplib::TaskQueue {
- public:
-  WebTaskQueue(int min_threads, int max_threads) : queue_(min_threads, max_threads) {}
-  void enqueue(std::function<void()> job) override { queue_.Enqueue(std::move(job)); }
-  void shutdown() override { queue_.Shutdown(); }
-
- private:
-  ElasticTaskQueue queue_;
-};
-
 const char* kJson = "application/json";
+
+void SetContent(HttpResponse* res, std::string body, const char* type) {
+  res->body = std::move(body);
+  res->content_type = type;
+}
 
 int HttpCode(grpc::StatusCode code) {
   switch (code) {
@@ -63,13 +54,6 @@ int HttpCode(grpc::StatusCode code) {
     default:
       return 500;
   }
-}
-
-std::string ErrorJson(const std::string& code, const std::string& message) {
-  nlohmann::json e;
-  e["code"] = code;
-  e["message"] = message;
-  return e.dump();
 }
 
 // "HOST:PORT" or "[V6]:PORT" -> host (without brackets) and port; false when malformed.
@@ -112,10 +96,7 @@ struct EventStreamState {
 }  // namespace
 
 HttpView::HttpView(const HttpConfig& config, HttpViewSources sources)
-    : config_(config),
-      sources_(std::move(sources)),
-      start_(Clock::now()),
-      server_(std::make_unique<httplib::Server>()) {}
+    : config_(config), sources_(std::move(sources)), start_(Clock::now()), server_(nullptr) {}
 
 HttpView::~HttpView() { Stop(); }
 
@@ -127,38 +108,26 @@ Result<std::unique_ptr<HttpView>> HttpView::Start(const HttpConfig& config,
     return MakeError(ErrorCode::kInvalidArgument,
                      "http.listen: expected HOST:PORT, got '" + config.listen + "'");
   }
-  std::unique_ptr<HttpView> view(new HttpView(config, std::move(sources)));
-  const int threads = config.max_event_clients + 4;  // /events streams hold a thread each.
-  view->server_->new_task_queue = [threads] {
-    return new WebTaskQueue(threads, std::max(threads, kMaxWorkerThreads));
-  };
-  // Every route is a GET: a request body is never read, but without a limit the library would
-  // buffer one of any announced size before answering (300 MB in, 650 MB of memory).
-  view->server_->set_payload_max_length(kMaxRequestBodyBytes);
-  // A worker waits this long for a request, or the rest of one, that does not come (a browser
-  // sends it at once), so idle or stalled connections hold the pool's threads for about a
-  // second each, not the library's default 5 (read) + 5 (keep-alive).
-  view->server_->set_read_timeout(kRequestReadTimeoutS, 0);
-  view->server_->set_keep_alive_timeout(kRequestReadTimeoutS);
-  view->Routes();
-  const int bound = port == 0 ? view->server_->bind_to_any_port(host)
-                              : (view->server_->bind_to_port(host, port) ? port : -1);
-  if (bound <= 0) {
-    return MakeError(ErrorCode::kUnavailable,
-                     "cannot serve the web view on '" + config.listen +
-                         "' (address in use, or not an address of this machine)");
+  HttpServerOptions options;
+  options.min_threads = config.max_event_clients + 4;  // /events streams hold a worker each.
+  options.max_threads = std::max(options.min_threads, kMaxWorkerThreads);
+  Result<std::unique_ptr<HttpServer>> bound = HttpServer::Bind(host, port, options);
+  if (!bound.ok()) {
+    return MakeError(ErrorCode::kUnavailable, "cannot serve the web view on '" + config.listen +
+                                                  "' (" + bound.error().message + ")");
   }
+  std::unique_ptr<HttpView> view(new HttpView(config, std::move(sources)));
+  view->server_ = std::move(bound).value();
   view->host_ = config.listen.substr(0, config.listen.rfind(':'));
-  view->port_ = bound;
-  httplib::Server* server = view->server_.get();
-  view->thread_ = std::thread([server] { server->listen_after_bind(); });
+  view->port_ = view->server_->port();
+  view->Routes();
+  view->server_->Start();
   return view;
 }
 
 void HttpView::Stop() {
   if (stopping_.exchange(true)) return;
-  server_->stop();
-  if (thread_.joinable()) thread_.join();
+  server_->Stop();
 }
 
 std::string HttpView::Snapshot() const {
@@ -178,62 +147,62 @@ std::string HttpView::Snapshot() const {
 }
 
 void HttpView::Routes() {
-  httplib::Server& s = *server_;
-  s.set_logger([](const httplib::Request& req, const httplib::Response& res) {
-    spdlog::debug("http {} {} {} -> {}", req.remote_addr, req.method, req.path, res.status);
+  HttpServer& s = *server_;
+  s.SetLogger([](const HttpRequest& req, int status) {
+    spdlog::debug("http {} {} {} -> {}", req.remote_addr, req.method, req.path, status);
   });
-  s.Get("/", [](const httplib::Request&, httplib::Response& res) {
-    res.set_header("Cache-Control", "no-store");
-    res.set_content(kWebPageHtml, "text/html; charset=utf-8");
+  s.Get("/", [](const HttpRequest&, HttpResponse* res) {
+    res->headers.emplace_back("Cache-Control", "no-store");
+    SetContent(res, kWebPageHtml, "text/html; charset=utf-8");
   });
-  s.Get("/api/latest", [this](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/latest", [this](const HttpRequest& req, HttpResponse* res) {
     v1::EstimatorKind kind = v1::ESTIMATOR_KIND_UNSPECIFIED;
-    const std::string which = req.get_param_value("estimator");
+    const std::string which = req.Param("estimator");
     if (which == "depth") {
       kind = v1::ESTIMATOR_KIND_DEPTH_TEMPLATE;
     } else if (which == "stereo") {
       kind = v1::ESTIMATOR_KIND_STEREO_MARKER;
     } else if (!which.empty()) {
-      res.status = 400;
-      res.set_content(
-          ErrorJson("INVALID_ARGUMENT", "estimator: expected depth or stereo, got '" + which + "'"),
-          kJson);
+      res->status = 400;
+      SetContent(res,
+                 HttpErrorJson("INVALID_ARGUMENT",
+                               "estimator: expected depth or stereo, got '" + which + "'"),
+                 kJson);
       return;
     }
     v1::GetLatestResponse latest;
     const grpc::Status st = sources_.service->ReadLatest(kind, &latest);
     if (!st.ok()) {
-      res.status = HttpCode(st.error_code());
-      res.set_content(ErrorJson(GrpcCodeName(st.error_code()), st.error_message()), kJson);
+      res->status = HttpCode(st.error_code());
+      SetContent(res, HttpErrorJson(GrpcCodeName(st.error_code()), st.error_message()), kJson);
       return;
     }
-    res.set_content(MessageToJsonLine(latest), kJson);
+    SetContent(res, MessageToJsonLine(latest), kJson);
   });
-  s.Get("/api/status", [this](const httplib::Request&, httplib::Response& res) {
+  s.Get("/api/status", [this](const HttpRequest&, HttpResponse* res) {
     v1::GetStatusResponse status;
     sources_.service->ReadStatus(&status);
-    res.set_content(MessageToJsonLine(status), kJson);
+    SetContent(res, MessageToJsonLine(status), kJson);
   });
-  s.Get("/api/templates", [this](const httplib::Request&, httplib::Response& res) {
+  s.Get("/api/templates", [this](const HttpRequest&, HttpResponse* res) {
     v1::ListTemplatesResponse templates;
     sources_.service->ReadTemplates(&templates);
-    res.set_content(MessageToJsonLine(templates), kJson);
+    SetContent(res, MessageToJsonLine(templates), kJson);
   });
-  s.Get("/api/scene", [this](const httplib::Request&, httplib::Response& res) {
-    res.set_content(sources_.scene->Json(), kJson);
+  s.Get("/api/scene", [this](const HttpRequest&, HttpResponse* res) {
+    SetContent(res, sources_.scene->Json(), kJson);
   });
-  s.Get("/api/snapshot", [this](const httplib::Request&, httplib::Response& res) {
-    res.set_content(Snapshot(), kJson);
-  });
-  s.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
+  s.Get("/api/snapshot",
+        [this](const HttpRequest&, HttpResponse* res) { SetContent(res, Snapshot(), kJson); });
+  s.Get("/metrics", [this](const HttpRequest&, HttpResponse* res) {
     std::vector<DaemonMetrics::Source> list;
     list.push_back({"depth", sources_.pipeline->Status()});
     if (sources_.stereo != nullptr) list.push_back({"stereo", sources_.stereo->Status()});
     const double uptime = std::chrono::duration<double>(Clock::now() - start_).count();
-    res.set_content(sources_.metrics->Render(list, uptime, sources_.version),
-                    "text/plain; version=0.0.4; charset=utf-8");
+    SetContent(res, sources_.metrics->Render(list, uptime, sources_.version),
+               "text/plain; version=0.0.4; charset=utf-8");
   });
-  s.Get("/healthz", [this](const httplib::Request&, httplib::Response& res) {
+  s.Get("/healthz", [this](const HttpRequest&, HttpResponse* res) {
     const PipelineStatus depth = sources_.pipeline->Status();
     const SourceState stereo =
         sources_.stereo != nullptr ? sources_.stereo->Status().state : SourceState::kNone;
@@ -246,47 +215,47 @@ void HttpView::Routes() {
     out["reason"] = reason;
     out["source_state"] = SourceStateName(depth.state);
     out["stereo_source_state"] = SourceStateName(stereo);
-    res.status = reason.empty() ? 200 : 503;
-    res.set_content(out.dump(), kJson);
+    res->status = reason.empty() ? 200 : 503;
+    SetContent(res, out.dump(), kJson);
   });
-  s.Get("/events", [this](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/events", [this](const HttpRequest& req, HttpResponse* res) {
     if (event_clients_.fetch_add(1) >= config_.max_event_clients) {
       --event_clients_;
-      res.status = 503;
-      res.set_content(ErrorJson("RESOURCE_EXHAUSTED", std::to_string(config_.max_event_clients) +
-                                                          " pages already follow the live view"),
-                      kJson);
+      res->status = 503;
+      SetContent(res,
+                 HttpErrorJson("RESOURCE_EXHAUSTED", std::to_string(config_.max_event_clients) +
+                                                         " pages already follow the live view"),
+                 kJson);
       return;
     }
     if (sources_.client_counter != nullptr) sources_.client_counter->ClientConnected("http_events");
     spdlog::info("web view: client {} connected", req.remote_addr);
-    res.set_header("Cache-Control", "no-store");
+    res->headers.emplace_back("Cache-Control", "no-store");
     auto state = std::make_shared<EventStreamState>();
-    res.set_chunked_content_provider(
-        "text/event-stream",
-        [this, state](size_t, httplib::DataSink& sink) {
-          if (stopping_) return false;
-          if (!state->first) {
-            const bool changed =
-                sources_.signal->WaitChange(state->seen, Clock::now() + kEventWaitSlice);
-            const Clock::duration since = Clock::now() - state->sent;
-            if (stopping_) return false;
-            if (!changed && since < kEventHeartbeat) return true;
-            if (since < kEventMinInterval) std::this_thread::sleep_for(kEventMinInterval - since);
-          }
-          state->first = false;
-          state->seen = sources_.signal->count();
-          state->sent = Clock::now();
-          const std::string message = "data: " + Snapshot() + "\n\n";
-          return sink.write(message.data(), message.size());
-        },
-        [this, addr = req.remote_addr](bool) {
-          --event_clients_;
-          if (sources_.client_counter != nullptr) {
-            sources_.client_counter->ClientDisconnected("http_events");
-          }
-          spdlog::info("web view: client {} disconnected", addr);
-        });
+    res->content_type = "text/event-stream";
+    res->stream = [this, state](const HttpResponse::Writer& write) {
+      if (stopping_) return false;
+      if (!state->first) {
+        const bool changed =
+            sources_.signal->WaitChange(state->seen, Clock::now() + kEventWaitSlice);
+        const Clock::duration since = Clock::now() - state->sent;
+        if (stopping_) return false;
+        if (!changed && since < kEventHeartbeat) return true;
+        if (since < kEventMinInterval) std::this_thread::sleep_for(kEventMinInterval - since);
+      }
+      state->first = false;
+      state->seen = sources_.signal->count();
+      state->sent = Clock::now();
+      const std::string message = "data: " + Snapshot() + "\n\n";
+      return write(message);
+    };
+    res->stream_done = [this, addr = req.remote_addr] {
+      --event_clients_;
+      if (sources_.client_counter != nullptr) {
+        sources_.client_counter->ClientDisconnected("http_events");
+      }
+      spdlog::info("web view: client {} disconnected", addr);
+    };
   });
 }
 

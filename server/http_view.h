@@ -10,13 +10,10 @@
 #include "core/common/status.h"
 #include "server/daemon_config.h"
 
-namespace httplib {
-class Server;
-}
-
 namespace hpose::server {
 
 class DaemonMetrics;
+class HttpServer;
 class LiveScene;
 class PosePipeline;
 class PoseServiceImpl;
@@ -37,7 +34,7 @@ struct HttpViewSources {
 
 // hposed's plain-HTTP side (docs/WEB.md): the live page (/), its JSON (/api/latest,
 // /api/status, /api/templates, /api/scene) and update stream (/events, Server-Sent Events),
-// /metrics (Prometheus text) and /healthz. Read only. cpp-httplib stays out of this header.
+// /metrics (Prometheus text) and /healthz. Read only, on HttpServer.
 class HttpView {
  public:
   // Binds `config.listen` (port 0 picks a free port) and serves on a thread of its own.
@@ -60,8 +57,7 @@ class HttpView {
   const HttpConfig config_;
   const HttpViewSources sources_;
   const std::chrono::steady_clock::time_point start_;
-  std::unique_ptr<httplib::Server> server_;
-  std::thread thread_;
+  std::unique_ptr<HttpServer> server_;
   std::string host_;
   int port_ = 0;
   std::atomic<bool> stopping_{false};

@@ -1,0 +1,328 @@
+#include "server/http_server.h"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <exception>
+#include <nlohmann/json.hpp>
+#include <utility>
+
+#include "server/elastic_task_queue.h"
+#include "server/http_request_parser.h"
+
+namespace hpose::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// After an answer the connection is closed; what the client still sends (an unread body) is
+// read and dropped for at most this long and this much first, so that closing with unread
+// bytes (which resets the connection) does not discard the answer at the client.
+constexpr auto kDrainTime = std::chrono::milliseconds(100);
+constexpr std::size_t kDrainBytes = 64 * 1024;
+
+const char* Reason(int status) {
+  switch (status) {
+    case 200:
+      return "OK";
+    case 400:
+      return "Bad Request";
+    case 404:
+      return "Not Found";
+    case 405:
+      return "Method Not Allowed";
+    case 408:
+      return "Request Timeout";
+    case 409:
+      return "Conflict";
+    case 431:
+      return "Request Header Fields Too Large";
+    case 500:
+      return "Internal Server Error";
+    case 503:
+      return "Service Unavailable";
+    default:
+      return "Status";
+  }
+}
+
+int MillisecondsUntil(Clock::time_point t) {
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(t - Clock::now());
+  return static_cast<int>(std::max<std::chrono::milliseconds::rep>(0, left.count()));
+}
+
+std::string PeerAddress(int fd) {
+  sockaddr_storage addr{};
+  socklen_t len = sizeof(addr);
+  if (getpeername(fd, reinterpret_cast<sockaddr*>(&addr), &len) != 0) return "?";
+  char text[INET6_ADDRSTRLEN] = "?";
+  if (addr.ss_family == AF_INET) {
+    inet_ntop(AF_INET, &reinterpret_cast<sockaddr_in*>(&addr)->sin_addr, text, sizeof(text));
+  } else if (addr.ss_family == AF_INET6) {
+    inet_ntop(AF_INET6, &reinterpret_cast<sockaddr_in6*>(&addr)->sin6_addr, text, sizeof(text));
+  }
+  return text;
+}
+
+HttpResponse ErrorResponse(int status, const char* code, const std::string& message) {
+  HttpResponse response;
+  response.status = status;
+  response.content_type = "application/json";
+  response.body = HttpErrorJson(code, message);
+  return response;
+}
+
+}  // namespace
+
+std::string HttpErrorJson(const std::string& code, const std::string& message) {
+  nlohmann::json e;
+  e["code"] = code;
+  e["message"] = message;
+  // A message may quote a client's bytes that are not UTF-8: replaced, never thrown over.
+  return e.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+Result<std::unique_ptr<HttpServer>> HttpServer::Bind(const std::string& host, int port,
+                                                     const HttpServerOptions& options) {
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
+  addrinfo* found = nullptr;
+  const std::string service = std::to_string(port);
+  const int gai =
+      getaddrinfo(host.empty() ? nullptr : host.c_str(), service.c_str(), &hints, &found);
+  if (gai != 0) {
+    return MakeError(ErrorCode::kUnavailable,
+                     "cannot resolve '" + host + "': " + gai_strerror(gai));
+  }
+  int fd = -1;
+  std::string why = "no address";
+  for (addrinfo* a = found; a != nullptr && fd < 0; a = a->ai_next) {
+    fd = socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC | SOCK_NONBLOCK, a->ai_protocol);
+    if (fd < 0) {
+      why = std::string("socket: ") + std::strerror(errno);
+      continue;
+    }
+    const int yes = 1;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+    if (bind(fd, a->ai_addr, a->ai_addrlen) != 0 || listen(fd, 128) != 0) {
+      why = std::strerror(errno);  // "Address already in use", "Cannot assign requested address"
+      close(fd);
+      fd = -1;
+    }
+  }
+  freeaddrinfo(found);
+  if (fd < 0) {
+    return MakeError(ErrorCode::kUnavailable, why);
+  }
+  sockaddr_storage bound{};
+  socklen_t len = sizeof(bound);
+  getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
+  const int bound_port =
+      ntohs(bound.ss_family == AF_INET6 ? reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port
+                                        : reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+  std::unique_ptr<HttpServer> server(new HttpServer(fd, bound_port, options));
+  if (pipe2(server->wake_fds_, O_CLOEXEC) != 0) {
+    return MakeError(ErrorCode::kUnavailable, std::string("pipe: ") + std::strerror(errno));
+  }
+  return server;
+}
+
+HttpServer::HttpServer(int listen_fd, int port, const HttpServerOptions& options)
+    : listen_fd_(listen_fd),
+      port_(port),
+      options_(options),
+      workers_(std::make_unique<ElasticTaskQueue>(
+          options.min_threads, std::max(options.min_threads, options.max_threads))) {}
+
+HttpServer::~HttpServer() {
+  Stop();
+  close(listen_fd_);
+  for (int fd : wake_fds_) {
+    if (fd >= 0) close(fd);
+  }
+}
+
+void HttpServer::Get(const std::string& path, Handler handler) {
+  routes_[path] = std::move(handler);
+}
+
+void HttpServer::SetLogger(std::function<void(const HttpRequest&, int)> logger) {
+  logger_ = std::move(logger);
+}
+
+void HttpServer::Start() {
+  accept_thread_ = std::thread([this] { AcceptLoop(); });
+}
+
+void HttpServer::Stop() {
+  if (stopping_.exchange(true)) return;
+  if (wake_fds_[1] >= 0) {
+    const char byte = 'x';
+    [[maybe_unused]] const ssize_t n = write(wake_fds_[1], &byte, 1);
+  }
+  if (accept_thread_.joinable()) accept_thread_.join();
+  workers_->Shutdown();
+}
+
+void HttpServer::AcceptLoop() {
+  while (!stopping_) {
+    pollfd fds[2] = {{listen_fd_, POLLIN, 0}, {wake_fds_[0], POLLIN, 0}};
+    if (poll(fds, 2, -1) < 0) {
+      if (errno == EINTR) continue;
+      return;
+    }
+    if (fds[1].revents != 0) return;
+    if ((fds[0].revents & POLLIN) == 0) continue;
+    const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+    if (fd < 0) {
+      // Out of descriptors or memory: wait a little instead of spinning.
+      if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
+      continue;
+    }
+    workers_->Enqueue([this, fd] { Serve(fd); });
+  }
+}
+
+bool HttpServer::WriteAll(int fd, std::string_view data) const {
+  while (!data.empty()) {
+    const ssize_t n = send(fd, data.data(), data.size(), MSG_NOSIGNAL);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;  // the peer is gone, or SO_SNDTIMEO passed without progress.
+    data.remove_prefix(static_cast<std::size_t>(n));
+  }
+  return true;
+}
+
+void HttpServer::Serve(int fd) {
+  if (stopping_) {
+    close(fd);
+    return;
+  }
+  const auto write_ms = options_.write_timeout.count();
+  timeval send_timeout{};
+  send_timeout.tv_sec = static_cast<time_t>(write_ms / 1000);
+  send_timeout.tv_usec = static_cast<suseconds_t>((write_ms % 1000) * 1000);
+  setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &send_timeout, sizeof(send_timeout));
+
+  // The request head, within the size limit and the deadline, counted from now: a connection
+  // that waited for a worker (all of them held by stalled ones) still has its request read.
+  const Clock::time_point deadline = Clock::now() + options_.head_timeout;
+  std::string buffer;
+  std::size_t head_end = std::string_view::npos;
+  bool closed = false;
+  char chunk[4096];
+  while (head_end == std::string_view::npos && buffer.size() <= kMaxHttpHeadBytes) {
+    const int wait_ms = MillisecondsUntil(deadline);
+    if (wait_ms == 0) break;
+    pollfd p{fd, POLLIN, 0};
+    const int ready = poll(&p, 1, wait_ms);
+    if (ready < 0 && errno != EINTR) break;
+    if (ready <= 0) continue;
+    const std::size_t want = std::min(sizeof(chunk), kMaxHttpHeadBytes + 1 - buffer.size());
+    const ssize_t n = recv(fd, chunk, want, 0);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      closed = true;
+      break;
+    }
+    const std::size_t from = buffer.size() > 2 ? buffer.size() - 2 : 0;
+    buffer.append(chunk, static_cast<std::size_t>(n));
+    const std::size_t end = FindHttpHeadEnd(std::string_view(buffer).substr(from));
+    if (end != std::string_view::npos) head_end = from + end;
+  }
+
+  HttpRequest request;
+  request.remote_addr = PeerAddress(fd);
+  HttpResponse response;
+  if (head_end == std::string_view::npos) {
+    if (closed || buffer.empty()) {
+      close(fd);  // nothing asked, or the client went away: nothing to answer.
+      return;
+    }
+    response = buffer.size() > kMaxHttpHeadBytes
+                   ? ErrorResponse(
+                         431, "OUT_OF_RANGE",
+                         "request head larger than " + std::to_string(kMaxHttpHeadBytes) + " bytes")
+                   : ErrorResponse(408, "DEADLINE_EXCEEDED",
+                                   "the request head did not come within " +
+                                       std::to_string(options_.head_timeout.count()) + " ms");
+  } else {
+    Result<HttpRequest> parsed = ParseHttpRequestHead(std::string_view(buffer).substr(0, head_end));
+    if (!parsed.ok()) {
+      const bool too_large = parsed.error().code == ErrorCode::kOutOfRange;
+      response =
+          ErrorResponse(too_large ? 431 : 400, too_large ? "OUT_OF_RANGE" : "INVALID_ARGUMENT",
+                        parsed.error().message);
+    } else {
+      const std::string addr = request.remote_addr;
+      request = std::move(parsed).value();
+      request.remote_addr = addr;
+      const auto route = routes_.find(request.path);
+      if (request.method != "GET" && request.method != "HEAD") {
+        response = ErrorResponse(405, "INVALID_ARGUMENT",
+                                 "the web view answers GET only, not " + request.method);
+        response.headers.emplace_back("Allow", "GET, HEAD");
+      } else if (route == routes_.end()) {
+        response = ErrorResponse(404, "NOT_FOUND", "no page " + request.path.substr(0, 200));
+      } else {
+        try {
+          route->second(request, &response);
+        } catch (const std::exception& e) {
+          response = ErrorResponse(500, "INTERNAL", e.what());
+        }
+      }
+    }
+  }
+  Answer(fd, request, response);
+  if (logger_) logger_(request, response.status);
+
+  // Close without resetting the connection over an unread body (see kDrainTime).
+  shutdown(fd, SHUT_WR);
+  const Clock::time_point drain_end = Clock::now() + kDrainTime;
+  std::size_t drained = 0;
+  while (drained < kDrainBytes) {
+    pollfd p{fd, POLLIN, 0};
+    if (poll(&p, 1, MillisecondsUntil(drain_end)) <= 0) break;
+    const ssize_t n = recv(fd, chunk, sizeof(chunk), 0);
+    if (n <= 0) break;
+    drained += static_cast<std::size_t>(n);
+  }
+  close(fd);
+}
+
+void HttpServer::Answer(int fd, const HttpRequest& request, HttpResponse& response) {
+  std::string head = "HTTP/1.1 " + std::to_string(response.status) + " " + Reason(response.status) +
+                     "\r\nContent-Type: " + response.content_type + "\r\n";
+  for (const auto& [name, value] : response.headers) head += name + ": " + value + "\r\n";
+  if (!response.stream) head += "Content-Length: " + std::to_string(response.body.size()) + "\r\n";
+  head += "Connection: close\r\n\r\n";
+  const bool head_only = request.method == "HEAD";
+  if (!response.stream) {
+    if (!head_only) head += response.body;
+    WriteAll(fd, head);
+    return;
+  }
+  if (WriteAll(fd, head) && !head_only) {
+    const HttpResponse::Writer write = [this, fd](std::string_view data) {
+      return !stopping_ && WriteAll(fd, data);
+    };
+    while (response.stream(write)) {
+    }
+  }
+  if (response.stream_done) response.stream_done();
+}
+
+}  // namespace hpose::server
