@@ -184,6 +184,10 @@ void HttpServer::AcceptLoop() {
     }
     if (fds[1].revents != 0) return;
     if ((fds[0].revents & POLLIN) == 0) continue;
+    if (open_connections_ >= options_.max_connections) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));  // until one closes.
+      continue;
+    }
     const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
     if (fd < 0) {
       // Out of descriptors or memory: wait a little instead of spinning.
@@ -192,6 +196,7 @@ void HttpServer::AcceptLoop() {
       }
       continue;
     }
+    ++open_connections_;
     workers_->Enqueue([this, fd] { Serve(fd); });
   }
 }
@@ -207,10 +212,12 @@ bool HttpServer::WriteAll(int fd, std::string_view data) const {
 }
 
 void HttpServer::Serve(int fd) {
-  if (stopping_) {
-    close(fd);
-    return;
-  }
+  if (!stopping_) ServeConnection(fd);
+  close(fd);
+  --open_connections_;
+}
+
+void HttpServer::ServeConnection(int fd) {
   const auto write_ms = options_.write_timeout.count();
   timeval send_timeout{};
   send_timeout.tv_sec = static_cast<time_t>(write_ms / 1000);
@@ -248,10 +255,7 @@ void HttpServer::Serve(int fd) {
   request.remote_addr = PeerAddress(fd);
   HttpResponse response;
   if (head_end == std::string_view::npos) {
-    if (closed || buffer.empty()) {
-      close(fd);  // nothing asked, or the client went away: nothing to answer.
-      return;
-    }
+    if (closed || buffer.empty()) return;  // nothing asked, or the client went away.
     response = buffer.size() > kMaxHttpHeadBytes
                    ? ErrorResponse(
                          431, "OUT_OF_RANGE",
@@ -300,7 +304,6 @@ void HttpServer::Serve(int fd) {
     if (n <= 0) break;
     drained += static_cast<std::size_t>(n);
   }
-  close(fd);
 }
 
 void HttpServer::Answer(int fd, const HttpRequest& request, HttpResponse& response) {

@@ -23,6 +23,11 @@ std::string HttpErrorJson(const std::string& code, const std::string& message);
 struct HttpServerOptions {
   int min_threads = 4;    // workers kept ready.
   int max_threads = 256;  // workers at most; connections beyond wait for one.
+  // Connections open at once (served or waiting for a worker). At the cap the server accepts
+  // no more until one closes, and the kernel's backlog holds new ones: a flood of connections
+  // cannot take the descriptors the rest of the daemon needs (a service's soft limit is
+  // usually 1 024).
+  int max_connections = 320;
   // A connection must deliver its whole request head within this once a worker takes it up
   // (else it is closed, with 408 when part of one came): a connection that stalls, or
   // trickles, holds a worker no longer.
@@ -64,6 +69,7 @@ class HttpServer {
   HttpServer(int listen_fd, int port, const HttpServerOptions& options);
   void AcceptLoop();
   void Serve(int fd);
+  void ServeConnection(int fd);
   bool WriteAll(int fd, std::string_view data) const;
   void Answer(int fd, const HttpRequest& request, HttpResponse& response);
 
@@ -76,6 +82,7 @@ class HttpServer {
   std::unique_ptr<ElasticTaskQueue> workers_;
   std::thread accept_thread_;
   std::atomic<bool> stopping_{false};
+  std::atomic<int> open_connections_{0};
 };
 
 }  // namespace hpose::server

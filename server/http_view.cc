@@ -111,6 +111,7 @@ Result<std::unique_ptr<HttpView>> HttpView::Start(const HttpConfig& config,
   HttpServerOptions options;
   options.min_threads = config.max_event_clients + 4;  // /events streams hold a worker each.
   options.max_threads = std::max(options.min_threads, kMaxWorkerThreads);
+  options.max_connections = options.max_threads + 64;
   Result<std::unique_ptr<HttpServer>> bound = HttpServer::Bind(host, port, options);
   if (!bound.ok()) {
     return MakeError(ErrorCode::kUnavailable, "cannot serve the web view on '" + config.listen +
