@@ -25,6 +25,7 @@
 #include "server/admission_control.h"
 #include "server/estimator_pool.h"
 #include "server/frame_source.h"
+#include "server/grpc_listener.h"
 #include "server/http_view.h"
 #include "server/listen_check.h"
 #include "server/live_scene.h"
@@ -118,6 +119,9 @@ class Daemon::Impl {
   std::unique_ptr<PosePipeline> pipeline;
   std::unique_ptr<PoseServiceImpl> service;
   std::unique_ptr<grpc::Server> server;
+  // Accepts the server's connections (declared after the acceptor, so stopped before it goes).
+  std::unique_ptr<grpc::experimental::ExternalConnectionAcceptor> acceptor;
+  std::unique_ptr<GrpcListener> listener;
   std::unique_ptr<HttpView> http;
   // Warms the pool's estimators up in the background (GrpcConfig::warm_up).
   std::thread pool_warm_up;
@@ -258,12 +262,24 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
-  int selected_port = 0;
   Result<std::shared_ptr<grpc::ServerCredentials>> credentials = ServerCredentials(config.security);
   if (!credentials.ok()) return credentials.error();
-  builder.AddListeningPort(config.grpc.listen, *credentials, &selected_port);
-  // A second daemon on the same port must fail, not silently share it.
-  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  // The daemon accepts connections itself (GrpcListener says why) and hands them to the server,
+  // which serves them as if it had accepted them: TLS, limits and quota alike. The socket is
+  // bound without SO_REUSEPORT: a second daemon on the same port fails instead of sharing it.
+  const std::size_t colon = config.grpc.listen.rfind(':');
+  Result<std::unique_ptr<GrpcListener>> listener = GrpcListener::Bind(
+      config.grpc.listen.substr(0, colon), std::stoi(config.grpc.listen.substr(colon + 1)));
+  if (!listener.ok()) {
+    return MakeError(ErrorCode::kUnavailable,
+                     "cannot listen on '" + config.grpc.listen + "': " + listener.error().message);
+  }
+  impl->listener = std::move(*listener);
+  impl->acceptor = builder.experimental().AddExternalConnectionAcceptor(
+      grpc::ServerBuilder::experimental_type::ExternalConnectionType::FROM_FD, *credentials);
+  // A connection that has not finished its HTTP/2 (and TLS) handshake within this is closed
+  // (gRPC's default is 120 s): connections opened and left silent hold a descriptor no longer.
+  builder.AddChannelArgument(GRPC_ARG_SERVER_HANDSHAKE_TIMEOUT_MS, 10000);
   builder.SetMaxReceiveMessageSize(config.grpc.max_receive_message_bytes);
   builder.SetMaxSendMessageSize(config.grpc.max_send_message_bytes);
   builder.AddChannelArgument(GRPC_ARG_MAX_CONCURRENT_STREAMS, config.grpc.max_streams_per_client);
@@ -278,11 +294,12 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   counters.push_back(std::make_unique<RpcMetricsInterceptorFactory>(impl->metrics.get()));
   builder.experimental().SetInterceptorCreators(std::move(counters));
   impl->server = builder.BuildAndStart();
-  if (!impl->server || selected_port == 0) {
+  if (!impl->server) {
     return MakeError(ErrorCode::kUnavailable,
-                     "cannot listen on '" + config.grpc.listen + "' (address in use or invalid)");
+                     "cannot start the gRPC server on '" + config.grpc.listen + "'");
   }
-  impl->port = selected_port;
+  impl->listener->Start(impl->acceptor.get());
+  impl->port = impl->listener->port();
   impl->host = config.grpc.listen.substr(0, config.grpc.listen.rfind(':'));
   if (grpc::HealthCheckServiceInterface* health = impl->server->GetHealthCheckService()) {
     health->SetServingStatus("hpose.v1.PoseService", true);
@@ -300,6 +317,7 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     sources.version = HposeVersion();
     Result<std::unique_ptr<HttpView>> http = HttpView::Start(config.http, std::move(sources));
     if (!http.ok()) {
+      impl->listener->Stop();
       impl->server->Shutdown();
       return http.error();
     }
@@ -349,6 +367,7 @@ void Daemon::Shutdown(double grace_s) {
     health->SetServingStatus("", false);
   }
   impl_->service->BeginShutdown();
+  impl_->listener->Stop();
   if (impl_->http) impl_->http->Stop();
   impl_->server->Shutdown(std::chrono::system_clock::now() +
                           std::chrono::milliseconds(static_cast<int>(grace_s * 1000)));

@@ -2,7 +2,6 @@
 
 #include <arpa/inet.h>
 #include <fcntl.h>
-#include <netdb.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -15,8 +14,10 @@
 #include <nlohmann/json.hpp>
 #include <utility>
 
+#include "server/descriptor_budget.h"
 #include "server/elastic_task_queue.h"
 #include "server/http_request_parser.h"
+#include "server/tcp_listen.h"
 
 namespace hpose::server {
 
@@ -93,53 +94,17 @@ std::string HttpErrorJson(const std::string& code, const std::string& message) {
 
 Result<std::unique_ptr<HttpServer>> HttpServer::Bind(const std::string& host, int port,
                                                      const HttpServerOptions& options) {
-  addrinfo hints{};
-  hints.ai_family = AF_UNSPEC;
-  hints.ai_socktype = SOCK_STREAM;
-  hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
-  addrinfo* found = nullptr;
-  const std::string service = std::to_string(port);
-  const int gai =
-      getaddrinfo(host.empty() ? nullptr : host.c_str(), service.c_str(), &hints, &found);
-  if (gai != 0) {
-    return MakeError(ErrorCode::kUnavailable,
-                     "cannot resolve '" + host + "': " + gai_strerror(gai));
-  }
-  int fd = -1;
-  std::string why = "no address";
-  for (addrinfo* a = found; a != nullptr && fd < 0; a = a->ai_next) {
-    fd = socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC | SOCK_NONBLOCK, a->ai_protocol);
-    if (fd < 0) {
-      why = std::string("socket: ") + std::strerror(errno);
-      continue;
-    }
-    const int yes = 1;
-    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
-    if (bind(fd, a->ai_addr, a->ai_addrlen) != 0 || listen(fd, 128) != 0) {
-      why = std::strerror(errno);  // "Address already in use", "Cannot assign requested address"
-      close(fd);
-      fd = -1;
-    }
-  }
-  freeaddrinfo(found);
-  if (fd < 0) {
-    return MakeError(ErrorCode::kUnavailable, why);
-  }
-  sockaddr_storage bound{};
-  socklen_t len = sizeof(bound);
-  getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
-  const int bound_port =
-      ntohs(bound.ss_family == AF_INET6 ? reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port
-                                        : reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
-  std::unique_ptr<HttpServer> server(new HttpServer(fd, bound_port, options));
+  Result<TcpListeners> bound = ListenTcp(host, port, 128);
+  if (!bound.ok()) return bound.error();
+  std::unique_ptr<HttpServer> server(new HttpServer(bound->fds, bound->port, options));
   if (pipe2(server->wake_fds_, O_CLOEXEC) != 0) {
     return MakeError(ErrorCode::kUnavailable, std::string("pipe: ") + std::strerror(errno));
   }
   return server;
 }
 
-HttpServer::HttpServer(int listen_fd, int port, const HttpServerOptions& options)
-    : listen_fd_(listen_fd),
+HttpServer::HttpServer(std::vector<int> listen_fds, int port, const HttpServerOptions& options)
+    : listen_fds_(std::move(listen_fds)),
       port_(port),
       options_(options),
       workers_(std::make_unique<ElasticTaskQueue>(
@@ -147,7 +112,7 @@ HttpServer::HttpServer(int listen_fd, int port, const HttpServerOptions& options
 
 HttpServer::~HttpServer() {
   Stop();
-  close(listen_fd_);
+  for (int fd : listen_fds_) close(fd);
   for (int fd : wake_fds_) {
     if (fd >= 0) close(fd);
   }
@@ -176,28 +141,33 @@ void HttpServer::Stop() {
 }
 
 void HttpServer::AcceptLoop() {
+  std::vector<pollfd> fds;
+  for (int fd : listen_fds_) fds.push_back({fd, POLLIN, 0});
+  fds.push_back({wake_fds_[0], POLLIN, 0});
   while (!stopping_) {
-    pollfd fds[2] = {{listen_fd_, POLLIN, 0}, {wake_fds_[0], POLLIN, 0}};
-    if (poll(fds, 2, -1) < 0) {
+    for (pollfd& p : fds) p.revents = 0;
+    if (poll(fds.data(), fds.size(), -1) < 0) {
       if (errno == EINTR) continue;
       return;
     }
-    if (fds[1].revents != 0) return;
-    if ((fds[0].revents & POLLIN) == 0) continue;
-    if (open_connections_ >= options_.max_connections) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));  // until one closes.
-      continue;
-    }
-    const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
-    if (fd < 0) {
-      // Out of descriptors or memory: wait a little instead of spinning.
-      if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (fds.back().revents != 0) return;
+    for (std::size_t i = 0; i + 1 < fds.size() && !stopping_; ++i) {
+      if ((fds[i].revents & POLLIN) == 0) continue;
+      if (open_connections_ >= options_.max_connections || !MayAcceptConnection()) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));  // until one closes.
+        continue;
       }
-      continue;
+      const int fd = accept4(fds[i].fd, nullptr, nullptr, SOCK_CLOEXEC);
+      if (fd < 0) {
+        // Out of descriptors or memory: wait a little instead of spinning.
+        if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        continue;
+      }
+      ++open_connections_;
+      workers_->Enqueue([this, fd] { Serve(fd); });
     }
-    ++open_connections_;
-    workers_->Enqueue([this, fd] { Serve(fd); });
   }
 }
 

@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "core/common/status.h"
 #include "server/http_message.h"
@@ -26,7 +27,7 @@ struct HttpServerOptions {
   // Connections open at once (served or waiting for a worker). At the cap the server accepts
   // no more until one closes, and the kernel's backlog holds new ones: a flood of connections
   // cannot take the descriptors the rest of the daemon needs (a service's soft limit is
-  // usually 1 024).
+  // usually 1 024). The server also accepts only while MayAcceptConnection().
   int max_connections = 320;
   // A connection must deliver its whole request head within this once a worker takes it up
   // (else it is closed, with 408 when part of one came): a connection that stalls, or
@@ -46,7 +47,8 @@ class HttpServer {
  public:
   using Handler = std::function<void(const HttpRequest&, HttpResponse*)>;
 
-  // Binds HOST:PORT (a name or a numeric IPv4 or IPv6 address; port 0 picks a free port).
+  // Binds HOST:PORT (every address of a name, or a numeric IPv4 or IPv6 address; port 0 picks
+  // a free port; see ListenTcp).
   // kUnavailable with the reason ("Address already in use") when it cannot be bound.
   static Result<std::unique_ptr<HttpServer>> Bind(const std::string& host, int port,
                                                   const HttpServerOptions& options);
@@ -66,14 +68,14 @@ class HttpServer {
   int port() const { return port_; }
 
  private:
-  HttpServer(int listen_fd, int port, const HttpServerOptions& options);
+  HttpServer(std::vector<int> listen_fds, int port, const HttpServerOptions& options);
   void AcceptLoop();
   void Serve(int fd);
   void ServeConnection(int fd);
   bool WriteAll(int fd, std::string_view data) const;
   void Answer(int fd, const HttpRequest& request, HttpResponse& response);
 
-  const int listen_fd_;
+  const std::vector<int> listen_fds_;
   const int port_;
   const HttpServerOptions options_;
   int wake_fds_[2] = {-1, -1};  // a pipe: a byte written wakes the accept loop to stop.

@@ -36,6 +36,14 @@ def _watch_log(proc, wanted, timeout):
     return found
 
 
+def simulate_frames(hpose, out_dir, frames=3, *extra):
+    """Writes `frames` simulated 320x240 depth frames (no clouds) of a standing robot to
+    `out_dir` with `hpose simulate`; `extra` are further flags (e.g. "--turn-deg", "20")."""
+    subprocess.run([hpose, "simulate", "--out", out_dir, "--frames", str(frames), "--width", "320",
+                    "--height", "240", "--no-cloud"] + list(extra), check=True,
+                   stdout=subprocess.DEVNULL)
+
+
 def start_daemon(hposed, args, timeout=60.0):
     """Starts `hposed` on a free loopback port with `args`; returns (process, address)."""
     proc = subprocess.Popen([hposed, "--listen", "127.0.0.1:0"] + args, stdout=subprocess.PIPE,
@@ -44,11 +52,13 @@ def start_daemon(hposed, args, timeout=60.0):
     return proc, found["listening on "]
 
 
-def start_daemon_with_http(hposed, args, timeout=60.0):
+def start_daemon_with_http(hposed, args, timeout=60.0, preexec_fn=None):
     """Starts `hposed` with --http on free loopback ports; returns (process, gRPC address, HTTP
-    base URL such as http://127.0.0.1:PORT) once both are served."""
+    base URL such as http://127.0.0.1:PORT) once both are served. `preexec_fn` runs in the
+    child before hposed (e.g. to set its limits)."""
     proc = subprocess.Popen([hposed, "--listen", "127.0.0.1:0", "--http", "127.0.0.1:0"] + args,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            preexec_fn=preexec_fn)
     found = _watch_log(proc, ["listening on ", "web view on "], timeout)
     return proc, found["listening on "], found["web view on "].rstrip("/")
 

@@ -21,7 +21,7 @@ import unittest
 import urllib.error
 import urllib.request
 
-from daemon_process import DaemonTestCase, start_daemon_with_http
+from daemon_process import DaemonTestCase, simulate_frames, start_daemon_with_http
 
 HPOSED, HPOSE, SOURCE_DIR = sys.argv[1:4]
 
@@ -50,9 +50,7 @@ class HttpEndpointsTest(DaemonTestCase):
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
         frames = os.path.join(cls.tmp.name, "frames")
-        subprocess.run([HPOSE, "simulate", "--out", frames, "--frames", "3", "--width", "320",
-                        "--height", "240", "--no-cloud", "--turn-deg", "20"], check=True,
-                       stdout=subprocess.DEVNULL)
+        simulate_frames(HPOSE, frames, 3, "--turn-deg", "20")
         templates = os.path.join(SOURCE_DIR, "templates")
         cls.proc, cls.grpc, cls.http = start_daemon_with_http(HPOSED, [
             "--source", frames, "--loop", "--fps", "5",

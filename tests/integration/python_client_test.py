@@ -32,9 +32,7 @@ class PythonClientTest(daemon_process.DaemonTestCase):
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
         cls.frames = os.path.join(cls.tmp.name, "frames")
-        subprocess.run([HPOSE, "simulate", "--out", cls.frames, "--frames", "3", "--width", "320",
-                        "--height", "240", "--no-cloud", "--turn-deg", "20"], check=True,
-                       stdout=subprocess.DEVNULL)
+        daemon_process.simulate_frames(HPOSE, cls.frames, 3, "--turn-deg", "20")
         templates = os.path.join(SOURCE_DIR, "templates")
         cls.proc, cls.address = start_daemon([
             "--source", cls.frames, "--loop", "--fps", "10",
@@ -164,8 +162,7 @@ class PythonFinishedRecordingTest(daemon_process.DaemonTestCase):
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
         frames = os.path.join(cls.tmp.name, "frames")
-        subprocess.run([HPOSE, "simulate", "--out", frames, "--frames", "2", "--width", "320",
-                        "--height", "240", "--no-cloud"], check=True, stdout=subprocess.DEVNULL)
+        daemon_process.simulate_frames(HPOSE, frames, 2)
         cls.proc, cls.address = start_daemon([
             "--source", frames, "--rate", "fast",
             "--template", os.path.join(SOURCE_DIR, "templates", "standing.bt")])

@@ -11,7 +11,6 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
 import unittest
 
 import grpc
@@ -47,8 +46,7 @@ class PythonStereoClientTest(daemon_process.DaemonTestCase):
         cls.depth = os.path.join(cls.tmp.name, "depth")
         subprocess.run([HPOSE, "simulate", "stereo", "--out", cls.stereo, "--frames", "20"],
                        check=True, stdout=subprocess.DEVNULL)
-        subprocess.run([HPOSE, "simulate", "--out", cls.depth, "--frames", "2", "--width", "320",
-                        "--height", "240", "--no-cloud"], check=True, stdout=subprocess.DEVNULL)
+        daemon_process.simulate_frames(HPOSE, cls.depth, 2)
         with open(os.path.join(cls.stereo, "ground_truth.csv")) as f:
             cls.truth = list(csv.DictReader(f))
         cls.proc, cls.address = start_daemon([
