@@ -226,6 +226,16 @@ int main(int argc, char** argv) {
       (*daemon)->address(), config.templates.size(), 1000.0 * (*daemon)->search_resolution_m(),
       config.source.path.empty() ? "(none)" : config.source.path,
       config.stereo.source.empty() ? "(none)" : config.stereo.source);
+  if (!hpose::server::IsLoopbackListen(config.grpc.listen) &&
+      config.security.tls_client_ca.empty()) {
+    spdlog::warn(
+        "hposed: {} is served to other machines without mutual TLS: any peer that connects "
+        "reaches gRPC's HTTP/2 parser before a token is checked, and with Debian bookworm's gRPC "
+        "(1.51) one client can make the daemon hold memory without bound (docs/RELIABILITY.md, "
+        "\"Connections\"); on a network you do not trust, require client certificates "
+        "(--tls-client-ca)",
+        (*daemon)->address());
+  }
   spdlog::info("hposed: vector paths: {}", hpose::VectorPathsInUse());
   if ((*daemon)->http_port() > 0) {
     spdlog::info("hposed: web view on http://{}/ (metrics on /metrics)", (*daemon)->http_address());

@@ -9,6 +9,7 @@ usage: connection_flood_test.py HPOSED HPOSE SOURCE_DIR
 import json
 import os
 import resource
+import signal
 import socket
 import subprocess
 import sys
@@ -16,7 +17,8 @@ import tempfile
 import time
 import unittest
 
-from daemon_process import DaemonTestCase, simulate_frames, start_daemon_with_http
+from daemon_process import (DaemonTestCase, simulate_frames, start_daemon_with_http,
+                            watch_log)
 
 HPOSED, HPOSE, SOURCE_DIR = sys.argv[1:4]
 
@@ -125,6 +127,30 @@ class ConnectionFloodTest(DaemonTestCase):
         self.assertEqual(closed, 20)
         # gRPC's default would have kept them for 120 s; the daemon's handshake timeout is 10 s.
         self.assertLess(time.monotonic() - start, 25)
+
+    def test_a_daemon_open_to_other_machines_without_client_certificates_says_so(self):
+        # gRPC 1.51's HTTP/2 parser can be made to hold memory without bound by one client
+        # (docs/RELIABILITY.md); only mutual TLS keeps strangers away from it.
+        proc = subprocess.Popen([HPOSED, "--listen", "0.0.0.0:0", "--insecure"],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            found = watch_log(proc, ["listening on ", "without mutual TLS"], 60)
+            self.assertTrue(found["listening on "].startswith("0.0.0.0:"))
+        finally:
+            proc.kill()
+            proc.wait()
+        for listen in ["127.0.0.1:0", "localhost:0"]:
+            proc = subprocess.Popen([HPOSED, "--listen", listen], stdout=subprocess.PIPE,
+                                    stderr=subprocess.STDOUT, text=True)
+            try:
+                watch_log(proc, ["listening on "], 60)
+                proc.send_signal(signal.SIGTERM)
+                log, _ = proc.communicate(timeout=60)
+                self.assertNotIn("without mutual TLS", log)
+            finally:
+                if proc.poll() is None:
+                    proc.kill()
+                    proc.wait()
 
 
 if __name__ == "__main__":

@@ -7,7 +7,7 @@ import time
 import unittest
 
 
-def _watch_log(proc, wanted, timeout):
+def watch_log(proc, wanted, timeout):
     """Reads `proc`'s log until every marker in `wanted` has appeared; returns {marker: the word
     after it}. Reads the pipe's descriptor directly: select() on Python's buffered reader would
     miss lines it had already read ahead (e.g. a source's state logged just before the
@@ -48,7 +48,7 @@ def start_daemon(hposed, args, timeout=60.0):
     """Starts `hposed` on a free loopback port with `args`; returns (process, address)."""
     proc = subprocess.Popen([hposed, "--listen", "127.0.0.1:0"] + args, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
-    found = _watch_log(proc, ["listening on "], timeout)
+    found = watch_log(proc, ["listening on "], timeout)
     return proc, found["listening on "]
 
 
@@ -59,7 +59,7 @@ def start_daemon_with_http(hposed, args, timeout=60.0, preexec_fn=None):
     proc = subprocess.Popen([hposed, "--listen", "127.0.0.1:0", "--http", "127.0.0.1:0"] + args,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             preexec_fn=preexec_fn)
-    found = _watch_log(proc, ["listening on ", "web view on "], timeout)
+    found = watch_log(proc, ["listening on ", "web view on "], timeout)
     return proc, found["listening on "], found["web view on "].rstrip("/")
 
 
