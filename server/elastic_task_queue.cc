@@ -1,6 +1,9 @@
 #include "server/elastic_task_queue.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
+#include <system_error>
 #include <utility>
 
 namespace hpose::server {
@@ -44,7 +47,17 @@ int ElasticTaskQueue::threads() const {
 }
 
 void ElasticTaskQueue::StartThreadLocked() {
-  threads_.emplace_back([this] { Work(); });
+  try {
+    threads_.emplace_back([this] { Work(); });
+  } catch (const std::system_error& e) {
+    // No thread to be had (a task limit such as systemd's TasksMax reached, or out of memory):
+    // the job waits for a running thread instead of the exception ending the daemon.
+    if (!warned_) {
+      warned_ = true;
+      spdlog::warn("web view: cannot start another worker thread ({}); requests wait for the {}",
+                   e.what(), threads_.size());
+    }
+  }
 }
 
 void ElasticTaskQueue::Work() {

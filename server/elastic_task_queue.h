@@ -15,7 +15,8 @@ namespace hpose::server {
 // fewer than `max_threads`; only beyond that does it wait. A fixed pool let a few connections
 // that never finish their request (each holds a worker until the read times out) delay every
 // other request, /healthz included, by seconds. Threads once started stay until Shutdown (an
-// idle one costs its stack's reserved address space, little memory).
+// idle one costs its stack's reserved address space, little memory). When no thread can be
+// started (a task limit), jobs wait for the running ones.
 class ElasticTaskQueue {
  public:
   ElasticTaskQueue(int min_threads, int max_threads);
@@ -39,7 +40,8 @@ class ElasticTaskQueue {
   std::condition_variable wake_;
   std::deque<std::function<void()>> jobs_;
   std::vector<std::thread> threads_;
-  int idle_ = 0;  // threads waiting for a job.
+  int idle_ = 0;         // threads waiting for a job.
+  bool warned_ = false;  // a thread could not be started (logged once).
   bool shutdown_ = false;
 };
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Floods of idle connections against hposed run with a service's usual descriptor limit
 (1 024): the frame source keeps descriptors to open its frames, and the gRPC API serves again
-once the flood is gone. Connections that never begin their handshake are closed.
+once the flood is gone. Connections that never begin their handshake are closed. Under a task
+limit the web view's workers reach, the daemon goes on serving.
 
 usage: connection_flood_test.py HPOSED HPOSE SOURCE_DIR
 """
@@ -16,6 +17,7 @@ import sys
 import tempfile
 import time
 import unittest
+import urllib.request
 
 from daemon_process import (DaemonTestCase, simulate_frames, start_daemon_with_http,
                             watch_log)
@@ -151,6 +153,72 @@ class ConnectionFloodTest(DaemonTestCase):
                 if proc.poll() is None:
                     proc.kill()
                     proc.wait()
+
+
+def make_pids_cgroup():
+    """A new cgroup with a pids controller (v1 or v2), or None when none can be made here."""
+    for base in ("/sys/fs/cgroup/pids", "/sys/fs/cgroup"):
+        path = os.path.join(base, "hpose-test-%d" % os.getpid())
+        try:
+            os.mkdir(path)
+        except OSError:
+            continue
+        if os.path.exists(os.path.join(path, "pids.max")):
+            return path
+        os.rmdir(path)
+    return None
+
+
+class TaskLimitTest(unittest.TestCase):
+    """hposed under a task limit (as systemd's TasksMax sets one) that its web view's workers
+    reach: a thread that cannot be started used to end the daemon (std::system_error out of
+    the accept loop: "terminate called ... Resource temporarily unavailable")."""
+
+    def setUp(self):
+        self.cgroup = make_pids_cgroup()
+        if self.cgroup is None:
+            self.skipTest("needs a cgroup with a pids limit it may create (root, cgroup fs)")
+        self.tmp = tempfile.TemporaryDirectory()
+        self.proc = None
+
+    def tearDown(self):
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+        os.rmdir(self.cgroup)
+        self.tmp.cleanup()
+
+    def test_a_worker_thread_that_cannot_start_does_not_end_the_daemon(self):
+        frames = os.path.join(self.tmp.name, "frames")
+        simulate_frames(HPOSE, frames, 3)
+        procs = os.path.join(self.cgroup, "cgroup.procs")
+
+        def join_cgroup():
+            with open(procs, "w") as f:
+                f.write(str(os.getpid()))
+
+        self.proc, _, http = start_daemon_with_http(HPOSED, [
+            "--source", frames, "--loop", "--fps", "30",
+            "--template", os.path.join(SOURCE_DIR, "templates", "standing.bt")],
+            preexec_fn=join_cgroup)
+        time.sleep(1)  # the start-up's threads are all there.
+        with open(os.path.join(self.cgroup, "pids.current")) as f:
+            running = int(f.read())
+        with open(os.path.join(self.cgroup, "pids.max"), "w") as f:
+            f.write(str(running + 8))
+        # Each connection that sends nothing holds a web worker for 2 s: more than 8 of them
+        # need more threads than the limit allows.
+        host, port = http[len("http://"):].rsplit(":", 1)
+        held = [socket.create_connection((host, int(port)), timeout=30) for _ in range(100)]
+        time.sleep(3)
+        for conn in held:
+            conn.close()
+        with open(os.path.join(self.cgroup, "pids.events")) as f:
+            refused = int(f.read().split()[1])
+        self.assertGreater(refused, 0, "the task limit was never reached")
+        self.assertIsNone(self.proc.poll(), "hposed ended")
+        with urllib.request.urlopen(http + "/healthz", timeout=60) as reply:
+            self.assertEqual(reply.status, 200)
 
 
 if __name__ == "__main__":
