@@ -140,7 +140,7 @@ class ConnectionFloodTest(DaemonTestCase):
             self.assertTrue(found["listening on "].startswith("0.0.0.0:"))
         finally:
             proc.kill()
-            proc.wait()
+            proc.communicate()
         for listen in ["127.0.0.1:0", "localhost:0"]:
             proc = subprocess.Popen([HPOSED, "--listen", listen], stdout=subprocess.PIPE,
                                     stderr=subprocess.STDOUT, text=True)
@@ -182,9 +182,10 @@ class TaskLimitTest(unittest.TestCase):
         self.proc = None
 
     def tearDown(self):
-        if self.proc is not None and self.proc.poll() is None:
-            self.proc.kill()
-            self.proc.wait()
+        if self.proc is not None:
+            if self.proc.poll() is None:
+                self.proc.kill()
+            self.proc.communicate()
         os.rmdir(self.cgroup)
         self.tmp.cleanup()
 

@@ -71,5 +71,5 @@ class DaemonTestCase(unittest.TestCase):
     def tearDownClass(cls):
         if cls.proc.poll() is None:
             cls.proc.kill()
-            cls.proc.wait()
+        cls.proc.communicate()  # waits, and closes the log pipe.
         cls.tmp.cleanup()
