@@ -54,8 +54,9 @@ void ElasticTaskQueue::StartThreadLocked() {
     // the job waits for a running thread instead of the exception ending the daemon.
     if (!warned_) {
       warned_ = true;
-      spdlog::warn("web view: cannot start another worker thread ({}); requests wait for the {}",
-                   e.what(), threads_.size());
+      spdlog::warn(
+          "web view: cannot start another worker thread ({}); requests wait for the {} running",
+          e.what(), threads_.size());
     }
   }
 }

@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <utility>
 
 #include "server/descriptor_budget.h"
 #include "server/tcp_listen.h"
