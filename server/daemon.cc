@@ -27,7 +27,6 @@
 #include "server/frame_source.h"
 #include "server/grpc_listener.h"
 #include "server/http_view.h"
-#include "server/listen_check.h"
 #include "server/live_scene.h"
 #include "server/metrics.h"
 #include "server/pose_pipeline.h"
@@ -36,6 +35,7 @@
 #include "server/rpc_metrics_interceptor.h"
 #include "server/stereo_pipeline.h"
 #include "server/stream_limiter.h"
+#include "server/tcp_listener.h"
 #include "server/token_auth.h"
 #include "server/warm_up_frame.h"
 #include "server/world_frame.h"
@@ -171,8 +171,23 @@ std::string Daemon::address() const { return impl_->host + ":" + std::to_string(
 Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   Status valid = ValidateDaemonConfig(config);
   if (!valid.ok()) return valid.error();
-  Status can_listen = CheckCanListen(config.grpc.listen);
-  if (!can_listen.ok()) return can_listen.error();
+  // Both ports are bound before the long start-up: an address that cannot be served is told at
+  // once, and nothing else takes the port meanwhile (connections wait in the kernel's queue).
+  // The gRPC port without SO_REUSEPORT: a second daemon on it fails instead of sharing it.
+  Result<HostPort> grpc_address = ParseHostPort(config.grpc.listen);
+  if (!grpc_address.ok()) return Prefixed("listen: ", grpc_address.error());
+  Result<std::unique_ptr<GrpcListener>> listener =
+      GrpcListener::Bind(grpc_address->host, grpc_address->port);
+  if (!listener.ok()) {
+    return MakeError(ErrorCode::kUnavailable,
+                     "cannot listen on '" + config.grpc.listen + "': " + listener.error().message);
+  }
+  std::unique_ptr<HttpView> http;
+  if (!config.http.listen.empty()) {
+    Result<std::unique_ptr<HttpView>> bound = HttpView::Bind(config.http);
+    if (!bound.ok()) return bound.error();
+    http = std::move(*bound);
+  }
 
   std::vector<VoxelTemplate> templates;
   for (const std::string& path : config.templates) {
@@ -225,9 +240,7 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   }
   impl->pipeline = std::make_unique<PosePipeline>(std::move(source), std::move(estimators),
                                                   config.source, impl->signal.get());
-  if (!config.http.listen.empty()) {
-    Status can_serve = CheckCanListen(config.http.listen);
-    if (!can_serve.ok()) return Prefixed("web view (http.listen): ", can_serve.error());
+  if (http) {
     LiveSceneOptions scene;
     scene.min_height_m = options.clusters.min_height_above_floor_m;
     scene.max_height_m = options.clusters.max_height_above_floor_m;
@@ -265,15 +278,7 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
   Result<std::shared_ptr<grpc::ServerCredentials>> credentials = ServerCredentials(config.security);
   if (!credentials.ok()) return credentials.error();
   // The daemon accepts connections itself (GrpcListener says why) and hands them to the server,
-  // which serves them as if it had accepted them: TLS, limits and quota alike. The socket is
-  // bound without SO_REUSEPORT: a second daemon on the same port fails instead of sharing it.
-  const std::size_t colon = config.grpc.listen.rfind(':');
-  Result<std::unique_ptr<GrpcListener>> listener = GrpcListener::Bind(
-      config.grpc.listen.substr(0, colon), std::stoi(config.grpc.listen.substr(colon + 1)));
-  if (!listener.ok()) {
-    return MakeError(ErrorCode::kUnavailable,
-                     "cannot listen on '" + config.grpc.listen + "': " + listener.error().message);
-  }
+  // which serves them as if it had accepted them: TLS, limits and quota alike.
   impl->listener = std::move(*listener);
   impl->acceptor = builder.experimental().AddExternalConnectionAcceptor(
       grpc::ServerBuilder::experimental_type::ExternalConnectionType::FROM_FD, *credentials);
@@ -315,13 +320,8 @@ Result<std::unique_ptr<Daemon>> Daemon::Start(const DaemonConfig& config) {
     sources.client_counter = impl->metrics.get();
     sources.scene = impl->scene.get();
     sources.version = HposeVersion();
-    Result<std::unique_ptr<HttpView>> http = HttpView::Start(config.http, std::move(sources));
-    if (!http.ok()) {
-      impl->listener->Stop();
-      impl->server->Shutdown();
-      return http.error();
-    }
-    impl->http = std::move(*http);
+    impl->http = std::move(http);
+    impl->http->Start(std::move(sources));
   }
   // The Estimate calls' estimators warm up in the background; the source's frames are read once
   // they have (and the stream's own estimators), so that nothing competes with the first ones.

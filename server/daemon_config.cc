@@ -11,6 +11,7 @@
 #include "core/common/closest_name.h"
 #include "core/io/atomic_file.h"
 #include "server/openni2_source.h"
+#include "server/tcp_listener.h"
 
 namespace hpose::server {
 
@@ -330,23 +331,15 @@ Status ParseInto(const YAML::Node& root, const std::string& origin, const std::s
   return Status::Ok();
 }
 
-bool ValidListen(const std::string& listen) {
-  const size_t colon = listen.rfind(':');
-  if (colon == std::string::npos || colon == 0 || colon + 1 >= listen.size()) return false;
-  long port = 0;
-  for (size_t i = colon + 1; i < listen.size(); ++i) {
-    if (listen[i] < '0' || listen[i] > '9') return false;
-    port = port * 10 + (listen[i] - '0');
-    if (port > 65535) return false;  // before it could overflow (a 30-digit port aborted).
-  }
-  return true;
-}
+bool ValidListen(const std::string& listen) { return ParseHostPort(listen).ok(); }
 
 }  // namespace
 
 bool IsLoopbackListen(const std::string& listen) {
-  const std::string host = listen.substr(0, listen.rfind(':'));
-  return host == "localhost" || host == "[::1]" || host == "::1" || host.rfind("127.", 0) == 0;
+  Result<HostPort> address = ParseHostPort(listen);
+  if (!address.ok()) return false;
+  const std::string& host = address->host;
+  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
 }
 
 Result<ScorerKind> ParseScorerName(const std::string& name) {

@@ -5,7 +5,6 @@
 #include <memory>
 #include <string>
 #include <thread>
-#include <vector>
 
 #include "core/common/status.h"
 
@@ -15,6 +14,8 @@ class ExternalConnectionAcceptor;
 
 namespace hpose::server {
 
+class TcpListener;
+
 // Accepts the gRPC API's connections for the gRPC server, which then serves them as its own
 // (TLS and all). gRPC's listener (1.51) stops for good the first time accept() fails for want
 // of descriptors: a flood of idle connections, even once gone, left the daemon unreachable.
@@ -23,7 +24,8 @@ namespace hpose::server {
 // again.
 class GrpcListener {
  public:
-  // Listens on HOST:PORT (see ListenTcp; port 0 picks one). kUnavailable naming the reason.
+  // Listens on HOST:PORT (see TcpListener::Listen; port 0 picks one). kUnavailable with a
+  // sentence naming the reason.
   static Result<std::unique_ptr<GrpcListener>> Bind(const std::string& host, int port);
   ~GrpcListener();
   GrpcListener(const GrpcListener&) = delete;
@@ -34,15 +36,13 @@ class GrpcListener {
   void Start(grpc::experimental::ExternalConnectionAcceptor* acceptor);
   // Stops accepting (connections already handed over are the gRPC server's). Idempotent.
   void Stop();
-  int port() const { return port_; }
+  int port() const;
 
  private:
-  GrpcListener(std::vector<int> listen_fds, int port);
+  explicit GrpcListener(std::unique_ptr<TcpListener> sockets);
   void AcceptLoop(grpc::experimental::ExternalConnectionAcceptor* acceptor);
 
-  const std::vector<int> listen_fds_;
-  const int port_;
-  int wake_fds_[2] = {-1, -1};  // a pipe: a byte written wakes the accept loop to stop.
+  const std::unique_ptr<TcpListener> sockets_;
   std::thread accept_thread_;
   std::atomic<bool> stopping_{false};
 };

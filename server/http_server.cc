@@ -17,7 +17,7 @@
 #include "server/descriptor_budget.h"
 #include "server/elastic_task_queue.h"
 #include "server/http_request_parser.h"
-#include "server/tcp_listen.h"
+#include "server/tcp_listener.h"
 
 namespace hpose::server {
 
@@ -94,29 +94,20 @@ std::string HttpErrorJson(const std::string& code, const std::string& message) {
 
 Result<std::unique_ptr<HttpServer>> HttpServer::Bind(const std::string& host, int port,
                                                      const HttpServerOptions& options) {
-  Result<TcpListeners> bound = ListenTcp(host, port, 128);
-  if (!bound.ok()) return bound.error();
-  std::unique_ptr<HttpServer> server(new HttpServer(bound->fds, bound->port, options));
-  if (pipe2(server->wake_fds_, O_CLOEXEC) != 0) {
-    return MakeError(ErrorCode::kUnavailable, std::string("pipe: ") + std::strerror(errno));
-  }
-  return server;
+  Result<std::unique_ptr<TcpListener>> sockets = TcpListener::Listen(host, port, 128);
+  if (!sockets.ok()) return sockets.error();
+  return std::unique_ptr<HttpServer>(new HttpServer(std::move(*sockets), options));
 }
 
-HttpServer::HttpServer(std::vector<int> listen_fds, int port, const HttpServerOptions& options)
-    : listen_fds_(std::move(listen_fds)),
-      port_(port),
+HttpServer::HttpServer(std::unique_ptr<TcpListener> sockets, const HttpServerOptions& options)
+    : sockets_(std::move(sockets)),
       options_(options),
       workers_(std::make_unique<ElasticTaskQueue>(
           options.min_threads, std::max(options.min_threads, options.max_threads))) {}
 
-HttpServer::~HttpServer() {
-  Stop();
-  for (int fd : listen_fds_) close(fd);
-  for (int fd : wake_fds_) {
-    if (fd >= 0) close(fd);
-  }
-}
+HttpServer::~HttpServer() { Stop(); }
+
+int HttpServer::port() const { return sockets_->port(); }
 
 void HttpServer::Get(const std::string& path, Handler handler) {
   routes_[path] = std::move(handler);
@@ -132,32 +123,20 @@ void HttpServer::Start() {
 
 void HttpServer::Stop() {
   if (stopping_.exchange(true)) return;
-  if (wake_fds_[1] >= 0) {
-    const char byte = 'x';
-    [[maybe_unused]] const ssize_t n = write(wake_fds_[1], &byte, 1);
-  }
+  sockets_->Wake();
   if (accept_thread_.joinable()) accept_thread_.join();
   workers_->Shutdown();
 }
 
 void HttpServer::AcceptLoop() {
-  std::vector<pollfd> fds;
-  for (int fd : listen_fds_) fds.push_back({fd, POLLIN, 0});
-  fds.push_back({wake_fds_[0], POLLIN, 0});
-  while (!stopping_) {
-    for (pollfd& p : fds) p.revents = 0;
-    if (poll(fds.data(), fds.size(), -1) < 0) {
-      if (errno == EINTR) continue;
-      return;
-    }
-    if (fds.back().revents != 0) return;
-    for (std::size_t i = 0; i + 1 < fds.size() && !stopping_; ++i) {
-      if ((fds[i].revents & POLLIN) == 0) continue;
+  std::vector<int> ready;
+  while (sockets_->Wait(&ready)) {
+    for (std::size_t i = 0; i < ready.size() && !stopping_; ++i) {
       if (open_connections_ >= options_.max_connections || !MayAcceptConnection()) {
         std::this_thread::sleep_for(std::chrono::milliseconds(5));  // until one closes.
         continue;
       }
-      const int fd = accept4(fds[i].fd, nullptr, nullptr, SOCK_CLOEXEC);
+      const int fd = accept4(ready[i], nullptr, nullptr, SOCK_CLOEXEC);
       if (fd < 0) {
         // Out of descriptors or memory: wait a little instead of spinning.
         if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {

@@ -16,6 +16,7 @@
 namespace hpose::server {
 
 class ElasticTaskQueue;
+class TcpListener;
 
 // {"code": CODE, "message": MESSAGE}, the web view's error body (bytes that are not UTF-8 are
 // replaced).
@@ -48,8 +49,8 @@ class HttpServer {
   using Handler = std::function<void(const HttpRequest&, HttpResponse*)>;
 
   // Binds HOST:PORT (every address of a name, or a numeric IPv4 or IPv6 address; port 0 picks
-  // a free port; see ListenTcp).
-  // kUnavailable with the reason ("Address already in use") when it cannot be bound.
+  // a free port; see TcpListener::Listen). kUnavailable with a sentence naming the reason when
+  // it cannot be bound.
   static Result<std::unique_ptr<HttpServer>> Bind(const std::string& host, int port,
                                                   const HttpServerOptions& options);
   ~HttpServer();
@@ -65,20 +66,18 @@ class HttpServer {
   // Stops accepting, then waits for the connections being served (streams end when their
   // callback returns false or a write times out). Idempotent.
   void Stop();
-  int port() const { return port_; }
+  int port() const;
 
  private:
-  HttpServer(std::vector<int> listen_fds, int port, const HttpServerOptions& options);
+  HttpServer(std::unique_ptr<TcpListener> sockets, const HttpServerOptions& options);
   void AcceptLoop();
   void Serve(int fd);
   void ServeConnection(int fd);
   bool WriteAll(int fd, std::string_view data) const;
   void Answer(int fd, const HttpRequest& request, HttpResponse& response);
 
-  const std::vector<int> listen_fds_;
-  const int port_;
+  const std::unique_ptr<TcpListener> sockets_;
   const HttpServerOptions options_;
-  int wake_fds_[2] = {-1, -1};  // a pipe: a byte written wakes the accept loop to stop.
   std::map<std::string, Handler> routes_;
   std::function<void(const HttpRequest&, int)> logger_;
   std::unique_ptr<ElasticTaskQueue> workers_;

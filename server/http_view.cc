@@ -17,6 +17,7 @@
 #include "server/publish_signal.h"
 #include "server/rpc_metrics_interceptor.h"
 #include "server/stereo_pipeline.h"
+#include "server/tcp_listener.h"
 
 namespace hpose::server {
 
@@ -56,23 +57,6 @@ int HttpCode(grpc::StatusCode code) {
   }
 }
 
-// "HOST:PORT" or "[V6]:PORT" -> host (without brackets) and port; false when malformed.
-bool SplitListen(const std::string& listen, std::string* host, int* port) {
-  const size_t colon = listen.rfind(':');
-  if (colon == std::string::npos || colon == 0) return false;
-  *host = listen.substr(0, colon);
-  if (host->size() >= 2 && host->front() == '[' && host->back() == ']') {
-    *host = host->substr(1, host->size() - 2);
-  }
-  try {
-    size_t used = 0;
-    *port = std::stoi(listen.substr(colon + 1), &used);
-    return used == listen.size() - colon - 1 && *port >= 0 && *port <= 65535;
-  } catch (const std::exception&) {
-    return false;
-  }
-}
-
 // The newest estimate of one estimator as PoseEstimate JSON, or null with the reason.
 void LatestJson(const PoseServiceImpl& service, v1::EstimatorKind kind, nlohmann::ordered_json* out,
                 const char* key) {
@@ -95,35 +79,37 @@ struct EventStreamState {
 
 }  // namespace
 
-HttpView::HttpView(const HttpConfig& config, HttpViewSources sources)
-    : config_(config), sources_(std::move(sources)), start_(Clock::now()), server_(nullptr) {}
+HttpView::HttpView(const HttpConfig& config)
+    : config_(config), start_(Clock::now()), server_(nullptr) {}
 
 HttpView::~HttpView() { Stop(); }
 
-Result<std::unique_ptr<HttpView>> HttpView::Start(const HttpConfig& config,
-                                                  HttpViewSources sources) {
-  std::string host;
-  int port = 0;
-  if (!SplitListen(config.listen, &host, &port)) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "http.listen: expected HOST:PORT, got '" + config.listen + "'");
+Result<std::unique_ptr<HttpView>> HttpView::Bind(const HttpConfig& config) {
+  Result<HostPort> address = ParseHostPort(config.listen);
+  if (!address.ok()) {
+    return MakeError(address.error().code, "http.listen: " + address.error().message);
   }
   HttpServerOptions options;
   options.min_threads = config.max_event_clients + 4;  // /events streams hold a worker each.
   options.max_threads = std::max(options.min_threads, kMaxWorkerThreads);
   options.max_connections = options.max_threads + 64;
-  Result<std::unique_ptr<HttpServer>> bound = HttpServer::Bind(host, port, options);
+  Result<std::unique_ptr<HttpServer>> bound =
+      HttpServer::Bind(address->host, address->port, options);
   if (!bound.ok()) {
     return MakeError(ErrorCode::kUnavailable, "cannot serve the web view on '" + config.listen +
-                                                  "' (" + bound.error().message + ")");
+                                                  "' (http.listen): " + bound.error().message);
   }
-  std::unique_ptr<HttpView> view(new HttpView(config, std::move(sources)));
+  std::unique_ptr<HttpView> view(new HttpView(config));
   view->server_ = std::move(bound).value();
   view->host_ = config.listen.substr(0, config.listen.rfind(':'));
   view->port_ = view->server_->port();
-  view->Routes();
-  view->server_->Start();
   return view;
+}
+
+void HttpView::Start(HttpViewSources sources) {
+  sources_ = std::move(sources);
+  Routes();
+  server_->Start();
 }
 
 void HttpView::Stop() {

@@ -37,9 +37,11 @@ struct HttpViewSources {
 // /metrics (Prometheus text) and /healthz. Read only, on HttpServer.
 class HttpView {
  public:
-  // Binds `config.listen` (port 0 picks a free port) and serves on a thread of its own.
-  // kUnavailable naming the address when it cannot bind.
-  static Result<std::unique_ptr<HttpView>> Start(const HttpConfig& config, HttpViewSources sources);
+  // Binds `config.listen` (port 0 picks a free port); connections wait in the kernel's queue
+  // until Start. kUnavailable naming the address and the reason when it cannot bind.
+  static Result<std::unique_ptr<HttpView>> Bind(const HttpConfig& config);
+  // Serves what `sources` hold on a thread of its own. Once.
+  void Start(HttpViewSources sources);
   ~HttpView();
 
   int port() const { return port_; }
@@ -49,13 +51,13 @@ class HttpView {
   void Stop();
 
  private:
-  HttpView(const HttpConfig& config, HttpViewSources sources);
+  explicit HttpView(const HttpConfig& config);
   void Routes();
   // One /events message: the newest estimates, status and scene as a JSON object.
   std::string Snapshot() const;
 
   const HttpConfig config_;
-  const HttpViewSources sources_;
+  HttpViewSources sources_;  // set by Start.
   const std::chrono::steady_clock::time_point start_;
   std::unique_ptr<HttpServer> server_;
   std::string host_;
