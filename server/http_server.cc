@@ -16,6 +16,7 @@
 
 #include "server/descriptor_budget.h"
 #include "server/elastic_task_queue.h"
+#include "server/http_head_reader.h"
 #include "server/http_request_parser.h"
 #include "server/tcp_listener.h"
 
@@ -96,7 +97,14 @@ Result<std::unique_ptr<HttpServer>> HttpServer::Bind(const std::string& host, in
                                                      const HttpServerOptions& options) {
   Result<std::unique_ptr<TcpListener>> sockets = TcpListener::Listen(host, port, 128);
   if (!sockets.ok()) return sockets.error();
-  return std::unique_ptr<HttpServer>(new HttpServer(std::move(*sockets), options));
+  std::unique_ptr<HttpServer> server(new HttpServer(std::move(*sockets), options));
+  Result<std::unique_ptr<HttpHeadReader>> heads = HttpHeadReader::Start(
+      options.head_timeout, kMaxHttpHeadBytes, [s = server.get()](HttpHead head) {
+        s->workers_->Enqueue([s, head = std::move(head)] { s->Serve(head); });
+      });
+  if (!heads.ok()) return heads.error();
+  server->heads_ = std::move(*heads);
+  return server;
 }
 
 HttpServer::HttpServer(std::unique_ptr<TcpListener> sockets, const HttpServerOptions& options)
@@ -125,6 +133,7 @@ void HttpServer::Stop() {
   if (stopping_.exchange(true)) return;
   sockets_->Wake();
   if (accept_thread_.joinable()) accept_thread_.join();
+  if (heads_) heads_->Stop();  // what it still reads goes to the workers, which close it.
   workers_->Shutdown();
 }
 
@@ -145,7 +154,7 @@ void HttpServer::AcceptLoop() {
         continue;
       }
       ++open_connections_;
-      workers_->Enqueue([this, fd] { Serve(fd); });
+      heads_->Add(fd);
     }
   }
 }
@@ -160,52 +169,26 @@ bool HttpServer::WriteAll(int fd, std::string_view data) const {
   return true;
 }
 
-void HttpServer::Serve(int fd) {
-  if (!stopping_) ServeConnection(fd);
-  close(fd);
+void HttpServer::Serve(const HttpHead& head) {
+  if (!stopping_) ServeConnection(head);
+  close(head.fd);
   --open_connections_;
 }
 
-void HttpServer::ServeConnection(int fd) {
+void HttpServer::ServeConnection(const HttpHead& head) {
+  const int fd = head.fd;
   const auto write_ms = options_.write_timeout.count();
   timeval send_timeout{};
   send_timeout.tv_sec = static_cast<time_t>(write_ms / 1000);
   send_timeout.tv_usec = static_cast<suseconds_t>((write_ms % 1000) * 1000);
   setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &send_timeout, sizeof(send_timeout));
 
-  // The request head, within the size limit and the deadline, counted from now: a connection
-  // that waited for a worker (all of them held by stalled ones) still has its request read.
-  const Clock::time_point deadline = Clock::now() + options_.head_timeout;
-  std::string buffer;
-  std::size_t head_end = std::string_view::npos;
-  bool closed = false;
-  char chunk[4096];
-  while (head_end == std::string_view::npos && buffer.size() <= kMaxHttpHeadBytes) {
-    const int wait_ms = MillisecondsUntil(deadline);
-    if (wait_ms == 0) break;
-    pollfd p{fd, POLLIN, 0};
-    const int ready = poll(&p, 1, wait_ms);
-    if (ready < 0 && errno != EINTR) break;
-    if (ready <= 0) continue;
-    const std::size_t want = std::min(sizeof(chunk), kMaxHttpHeadBytes + 1 - buffer.size());
-    const ssize_t n = recv(fd, chunk, want, 0);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      closed = true;
-      break;
-    }
-    const std::size_t from = buffer.size() > 2 ? buffer.size() - 2 : 0;
-    buffer.append(chunk, static_cast<std::size_t>(n));
-    const std::size_t end = FindHttpHeadEnd(std::string_view(buffer).substr(from));
-    if (end != std::string_view::npos) head_end = from + end;
-  }
-
   HttpRequest request;
   request.remote_addr = PeerAddress(fd);
   HttpResponse response;
-  if (head_end == std::string_view::npos) {
-    if (closed || buffer.empty()) return;  // nothing asked, or the client went away.
-    response = buffer.size() > kMaxHttpHeadBytes
+  if (head.end == std::string_view::npos) {
+    if (head.closed || head.bytes.empty()) return;  // nothing asked, or the client went away.
+    response = head.too_large
                    ? ErrorResponse(
                          431, "OUT_OF_RANGE",
                          "request head larger than " + std::to_string(kMaxHttpHeadBytes) + " bytes")
@@ -213,7 +196,8 @@ void HttpServer::ServeConnection(int fd) {
                                    "the request head did not come within " +
                                        std::to_string(options_.head_timeout.count()) + " ms");
   } else {
-    Result<HttpRequest> parsed = ParseHttpRequestHead(std::string_view(buffer).substr(0, head_end));
+    Result<HttpRequest> parsed =
+        ParseHttpRequestHead(std::string_view(head.bytes).substr(0, head.end));
     if (!parsed.ok()) {
       const bool too_large = parsed.error().code == ErrorCode::kOutOfRange;
       response =
@@ -246,6 +230,7 @@ void HttpServer::ServeConnection(int fd) {
   shutdown(fd, SHUT_WR);
   const Clock::time_point drain_end = Clock::now() + kDrainTime;
   std::size_t drained = 0;
+  char chunk[4096];
   while (drained < kDrainBytes) {
     pollfd p{fd, POLLIN, 0};
     if (poll(&p, 1, MillisecondsUntil(drain_end)) <= 0) break;

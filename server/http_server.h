@@ -17,6 +17,8 @@ namespace hpose::server {
 
 class ElasticTaskQueue;
 class TcpListener;
+class HttpHeadReader;
+struct HttpHead;
 
 // {"code": CODE, "message": MESSAGE}, the web view's error body (bytes that are not UTF-8 are
 // replaced).
@@ -30,9 +32,9 @@ struct HttpServerOptions {
   // cannot take the descriptors the rest of the daemon needs (a service's soft limit is
   // usually 1 024). The server also accepts only while MayAcceptConnection().
   int max_connections = 320;
-  // A connection must deliver its whole request head within this once a worker takes it up
-  // (else it is closed, with 408 when part of one came): a connection that stalls, or
-  // trickles, holds a worker no longer.
+  // A connection must deliver its whole request head within this once accepted (else it is
+  // closed, with 408 when part of one came). Heads are read by one thread for all connections
+  // (HttpHeadReader): one that stalls or trickles holds a descriptor until then, no worker.
   std::chrono::milliseconds head_timeout{2000};
   // A write that makes no progress for this long (a client that stopped reading) ends the
   // connection.
@@ -71,8 +73,8 @@ class HttpServer {
  private:
   HttpServer(std::unique_ptr<TcpListener> sockets, const HttpServerOptions& options);
   void AcceptLoop();
-  void Serve(int fd);
-  void ServeConnection(int fd);
+  void Serve(const HttpHead& head);
+  void ServeConnection(const HttpHead& head);
   bool WriteAll(int fd, std::string_view data) const;
   void Answer(int fd, const HttpRequest& request, HttpResponse& response);
 
@@ -81,6 +83,7 @@ class HttpServer {
   std::map<std::string, Handler> routes_;
   std::function<void(const HttpRequest&, int)> logger_;
   std::unique_ptr<ElasticTaskQueue> workers_;
+  std::unique_ptr<HttpHeadReader> heads_;  // hands whole heads to workers_.
   std::thread accept_thread_;
   std::atomic<bool> stopping_{false};
   std::atomic<int> open_connections_{0};
