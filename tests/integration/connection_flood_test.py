@@ -207,10 +207,18 @@ class TaskLimitTest(unittest.TestCase):
             running = int(f.read())
         with open(os.path.join(self.cgroup, "pids.max"), "w") as f:
             f.write(str(running + 8))
-        # Each connection that sends nothing holds a web worker for 2 s: more than 8 of them
-        # need more threads than the limit allows.
+        # Each connection asks for the page and reads nothing, with a receive buffer the page
+        # does not fit: its worker waits on the write (up to 5 s). More than the idle workers
+        # and 8 need more threads than the limit allows.
         host, port = http[len("http://"):].rsplit(":", 1)
-        held = [socket.create_connection((host, int(port)), timeout=30) for _ in range(100)]
+        held = []
+        for _ in range(100):
+            conn = socket.socket()
+            conn.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1024)
+            conn.settimeout(30)
+            conn.connect((host, int(port)))
+            conn.sendall(b"GET / HTTP/1.1\r\nHost: x\r\n\r\n")
+            held.append(conn)
         time.sleep(3)
         for conn in held:
             conn.close()
