@@ -117,6 +117,8 @@ HttpServer::~HttpServer() { Stop(); }
 
 int HttpServer::port() const { return sockets_->port(); }
 
+int HttpServer::reading_connections() const { return heads_->reading(); }
+
 void HttpServer::Get(const std::string& path, Handler handler) {
   routes_[path] = std::move(handler);
 }

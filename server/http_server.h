@@ -69,6 +69,9 @@ class HttpServer {
   // callback returns false or a write times out). Idempotent.
   void Stop();
   int port() const;
+  // Connections accepted and not yet closed; of those, the ones still sending their head.
+  int open_connections() const { return open_connections_; }
+  int reading_connections() const;
 
  private:
   HttpServer(std::unique_ptr<TcpListener> sockets, const HttpServerOptions& options);

@@ -186,7 +186,10 @@ void HttpView::Routes() {
     list.push_back({"depth", sources_.pipeline->Status()});
     if (sources_.stereo != nullptr) list.push_back({"stereo", sources_.stereo->Status()});
     const double uptime = std::chrono::duration<double>(Clock::now() - start_).count();
-    SetContent(res, sources_.metrics->Render(list, uptime, sources_.version),
+    WebConnections web;
+    web.open = server_->open_connections();
+    web.reading = server_->reading_connections();
+    SetContent(res, sources_.metrics->Render(list, uptime, sources_.version, web),
                "text/plain; version=0.0.4; charset=utf-8");
   });
   s.Get("/healthz", [this](const HttpRequest&, HttpResponse* res) {

@@ -1,9 +1,13 @@
 #include "server/metrics.h"
 
+#include <sys/resource.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
+
+#include "server/descriptor_budget.h"
 
 namespace hpose::server {
 
@@ -117,7 +121,7 @@ int DaemonMetrics::clients(const std::string& kind) const {
 }
 
 std::string DaemonMetrics::Render(const std::vector<Source>& sources, double uptime_s,
-                                  const std::string& version) const {
+                                  const std::string& version, const WebConnections& web) const {
   std::ostringstream out;
   Header(out, "hposed_build_info", "gauge", "The daemon's version (value always 1).");
   out << "hposed_build_info{version=\"" << EscapeLabelValue(version) << "\"} 1\n";
@@ -171,6 +175,23 @@ std::string DaemonMetrics::Render(const std::vector<Source>& sources, double upt
     const auto it = clients_.find(kind);
     out << "hposed_clients_connected{kind=\"" << kind << "\"} "
         << (it == clients_.end() ? 0 : it->second) << '\n';
+  }
+  Header(out, "hposed_http_connections", "gauge",
+         "Web view connections open (read or served) and, of those, still sending their request "
+         "head (reading).");
+  out << "hposed_http_connections{state=\"open\"} " << web.open << '\n';
+  out << "hposed_http_connections{state=\"reading\"} " << web.reading << '\n';
+  // The names Prometheus's client libraries give these. The network servers stop accepting
+  // short of the limit (docs/RELIABILITY.md, "Connections").
+  const int open_fds = OpenDescriptors();
+  if (open_fds >= 0) {
+    Header(out, "process_open_fds", "gauge", "Open file descriptors.");
+    out << "process_open_fds " << open_fds << '\n';
+  }
+  rlimit limit{};
+  if (getrlimit(RLIMIT_NOFILE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
+    Header(out, "process_max_fds", "gauge", "The soft limit on open file descriptors.");
+    out << "process_max_fds " << limit.rlim_cur << '\n';
   }
   Header(out, "hposed_rpc_total", "counter", "Finished gRPC calls by method and status code.");
   for (const auto& [key, count] : rpcs_) {

@@ -14,6 +14,13 @@
 
 namespace hpose::server {
 
+// The web view's connections: open (read or served) and, of those, still sending their request
+// head.
+struct WebConnections {
+  int open = 0;
+  int reading = 0;
+};
+
 // The daemon's counters for /metrics (Prometheus text exposition format 0.0.4): per-stage
 // estimate latency histograms, RPC outcomes by method and status code, clients connected.
 // Frame counters and source states come from the pipelines' PipelineStatus when rendering.
@@ -41,9 +48,10 @@ class DaemonMetrics final {
     std::string name;
     PipelineStatus status;
   };
-  // The whole exposition, ending with a newline.
+  // The whole exposition, ending with a newline. The process's descriptors and their limit
+  // (process_open_fds, process_max_fds) are read here.
   std::string Render(const std::vector<Source>& sources, double uptime_s,
-                     const std::string& version) const;
+                     const std::string& version, const WebConnections& web = {}) const;
 
  private:
   std::map<std::string, std::unique_ptr<Histogram>> stages_;

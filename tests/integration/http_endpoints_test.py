@@ -77,6 +77,12 @@ class HttpEndpointsTest(DaemonTestCase):
                          1)
         self.assertGreater(sample(later, "hposed_estimate_stage_seconds_count",
                                   'stage="search"'), 0)
+        # The daemon's descriptors beside their limit.
+        fds = re.search(r"^process_open_fds (\d+)$", later, re.MULTILINE)
+        limit = re.search(r"^process_max_fds (\d+)$", later, re.MULTILINE)
+        self.assertTrue(fds and limit, later)
+        self.assertGreater(int(fds.group(1)), 3)
+        self.assertLess(int(fds.group(1)), int(limit.group(1)))
         # A gRPC call is counted by method and code.
         subprocess.run([HPOSE, "query", "--server", self.grpc, "status"], check=True,
                        stdout=subprocess.DEVNULL)
@@ -255,11 +261,17 @@ class HttpEndpointsTest(DaemonTestCase):
             start = time.monotonic()
             status = get(self.http + "/healthz")[0]
             waited = time.monotonic() - start
+            metrics = get(self.http + "/metrics")[1]
         finally:
             for conn in stalled:
                 conn.close()
         self.assertEqual(status, 200)
         self.assertLess(waited, 1.0, "/healthz waited behind the stalled connections")
+        # /metrics shows them: still sending their head, and open beside the scrape itself.
+        reading = sample(metrics, "hposed_http_connections", 'state="reading"')
+        self.assertGreaterEqual(reading, 200)
+        self.assertLessEqual(reading, 300)
+        self.assertGreater(sample(metrics, "hposed_http_connections", 'state="open"'), reading)
 
     def test_a_connection_flood_leaves_the_daemon_its_descriptors(self):
         # Idle connections held open: each accepted one is a descriptor, and under a service's

@@ -3,11 +3,16 @@
 // family before its samples, histogram buckets cumulative with +Inf equal to _count.
 #include "server/metrics.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <sstream>
@@ -264,6 +269,44 @@ TEST(MetricsTest, CountsAreWrittenInFull) {
   EXPECT_EQ(text.find("e+"), std::string::npos) << text;
   // A bucket bound keeps its shortest form.
   EXPECT_NE(text.find("le=\"0.512\""), std::string::npos) << text;
+}
+
+// The web view's connections as given, and the process's descriptors and their limit as the
+// process has them (the names Prometheus's client libraries use).
+TEST(MetricsTest, ConnectionsAndDescriptors) {
+  DaemonMetrics metrics;
+  WebConnections web;
+  web.open = 7;
+  web.reading = 3;
+  // Descriptors opened for the test show in the count.
+  std::vector<int> opened;
+  for (int i = 0; i < 20; ++i) opened.push_back(dup(1));
+  const auto count_fds = [] {
+    int n = 0;
+    for ([[maybe_unused]] const auto& entry :
+         std::filesystem::directory_iterator("/proc/self/fd")) {
+      ++n;
+    }
+    return n - 1;  // the directory's own descriptor, open while it is listed.
+  };
+  const int before = count_fds();
+  const std::string text = metrics.Render({}, 1.0, "v", web);
+  const int after = count_fds();
+  for (int fd : opened) close(fd);
+  Exposition e;
+  ASSERT_TRUE(Parse(text, &e)) << text;
+  EXPECT_EQ(e.types.at("hposed_http_connections"), "gauge");
+  EXPECT_EQ(Find(e, "hposed_http_connections", {{"state", "open"}}), 7);
+  EXPECT_EQ(Find(e, "hposed_http_connections", {{"state", "reading"}}), 3);
+  const double fds = Find(e, "process_open_fds", {});
+  EXPECT_GE(fds, std::min(before, after) - 1);  // the count's own directory may be in it.
+  EXPECT_LE(fds, std::max(before, after) + 1);
+  EXPECT_GE(fds, 23);
+  rlimit limit{};
+  ASSERT_EQ(getrlimit(RLIMIT_NOFILE, &limit), 0);
+  if (limit.rlim_cur != RLIM_INFINITY) {
+    EXPECT_EQ(Find(e, "process_max_fds", {}), static_cast<double>(limit.rlim_cur));
+  }
 }
 
 TEST(MetricsTest, ParserRejectsMalformedText) {
